@@ -1,0 +1,141 @@
+/*
+ * Lantern: in-situ rendering of particle simulations. Public C API (C99 and later; C++).
+ *
+ * A simulation opens one context per communicator, publishes its particle arrays (borrowed,
+ * never copied), and calls lantern_execute() once per timestep. Lantern's schedule decides on
+ * which steps it renders; on the other steps lantern_execute() returns at once.
+ *
+ * Errors: every function returns a lantern_status. On failure, lantern_error_message() names the
+ * argument or configuration key at fault. No function aborts, exits, or lets a C++ exception
+ * escape; after any error the context stays usable.
+ *
+ * Threads: a context may be used from one thread at a time. Distinct contexts are independent,
+ * but all share the process's OpenGL/OSMesa state, so call Lantern from one thread only.
+ *
+ * MPI: lantern_open(), lantern_execute() on scheduled steps, and lantern_close() are collective
+ * over the communicator given to lantern_open(): every rank must call them in the same order.
+ * lantern_publish() is local. If MPI is not initialized when lantern_open() is called, Lantern
+ * initializes it (MPI_THREAD_FUNNELED) and finalizes it when the last context is closed.
+ *
+ * Units: Lantern does not impose units. Positions and radii must share one length unit; the
+ * configuration's lengths (camera position, radius, cutting planes) are in that same unit.
+ */
+#ifndef LANTERN_LANTERN_H
+#define LANTERN_LANTERN_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#define LANTERN_VERSION_MAJOR 0
+#define LANTERN_VERSION_MINOR 1
+#define LANTERN_VERSION_PATCH 0
+/* One integer that orders versions: 10000*major + 100*minor + patch. */
+#define LANTERN_VERSION \
+  (LANTERN_VERSION_MAJOR * 10000 + LANTERN_VERSION_MINOR * 100 + LANTERN_VERSION_PATCH)
+
+/* Status codes. Append-only: existing values never change meaning. */
+typedef enum lantern_status {
+  LANTERN_OK = 0,
+  LANTERN_ERR_NULL_ARGUMENT = 1,    /* a required pointer argument was NULL */
+  LANTERN_ERR_INVALID_ARGUMENT = 2, /* an argument's value is out of range or inconsistent */
+  LANTERN_ERR_CONFIG = 3,           /* the configuration is malformed or has an invalid key/value */
+  LANTERN_ERR_IO = 4,               /* a file could not be read or written; later steps retry */
+  LANTERN_ERR_GL = 5,               /* the OpenGL/OSMesa back end failed */
+  LANTERN_ERR_MPI = 6,              /* an MPI call failed or the communicator is invalid */
+  LANTERN_ERR_OUT_OF_MEMORY = 7,    /* an allocation failed; the step was skipped */
+  LANTERN_ERR_INTERNAL = 8          /* a bug in Lantern; please report the message */
+} lantern_status;
+
+/* Element type of a borrowed array. LANTERN_TYPE_NONE marks an absent (optional) array. */
+typedef enum lantern_datatype {
+  LANTERN_TYPE_NONE = 0,
+  LANTERN_FLOAT32 = 1,
+  LANTERN_FLOAT64 = 2,
+  LANTERN_INT32 = 3,
+  LANTERN_INT64 = 4
+} lantern_datatype;
+
+/*
+ * One borrowed, strided array. Element i is at (const char *)data + i * stride_bytes.
+ * stride_bytes == 0 means tightly packed (the natural size of one element, or of one xyz triple
+ * for interleaved positions). A zero-initialised lantern_array means "absent".
+ */
+typedef struct lantern_array {
+  const void *data;
+  lantern_datatype type;
+  int64_t stride_bytes;
+} lantern_array;
+
+/*
+ * The particles this rank owns, for lantern_publish(). Zero-initialise it ({0}) and fill what
+ * you have. Give positions either interleaved (`position`: x, y, z of one particle adjacent, any
+ * stride of at least 3 elements) or as three separate arrays (`position_x/y/z`), never both.
+ * Positions are float or double; radius and scalar float or double; type and id int32 or int64.
+ *
+ * Pass only the particles this rank owns, never ghost/halo copies: Lantern draws every published
+ * particle once, and a ghost would be drawn twice.
+ *
+ * Lifetime: the arrays are borrowed. Lantern reads them in place during every later
+ * lantern_execute() call until the next lantern_publish() (or lantern_close()), so they must stay
+ * valid and unchanged in size until then. Re-publish whenever the simulation reallocates or
+ * changes its particle count (cheap: it only records pointers and validates them).
+ */
+typedef struct lantern_particles {
+  int64_t count;            /* particles owned by this rank; 0 is valid */
+  lantern_array position;   /* interleaved x, y, z */
+  lantern_array position_x; /* or separate components */
+  lantern_array position_y;
+  lantern_array position_z;
+  lantern_array radius; /* optional per-particle radius (used when a scene says radius: per_particle) */
+  lantern_array scalar; /* optional per-particle scalar (colour by scalar) */
+  lantern_array type;   /* optional per-particle integer type (colour by type) */
+  lantern_array id;     /* optional global particle id (kept in particle dumps) */
+} lantern_particles;
+
+/* Use in place of MPI_Comm_c2f(MPI_COMM_WORLD) when the caller does not include mpi.h. */
+#define LANTERN_COMM_WORLD (-1)
+
+typedef struct lantern_context lantern_context;
+
+/* The library's version as "major.minor.patch"; a static string, never freed. */
+const char *lantern_version(void);
+
+/*
+ * Opens a context. `config` is the path of a YAML file, or an inline YAML document (any string
+ * containing a newline or starting with '{' is taken as a document). `mpi_comm_f` is the Fortran
+ * handle of the communicator (MPI_Comm_c2f(comm)) or LANTERN_COMM_WORLD; Lantern duplicates it.
+ * On success *out owns a new context, freed by lantern_close(). On failure *out is set to a
+ * context that holds only the error message (read it with lantern_error_message(), then close
+ * it), or to NULL when even that could not be allocated or `out` is NULL. Collective.
+ */
+lantern_status lantern_open(const char *config, int mpi_comm_f, lantern_context **out);
+
+/* Records (borrows) this rank's particles; see lantern_particles for lifetimes. Local. A failed
+ * publish leaves this rank with no particles until the next successful one. */
+lantern_status lantern_publish(lantern_context *ctx, const lantern_particles *particles);
+
+/*
+ * Tells Lantern that the simulation reached `step` at simulation time `time`. On steps the
+ * schedule skips this returns LANTERN_OK at once (no communication). On scheduled steps it
+ * renders every scene, composites across ranks and writes the outputs; collective, and every
+ * rank returns the same status. Particles with NaN or infinite coordinates are skipped and
+ * counted in the stats (a warning is printed once per context).
+ */
+lantern_status lantern_execute(lantern_context *ctx, int64_t step, double time);
+
+/* The last error of this context, or "" if none. Owned by the context; valid until the next
+ * call on it. NULL context gives a static message. */
+const char *lantern_error_message(const lantern_context *ctx);
+
+/* Flushes outputs and frees the context. Safe on NULL. Collective. */
+lantern_status lantern_close(lantern_context *ctx);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* LANTERN_LANTERN_H */

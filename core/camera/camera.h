@@ -1,0 +1,39 @@
+// The camera of one scene and frame: where the eye is, what it sees, and the scene origin that
+// float rendering is relative to.
+//
+// Every rank builds the same Camera from the same (globally reduced) bounds, so all ranks agree
+// to the bit. Units: the simulation's length unit; angles in the config are degrees.
+#pragma once
+
+#include <string>
+
+#include <glm/mat4x4.hpp>
+#include <glm/vec3.hpp>
+
+#include "core/config/config.h"
+#include "core/render/sphere_renderer.h"
+
+namespace lantern {
+
+struct Camera {
+  glm::dvec3 origin{0.0};  // scene origin: positions are sent to GL as float(x - origin)
+  glm::dvec3 eye{0.0}, target{0.0}, up{0.0, 0.0, 1.0};
+  glm::dmat4 view{1.0};        // world -> view
+  glm::dmat4 projection{1.0};  // view -> clip
+  bool orthographic = false;
+  double near_plane = 0.01, far_plane = 100.0;
+  int width = 1, height = 1;
+
+  // The float, scene-relative view the renderer takes.
+  RenderView render_view(const uint8_t background[4]) const;
+  // View-space depth (distance along the view axis) of a window depth in [0, 1].
+  double window_depth_to_distance(double window_depth) const;
+};
+
+// Builds the camera for `config` and the global particle bounds [lo, hi] (centres), whose
+// spheres reach at most `max_radius` beyond them. Empty bounds (lo > hi) frame the unit cube.
+// Returns "" or an error naming the camera key at fault (e.g. position == look_at).
+std::string make_camera(const CameraConfig &config, const glm::dvec3 &lo, const glm::dvec3 &hi,
+                        double max_radius, int width, int height, Camera *out);
+
+}  // namespace lantern

@@ -1,0 +1,89 @@
+#include "core/particles/particle_arrays.h"
+
+namespace lantern {
+namespace {
+
+int64_t element_size(lantern_datatype t) {
+  switch (t) {
+    case LANTERN_FLOAT32:
+    case LANTERN_INT32: return 4;
+    case LANTERN_FLOAT64:
+    case LANTERN_INT64: return 8;
+    default: return 0;
+  }
+}
+
+const char *type_name(lantern_datatype t) {
+  switch (t) {
+    case LANTERN_FLOAT32: return "float32";
+    case LANTERN_FLOAT64: return "float64";
+    case LANTERN_INT32: return "int32";
+    case LANTERN_INT64: return "int64";
+    default: return "none";
+  }
+}
+
+bool is_real(lantern_datatype t) { return t == LANTERN_FLOAT32 || t == LANTERN_FLOAT64; }
+bool is_integer(lantern_datatype t) { return t == LANTERN_INT32 || t == LANTERN_INT64; }
+
+// Validates one array; `components` elements per entry. Returns "" or an error message.
+std::string check_array(const lantern_array &a, const char *name, int components, bool want_real,
+                        int64_t count, StridedArray *out) {
+  const std::string field = std::string("particles.") + name;
+  if (a.type == LANTERN_TYPE_NONE && a.data == nullptr) return {};  // absent
+  const int64_t esize = element_size(a.type);
+  if (esize == 0)
+    return field + ".type: unknown datatype " + std::to_string(static_cast<int>(a.type));
+  if (want_real && !is_real(a.type))
+    return field + ".type: must be LANTERN_FLOAT32 or LANTERN_FLOAT64, got " + type_name(a.type);
+  if (!want_real && !is_integer(a.type))
+    return field + ".type: must be LANTERN_INT32 or LANTERN_INT64, got " + type_name(a.type);
+  if (a.data == nullptr && count > 0) return field + ".data: NULL with count > 0";
+  const int64_t natural = esize * components;
+  const int64_t stride = a.stride_bytes == 0 ? natural : a.stride_bytes;
+  if (stride < natural)
+    return field + ".stride_bytes: " + std::to_string(a.stride_bytes) + " is shorter than " +
+           std::to_string(components) + " " + type_name(a.type) + " (" + std::to_string(natural) +
+           " bytes)";
+  *out = StridedArray(a.data, a.type, stride);
+  return {};
+}
+
+bool given(const lantern_array &a) { return a.data != nullptr || a.type != LANTERN_TYPE_NONE; }
+
+}  // namespace
+
+std::string ParticleArrays::validate(const lantern_particles &p, ParticleArrays *out) {
+  if (p.count < 0) return "particles.count: negative (" + std::to_string(p.count) + ")";
+  ParticleArrays r;
+  r.count_ = p.count;
+  const bool inter = given(p.position);
+  const bool separate = given(p.position_x) || given(p.position_y) || given(p.position_z);
+  if (inter && separate)
+    return "particles.position: give either the interleaved array or position_x/y/z, not both";
+  if (!inter && !separate) {
+    if (p.count > 0) return "particles.position: NULL positions with count > 0";
+  } else if (inter) {
+    r.interleaved_ = true;
+    if (auto e = check_array(p.position, "position", 3, true, p.count, &r.pos_[0]); !e.empty())
+      return e;
+  } else {
+    r.interleaved_ = false;
+    const lantern_array *c[3] = {&p.position_x, &p.position_y, &p.position_z};
+    const char *names[3] = {"position_x", "position_y", "position_z"};
+    for (int k = 0; k < 3; ++k) {
+      if (!given(*c[k]) && p.count > 0)
+        return std::string("particles.") + names[k] + ": NULL positions with count > 0";
+      if (auto e = check_array(*c[k], names[k], 1, true, p.count, &r.pos_[k]); !e.empty())
+        return e;
+    }
+  }
+  if (auto e = check_array(p.radius, "radius", 1, true, p.count, &r.radius_); !e.empty()) return e;
+  if (auto e = check_array(p.scalar, "scalar", 1, true, p.count, &r.scalar_); !e.empty()) return e;
+  if (auto e = check_array(p.type, "type", 1, false, p.count, &r.type_); !e.empty()) return e;
+  if (auto e = check_array(p.id, "id", 1, false, p.count, &r.id_); !e.empty()) return e;
+  *out = r;
+  return {};
+}
+
+}  // namespace lantern

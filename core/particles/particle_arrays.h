@@ -1,0 +1,106 @@
+// Typed, validated access to the particle arrays a simulation lends Lantern.
+//
+// Ownership: ParticleArrays never owns or copies the data; it stores the pointers and strides of
+// lantern_particles. The caller keeps the arrays alive (see lantern.h). Thread-safety: read-only
+// after construction, so concurrent readers are fine. Units: those of the simulation.
+#pragma once
+
+#include <cstdint>
+#include <cstring>
+#include <string>
+
+#include <glm/vec3.hpp>
+
+#include "lantern/lantern.h"
+
+namespace lantern {
+
+// One borrowed strided array, read element by element with conversion to the wanted type.
+class StridedArray {
+ public:
+  StridedArray() = default;
+  StridedArray(const void *data, lantern_datatype type, int64_t stride_bytes)
+      : base_(static_cast<const unsigned char *>(data)), type_(type), stride_(stride_bytes) {}
+
+  bool present() const { return base_ != nullptr && type_ != LANTERN_TYPE_NONE; }
+  lantern_datatype type() const { return type_; }
+  int64_t stride_bytes() const { return stride_; }
+  const void *data() const { return base_; }
+
+  // Element i, component c (for interleaved vectors), converted to double.
+  double real(int64_t i, int c = 0) const {
+    const unsigned char *p = base_ + i * stride_;
+    switch (type_) {
+      case LANTERN_FLOAT32: return load<float>(p, c);
+      case LANTERN_FLOAT64: return load<double>(p, c);
+      case LANTERN_INT32: return load<int32_t>(p, c);
+      case LANTERN_INT64: return static_cast<double>(load<int64_t>(p, c));
+      default: return 0.0;
+    }
+  }
+  int64_t integer(int64_t i) const {
+    const unsigned char *p = base_ + i * stride_;
+    switch (type_) {
+      case LANTERN_INT32: return load<int32_t>(p, 0);
+      case LANTERN_INT64: return load<int64_t>(p, 0);
+      case LANTERN_FLOAT32: return static_cast<int64_t>(load<float>(p, 0));
+      case LANTERN_FLOAT64: return static_cast<int64_t>(load<double>(p, 0));
+      default: return 0;
+    }
+  }
+
+ private:
+  // memcpy: the caller's array may be unaligned (padded structs, byte strides).
+  template <typename T>
+  static T load(const unsigned char *p, int c) {
+    T v;
+    std::memcpy(&v, p + c * sizeof(T), sizeof(T));
+    return v;
+  }
+
+  const unsigned char *base_ = nullptr;
+  lantern_datatype type_ = LANTERN_TYPE_NONE;
+  int64_t stride_ = 0;
+};
+
+// The validated particle set of one rank. Build it with ParticleArrays::validate().
+class ParticleArrays {
+ public:
+  ParticleArrays() = default;
+
+  // Checks a lantern_particles description (types, strides, NULL pointers, negative count) and,
+  // on success, returns an empty string and fills *out. On failure returns a message naming the
+  // offending field (e.g. "particles.position.stride_bytes: 8 is shorter than 3 float64 (24)").
+  // It reads no element: NaN positions are found later, per frame.
+  static std::string validate(const lantern_particles &p, ParticleArrays *out);
+
+  int64_t count() const { return count_; }
+  glm::dvec3 position(int64_t i) const {
+    if (interleaved_) return {pos_[0].real(i, 0), pos_[0].real(i, 1), pos_[0].real(i, 2)};
+    return {pos_[0].real(i), pos_[1].real(i), pos_[2].real(i)};
+  }
+  bool has_radius() const { return radius_.present(); }
+  double radius(int64_t i) const { return radius_.real(i); }
+  bool has_scalar() const { return scalar_.present(); }
+  double scalar(int64_t i) const { return scalar_.real(i); }
+  bool has_type() const { return type_.present(); }
+  int64_t type(int64_t i) const { return type_.integer(i); }
+  bool has_id() const { return id_.present(); }
+  int64_t id(int64_t i) const { return id_.integer(i); }
+
+  bool interleaved() const { return interleaved_; }
+  // Component arrays: [0] is the interleaved array when interleaved(), else x, y, z.
+  const StridedArray &position_array(int c) const { return pos_[c]; }
+  const StridedArray &radius_array() const { return radius_; }
+  const StridedArray &scalar_array() const { return scalar_; }
+  const StridedArray &type_array() const { return type_; }
+  const StridedArray &id_array() const { return id_; }
+
+ private:
+  int64_t count_ = 0;
+  bool interleaved_ = true;
+  StridedArray pos_[3];
+  StridedArray radius_, scalar_, type_, id_;
+};
+
+}  // namespace lantern

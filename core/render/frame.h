@@ -1,0 +1,37 @@
+// One rendered image with per-pixel depth: what a rank renders, what compositing merges, and what
+// the output stage writes.
+//
+// Layout: row-major, row 0 is the TOP of the image (as image files store it). colour is RGBA8,
+// 4 bytes per pixel; depth is the OpenGL window depth in [0, 1] (0 = near plane), with exactly
+// 1.0f (kBackgroundDepth) where nothing was drawn. Window depth is monotonic in distance for both
+// projections, so "nearer" is "smaller" everywhere. Ownership: a Frame owns its buffers.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+namespace lantern {
+
+inline constexpr float kBackgroundDepth = 1.0f;
+
+struct Frame {
+  int width = 0;
+  int height = 0;
+  std::vector<uint8_t> rgba;  // 4 * width * height
+  std::vector<float> depth;   // width * height
+
+  Frame() = default;
+  Frame(int w, int h) : width(w), height(h), rgba(size_t(w) * h * 4), depth(size_t(w) * h) {}
+
+  size_t pixel_count() const { return size_t(width) * size_t(height); }
+  size_t index(int x, int y) const { return size_t(y) * size_t(width) + size_t(x); }
+
+  // Fills every pixel with the background colour (RGBA8) at background depth.
+  void clear(const uint8_t background_rgba[4]) {
+    for (size_t i = 0; i < pixel_count(); ++i)
+      for (int c = 0; c < 4; ++c) rgba[4 * i + c] = background_rgba[c];
+    depth.assign(pixel_count(), kBackgroundDepth);
+  }
+};
+
+}  // namespace lantern

@@ -1,0 +1,240 @@
+#include "core/render/sphere_renderer.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cstring>
+#include <vector>
+
+#include <glm/gtc/matrix_inverse.hpp>
+#include <glm/gtc/type_ptr.hpp>
+
+#include "core/render/gl.h"
+#include "core/render/gl_objects.h"
+#include "core/render/sphere_shaders.h"
+
+namespace lantern {
+namespace {
+
+// Instances uploaded per draw call: bounds the streaming buffer at 20 MiB.
+constexpr size_t kChunkInstances = size_t(1) << 20;
+
+double ms_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
+
+std::string compile(GLenum kind, const char *source, GlShader *out) {
+  GlShader shader(glCreateShader(kind));
+  glShaderSource(shader.get(), 1, &source, nullptr);
+  glCompileShader(shader.get());
+  GLint ok = GL_FALSE;
+  glGetShaderiv(shader.get(), GL_COMPILE_STATUS, &ok);
+  if (!ok) {
+    std::vector<char> log(4096);
+    glGetShaderInfoLog(shader.get(), GLsizei(log.size()), nullptr, log.data());
+    return std::string("sphere shader failed to compile: ") + log.data();
+  }
+  *out = std::move(shader);
+  return {};
+}
+
+std::string link_program(GlProgram *out) {
+  GlShader vs, fs;
+  if (auto e = compile(GL_VERTEX_SHADER, shaders::kSphereVertex, &vs); !e.empty()) return e;
+  if (auto e = compile(GL_FRAGMENT_SHADER, shaders::kSphereFragment, &fs); !e.empty()) return e;
+  GlProgram program(glCreateProgram());
+  glAttachShader(program.get(), vs.get());
+  glAttachShader(program.get(), fs.get());
+  glLinkProgram(program.get());
+  GLint ok = GL_FALSE;
+  glGetProgramiv(program.get(), GL_LINK_STATUS, &ok);
+  if (!ok) {
+    std::vector<char> log(4096);
+    glGetProgramInfoLog(program.get(), GLsizei(log.size()), nullptr, log.data());
+    return std::string("sphere program failed to link: ") + log.data();
+  }
+  *out = std::move(program);
+  return {};
+}
+
+// Maps the full image's clip space onto one tile's: NDC x' = x * W/tw + (W - 2 tx - tw)/tw.
+glm::mat4 tile_projection(const RenderView &v, int tx, int ty, int tw, int th) {
+  glm::mat4 m(1.0f);
+  m[0][0] = float(v.width) / float(tw);
+  m[1][1] = float(v.height) / float(th);
+  m[3][0] = float(v.width - 2 * tx - tw) / float(tw);
+  m[3][1] = float(v.height - 2 * ty - th) / float(th);
+  return m * v.projection;
+}
+
+}  // namespace
+
+struct SphereRenderer::Impl {
+  GlProgram program;
+  GlVertexArray vao;
+  GlBuffer instances;
+  GlFramebuffer fbo;
+  GlRenderbuffer colour_rb, depth_rb;
+  int fbo_w = 0, fbo_h = 0;
+  int tile_limit = kMaxTileSize;
+  std::vector<uint8_t> tile_rgba;
+  std::vector<float> tile_depth;
+  struct {
+    GLint view, tile_proj, ortho, near_plane, proj, inv_proj, image_size, tile_origin;
+  } loc{};
+
+  std::string ensure_framebuffer(int w, int h) {
+    if (w == fbo_w && h == fbo_h) return {};
+    GLuint name = 0;
+    glGenRenderbuffers(1, &name);
+    colour_rb = GlRenderbuffer(name);
+    glBindRenderbuffer(GL_RENDERBUFFER, colour_rb.get());
+    glRenderbufferStorage(GL_RENDERBUFFER, GL_RGBA8, w, h);
+    glGenRenderbuffers(1, &name);
+    depth_rb = GlRenderbuffer(name);
+    glBindRenderbuffer(GL_RENDERBUFFER, depth_rb.get());
+    glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT32F, w, h);
+    glBindFramebuffer(GL_FRAMEBUFFER, fbo.get());
+    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, colour_rb.get());
+    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, depth_rb.get());
+    if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
+      return "framebuffer of " + std::to_string(w) + "x" + std::to_string(h) + " is incomplete";
+    fbo_w = w;
+    fbo_h = h;
+    return {};
+  }
+
+  void draw_all(const SphereInstance *spheres, size_t count, bool reupload) {
+    glBindBuffer(GL_ARRAY_BUFFER, instances.get());
+    for (size_t first = 0; first < count; first += kChunkInstances) {
+      const size_t n = std::min(kChunkInstances, count - first);
+      if (reupload) {
+        // Orphan, then fill: llvmpipe need not wait for the previous chunk's draw.
+        glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(kChunkInstances * sizeof(SphereInstance)),
+                     nullptr, GL_STREAM_DRAW);
+        glBufferSubData(GL_ARRAY_BUFFER, 0, GLsizeiptr(n * sizeof(SphereInstance)),
+                        spheres + first);
+      }
+      glDrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, GLsizei(n));
+    }
+  }
+
+  // Copies the tile whose lower-left pixel is (tx, gl_ty), GL rows bottom-up, into the frame
+  // (rows top-down).
+  void read_tile(Frame *frame, int tx, int gl_ty, int tw, int th) {
+    tile_rgba.resize(size_t(tw) * th * 4);
+    tile_depth.resize(size_t(tw) * th);
+    glPixelStorei(GL_PACK_ALIGNMENT, 1);
+    glReadPixels(0, 0, tw, th, GL_RGBA, GL_UNSIGNED_BYTE, tile_rgba.data());
+    glReadPixels(0, 0, tw, th, GL_DEPTH_COMPONENT, GL_FLOAT, tile_depth.data());
+    for (int row = 0; row < th; ++row) {
+      const int y = frame->height - 1 - (gl_ty + row);
+      const size_t dst = frame->index(tx, y);
+      std::memcpy(&frame->rgba[dst * 4], &tile_rgba[size_t(row) * tw * 4], size_t(tw) * 4);
+      std::memcpy(&frame->depth[dst], &tile_depth[size_t(row) * tw], size_t(tw) * sizeof(float));
+    }
+  }
+};
+
+SphereRenderer::SphereRenderer(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
+SphereRenderer::~SphereRenderer() = default;
+
+int SphereRenderer::max_tile_size() const { return impl_->tile_limit; }
+
+std::unique_ptr<SphereRenderer> SphereRenderer::create(std::string *error) {
+  auto impl = std::make_unique<Impl>();
+  if (auto e = link_program(&impl->program); !e.empty()) {
+    *error = e;
+    return nullptr;
+  }
+  const GLuint p = impl->program.get();
+  impl->loc = {glGetUniformLocation(p, "u_view"),       glGetUniformLocation(p, "u_tile_proj"),
+               glGetUniformLocation(p, "u_ortho"),      glGetUniformLocation(p, "u_near"),
+               glGetUniformLocation(p, "u_proj"),       glGetUniformLocation(p, "u_inv_proj"),
+               glGetUniformLocation(p, "u_image_size"), glGetUniformLocation(p, "u_tile_origin")};
+  GLint rb_limit = 0, viewport_limit[2] = {0, 0};
+  glGetIntegerv(GL_MAX_RENDERBUFFER_SIZE, &rb_limit);
+  glGetIntegerv(GL_MAX_VIEWPORT_DIMS, viewport_limit);
+  impl->tile_limit = std::min({kMaxTileSize, int(rb_limit), viewport_limit[0], viewport_limit[1]});
+
+  GLuint name = 0;
+  glGenVertexArrays(1, &name);
+  impl->vao = GlVertexArray(name);
+  glGenBuffers(1, &name);
+  impl->instances = GlBuffer(name);
+  glGenFramebuffers(1, &name);
+  impl->fbo = GlFramebuffer(name);
+
+  glBindVertexArray(impl->vao.get());
+  glBindBuffer(GL_ARRAY_BUFFER, impl->instances.get());
+  glEnableVertexAttribArray(0);
+  glVertexAttribPointer(0, 4, GL_FLOAT, GL_FALSE, sizeof(SphereInstance), nullptr);
+  glVertexAttribDivisor(0, 1);
+  glEnableVertexAttribArray(1);
+  glVertexAttribPointer(1, 4, GL_UNSIGNED_BYTE, GL_TRUE, sizeof(SphereInstance),
+                        reinterpret_cast<const void *>(offsetof(SphereInstance, rgba)));
+  glVertexAttribDivisor(1, 1);
+  if (const GLenum err = glGetError(); err != GL_NO_ERROR) {
+    *error = "OpenGL error " + std::to_string(err) + " while setting up the sphere renderer";
+    return nullptr;
+  }
+  return std::unique_ptr<SphereRenderer>(new SphereRenderer(std::move(impl)));
+}
+
+std::string SphereRenderer::render(const RenderView &view, const SphereInstance *spheres,
+                                   size_t count, Frame *frame, RenderTimings *timings) {
+  Impl &m = *impl_;
+  const auto t0 = std::chrono::steady_clock::now();
+  *frame = Frame(view.width, view.height);
+  const int tile_w = std::min(view.width, m.tile_limit);
+  const int tile_h = std::min(view.height, m.tile_limit);
+  if (auto e = m.ensure_framebuffer(tile_w, tile_h); !e.empty()) return e;
+
+  glUseProgram(m.program.get());
+  glBindVertexArray(m.vao.get());
+  glUniformMatrix4fv(m.loc.view, 1, GL_FALSE, glm::value_ptr(view.view));
+  glUniformMatrix4fv(m.loc.proj, 1, GL_FALSE, glm::value_ptr(view.projection));
+  const glm::mat4 inv = glm::inverse(view.projection);
+  glUniformMatrix4fv(m.loc.inv_proj, 1, GL_FALSE, glm::value_ptr(inv));
+  glUniform1i(m.loc.ortho, view.orthographic ? 1 : 0);
+  glUniform1f(m.loc.near_plane, view.near_plane);
+  glUniform2f(m.loc.image_size, float(view.width), float(view.height));
+  glEnable(GL_DEPTH_TEST);
+  glDepthFunc(GL_LESS);
+  glDisable(GL_BLEND);
+  glDisable(GL_CULL_FACE);
+  glClearColor(view.background[0] / 255.0f, view.background[1] / 255.0f,
+               view.background[2] / 255.0f, view.background[3] / 255.0f);
+  glClearDepth(1.0);
+
+  RenderTimings t;
+  const bool single_chunk = count <= kChunkInstances;
+  bool uploaded = false;
+  for (int ty = 0; ty < view.height; ty += tile_h) {
+    for (int tx = 0; tx < view.width; tx += tile_w) {
+      const int tw = std::min(tile_w, view.width - tx);
+      const int th = std::min(tile_h, view.height - ty);
+      // Tile rows are counted from the bottom of the image, as GL counts them.
+      const int gl_ty = view.height - ty - th;
+      glBindFramebuffer(GL_FRAMEBUFFER, m.fbo.get());
+      glViewport(0, 0, tw, th);
+      glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+      const glm::mat4 tp = tile_projection(view, tx, gl_ty, tw, th);
+      glUniformMatrix4fv(m.loc.tile_proj, 1, GL_FALSE, glm::value_ptr(tp));
+      glUniform2f(m.loc.tile_origin, float(tx), float(gl_ty));
+      if (count > 0) m.draw_all(spheres, count, !(single_chunk && uploaded));
+      uploaded = true;
+      glFinish();
+      const auto r0 = std::chrono::steady_clock::now();
+      m.read_tile(frame, tx, gl_ty, tw, th);
+      t.readback_ms += ms_since(r0);
+      ++t.tiles;
+    }
+  }
+  if (const GLenum err = glGetError(); err != GL_NO_ERROR)
+    return "OpenGL error " + std::to_string(err) + " while drawing spheres";
+  t.draw_ms = ms_since(t0) - t.readback_ms;
+  if (timings) *timings = t;
+  return {};
+}
+
+}  // namespace lantern

@@ -1,0 +1,71 @@
+// Draws spheres as ray-cast impostors with OpenGL into a Frame (colour + window depth).
+//
+// Ownership: the renderer owns its GL program, buffers and framebuffer; it must be created and
+// used while the process's GlContext is current (one thread). Units: positions and radii in the
+// simulation's length unit, relative to the scene origin chosen by the camera (float precision is
+// spent near the scene, not near the world origin).
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <string>
+
+#include <glm/mat4x4.hpp>
+
+#include "core/render/frame.h"
+
+namespace lantern {
+
+// One sphere as the GPU sees it: 20 bytes.
+struct SphereInstance {
+  float x, y, z;  // centre, relative to the scene origin
+  float radius;
+  uint8_t rgba[4];
+};
+static_assert(sizeof(SphereInstance) == 20, "SphereInstance is uploaded as raw bytes");
+
+// What the renderer needs of the camera, already in float and scene-relative.
+struct RenderView {
+  glm::mat4 view{1.0f};        // scene-relative world -> view; the camera looks down -z
+  glm::mat4 projection{1.0f};  // view -> clip (OpenGL conventions, NDC z in [-1, 1])
+  bool orthographic = false;
+  float near_plane = 0.01f;
+  int width = 1;
+  int height = 1;
+  uint8_t background[4] = {255, 255, 255, 255};
+};
+
+struct RenderTimings {
+  double draw_ms = 0;      // upload + draw (GL finished)
+  double readback_ms = 0;  // glReadPixels of colour and depth into the Frame
+  int tiles = 0;
+};
+
+class SphereRenderer {
+ public:
+  // Compiles the shaders and allocates buffers. Returns nullptr and sets *error on failure.
+  static std::unique_ptr<SphereRenderer> create(std::string *error);
+  ~SphereRenderer();
+  SphereRenderer(const SphereRenderer &) = delete;
+  SphereRenderer &operator=(const SphereRenderer &) = delete;
+
+  // Clears `frame` to the view's background and size, then draws `count` spheres. Images larger
+  // than the GL limit (or than kMaxTileSize) are drawn tile by tile; tiling changes no pixel.
+  // Returns "" or an error message.
+  std::string render(const RenderView &view, const SphereInstance *spheres, size_t count,
+                     Frame *frame, RenderTimings *timings);
+
+  // Largest tile side the renderer uses (GL limit, capped to bound the FBO's memory).
+  int max_tile_size() const;
+
+ private:
+  struct Impl;
+  explicit SphereRenderer(std::unique_ptr<Impl> impl);
+  std::unique_ptr<Impl> impl_;
+};
+
+// Largest tile edge, in pixels, even if the GL limit is higher: an 4096^2 tile holds 128 MiB.
+inline constexpr int kMaxTileSize = 4096;
+
+}  // namespace lantern

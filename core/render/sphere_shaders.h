@@ -1,0 +1,92 @@
+// GLSL of the ray-cast sphere impostor. Each sphere is one instanced quad that bounds its exact
+// silhouette; the fragment shader casts the pixel-centre ray against the sphere, discards misses
+// and writes the true per-pixel depth, so intersecting spheres cut each other correctly.
+//
+// Rays are built from gl_FragCoord and the FULL image's inverse projection (plus the tile's
+// pixel origin), never from interpolated varyings: a pixel's colour and depth then depend only on
+// that pixel and that sphere, so tiles, ranks and draw chunks cannot change a single bit.
+#pragma once
+
+namespace lantern::shaders {
+
+inline constexpr const char *kSphereVertex = R"GLSL(#version 330 core
+layout(location = 0) in vec4 a_sphere;  // centre relative to the scene origin (xyz), radius (w)
+layout(location = 1) in vec4 a_color;   // RGBA8, normalised
+uniform mat4 u_view;       // scene-relative world -> view (camera looks down -z)
+uniform mat4 u_tile_proj;  // view -> clip of the current tile
+uniform bool u_ortho;
+uniform float u_near;      // near-plane distance (> 0)
+flat out vec3 v_center;    // view space
+flat out float v_radius;
+flat out vec4 v_color;
+
+void main() {
+  vec2 corner = vec2(float(gl_VertexID & 1), float(gl_VertexID >> 1)) * 2.0 - 1.0;
+  vec3 c = (u_view * vec4(a_sphere.xyz, 1.0)).xyz;
+  float r = a_sphere.w;
+  v_center = c;
+  v_radius = r;
+  v_color = a_color;
+  vec3 p;
+  if (u_ortho) {
+    // Square of half-size r in front of the sphere, kept behind the near plane when possible.
+    float z = max(min(c.z + r, -u_near * 1.0001), c.z);
+    p = vec3(c.xy + corner * r, z);
+  } else {
+    float d2 = dot(c, c);
+    float r2 = r * r;
+    if (d2 <= r2) {  // the eye is inside this sphere: draw nothing rather than fill the screen
+      gl_Position = vec4(0.0, 0.0, 2.0, 1.0);
+      return;
+    }
+    float d = sqrt(d2);
+    vec3 w = c / d;
+    vec3 helper = abs(w.y) < 0.9 ? vec3(0.0, 1.0, 0.0) : vec3(1.0, 0.0, 0.0);
+    vec3 u = normalize(cross(helper, w));
+    vec3 v = cross(w, u);
+    // A plane across the eye->centre axis at distance t cuts the tangent cone in a circle of
+    // radius t * r / sqrt(d^2 - r^2); the square around it bounds the projected silhouette.
+    float t = clamp(d - r, min(u_near * 1.0001, d), d);
+    p = w * t + (u * corner.x + v * corner.y) * (t * r / sqrt(d2 - r2));
+  }
+  gl_Position = u_tile_proj * vec4(p, 1.0);
+}
+)GLSL";
+
+inline constexpr const char *kSphereFragment = R"GLSL(#version 330 core
+uniform mat4 u_proj;          // full-image view -> clip
+uniform mat4 u_inv_proj;
+uniform vec2 u_image_size;    // full image, pixels
+uniform vec2 u_tile_origin;   // this tile's lower-left pixel in the full image
+uniform bool u_ortho;
+flat in vec3 v_center;
+flat in float v_radius;
+flat in vec4 v_color;
+out vec4 o_color;
+
+void main() {
+  vec2 ndc = (gl_FragCoord.xy + u_tile_origin) / u_image_size * 2.0 - 1.0;
+  vec4 on_near = u_inv_proj * vec4(ndc, -1.0, 1.0);
+  vec3 origin = u_ortho ? on_near.xyz / on_near.w : vec3(0.0);
+  vec3 dir = u_ortho ? vec3(0.0, 0.0, -1.0) : normalize(on_near.xyz / on_near.w);
+  // Distance of the centre from the ray, squared, computed without cancellation: far from the
+  // eye |oc|^2 - b^2 would lose every digit of r^2.
+  vec3 oc = v_center - origin;
+  float b = dot(oc, dir);
+  vec3 q = oc - b * dir;
+  float h2 = v_radius * v_radius - dot(q, q);
+  if (h2 < 0.0) discard;
+  vec3 hit = origin + (b - sqrt(h2)) * dir;
+  vec4 clip = u_proj * vec4(hit, 1.0);
+  float z = clip.z / clip.w;
+  if (z < -1.0 || z > 1.0) discard;
+  gl_FragDepth = z * 0.5 + 0.5;
+  // Headlight: light along the view ray, Lambert diffuse plus a Blinn-Phong highlight.
+  vec3 n = (hit - v_center) / v_radius;
+  float lambert = max(dot(n, -dir), 0.0);
+  vec3 rgb = v_color.rgb * (0.2 + 0.8 * lambert) + vec3(0.3) * pow(lambert, 40.0);
+  o_color = vec4(min(rgb, vec3(1.0)), 1.0);
+}
+)GLSL";
+
+}  // namespace lantern::shaders
