@@ -1,0 +1,63 @@
+#include "core/composite/composite_methods.h"
+
+#include <algorithm>
+
+namespace lantern {
+namespace {
+
+size_t ceil_div(size_t a, size_t b) {
+  return (a + b - 1) / b;
+}
+
+}  // namespace
+
+MethodScratch allocate_scratch(CompositeMethod method, size_t pixels, int ranks,
+                               size_t chunk_pixels) {
+  const size_t chunk = std::max<size_t>(1, std::min(chunk_pixels, pixels));
+  MethodScratch s;
+  switch (method) {
+    case CompositeMethod::kReduce64:
+      s.packed.resize(chunk);
+      break;
+    case CompositeMethod::kReduceScatter: {
+      // Each chunk is padded to a multiple of the rank count; every rank gets one block.
+      const size_t block = ceil_div(chunk, size_t(ranks));
+      s.packed.resize(block * size_t(ranks));
+      s.received.resize(block);
+      break;
+    }
+    case CompositeMethod::kBinarySwap:
+      // The whole frame is swapped in halves, received in segments of at most one chunk.
+      s.packed.resize(pixels);
+      s.received.resize(std::max<size_t>(1, std::min(ceil_div(pixels, 2), chunk)));
+      break;
+    case CompositeMethod::kAuto:
+      break;
+  }
+  return s;
+}
+
+std::string run_method(CompositeMethod method, MPI_Comm comm, Frame &frame, int root,
+                       size_t /*chunk_pixels*/, MethodScratch &scratch) {
+  switch (method) {
+    case CompositeMethod::kReduce64:
+      return composite_reduce64(comm, frame, root, scratch);
+    case CompositeMethod::kReduceScatter:
+      return composite_reduce_scatter(comm, frame, root, scratch);
+    case CompositeMethod::kBinarySwap:
+      return composite_binary_swap(comm, frame, root, scratch);
+    case CompositeMethod::kAuto:
+      break;
+  }
+  return "composite: kAuto must be resolved before run_method";
+}
+
+std::string mpi_error(int code, const char *what) {
+  if (code == MPI_SUCCESS) return {};
+  char text[MPI_MAX_ERROR_STRING];
+  int length = 0;
+  MPI_Error_string(code, text, &length);
+  return std::string(what) + ": " + std::string(text, size_t(length));
+}
+
+}  // namespace lantern

@@ -1,0 +1,39 @@
+// The compositing algorithms behind composite_frames (internal to core/composite).
+//
+// Each method is split in two so that allocation failures can be agreed on before any rank enters
+// a collective: allocate_scratch() runs first (it may throw std::bad_alloc), then run_method()
+// does only MPI and arithmetic. Both take the same, collectively validated, arguments.
+#pragma once
+
+#include <mpi.h>
+
+#include <cstddef>
+#include <string>
+
+#include "core/composite/depth_compositor.h"
+#include "core/composite/packed_buffer.h"
+#include "core/render/frame.h"
+
+namespace lantern {
+
+struct MethodScratch {
+  PackedBuffer packed;    // this rank's packed pixels (a chunk, or the whole frame)
+  PackedBuffer received;  // a partner's pixels or this rank's reduced block
+};
+
+// Sizes depend only on (method, pixels, ranks, chunk), so they agree on every rank.
+MethodScratch allocate_scratch(CompositeMethod method, size_t pixels, int ranks,
+                               size_t chunk_pixels);
+
+// Runs one concrete method (not kAuto). Returns "" or an MPI error message.
+std::string run_method(CompositeMethod method, MPI_Comm comm, Frame &frame, int root,
+                       size_t chunk_pixels, MethodScratch &scratch);
+
+std::string composite_reduce64(MPI_Comm comm, Frame &frame, int root, MethodScratch &scratch);
+std::string composite_reduce_scatter(MPI_Comm comm, Frame &frame, int root, MethodScratch &scratch);
+std::string composite_binary_swap(MPI_Comm comm, Frame &frame, int root, MethodScratch &scratch);
+
+// "" for MPI_SUCCESS, else "<what>: <MPI error string>".
+std::string mpi_error(int code, const char *what);
+
+}  // namespace lantern

@@ -1,0 +1,119 @@
+#include "core/composite/depth_compositor.h"
+
+#include <climits>
+#include <new>
+
+#include "core/composite/composite_methods.h"
+#include "core/composite/method_table.h"
+
+namespace lantern {
+namespace {
+
+bool frame_is_consistent(const Frame &frame) {
+  return frame.width >= 0 && frame.height >= 0 && frame.rgba.size() == 4 * frame.pixel_count() &&
+         frame.depth.size() == frame.pixel_count();
+}
+
+// What every rank must agree on, laid out for one MPI_MIN: x and -x give both min and max.
+struct Agreement {
+  enum { kWidth, kHeight, kRoot, kMethod, kChunk, kCount };
+  long long value[2 * kCount + 2];  // pairs (x, -x), then local_ok, allocated
+
+  std::string check(int ranks) const {
+    const auto agreed = [&](int k) { return value[2 * k] == -value[2 * k + 1]; };
+    if (value[2 * kCount] == 0)
+      return "composite: a rank has an inconsistent frame, an image over INT_MAX pixels or a root "
+             "outside [0, " +
+             std::to_string(ranks) + ")";
+    if (!agreed(kWidth) || !agreed(kHeight)) return "composite: frame sizes differ between ranks";
+    if (!agreed(kRoot)) return "composite: ranks passed different roots";
+    if (!agreed(kMethod) || !agreed(kChunk))
+      return "composite: ranks passed different methods or chunk sizes";
+    if (value[2 * kCount + 1] == 0) return "composite: a rank could not allocate scratch memory";
+    return {};
+  }
+};
+
+double elapsed_ms(double start) {
+  return (MPI_Wtime() - start) * 1e3;
+}
+
+}  // namespace
+
+const char *to_string(CompositeMethod method) {
+  switch (method) {
+    case CompositeMethod::kAuto:
+      return "auto";
+    case CompositeMethod::kReduce64:
+      return "reduce64";
+    case CompositeMethod::kReduceScatter:
+      return "reduce_scatter";
+    case CompositeMethod::kBinarySwap:
+      return "binary_swap";
+  }
+  return "unknown";
+}
+
+bool parse_composite_method(const std::string &name, CompositeMethod *method) {
+  for (const CompositeMethod m : {CompositeMethod::kAuto, CompositeMethod::kReduce64,
+                                  CompositeMethod::kReduceScatter, CompositeMethod::kBinarySwap}) {
+    if (name == to_string(m)) {
+      *method = m;
+      return true;
+    }
+  }
+  return false;
+}
+
+CompositeStats composite_frames(MPI_Comm comm, Frame &frame, int root, CompositeMethod method,
+                                size_t chunk_pixels) {
+  const double start = MPI_Wtime();
+  int rank = 0, ranks = 1;
+  MPI_Comm_rank(comm, &rank);
+  MPI_Comm_size(comm, &ranks);
+  CompositeStats stats;
+  stats.ranks = ranks;
+  stats.pixels = frame.pixel_count();
+  const bool local_ok =
+      frame_is_consistent(frame) && stats.pixels <= size_t(INT_MAX) && root >= 0 && root < ranks;
+  if (ranks == 1) {
+    // Nothing to merge: the frame already is the image. No copy, no MPI call.
+    stats.method = "none";
+    if (!local_ok) stats.error = "composite: inconsistent frame or root != 0";
+    stats.milliseconds = elapsed_ms(start);
+    return stats;
+  }
+
+  const size_t chunk = chunk_pixels == 0 ? kDefaultCompositeChunkPixels : chunk_pixels;
+  const CompositeMethod chosen =
+      method == CompositeMethod::kAuto ? auto_composite_method(ranks, stats.pixels) : method;
+  MethodScratch scratch;
+  bool allocated = true;
+  if (local_ok) {
+    try {
+      scratch = allocate_scratch(chosen, stats.pixels, ranks, chunk);
+    } catch (const std::bad_alloc &) {
+      allocated = false;  // reported collectively below, so no rank enters the method alone
+    }
+  }
+  const long long fields[] = {frame.width, frame.height, root, static_cast<long long>(chosen),
+                              static_cast<long long>(chunk)};
+  Agreement agreement{};
+  for (int k = 0; k < Agreement::kCount; ++k) {
+    agreement.value[2 * k] = fields[k];
+    agreement.value[2 * k + 1] = -fields[k];
+  }
+  agreement.value[2 * Agreement::kCount] = local_ok;
+  agreement.value[2 * Agreement::kCount + 1] = allocated;
+  MPI_Allreduce(MPI_IN_PLACE, agreement.value, 2 * Agreement::kCount + 2, MPI_LONG_LONG, MPI_MIN,
+                comm);
+
+  stats.method = to_string(chosen);
+  stats.error = agreement.check(ranks);
+  if (stats.ok() && stats.pixels > 0)
+    stats.error = run_method(chosen, comm, frame, root, chunk, scratch);
+  stats.milliseconds = elapsed_ms(start);
+  return stats;
+}
+
+}  // namespace lantern

@@ -1,0 +1,57 @@
+// Sort-last depth compositing over MPI: every rank renders its own particles into a Frame, and
+// the frames are merged pixel by pixel by nearest depth into one image on a root rank.
+//
+// Merge rule (see packed_pixel.h): the smaller window depth wins; on equal depth the smaller
+// colour (R, then G, B, A) wins. The rule is commutative and associative, so the merged image
+// is bit-identical for any rank count, any split of the particles and every method below.
+//
+// Collective: every rank of comm calls composite_frames with the same width, height, root and
+// method. Errors (mismatched sizes, bad root, out of memory) are agreed collectively and returned
+// in CompositeStats::error on every rank; no rank throws or is left waiting in a collective.
+//
+// Memory: besides the Frame itself, a rank allocates at most 1.5 frames of scratch (binary
+// swap) and reductions are chunked so MPI's own temporaries stay bounded.
+#pragma once
+
+#include <mpi.h>
+
+#include <cstddef>
+#include <string>
+
+#include "core/render/frame.h"
+
+namespace lantern {
+
+enum class CompositeMethod {
+  kAuto,           // the measured-fastest method for (rank count, pixel count): method_table.h
+  kReduce64,       // pack depth+RGBA in one uint64, MPI_Reduce(MPI_MIN) in chunks to root
+  kReduceScatter,  // MPI_Reduce_scatter_block(MPI_MIN) + MPI_Gather to root, in chunks
+  kBinarySwap,     // hand-written binary swap; extra ranks (non power of two) fold in first
+};
+
+// "auto", "reduce64", "reduce_scatter", "binary_swap"; "none" is what stats say for one rank.
+const char *to_string(CompositeMethod method);
+// Parses the names above (not "none"); returns false and leaves *method alone if unknown.
+bool parse_composite_method(const std::string &name, CompositeMethod *method);
+
+struct CompositeStats {
+  std::string method;         // the method actually run ("none" on one rank, never "auto")
+  double milliseconds = 0.0;  // wall time of this rank inside composite_frames
+  int ranks = 0;
+  size_t pixels = 0;
+  std::string error;  // empty on success; identical on every rank otherwise
+
+  bool ok() const { return error.empty(); }
+};
+
+// Reductions move at most this many pixels per MPI call (8 MiB of packed pixels).
+inline constexpr size_t kDefaultCompositeChunkPixels = size_t(1) << 20;
+
+// Merges every rank's frame into frame on root (see the rule above). On return frame on root
+// holds the merged colour and depth; frames on other ranks are unspecified. With one rank this is
+// a no-op. chunk_pixels bounds the pixels per MPI call (0 = kDefaultCompositeChunkPixels).
+CompositeStats composite_frames(MPI_Comm comm, Frame &frame, int root,
+                                CompositeMethod method = CompositeMethod::kAuto,
+                                size_t chunk_pixels = 0);
+
+}  // namespace lantern

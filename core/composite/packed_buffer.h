@@ -1,0 +1,37 @@
+// Scratch storage for packed pixels that is not zero-filled on allocation.
+//
+// Why: every element is written (packed or received) before it is read, and zero-filling a
+// full-frame buffer would cost a pass over memory as long as the packing itself.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+namespace lantern {
+
+template <typename T>
+struct DefaultInitAllocator : std::allocator<T> {
+  template <typename U>
+  struct rebind {
+    using other = DefaultInitAllocator<U>;
+  };
+  DefaultInitAllocator() = default;
+  template <typename U>
+  DefaultInitAllocator(const DefaultInitAllocator<U> &) noexcept {}
+
+  // Value-initialisation without arguments becomes default-initialisation (no write for PODs).
+  template <typename U>
+  void construct(U *p) noexcept {
+    ::new (static_cast<void *>(p)) U;
+  }
+  template <typename U, typename... Args>
+  void construct(U *p, Args &&...args) {
+    std::allocator_traits<std::allocator<T>>::construct(static_cast<std::allocator<T> &>(*this), p,
+                                                        std::forward<Args>(args)...);
+  }
+};
+
+using PackedBuffer = std::vector<uint64_t, DefaultInitAllocator<uint64_t>>;
+
+}  // namespace lantern
