@@ -1,0 +1,446 @@
+#include "core/config/config_loader.h"
+
+#include <yaml-cpp/yaml.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cerrno>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <map>
+#include <sstream>
+
+#include "core/config/yaml_reader.h"
+#include "core/output/file_pattern.h"
+
+namespace lantern {
+
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+constexpr int64_t kMaxInt = std::numeric_limits<int64_t>::max();
+
+// The keys of every section: the schema. README.md (config/) documents the same keys.
+const std::vector<std::string> kTopKeys = {"schedule", "scenes", "stats", "verbose", "dump"};
+const std::vector<std::string> kScheduleKeys = {"every", "start", "steps"};
+const std::vector<std::string> kSceneKeys = {"name",    "width",  "height",    "background",
+                                             "radius",  "camera", "color",     "output",
+                                             "culling", "lod",    "cut_planes"};
+const std::vector<std::string> kCameraKeys = {"projection", "fov",      "azimuth", "elevation",
+                                              "zoom",       "position", "look_at", "up",
+                                              "near",       "far"};
+const std::vector<std::string> kColorKeys = {"by", "solid", "palette", "colormap", "range"};
+const std::vector<std::string> kOutputKeys = {"pattern", "format", "jpeg_quality", "exr_color"};
+const std::vector<std::string> kCullingKeys = {"frustum", "occlusion"};
+const std::vector<std::string> kLodKeys = {"budget", "fraction", "min_pixels", "point_path"};
+const std::vector<std::string> kCutPlaneKeys = {"normal", "offset"};
+const std::vector<std::string> kDumpKeys = {"enabled", "file", "schedule", "fields", "precision"};
+const std::vector<std::string> kDumpFields = {"position", "type", "scalar", "radius", "id"};
+const std::vector<std::string> kColormaps = {"viridis", "plasma", "coolwarm", "grayscale"};
+
+std::string lower(std::string s) {
+  for (char &c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return s;
+}
+
+// Calls `read(value_node, key_path)` if `key` is present (and not null) in `map`.
+template <typename Read>
+void optional_key(const YAML::Node &map, const std::string &path, const std::string &key,
+                  Read read) {
+  if (!map.IsMap()) return;
+  const YAML::Node value = map[key];
+  if (value.IsDefined() && !value.IsNull()) read(value, child_path(path, key));
+}
+
+class Loader {
+ public:
+  explicit Loader(std::string source) : r_(std::move(source)) {}
+
+  Config load(const YAML::Node &root) const {
+    if (!root.IsMap() && !root.IsNull())
+      r_.fail(root, "", "the configuration must be a mapping with keys (schedule, scenes, ...)");
+    r_.check_map(root, "", kTopKeys);
+    Config config;
+    optional_key(root, "", "schedule", [&](const YAML::Node &n, const std::string &p) {
+      config.schedule = schedule(n, p);
+    });
+    optional_key(root, "", "stats", [&](const YAML::Node &n, const std::string &p) {
+      // An empty string is allowed: it is the documented way to write "no stats".
+      if (n.IsScalar() && n.Scalar().empty()) return;
+      config.stats_file = r_.read_string(n, p);
+    });
+    optional_key(root, "", "verbose", [&](const YAML::Node &n, const std::string &p) {
+      config.verbose = r_.read_bool(n, p);
+    });
+    optional_key(root, "", "dump",
+                 [&](const YAML::Node &n, const std::string &p) { config.dump = dump(n, p); });
+    optional_key(root, "", "scenes",
+                 [&](const YAML::Node &n, const std::string &p) { config.scenes = scenes(n, p); });
+    if (config.scenes.empty() && !config.dump.enabled)
+      r_.fail(root, "", "nothing to do: add at least one entry under 'scenes:' (or a 'dump:')");
+    return config;
+  }
+
+ private:
+  Schedule schedule(const YAML::Node &node, const std::string &path) const {
+    r_.check_map(node, path, kScheduleKeys);
+    Schedule s;
+    optional_key(node, path, "every", [&](const YAML::Node &n, const std::string &p) {
+      s.every = r_.read_int(n, p, 0, kMaxInt);
+    });
+    optional_key(node, path, "start", [&](const YAML::Node &n, const std::string &p) {
+      s.start = r_.read_int(n, p, 0, kMaxInt);
+    });
+    optional_key(node, path, "steps", [&](const YAML::Node &n, const std::string &p) {
+      r_.check_sequence(n, p);
+      if (n.size() == 0) r_.fail(n, p, "must list at least one step (omit it for every step)");
+      for (size_t i = 0; i < n.size(); ++i)
+        s.steps.push_back(r_.read_int(n[i], index_path(p, i), 0, kMaxInt));
+      std::sort(s.steps.begin(), s.steps.end());
+      s.steps.erase(std::unique(s.steps.begin(), s.steps.end()), s.steps.end());
+    });
+    return s;
+  }
+
+  std::vector<SceneConfig> scenes(const YAML::Node &node, const std::string &path) const {
+    r_.check_sequence(node, path);
+    std::vector<SceneConfig> out;
+    std::map<std::string, size_t> by_name;
+    std::map<std::string, size_t> by_pattern;  // patterns without {scene}
+    for (size_t i = 0; i < node.size(); ++i) {
+      const std::string scene_path = index_path(path, i);
+      out.push_back(scene(node[i], scene_path, i));
+      const SceneConfig &s = out.back();
+      const auto [named, fresh_name] = by_name.emplace(s.name, i);
+      if (!fresh_name)
+        r_.fail(
+            node[i], child_path(scene_path, "name"),
+            "scene name '" + s.name + "' is already used by " + index_path(path, named->second));
+      if (pattern_uses_scene(s.output.pattern)) continue;
+      const auto [same, fresh_pattern] = by_pattern.emplace(s.output.pattern, i);
+      if (!fresh_pattern)
+        r_.fail(node[i], child_path(scene_path, "output.pattern"),
+                "'" + s.output.pattern + "' is also the pattern of " +
+                    index_path(path, same->second) +
+                    "; the scenes would overwrite each other's images (add {scene})");
+    }
+    return out;
+  }
+
+  SceneConfig scene(const YAML::Node &node, const std::string &path, size_t index) const {
+    if (!node.IsMap()) r_.fail(node, path, "each scene must be a mapping (name:, width:, ...)");
+    r_.check_map(node, path, kSceneKeys);
+    SceneConfig s;
+    if (index > 0) s.name = "scene" + std::to_string(index);
+    optional_key(node, path, "name",
+                 [&](const YAML::Node &n, const std::string &p) { s.name = scene_name(n, p); });
+    optional_key(node, path, "width", [&](const YAML::Node &n, const std::string &p) {
+      s.width = static_cast<int>(r_.read_int(n, p, 1, kMaxImageSize));
+    });
+    optional_key(node, path, "height", [&](const YAML::Node &n, const std::string &p) {
+      s.height = static_cast<int>(r_.read_int(n, p, 1, kMaxImageSize));
+    });
+    optional_key(node, path, "background", [&](const YAML::Node &n, const std::string &p) {
+      s.background = r_.read_rgb(n, p);
+    });
+    optional_key(node, path, "radius", [&](const YAML::Node &n, const std::string &p) {
+      if (n.IsScalar() && n.Scalar() == "per_particle") {
+        s.per_particle_radius = true;
+        return;
+      }
+      double value = 0;
+      if (!n.IsScalar() || !YAML::convert<double>::decode(n, value) || !std::isfinite(value) ||
+          value <= 0)
+        r_.fail(n, p,
+                "must be a finite number > 0 or 'per_particle', got '" +
+                    (n.IsScalar() ? n.Scalar() : std::string("a collection")) + "'");
+      s.radius = value;
+    });
+    optional_key(node, path, "camera",
+                 [&](const YAML::Node &n, const std::string &p) { s.camera = camera(n, p); });
+    optional_key(node, path, "color",
+                 [&](const YAML::Node &n, const std::string &p) { s.color = color(n, p); });
+    optional_key(node, path, "output",
+                 [&](const YAML::Node &n, const std::string &p) { s.output = output(n, p); });
+    optional_key(node, path, "culling",
+                 [&](const YAML::Node &n, const std::string &p) { s.culling = culling(n, p); });
+    optional_key(node, path, "lod",
+                 [&](const YAML::Node &n, const std::string &p) { s.lod = lod(n, p); });
+    optional_key(node, path, "cut_planes", [&](const YAML::Node &n, const std::string &p) {
+      r_.check_sequence(n, p);
+      for (size_t i = 0; i < n.size(); ++i) s.cuts.push_back(cut_plane(n[i], index_path(p, i)));
+    });
+    return s;
+  }
+
+  // Names end up in file names ({scene}) and stats: keep them to portable file-name characters.
+  std::string scene_name(const YAML::Node &node, const std::string &path) const {
+    const std::string name = r_.read_string(node, path);
+    for (const char c : name) {
+      if (!std::isalnum(static_cast<unsigned char>(c)) && c != '_' && c != '-' && c != '.')
+        r_.fail(node, path, "'" + name + "' may contain only letters, digits, '_', '-' and '.'");
+    }
+    if (name == "." || name == "..") r_.fail(node, path, "'" + name + "' is not a usable name");
+    return name;
+  }
+
+  CameraConfig camera(const YAML::Node &node, const std::string &path) const {
+    r_.check_map(node, path, kCameraKeys);
+    CameraConfig c;
+    optional_key(node, path, "projection", [&](const YAML::Node &n, const std::string &p) {
+      c.projection = r_.read_choice(n, p, {"perspective", "orthographic"}) == "perspective"
+                         ? Projection::kPerspective
+                         : Projection::kOrthographic;
+    });
+    optional_key(node, path, "fov", [&](const YAML::Node &n, const std::string &p) {
+      c.fov_y = r_.read_in_range(n, p, 0.0, false, 180.0, false);
+    });
+    optional_key(node, path, "azimuth", [&](const YAML::Node &n, const std::string &p) {
+      c.azimuth = r_.read_finite(n, p);
+    });
+    optional_key(node, path, "elevation", [&](const YAML::Node &n, const std::string &p) {
+      c.elevation = r_.read_in_range(n, p, -90.0, true, 90.0, true);
+    });
+    optional_key(node, path, "zoom", [&](const YAML::Node &n, const std::string &p) {
+      c.zoom = r_.read_in_range(n, p, 0.0, false, kInf, false);
+    });
+    optional_key(node, path, "position", [&](const YAML::Node &n, const std::string &p) {
+      c.position = r_.read_vec3(n, p);
+    });
+    optional_key(node, path, "look_at", [&](const YAML::Node &n, const std::string &p) {
+      if (!c.position)
+        r_.fail(n, p, "look_at needs an explicit camera: set camera.position as well");
+      c.look_at = r_.read_vec3(n, p);
+      if (c.look_at == *c.position) r_.fail(n, p, "must differ from camera.position");
+    });
+    optional_key(node, path, "up", [&](const YAML::Node &n, const std::string &p) {
+      c.up = r_.read_vec3(n, p);
+      if (c.up == std::array<double, 3>{0, 0, 0}) r_.fail(n, p, "must not be the zero vector");
+    });
+    optional_key(node, path, "near", [&](const YAML::Node &n, const std::string &p) {
+      c.near_plane = r_.read_in_range(n, p, 0.0, false, kInf, false);
+    });
+    optional_key(node, path, "far", [&](const YAML::Node &n, const std::string &p) {
+      c.far_plane = r_.read_in_range(n, p, c.near_plane.value_or(0.0), false, kInf, false);
+    });
+    if (c.position && c.look_at == *c.position && !node["look_at"])
+      r_.fail(node["position"], child_path(path, "position"),
+              "the explicit camera looks at look_at (default [0, 0, 0]); position must differ");
+    return c;
+  }
+
+  ColorConfig color(const YAML::Node &node, const std::string &path) const {
+    r_.check_map(node, path, kColorKeys);
+    ColorConfig c;
+    optional_key(node, path, "by", [&](const YAML::Node &n, const std::string &p) {
+      const std::string by = r_.read_choice(n, p, {"solid", "type", "scalar"});
+      c.by = by == "solid" ? ColorBy::kSolid : by == "type" ? ColorBy::kType : ColorBy::kScalar;
+    });
+    optional_key(node, path, "solid",
+                 [&](const YAML::Node &n, const std::string &p) { c.solid = r_.read_rgb(n, p); });
+    optional_key(node, path, "palette", [&](const YAML::Node &n, const std::string &p) {
+      r_.check_sequence(n, p);
+      if (n.size() == 0) r_.fail(n, p, "must list at least one colour (omit it for the default)");
+      for (size_t i = 0; i < n.size(); ++i)
+        c.palette.push_back(r_.read_rgb(n[i], index_path(p, i)));
+    });
+    optional_key(node, path, "colormap", [&](const YAML::Node &n, const std::string &p) {
+      c.colormap = r_.read_choice(n, p, kColormaps);
+    });
+    optional_key(node, path, "range", [&](const YAML::Node &n, const std::string &p) {
+      if (n.IsScalar() && n.Scalar() == "auto") return;
+      if (!n.IsSequence() || n.size() != 2)
+        r_.fail(n, p, "must be 'auto' or [min, max] with min < max");
+      const double lo = r_.read_finite(n[0], index_path(p, 0));
+      const double hi = r_.read_finite(n[1], index_path(p, 1));
+      if (!(lo < hi)) r_.fail(n, p, "must be 'auto' or [min, max] with min < max");
+      c.range = std::array<double, 2>{lo, hi};
+    });
+    return c;
+  }
+
+  OutputConfig output(const YAML::Node &node, const std::string &path) const {
+    r_.check_map(node, path, kOutputKeys);
+    OutputConfig o;
+    optional_key(node, path, "pattern", [&](const YAML::Node &n, const std::string &p) {
+      o.pattern = r_.read_string(n, p);
+      const std::string problem = validate_pattern(o.pattern);
+      if (!problem.empty()) r_.fail(n, p, "'" + o.pattern + "': " + problem);
+    });
+    const std::optional<ImageFormat> from_extension = format_of_extension(o.pattern);
+    if (node["format"]) {
+      const std::string format_path = child_path(path, "format");
+      const YAML::Node n = node["format"];
+      o.format = *format_named(
+          r_.read_choice(n, format_path, {"png", "jpeg", "jpg", "tiff", "tif", "exr"}));
+      if (from_extension && *from_extension != o.format)
+        r_.fail(
+            n, format_path,
+            "'" + n.Scalar() + "' contradicts the extension of output.pattern '" + o.pattern + "'");
+    } else if (from_extension) {
+      o.format = *from_extension;
+    } else {
+      r_.fail(node["pattern"], child_path(path, "pattern"),
+              "'" + o.pattern +
+                  "' has no image extension (.png, .jpg, .jpeg, .tif, .tiff, .exr); add one or "
+                  "set output.format");
+    }
+    optional_key(node, path, "jpeg_quality", [&](const YAML::Node &n, const std::string &p) {
+      o.jpeg_quality = static_cast<int>(r_.read_int(n, p, 1, 100));
+    });
+    optional_key(node, path, "exr_color", [&](const YAML::Node &n, const std::string &p) {
+      o.exr_half = r_.read_choice(n, p, {"half", "float"}) == "half";
+    });
+    return o;
+  }
+
+  static std::optional<ImageFormat> format_named(const std::string &name) {
+    if (name == "png") return ImageFormat::kPng;
+    if (name == "jpeg" || name == "jpg") return ImageFormat::kJpeg;
+    if (name == "tiff" || name == "tif") return ImageFormat::kTiff;
+    if (name == "exr") return ImageFormat::kExr;
+    return std::nullopt;
+  }
+
+  static std::optional<ImageFormat> format_of_extension(const std::string &pattern) {
+    const std::string extension = lower(std::filesystem::path(pattern).extension().string());
+    if (extension.size() < 2) return std::nullopt;
+    return format_named(extension.substr(1));
+  }
+
+  CullingConfig culling(const YAML::Node &node, const std::string &path) const {
+    r_.check_map(node, path, kCullingKeys);
+    CullingConfig c;
+    optional_key(node, path, "frustum", [&](const YAML::Node &n, const std::string &p) {
+      c.frustum = r_.read_bool(n, p);
+    });
+    optional_key(node, path, "occlusion", [&](const YAML::Node &n, const std::string &p) {
+      const std::string mode =
+          r_.read_choice(n, p, {"auto", "none", "nine_spheres", "nine_spheres_sorted", "hzb"});
+      c.occlusion = mode == "auto"           ? OcclusionMode::kAuto
+                    : mode == "none"         ? OcclusionMode::kNone
+                    : mode == "nine_spheres" ? OcclusionMode::kNineSpheres
+                    : mode == "hzb"          ? OcclusionMode::kHzb
+                                             : OcclusionMode::kNineSpheresSorted;
+    });
+    return c;
+  }
+
+  LodConfig lod(const YAML::Node &node, const std::string &path) const {
+    r_.check_map(node, path, kLodKeys);
+    LodConfig l;
+    optional_key(node, path, "budget", [&](const YAML::Node &n, const std::string &p) {
+      l.budget = r_.read_int(n, p, 0, kMaxInt);
+    });
+    optional_key(node, path, "fraction", [&](const YAML::Node &n, const std::string &p) {
+      l.fraction = r_.read_in_range(n, p, 0.0, false, 1.0, true);
+    });
+    optional_key(node, path, "min_pixels", [&](const YAML::Node &n, const std::string &p) {
+      l.min_pixels = r_.read_in_range(n, p, 0.0, true, kInf, false);
+    });
+    optional_key(node, path, "point_path", [&](const YAML::Node &n, const std::string &p) {
+      l.point_path = r_.read_bool(n, p);
+    });
+    return l;
+  }
+
+  CutPlane cut_plane(const YAML::Node &node, const std::string &path) const {
+    if (!node.IsMap()) r_.fail(node, path, "each cut plane must be a mapping {normal, offset}");
+    r_.check_map(node, path, kCutPlaneKeys);
+    CutPlane c;
+    optional_key(node, path, "normal", [&](const YAML::Node &n, const std::string &p) {
+      c.normal = r_.read_vec3(n, p);
+      if (c.normal == std::array<double, 3>{0, 0, 0}) r_.fail(n, p, "must not be the zero vector");
+    });
+    optional_key(node, path, "offset", [&](const YAML::Node &n, const std::string &p) {
+      c.offset = r_.read_finite(n, p);
+    });
+    return c;
+  }
+
+  DumpConfig dump(const YAML::Node &node, const std::string &path) const {
+    r_.check_map(node, path, kDumpKeys);
+    DumpConfig d;
+    d.enabled = true;
+    optional_key(node, path, "enabled", [&](const YAML::Node &n, const std::string &p) {
+      d.enabled = r_.read_bool(n, p);
+    });
+    optional_key(node, path, "file",
+                 [&](const YAML::Node &n, const std::string &p) { d.file = r_.read_string(n, p); });
+    optional_key(node, path, "schedule",
+                 [&](const YAML::Node &n, const std::string &p) { d.schedule = schedule(n, p); });
+    optional_key(node, path, "fields", [&](const YAML::Node &n, const std::string &p) {
+      r_.check_sequence(n, p);
+      for (size_t i = 0; i < n.size(); ++i) {
+        const std::string field = r_.read_choice(n[i], index_path(p, i), kDumpFields);
+        if (std::find(d.fields.begin(), d.fields.end(), field) != d.fields.end())
+          r_.fail(n[i], index_path(p, i), "'" + field + "' is listed twice");
+        d.fields.push_back(field);
+      }
+    });
+    optional_key(node, path, "precision", [&](const YAML::Node &n, const std::string &p) {
+      d.single_precision = r_.read_choice(n, p, {"float32", "float64"}) == "float32";
+    });
+    return d;
+  }
+
+  YamlReader r_;
+};
+
+bool is_inline_document(const std::string &s) {
+  const size_t first = s.find_first_not_of(" \t");
+  return s.find('\n') != std::string::npos || (first != std::string::npos && s[first] == '{');
+}
+
+// Reads the whole file; "" on success, else a message naming the file and the OS reason.
+std::string read_file(const std::string &path, std::string *text) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec))
+    return "cannot read config file '" + path + "': " + std::strerror(EISDIR);
+  errno = 0;
+  std::ifstream in(path, std::ios::binary);
+  if (!in) {
+    const int error = errno != 0 ? errno : ENOENT;
+    return "cannot read config file '" + path + "': " + std::strerror(error);
+  }
+  std::ostringstream buffer;
+  buffer << in.rdbuf();
+  if (in.bad()) return "cannot read config file '" + path + "': read error";
+  *text = buffer.str();
+  return "";
+}
+
+}  // namespace
+
+std::string load_config(const std::string &path_or_document, Config *out) {
+  if (out == nullptr) return "load_config: the output Config pointer is null";
+  const bool is_inline = is_inline_document(path_or_document);
+  const std::string source = is_inline ? "inline config" : path_or_document;
+  if (!is_inline && path_or_document.empty()) return "the configuration path is empty";
+  std::string text = path_or_document;
+  if (!is_inline) {
+    const std::string error = read_file(path_or_document, &text);
+    if (!error.empty()) return error;
+  }
+  try {
+    const YAML::Node root = YAML::Load(text);
+    *out = Loader(source).load(root);
+    return "";
+  } catch (const ConfigError &e) {
+    return e.what();
+  } catch (const YAML::ParserException &e) {
+    return source + " line " + std::to_string(e.mark.line + 1) + ", column " +
+           std::to_string(e.mark.column + 1) + ": malformed YAML: " + e.msg;
+  } catch (const YAML::Exception &e) {
+    return source + ": " + e.what();
+  } catch (const std::exception &e) {
+    return source + ": " + e.what();
+  } catch (...) {
+    return source + ": unexpected error while loading the configuration";
+  }
+}
+
+}  // namespace lantern

@@ -1,0 +1,18 @@
+// Loads and validates the YAML configuration (the only place Lantern reads YAML).
+//
+// Thread-safe (no shared state); never throws. Every key is checked: an unknown key, a wrong
+// type or an out-of-range value is an error naming the key, its line and its path.
+#pragma once
+
+#include <string>
+
+#include "core/config/config.h"
+
+namespace lantern {
+
+// `path_or_document` is a YAML file path, or an inline YAML document when it contains a newline
+// or starts with '{'. On success fills `*out` (defaults for every absent key) and returns "";
+// on failure returns the error message and leaves `*out` untouched. `out` must not be null.
+std::string load_config(const std::string &path_or_document, Config *out);
+
+}  // namespace lantern

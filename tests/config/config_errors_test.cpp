@@ -1,0 +1,188 @@
+// Every configuration error names the key, its line (1-based) and path, and what is allowed.
+#include <gtest/gtest.h>
+
+#include <initializer_list>
+
+#include "core/config/config_loader.h"
+
+namespace lantern {
+namespace {
+
+// Loads `document`, expects failure, and checks the message contains every fragment.
+std::string expect_error(const std::string &document,
+                         std::initializer_list<const char *> fragments) {
+  Config c;
+  c.verbose = true;  // sentinel: a failed load must leave the output untouched
+  const std::string error = load_config(document, &c);
+  EXPECT_NE(error, "") << document;
+  for (const char *fragment : fragments)
+    EXPECT_NE(error.find(fragment), std::string::npos)
+        << "missing '" << fragment << "' in: " << error;
+  EXPECT_TRUE(c.verbose);
+  return error;
+}
+
+TEST(ConfigErrors, UnknownKeyNamesKeyLinePathAndSuggestion) {
+  expect_error(
+      "scenes:\n"
+      "  - name: front\n"
+      "    camera:\n"
+      "      azimth: 30\n",
+      {"'azimth'", "line 4", "scenes[0].camera.azimth", "did you mean 'azimuth'?"});
+}
+
+TEST(ConfigErrors, UnknownTopLevelKey) {
+  expect_error("scene:\n  - {}\n", {"'scene'", "line 1", "did you mean 'scenes'?"});
+  expect_error("scenes: [{}]\nverbos: true\n", {"'verbos'", "line 2", "did you mean 'verbose'?"});
+}
+
+TEST(ConfigErrors, UnknownKeyInEverySection) {
+  expect_error("schedule: {evry: 2}\nscenes: [{}]\n",
+               {"schedule.evry", "line 1", "did you mean 'every'?"});
+  expect_error("scenes:\n  - {}\n  - widht: 3\n",
+               {"scenes[1].widht", "line 3", "did you mean 'width'?"});
+  expect_error("scenes:\n  - color: {colourmap: plasma}\n",
+               {"scenes[0].color.colourmap", "line 2", "did you mean 'colormap'?"});
+  expect_error("scenes:\n  - output: {patern: x.png}\n",
+               {"scenes[0].output.patern", "line 2", "did you mean 'pattern'?"});
+  expect_error("scenes:\n  - culling: {frustrum: true}\n",
+               {"scenes[0].culling.frustrum", "line 2", "did you mean 'frustum'?"});
+  expect_error("scenes:\n  - lod: {fractoin: 0.5}\n",
+               {"scenes[0].lod.fractoin", "line 2", "did you mean 'fraction'?"});
+  expect_error("scenes:\n  - cut_planes:\n      - {normal: [1, 0, 0], ofset: 1}\n",
+               {"scenes[0].cut_planes[0].ofset", "line 3", "did you mean 'offset'?"});
+  expect_error("dump: {fiel: a.h5}\n", {"dump.fiel", "line 1", "did you mean 'file'?"});
+}
+
+TEST(ConfigErrors, DuplicateKey) {
+  expect_error("scenes:\n  - width: 3\n    width: 4\n",
+               {"duplicate key 'width'", "line 3", "line 2"});
+}
+
+TEST(ConfigErrors, MalformedYamlGivesLineAndColumn) {
+  expect_error("scenes:\n  - width: [1, 2\n  - height: 3\n", {"malformed YAML", "line", "column"});
+  expect_error("scenes: [{}]\n  bad: indentation: here\n", {"malformed YAML", "line 2"});
+}
+
+TEST(ConfigErrors, UnreadableFileIsNamed) {
+  expect_error("/nonexistent/lantern.yaml", {"/nonexistent/lantern.yaml", "No such file"});
+  expect_error("/tmp", {"'/tmp'", "Is a directory"});
+}
+
+TEST(ConfigErrors, NothingToDo) {
+  expect_error("verbose: true\n", {"scenes"});
+  expect_error("scenes: []\n", {"scenes"});
+  expect_error("\n", {"scenes"});
+}
+
+TEST(ConfigErrors, WrongShape) {
+  expect_error("- a\n- b\n", {"mapping"});
+  expect_error("scenes: {width: 3}\n", {"scenes", "list"});
+  expect_error("scenes:\n  - 42\n", {"scenes[0]", "line 2", "mapping"});
+  expect_error("scenes:\n  - camera: 3\n", {"scenes[0].camera", "line 2", "mapping"});
+}
+
+TEST(ConfigErrors, ImageSize) {
+  expect_error("scenes:\n  - width: 0\n", {"scenes[0].width", "line 2", "1..16384", "got 0"});
+  expect_error("scenes:\n  - height: 16385\n", {"scenes[0].height", "line 2", "1..16384"});
+  expect_error("scenes:\n  - width: 12.5\n", {"scenes[0].width", "integer", "'12.5'"});
+  expect_error("scenes:\n  - width: big\n", {"scenes[0].width", "integer", "'big'"});
+}
+
+TEST(ConfigErrors, Radius) {
+  expect_error("scenes:\n  - radius: 0\n", {"scenes[0].radius", "line 2", "> 0", "per_particle"});
+  expect_error("scenes:\n  - radius: -1\n", {"scenes[0].radius", "> 0"});
+  expect_error("scenes:\n  - radius: .nan\n", {"scenes[0].radius", "finite"});
+  expect_error("scenes:\n  - radius: .inf\n", {"scenes[0].radius", "finite"});
+  expect_error("scenes:\n  - radius: per-particle\n", {"scenes[0].radius", "per_particle"});
+}
+
+TEST(ConfigErrors, Camera) {
+  expect_error("scenes:\n  - camera: {fov: 180}\n", {"scenes[0].camera.fov", "line 2", "(0, 180)"});
+  expect_error("scenes:\n  - camera: {fov: 0}\n", {"scenes[0].camera.fov", "(0, 180)"});
+  expect_error("scenes:\n  - camera: {zoom: 0}\n", {"scenes[0].camera.zoom", "> 0"});
+  expect_error("scenes:\n  - camera: {elevation: 91}\n",
+               {"scenes[0].camera.elevation", "[-90, 90]"});
+  expect_error("scenes:\n  - camera: {projection: fisheye}\n",
+               {"scenes[0].camera.projection", "perspective, orthographic", "'fisheye'"});
+  expect_error("scenes:\n  - camera: {position: [1, 2]}\n",
+               {"scenes[0].camera.position", "3 finite numbers"});
+  expect_error("scenes:\n  - camera: {look_at: [1, 2, 3]}\n",
+               {"scenes[0].camera.look_at", "position"});
+  expect_error("scenes:\n  - camera: {position: [1, 2, 3], look_at: [1, 2, 3]}\n",
+               {"scenes[0].camera.look_at", "differ"});
+  expect_error("scenes:\n  - camera: {up: [0, 0, 0]}\n", {"scenes[0].camera.up", "zero"});
+  expect_error("scenes:\n  - camera: {near: 10, far: 5}\n", {"scenes[0].camera.far", "> 10"});
+}
+
+TEST(ConfigErrors, Colour) {
+  expect_error(
+      "scenes:\n  - color: {colormap: jet}\n",
+      {"scenes[0].color.colormap", "line 2", "viridis, plasma, coolwarm, grayscale", "'jet'"});
+  expect_error("scenes:\n  - color: {by: velocity}\n",
+               {"scenes[0].color.by", "solid, type, scalar"});
+  expect_error("scenes:\n  - color: {range: [2, 1]}\n",
+               {"scenes[0].color.range", "auto", "min < max"});
+  expect_error("scenes:\n  - color: {range: automatic}\n", {"scenes[0].color.range", "auto"});
+  expect_error("scenes:\n  - color: {solid: [1, 2, 0]}\n", {"scenes[0].color.solid[1]", "[0, 1]"});
+  expect_error("scenes:\n  - background: [0, 0]\n", {"scenes[0].background", "[r, g, b]"});
+  expect_error("scenes:\n  - color: {palette: []}\n", {"scenes[0].color.palette"});
+}
+
+TEST(ConfigErrors, Output) {
+  expect_error("scenes:\n  - output: {jpeg_quality: 101}\n",
+               {"scenes[0].output.jpeg_quality", "line 2", "1..100"});
+  expect_error("scenes:\n  - output: {pattern: 'f_{stp}.png'}\n",
+               {"scenes[0].output.pattern", "line 2", "{stp}", "{step:0Nd}"});
+  expect_error("scenes:\n  - output: {pattern: 'frame_{step}'}\n",
+               {"scenes[0].output.pattern", "extension", "format"});
+  expect_error("scenes:\n  - output: {pattern: 'a.png', format: exr}\n",
+               {"scenes[0].output.format", "contradicts"});
+  expect_error("scenes:\n  - output: {pattern: 'a', format: bmp}\n",
+               {"scenes[0].output.format", "png, jpeg", "exr"});
+  expect_error("scenes:\n  - output: {pattern: 'a.exr', exr_color: double}\n",
+               {"scenes[0].output.exr_color", "half, float"});
+}
+
+TEST(ConfigErrors, ScenesMustNotOverwriteEachOther) {
+  expect_error("scenes:\n  - {name: a}\n  - {name: b}\n",
+               {"scenes[1].output.pattern", "scenes[0]", "{scene}"});
+  expect_error(
+      "scenes:\n  - {name: a, output: {pattern: '{scene}.png'}}\n"
+      "  - {name: a, output: {pattern: '{scene}.png'}}\n",
+      {"scenes[1].name", "'a'", "scenes[0]"});
+  expect_error("scenes:\n  - {name: 'a/b'}\n", {"scenes[0].name", "letters"});
+}
+
+TEST(ConfigErrors, CullingAndLod) {
+  expect_error("scenes:\n  - culling: {occlusion: nine_sphere}\n",
+               {"scenes[0].culling.occlusion", "auto, none, nine_spheres, nine_spheres_sorted, hzb",
+                "did you mean 'nine_spheres'?"});
+  expect_error("scenes:\n  - culling: {frustum: maybe}\n",
+               {"scenes[0].culling.frustum", "true or false"});
+  expect_error("scenes:\n  - lod: {fraction: 0}\n", {"scenes[0].lod.fraction", "(0, 1]"});
+  expect_error("scenes:\n  - lod: {fraction: 1.5}\n", {"scenes[0].lod.fraction", "(0, 1]"});
+  expect_error("scenes:\n  - lod: {budget: -1}\n", {"scenes[0].lod.budget", "integer"});
+  expect_error("scenes:\n  - lod: {min_pixels: -1}\n", {"scenes[0].lod.min_pixels", ">= 0"});
+  expect_error("scenes:\n  - cut_planes: [{normal: [0, 0, 0]}]\n",
+               {"scenes[0].cut_planes[0].normal", "zero"});
+}
+
+TEST(ConfigErrors, Schedule) {
+  expect_error("schedule: {every: -1}\nscenes: [{}]\n", {"schedule.every", "line 1", "integer"});
+  expect_error("schedule:\n  steps: [0, -5]\nscenes: [{}]\n",
+               {"schedule.steps[1]", "line 2", "integer"});
+  expect_error("schedule: {steps: []}\nscenes: [{}]\n", {"schedule.steps", "at least one"});
+  expect_error("schedule: {steps: 5}\nscenes: [{}]\n", {"schedule.steps", "list"});
+}
+
+TEST(ConfigErrors, TopLevelTypes) {
+  expect_error("verbose: loud\nscenes: [{}]\n", {"verbose", "line 1", "true or false"});
+  expect_error("stats: [a]\nscenes: [{}]\n", {"stats", "string"});
+  expect_error("dump: {precision: float16}\n", {"dump.precision", "float32, float64"});
+  expect_error("dump: {fields: [position, velocity]}\n",
+               {"dump.fields[1]", "position, type, scalar, radius, id"});
+}
+
+}  // namespace
+}  // namespace lantern
