@@ -11,10 +11,9 @@ size_t ceil_div(size_t a, size_t b) {
 
 }  // namespace
 
-MethodScratch allocate_scratch(CompositeMethod method, size_t pixels, int ranks,
-                               size_t chunk_pixels) {
+void prepare_scratch(CompositeMethod method, size_t pixels, int ranks, size_t chunk_pixels,
+                     MethodScratch &s) {
   const size_t chunk = std::max<size_t>(1, std::min(chunk_pixels, pixels));
-  MethodScratch s;
   switch (method) {
     case CompositeMethod::kReduce64:
       s.packed.resize(chunk);
@@ -23,18 +22,19 @@ MethodScratch allocate_scratch(CompositeMethod method, size_t pixels, int ranks,
       // Each chunk is padded to a multiple of the rank count; every rank gets one block.
       const size_t block = ceil_div(chunk, size_t(ranks));
       s.packed.resize(block * size_t(ranks));
-      s.received.resize(block);
+      s.block.resize(block);
       break;
     }
-    case CompositeMethod::kBinarySwap:
-      // The whole frame is swapped in halves, received in segments of at most one chunk.
-      s.packed.resize(pixels);
-      s.received.resize(std::max<size_t>(1, std::min(ceil_div(pixels, 2), chunk)));
+    case CompositeMethod::kBinarySwap: {
+      // Frames are merged in place; only a partner's segment (at most one chunk) is received.
+      const size_t segment = std::max<size_t>(1, std::min(ceil_div(pixels, 2), chunk));
+      s.depth.resize(segment);
+      s.rgba.resize(4 * segment);
       break;
+    }
     case CompositeMethod::kAuto:
       break;
   }
-  return s;
 }
 
 std::string run_method(CompositeMethod method, MPI_Comm comm, Frame &frame, int root,

@@ -1,8 +1,10 @@
 // The compositing algorithms behind composite_frames (internal to core/composite).
 //
 // Each method is split in two so that allocation failures can be agreed on before any rank enters
-// a collective: allocate_scratch() runs first (it may throw std::bad_alloc), then run_method()
+// a collective: prepare_scratch() runs first (it may throw std::bad_alloc), then run_method()
 // does only MPI and arithmetic. Both take the same, collectively validated, arguments.
+// Scratch is at most about two chunks whatever the frame size, and is kept between frames (its
+// capacity only grows), so steady-state frames pay no allocation and no page faults.
 #pragma once
 
 #include <mpi.h>
@@ -11,19 +13,22 @@
 #include <string>
 
 #include "core/composite/depth_compositor.h"
-#include "core/composite/packed_buffer.h"
+#include "core/composite/uninitialized_buffer.h"
 #include "core/render/frame.h"
 
 namespace lantern {
 
 struct MethodScratch {
-  PackedBuffer packed;    // this rank's packed pixels (a chunk, or the whole frame)
-  PackedBuffer received;  // a partner's pixels or this rank's reduced block
+  PackedBuffer packed;                // reductions: one chunk of packed pixels
+  PackedBuffer block;                 // reduce-scatter: this rank's reduced block of a chunk
+  UninitializedBuffer<float> depth;   // binary swap: one received segment, depth
+  UninitializedBuffer<uint8_t> rgba;  // binary swap: one received segment, colour
 };
 
-// Sizes depend only on (method, pixels, ranks, chunk), so they agree on every rank.
-MethodScratch allocate_scratch(CompositeMethod method, size_t pixels, int ranks,
-                               size_t chunk_pixels);
+// Sizes the buffers for one call; they depend only on (method, pixels, ranks, chunk), so they
+// agree on every rank. May throw std::bad_alloc.
+void prepare_scratch(CompositeMethod method, size_t pixels, int ranks, size_t chunk_pixels,
+                     MethodScratch &scratch);
 
 // Runs one concrete method (not kAuto). Returns "" or an MPI error message.
 std::string run_method(CompositeMethod method, MPI_Comm comm, Frame &frame, int root,

@@ -9,8 +9,11 @@
 // method. Errors (mismatched sizes, bad root, out of memory) are agreed collectively and returned
 // in CompositeStats::error on every rank; no rank throws or is left waiting in a collective.
 //
-// Memory: besides the Frame itself, a rank allocates at most 1.5 frames of scratch (binary
-// swap) and reductions are chunked so MPI's own temporaries stay bounded.
+// Memory: besides the Frame itself, a rank holds about two chunks of scratch (16 MiB at the
+// default chunk) whatever the frame size: reductions pack and reduce one chunk at a time (so
+// MPI's own temporaries stay chunk-sized too) and binary swap merges into the frame in place.
+// The scratch is kept per thread between calls, so steady-state frames do not allocate.
+// Limit: at most INT_MAX / 4 pixels (MPI counts are int; 8192 x 8192 is 1/8 of that).
 #pragma once
 
 #include <mpi.h>
@@ -26,7 +29,7 @@ enum class CompositeMethod {
   kAuto,           // the measured-fastest method for (rank count, pixel count): method_table.h
   kReduce64,       // pack depth+RGBA in one uint64, MPI_Reduce(MPI_MIN) in chunks to root
   kReduceScatter,  // MPI_Reduce_scatter_block(MPI_MIN) + MPI_Gather to root, in chunks
-  kBinarySwap,     // hand-written binary swap; extra ranks (non power of two) fold in first
+  kBinarySwap,     // hand-written binary swap in place; extra ranks (non power of 2) fold in first
 };
 
 // "auto", "reduce64", "reduce_scatter", "binary_swap"; "none" is what stats say for one rank.

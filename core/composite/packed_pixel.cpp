@@ -14,8 +14,13 @@ void unpack_pixels(const uint64_t *in, size_t first, size_t count, Frame &frame)
   for (size_t i = 0; i < count; ++i) unpack_pixel(in[i], depth + i, rgba + 4 * i);
 }
 
-void min_merge(const uint64_t *src, size_t count, uint64_t *dst) {
-  for (size_t i = 0; i < count; ++i) dst[i] = src[i] < dst[i] ? src[i] : dst[i];
+void merge_pixels(const float *in_depth, const uint8_t *in_rgba, size_t count, float *depth,
+                  uint8_t *rgba) {
+  for (size_t i = 0; i < count; ++i) {
+    const uint64_t in = pack_pixel(in_depth[i], in_rgba + 4 * i);
+    const uint64_t own = pack_pixel(depth[i], rgba + 4 * i);
+    unpack_pixel(in < own ? in : own, depth + i, rgba + 4 * i);
+  }
 }
 
 }  // namespace lantern

@@ -18,7 +18,7 @@ std::string composite_reduce_scatter(MPI_Comm comm, Frame &frame, int root,
   const size_t pixels = frame.pixel_count();
   const size_t chunk = scratch.packed.size();  // a multiple of ranks
   uint64_t *packed = scratch.packed.data();
-  uint64_t *block = scratch.received.data();
+  uint64_t *block = scratch.block.data();
   for (size_t first = 0; first < pixels; first += chunk) {
     const size_t count = std::min(chunk, pixels - first);
     const size_t block_size = (count + size_t(ranks) - 1) / size_t(ranks);

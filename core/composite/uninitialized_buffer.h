@@ -1,11 +1,12 @@
-// Scratch storage for packed pixels that is not zero-filled on allocation.
+// Scratch storage that is not zero-filled on allocation or growth.
 //
-// Why: every element is written (packed or received) before it is read, and zero-filling a
-// full-frame buffer would cost a pass over memory as long as the packing itself.
+// Why: every element is written (packed or received) before it is read, and zero-filling would
+// cost a pass over memory as long as the packing itself.
 #pragma once
 
 #include <cstdint>
 #include <memory>
+#include <utility>
 #include <vector>
 
 namespace lantern {
@@ -32,6 +33,8 @@ struct DefaultInitAllocator : std::allocator<T> {
   }
 };
 
-using PackedBuffer = std::vector<uint64_t, DefaultInitAllocator<uint64_t>>;
+template <typename T>
+using UninitializedBuffer = std::vector<T, DefaultInitAllocator<T>>;
+using PackedBuffer = UninitializedBuffer<uint64_t>;
 
 }  // namespace lantern
