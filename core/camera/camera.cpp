@@ -10,7 +10,9 @@ namespace lantern {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
-double radians(double degrees) { return degrees * kPi / 180.0; }
+double radians(double degrees) {
+  return degrees * kPi / 180.0;
+}
 
 // Near and far planes that enclose the box [lo, hi] seen from `view`, with a small margin.
 void fit_depth_range(const glm::dmat4 &view, const glm::dvec3 &lo, const glm::dvec3 &hi,
@@ -72,7 +74,8 @@ std::string make_camera(const CameraConfig &config, const glm::dvec3 &lo_in,
     cam.up = {config.up[0], config.up[1], config.up[2]};
     const glm::dvec3 forward = cam.target - cam.eye;
     if (glm::length(forward) == 0.0) return "camera.look_at: equals camera.position";
-    if (glm::length(glm::cross(forward, cam.up)) <= 1e-12 * glm::length(forward) * glm::length(cam.up))
+    if (glm::length(glm::cross(forward, cam.up)) <=
+        1e-12 * glm::length(forward) * glm::length(cam.up))
       return "camera.up: parallel to the viewing direction (or zero)";
   } else {
     const double az = radians(config.azimuth), el = radians(config.elevation);

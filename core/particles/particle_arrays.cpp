@@ -6,25 +6,37 @@ namespace {
 int64_t element_size(lantern_datatype t) {
   switch (t) {
     case LANTERN_FLOAT32:
-    case LANTERN_INT32: return 4;
+    case LANTERN_INT32:
+      return 4;
     case LANTERN_FLOAT64:
-    case LANTERN_INT64: return 8;
-    default: return 0;
+    case LANTERN_INT64:
+      return 8;
+    default:
+      return 0;
   }
 }
 
 const char *type_name(lantern_datatype t) {
   switch (t) {
-    case LANTERN_FLOAT32: return "float32";
-    case LANTERN_FLOAT64: return "float64";
-    case LANTERN_INT32: return "int32";
-    case LANTERN_INT64: return "int64";
-    default: return "none";
+    case LANTERN_FLOAT32:
+      return "float32";
+    case LANTERN_FLOAT64:
+      return "float64";
+    case LANTERN_INT32:
+      return "int32";
+    case LANTERN_INT64:
+      return "int64";
+    default:
+      return "none";
   }
 }
 
-bool is_real(lantern_datatype t) { return t == LANTERN_FLOAT32 || t == LANTERN_FLOAT64; }
-bool is_integer(lantern_datatype t) { return t == LANTERN_INT32 || t == LANTERN_INT64; }
+bool is_real(lantern_datatype t) {
+  return t == LANTERN_FLOAT32 || t == LANTERN_FLOAT64;
+}
+bool is_integer(lantern_datatype t) {
+  return t == LANTERN_INT32 || t == LANTERN_INT64;
+}
 
 // Validates one array; `components` elements per entry. Returns "" or an error message.
 std::string check_array(const lantern_array &a, const char *name, int components, bool want_real,
@@ -49,7 +61,9 @@ std::string check_array(const lantern_array &a, const char *name, int components
   return {};
 }
 
-bool given(const lantern_array &a) { return a.data != nullptr || a.type != LANTERN_TYPE_NONE; }
+bool given(const lantern_array &a) {
+  return a.data != nullptr || a.type != LANTERN_TYPE_NONE;
+}
 
 }  // namespace
 
@@ -74,8 +88,7 @@ std::string ParticleArrays::validate(const lantern_particles &p, ParticleArrays 
     for (int k = 0; k < 3; ++k) {
       if (!given(*c[k]) && p.count > 0)
         return std::string("particles.") + names[k] + ": NULL positions with count > 0";
-      if (auto e = check_array(*c[k], names[k], 1, true, p.count, &r.pos_[k]); !e.empty())
-        return e;
+      if (auto e = check_array(*c[k], names[k], 1, true, p.count, &r.pos_[k]); !e.empty()) return e;
     }
   }
   if (auto e = check_array(p.radius, "radius", 1, true, p.count, &r.radius_); !e.empty()) return e;

@@ -31,21 +31,31 @@ class StridedArray {
   double real(int64_t i, int c = 0) const {
     const unsigned char *p = base_ + i * stride_;
     switch (type_) {
-      case LANTERN_FLOAT32: return load<float>(p, c);
-      case LANTERN_FLOAT64: return load<double>(p, c);
-      case LANTERN_INT32: return load<int32_t>(p, c);
-      case LANTERN_INT64: return static_cast<double>(load<int64_t>(p, c));
-      default: return 0.0;
+      case LANTERN_FLOAT32:
+        return load<float>(p, c);
+      case LANTERN_FLOAT64:
+        return load<double>(p, c);
+      case LANTERN_INT32:
+        return load<int32_t>(p, c);
+      case LANTERN_INT64:
+        return static_cast<double>(load<int64_t>(p, c));
+      default:
+        return 0.0;
     }
   }
   int64_t integer(int64_t i) const {
     const unsigned char *p = base_ + i * stride_;
     switch (type_) {
-      case LANTERN_INT32: return load<int32_t>(p, 0);
-      case LANTERN_INT64: return load<int64_t>(p, 0);
-      case LANTERN_FLOAT32: return static_cast<int64_t>(load<float>(p, 0));
-      case LANTERN_FLOAT64: return static_cast<int64_t>(load<double>(p, 0));
-      default: return 0;
+      case LANTERN_INT32:
+        return load<int32_t>(p, 0);
+      case LANTERN_INT64:
+        return load<int64_t>(p, 0);
+      case LANTERN_FLOAT32:
+        return static_cast<int64_t>(load<float>(p, 0));
+      case LANTERN_FLOAT64:
+        return static_cast<int64_t>(load<double>(p, 0));
+      default:
+        return 0;
     }
   }
 

@@ -36,12 +36,24 @@ class GlName {
   GLuint name_ = 0;
 };
 
-inline void delete_program(GLuint n) { glDeleteProgram(n); }
-inline void delete_shader(GLuint n) { glDeleteShader(n); }
-inline void delete_buffer(GLuint n) { glDeleteBuffers(1, &n); }
-inline void delete_vertex_array(GLuint n) { glDeleteVertexArrays(1, &n); }
-inline void delete_framebuffer(GLuint n) { glDeleteFramebuffers(1, &n); }
-inline void delete_renderbuffer(GLuint n) { glDeleteRenderbuffers(1, &n); }
+inline void delete_program(GLuint n) {
+  glDeleteProgram(n);
+}
+inline void delete_shader(GLuint n) {
+  glDeleteShader(n);
+}
+inline void delete_buffer(GLuint n) {
+  glDeleteBuffers(1, &n);
+}
+inline void delete_vertex_array(GLuint n) {
+  glDeleteVertexArrays(1, &n);
+}
+inline void delete_framebuffer(GLuint n) {
+  glDeleteFramebuffers(1, &n);
+}
+inline void delete_renderbuffer(GLuint n) {
+  glDeleteRenderbuffers(1, &n);
+}
 
 using GlProgram = GlName<delete_program>;
 using GlShader = GlName<delete_shader>;

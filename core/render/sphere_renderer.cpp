@@ -76,6 +76,7 @@ struct SphereRenderer::Impl {
   GlRenderbuffer colour_rb, depth_rb;
   int fbo_w = 0, fbo_h = 0;
   int tile_limit = kMaxTileSize;
+  int gl_limit = kMaxTileSize;  // min(kMaxTileSize, GL renderbuffer and viewport limits)
   std::vector<uint8_t> tile_rgba;
   std::vector<float> tile_depth;
   struct {
@@ -94,7 +95,8 @@ struct SphereRenderer::Impl {
     glBindRenderbuffer(GL_RENDERBUFFER, depth_rb.get());
     glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT32F, w, h);
     glBindFramebuffer(GL_FRAMEBUFFER, fbo.get());
-    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, colour_rb.get());
+    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER,
+                              colour_rb.get());
     glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, depth_rb.get());
     if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
       return "framebuffer of " + std::to_string(w) + "x" + std::to_string(h) + " is incomplete";
@@ -109,8 +111,8 @@ struct SphereRenderer::Impl {
       const size_t n = std::min(kChunkInstances, count - first);
       if (reupload) {
         // Orphan, then fill: llvmpipe need not wait for the previous chunk's draw.
-        glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(kChunkInstances * sizeof(SphereInstance)),
-                     nullptr, GL_STREAM_DRAW);
+        glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(kChunkInstances * sizeof(SphereInstance)), nullptr,
+                     GL_STREAM_DRAW);
         glBufferSubData(GL_ARRAY_BUFFER, 0, GLsizeiptr(n * sizeof(SphereInstance)),
                         spheres + first);
       }
@@ -138,7 +140,13 @@ struct SphereRenderer::Impl {
 SphereRenderer::SphereRenderer(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
 SphereRenderer::~SphereRenderer() = default;
 
-int SphereRenderer::max_tile_size() const { return impl_->tile_limit; }
+int SphereRenderer::max_tile_size() const {
+  return impl_->tile_limit;
+}
+
+void SphereRenderer::set_max_tile_size(int pixels) {
+  impl_->tile_limit = std::clamp(pixels, 16, impl_->gl_limit);
+}
 
 std::unique_ptr<SphereRenderer> SphereRenderer::create(std::string *error) {
   auto impl = std::make_unique<Impl>();
@@ -154,7 +162,8 @@ std::unique_ptr<SphereRenderer> SphereRenderer::create(std::string *error) {
   GLint rb_limit = 0, viewport_limit[2] = {0, 0};
   glGetIntegerv(GL_MAX_RENDERBUFFER_SIZE, &rb_limit);
   glGetIntegerv(GL_MAX_VIEWPORT_DIMS, viewport_limit);
-  impl->tile_limit = std::min({kMaxTileSize, int(rb_limit), viewport_limit[0], viewport_limit[1]});
+  impl->gl_limit = std::min({kMaxTileSize, int(rb_limit), viewport_limit[0], viewport_limit[1]});
+  impl->tile_limit = impl->gl_limit;
 
   GLuint name = 0;
   glGenVertexArrays(1, &name);

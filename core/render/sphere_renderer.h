@@ -58,6 +58,8 @@ class SphereRenderer {
 
   // Largest tile side the renderer uses (GL limit, capped to bound the FBO's memory).
   int max_tile_size() const;
+  // Lowers (or restores) the tile side, e.g. to bound memory; clamped to [16, GL limit].
+  void set_max_tile_size(int pixels);
 
  private:
   struct Impl;

@@ -30,6 +30,13 @@
 extern "C" {
 #endif
 
+/* Symbols of the C API are the only ones the shared library exports. */
+#if defined(LANTERN_BUILDING_LIBRARY) && defined(__GNUC__)
+#define LANTERN_API __attribute__((visibility("default")))
+#else
+#define LANTERN_API
+#endif
+
 #define LANTERN_VERSION_MAJOR 0
 #define LANTERN_VERSION_MINOR 1
 #define LANTERN_VERSION_PATCH 0
@@ -90,7 +97,8 @@ typedef struct lantern_particles {
   lantern_array position_x; /* or separate components */
   lantern_array position_y;
   lantern_array position_z;
-  lantern_array radius; /* optional per-particle radius (used when a scene says radius: per_particle) */
+  lantern_array
+      radius; /* optional per-particle radius (used when a scene says radius: per_particle) */
   lantern_array scalar; /* optional per-particle scalar (colour by scalar) */
   lantern_array type;   /* optional per-particle integer type (colour by type) */
   lantern_array id;     /* optional global particle id (kept in particle dumps) */
@@ -102,7 +110,7 @@ typedef struct lantern_particles {
 typedef struct lantern_context lantern_context;
 
 /* The library's version as "major.minor.patch"; a static string, never freed. */
-const char *lantern_version(void);
+LANTERN_API const char *lantern_version(void);
 
 /*
  * Opens a context. `config` is the path of a YAML file, or an inline YAML document (any string
@@ -112,11 +120,12 @@ const char *lantern_version(void);
  * context that holds only the error message (read it with lantern_error_message(), then close
  * it), or to NULL when even that could not be allocated or `out` is NULL. Collective.
  */
-lantern_status lantern_open(const char *config, int mpi_comm_f, lantern_context **out);
+LANTERN_API lantern_status lantern_open(const char *config, int mpi_comm_f, lantern_context **out);
 
 /* Records (borrows) this rank's particles; see lantern_particles for lifetimes. Local. A failed
  * publish leaves this rank with no particles until the next successful one. */
-lantern_status lantern_publish(lantern_context *ctx, const lantern_particles *particles);
+LANTERN_API lantern_status lantern_publish(lantern_context *ctx,
+                                           const lantern_particles *particles);
 
 /*
  * Tells Lantern that the simulation reached `step` at simulation time `time`. On steps the
@@ -125,14 +134,14 @@ lantern_status lantern_publish(lantern_context *ctx, const lantern_particles *pa
  * rank returns the same status. Particles with NaN or infinite coordinates are skipped and
  * counted in the stats (a warning is printed once per context).
  */
-lantern_status lantern_execute(lantern_context *ctx, int64_t step, double time);
+LANTERN_API lantern_status lantern_execute(lantern_context *ctx, int64_t step, double time);
 
 /* The last error of this context, or "" if none. Owned by the context; valid until the next
  * call on it. NULL context gives a static message. */
-const char *lantern_error_message(const lantern_context *ctx);
+LANTERN_API const char *lantern_error_message(const lantern_context *ctx);
 
 /* Flushes outputs and frees the context. Safe on NULL. Collective. */
-lantern_status lantern_close(lantern_context *ctx);
+LANTERN_API lantern_status lantern_close(lantern_context *ctx);
 
 #ifdef __cplusplus
 }

@@ -1,0 +1,112 @@
+// The C API: argument checks, and a wall that no C++ exception crosses. All real work is in
+// lantern::Runtime (core/pipeline/runtime.h).
+#include <memory>
+#include <new>
+#include <string>
+
+#include "core/pipeline/runtime.h"
+#include "lantern/lantern.h"
+#include "mpi_bootstrap.h"
+
+struct lantern_context {
+  std::unique_ptr<lantern::Runtime> runtime;  // null in an error-only context
+  std::string error;
+  bool holds_mpi = false;  // this context counts as a user of acquire_mpi()
+};
+
+namespace {
+
+lantern_status fail(lantern_context *ctx, lantern_status code, std::string message) {
+  if (ctx) ctx->error = std::move(message);
+  return code;
+}
+
+lantern_status report(lantern_context *ctx, const lantern::Status &s) {
+  ctx->error = s.message;
+  return s.code;
+}
+
+// Runs f, turning any exception into a status and message on ctx.
+template <typename F>
+lantern_status guarded(lantern_context *ctx, const char *function, F &&f) {
+  try {
+    return f();
+  } catch (const std::bad_alloc &) {
+    return fail(ctx, LANTERN_ERR_OUT_OF_MEMORY, std::string(function) + ": out of memory");
+  } catch (const std::exception &e) {
+    return fail(ctx, LANTERN_ERR_INTERNAL, std::string(function) + ": internal error: " + e.what());
+  } catch (...) {
+    return fail(ctx, LANTERN_ERR_INTERNAL, std::string(function) + ": unknown internal error");
+  }
+}
+
+}  // namespace
+
+extern "C" {
+
+const char *lantern_version(void) {
+#define LANTERN_STR2(x) #x
+#define LANTERN_STR(x) LANTERN_STR2(x)
+  return LANTERN_STR(LANTERN_VERSION_MAJOR) "." LANTERN_STR(LANTERN_VERSION_MINOR) "." LANTERN_STR(
+      LANTERN_VERSION_PATCH);
+}
+
+lantern_status lantern_open(const char *config, int mpi_comm_f, lantern_context **out) {
+  if (!out) return LANTERN_ERR_NULL_ARGUMENT;
+  *out = nullptr;
+  lantern_context *ctx = nullptr;
+  try {
+    ctx = std::make_unique<lantern_context>().release();  // owned by the caller until close
+  } catch (...) {
+    return LANTERN_ERR_OUT_OF_MEMORY;
+  }
+  *out = ctx;
+  return guarded(ctx, "lantern_open", [&]() -> lantern_status {
+    if (!config)
+      return fail(ctx, LANTERN_ERR_NULL_ARGUMENT, "config: NULL (give a YAML path or document)");
+    MPI_Comm comm = MPI_COMM_NULL;
+    if (auto e = lantern::acquire_mpi(mpi_comm_f, &comm); !e.empty())
+      return fail(ctx, LANTERN_ERR_MPI, e);
+    ctx->holds_mpi = true;
+    return report(ctx, lantern::Runtime::open(config, comm, &ctx->runtime));
+  });
+}
+
+lantern_status lantern_publish(lantern_context *ctx, const lantern_particles *particles) {
+  if (!ctx) return LANTERN_ERR_NULL_ARGUMENT;
+  return guarded(ctx, "lantern_publish", [&]() -> lantern_status {
+    if (!ctx->runtime)
+      return fail(ctx, LANTERN_ERR_INVALID_ARGUMENT, "ctx: this context failed to open");
+    if (!particles) return fail(ctx, LANTERN_ERR_NULL_ARGUMENT, "particles: NULL");
+    return report(ctx, ctx->runtime->publish(*particles));
+  });
+}
+
+lantern_status lantern_execute(lantern_context *ctx, int64_t step, double time) {
+  if (!ctx) return LANTERN_ERR_NULL_ARGUMENT;
+  return guarded(ctx, "lantern_execute", [&]() -> lantern_status {
+    if (!ctx->runtime)
+      return fail(ctx, LANTERN_ERR_INVALID_ARGUMENT, "ctx: this context failed to open");
+    return report(ctx, ctx->runtime->execute(step, time));
+  });
+}
+
+const char *lantern_error_message(const lantern_context *ctx) {
+  if (!ctx) return "ctx: NULL context (lantern_open failed to allocate or was not called)";
+  return ctx->error.c_str();
+}
+
+lantern_status lantern_close(lantern_context *ctx) {
+  if (!ctx) return LANTERN_OK;
+  const std::unique_ptr<lantern_context> owned(ctx);
+  lantern_status status = LANTERN_OK;
+  try {
+    ctx->runtime.reset();
+  } catch (...) {
+    status = LANTERN_ERR_INTERNAL;
+  }
+  if (ctx->holds_mpi) lantern::release_mpi();
+  return status;
+}
+
+}  // extern "C"

@@ -1,0 +1,123 @@
+#include "core/pipeline/runtime.h"
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+
+#include "core/config/config_loader.h"
+#include "core/output/stats_writer.h"
+#include "core/pipeline/collective_status.h"
+#include "core/pipeline/particle_scan.h"
+
+namespace lantern {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+// Per-particle radii must be usable: finite and non-negative. Returns "" or the first offender.
+std::string check_radii(const ParticleArrays &p) {
+  if (!p.has_radius()) return {};
+  for (int64_t i = 0; i < p.count(); ++i) {
+    const double r = p.radius(i);
+    if (!(r >= 0.0) || !std::isfinite(r))
+      return "particles.radius[" + std::to_string(i) + "]: " + std::to_string(r) +
+             " (radii must be finite and >= 0)";
+  }
+  return {};
+}
+
+}  // namespace
+
+Status Runtime::open(const std::string &config_text, MPI_Comm comm, std::unique_ptr<Runtime> *out) {
+  std::unique_ptr<Runtime> rt(new Runtime());
+  if (MPI_Comm_dup(comm, &rt->comm_) != MPI_SUCCESS)
+    return {LANTERN_ERR_MPI, "mpi_comm_f: MPI_Comm_dup failed on this communicator"};
+  MPI_Comm_rank(rt->comm_, &rt->rank_);
+  MPI_Comm_size(rt->comm_, &rt->size_);
+
+  Status local;
+  if (auto e = load_config(config_text, &rt->config_); !e.empty()) local = {LANTERN_ERR_CONFIG, e};
+  if (local.ok() && !rt->config_.scenes.empty()) {
+    std::string e;
+    rt->gl_ = GlSession::acquire(&e);
+    if (!rt->gl_) local = {LANTERN_ERR_GL, e};
+  }
+  if (Status s = agree_on_status(rt->comm_, local); !s.ok()) return s;
+  rt->buffers_.resize(rt->config_.scenes.size());
+  *out = std::move(rt);
+  return {};
+}
+
+Runtime::~Runtime() {
+  if (comm_ != MPI_COMM_NULL) {
+    int finalized = 0;
+    MPI_Finalized(&finalized);
+    if (!finalized) MPI_Comm_free(&comm_);
+  }
+}
+
+Status Runtime::publish(const lantern_particles &particles) {
+  ParticleArrays validated;
+  particles_ = ParticleArrays();  // a failed publish leaves no particles (see lantern.h)
+  if (auto e = ParticleArrays::validate(particles, &validated); !e.empty())
+    return {LANTERN_ERR_INVALID_ARGUMENT, e};
+  if (auto e = check_radii(validated); !e.empty()) return {LANTERN_ERR_INVALID_ARGUMENT, e};
+  particles_ = validated;
+  return {};
+}
+
+void Runtime::warn_nonfinite_once(int64_t count, int64_t step) {
+  if (count == 0 || warned_nonfinite_) return;
+  warned_nonfinite_ = true;
+  if (rank_ == 0)
+    std::fprintf(stderr,
+                 "lantern: warning: step %lld: %lld particles with NaN or infinite coordinates "
+                 "skipped (counted in the stats as nonfinite; warned once)\n",
+                 static_cast<long long>(step), static_cast<long long>(count));
+}
+
+Status Runtime::execute(int64_t step, double time) {
+  if (!config_.schedule.due(step)) return {};
+  const auto t0 = Clock::now();
+  const Extent global =
+      reduce_extent(comm_, scan_particles(particles_, particles_.has_radius(), 0.0));
+  warn_nonfinite_once(global.nonfinite_count, step);
+
+  Status first_error;
+  std::vector<SceneStats> stats(config_.scenes.size());
+  if (!config_.scenes.empty()) {
+    std::string e;
+    SphereRenderer *renderer = gl_->renderer(&e);
+    Status gl_status = agree_on_status(comm_, renderer ? Status() : Status(LANTERN_ERR_GL, e));
+    if (!gl_status.ok()) return gl_status;
+    const ScenePassInputs in{comm_, renderer, &particles_, global, step, time};
+    for (size_t s = 0; s < config_.scenes.size(); ++s) {
+      const Status st = run_scene_pass(in, config_.scenes[s], &buffers_[s], &stats[s]);
+      if (!st.ok() && first_error.ok()) first_error = st;  // later scenes still render
+    }
+  }
+  const double total_ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+  write_stats(step, time, global, total_ms, stats, first_error);
+  if (config_.verbose && rank_ == 0)
+    std::fprintf(stderr, "lantern: step %lld rendered %zu scene(s) in %.1f ms\n",
+                 static_cast<long long>(step), stats.size(), total_ms);
+  return first_error;
+}
+
+void Runtime::write_stats(int64_t step, double time, const Extent &global, double total_ms,
+                          const std::vector<SceneStats> &scenes, const Status &status) {
+  if (rank_ != 0 || config_.stats_file.empty()) return;
+  nlohmann::json line = {
+      {"step", step},
+      {"time", time},
+      {"ranks", size_},
+      {"status", int(status.code)},
+      {"particles", {{"finite", global.finite_count}, {"nonfinite", global.nonfinite_count}}},
+      {"ms", {{"total", total_ms}}},
+      {"scenes", nlohmann::json::array()}};
+  for (const auto &s : scenes) line["scenes"].push_back(s.to_json());
+  if (auto e = append_json_line(config_.stats_file, line); !e.empty())
+    std::fprintf(stderr, "lantern: warning: stats not written: %s\n", e.c_str());
+}
+
+}  // namespace lantern

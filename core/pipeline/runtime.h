@@ -1,0 +1,52 @@
+// Everything behind one lantern_context: the configuration, the communicator, the published
+// particles and the per-step pipeline. The C API (adaptor/) is a thin, exception-proof shell
+// around this class.
+//
+// Ownership: owns a duplicate of the caller's communicator and borrows the particle arrays.
+// Thread-safety: one thread at a time (see lantern.h).
+#pragma once
+
+#include <mpi.h>
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "core/config/config.h"
+#include "core/particles/particle_arrays.h"
+#include "core/pipeline/scene_pass.h"
+#include "core/pipeline/status.h"
+#include "core/render/gl_session.h"
+
+namespace lantern {
+
+class Runtime {
+ public:
+  // Collective over comm. On failure returns the (agreed) status and leaves *out empty.
+  static Status open(const std::string &config, MPI_Comm comm, std::unique_ptr<Runtime> *out);
+  ~Runtime();
+  Runtime(const Runtime &) = delete;
+  Runtime &operator=(const Runtime &) = delete;
+
+  Status publish(const lantern_particles &particles);  // local
+  Status execute(int64_t step, double time);           // collective on scheduled steps
+
+  const Config &config() const { return config_; }
+  MPI_Comm communicator() const { return comm_; }
+
+ private:
+  Runtime() = default;
+  void warn_nonfinite_once(int64_t count, int64_t step);
+  void write_stats(int64_t step, double time, const Extent &global, double total_ms,
+                   const std::vector<SceneStats> &scenes, const Status &status);
+
+  Config config_;
+  MPI_Comm comm_ = MPI_COMM_NULL;
+  int rank_ = 0, size_ = 1;
+  ParticleArrays particles_;
+  std::shared_ptr<GlSession> gl_;
+  std::vector<SceneBuffers> buffers_;  // one per scene
+  bool warned_nonfinite_ = false;
+};
+
+}  // namespace lantern

@@ -1,0 +1,38 @@
+// One scene on one scheduled step, on every rank: camera, the spheres to draw, rendering,
+// compositing across ranks, and the image file on rank 0. Collective over the communicator.
+#pragma once
+
+#include <mpi.h>
+
+#include <vector>
+
+#include "core/composite/global_extent.h"
+#include "core/config/config.h"
+#include "core/particles/particle_arrays.h"
+#include "core/pipeline/scene_stats.h"
+#include "core/pipeline/status.h"
+#include "core/render/frame.h"
+#include "core/render/sphere_renderer.h"
+
+namespace lantern {
+
+// What a scene pass reads and reuses between steps (buffers are kept to avoid reallocation).
+struct ScenePassInputs {
+  MPI_Comm comm = MPI_COMM_NULL;
+  SphereRenderer *renderer = nullptr;
+  const ParticleArrays *particles = nullptr;
+  Extent global;  // reduced over ranks
+  int64_t step = 0;
+  double time = 0.0;
+};
+
+struct SceneBuffers {
+  std::vector<SphereInstance> instances;
+  Frame frame;
+};
+
+// Renders `scene` and writes its image. Every rank returns the same status.
+Status run_scene_pass(const ScenePassInputs &in, const SceneConfig &scene, SceneBuffers *buffers,
+                      SceneStats *stats);
+
+}  // namespace lantern

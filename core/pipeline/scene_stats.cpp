@@ -1,0 +1,22 @@
+#include "core/pipeline/scene_stats.h"
+
+namespace lantern {
+
+nlohmann::json SceneStats::to_json() const {
+  return {{"scene", name},
+          {"file", file},
+          {"ms",
+           {{"camera", camera_ms},
+            {"cull", cull_ms},
+            {"instances", instances_ms},
+            {"draw", draw_ms},
+            {"readback", readback_ms},
+            {"composite", composite_ms},
+            {"write", write_ms},
+            {"total", total_ms}}},
+          {"particles", {{"drawn", drawn}, {"culled", culled}}},
+          {"composite_method", composite_method},
+          {"occlusion", occlusion}};
+}
+
+}  // namespace lantern

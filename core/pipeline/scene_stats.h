@@ -1,0 +1,27 @@
+// What one scene cost on one step: stage times (ms) and particle counts, written as part of the
+// step's JSON stats line.
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+namespace lantern {
+
+struct SceneStats {
+  std::string name;
+  // Milliseconds per stage, measured on rank 0 (the rank that also writes the file).
+  double camera_ms = 0, cull_ms = 0, instances_ms = 0, draw_ms = 0, readback_ms = 0,
+         composite_ms = 0, write_ms = 0, total_ms = 0;
+  // Particle counts summed over ranks.
+  int64_t drawn = 0;   // spheres sent to the renderer
+  int64_t culled = 0;  // finite particles dropped by culling or level of detail
+  std::string composite_method;
+  std::string occlusion;  // occlusion mode run (and why, for auto)
+  std::string file;       // the image written
+
+  nlohmann::json to_json() const;
+};
+
+}  // namespace lantern

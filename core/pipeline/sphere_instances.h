@@ -1,0 +1,71 @@
+// Turns particles into the renderer's SphereInstances: scene-relative float position, radius and
+// colour. The only per-particle conversion Lantern makes, streamed for the particles drawn.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "core/camera/camera.h"
+#include "core/color/colormap.h"
+#include "core/composite/global_extent.h"
+#include "core/config/config.h"
+#include "core/particles/particle_arrays.h"
+#include "core/render/sphere_renderer.h"
+
+namespace lantern {
+
+// How one scene colours particles, resolved against the global extent (same on every rank).
+struct Colouring {
+  ColorBy by = ColorBy::kSolid;
+  Rgb8 solid{200, 200, 200};
+  TypePalette palette{{}};
+  Colormap map = *Colormap::named("viridis");
+  double lo = 0.0, hi = 1.0;  // scalar range
+};
+
+Colouring make_colouring(const ColorConfig &config, const Extent &global);
+
+// Everything needed to turn particle i into an instance.
+struct InstanceRecipe {
+  const ParticleArrays *particles = nullptr;
+  glm::dvec3 origin{0.0};
+  bool per_particle_radius = false;
+  float radius = 0.5f;
+  Colouring colouring;
+
+  SphereInstance make(int64_t i) const {
+    const glm::dvec3 p = particles->position(i) - origin;
+    SphereInstance s;
+    s.x = float(p.x);
+    s.y = float(p.y);
+    s.z = float(p.z);
+    s.radius = per_particle_radius ? float(particles->radius(i)) : radius;
+    const Rgb8 c = colour(i);
+    s.rgba[0] = c[0];
+    s.rgba[1] = c[1];
+    s.rgba[2] = c[2];
+    s.rgba[3] = 255;
+    return s;
+  }
+
+  Rgb8 colour(int64_t i) const {
+    switch (colouring.by) {
+      case ColorBy::kType:
+        return colouring.palette.at(particles->has_type() ? particles->type(i) : 0);
+      case ColorBy::kScalar:
+        return colouring.map.at(
+            particles->has_scalar() ? particles->scalar(i) : 0.5 * (colouring.lo + colouring.hi),
+            colouring.lo, colouring.hi);
+      default:
+        return colouring.solid;
+    }
+  }
+};
+
+InstanceRecipe make_recipe(const ParticleArrays &particles, const SceneConfig &scene,
+                           const Camera &camera, const Extent &global);
+
+// Instances of every particle with finite coordinates, in published order.
+void build_all_instances(const InstanceRecipe &recipe, std::vector<SphereInstance> *out);
+
+}  // namespace lantern

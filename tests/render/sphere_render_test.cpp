@@ -1,0 +1,151 @@
+// The impostor renderer against analytic spheres: silhouettes, depths, intersections, tiling.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "core/camera/camera.h"
+#include "core/render/gl_session.h"
+
+namespace lantern {
+namespace {
+
+constexpr uint8_t kWhite[4] = {255, 255, 255, 255};
+
+class SphereRenderTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    std::string error;
+    session_ = GlSession::acquire(&error);
+    ASSERT_TRUE(session_) << error;
+    renderer_ = session_->renderer(&error);
+    ASSERT_TRUE(renderer_) << error;
+  }
+
+  // An explicit camera on the +z axis at distance `d`, looking at the origin.
+  Camera camera(Projection projection, double d, int w, int h) {
+    CameraConfig cfg;
+    cfg.projection = projection;
+    cfg.position = std::array<double, 3>{0, 0, d};
+    cfg.look_at = {0, 0, 0};
+    cfg.up = {0, 1, 0};
+    cfg.fov_y = 40.0;
+    Camera cam;
+    EXPECT_EQ(make_camera(cfg, {-2, -2, -2}, {2, 2, 2}, 0.0, w, h, &cam), "");
+    return cam;
+  }
+
+  Frame render(const Camera &cam, const std::vector<SphereInstance> &spheres) {
+    Frame f;
+    RenderTimings t;
+    EXPECT_EQ(renderer_->render(cam.render_view(kWhite), spheres.data(), spheres.size(), &f, &t),
+              "");
+    return f;
+  }
+
+  std::shared_ptr<GlSession> session_;
+  SphereRenderer *renderer_ = nullptr;
+};
+
+SphereInstance sphere(float x, float y, float z, float r, uint8_t red, uint8_t green) {
+  return SphereInstance{x, y, z, r, {red, green, 0, 255}};
+}
+
+// Radius in pixels of the projected silhouette of a sphere of radius r centred on the view axis
+// at distance d: the tangent cone's half-angle, through the projection.
+double silhouette_pixels(const Camera &cam, double r, double d) {
+  if (cam.orthographic) return r * cam.projection[1][1] * cam.height / 2.0;
+  return r / std::sqrt(d * d - r * r) * cam.projection[1][1] * cam.height / 2.0;
+}
+
+void expect_circle(const Frame &f, double radius_px) {
+  const double cx = f.width / 2.0, cy = f.height / 2.0;
+  int inside_missing = 0, outside_drawn = 0;
+  for (int y = 0; y < f.height; ++y)
+    for (int x = 0; x < f.width; ++x) {
+      const double dist = std::hypot(x + 0.5 - cx, y + 0.5 - cy);
+      const bool drawn = f.depth[f.index(x, y)] < 1.0f;
+      if (dist < radius_px - 1.0 && !drawn) ++inside_missing;
+      if (dist > radius_px + 1.0 && drawn) ++outside_drawn;
+    }
+  EXPECT_EQ(inside_missing, 0);
+  EXPECT_EQ(outside_drawn, 0);
+}
+
+TEST_F(SphereRenderTest, PerspectiveSilhouetteAndDepthMatchAnalytic) {
+  const double d = 10.0, r = 1.5;
+  const Camera cam = camera(Projection::kPerspective, d, 256, 256);
+  const Frame f = render(cam, {sphere(0, 0, 0, float(r), 255, 0)});
+  expect_circle(f, silhouette_pixels(cam, r, d));
+  // The pixel nearest the centre sees the sphere's front point, at distance d - r.
+  const float depth = f.depth[f.index(128, 128)];
+  EXPECT_NEAR(cam.window_depth_to_distance(depth), d - r, 1e-3);
+}
+
+TEST_F(SphereRenderTest, OrthographicSilhouetteAndDepthMatchAnalytic) {
+  const double d = 10.0, r = 0.8;
+  const Camera cam = camera(Projection::kOrthographic, d, 200, 200);
+  const Frame f = render(cam, {sphere(0, 0, 0, float(r), 255, 0)});
+  expect_circle(f, silhouette_pixels(cam, r, d));
+  EXPECT_NEAR(cam.window_depth_to_distance(f.depth[f.index(100, 100)]), d - r, 1e-3);
+}
+
+// Two spheres that cut each other: each pixel shows whichever surface is nearer, so the colour
+// boundary is the analytic intersection curve.
+TEST_F(SphereRenderTest, IntersectingSpheresShowTheAnalyticIntersectionCurve) {
+  const double ra = 0.6, rb = 0.5;
+  const glm::dvec3 a{-0.3, 0.0, 0.0}, b{0.25, 0.1, 0.2};
+  const Camera cam = camera(Projection::kOrthographic, 10.0, 768, 768);
+  const Frame f = render(cam, {sphere(float(a.x), float(a.y), float(a.z), float(ra), 255, 0),
+                               sphere(float(b.x), float(b.y), float(b.z), float(rb), 0, 255)});
+  const double px = 2.0 / (cam.projection[0][0] * f.width);  // world units per pixel
+  int wrong = 0, checked = 0;
+  for (int y = 0; y < f.height; ++y)
+    for (int x = 0; x < f.width; ++x) {
+      const double wx = (x + 0.5 - f.width / 2.0) * px, wy = (f.height / 2.0 - y - 0.5) * px;
+      const double ha = ra * ra - (wx - a.x) * (wx - a.x) - (wy - a.y) * (wy - a.y);
+      const double hb = rb * rb - (wx - b.x) * (wx - b.x) - (wy - b.y) * (wy - b.y);
+      if (ha < 0 || hb < 0) continue;  // only where both spheres cover the pixel
+      const double za = a.z + std::sqrt(ha), zb = b.z + std::sqrt(hb);
+      if (std::abs(za - zb) < 2 * px) continue;  // within a pixel of the curve
+      ++checked;
+      const uint8_t *c = &f.rgba[4 * f.index(x, y)];
+      const bool shows_a = c[0] > c[1];
+      if (shows_a != (za > zb)) ++wrong;
+    }
+  EXPECT_GT(checked, 1000);
+  EXPECT_EQ(wrong, 0);
+}
+
+// Tiling (images larger than the tile limit) must not change a single pixel.
+TEST_F(SphereRenderTest, TiledRenderingIsBitIdenticalToOneTile) {
+  const Camera cam = camera(Projection::kPerspective, 6.0, 640, 360);
+  std::vector<SphereInstance> s;
+  for (int i = 0; i < 200; ++i)
+    s.push_back(sphere(-2.0f + 0.02f * i, 0.007f * i - 0.7f, 0.005f * i, 0.2f, uint8_t(i), 80));
+  const int limit = renderer_->max_tile_size();
+  const Frame whole = render(cam, s);
+  renderer_->set_max_tile_size(100);  // 7 x 4 tiles, with ragged edges
+  const Frame tiled = render(cam, s);
+  renderer_->set_max_tile_size(limit);
+  int drawn = 0;
+  for (size_t i = 0; i < whole.pixel_count(); ++i) drawn += whole.depth[i] < 1.0f;
+  EXPECT_GT(drawn, 10000);
+  EXPECT_EQ(whole.rgba, tiled.rgba);
+  EXPECT_EQ(whole.depth, tiled.depth);
+}
+
+TEST_F(SphereRenderTest, RepeatedRendersAreBitIdentical) {
+  const Camera cam = camera(Projection::kPerspective, 5.0, 300, 200);
+  std::vector<SphereInstance> s;
+  for (int i = 0; i < 1000; ++i)
+    s.push_back(sphere(std::sin(i * 1.3f), std::cos(i * 0.7f), std::sin(i * 0.31f), 0.1f,
+                       uint8_t(i), uint8_t(3 * i)));
+  const Frame a = render(cam, s), b = render(cam, s);
+  EXPECT_EQ(a.rgba, b.rgba);
+  EXPECT_EQ(a.depth, b.depth);
+}
+
+}  // namespace
+}  // namespace lantern
