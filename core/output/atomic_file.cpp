@@ -1,0 +1,111 @@
+#include "core/output/atomic_file.h"
+
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <system_error>
+
+namespace lantern {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string os_reason(int error) {
+  return std::strerror(error);
+}
+
+// Removes the temporary file, ignoring errors: it is best effort on an already failing path.
+void remove_quietly(const std::string &path) {
+  std::error_code ignored;
+  fs::remove(path, ignored);
+}
+
+// Writes the whole buffer to `fd`, retrying on short writes and EINTR. Returns errno or 0.
+int write_all(int fd, const char *data, size_t size) {
+  while (size > 0) {
+    const ssize_t n = ::write(fd, data, size);
+    if (n < 0) {
+      if (errno == EINTR) continue;
+      return errno;
+    }
+    data += n;
+    size -= static_cast<size_t>(n);
+  }
+  return 0;
+}
+
+}  // namespace
+
+std::string create_parent_directories(const std::string &path) {
+  const fs::path parent = fs::path(path).parent_path();
+  if (parent.empty()) return "";
+  std::error_code ec;
+  fs::create_directories(parent, ec);
+  if (ec)
+    return "cannot create directory '" + parent.string() + "' for '" + path + "': " + ec.message();
+  if (!fs::is_directory(parent, ec))
+    return "cannot write '" + path + "': '" + parent.string() + "' is not a directory";
+  return "";
+}
+
+std::string temporary_path_for(const std::string &final_path, const std::string &extension) {
+  static std::atomic<unsigned long> counter{0};
+  const fs::path target(final_path);
+  const std::string name = "." + target.filename().string() + ".tmp" +
+                           std::to_string(static_cast<long>(::getpid())) + "-" +
+                           std::to_string(counter.fetch_add(1)) + extension;
+  return (target.parent_path() / name).string();
+}
+
+std::string write_atomically(const std::string &final_path, const std::string &extension,
+                             const std::function<std::string(const std::string &)> &write) {
+  if (final_path.empty()) return "cannot write a file with an empty name";
+  if (fs::path(final_path).filename().empty())
+    return "cannot write '" + final_path + "': it names a directory, not a file";
+  std::string error = create_parent_directories(final_path);
+  if (!error.empty()) return error;
+
+  const std::string temp = temporary_path_for(final_path, extension);
+  // Create the file ourselves first, so that an unwritable directory is reported with the OS
+  // reason (image libraries often just say "could not open").
+  const int fd = ::open(temp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0644);
+  if (fd < 0) return "cannot write '" + final_path + "': " + os_reason(errno);
+  ::close(fd);
+
+  try {
+    error = write(temp);
+  } catch (const std::exception &e) {
+    error = e.what();
+  } catch (...) {
+    error = "unknown error";
+  }
+  if (!error.empty()) {
+    remove_quietly(temp);
+    return "cannot write '" + final_path + "': " + error;
+  }
+  if (std::rename(temp.c_str(), final_path.c_str()) != 0) {
+    const int reason = errno;
+    remove_quietly(temp);
+    return "cannot rename '" + temp + "' to '" + final_path + "': " + os_reason(reason);
+  }
+  return "";
+}
+
+std::string write_bytes_atomically(const std::string &final_path, const void *data, size_t size) {
+  const std::string extension = fs::path(final_path).extension().string();
+  return write_atomically(final_path, extension, [&](const std::string &temp) -> std::string {
+    const int fd = ::open(temp.c_str(), O_WRONLY | O_TRUNC | O_CLOEXEC);
+    if (fd < 0) return os_reason(errno);
+    int error = write_all(fd, static_cast<const char *>(data), size);
+    if (::close(fd) != 0 && error == 0) error = errno;
+    return error == 0 ? "" : os_reason(error);
+  });
+}
+
+}  // namespace lantern

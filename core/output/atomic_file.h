@@ -1,0 +1,35 @@
+// Crash-safe file replacement: write everything to a temporary file next to the target, then
+// rename() it over the final name. A process that dies mid-write leaves at worst a hidden
+// ".<name>.tmp<pid>-<n><ext>" file, never a truncated file at the final name. (No fsync: this
+// protects against process crashes, not against power loss, to keep per-frame cost low.)
+//
+// Thread-safe: temporary names are unique per process and call.
+#pragma once
+
+#include <cstddef>
+#include <functional>
+#include <string>
+
+namespace lantern {
+
+// Creates the parent directories of `path` (no-op if there are none). "" on success, else a
+// message naming the directory and the OS reason.
+std::string create_parent_directories(const std::string &path);
+
+// The temporary name used for `final_path`: same directory, hidden, unique per process and
+// call, ending in `extension` (e.g. ".png", so libraries that choose a format by extension
+// still work). Exposed for tests.
+std::string temporary_path_for(const std::string &final_path, const std::string &extension);
+
+// Writes `final_path` atomically: creates parent directories, creates the temporary file
+// (exclusively, mode 0644 minus umask), calls `write(temp_path)` which must fill it and return
+// "" or an error message, then renames. On any failure the temporary file is removed and the
+// message names the path and the reason; `final_path` is then untouched. Exceptions thrown by
+// `write` are caught and reported.
+std::string write_atomically(const std::string &final_path, const std::string &extension,
+                             const std::function<std::string(const std::string &)> &write);
+
+// Convenience: atomically writes `size` bytes from `data` (not owned; read during the call).
+std::string write_bytes_atomically(const std::string &final_path, const void *data, size_t size);
+
+}  // namespace lantern

@@ -1,0 +1,155 @@
+#include "core/output/image_writer.h"
+
+#include <OpenImageIO/imageio.h>
+
+#include <cmath>
+#include <limits>
+#include <vector>
+
+#include "core/output/atomic_file.h"
+
+namespace lantern {
+
+namespace {
+
+float srgb_to_linear(uint8_t code) {
+  const float c = code / 255.0f;
+  return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f);
+}
+
+// The pixel data to hand to OIIO, in the layout described by `spec`.
+struct Prepared {
+  OIIO::ImageSpec spec;
+  OIIO::TypeDesc buffer_type;
+  std::vector<uint8_t> bytes;  // 8-bit formats
+  std::vector<float> floats;   // EXR
+  const void *data() const {
+    return floats.empty() ? static_cast<const void *>(bytes.data()) : floats.data();
+  }
+};
+
+Prepared prepare_8bit(const Frame &frame, int channels) {
+  Prepared p;
+  p.spec = OIIO::ImageSpec(frame.width, frame.height, channels, OIIO::TypeDesc::UINT8);
+  p.buffer_type = OIIO::TypeDesc::UINT8;
+  // Store the bytes as they are: without this OIIO treats RGBA input as premultiplied and
+  // divides by alpha when writing PNG, so the file would not match the frame.
+  p.spec.attribute("oiio:UnassociatedAlpha", 1);
+  if (channels == 4) {
+    p.bytes = frame.rgba;
+    return p;
+  }
+  p.bytes.resize(frame.pixel_count() * 3);
+  for (size_t i = 0; i < frame.pixel_count(); ++i)
+    for (int c = 0; c < 3; ++c) p.bytes[3 * i + c] = frame.rgba[4 * i + c];
+  return p;
+}
+
+Prepared prepare_exr(const Frame &frame, bool half_color, const DepthToDistance &to_distance) {
+  Prepared p;
+  p.spec = OIIO::ImageSpec(frame.width, frame.height, 5, OIIO::TypeDesc::FLOAT);
+  p.spec.channelnames = {"R", "G", "B", "A", "Z"};
+  p.spec.alpha_channel = 3;
+  p.spec.z_channel = 4;
+  if (half_color) {
+    const OIIO::TypeDesc h = OIIO::TypeDesc::HALF;
+    p.spec.channelformats = {h, h, h, h, OIIO::TypeDesc::FLOAT};
+  }
+  p.spec.attribute("compression", "zip");
+  p.buffer_type = OIIO::TypeDesc::FLOAT;
+  float lut[256];  // sRGB decode of every 8-bit code
+  for (int i = 0; i < 256; ++i) lut[i] = srgb_to_linear(static_cast<uint8_t>(i));
+  p.floats.resize(frame.pixel_count() * 5);
+  for (size_t i = 0; i < frame.pixel_count(); ++i) {
+    float *px = &p.floats[5 * i];
+    for (int c = 0; c < 3; ++c) px[c] = lut[frame.rgba[4 * i + c]];
+    px[3] = frame.rgba[4 * i + 3] / 255.0f;
+    const float depth = frame.depth[i];
+    px[4] = depth >= kBackgroundDepth ? std::numeric_limits<float>::infinity()
+            : to_distance             ? to_distance(depth)
+                                      : depth;
+  }
+  return p;
+}
+
+Prepared prepare(const Frame &frame, const OutputConfig &out, const DepthToDistance &to_distance) {
+  switch (out.format) {
+    case ImageFormat::kJpeg: {
+      Prepared p = prepare_8bit(frame, 3);
+      p.spec.attribute("Compression", "jpeg:" + std::to_string(out.jpeg_quality));
+      return p;
+    }
+    case ImageFormat::kTiff: {
+      Prepared p = prepare_8bit(frame, 4);
+      p.spec.attribute("compression", "zip");
+      return p;
+    }
+    case ImageFormat::kExr:
+      return prepare_exr(frame, out.exr_half, to_distance);
+    case ImageFormat::kPng:
+    default:
+      return prepare_8bit(frame, 4);
+  }
+}
+
+// Writes the prepared pixels to `file` (format from `file`'s extension). "" or OIIO's message.
+std::string write_with_oiio(const Prepared &p, const std::string &file) {
+  std::unique_ptr<OIIO::ImageOutput> output = OIIO::ImageOutput::create(file);
+  if (!output) return "OpenImageIO cannot create a writer: " + OIIO::geterror();
+  OIIO::ImageSpec spec = p.spec;
+  // Deterministic files: no wall-clock or host metadata, whatever a plugin would add.
+  // TIFF and OpenEXR writers stamp the current time when DateTime is absent; an empty value
+  // keeps them from doing so.
+  spec.attribute("DateTime", "");
+  spec.attribute("Software", "Lantern");
+  if (!output->open(file, spec)) return output->geterror();
+  const bool written = output->write_image(p.buffer_type, p.data());
+  const bool closed = output->close();
+  if (!written || !closed) {
+    const std::string message = output->geterror();
+    return message.empty() ? "OpenImageIO write failed" : message;
+  }
+  return "";
+}
+
+std::string check_frame(const Frame &frame) {
+  if (frame.width <= 0 || frame.height <= 0) return "the frame is empty";
+  if (frame.rgba.size() != frame.pixel_count() * 4 || frame.depth.size() != frame.pixel_count())
+    return "the frame's buffers do not match its size";
+  return "";
+}
+
+}  // namespace
+
+const char *image_format_extension(ImageFormat format) {
+  switch (format) {
+    case ImageFormat::kJpeg:
+      return ".jpg";
+    case ImageFormat::kTiff:
+      return ".tif";
+    case ImageFormat::kExr:
+      return ".exr";
+    case ImageFormat::kPng:
+    default:
+      return ".png";
+  }
+}
+
+std::string write_image(const Frame &frame, const OutputConfig &out, const std::string &path,
+                        const DepthToDistance &depth_to_distance) {
+  try {
+    const std::string bad_frame = check_frame(frame);
+    if (!bad_frame.empty()) return "cannot write '" + path + "': " + bad_frame;
+    const Prepared prepared = prepare(frame, out, depth_to_distance);
+    // The temporary file carries the format's extension, so OIIO picks the right writer.
+    return write_atomically(path, image_format_extension(out.format), [&](const std::string &temp) {
+      return write_with_oiio(prepared, temp);
+    });
+  } catch (const std::exception &e) {
+    return "cannot write '" + path + "': " + e.what();
+  } catch (...) {
+    return "cannot write '" + path + "': unknown error";
+  }
+}
+
+}  // namespace lantern

@@ -1,0 +1,31 @@
+// Writes a rendered Frame to an image file through OpenImageIO, atomically (atomic_file.h).
+//
+// Formats: PNG (RGBA8), JPEG (RGB8, out.jpeg_quality), TIFF (RGBA8), EXR (R,G,B,A as half or
+// float per out.exr_half, converted from sRGB to linear as EXR expects, plus a float `Z` channel
+// with the camera distance). Files carry no timestamps, so identical frames give byte-identical
+// files. Thread-safe for different paths; never throws.
+#pragma once
+
+#include <functional>
+#include <string>
+
+#include "core/config/config.h"
+#include "core/render/frame.h"
+
+namespace lantern {
+
+// Maps a window depth in [0, 1) to the camera distance in simulation units (for EXR `Z`).
+// Background pixels (depth == kBackgroundDepth) are written as +inf without calling it.
+using DepthToDistance = std::function<float(float)>;
+
+// Writes `frame` to `path` in `out.format` (the file name's extension does not matter; the
+// format is set explicitly). Creates parent directories. Returns "" or a message naming the path
+// and the reason; on failure no file exists at `path` (an older file there stays untouched).
+// `depth_to_distance` is only used for EXR; if empty, `Z` holds the raw window depth.
+std::string write_image(const Frame &frame, const OutputConfig &out, const std::string &path,
+                        const DepthToDistance &depth_to_distance);
+
+// The usual file extension of a format, with the dot: ".png", ".jpg", ".tif", ".exr".
+const char *image_format_extension(ImageFormat format);
+
+}  // namespace lantern

@@ -1,0 +1,38 @@
+// Per-step statistics as JSON lines: one JSON object per line, appended to a file.
+//
+// Each append() formats the whole line first and hands it to the OS in one write() on a file
+// opened with O_APPEND, so lines are never interleaved or half-written by concurrent appenders
+// (up to the OS's atomic append size) and a reader can tail the file while the run goes on.
+// A StatsWriter is not thread-safe; use one per writing thread (normally rank 0 only).
+#pragma once
+
+#include <nlohmann/json.hpp>
+
+#include <string>
+
+namespace lantern {
+
+class StatsWriter {
+ public:
+  // Does not touch the file system yet: the file (and its directories) are created on the first
+  // append(), so a bad path surfaces as an append() error on a scheduled step.
+  explicit StatsWriter(std::string path) : path_(std::move(path)) {}
+  ~StatsWriter();
+  StatsWriter(const StatsWriter &) = delete;
+  StatsWriter &operator=(const StatsWriter &) = delete;
+
+  // Appends `record` as one line and flushes it to the OS. "" on success, else a message naming
+  // the file and the OS reason; after a failure the next call tries to open the file again.
+  std::string append(const nlohmann::json &record);
+
+  const std::string &path() const { return path_; }
+
+ private:
+  std::string path_;
+  int fd_ = -1;  // owned; -1 = not open
+};
+
+// One-shot form: opens, appends one line, closes.
+std::string append_json_line(const std::string &path, const nlohmann::json &record);
+
+}  // namespace lantern

@@ -1,0 +1,219 @@
+#include "core/output/image_writer.h"
+
+#include <OpenImageIO/imageio.h>
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <thread>
+
+#include "tests/output/scratch_dir.h"
+
+namespace lantern {
+namespace {
+
+namespace fs = std::filesystem;
+
+// A 37x23 frame (odd sizes catch stride bugs) with a colour gradient, varying alpha and a
+// background border where depth is exactly 1.
+Frame test_frame() {
+  Frame f(37, 23);
+  for (int y = 0; y < f.height; ++y) {
+    for (int x = 0; x < f.width; ++x) {
+      const size_t i = f.index(x, y);
+      f.rgba[4 * i + 0] = static_cast<uint8_t>(7 * x);
+      f.rgba[4 * i + 1] = static_cast<uint8_t>(11 * y);
+      f.rgba[4 * i + 2] = static_cast<uint8_t>(x * y);
+      f.rgba[4 * i + 3] = static_cast<uint8_t>(255 - x);
+      const bool background = x == 0 || y == 0 || x == f.width - 1 || y == f.height - 1;
+      f.depth[i] = background ? kBackgroundDepth : 0.01f * float(x) + 0.02f * float(y);
+    }
+  }
+  return f;
+}
+
+float to_distance(float depth) {
+  return 10.0f + 100.0f * depth;
+}
+
+OutputConfig output_as(ImageFormat format) {
+  OutputConfig out;
+  out.format = format;
+  return out;
+}
+
+struct ReadBack {
+  OIIO::ImageSpec spec;
+  std::vector<float> pixels;   // all channels as float
+  std::vector<uint8_t> bytes;  // all channels as uint8 (8-bit formats)
+};
+
+ReadBack read_back(const std::string &path) {
+  ReadBack r;
+  OIIO::ImageSpec config;
+  config.attribute("oiio:UnassociatedAlpha", 1);  // raw bytes, no premultiplication on read
+  auto in = OIIO::ImageInput::open(path, &config);
+  EXPECT_TRUE(in) << OIIO::geterror();
+  if (!in) return r;
+  r.spec = in->spec();
+  const size_t n = size_t(r.spec.width) * r.spec.height * r.spec.nchannels;
+  r.pixels.resize(n);
+  EXPECT_TRUE(in->read_image(0, 0, 0, r.spec.nchannels, OIIO::TypeDesc::FLOAT, r.pixels.data()))
+      << in->geterror();
+  if (r.spec.format == OIIO::TypeDesc::UINT8) {
+    r.bytes.resize(n);
+    EXPECT_TRUE(in->read_image(0, 0, 0, r.spec.nchannels, OIIO::TypeDesc::UINT8, r.bytes.data()))
+        << in->geterror();
+  }
+  return r;
+}
+
+std::string file_bytes(const std::string &path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+TEST(ImageWriter, PngIsLosslessRgba8) {
+  const ScratchDir dir;
+  const Frame frame = test_frame();
+  const std::string path = dir.file("sub/frame.png");
+  ASSERT_EQ(write_image(frame, output_as(ImageFormat::kPng), path, to_distance), "");
+  const ReadBack r = read_back(path);
+  EXPECT_EQ(r.spec.width, frame.width);
+  EXPECT_EQ(r.spec.height, frame.height);
+  EXPECT_EQ(r.spec.nchannels, 4);
+  EXPECT_EQ(r.bytes, frame.rgba);
+}
+
+TEST(ImageWriter, TiffIsLosslessRgba8) {
+  const ScratchDir dir;
+  const Frame frame = test_frame();
+  const std::string path = dir.file("frame.tif");
+  ASSERT_EQ(write_image(frame, output_as(ImageFormat::kTiff), path, to_distance), "");
+  const ReadBack r = read_back(path);
+  EXPECT_EQ(r.spec.nchannels, 4);
+  EXPECT_EQ(r.bytes, frame.rgba);
+}
+
+TEST(ImageWriter, JpegIsRgbWithinTolerance) {
+  const ScratchDir dir;
+  Frame frame(32, 16);
+  const uint8_t grey[4] = {128, 64, 200, 255};
+  frame.clear(grey);
+  OutputConfig out = output_as(ImageFormat::kJpeg);
+  out.jpeg_quality = 100;
+  const std::string path = dir.file("frame.jpg");
+  ASSERT_EQ(write_image(frame, out, path, to_distance), "");
+  const ReadBack r = read_back(path);
+  ASSERT_EQ(r.spec.nchannels, 3);
+  ASSERT_EQ(r.bytes.size(), frame.pixel_count() * 3);
+  for (size_t i = 0; i < frame.pixel_count(); ++i)
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(r.bytes[3 * i + c], grey[c], 3);
+}
+
+TEST(ImageWriter, ExrCarriesZAsCameraDistance) {
+  for (const bool half : {true, false}) {
+    const ScratchDir dir;
+    const Frame frame = test_frame();
+    OutputConfig out = output_as(ImageFormat::kExr);
+    out.exr_half = half;
+    const std::string path = dir.file("frame.exr");
+    ASSERT_EQ(write_image(frame, out, path, to_distance), "");
+    const ReadBack r = read_back(path);
+    ASSERT_EQ(r.spec.nchannels, 5);
+    const std::vector<std::string> expected_names = {"R", "G", "B", "A", "Z"};
+    EXPECT_EQ(r.spec.channelnames, expected_names);
+    EXPECT_EQ(r.spec.channelformat(0), half ? OIIO::TypeDesc::HALF : OIIO::TypeDesc::FLOAT);
+    EXPECT_EQ(r.spec.channelformat(4), OIIO::TypeDesc::FLOAT);
+    for (size_t i = 0; i < frame.pixel_count(); ++i) {
+      const float z = r.pixels[5 * i + 4];
+      if (frame.depth[i] == kBackgroundDepth) {
+        EXPECT_TRUE(std::isinf(z) && z > 0) << i;
+      } else {
+        EXPECT_EQ(z, to_distance(frame.depth[i])) << i;  // float Z: exact
+      }
+      EXPECT_NEAR(r.pixels[5 * i + 3], frame.rgba[4 * i + 3] / 255.0f, 1e-3f);
+    }
+    // Colour is linearised from sRGB: code 255 -> 1.0, code 0 -> 0.0, code 128 -> ~0.2158.
+    const size_t white_red = frame.index(36, 5);  // 7 * 36 = 252
+    EXPECT_NEAR(r.pixels[5 * white_red], std::pow((252 / 255.0 + 0.055) / 1.055, 2.4), 1e-3);
+  }
+}
+
+TEST(ImageWriter, ExrWithoutDistanceFunctionStoresWindowDepth) {
+  const ScratchDir dir;
+  const Frame frame = test_frame();
+  const std::string path = dir.file("raw.exr");
+  ASSERT_EQ(write_image(frame, output_as(ImageFormat::kExr), path, nullptr), "");
+  const ReadBack r = read_back(path);
+  const size_t i = frame.index(5, 5);
+  EXPECT_EQ(r.pixels[5 * i + 4], frame.depth[i]);
+}
+
+TEST(ImageWriter, IdenticalFramesGiveIdenticalFiles) {
+  const ScratchDir dir;
+  const Frame frame = test_frame();
+  const std::vector<ImageFormat> formats = {ImageFormat::kPng, ImageFormat::kJpeg,
+                                            ImageFormat::kTiff, ImageFormat::kExr};
+  const auto write_all = [&](const std::string &prefix) {
+    for (const ImageFormat format : formats) {
+      const std::string path = dir.file(prefix + image_format_extension(format));
+      ASSERT_EQ(write_image(frame, output_as(format), path, to_distance), "");
+    }
+  };
+  write_all("first");
+  // Cross a second boundary so that any wall-clock timestamp in the metadata would differ.
+  std::this_thread::sleep_for(std::chrono::milliseconds(1100));
+  write_all("second");
+  for (const ImageFormat format : formats) {
+    const std::string a =
+        file_bytes(dir.file(std::string("first") + image_format_extension(format)));
+    const std::string b =
+        file_bytes(dir.file(std::string("second") + image_format_extension(format)));
+    EXPECT_FALSE(a.empty());
+    EXPECT_TRUE(a == b) << image_format_extension(format) << " differs between two writes";
+  }
+  EXPECT_EQ(dir.entry_count(), 2 * formats.size());  // no temporaries left
+}
+
+TEST(ImageWriter, FormatComesFromConfigNotFileName) {
+  const ScratchDir dir;
+  const std::string path = dir.file("frame.data");
+  ASSERT_EQ(write_image(test_frame(), output_as(ImageFormat::kPng), path, to_distance), "");
+  const std::string bytes = file_bytes(path);
+  ASSERT_GE(bytes.size(), 8u);
+  EXPECT_EQ(bytes.substr(1, 3), "PNG");
+}
+
+TEST(ImageWriter, UnwritableDirectoryNamesPathAndLeavesNoFile) {
+  const std::string path = "/proc/lantern_x/a.png";
+  const std::string error = write_image(test_frame(), output_as(ImageFormat::kPng), path, nullptr);
+  EXPECT_NE(error.find("/proc/lantern_x"), std::string::npos) << error;
+  EXPECT_FALSE(fs::exists(path));
+}
+
+TEST(ImageWriter, PathUnderRegularFileNamesPathAndLeavesNoFile) {
+  const ScratchDir dir;
+  std::ofstream(dir.file("plain")) << "x";
+  const std::string path = dir.file("plain/a.exr");
+  const std::string error = write_image(test_frame(), output_as(ImageFormat::kExr), path, nullptr);
+  EXPECT_NE(error.find(dir.file("plain")), std::string::npos) << error;
+  EXPECT_EQ(dir.entry_count(), 1u);
+}
+
+TEST(ImageWriter, MismatchedFrameIsAnErrorNotACrash) {
+  const ScratchDir dir;
+  Frame frame(4, 4);
+  frame.depth.clear();
+  const std::string path = dir.file("bad.png");
+  EXPECT_NE(write_image(frame, output_as(ImageFormat::kPng), path, nullptr), "");
+  EXPECT_FALSE(fs::exists(path));
+}
+
+}  // namespace
+}  // namespace lantern

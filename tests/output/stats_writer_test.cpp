@@ -1,0 +1,59 @@
+#include "core/output/stats_writer.h"
+
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "tests/output/scratch_dir.h"
+
+namespace lantern {
+namespace {
+
+std::vector<std::string> lines_of(const std::string &path) {
+  std::ifstream in(path);
+  std::vector<std::string> lines;
+  for (std::string line; std::getline(in, line);) lines.push_back(line);
+  return lines;
+}
+
+TEST(StatsWriter, AppendsOneParsableLinePerCall) {
+  const ScratchDir dir;
+  const std::string path = dir.file("run/stats.jsonl");
+  {
+    StatsWriter writer(path);
+    ASSERT_EQ(writer.append({{"step", 0}, {"render_ms", 1.5}}), "");
+    ASSERT_EQ(writer.append({{"step", 10}, {"render_ms", 2.0}, {"scene", "top"}}), "");
+    // Flushed per call: visible to a reader before the writer closes.
+    EXPECT_EQ(lines_of(path).size(), 2u);
+  }
+  const std::vector<std::string> lines = lines_of(path);
+  ASSERT_EQ(lines.size(), 2u);
+  EXPECT_EQ(nlohmann::json::parse(lines[0])["step"], 0);
+  EXPECT_EQ(nlohmann::json::parse(lines[1])["scene"], "top");
+}
+
+TEST(StatsWriter, ReopeningAppendsInsteadOfTruncating) {
+  const ScratchDir dir;
+  const std::string path = dir.file("stats.jsonl");
+  ASSERT_EQ(append_json_line(path, {{"step", 1}}), "");
+  ASSERT_EQ(append_json_line(path, {{"step", 2}}), "");
+  EXPECT_EQ(lines_of(path).size(), 2u);
+}
+
+TEST(StatsWriter, InvalidUtf8IsReplacedNotThrown) {
+  const ScratchDir dir;
+  const std::string path = dir.file("stats.jsonl");
+  EXPECT_EQ(append_json_line(path, {{"name", std::string("bad\xff")}}), "");
+  EXPECT_EQ(lines_of(path).size(), 1u);
+}
+
+TEST(StatsWriter, UnwritablePathIsNamed) {
+  StatsWriter writer("/proc/lantern_x/stats.jsonl");
+  const std::string error = writer.append({{"step", 0}});
+  EXPECT_NE(error.find("/proc/lantern_x"), std::string::npos) << error;
+}
+
+}  // namespace
+}  // namespace lantern
