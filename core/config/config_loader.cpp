@@ -55,9 +55,28 @@ void optional_key(const YAML::Node &map, const std::string &path, const std::str
   if (value.IsDefined() && !value.IsNull()) read(value, child_path(path, key));
 }
 
+// key -> the sections it belongs to, for "'azimuth' is a key of scenes[].camera".
+std::map<std::string, std::vector<std::string>> key_homes() {
+  const std::vector<std::pair<const char *, const std::vector<std::string> *>> sections = {
+      {"the top level", &kTopKeys},
+      {"schedule", &kScheduleKeys},
+      {"scenes[]", &kSceneKeys},
+      {"scenes[].camera", &kCameraKeys},
+      {"scenes[].color", &kColorKeys},
+      {"scenes[].output", &kOutputKeys},
+      {"scenes[].culling", &kCullingKeys},
+      {"scenes[].lod", &kLodKeys},
+      {"scenes[].cut_planes[]", &kCutPlaneKeys},
+      {"dump", &kDumpKeys}};
+  std::map<std::string, std::vector<std::string>> homes;
+  for (const auto &[section, keys] : sections)
+    for (const std::string &key : *keys) homes[key].push_back(section);
+  return homes;
+}
+
 class Loader {
  public:
-  explicit Loader(std::string source) : r_(std::move(source)) {}
+  explicit Loader(std::string source) : r_(std::move(source)) { r_.set_key_homes(key_homes()); }
 
   Config load(const YAML::Node &root) const {
     if (!root.IsMap() && !root.IsNull())

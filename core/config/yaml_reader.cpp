@@ -63,14 +63,21 @@ void YamlReader::check_map(const YAML::Node &node, const std::string &path,
     const std::string key_path = child_path(path, key);
     bool known = false;
     for (const std::string &candidate : allowed) known = known || candidate == key;
-    if (!known)
-      fail(key_node, key_path, "unknown key '" + key + "'; " + suggestion_text(key, allowed));
+    if (!known) fail(key_node, key_path, unknown_key_text(key, allowed));
     const int line = key_node.Mark().line + 1;
     const auto [it, inserted] = first_line.emplace(key, line);
     if (!inserted)
       fail(key_node, key_path,
            "duplicate key '" + key + "' (first given at line " + std::to_string(it->second) + ")");
   }
+}
+
+std::string YamlReader::unknown_key_text(const std::string &key,
+                                         const std::vector<std::string> &allowed) const {
+  std::string text = "unknown key '" + key + "'; " + suggestion_text(key, allowed);
+  const auto home = key_homes_.find(key);
+  if (home != key_homes_.end()) text += "; '" + key + "' is a key of " + join(home->second, " / ");
+  return text;
 }
 
 void YamlReader::check_sequence(const YAML::Node &node, const std::string &path) const {

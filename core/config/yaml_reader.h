@@ -10,6 +10,7 @@
 
 #include <array>
 #include <cstdint>
+#include <map>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -31,6 +32,12 @@ class YamlReader {
   // when yaml-cpp has no position for the node).
   [[noreturn]] void fail(const YAML::Node &where, const std::string &path,
                          const std::string &what) const;
+
+  // Where each key of the schema lives ("azimuth" -> {"camera"}), so an unknown key that is valid
+  // elsewhere gets "(azimuth is a key of camera)" in its message.
+  void set_key_homes(std::map<std::string, std::vector<std::string>> homes) {
+    key_homes_ = std::move(homes);
+  }
 
   // Checks that `node` is a mapping (null counts as empty) whose keys are all in `allowed` and
   // appear once; an unknown key fails with the nearest valid key.
@@ -55,7 +62,11 @@ class YamlReader {
   std::array<double, 3> read_rgb(const YAML::Node &node, const std::string &path) const;
 
  private:
+  std::string unknown_key_text(const std::string &key,
+                               const std::vector<std::string> &allowed) const;
+
   std::string source_;
+  std::map<std::string, std::vector<std::string>> key_homes_;
 };
 
 // "scenes[0].camera" + "fov" -> "scenes[0].camera.fov"; "" + "scenes" -> "scenes".

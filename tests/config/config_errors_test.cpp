@@ -31,6 +31,11 @@ TEST(ConfigErrors, UnknownKeyNamesKeyLinePathAndSuggestion) {
       {"'azimth'", "line 4", "scenes[0].camera.azimth", "did you mean 'azimuth'?"});
 }
 
+TEST(ConfigErrors, KeyInTheWrongSectionSaysWhereItBelongs) {
+  expect_error("scenes:\n  - width: 10\n    azimuth: 30\n",
+               {"scenes[0].azimuth", "line 3", "did you mean", "is a key of scenes[].camera"});
+}
+
 TEST(ConfigErrors, UnknownTopLevelKey) {
   expect_error("scene:\n  - {}\n", {"'scene'", "line 1", "did you mean 'scenes'?"});
   expect_error("scenes: [{}]\nverbos: true\n", {"'verbos'", "line 2", "did you mean 'verbose'?"});
