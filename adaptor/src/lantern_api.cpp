@@ -11,7 +11,6 @@
 struct lantern_context {
   std::unique_ptr<lantern::Runtime> runtime;  // null in an error-only context
   std::string error;
-  bool holds_mpi = false;  // this context counts as a user of acquire_mpi()
 };
 
 namespace {
@@ -67,7 +66,6 @@ lantern_status lantern_open(const char *config, int mpi_comm_f, lantern_context 
     MPI_Comm comm = MPI_COMM_NULL;
     if (auto e = lantern::acquire_mpi(mpi_comm_f, &comm); !e.empty())
       return fail(ctx, LANTERN_ERR_MPI, e);
-    ctx->holds_mpi = true;
     return report(ctx, lantern::Runtime::open(config, comm, &ctx->runtime));
   });
 }
@@ -105,7 +103,6 @@ lantern_status lantern_close(lantern_context *ctx) {
   } catch (...) {
     status = LANTERN_ERR_INTERNAL;
   }
-  if (ctx->holds_mpi) lantern::release_mpi();
   return status;
 }
 

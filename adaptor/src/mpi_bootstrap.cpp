@@ -1,11 +1,18 @@
 #include "mpi_bootstrap.h"
 
+#include <cstdlib>
+
 #include "lantern/lantern.h"
 
 namespace lantern {
 namespace {
-bool g_started_mpi = false;  // Lantern, not the host, called MPI_Init_thread
-int g_users = 0;
+// MPI started by Lantern is finalised at process exit, not when the last context closes, so a
+// serial host may close and reopen Lantern contexts as often as it likes.
+void finalize_at_exit() {
+  int finalized = 0;
+  MPI_Finalized(&finalized);
+  if (!finalized) MPI_Finalize();
+}
 }  // namespace
 
 std::string acquire_mpi(int mpi_comm_f, MPI_Comm *comm) {
@@ -17,7 +24,7 @@ std::string acquire_mpi(int mpi_comm_f, MPI_Comm *comm) {
     int provided = 0;
     if (MPI_Init_thread(nullptr, nullptr, MPI_THREAD_FUNNELED, &provided) != MPI_SUCCESS)
       return "MPI_Init_thread failed (Lantern initialises MPI when the host has not)";
-    g_started_mpi = true;
+    std::atexit(finalize_at_exit);
   }
   if (mpi_comm_f == LANTERN_COMM_WORLD) {
     *comm = MPI_COMM_WORLD;
@@ -28,16 +35,7 @@ std::string acquire_mpi(int mpi_comm_f, MPI_Comm *comm) {
       return "mpi_comm_f: " + std::to_string(mpi_comm_f) +
              " is not a valid communicator handle (pass MPI_Comm_c2f(comm) or LANTERN_COMM_WORLD)";
   }
-  ++g_users;
   return {};
-}
-
-void release_mpi() {
-  if (--g_users > 0 || !g_started_mpi) return;
-  int finalized = 0;
-  MPI_Finalized(&finalized);
-  if (!finalized) MPI_Finalize();
-  g_started_mpi = false;
 }
 
 }  // namespace lantern

@@ -1,5 +1,5 @@
 // MPI for hosts that did not initialise it (a serial code linking Lantern): Lantern starts MPI
-// on the first lantern_open() and finalises it when the last context closes.
+// on the first lantern_open() and finalises it at process exit.
 #pragma once
 
 #include <mpi.h>
@@ -11,8 +11,5 @@ namespace lantern {
 // Ensures MPI is usable and resolves the Fortran handle (or LANTERN_COMM_WORLD) to a
 // communicator. Returns "" or an error naming mpi_comm_f.
 std::string acquire_mpi(int mpi_comm_f, MPI_Comm *comm);
-// Called once per acquire_mpi() that succeeded; finalises MPI if Lantern started it and this was
-// the last user.
-void release_mpi();
 
 }  // namespace lantern

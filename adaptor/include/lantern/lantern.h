@@ -15,7 +15,7 @@
  * MPI: lantern_open(), lantern_execute() on scheduled steps, and lantern_close() are collective
  * over the communicator given to lantern_open(): every rank must call them in the same order.
  * lantern_publish() is local. If MPI is not initialized when lantern_open() is called, Lantern
- * initializes it (MPI_THREAD_FUNNELED) and finalizes it when the last context is closed.
+ * initializes it (MPI_THREAD_FUNNELED) and finalizes it at process exit (atexit).
  *
  * Units: Lantern does not impose units. Positions and radii must share one length unit; the
  * configuration's lengths (camera position, radius, cutting planes) are in that same unit.

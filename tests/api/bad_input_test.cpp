@@ -1,0 +1,124 @@
+// Every bad input the C API can get returns its status and a message naming the problem, and
+// the context stays usable afterwards.
+#include <cmath>
+#include <fstream>
+#include <limits>
+
+#include "tests/api/api_fixture.h"
+
+namespace lantern::testing {
+namespace {
+
+using BadInput = ApiTest;
+
+TEST_F(BadInput, NullArguments) {
+  EXPECT_EQ(lantern_open(nullptr, LANTERN_COMM_WORLD, &ctx_), LANTERN_ERR_NULL_ARGUMENT);
+  EXPECT_NE(message().find("config"), std::string::npos);
+  EXPECT_EQ(lantern_open("scenes: [{}]", LANTERN_COMM_WORLD, nullptr), LANTERN_ERR_NULL_ARGUMENT);
+  const lantern_particles p{};
+  EXPECT_EQ(lantern_publish(nullptr, &p), LANTERN_ERR_NULL_ARGUMENT);
+  EXPECT_EQ(lantern_execute(nullptr, 0, 0.0), LANTERN_ERR_NULL_ARGUMENT);
+  EXPECT_STRNE(lantern_error_message(nullptr), "");
+  EXPECT_EQ(lantern_close(nullptr), LANTERN_OK);
+  ASSERT_EQ(open(scene_config("a")), LANTERN_OK) << message();
+  EXPECT_EQ(lantern_publish(ctx_, nullptr), LANTERN_ERR_NULL_ARGUMENT);
+  EXPECT_NE(message().find("particles"), std::string::npos);
+}
+
+TEST_F(BadInput, ParticleDescriptionsAreRejectedAndTheContextStaysUsable) {
+  ASSERT_EQ(open(scene_config("p")), LANTERN_OK) << message();
+  std::vector<double> x = lattice(3);
+  const float radius_nan[1] = {std::numeric_limits<float>::quiet_NaN()};
+  struct Case {
+    const char *what;
+    lantern_particles p;
+    const char *names;
+  };
+  std::vector<Case> cases;
+  lantern_particles p = interleaved(x);
+  p.count = -1;
+  cases.push_back({"negative count", p, "count"});
+  p = interleaved(x);
+  p.position.stride_bytes = 16;  // shorter than 3 doubles
+  cases.push_back({"short stride", p, "stride_bytes"});
+  p = interleaved(x);
+  p.position.data = nullptr;
+  cases.push_back({"null positions", p, "position"});
+  p = interleaved(x);
+  p.position.type = LANTERN_INT32;
+  cases.push_back({"integer positions", p, "position.type"});
+  p = interleaved(x);
+  p.position_x = p.position;
+  cases.push_back({"both layouts", p, "position"});
+  p = interleaved(x);
+  p.count = 1;
+  p.radius = {radius_nan, LANTERN_FLOAT32, 0};
+  cases.push_back({"NaN radius", p, "radius[0]"});
+  const double negative[1] = {-0.5};
+  p.radius = {negative, LANTERN_FLOAT64, 0};
+  cases.push_back({"negative radius", p, "radius[0]"});
+  for (const auto &c : cases) {
+    EXPECT_EQ(lantern_publish(ctx_, &c.p), LANTERN_ERR_INVALID_ARGUMENT) << c.what;
+    EXPECT_NE(message().find(c.names), std::string::npos) << c.what << ": " << message();
+    // Still usable: a valid publish and a render work right after.
+    const lantern_particles good = interleaved(x);
+    ASSERT_EQ(lantern_publish(ctx_, &good), LANTERN_OK) << c.what;
+    ASSERT_EQ(lantern_execute(ctx_, 0, 0.0), LANTERN_OK) << c.what << ": " << message();
+  }
+}
+
+TEST_F(BadInput, ConfigurationErrorsNameTheKey) {
+  EXPECT_EQ(open("scenes:\n  - {width: 10\n"), LANTERN_ERR_CONFIG);
+  EXPECT_NE(message().find("YAML"), std::string::npos) << message();
+  EXPECT_EQ(open("scenes:\n  - widht: 10\n"), LANTERN_ERR_CONFIG);
+  EXPECT_NE(message().find("widht"), std::string::npos) << message();
+  EXPECT_NE(message().find("width"), std::string::npos) << message();  // the suggestion
+  EXPECT_NE(message().find("line 2"), std::string::npos) << message();
+  EXPECT_EQ(open("scenes:\n  - width: 0\n"), LANTERN_ERR_CONFIG);
+  EXPECT_NE(message().find("width"), std::string::npos) << message();
+  EXPECT_EQ(open("scenes:\n  - height: 100000\n"), LANTERN_ERR_CONFIG);
+  EXPECT_NE(message().find("height"), std::string::npos) << message();
+  EXPECT_EQ(open((dir_ / "missing.yaml").string()), LANTERN_ERR_CONFIG);
+  EXPECT_NE(message().find("missing.yaml"), std::string::npos) << message();
+  // A failed open still hands back a context holding the message; using it is an error, not a
+  // crash.
+  const lantern_particles p{};
+  EXPECT_EQ(lantern_publish(ctx_, &p), LANTERN_ERR_INVALID_ARGUMENT);
+  EXPECT_EQ(lantern_execute(ctx_, 0, 0.0), LANTERN_ERR_INVALID_ARGUMENT);
+}
+
+TEST_F(BadInput, SceneNeedsAnArrayThatWasNotPublished) {
+  ASSERT_EQ(open(scene_config("s", 32, 32, "    color: {by: scalar}\n")), LANTERN_OK) << message();
+  std::vector<double> x = lattice(2);
+  const lantern_particles p = interleaved(x);
+  ASSERT_EQ(lantern_publish(ctx_, &p), LANTERN_OK);
+  EXPECT_EQ(lantern_execute(ctx_, 0, 0.0), LANTERN_ERR_INVALID_ARGUMENT);
+  EXPECT_NE(message().find("scalar"), std::string::npos) << message();
+}
+
+TEST_F(BadInput, UnwritableOutputFailsThatStepAndLaterStepsRetry) {
+  // A directory that cannot be created: its parent is a regular file.
+  const auto blocker = dir_ / "blocker";
+  std::ofstream(blocker) << "not a directory";
+  const std::string pattern = (blocker / "img_{step:04d}.png").string();
+  ASSERT_EQ(
+      open("scenes:\n  - width: 32\n    height: 32\n    output: {pattern: '" + pattern + "'}\n"),
+      LANTERN_OK)
+      << message();
+  std::vector<double> x = lattice(2);
+  const lantern_particles p = interleaved(x);
+  ASSERT_EQ(lantern_publish(ctx_, &p), LANTERN_OK);
+  EXPECT_EQ(lantern_execute(ctx_, 1, 0.0), LANTERN_ERR_IO);
+  EXPECT_NE(message().find("blocker"), std::string::npos) << message();
+  // The simulation fixes the problem; the next step writes.
+  std::filesystem::remove(blocker);
+  EXPECT_EQ(lantern_execute(ctx_, 2, 0.0), LANTERN_OK) << message();
+  EXPECT_TRUE(std::filesystem::exists(blocker / "img_0002.png"));
+  // Nothing half-written is left behind: only the final image in the directory.
+  int files = 0;
+  for (const auto &e : std::filesystem::directory_iterator(blocker)) files += e.is_regular_file();
+  EXPECT_EQ(files, 1);
+}
+
+}  // namespace
+}  // namespace lantern::testing
