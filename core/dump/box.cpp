@@ -1,0 +1,19 @@
+#include "core/dump/box.h"
+
+#include <cmath>
+
+namespace lantern {
+
+std::string validate_box(const Box &box) {
+  for (int a = 0; a < 3; ++a) {
+    const std::string axis = "[" + std::to_string(a) + "]";
+    if (!std::isfinite(box.low[a])) return "low" + axis + " is not finite";
+    if (!std::isfinite(box.high[a])) return "high" + axis + " is not finite";
+    if (box.low[a] > box.high[a])
+      return "low" + axis + " = " + std::to_string(box.low[a]) + " is above high" + axis + " = " +
+             std::to_string(box.high[a]);
+  }
+  return {};
+}
+
+}  // namespace lantern

@@ -1,0 +1,40 @@
+// The dump stage of the pipeline: on the steps `dump.schedule` selects, appends the published
+// particles to the H5MD file of `dump.file` (h5md_writer.h). Owned by Runtime.
+//
+// Collective over the runtime's communicator; every rank returns the same status. The file is
+// created on the first dump (replacing an existing one) with the fields and the particle count
+// of that step; if creating it fails, the next scheduled dump tries again.
+#pragma once
+
+#include <mpi.h>
+
+#include <memory>
+#include <optional>
+
+#include "core/config/config.h"
+#include "core/dump/box.h"
+#include "core/dump/h5md_writer.h"
+#include "core/particles/particle_arrays.h"
+#include "core/pipeline/status.h"
+
+namespace lantern {
+
+class DumpStage {
+ public:
+  explicit DumpStage(DumpConfig config) : config_(std::move(config)) {}
+  bool due(int64_t step) const { return config_.enabled && config_.schedule.due(step); }
+
+  // Collective. `box` is this rank's lantern_set_box() box; without one (on rank 0) the dump
+  // records the global bounds of the particles, non-periodic.
+  Status write(MPI_Comm comm, const ParticleArrays &particles, const std::optional<Box> &box,
+               int64_t step, double time);
+
+ private:
+  Status open_writer(MPI_Comm comm, const ParticleArrays &particles, const Box &box,
+                     int64_t global_count, int64_t step);
+
+  DumpConfig config_;
+  std::unique_ptr<H5mdWriter> writer_;
+};
+
+}  // namespace lantern

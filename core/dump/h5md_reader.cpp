@@ -1,0 +1,322 @@
+#include "core/dump/h5md_reader.h"
+
+#include <array>
+#include <cstring>
+#include <fstream>
+#include <optional>
+
+#include "core/dump/h5md_layout.h"
+#include "core/dump/hdf5_handle.h"
+
+namespace lantern {
+namespace {
+
+std::vector<hsize_t> shape_of(hid_t dataset, const std::string &what) {
+  const H5Handle space = own_space(H5Dget_space(dataset), what + ": dataspace");
+  const int rank = H5Sget_simple_extent_ndims(space.get());
+  h5_check(rank, what + ": dataspace rank");
+  std::vector<hsize_t> dims(static_cast<size_t>(rank));
+  H5Sget_simple_extent_dims(space.get(), dims.data(), nullptr);
+  return dims;
+}
+
+std::string shape_text(const std::vector<hsize_t> &dims) {
+  std::string s = "[";
+  for (size_t i = 0; i < dims.size(); ++i) s += (i ? "][" : "") + std::to_string(dims[i]);
+  return s + "]";
+}
+
+bool link_exists(hid_t base, const std::string &path) {
+  // Check each component: H5Lexists fails (rather than returning 0) on a missing parent.
+  size_t pos = 0;
+  while (pos != std::string::npos) {
+    pos = path.find('/', pos + 1);
+    const std::string prefix = path.substr(0, pos);
+    if (prefix.empty() || prefix == "/") continue;
+    if (H5Lexists(base, prefix.c_str(), H5P_DEFAULT) <= 0) return false;
+  }
+  return true;
+}
+
+bool is_group(hid_t base, const std::string &path) {
+  H5O_info_t info;
+  return link_exists(base, path) &&
+         H5Oget_info_by_name(base, path.c_str(), &info, H5P_DEFAULT) >= 0 &&
+         info.type == H5O_TYPE_GROUP;
+}
+
+// Reads a whole 1-D dataset converted to T.
+template <typename T>
+std::vector<T> read_all(hid_t dataset, hid_t mem_type, hsize_t n, const std::string &what) {
+  std::vector<T> out(n);
+  if (n > 0)
+    h5_check(H5Dread(dataset, mem_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, out.data()),
+             what + ": read");
+  return out;
+}
+
+// The first group under /particles, preferring "all" (Lantern's own name).
+std::string particle_group(hid_t file) {
+  if (!is_group(file, h5md::kParticles))
+    throw Hdf5Error("not an H5MD particle file: no /particles group");
+  if (is_group(file, std::string(h5md::kParticles) + "/" + h5md::kGroupName))
+    return std::string(h5md::kParticles) + "/" + h5md::kGroupName;
+  const H5Handle g = own_group(H5Gopen2(file, h5md::kParticles, H5P_DEFAULT), "/particles");
+  H5G_info_t info;
+  h5_check(H5Gget_info(g.get(), &info), "/particles: list");
+  for (hsize_t i = 0; i < info.nlinks; ++i) {
+    char name[256] = {0};
+    if (H5Lget_name_by_idx(g.get(), ".", H5_INDEX_NAME, H5_ITER_INC, i, name, sizeof(name),
+                           H5P_DEFAULT) < 0)
+      continue;
+    const std::string path = std::string(h5md::kParticles) + "/" + name;
+    if (is_group(file, path)) return path;
+  }
+  throw Hdf5Error("/particles has no particle group");
+}
+
+// One per-particle element: value [frames][N] (time-dependent) or [N] (fixed).
+struct Field {
+  H5Handle value;
+  bool per_frame = true;
+};
+
+}  // namespace
+
+struct H5mdReader::Impl {
+  std::string path, group;
+  H5Handle file;
+  H5Handle position;
+  std::optional<Field> species, id, scalar, radius;
+  H5Handle edges, offset;  // [frames][3] or [3]; invalid when absent
+  bool edges_per_frame = false, offset_per_frame = false;
+  std::array<bool, 3> periodic{false, false, false};
+  int64_t n = 0;
+  std::vector<FrameInfo> frames;
+
+  void check_h5md() const;
+  void open_position();
+  std::optional<Field> open_field(const char *name) const;
+  void open_box();
+  void read_rows(hid_t dataset, bool per_frame, size_t frame, int64_t begin, int64_t end, int cols,
+                 hid_t mem_type, void *out, const std::string &what) const;
+  std::optional<std::array<double, 3>> read_vec3(hid_t dataset, bool per_frame, size_t frame,
+                                                 const std::string &what) const;
+};
+
+void H5mdReader::Impl::check_h5md() const {
+  if (!is_group(file.get(), "/h5md")) throw Hdf5Error("not an H5MD file: no /h5md group");
+  if (H5Aexists_by_name(file.get(), "/h5md", "version", H5P_DEFAULT) <= 0)
+    throw Hdf5Error("not an H5MD file: /h5md has no version attribute");
+}
+
+void H5mdReader::Impl::open_position() {
+  const std::string base = group + "/" + h5md::kPosition;
+  if (!link_exists(file.get(), base + "/value"))
+    throw Hdf5Error("missing dataset " + base + "/value");
+  position =
+      own_dataset(H5Dopen2(file.get(), (base + "/value").c_str(), H5P_DEFAULT), base + "/value");
+  const auto dims = shape_of(position.get(), base + "/value");
+  if (dims.size() != 3 || dims[2] != 3)
+    throw Hdf5Error(base + "/value has shape " + shape_text(dims) + ", expected [frames][N][3]");
+  n = static_cast<int64_t>(dims[1]);
+  if (!link_exists(file.get(), base + "/step"))
+    throw Hdf5Error("missing dataset " + base + "/step");
+  const H5Handle step =
+      own_dataset(H5Dopen2(file.get(), (base + "/step").c_str(), H5P_DEFAULT), base + "/step");
+  const auto sdims = shape_of(step.get(), base + "/step");
+  if (sdims.size() != 1 || sdims[0] != dims[0])
+    throw Hdf5Error(base + "/step has shape " + shape_text(sdims) + " but " + base + "/value has " +
+                    std::to_string(dims[0]) + " frames");
+  const auto steps = read_all<int64_t>(step.get(), H5T_NATIVE_INT64, dims[0], base + "/step");
+  std::vector<double> times(dims[0], 0.0);
+  if (link_exists(file.get(), base + "/time")) {
+    const H5Handle time =
+        own_dataset(H5Dopen2(file.get(), (base + "/time").c_str(), H5P_DEFAULT), base + "/time");
+    const auto tdims = shape_of(time.get(), base + "/time");
+    if (tdims.size() != 1 || tdims[0] != dims[0])
+      throw Hdf5Error(base + "/time has shape " + shape_text(tdims) + " but " + base +
+                      "/value has " + std::to_string(dims[0]) + " frames");
+    times = read_all<double>(time.get(), H5T_NATIVE_DOUBLE, dims[0], base + "/time");
+  }
+  for (size_t f = 0; f < steps.size(); ++f) frames.push_back({steps[f], times[f], n});
+}
+
+std::optional<Field> H5mdReader::Impl::open_field(const char *name) const {
+  const std::string base = group + "/" + name;
+  if (!link_exists(file.get(), base)) return std::nullopt;
+  Field f;
+  f.per_frame = is_group(file.get(), base);
+  const std::string path = f.per_frame ? base + "/value" : base;
+  if (!link_exists(file.get(), path)) throw Hdf5Error("missing dataset " + path);
+  f.value = own_dataset(H5Dopen2(file.get(), path.c_str(), H5P_DEFAULT), path);
+  const auto dims = shape_of(f.value.get(), path);
+  const std::vector<hsize_t> want = f.per_frame ? std::vector<hsize_t>{frames.size(), hsize_t(n)}
+                                                : std::vector<hsize_t>{hsize_t(n)};
+  if (dims != want)
+    throw Hdf5Error(path + " has shape " + shape_text(dims) + " but position/value is " +
+                    shape_text({frames.size(), hsize_t(n), 3}) + " (expected " + shape_text(want) +
+                    ")");
+  return f;
+}
+
+void H5mdReader::Impl::open_box() {
+  const std::string box = group + "/" + h5md::kBox;
+  if (!is_group(file.get(), box)) return;
+  if (H5Aexists_by_name(file.get(), box.c_str(), "boundary", H5P_DEFAULT) > 0) {
+    const H5Handle attr =
+        own_attr(H5Aopen_by_name(file.get(), box.c_str(), "boundary", H5P_DEFAULT, H5P_DEFAULT),
+                 box + "/boundary");
+    const H5Handle type = own_type(H5Aget_type(attr.get()), box + "/boundary: type");
+    const H5Handle space = own_space(H5Aget_space(attr.get()), box + "/boundary: space");
+    if (H5Tget_class(type.get()) == H5T_STRING && !H5Tis_variable_str(type.get()) &&
+        H5Sget_simple_extent_npoints(space.get()) == 3) {
+      const size_t width = H5Tget_size(type.get());
+      std::vector<char> text(width * 3 + 1, '\0');
+      h5_check(H5Aread(attr.get(), type.get(), text.data()), box + "/boundary: read");
+      for (int a = 0; a < 3; ++a) periodic[a] = std::strncmp(&text[a * width], "periodic", 8) == 0;
+    }
+  }
+  auto open_vec3 = [&](const char *name, H5Handle *out, bool *per_frame) {
+    const std::string base = box + "/" + name;
+    if (!link_exists(file.get(), base)) return;
+    *per_frame = is_group(file.get(), base);
+    const std::string path = *per_frame ? base + "/value" : base;
+    if (!link_exists(file.get(), path)) throw Hdf5Error("missing dataset " + path);
+    *out = own_dataset(H5Dopen2(file.get(), path.c_str(), H5P_DEFAULT), path);
+    const auto dims = shape_of(out->get(), path);
+    const std::vector<hsize_t> want =
+        *per_frame ? std::vector<hsize_t>{frames.size(), 3} : std::vector<hsize_t>{3};
+    if (dims != want)
+      throw Hdf5Error(path + " has shape " + shape_text(dims) + ", expected " + shape_text(want) +
+                      " (cubic/diagonal boxes only)");
+  };
+  open_vec3("edges", &edges, &edges_per_frame);
+  open_vec3("offset", &offset, &offset_per_frame);
+}
+
+void H5mdReader::Impl::read_rows(hid_t dataset, bool per_frame, size_t frame, int64_t begin,
+                                 int64_t end, int cols, hid_t mem_type, void *out,
+                                 const std::string &what) const {
+  const hsize_t rows = static_cast<hsize_t>(end - begin);
+  if (rows == 0) return;
+  std::vector<hsize_t> start, count;
+  if (per_frame) {
+    start.push_back(frame);
+    count.push_back(1);
+  }
+  start.push_back(static_cast<hsize_t>(begin));
+  count.push_back(rows);
+  if (cols > 1) {
+    start.push_back(0);
+    count.push_back(static_cast<hsize_t>(cols));
+  }
+  const H5Handle file_space = own_space(H5Dget_space(dataset), what + ": dataspace");
+  h5_check(H5Sselect_hyperslab(file_space.get(), H5S_SELECT_SET, start.data(), nullptr,
+                               count.data(), nullptr),
+           what + ": select");
+  const hsize_t elements = rows * static_cast<hsize_t>(cols);
+  const H5Handle mem_space =
+      own_space(H5Screate_simple(1, &elements, nullptr), what + ": memspace");
+  h5_check(H5Dread(dataset, mem_type, mem_space.get(), file_space.get(), H5P_DEFAULT, out),
+           what + ": cannot read frame " + std::to_string(frame));
+}
+
+std::optional<std::array<double, 3>> H5mdReader::Impl::read_vec3(hid_t dataset, bool per_frame,
+                                                                 size_t frame,
+                                                                 const std::string &what) const {
+  if (dataset < 0) return std::nullopt;
+  std::array<double, 3> v{};
+  read_rows(dataset, per_frame, frame, 0, 1, 3, H5T_NATIVE_DOUBLE, v.data(), what);
+  return v;
+}
+
+H5mdReader::H5mdReader(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
+H5mdReader::~H5mdReader() = default;
+
+const std::vector<FrameInfo> &H5mdReader::frames() const {
+  return impl_->frames;
+}
+
+bool has_hdf5_signature(const std::string &path) {
+  static const char kSignature[8] = {'\x89', 'H', 'D', 'F', '\r', '\n', '\x1a', '\n'};
+  std::ifstream in(path, std::ios::binary);
+  char head[8] = {0};
+  return in.read(head, 8) && std::memcmp(head, kSignature, 8) == 0;
+}
+
+std::string H5mdReader::open(const std::string &path, MPI_Comm comm,
+                             std::unique_ptr<H5mdReader> *out) {
+  silence_hdf5_errors();
+  if (!std::ifstream(path)) return path + ": cannot open the file (missing or unreadable)";
+  if (!has_hdf5_signature(path)) return path + ": not an HDF5 file (no HDF5 signature)";
+  auto impl = std::make_unique<Impl>();
+  impl->path = path;
+  try {
+    const H5Handle fapl = own_plist(H5Pcreate(H5P_FILE_ACCESS), "file access list");
+    h5_check(H5Pset_fapl_mpio(fapl.get(), comm, MPI_INFO_NULL), "MPI-IO driver");
+    impl->file = own_file(H5Fopen(path.c_str(), H5F_ACC_RDONLY, fapl.get()),
+                          "cannot open as HDF5 (truncated or corrupt?)");
+    impl->check_h5md();
+    impl->group = particle_group(impl->file.get());
+    impl->open_position();
+    impl->species = impl->open_field(h5md::kSpecies);
+    impl->id = impl->open_field(h5md::kId);
+    impl->scalar = impl->open_field(h5md::kScalar);
+    impl->radius = impl->open_field(h5md::kRadius);
+    impl->open_box();
+  } catch (const Hdf5Error &e) {
+    return path + ": " + e.what();
+  }
+  out->reset(new H5mdReader(std::move(impl)));  // private constructor: make_unique cannot
+  return {};
+}
+
+std::string H5mdReader::read(size_t index, int64_t begin, int64_t end, ParticleFrame *out) const {
+  const Impl &m = *impl_;
+  if (index >= m.frames.size())
+    return m.path + ": frame " + std::to_string(index) + " does not exist";
+  ParticleFrame f;
+  f.step = m.frames[index].step;
+  f.time = m.frames[index].time;
+  f.global_count = m.n;
+  const size_t rows = static_cast<size_t>(end - begin);
+  try {
+    f.position.resize(rows * 3);
+    m.read_rows(m.position.get(), true, index, begin, end, 3, H5T_NATIVE_DOUBLE, f.position.data(),
+                m.group + "/position/value");
+    auto read_int = [&](const std::optional<Field> &field, const char *name,
+                        std::vector<int64_t> *v) {
+      if (!field || rows == 0) return;
+      v->resize(rows);
+      m.read_rows(field->value.get(), field->per_frame, index, begin, end, 1, H5T_NATIVE_INT64,
+                  v->data(), m.group + "/" + name);
+    };
+    auto read_real = [&](const std::optional<Field> &field, const char *name,
+                         std::vector<double> *v) {
+      if (!field || rows == 0) return;
+      v->resize(rows);
+      m.read_rows(field->value.get(), field->per_frame, index, begin, end, 1, H5T_NATIVE_DOUBLE,
+                  v->data(), m.group + "/" + name);
+    };
+    read_int(m.species, h5md::kSpecies, &f.type);
+    read_int(m.id, h5md::kId, &f.id);
+    read_real(m.scalar, h5md::kScalar, &f.scalar);
+    read_real(m.radius, h5md::kRadius, &f.radius);
+    const auto edges = m.read_vec3(m.edges.get(), m.edges_per_frame, index, "box/edges");
+    if (edges) {
+      const auto low = m.read_vec3(m.offset.get(), m.offset_per_frame, index, "box/offset");
+      Box b;
+      b.low = low.value_or(std::array<double, 3>{0, 0, 0});
+      for (int a = 0; a < 3; ++a) b.high[a] = b.low[a] + (*edges)[a];
+      b.periodic = m.periodic;
+      f.box = b;
+    }
+  } catch (const Hdf5Error &e) {
+    return m.path + ": " + e.what();
+  }
+  *out = std::move(f);
+  return {};
+}
+
+}  // namespace lantern

@@ -1,0 +1,44 @@
+// Reads H5MD files (Lantern's own dumps, and other H5MD writers' files of the same shape) frame
+// by frame, each rank reading only its share of the particles with a hyperslab.
+//
+// Accepted: /h5md with a version attribute; one group under /particles ("all" if present, else
+// the first); position as a time-dependent element with value [frames][N][3] and step[frames]
+// (time[frames] optional); optional species / id / scalar / radius elements with value
+// [frames][N] (or time-independent [N]); an optional box (edges, offset, boundary). Variable
+// particle counts (H5MD fill values) are not supported: N is the same for every frame.
+// Every problem is reported as "<file>: <what is wrong>".
+#pragma once
+
+#include <mpi.h>
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "core/dump/particle_frame.h"
+
+namespace lantern {
+
+class H5mdReader {
+ public:
+  // Opens `path` on `comm` (collective: MPI-IO) and checks its structure. Returns "" and sets
+  // *out, or an error message naming the file.
+  static std::string open(const std::string &path, MPI_Comm comm, std::unique_ptr<H5mdReader> *out);
+  ~H5mdReader();
+  H5mdReader(const H5mdReader &) = delete;
+  H5mdReader &operator=(const H5mdReader &) = delete;
+
+  const std::vector<FrameInfo> &frames() const;
+  // Reads particles [begin, end) of frame `index` into *out (independent I/O). "" or an error.
+  std::string read(size_t index, int64_t begin, int64_t end, ParticleFrame *out) const;
+
+ private:
+  struct Impl;
+  explicit H5mdReader(std::unique_ptr<Impl> impl);
+  std::unique_ptr<Impl> impl_;
+};
+
+// True when the file starts with the HDF5 signature (used to tell H5MD from text dumps).
+bool has_hdf5_signature(const std::string &path);
+
+}  // namespace lantern
