@@ -1,0 +1,293 @@
+// Rank-count invariance of the whole pipeline through the C API: the same particles, rendered on
+// one rank (rank 0 alone, MPI_COMM_SELF) and on every rank of MPI_COMM_WORLD under several
+// splits (all on one rank, round robin, blocks, slabs, hashed), give pixel-identical images in
+// both projections and every colouring. Run under mpiexec with 1, 2, 3, 4 and 8 ranks.
+#include <gtest/gtest.h>
+#include <mpi.h>
+
+#include <OpenImageIO/imageio.h>
+
+#include <unistd.h>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+#include <vector>
+
+#include "lantern/lantern.h"
+
+namespace lantern::testing {
+namespace {
+
+int world_rank() {
+  int r = 0;
+  MPI_Comm_rank(MPI_COMM_WORLD, &r);
+  return r;
+}
+int world_size() {
+  int n = 1;
+  MPI_Comm_size(MPI_COMM_WORLD, &n);
+  return n;
+}
+
+uint32_t hash(uint32_t x) {
+  x ^= x >> 16;
+  x *= 0x7feb352dU;
+  x ^= x >> 15;
+  x *= 0x846ca68bU;
+  x ^= x >> 16;
+  return x;
+}
+double unit(uint32_t h) {
+  return double(h & 0xffffff) / double(0x1000000);
+}
+
+// Structure-of-arrays particles, as a simulation would own them.
+struct Particles {
+  std::vector<double> x, y, z, radius, scalar;
+  std::vector<int32_t> type;
+  size_t size() const { return x.size(); }
+  void push(const Particles &from, size_t i) {
+    x.push_back(from.x[i]);
+    y.push_back(from.y[i]);
+    z.push_back(from.z[i]);
+    radius.push_back(from.radius[i]);
+    scalar.push_back(from.scalar[i]);
+    type.push_back(from.type[i]);
+  }
+};
+
+// A clustered cloud in [0, 10]^3 with varied radii, types and scalars. duplicates > 0 appends
+// copies of the first particles at exactly the same place and size but another type and scalar:
+// their depths tie at every pixel, so only the tie-break decides the colour.
+Particles make_particles(int count, int duplicates) {
+  Particles p;
+  for (int i = 0; i < count; ++i) {
+    const uint32_t h = hash(uint32_t(i) * 2654435761U + 17U);
+    const double cluster = double(h % 3);
+    p.x.push_back(2.0 + 3.0 * cluster + 2.5 * unit(hash(h + 1)));
+    p.y.push_back(10.0 * unit(hash(h + 2)));
+    p.z.push_back(10.0 * unit(hash(h + 3)) * (0.5 + 0.2 * cluster));
+    p.radius.push_back(0.15 + 0.35 * unit(hash(h + 4)));
+    p.scalar.push_back(std::sin(0.7 * p.x.back()) * p.y.back());
+    p.type.push_back(int32_t(hash(h + 5) % 5));
+  }
+  for (int i = 0; i < duplicates; ++i) {
+    p.push(p, size_t(i));
+    p.type.back() = (p.type.back() + 1 + i % 4) % 5;
+    p.scalar.back() += 1.0 + i % 3;
+  }
+  return p;
+}
+
+enum class Split { kAllOnFirst, kAllOnLast, kRoundRobin, kBlocks, kSlabsByX, kHashed };
+const Split kSplits[] = {Split::kAllOnFirst, Split::kAllOnLast, Split::kRoundRobin,
+                         Split::kBlocks,     Split::kSlabsByX,  Split::kHashed};
+const char *split_name(Split s) {
+  switch (s) {
+    case Split::kAllOnFirst:
+      return "all_on_first";
+    case Split::kAllOnLast:
+      return "all_on_last";
+    case Split::kRoundRobin:
+      return "round_robin";
+    case Split::kBlocks:
+      return "blocks";
+    case Split::kSlabsByX:
+      return "slabs_by_x";
+    case Split::kHashed:
+      return "hashed";
+  }
+  return "?";
+}
+
+int owner(Split s, const Particles &p, size_t i, int ranks) {
+  switch (s) {
+    case Split::kAllOnFirst:
+      return 0;
+    case Split::kAllOnLast:
+      return ranks - 1;
+    case Split::kRoundRobin:
+      return int(i % size_t(ranks));
+    case Split::kBlocks:
+      return int(i * size_t(ranks) / p.size());
+    case Split::kSlabsByX:
+      return std::min(ranks - 1, std::max(0, int(p.x[i] / 10.0 * ranks)));
+    case Split::kHashed:
+      return int(hash(uint32_t(i) + 99U) % uint32_t(ranks));
+  }
+  return 0;
+}
+
+Particles owned_by(Split s, const Particles &all, int rank, int ranks) {
+  Particles mine;
+  for (size_t i = 0; i < all.size(); ++i)
+    if (owner(s, all, i, ranks) == rank) mine.push(all, i);
+  return mine;
+}
+
+lantern_particles describe(const Particles &p) {
+  lantern_particles d{};
+  d.count = int64_t(p.size());
+  d.position_x = {p.x.data(), LANTERN_FLOAT64, 0};
+  d.position_y = {p.y.data(), LANTERN_FLOAT64, 0};
+  d.position_z = {p.z.data(), LANTERN_FLOAT64, 0};
+  d.radius = {p.radius.data(), LANTERN_FLOAT64, 0};
+  d.scalar = {p.scalar.data(), LANTERN_FLOAT64, 0};
+  d.type = {p.type.data(), LANTERN_INT32, 0};
+  return d;
+}
+
+// Both projections times every colouring (and a per-particle radius), small images.
+// persp_zoom looks at the middle only, so on slab splits some ranks have no pixel in view.
+const char *const kSceneNames[] = {"persp_type",   "persp_scalar", "persp_solid", "ortho_type",
+                                   "ortho_scalar", "ortho_solid",  "persp_zoom"};
+
+std::string scene_yaml(const std::string &name, const std::string &projection,
+                       const std::string &colour, const std::string &radius,
+                       const std::string &pattern, double zoom = 1.3) {
+  return "  - name: " + name +
+         "\n    width: 120\n    height: 90\n    background: [0.1, 0.2, 0.3]\n" +
+         "    radius: " + radius + "\n    camera: {projection: " + projection +
+         ", azimuth: 35, elevation: 25, zoom: " + std::to_string(zoom) + "}\n    color: " + colour +
+         "\n    output: {pattern: \"" + pattern + "\"}\n";
+}
+
+std::string config_yaml(const std::string &directory, const std::string &prefix) {
+  const std::string pattern = directory + "/" + prefix + "_{scene}_{step:06d}.png";
+  return "scenes:\n" + scene_yaml("persp_type", "perspective", "{by: type}", "0.4", pattern) +
+         scene_yaml("persp_scalar", "perspective", "{by: scalar, colormap: viridis}",
+                    "per_particle", pattern) +
+         scene_yaml("persp_solid", "perspective", "{by: solid, solid: [0.9, 0.5, 0.1]}", "0.4",
+                    pattern) +
+         scene_yaml("ortho_type", "orthographic", "{by: type}", "per_particle", pattern) +
+         scene_yaml("ortho_scalar", "orthographic",
+                    "{by: scalar, colormap: coolwarm, range: [-5, 5]}", "0.4", pattern) +
+         scene_yaml("ortho_solid", "orthographic", "{by: solid}", "per_particle", pattern) +
+         scene_yaml("persp_zoom", "perspective", "{by: type}", "0.4", pattern, 6.0);
+}
+
+std::string file_of(const std::string &directory, const std::string &prefix,
+                    const std::string &scene, int step) {
+  char name[64];
+  std::snprintf(name, sizeof name, "_%s_%06d.png", scene.c_str(), step);
+  return directory + "/" + prefix + name;
+}
+
+struct Pixels {
+  int width = 0, height = 0, channels = 0;
+  std::vector<uint8_t> data;
+  std::string error;
+};
+
+Pixels read_png(const std::string &path) {
+  Pixels p;
+  auto in = OIIO::ImageInput::open(path);
+  if (!in) {
+    p.error = "cannot open " + path;
+    return p;
+  }
+  const OIIO::ImageSpec &spec = in->spec();
+  p.width = spec.width;
+  p.height = spec.height;
+  p.channels = spec.nchannels;
+  p.data.resize(size_t(p.width) * p.height * p.channels);
+  if (!in->read_image(0, 0, 0, p.channels, OIIO::TypeDesc::UINT8, p.data.data()))
+    p.error = "cannot read " + path;
+  return p;
+}
+
+// "" if identical, else how many pixels differ.
+std::string compare_images(const std::string &expected_path, const std::string &actual_path) {
+  const Pixels e = read_png(expected_path), a = read_png(actual_path);
+  if (!e.error.empty()) return e.error;
+  if (!a.error.empty()) return a.error;
+  if (e.width != a.width || e.height != a.height || e.channels != a.channels)
+    return "image shapes differ";
+  size_t differing = 0;
+  const size_t pixels = size_t(e.width) * e.height, c = size_t(e.channels);
+  for (size_t i = 0; i < pixels; ++i)
+    for (size_t k = 0; k < c; ++k)
+      if (e.data[i * c + k] != a.data[i * c + k]) {
+        ++differing;
+        break;
+      }
+  if (differing == 0) return {};
+  return std::to_string(differing) + " of " + std::to_string(pixels) + " pixels differ (" +
+         expected_path + " vs " + actual_path + ")";
+}
+
+// A scratch directory made by rank 0 and known to every rank.
+std::string shared_directory() {
+  char path[256] = "/tmp/lantern_rank_invariance_XXXXXX";
+  if (world_rank() == 0 && mkdtemp(path) == nullptr) path[0] = '\0';
+  MPI_Bcast(path, sizeof path, MPI_CHAR, 0, MPI_COMM_WORLD);
+  return path;
+}
+
+struct Render {
+  lantern_status status = LANTERN_OK;
+  std::string error;
+};
+
+// Opens a context on comm, publishes `mine`, and renders step `step` once. Collective on comm.
+Render render_once(MPI_Comm comm, const std::string &config, const Particles &mine, int step) {
+  Render r;
+  lantern_context *ctx = nullptr;
+  r.status = lantern_open(config.c_str(), MPI_Comm_c2f(comm), &ctx);
+  if (r.status == LANTERN_OK) {
+    const lantern_particles d = describe(mine);
+    r.status = lantern_publish(ctx, &d);
+    // Publishing is local: every rank must still enter the collective execute.
+    const lantern_status executed = lantern_execute(ctx, step, double(step));
+    if (r.status == LANTERN_OK) r.status = executed;
+  }
+  r.error = lantern_error_message(ctx);
+  lantern_close(ctx);
+  return r;
+}
+
+// Renders `all` on rank 0 alone, then under every split on all ranks; compares on rank 0.
+void expect_rank_invariant(const Particles &all, const std::string &label) {
+  const std::string dir = shared_directory();
+  ASSERT_FALSE(dir.empty());
+  const int rank = world_rank(), ranks = world_size();
+  if (rank == 0) {
+    const Render ref = render_once(MPI_COMM_SELF, config_yaml(dir, label + "_ref"), all, 0);
+    EXPECT_EQ(ref.status, LANTERN_OK) << ref.error;
+  }
+  const std::string config = config_yaml(dir, label);
+  for (size_t s = 0; s < std::size(kSplits); ++s) {
+    const Render r =
+        render_once(MPI_COMM_WORLD, config, owned_by(kSplits[s], all, rank, ranks), int(s));
+    EXPECT_EQ(r.status, LANTERN_OK) << split_name(kSplits[s]) << ": " << r.error;
+  }
+  if (rank != 0) return;
+  bool all_same = true;
+  for (size_t s = 0; s < std::size(kSplits); ++s) {
+    for (const char *scene : kSceneNames) {
+      const std::string difference = compare_images(file_of(dir, label + "_ref", scene, 0),
+                                                    file_of(dir, label, scene, int(s)));
+      EXPECT_EQ(difference, "") << "split " << split_name(kSplits[s]) << ", scene " << scene << ", "
+                                << ranks << " ranks";
+      all_same = all_same && difference.empty();
+    }
+  }
+  if (all_same) std::system(("rm -rf '" + dir + "'").c_str());
+}
+
+TEST(RankInvariance, SameImagesForEveryRankCountAndSplit) {
+  expect_rank_invariant(make_particles(1500, 0), "cloud");
+}
+
+TEST(RankInvariance, CoincidentParticlesTieBreakTheSameOnAnySplit) {
+  expect_rank_invariant(make_particles(400, 120), "ties");
+}
+
+TEST(RankInvariance, NoParticlesAnywhereGivesTheBackgroundEverywhere) {
+  expect_rank_invariant(Particles{}, "empty");
+}
+
+}  // namespace
+}  // namespace lantern::testing
