@@ -1,8 +1,10 @@
 #include "core/output/image_writer.h"
 
+#include <OpenImageIO/half.h>
 #include <OpenImageIO/imageio.h>
 
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <vector>
 
@@ -17,15 +19,14 @@ float srgb_to_linear(uint8_t code) {
   return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f);
 }
 
-// The pixel data to hand to OIIO, in the layout described by `spec`.
+// The pixel data to hand to OIIO, in the layout described by `spec`: either borrowed from the
+// frame (RGBA8 formats, no copy) or built here.
 struct Prepared {
   OIIO::ImageSpec spec;
-  OIIO::TypeDesc buffer_type;
-  std::vector<uint8_t> bytes;  // 8-bit formats
-  std::vector<float> floats;   // EXR
-  const void *data() const {
-    return floats.empty() ? static_cast<const void *>(bytes.data()) : floats.data();
-  }
+  OIIO::TypeDesc buffer_type;  // UNKNOWN = native per-channel formats (EXR with half colour)
+  const uint8_t *borrowed = nullptr;
+  std::vector<uint8_t> storage;
+  const void *data() const { return borrowed ? borrowed : storage.data(); }
 };
 
 Prepared prepare_8bit(const Frame &frame, int channels) {
@@ -36,13 +37,38 @@ Prepared prepare_8bit(const Frame &frame, int channels) {
   // divides by alpha when writing PNG, so the file would not match the frame.
   p.spec.attribute("oiio:UnassociatedAlpha", 1);
   if (channels == 4) {
-    p.bytes = frame.rgba;
+    p.borrowed = frame.rgba.data();
     return p;
   }
-  p.bytes.resize(frame.pixel_count() * 3);
+  p.storage.resize(frame.pixel_count() * 3);
   for (size_t i = 0; i < frame.pixel_count(); ++i)
-    for (int c = 0; c < 3; ++c) p.bytes[3 * i + c] = frame.rgba[4 * i + c];
+    for (int c = 0; c < 3; ++c) p.storage[3 * i + c] = frame.rgba[4 * i + c];
   return p;
+}
+
+// Copies `value` into the byte buffer at `out` (unaligned-safe) and returns the next position.
+template <typename T>
+uint8_t *put(uint8_t *out, T value) {
+  std::memcpy(out, &value, sizeof value);
+  return out + sizeof value;
+}
+
+// The EXR pixels in their native per-channel types, so OIIO does no per-channel conversion
+// (which costs more than the compression itself).
+template <typename Color>
+void fill_exr(const Frame &frame, const DepthToDistance &to_distance, uint8_t *out) {
+  Color lut[256];  // sRGB decode of every 8-bit code
+  for (int i = 0; i < 256; ++i) lut[i] = Color(srgb_to_linear(static_cast<uint8_t>(i)));
+  for (size_t i = 0; i < frame.pixel_count(); ++i) {
+    const uint8_t *rgba = &frame.rgba[4 * i];
+    for (int c = 0; c < 3; ++c) out = put(out, lut[rgba[c]]);
+    out = put(out, Color(rgba[3] / 255.0f));
+    const float depth = frame.depth[i];
+    const float z = depth >= kBackgroundDepth ? std::numeric_limits<float>::infinity()
+                    : to_distance             ? to_distance(depth)
+                                              : depth;
+    out = put(out, z);
+  }
 }
 
 Prepared prepare_exr(const Frame &frame, bool half_color, const DepthToDistance &to_distance) {
@@ -51,23 +77,17 @@ Prepared prepare_exr(const Frame &frame, bool half_color, const DepthToDistance 
   p.spec.channelnames = {"R", "G", "B", "A", "Z"};
   p.spec.alpha_channel = 3;
   p.spec.z_channel = 4;
+  p.spec.attribute("compression", "zip");
   if (half_color) {
     const OIIO::TypeDesc h = OIIO::TypeDesc::HALF;
     p.spec.channelformats = {h, h, h, h, OIIO::TypeDesc::FLOAT};
-  }
-  p.spec.attribute("compression", "zip");
-  p.buffer_type = OIIO::TypeDesc::FLOAT;
-  float lut[256];  // sRGB decode of every 8-bit code
-  for (int i = 0; i < 256; ++i) lut[i] = srgb_to_linear(static_cast<uint8_t>(i));
-  p.floats.resize(frame.pixel_count() * 5);
-  for (size_t i = 0; i < frame.pixel_count(); ++i) {
-    float *px = &p.floats[5 * i];
-    for (int c = 0; c < 3; ++c) px[c] = lut[frame.rgba[4 * i + c]];
-    px[3] = frame.rgba[4 * i + 3] / 255.0f;
-    const float depth = frame.depth[i];
-    px[4] = depth >= kBackgroundDepth ? std::numeric_limits<float>::infinity()
-            : to_distance             ? to_distance(depth)
-                                      : depth;
+    p.buffer_type = OIIO::TypeDesc::UNKNOWN;
+    p.storage.resize(frame.pixel_count() * (4 * sizeof(half) + sizeof(float)));
+    fill_exr<half>(frame, to_distance, p.storage.data());
+  } else {
+    p.buffer_type = OIIO::TypeDesc::FLOAT;
+    p.storage.resize(frame.pixel_count() * 5 * sizeof(float));
+    fill_exr<float>(frame, to_distance, p.storage.data());
   }
   return p;
 }
