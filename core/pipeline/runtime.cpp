@@ -44,11 +44,18 @@ Status Runtime::open(const std::string &config_text, MPI_Comm comm, std::unique_
   }
   if (Status s = agree_on_status(rt->comm_, local); !s.ok()) return s;
   rt->buffers_.resize(rt->config_.scenes.size());
+  if (rt->config_.dump.enabled) rt->dump_ = std::make_unique<DumpStage>(rt->config_.dump);
   *out = std::move(rt);
   return {};
 }
 
 Runtime::~Runtime() {
+  // Close the dump file (collective) while the communicator is valid; after MPI_Finalize it
+  // can no longer be closed, and leaking it beats crashing in HDF5.
+  int mpi_finalized = 0;
+  MPI_Finalized(&mpi_finalized);
+  if (mpi_finalized) static_cast<void>(dump_.release());
+  dump_.reset();
   if (comm_ != MPI_COMM_NULL) {
     int finalized = 0;
     MPI_Finalized(&finalized);
@@ -76,8 +83,17 @@ void Runtime::warn_nonfinite_once(int64_t count, int64_t step) {
                  static_cast<long long>(step), static_cast<long long>(count));
 }
 
+Status Runtime::set_box(const Box &box) {
+  if (auto e = validate_box(box); !e.empty()) return {LANTERN_ERR_INVALID_ARGUMENT, "box: " + e};
+  box_ = box;
+  return {};
+}
+
 Status Runtime::execute(int64_t step, double time) {
-  if (!config_.schedule.due(step)) return {};
+  // The dump has its own schedule; a dump error is returned unless rendering fails too.
+  const Status dumped =
+      dump_ && dump_->due(step) ? dump_->write(comm_, particles_, box_, step, time) : Status();
+  if (!config_.schedule.due(step)) return dumped;
   const auto t0 = Clock::now();
   const Extent global =
       reduce_extent(comm_, scan_particles(particles_, particles_.has_radius(), 0.0));
@@ -101,7 +117,7 @@ Status Runtime::execute(int64_t step, double time) {
   if (config_.verbose && rank_ == 0)
     std::fprintf(stderr, "lantern: step %lld rendered %zu scene(s) in %.1f ms\n",
                  static_cast<long long>(step), stats.size(), total_ms);
-  return first_error;
+  return first_error.ok() ? dumped : first_error;
 }
 
 void Runtime::write_stats(int64_t step, double time, const Extent &global, double total_ms,

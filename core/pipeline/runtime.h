@@ -9,10 +9,13 @@
 #include <mpi.h>
 
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "core/config/config.h"
+#include "core/dump/box.h"
+#include "core/dump/dump_stage.h"
 #include "core/particles/particle_arrays.h"
 #include "core/pipeline/scene_pass.h"
 #include "core/pipeline/status.h"
@@ -30,6 +33,7 @@ class Runtime {
 
   Status publish(const lantern_particles &particles);  // local
   Status execute(int64_t step, double time);           // collective on scheduled steps
+  Status set_box(const Box &box);                      // local; recorded with particle dumps
 
   const Config &config() const { return config_; }
   MPI_Comm communicator() const { return comm_; }
@@ -47,6 +51,8 @@ class Runtime {
   std::shared_ptr<GlSession> gl_;
   std::vector<SceneBuffers> buffers_;  // one per scene
   bool warned_nonfinite_ = false;
+  std::optional<Box> box_;           // lantern_set_box(); dumps use particle bounds without it
+  std::unique_ptr<DumpStage> dump_;  // null unless config_.dump.enabled
 };
 
 }  // namespace lantern

@@ -128,6 +128,16 @@ LANTERN_API lantern_status lantern_publish(lantern_context *ctx,
                                            const lantern_particles *particles);
 
 /*
+ * Describes the simulation box, recorded with particle dumps (the H5MD `box`: edges high - low,
+ * and `boundary` periodic/none per axis). `low` and `high` are the box's corners (finite,
+ * low <= high per axis); `periodic` is 0 or non-zero per axis (NULL: non-periodic). Optional:
+ * without it dumps record the global bounds of the particles. Local, but give every rank the
+ * same box (rank 0's is the one written). Stays in effect until the next call.
+ */
+LANTERN_API lantern_status lantern_set_box(lantern_context *ctx, const double low[3],
+                                           const double high[3], const int periodic[3]);
+
+/*
  * Tells Lantern that the simulation reached `step` at simulation time `time`. On steps the
  * schedule skips this returns LANTERN_OK at once (no communication). On scheduled steps it
  * renders every scene, composites across ranks and writes the outputs; collective, and every
