@@ -245,7 +245,7 @@ class Loader {
     optional_key(node, path, "far", [&](const YAML::Node &n, const std::string &p) {
       c.far_plane = r_.read_in_range(n, p, c.near_plane.value_or(0.0), false, kInf, false);
     });
-    if (c.position && c.look_at == *c.position && !node["look_at"])
+    if (c.position && c.look_at == *c.position)  // look_at defaulted to the origin
       r_.fail(node["position"], child_path(path, "position"),
               "the explicit camera looks at look_at (default [0, 0, 0]); position must differ");
     return c;
@@ -290,22 +290,22 @@ class Loader {
       if (!problem.empty()) r_.fail(n, p, "'" + o.pattern + "': " + problem);
     });
     const std::optional<ImageFormat> from_extension = format_of_extension(o.pattern);
-    if (node["format"]) {
-      const std::string format_path = child_path(path, "format");
-      const YAML::Node n = node["format"];
-      o.format = *format_named(
-          r_.read_choice(n, format_path, {"png", "jpeg", "jpg", "tiff", "tif", "exr"}));
+    bool format_given = false;
+    optional_key(node, path, "format", [&](const YAML::Node &n, const std::string &p) {
+      o.format = *format_named(r_.read_choice(n, p, {"png", "jpeg", "jpg", "tiff", "tif", "exr"}));
       if (from_extension && *from_extension != o.format)
         r_.fail(
-            n, format_path,
+            n, p,
             "'" + n.Scalar() + "' contradicts the extension of output.pattern '" + o.pattern + "'");
-    } else if (from_extension) {
+      format_given = true;
+    });
+    if (!format_given) {
+      if (!from_extension)
+        r_.fail(node["pattern"], child_path(path, "pattern"),
+                "'" + o.pattern +
+                    "' has no image extension (.png, .jpg, .jpeg, .tif, .tiff, .exr); add one or "
+                    "set output.format");
       o.format = *from_extension;
-    } else {
-      r_.fail(node["pattern"], child_path(path, "pattern"),
-              "'" + o.pattern +
-                  "' has no image extension (.png, .jpg, .jpeg, .tif, .tiff, .exr); add one or "
-                  "set output.format");
     }
     optional_key(node, path, "jpeg_quality", [&](const YAML::Node &n, const std::string &p) {
       o.jpeg_quality = static_cast<int>(r_.read_int(n, p, 1, 100));
