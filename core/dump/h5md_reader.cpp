@@ -227,7 +227,7 @@ std::optional<std::array<double, 3>> H5mdReader::Impl::read_vec3(hid_t dataset, 
                                                                  const std::string &what) const {
   if (dataset < 0) return std::nullopt;
   std::array<double, 3> v{};
-  read_rows(dataset, per_frame, frame, 0, 1, 3, H5T_NATIVE_DOUBLE, v.data(), what);
+  read_rows(dataset, per_frame, frame, 0, 3, 1, H5T_NATIVE_DOUBLE, v.data(), what);
   return v;
 }
 
