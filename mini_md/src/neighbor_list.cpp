@@ -110,7 +110,11 @@ void NeighborList::build(const Atoms &atoms, const Vec3 &lo, const Vec3 &hi, dou
       candidates += bin_start_[b + row.reach + 1] - bin_start_[b - row.reach];
     }
     if (static_cast<int64_t>(neighbors_.size()) < n + candidates) {
-      neighbors_.resize(std::max<int64_t>(2 * neighbors_.size(), n + candidates));
+      // Grow by a quarter (extrapolated from the atoms done so far), not by doubling: at
+      // 10^7 atoms the list is the largest array, and a doubling copy would triple it briefly.
+      const int64_t projected = n / std::max(i, 1) * nlocal;
+      neighbors_.resize(std::max<int64_t>({projected + projected / 4, n + candidates,
+                                           static_cast<int64_t>(neighbors_.size()) * 5 / 4}));
     }
     int *out = neighbors_.data();
     for (const StencilRow &row : stencil) {

@@ -38,16 +38,17 @@ struct Void {
   double radius;
 };
 
-// Five voids: four in a 2x2 pattern near the struck face, one deeper in the middle.
+// Five voids: three centred on the mid-plane y = side/2 (two near the struck face, one deeper
+// between them), so a cut plane there sections them all, and two off-plane near the face.
 std::vector<Void> impact_voids(const ImpactLayout &layout, double a) {
   const double side = layout.n * a;
   const double top = (layout.below + layout.n) * a;
   const double r = std::max(1.5 * a, 0.1 * side);
-  return {{{0.25 * side, 0.25 * side, top - 0.3 * side}, r},
-          {{0.75 * side, 0.25 * side, top - 0.3 * side}, r},
-          {{0.25 * side, 0.75 * side, top - 0.3 * side}, r},
-          {{0.75 * side, 0.75 * side, top - 0.3 * side}, r},
-          {{0.50 * side, 0.50 * side, top - 0.65 * side}, r}};
+  return {{{0.25 * side, 0.50 * side, top - 0.30 * side}, r},
+          {{0.75 * side, 0.50 * side, top - 0.30 * side}, r},
+          {{0.50 * side, 0.50 * side, top - 0.65 * side}, r},
+          {{0.50 * side, 0.15 * side, top - 0.35 * side}, r},
+          {{0.50 * side, 0.85 * side, top - 0.35 * side}, r}};
 }
 
 bool inside_any(const Vec3 &p, const std::vector<Void> &voids) {

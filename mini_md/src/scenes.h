@@ -3,7 +3,8 @@
 // positions with global indices), so every rank count starts from the same state.
 //
 //   lattice      fcc at density 0.8442, T 1.44, periodic: the classic LJ melt (LAMMPS in.lj).
-//   void_impact  fcc crystal slab (density 1.07, T 0.05) with five spherical voids, struck along
+//   void_impact  fcc crystal slab (density 1.07, T 0.05) with five spherical voids (three of them
+//                centred on the plane y = Ly/2, for cross-sections), struck along
 //                -z by a flyer plate at --impact-speed; reflecting walls in z, far enough from
 //                the free surfaces that they only catch spall; periodic in x and y.
 //                Types: 1 target, 2 flyer.
