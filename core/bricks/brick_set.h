@@ -1,0 +1,57 @@
+// Bricks: this rank's finite particles in z-order, cut into octree cells of bounded particle
+// count, each with its bounds; the unit of culling and of level of detail.
+//
+// The simulation's arrays are never moved: a BrickSet holds a permutation of uint32 indices into
+// them (4 bytes per particle, the only per-particle memory kept between scenes) and a few dozen
+// bytes per brick. Building it peaks at 16 bytes per particle (a packed key|index word and its
+// radix-sort scratch). Bricks depend only on the particles, not on a camera: build once per step
+// and reuse for every scene of that step.
+//
+// Ownership: a BrickSet owns its permutation and bricks; it refers to the particles only by
+// index, so it stays valid as long as the published arrays keep their order and count.
+// Thread-safety: immutable after build_bricks(); concurrent readers are fine.
+// Units: bounds in the simulation's length unit.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+#include "core/particles/particle_arrays.h"
+
+namespace lantern {
+
+struct Brick {
+  uint32_t first = 0;  // offset into BrickSet::order
+  uint32_t count = 0;
+  glm::dvec3 lo{0.0}, hi{0.0};  // bounds of the particle CENTRES; add the radius to cull
+  double max_radius = 0.0;      // largest published radius in the brick (0 without radius array)
+};
+
+struct BrickOptions {
+  uint32_t max_particles = 4096;  // a brick never holds more
+  bool level_layout = true;       // z-order level layout inside bricks (prefix = uniform sample)
+};
+
+struct BrickSet {
+  std::vector<uint32_t> order;  // particle indices, brick after brick
+  std::vector<Brick> bricks;    // in z-order along the curve
+  glm::dvec3 lo{0.0}, hi{0.0};  // bounds of the finite centres (lo > hi when there are none)
+  int64_t nonfinite = 0;        // particles left out for a NaN or infinite coordinate
+  bool has_radius = false;      // bricks carry max_radius from the published radius array
+
+  int64_t particle_count() const { return int64_t(order.size()); }
+};
+
+// Timings of one build, milliseconds.
+struct BrickBuildTimings {
+  double keys_ms = 0, sort_ms = 0, split_ms = 0, layout_ms = 0, bounds_ms = 0;
+};
+
+// Builds the bricks of `particles` (count must be < 2^32). Particles with a non-finite
+// coordinate are left out.
+BrickSet build_bricks(const ParticleArrays &particles, const BrickOptions &options,
+                      BrickBuildTimings *timings = nullptr);
+
+}  // namespace lantern

@@ -1,0 +1,18 @@
+// LSD radix sort of 64-bit words by a range of their bits: the workhorse of the z-order sort.
+//
+// Stable, 11-bit digits, one histogram pass for all digits, and digits on which every word
+// agrees are skipped (a rank's keys usually share their top bits). Memory: the caller's words
+// plus one scratch buffer of the same size. Thread-safety: none needed (pure function).
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+namespace lantern {
+
+// Sorts `words` by bits [lo_bit, hi_bit) (0 <= lo_bit < hi_bit <= 64), stably. `scratch` is
+// resized to words->size() and left with unspecified contents (reuse it or free it).
+void radix_sort_words(std::vector<uint64_t> *words, std::vector<uint64_t> *scratch, int lo_bit,
+                      int hi_bit);
+
+}  // namespace lantern

@@ -1,0 +1,174 @@
+// Bricks: Morton keys, the radix sort, brick bounds and the level layout's uniform prefixes.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+#include <vector>
+
+#include "core/bricks/brick_set.h"
+#include "core/bricks/level_layout.h"
+#include "core/bricks/morton.h"
+#include "core/bricks/radix_sort.h"
+
+namespace lantern {
+namespace {
+
+// Interleaves bits the slow, obvious way.
+uint64_t reference_morton(uint32_t x, uint32_t y, uint32_t z) {
+  uint64_t k = 0;
+  for (int b = 0; b < 21; ++b) {
+    k |= uint64_t((x >> b) & 1) << (3 * b + 2);
+    k |= uint64_t((y >> b) & 1) << (3 * b + 1);
+    k |= uint64_t((z >> b) & 1) << (3 * b);
+  }
+  return k;
+}
+
+ParticleArrays borrow(const std::vector<double> &xyz, const std::vector<float> *radius = nullptr) {
+  lantern_particles p{};
+  p.count = int64_t(xyz.size() / 3);
+  p.position = {xyz.data(), LANTERN_FLOAT64, 0};
+  if (radius) p.radius = {radius->data(), LANTERN_FLOAT32, 0};
+  ParticleArrays a;
+  EXPECT_EQ(ParticleArrays::validate(p, &a), "");
+  return a;
+}
+
+std::vector<double> random_points(size_t n, unsigned seed, double lo = -3.0, double hi = 5.0) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> u(lo, hi);
+  std::vector<double> xyz(3 * n);
+  for (double &v : xyz) v = u(rng);
+  return xyz;
+}
+
+TEST(Morton, MatchesBitByBitInterleaving) {
+  std::mt19937 rng(1);
+  for (int t = 0; t < 10000; ++t) {
+    const uint32_t x = rng() & kMortonAxisMax, y = rng() & kMortonAxisMax,
+                   z = rng() & kMortonAxisMax;
+    const uint64_t k = morton_encode(x, y, z);
+    ASSERT_EQ(k, reference_morton(x, y, z));
+    EXPECT_EQ(morton_compact3(k >> 2), x);
+    EXPECT_EQ(morton_compact3(k >> 1), y);
+    EXPECT_EQ(morton_compact3(k), z);
+  }
+  EXPECT_EQ(morton_encode(kMortonAxisMax, kMortonAxisMax, kMortonAxisMax), (uint64_t(1) << 63) - 1);
+}
+
+TEST(RadixSort, MatchesStdSortOnFullAndPartialBitRanges) {
+  std::mt19937_64 rng(2);
+  for (const size_t n : {size_t(0), size_t(1), size_t(7), size_t(1000), size_t(200000)}) {
+    std::vector<uint64_t> words(n);
+    for (auto &w : words) w = rng() >> (rng() % 40);  // varied magnitudes, shared top bits
+    std::vector<uint64_t> full = words, scratch;
+    radix_sort_words(&full, &scratch, 0, 64);
+    std::vector<uint64_t> expect = words;
+    std::sort(expect.begin(), expect.end());
+    EXPECT_EQ(full, expect);
+    // Upper half only: stable, so equal upper halves keep their input order.
+    std::vector<uint64_t> upper = words;
+    radix_sort_words(&upper, &scratch, 32, 64);
+    std::vector<uint64_t> stable = words;
+    std::stable_sort(stable.begin(), stable.end(),
+                     [](uint64_t a, uint64_t b) { return (a >> 32) < (b >> 32); });
+    EXPECT_EQ(upper, stable);
+  }
+}
+
+TEST(Bricks, OrderIsMortonOrderOfEveryFiniteParticle) {
+  std::vector<double> xyz = random_points(50000, 3);
+  xyz[3 * 17 + 1] = std::nan("");  // left out
+  xyz[3 * 99] = INFINITY;
+  const ParticleArrays p = borrow(xyz);
+  BrickOptions opt;
+  opt.level_layout = false;  // plain z-order, to compare with std::sort
+  const BrickSet set = build_bricks(p, opt);
+  EXPECT_EQ(set.nonfinite, 2);
+  ASSERT_EQ(set.particle_count(), 50000 - 2);
+  const MortonQuantiser q = MortonQuantiser::for_bounds(set.lo, set.hi);
+  std::vector<std::pair<uint64_t, uint32_t>> expect;
+  for (uint32_t i = 0; i < 50000; ++i)
+    if (i != 17 && i != 99) expect.emplace_back(q.key(p.position(i)), i);
+  std::sort(expect.begin(), expect.end());
+  for (size_t k = 0; k < expect.size(); ++k) ASSERT_EQ(set.order[k], expect[k].second) << k;
+}
+
+TEST(Bricks, BoundedCountsCoverEveryParticleAndBoundsContainThem) {
+  const std::vector<double> xyz = random_points(100000, 4);
+  std::vector<float> radius(100000);
+  for (size_t i = 0; i < radius.size(); ++i) radius[i] = 0.01f + 0.001f * float(i % 50);
+  const ParticleArrays p = borrow(xyz, &radius);
+  BrickOptions opt;
+  opt.max_particles = 1000;
+  const BrickSet set = build_bricks(p, opt);
+  std::vector<int> seen(100000, 0);
+  uint32_t next = 0;
+  for (const Brick &b : set.bricks) {
+    EXPECT_EQ(b.first, next);
+    EXPECT_GE(b.count, 1u);
+    EXPECT_LE(b.count, 1000u);
+    next += b.count;
+    for (uint32_t k = 0; k < b.count; ++k) {
+      const uint32_t i = set.order[b.first + k];
+      ++seen[i];
+      const glm::dvec3 x = p.position(i);
+      const double r = p.radius(i);
+      for (int c = 0; c < 3; ++c) {
+        EXPECT_LE(b.lo[c] - b.max_radius, x[c] - r);
+        EXPECT_GE(b.hi[c] + b.max_radius, x[c] + r);
+      }
+    }
+  }
+  EXPECT_EQ(next, 100000u);
+  EXPECT_TRUE(std::all_of(seen.begin(), seen.end(), [](int s) { return s == 1; }));
+  // Octree cells: uniform points give compact bricks, far smaller than the whole box.
+  double mean_side = 0.0;
+  for (const Brick &b : set.bricks)
+    mean_side += std::max({b.hi.x - b.lo.x, b.hi.y - b.lo.y, b.hi.z - b.lo.z});
+  EXPECT_LT(mean_side / set.bricks.size(), 0.35 * 8.0);
+}
+
+TEST(LevelLayout, MatchesFigure3OfSeed001) {
+  // Eight particles in z-order 0..7: L0 = {0}, L1 = {4}, L2 = {2, 6}, L3 = {1, 5, 3, 7}.
+  std::vector<uint32_t> items{0, 1, 2, 3, 4, 5, 6, 7}, scratch;
+  apply_level_layout(items.data(), 8, &scratch);
+  EXPECT_EQ(items, (std::vector<uint32_t>{0, 4, 2, 6, 1, 5, 3, 7}));
+  // Not a power of two: still a permutation.
+  std::vector<uint32_t> odd(1000);
+  for (uint32_t i = 0; i < 1000; ++i) odd[i] = i;
+  apply_level_layout(odd.data(), 1000, &scratch);
+  std::vector<uint32_t> sorted = odd;
+  std::sort(sorted.begin(), sorted.end());
+  for (uint32_t i = 0; i < 1000; ++i) EXPECT_EQ(sorted[i], i);
+  EXPECT_EQ(level_layout_source(0, 1000), 0u);
+  EXPECT_EQ(level_layout_source(1, 1000), 512u);
+}
+
+TEST(LevelLayout, EveryBrickPrefixIsSpatiallyUniform) {
+  // A dense cube: each brick's prefix should split over the brick's octants in proportion.
+  std::vector<double> xyz;
+  const int n = 64;
+  for (int z = 0; z < n; ++z)
+    for (int y = 0; y < n; ++y)
+      for (int x = 0; x < n; ++x) xyz.insert(xyz.end(), {double(x), double(y), double(z)});
+  const ParticleArrays p = borrow(xyz);
+  const BrickSet set = build_bricks(p, BrickOptions{});
+  for (const Brick &b : set.bricks) {
+    const glm::dvec3 mid = 0.5 * (b.lo + b.hi);
+    for (const double share : {1.0 / 8, 1.0 / 4, 0.3, 1.0 / 2}) {
+      const auto m = uint32_t(share * b.count);
+      int octant[8] = {0};
+      for (uint32_t k = 0; k < m; ++k) {
+        const glm::dvec3 x = p.position(set.order[b.first + k]);
+        ++octant[(x.x > mid.x) | (x.y > mid.y) << 1 | (x.z > mid.z) << 2];
+      }
+      for (int o = 0; o < 8; ++o)
+        EXPECT_NEAR(octant[o], m / 8.0, 0.05 * m + 1) << "share " << share << " octant " << o;
+    }
+  }
+}
+
+}  // namespace
+}  // namespace lantern
