@@ -2,9 +2,12 @@
 
 #include <chrono>
 
+#include "core/bricks/brick_set.h"
 #include "core/camera/camera.h"
 #include "core/color/colormap.h"
 #include "core/composite/depth_compositor.h"
+#include "core/culling/cull_stage.h"
+#include "core/culling/point_splats.h"
 #include "core/output/file_pattern.h"
 #include "core/output/image_writer.h"
 #include "core/pipeline/collective_status.h"
@@ -30,6 +33,42 @@ Status check_scene_needs(const SceneConfig &scene, const ParticleArrays &p) {
                                               "': color.by is scalar but no scalar array was "
                                               "published (lantern_particles.scalar)"};
   return {};
+}
+
+// Bricks depend only on the particles, so they are built once per step and shared by every scene
+// of that step (a new step, or other arrays, rebuilds them: particles move between steps). Kept
+// between steps: the permutation (4 B per particle) and the bricks. Lantern calls scene passes
+// from one thread, so plain statics suffice.
+struct BrickCache {
+  int64_t step = 0;
+  int64_t count = -1;
+  const void *positions = nullptr;
+  const void *radii = nullptr;
+  BrickSet set;
+};
+
+const BrickSet &bricks_for_step(const ScenePassInputs &in, double *build_ms) {
+  static BrickCache cache;
+  const ParticleArrays &p = *in.particles;
+  const void *pos = p.position_array(0).data();
+  const void *rad = p.radius_array().data();
+  if (cache.count == p.count() && cache.step == in.step && cache.positions == pos &&
+      cache.radii == rad)
+    return cache.set;
+  const auto t0 = Clock::now();
+  cache.set = BrickSet();  // free the old permutation before building: keeps the peak low
+  cache.set = build_bricks(p, BrickOptions{});
+  cache.step = in.step;
+  cache.count = p.count();
+  cache.positions = pos;
+  cache.radii = rad;
+  *build_ms += ms_since(t0);
+  return cache.set;
+}
+
+Culler &scene_culler() {
+  static Culler culler;  // scratch buffers (pyramid, grids) reused from frame to frame
+  return culler;
 }
 
 int64_t sum_over_ranks(MPI_Comm comm, int64_t local) {
@@ -60,12 +99,26 @@ Status run_scene_pass(const ScenePassInputs &in, const SceneConfig &scene, Scene
   stats->camera_ms = ms_since(t0);
 
   Status local = check_scene_needs(scene, *in.particles);
+  int64_t local_drawn = 0, local_splatted = 0;
   if (local.ok()) {
+    // Bricks, culling and level of detail: what to draw.
+    t0 = Clock::now();
+    double build_ms = 0.0;
+    const BrickSet &bricks = bricks_for_step(in, &build_ms);
+    static DrawList draw;  // reused between frames, like the scene buffers
+    const CullStats cull = scene_culler().run(*in.particles, bricks, camera, scene, &draw);
+    stats->cull_ms = ms_since(t0);
+    stats->occlusion = cull.occlusion;
+    local_drawn = cull.drawn;
+    local_splatted = cull.splatted;
+
     t0 = Clock::now();
     const InstanceRecipe recipe = make_recipe(*in.particles, scene, camera, in.global);
-    build_all_instances(recipe, &buffers->instances);
+    if (draw.everything)
+      build_all_instances(recipe, &buffers->instances);
+    else
+      build_selected_instances(recipe, draw.spheres, &buffers->instances);
     stats->instances_ms = ms_since(t0);
-    stats->occlusion = "none";
     const Rgb8 bg = to_rgb8(scene.background);
     const uint8_t background[4] = {bg[0], bg[1], bg[2], 255};
     RenderTimings timings;
@@ -75,10 +128,19 @@ Status run_scene_pass(const ScenePassInputs &in, const SceneConfig &scene, Scene
     if (!e.empty()) local = {LANTERN_ERR_GL, "scenes '" + scene.name + "': " + e};
     stats->draw_ms = timings.draw_ms;
     stats->readback_ms = timings.readback_ms;
+    if (!draw.points.empty()) {
+      t0 = Clock::now();
+      splat_points(
+          *in.particles, recipe.per_particle_radius, recipe.radius, draw.points,
+          scene_culler().geometry(), [&recipe](int64_t i) { return recipe.colour(i); },
+          &buffers->frame);
+      stats->draw_ms += ms_since(t0);
+    }
   }
   if (Status s = agree_on_status(in.comm, local); !s.ok()) return s;
-  stats->drawn = sum_over_ranks(in.comm, int64_t(buffers->instances.size()));
-  stats->culled = in.global.finite_count - stats->drawn;
+  stats->drawn = sum_over_ranks(in.comm, local_drawn);
+  stats->splatted = sum_over_ranks(in.comm, local_splatted);
+  stats->culled = in.global.finite_count - stats->drawn - stats->splatted;
 
   const CompositeStats cs = composite_frames(in.comm, buffers->frame, 0, CompositeMethod::kAuto);
   if (!cs.ok()) return {LANTERN_ERR_MPI, "scenes '" + scene.name + "': compositing: " + cs.error};

@@ -14,7 +14,7 @@ nlohmann::json SceneStats::to_json() const {
             {"composite", composite_ms},
             {"write", write_ms},
             {"total", total_ms}}},
-          {"particles", {{"drawn", drawn}, {"culled", culled}}},
+          {"particles", {{"drawn", drawn}, {"splatted", splatted}, {"culled", culled}}},
           {"composite_method", composite_method},
           {"occlusion", occlusion}};
 }

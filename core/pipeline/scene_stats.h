@@ -15,8 +15,9 @@ struct SceneStats {
   double camera_ms = 0, cull_ms = 0, instances_ms = 0, draw_ms = 0, readback_ms = 0,
          composite_ms = 0, write_ms = 0, total_ms = 0;
   // Particle counts summed over ranks.
-  int64_t drawn = 0;   // spheres sent to the renderer
-  int64_t culled = 0;  // finite particles dropped by culling or level of detail
+  int64_t drawn = 0;     // spheres sent to the renderer
+  int64_t splatted = 0;  // sub-pixel spheres written by the CPU point path (lod.point_path)
+  int64_t culled = 0;    // finite particles dropped by culling or level of detail
   std::string composite_method;
   std::string occlusion;  // occlusion mode run (and why, for auto)
   std::string file;       // the image written

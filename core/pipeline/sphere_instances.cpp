@@ -1,5 +1,7 @@
 #include "core/pipeline/sphere_instances.h"
 
+#include "core/bricks/typed_access.h"
+#include "core/culling/draw_list.h"
 #include "core/pipeline/particle_scan.h"
 
 namespace lantern {
@@ -31,12 +33,56 @@ InstanceRecipe make_recipe(const ParticleArrays &particles, const SceneConfig &s
   return r;
 }
 
+namespace {
+
+// One instance from typed readers: the hot loop of every frame, so no per-element type switch
+// for positions and radii (colours still go through the recipe: few branches, table lookups).
+template <typename Positions, typename Radii>
+SphereInstance make_instance(const InstanceRecipe &recipe, const Positions &pos,
+                             const Radii &radius, int64_t i, float scale) {
+  const glm::dvec3 p = pos.get(i) - recipe.origin;
+  SphereInstance s;
+  s.x = float(p.x);
+  s.y = float(p.y);
+  s.z = float(p.z);
+  s.radius = float(radius.get(i)) * scale;
+  const Rgb8 c = recipe.colour(i);
+  s.rgba[0] = c[0];
+  s.rgba[1] = c[1];
+  s.rgba[2] = c[2];
+  s.rgba[3] = 255;
+  return s;
+}
+
+template <typename F>
+void with_readers(const InstanceRecipe &recipe, F &&f) {
+  const ParticleArrays &p = *recipe.particles;
+  visit_positions(p, [&](const auto &pos) {
+    visit_radii(p, recipe.per_particle_radius, recipe.radius,
+                [&](const auto &radius) { f(pos, radius); });
+  });
+}
+
+}  // namespace
+
 void build_all_instances(const InstanceRecipe &recipe, std::vector<SphereInstance> *out) {
   const ParticleArrays &p = *recipe.particles;
   out->clear();
   out->reserve(size_t(p.count()));
-  for (int64_t i = 0; i < p.count(); ++i)
-    if (finite_position(p.position(i))) out->push_back(recipe.make(i));
+  with_readers(recipe, [&](const auto &pos, const auto &radius) {
+    for (int64_t i = 0; i < p.count(); ++i)
+      if (finite_position(pos.get(i))) out->push_back(make_instance(recipe, pos, radius, i, 1.0f));
+  });
+}
+
+void build_selected_instances(const InstanceRecipe &recipe, const std::vector<uint64_t> &entries,
+                              std::vector<SphereInstance> *out) {
+  out->resize(entries.size());
+  with_readers(recipe, [&](const auto &pos, const auto &radius) {
+    SphereInstance *dst = out->data();
+    for (const uint64_t e : entries)
+      *dst++ = make_instance(recipe, pos, radius, entry_index(e), entry_scale(e));
+  });
 }
 
 }  // namespace lantern

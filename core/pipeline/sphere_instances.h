@@ -68,4 +68,9 @@ InstanceRecipe make_recipe(const ParticleArrays &particles, const SceneConfig &s
 // Instances of every particle with finite coordinates, in published order.
 void build_all_instances(const InstanceRecipe &recipe, std::vector<SphereInstance> *out);
 
+// Instances of the culling stage's draw entries (core/culling/draw_list.h: particle index and
+// level-of-detail radius scale), in the entries' order.
+void build_selected_instances(const InstanceRecipe &recipe, const std::vector<uint64_t> &entries,
+                              std::vector<SphereInstance> *out);
+
 }  // namespace lantern

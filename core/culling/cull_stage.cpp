@@ -1,0 +1,310 @@
+#include "core/culling/cull_stage.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+#include "core/bricks/radix_sort.h"
+#include "core/bricks/typed_access.h"
+#include "core/culling/cut_planes.h"
+#include "core/culling/frustum.h"
+#include "core/culling/level_of_detail.h"
+#include "core/culling/occlusion_estimate.h"
+
+namespace lantern {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+// Spheres whose projected radius is below this many pixels take the CPU point path (when on):
+// they cover at most one pixel centre or two.
+constexpr double kSplatPixels = 0.5;
+constexpr int kDepthBuckets = 64;  // front-to-back order inside a brick: a bucket sort suffices
+
+glm::dvec3 box_corner(const glm::dvec3 &lo, const glm::dvec3 &hi, int k) {
+  return {k & 1 ? hi.x : lo.x, k & 2 ? hi.y : lo.y, k & 4 ? hi.z : lo.z};
+}
+
+// A length bounding |x - origin| for every sphere and the eye: the scale of float rounding.
+double scene_scale(const BrickSet &set, const Camera &camera, double max_radius) {
+  double s = 0.0;
+  for (int k = 0; k < 8; ++k)
+    s = std::max(s, glm::length(box_corner(set.lo, set.hi, k) - camera.origin));
+  return s + max_radius;
+}
+
+// Screen rectangle and nearest depth of a brick whose spheres have radius <= r.
+void footprint(const ViewGeometry &g, const Brick &b, double r, VisibleBrick *v) {
+  glm::dvec3 grown[8];
+  double nearest = std::numeric_limits<double>::infinity();
+  for (int k = 0; k < 8; ++k) {
+    nearest = std::min(nearest, ViewGeometry::depth_of(g.to_view(box_corner(b.lo, b.hi, k))));
+    grown[k] = g.to_view(box_corner(b.lo - r, b.hi + r, k));
+  }
+  v->near_depth = nearest - r - g.eps;
+  v->rect = g.box_rect(grown);
+}
+
+// The reference pixel of seed 000: the pixel the projected centre falls in.
+bool reference_pixel(const ViewGeometry &g, const glm::dvec3 &c, int *x, int *y) {
+  double xn, yn;
+  if (g.orthographic) {
+    xn = g.sx * c.x + g.tx, yn = g.sy * c.y + g.ty;
+  } else {
+    const double d = -c.z;
+    if (d <= g.near_plane) return false;
+    xn = g.sx * c.x / d, yn = g.sy * c.y / d;
+  }
+  const double fx = std::floor((xn + 1.0) * 0.5 * g.width),
+               fy = std::floor((1.0 - yn) * 0.5 * g.height);
+  if (!(fx >= 0 && fy >= 0 && fx < g.width && fy < g.height)) return false;
+  *x = int(fx), *y = int(fy);
+  return true;
+}
+
+uint32_t float_key(double depth) {
+  const float f = float(std::max(depth, 0.0));  // non-negative floats sort like their bits
+  uint32_t bits;
+  std::memcpy(&bits, &f, sizeof bits);
+  return bits;
+}
+
+}  // namespace
+
+std::string occlusion_mode_name(OcclusionMode mode) {
+  switch (mode) {
+    case OcclusionMode::kAuto:
+      return "auto";
+    case OcclusionMode::kNone:
+      return "none";
+    case OcclusionMode::kNineSpheres:
+      return "nine_spheres";
+    case OcclusionMode::kNineSpheresSorted:
+      return "nine_spheres_sorted";
+    case OcclusionMode::kHzb:
+      return "hzb";
+  }
+  return "?";
+}
+
+CullStats Culler::run(const ParticleArrays &particles, const BrickSet &bricks, const Camera &camera,
+                      const SceneConfig &scene, DrawList *out) {
+  const auto t0 = Clock::now();
+  CullStats st;
+  out->clear();
+  st.candidates = bricks.particle_count();
+  st.bricks = int64_t(bricks.bricks.size());
+  const bool per_particle = scene.per_particle_radius && particles.has_radius();
+  double max_r = per_particle ? 0.0 : scene.radius;
+  if (per_particle)
+    for (const Brick &b : bricks.bricks) max_r = std::max(max_r, b.max_radius);
+  g_ = ViewGeometry::from_camera(camera, scene_scale(bricks, camera, max_r));
+  const Frustum frustum(g_);
+  const CutPlanes cuts(scene.cuts);
+
+  // Bricks: frustum and cutting planes.
+  visible_.clear();
+  for (uint32_t i = 0; i < bricks.bricks.size(); ++i) {
+    const Brick &b = bricks.bricks[i];
+    const double r = per_particle ? b.max_radius : scene.radius;
+    VisibleBrick v;
+    v.brick = i;
+    v.radius = r;
+    v.keep = b.count;
+    if (scene.culling.frustum) {
+      glm::dvec3 corners[8];
+      for (int k = 0; k < 8; ++k) corners[k] = g_.to_view(box_corner(b.lo, b.hi, k));
+      v.containment = frustum.classify_box(corners, r);
+      if (v.containment == Containment::kOutside) {
+        ++st.bricks_outside;
+        st.frustum_culled += b.count;
+        continue;
+      }
+    }
+    if (!cuts.empty()) {
+      const CutPlanes::Side side = cuts.classify_box(b.lo, b.hi);
+      if (side == CutPlanes::Side::kDropped) {
+        st.cut_culled += b.count;
+        continue;
+      }
+      v.cut_each = side == CutPlanes::Side::kBoth;
+    }
+    if (v.containment == Containment::kInside) ++st.bricks_inside;
+    st.per_particle_frustum |= v.containment == Containment::kStraddling;
+    footprint(g_, b, r, &v);
+    visible_.push_back(v);
+  }
+
+  // Level of detail, then footprints of the bricks whose spheres grew.
+  const LodConfig &lod = scene.lod;
+  const bool lod_on = lod.budget > 0 || lod.fraction < 1.0 || lod.min_pixels > 0.0;
+  bool reduced = false;
+  if (lod_on) reduced = apply_level_of_detail(lod, bricks, g_, &visible_);
+  for (VisibleBrick &v : visible_)
+    if (v.radius_scale != 1.0f)
+      footprint(g_, bricks.bricks[v.brick], v.radius * v.radius_scale, &v);
+
+  OcclusionMode mode = scene.culling.occlusion;
+  const auto front_to_back = [](const VisibleBrick &a, const VisibleBrick &b) {
+    return a.near_depth < b.near_depth;
+  };
+  if (mode == OcclusionMode::kAuto) {
+    std::stable_sort(visible_.begin(), visible_.end(), front_to_back);
+    const OcclusionChoice choice = choose_occlusion(visible_, g_);
+    mode = choice.mode;
+    st.occlusion = occlusion_mode_name(mode) + " (auto: " + choice.reason +
+                   (st.per_particle_frustum ? "" : "; all in view, no per-particle frustum") + ")";
+  } else {
+    st.occlusion = occlusion_mode_name(mode);
+    if (mode != OcclusionMode::kNone)
+      std::stable_sort(visible_.begin(), visible_.end(), front_to_back);
+  }
+  if (mode == OcclusionMode::kHzb) hzb_.reset(g_);
+  if (mode == OcclusionMode::kNineSpheres || mode == OcclusionMode::kNineSpheresSorted)
+    nine_.reset(g_.width, g_.height);
+
+  const bool trivial = mode == OcclusionMode::kNone && !reduced && !lod.point_path &&
+                       !st.per_particle_frustum && st.frustum_culled == 0 && st.cut_culled == 0 &&
+                       std::none_of(visible_.begin(), visible_.end(),
+                                    [](const VisibleBrick &v) { return v.cut_each; });
+  if (trivial) {
+    out->everything = true;  // nothing to cull: brute force order, no per-particle pass
+    st.drawn = st.candidates;
+  } else {
+    visit_positions(particles, [&](const auto &pos) {
+      visit_radii(particles, per_particle, scene.radius, [&](const auto &radius) {
+        if (mode == OcclusionMode::kNineSpheresSorted)
+          process_sorted(pos, radius, frustum, cuts, scene, bricks, &st, out);
+        else
+          process(pos, radius, frustum, cuts, scene, bricks, mode, &st, out);
+      });
+    });
+    // Published order, as brute force draws (see draw_list.h).
+    radix_sort_words(&out->spheres, &scratch_, 32, 64);
+    radix_sort_words(&out->points, &scratch_, 32, 64);
+    st.drawn = int64_t(out->spheres.size());
+    st.splatted = int64_t(out->points.size());
+  }
+  st.ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+  return st;
+}
+
+template <typename Positions, typename Radii>
+void Culler::gather(const Positions &pos, const Radii &radius, const Frustum &frustum,
+                    const CutPlanes &cuts, const SceneConfig &scene, const BrickSet &bricks,
+                    const VisibleBrick &v, bool keep_candidates, CullStats *st, DrawList *out) {
+  const Brick &b = bricks.bricks[v.brick];
+  const uint32_t *idx = bricks.order.data() + b.first;
+  const bool straddle = v.containment == Containment::kStraddling;
+  const bool point_path = scene.lod.point_path;
+  const float scale = v.radius_scale;
+  if (!keep_candidates && !straddle && !v.cut_each && !point_path) {
+    for (uint32_t k = 0; k < v.keep; ++k) out->spheres.push_back(draw_entry(idx[k], scale));
+    return;
+  }
+  for (uint32_t k = 0; k < v.keep; ++k) {
+    const uint32_t i = idx[k];
+    const glm::dvec3 p = pos.get(i);
+    if (v.cut_each && cuts.drops(p)) {
+      ++st->cut_culled;
+      continue;
+    }
+    const double r = radius.get(i) * scale;
+    const glm::dvec3 c = g_.to_view(p);
+    if (straddle && frustum.classify_sphere(c, r) == Containment::kOutside) {
+      ++st->frustum_culled;
+      continue;
+    }
+    if (point_path && -c.z - r > g_.near_plane && r * g_.pixels_per_unit(-c.z) < kSplatPixels) {
+      out->points.push_back(draw_entry(i, scale));
+      continue;
+    }
+    if (!keep_candidates) {
+      out->spheres.push_back(draw_entry(i, scale));
+      continue;
+    }
+    buffer_.push_back({c, r, i, scale});
+  }
+}
+
+void Culler::order_front_to_back() {
+  sorted_.resize(buffer_.size());
+  if (buffer_.size() < 2) {
+    sorted_ = buffer_;
+    return;
+  }
+  double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+  for (const Candidate &c : buffer_) lo = std::min(lo, -c.c.z), hi = std::max(hi, -c.c.z);
+  const double scale = hi > lo ? (kDepthBuckets - 1) / (hi - lo) : 0.0;
+  bucket_counts_.assign(kDepthBuckets + 1, 0);
+  const auto bucket = [&](const Candidate &c) { return size_t((-c.c.z - lo) * scale); };
+  for (const Candidate &c : buffer_) ++bucket_counts_[bucket(c) + 1];
+  for (size_t k = 1; k < bucket_counts_.size(); ++k) bucket_counts_[k] += bucket_counts_[k - 1];
+  for (const Candidate &c : buffer_) sorted_[bucket_counts_[bucket(c)]++] = c;
+}
+
+bool Culler::occluded(OcclusionMode mode, const Candidate &cand) {
+  if (mode == OcclusionMode::kHzb) {
+    const PixelRect rect = g_.sphere_rect(cand.c, cand.r);
+    if (hzb_.covered(rect, -cand.c.z - cand.r - g_.eps)) return true;
+    hzb_.add_occluder(cand.c, cand.r, rect);
+    return false;
+  }
+  int x, y;
+  if (!reference_pixel(g_, cand.c, &x, &y)) return false;
+  return nine_.test_and_record(x, y, float(-cand.c.z), float(cand.r));
+}
+
+template <typename Positions, typename Radii>
+void Culler::process(const Positions &pos, const Radii &radius, const Frustum &frustum,
+                     const CutPlanes &cuts, const SceneConfig &scene, const BrickSet &bricks,
+                     OcclusionMode mode, CullStats *st, DrawList *out) {
+  const bool occlusion = mode != OcclusionMode::kNone;
+  for (const VisibleBrick &v : visible_) {
+    const Brick &b = bricks.bricks[v.brick];
+    st->lod_dropped += b.count - v.keep;
+    if (mode == OcclusionMode::kHzb && hzb_.covered(v.rect, v.near_depth)) {
+      ++st->bricks_occluded;
+      st->occlusion_culled += v.keep;
+      continue;
+    }
+    buffer_.clear();
+    gather(pos, radius, frustum, cuts, scene, bricks, v, occlusion, st, out);
+    if (!occlusion) continue;
+    order_front_to_back();
+    for (const Candidate &c : sorted_) {
+      if (occluded(mode, c))
+        ++st->occlusion_culled;
+      else
+        out->spheres.push_back(draw_entry(c.index, c.scale));
+    }
+    if (mode == OcclusionMode::kHzb) hzb_.refresh();
+  }
+}
+
+template <typename Positions, typename Radii>
+void Culler::process_sorted(const Positions &pos, const Radii &radius, const Frustum &frustum,
+                            const CutPlanes &cuts, const SceneConfig &scene, const BrickSet &bricks,
+                            CullStats *st, DrawList *out) {
+  // Every candidate first (as the paper sorts all particles), then one global depth order.
+  std::vector<Candidate> all;
+  for (const VisibleBrick &v : visible_) {
+    st->lod_dropped += bricks.bricks[v.brick].count - v.keep;
+    buffer_.clear();
+    gather(pos, radius, frustum, cuts, scene, bricks, v, true, st, out);
+    all.insert(all.end(), buffer_.begin(), buffer_.end());
+  }
+  std::vector<uint64_t> keys(all.size());
+  for (size_t k = 0; k < all.size(); ++k)
+    keys[k] = uint64_t(float_key(-all[k].c.z)) << 32 | uint32_t(k);
+  radix_sort_words(&keys, &scratch_, 32, 64);
+  for (const uint64_t key : keys) {
+    const Candidate &c = all[uint32_t(key)];
+    if (occluded(OcclusionMode::kNineSpheresSorted, c))
+      ++st->occlusion_culled;
+    else
+      out->spheres.push_back(draw_entry(c.index, c.scale));
+  }
+}
+
+}  // namespace lantern

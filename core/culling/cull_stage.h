@@ -1,0 +1,87 @@
+// The stage between camera and rendering: from the step's bricks to the list of particles to
+// draw, for one scene. Frustum and cut-plane culling of bricks (per particle only in bricks that
+// straddle), level of detail from brick prefixes, occlusion culling in the configured mode, and
+// the CPU point path for sub-pixel spheres.
+//
+// Exact modes (frustum, cuts, occlusion none/hzb, no LOD, no point path) produce a list whose
+// rendering is bit-identical to drawing every particle. Ownership: a Culler owns scratch buffers
+// reused from frame to frame; it borrows the particles and bricks for one call.
+// Thread-safety: one Culler per thread.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "core/bricks/brick_set.h"
+#include "core/camera/camera.h"
+#include "core/config/config.h"
+#include "core/culling/cut_planes.h"
+#include "core/culling/draw_list.h"
+#include "core/culling/frustum.h"
+#include "core/culling/hzb.h"
+#include "core/culling/nine_spheres.h"
+#include "core/culling/view_geometry.h"
+#include "core/culling/visible_brick.h"
+#include "core/particles/particle_arrays.h"
+
+namespace lantern {
+
+struct CullStats {
+  std::string occlusion;         // the mode run; for auto also why, e.g. "hzb (auto: dense, ...)"
+  int64_t candidates = 0;        // finite particles of the rank
+  int64_t frustum_culled = 0;    // outside the view frustum
+  int64_t cut_culled = 0;        // on the dropped side of a cutting plane
+  int64_t lod_dropped = 0;       // left out by level of detail
+  int64_t occlusion_culled = 0;  // hidden (hzb: provably; nine_spheres: by the rule)
+  int64_t drawn = 0;             // impostors sent to the GPU
+  int64_t splatted = 0;          // CPU point path
+  int64_t bricks = 0, bricks_outside = 0, bricks_inside = 0, bricks_occluded = 0;
+  bool per_particle_frustum = false;  // some brick straddled the frustum
+  double ms = 0.0;
+};
+
+class Culler {
+ public:
+  // Fills `out` with what to draw of `particles` (whose bricks are `bricks`) for `scene` seen by
+  // `camera`. `scene.culling.occlusion` may be overridden with `mode` (the benchmark does).
+  CullStats run(const ParticleArrays &particles, const BrickSet &bricks, const Camera &camera,
+                const SceneConfig &scene, DrawList *out);
+  // The double-precision camera of the last run (the point path needs it after rendering).
+  const ViewGeometry &geometry() const { return g_; }
+
+ private:
+  struct Candidate {
+    glm::dvec3 c;  // view space
+    double r;      // drawn radius
+    uint32_t index;
+    float scale;
+  };
+  template <typename Positions, typename Radii>
+  void process(const Positions &pos, const Radii &radius, const Frustum &frustum,
+               const CutPlanes &cuts, const SceneConfig &scene, const BrickSet &bricks,
+               OcclusionMode mode, CullStats *stats, DrawList *out);
+  template <typename Positions, typename Radii>
+  void process_sorted(const Positions &pos, const Radii &radius, const Frustum &frustum,
+                      const CutPlanes &cuts, const SceneConfig &scene, const BrickSet &bricks,
+                      CullStats *stats, DrawList *out);
+  // The kept prefix of one brick after cuts, per-particle frustum and the point path: straight
+  // into `out`, or into buffer_ when occlusion still has to judge them.
+  template <typename Positions, typename Radii>
+  void gather(const Positions &pos, const Radii &radius, const Frustum &frustum,
+              const CutPlanes &cuts, const SceneConfig &scene, const BrickSet &bricks,
+              const VisibleBrick &v, bool keep_candidates, CullStats *stats, DrawList *out);
+  void order_front_to_back();  // buffer_ -> sorted_
+  bool occluded(OcclusionMode mode, const Candidate &c);
+
+  ViewGeometry g_;
+  std::vector<VisibleBrick> visible_;
+  std::vector<Candidate> buffer_, sorted_;
+  std::vector<uint32_t> bucket_counts_;
+  std::vector<uint64_t> scratch_;
+  Hzb hzb_;
+  NineSpheresGrid nine_;
+};
+
+std::string occlusion_mode_name(OcclusionMode mode);
+
+}  // namespace lantern

@@ -1,0 +1,57 @@
+// Exact occlusion culling against a conservative hierarchical depth buffer (a max-depth pyramid)
+// built on the CPU from the spheres already accepted for drawing.
+//
+// Level 0 holds, per pixel, an upper bound of the depth the GPU will store there once the
+// accepted spheres are drawn, or +inf where no accepted sphere certainly covers the pixel centre.
+// A sphere is rasterised into it only where its silhouette certainly contains the pixel centre
+// (by the ViewGeometry tolerance), only if its impostor quad cannot be clipped by the near or far
+// plane, and with the depth of its ray hit at that centre plus the tolerance. Level k holds the
+// max of its 2x2 children. A query "is every pixel of this rectangle covered by something
+// strictly nearer than depth z?" answered yes therefore implies that the GPU would reject every
+// fragment of a sphere whose nearest depth is z: dropping it cannot change a bit of the image.
+//
+// Queries take view-space depths (ViewGeometry); the pyramid stores window depths, the GPU's own
+// currency, with a margin of a few float ulps on each side. Upper levels may lag behind level 0
+// until refresh(); a stale level only holds LARGER values, so queries stay exact, only slower.
+// Thread-safety: none (one culling thread owns it).
+#pragma once
+
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+#include "core/culling/view_geometry.h"
+
+namespace lantern {
+
+class Hzb {
+ public:
+  // Clears to "nothing covered" for an image of g.width x g.height.
+  void reset(const ViewGeometry &g);
+
+  // True if every pixel of `rect` holds something certainly nearer than view depth z (rect
+  // already clamped to the image).
+  bool covered(const PixelRect &rect, double z) const;
+
+  // Rasterises the accepted sphere (view-space centre c, radius r) into level 0, over `rect`
+  // (its sphere_rect). Returns false (and writes nothing) when the sphere is unusable as an
+  // occluder (its impostor could be clipped, or the eye is inside it).
+  bool add_occluder(const glm::dvec3 &c, double r, const PixelRect &rect);
+
+  // Brings the upper levels up to date over the pixels written since the last refresh.
+  void refresh();
+
+ private:
+  struct Level {
+    int w = 0, h = 0;
+    std::vector<float> z;
+  };
+  bool usable(const glm::dvec3 &c, double r) const;
+  bool covered_at(int level, int x0, int y0, int x1, int y1, float z) const;
+
+  ViewGeometry g_;
+  std::vector<Level> levels_;
+  PixelRect dirty_;
+};
+
+}  // namespace lantern

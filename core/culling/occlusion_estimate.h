@@ -1,0 +1,28 @@
+// What `occlusion: auto` decides on, per scene and frame, before any per-particle work: a cheap
+// estimate of how much of the visible particles is hidden, in the spirit of seed 004's
+// confidence maps but on bricks. Bricks are splatted front to back onto a coarse grid that keeps
+// a transmittance per cell; a brick's spheres cover a share 1 - exp(-a) of its footprint
+// (a = summed sphere area / footprint area, spheres placed at random), and the particles expected
+// to show are those reached by the remaining transmittance. Thread-safety: pure function.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "core/config/config.h"
+#include "core/culling/view_geometry.h"
+#include "core/culling/visible_brick.h"
+
+namespace lantern {
+
+struct OcclusionChoice {
+  OcclusionMode mode = OcclusionMode::kNone;
+  double hidden_estimate = 0.0;  // estimated share of the candidates that is hidden
+  double sphere_pixels = 0.0;    // typical projected sphere radius, pixels
+  std::string reason;            // for the stats, e.g. "dense: est. 93% hidden"
+};
+
+// `visible` must be sorted front to back (near_depth ascending).
+OcclusionChoice choose_occlusion(const std::vector<VisibleBrick> &visible, const ViewGeometry &g);
+
+}  // namespace lantern

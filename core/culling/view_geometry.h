@@ -1,0 +1,94 @@
+// The camera of one scene in double precision, as the culling passes need it: world -> view
+// space, the pixel rectangle a sphere can touch, the ray through a pixel centre, and the length
+// tolerance that separates "certainly" from "maybe" when the GPU computes the same thing in float.
+//
+// Conventions: view space looks down -z; "depth" is the view-space distance along the view axis
+// (d = -z), linear for both projections and ordered like the window depth. Pixels are counted as
+// the Frame counts them: column x from the left, row y from the TOP; pixel (x, y) is sampled at
+// its centre (x + 0.5, y + 0.5), exactly where the impostor shader casts its ray.
+// Thread-safety: immutable value type.
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+
+#include <glm/mat4x4.hpp>
+#include <glm/vec3.hpp>
+
+#include "core/camera/camera.h"
+
+namespace lantern {
+
+// Inclusive pixel rectangle; empty when x0 > x1 or y0 > y1.
+struct PixelRect {
+  int x0 = 0, y0 = 0, x1 = -1, y1 = -1;
+  bool empty() const { return x0 > x1 || y0 > y1; }
+  int64_t area() const { return empty() ? 0 : int64_t(x1 - x0 + 1) * (y1 - y0 + 1); }
+  void unite(const PixelRect &o) {
+    if (o.empty()) return;
+    if (empty()) {
+      *this = o;
+      return;
+    }
+    x0 = std::min(x0, o.x0), y0 = std::min(y0, o.y0);
+    x1 = std::max(x1, o.x1), y1 = std::max(y1, o.y1);
+  }
+};
+
+struct ViewGeometry {
+  glm::dmat4 view{1.0};  // world -> view
+  bool orthographic = false;
+  double near_plane = 0.01, far_plane = 100.0;
+  int width = 1, height = 1;
+  // Projection of a symmetric frustum / box (what make_camera builds):
+  //   perspective: x_ndc = sx * x / d,  y_ndc = sy * y / d
+  //   orthographic: x_ndc = sx * x + tx, y_ndc = sy * y + ty
+  double sx = 1, sy = 1, tx = 0, ty = 0;
+  double p22 = -1, p32 = 0;  // projection[2][2], projection[3][2]: depth -> NDC z
+  // Length tolerance covering the float rounding of positions, matrices and the shader's ray
+  // (about 150 float ulps of the scene's scale): anything closer than this to a decision
+  // boundary is treated as "maybe".
+  double eps = 0.0;
+
+  // `scale` is a length that bounds |position - camera.origin| and |eye - origin|.
+  static ViewGeometry from_camera(const Camera &camera, double scale);
+
+  glm::dvec3 to_view(const glm::dvec3 &world) const {
+    return glm::dvec3(view * glm::dvec4(world, 1.0));
+  }
+  static double depth_of(const glm::dvec3 &v) { return -v.z; }
+
+  // Pixels per length unit at view depth d (1 / d folded in for perspective).
+  double pixels_per_unit(double d) const {
+    const double s = 0.5 * height * sy;
+    return orthographic ? s : s / std::max(d, near_plane);
+  }
+
+  // Window depth (what the Frame stores) of view depth d.
+  double window_depth(double d) const {
+    const double z_ndc = orthographic ? (-p22 * d + p32) : (-p22 * d + p32) / d;
+    return 0.5 * z_ndc + 0.5;
+  }
+
+  // Every pixel whose centre the sphere (view-space centre c, radius r) could cover, clamped to
+  // the image. A sphere reaching behind the near plane gets the whole image.
+  PixelRect sphere_rect(const glm::dvec3 &c, double r) const;
+  // The same for a view-space box given by its 8 corners' bounds (already expanded by radius).
+  PixelRect box_rect(const glm::dvec3 corners[8]) const;
+
+  // Unnormalised ray direction (perspective) or ray origin x/y (orthographic) through the centre
+  // of pixel column x / row y: perspective dir = (ray_x(x), ray_y(y), -1).
+  double ray_x(int x) const {
+    const double ndc = (x + 0.5) / width * 2.0 - 1.0;
+    return orthographic ? (ndc - tx) / sx : ndc / sx;
+  }
+  double ray_y(int y) const {
+    const double ndc = 1.0 - (y + 0.5) / height * 2.0;
+    return orthographic ? (ndc - ty) / sy : ndc / sy;
+  }
+
+ private:
+  PixelRect ndc_rect(double x_lo, double x_hi, double y_lo, double y_hi) const;
+};
+
+}  // namespace lantern

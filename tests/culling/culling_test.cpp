@@ -1,0 +1,261 @@
+// Culling against brute force: frustum culling drops nothing that is drawn, hzb renders images
+// bit-identical to drawing every particle (outside, inside, orthographic, mixed radii), auto
+// picks what pays, cutting planes and level of detail do what they say.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "core/bricks/brick_set.h"
+#include "core/camera/camera.h"
+#include "core/culling/cull_stage.h"
+#include "core/pipeline/sphere_instances.h"
+#include "core/render/gl_session.h"
+
+namespace lantern {
+namespace {
+
+struct Cloud {
+  std::vector<double> xyz;
+  std::vector<double> radius;  // empty: the scene's radius
+  std::vector<int32_t> type;
+  ParticleArrays arrays() const {
+    lantern_particles p{};
+    p.count = int64_t(xyz.size() / 3);
+    p.position = {xyz.data(), LANTERN_FLOAT64, 0};
+    if (!radius.empty()) p.radius = {radius.data(), LANTERN_FLOAT64, 0};
+    p.type = {type.data(), LANTERN_INT32, 0};
+    ParticleArrays a;
+    EXPECT_EQ(ParticleArrays::validate(p, &a), "");
+    return a;
+  }
+  void add(double x, double y, double z) {
+    xyz.insert(xyz.end(), {x, y, z});
+    type.push_back(int32_t(type.size() % 5));
+  }
+};
+
+// An fcc crystal of n^3 cells, lattice constant a, shuffled so that the published order is not
+// spatial (brute force then draws in an order unrelated to the bricks').
+Cloud fcc(int n, double a, unsigned seed = 1) {
+  Cloud c;
+  const double basis[4][3] = {{0, 0, 0}, {0.5, 0.5, 0}, {0.5, 0, 0.5}, {0, 0.5, 0.5}};
+  std::vector<std::array<double, 3>> pts;
+  for (int z = 0; z < n; ++z)
+    for (int y = 0; y < n; ++y)
+      for (int x = 0; x < n; ++x)
+        for (const auto &b : basis) pts.push_back({(x + b[0]) * a, (y + b[1]) * a, (z + b[2]) * a});
+  std::shuffle(pts.begin(), pts.end(), std::mt19937(seed));
+  for (const auto &p : pts) c.add(p[0], p[1], p[2]);
+  return c;
+}
+
+class CullingTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    std::string error;
+    session_ = GlSession::acquire(&error);
+    ASSERT_TRUE(session_) << error;
+    renderer_ = session_->renderer(&error);
+    ASSERT_TRUE(renderer_) << error;
+  }
+
+  static SceneConfig scene(int size, double radius, OcclusionMode mode) {
+    SceneConfig s;
+    s.width = s.height = size;
+    s.radius = radius;
+    s.per_particle_radius = false;
+    s.culling.occlusion = mode;
+    return s;
+  }
+
+  Camera camera(const SceneConfig &s, const Cloud &c, const CameraConfig &cfg) {
+    glm::dvec3 lo(1e300), hi(-1e300);
+    for (size_t i = 0; i < c.xyz.size(); i += 3) {
+      lo = glm::min(lo, glm::dvec3(c.xyz[i], c.xyz[i + 1], c.xyz[i + 2]));
+      hi = glm::max(hi, glm::dvec3(c.xyz[i], c.xyz[i + 1], c.xyz[i + 2]));
+    }
+    double r = s.radius;
+    for (double v : c.radius) r = std::max(r, v);
+    Camera cam;
+    EXPECT_EQ(make_camera(cfg, lo, hi, r, s.width, s.height, &cam), "");
+    return cam;
+  }
+
+  Frame render(const std::vector<SphereInstance> &inst, const Camera &cam) {
+    const uint8_t bg[4] = {255, 255, 255, 255};
+    Frame f;
+    RenderTimings t;
+    EXPECT_EQ(renderer_->render(cam.render_view(bg), inst.data(), inst.size(), &f, &t), "");
+    return f;
+  }
+
+  // Renders brute force and culled; returns the culling stats and the number of differing
+  // pixels (colour or depth).
+  CullStats compare(const Cloud &c, const SceneConfig &s, const Camera &cam, int64_t *differ) {
+    const ParticleArrays p = c.arrays();
+    const InstanceRecipe recipe = make_recipe(p, s, cam, Extent{});
+    std::vector<SphereInstance> all, some;
+    build_all_instances(recipe, &all);
+    const Frame brute = render(all, cam);
+    const BrickSet bricks = build_bricks(p, BrickOptions{});
+    Culler culler;
+    DrawList draw;
+    const CullStats st = culler.run(p, bricks, cam, s, &draw);
+    if (draw.everything)
+      build_all_instances(recipe, &some);
+    else
+      build_selected_instances(recipe, draw.spheres, &some);
+    const Frame culled = render(some, cam);
+    *differ = 0;
+    for (size_t i = 0; i < brute.pixel_count(); ++i)
+      if (brute.depth[i] != culled.depth[i] ||
+          std::memcmp(&brute.rgba[4 * i], &culled.rgba[4 * i], 4) != 0)
+        ++*differ;
+    return st;
+  }
+
+  std::shared_ptr<GlSession> session_;
+  SphereRenderer *renderer_ = nullptr;
+};
+
+CameraConfig orbit(double azimuth, double elevation, double zoom = 1.0) {
+  CameraConfig cfg;
+  cfg.azimuth = azimuth;
+  cfg.elevation = elevation;
+  cfg.zoom = zoom;
+  return cfg;
+}
+
+TEST_F(CullingTest, FrustumCullingDropsNothingThatIsDrawn) {
+  const Cloud c = fcc(14, 1.5874);
+  SceneConfig s = scene(200, 0.5, OcclusionMode::kNone);
+  for (const double zoom : {1.0, 3.0, 8.0}) {
+    const Camera cam = camera(s, c, orbit(35, 25, zoom));
+    int64_t differ = -1;
+    const CullStats st = compare(c, s, cam, &differ);
+    EXPECT_EQ(differ, 0) << "zoom " << zoom;
+    if (zoom > 1.0) {
+      EXPECT_GT(st.frustum_culled, 0) << "zoom " << zoom;
+    }
+    EXPECT_EQ(st.drawn + st.frustum_culled, st.candidates);
+  }
+}
+
+TEST_F(CullingTest, HzbIsBitIdenticalFromOutsideAndCullsMost) {
+  const Cloud c = fcc(16, 1.5874);
+  const SceneConfig s = scene(384, 0.5, OcclusionMode::kHzb);
+  for (const auto &cfg : {orbit(30, 20), orbit(0, 0), orbit(45, 35.26, 1.6)}) {
+    const Camera cam = camera(s, c, cfg);
+    int64_t differ = -1;
+    const CullStats st = compare(c, s, cam, &differ);
+    EXPECT_EQ(differ, 0) << "azimuth " << cfg.azimuth;
+    EXPECT_GT(st.occlusion_culled, st.candidates / 2) << "azimuth " << cfg.azimuth;
+  }
+}
+
+TEST_F(CullingTest, HzbIsBitIdenticalOrthographic) {
+  const Cloud c = fcc(14, 1.5874, 2);
+  const SceneConfig s = scene(320, 0.55, OcclusionMode::kHzb);
+  CameraConfig cfg = orbit(20, 15);
+  cfg.projection = Projection::kOrthographic;
+  const Camera cam = camera(s, c, cfg);
+  int64_t differ = -1;
+  const CullStats st = compare(c, s, cam, &differ);
+  EXPECT_EQ(differ, 0);
+  EXPECT_GT(st.occlusion_culled, st.candidates / 2);
+}
+
+TEST_F(CullingTest, HzbIsBitIdenticalWithTheCameraInsideTheCrystal) {
+  const Cloud c = fcc(16, 1.5874, 3);
+  const SceneConfig s = scene(320, 0.5, OcclusionMode::kHzb);
+  CameraConfig cfg;
+  cfg.fov_y = 70;
+  // Between lattice planes, looking along a skew direction through the crystal.
+  cfg.position = std::array<double, 3>{12.1, 11.3, 12.6};
+  cfg.look_at = {30, 22, 18};
+  cfg.up = {0, 0, 1};
+  const Camera cam = camera(s, c, cfg);
+  int64_t differ = -1;
+  const CullStats st = compare(c, s, cam, &differ);
+  EXPECT_EQ(differ, 0);
+  EXPECT_GT(st.frustum_culled, 0);
+  EXPECT_GT(st.occlusion_culled, 0);
+}
+
+TEST_F(CullingTest, HzbIsBitIdenticalWithMixedRadiiInADenseCloud) {
+  Cloud c;
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(0.0, 20.0), r(0.2, 1.2);
+  for (int i = 0; i < 30000; ++i) {
+    c.add(u(rng), u(rng), u(rng));
+    c.radius.push_back(r(rng));
+  }
+  SceneConfig s = scene(320, 0.5, OcclusionMode::kHzb);
+  s.per_particle_radius = true;
+  for (const auto &cfg : {orbit(30, 20), orbit(200, -40, 2.5)}) {
+    const Camera cam = camera(s, c, cfg);
+    int64_t differ = -1;
+    const CullStats st = compare(c, s, cam, &differ);
+    EXPECT_EQ(differ, 0) << "azimuth " << cfg.azimuth;
+    EXPECT_GT(st.occlusion_culled, 0);
+  }
+}
+
+TEST_F(CullingTest, AutoSkipsOcclusionForASparseGasAndUsesHzbForASolid) {
+  Cloud gas;
+  std::mt19937 rng(6);
+  std::uniform_real_distribution<double> u(0.0, 200.0);
+  for (int i = 0; i < 30000; ++i) gas.add(u(rng), u(rng), u(rng));
+  SceneConfig s = scene(256, 0.3, OcclusionMode::kAuto);
+  int64_t differ = -1;
+  CullStats st = compare(gas, s, camera(s, gas, orbit(30, 20)), &differ);
+  EXPECT_EQ(differ, 0);
+  EXPECT_EQ(st.occlusion.rfind("none (auto:", 0), 0u) << st.occlusion;
+  EXPECT_FALSE(st.per_particle_frustum);  // everything in view: no per-particle work
+
+  const Cloud solid = fcc(20, 1.5874);  // 32000: above the "few particles" threshold
+  s = scene(384, 0.5, OcclusionMode::kAuto);
+  st = compare(solid, s, camera(s, solid, orbit(30, 20)), &differ);
+  EXPECT_EQ(differ, 0);
+  EXPECT_EQ(st.occlusion.rfind("hzb (auto: dense", 0), 0u) << st.occlusion;
+}
+
+TEST_F(CullingTest, CutPlanesDropParticlesOnThePositiveSide) {
+  const Cloud c = fcc(10, 1.5874);
+  SceneConfig s = scene(128, 0.5, OcclusionMode::kNone);
+  CutPlane cut;
+  cut.normal = {1, 0, 0};
+  cut.offset = 7.0;
+  s.cuts.push_back(cut);
+  const ParticleArrays p = c.arrays();
+  const BrickSet bricks = build_bricks(p, BrickOptions{});
+  Culler culler;
+  DrawList draw;
+  const CullStats st = culler.run(p, bricks, camera(s, c, orbit(30, 20)), s, &draw);
+  int64_t expect_kept = 0;
+  for (size_t i = 0; i < c.xyz.size(); i += 3) expect_kept += c.xyz[i] <= 7.0;
+  EXPECT_EQ(st.drawn, expect_kept);
+  EXPECT_EQ(st.cut_culled, st.candidates - expect_kept);
+  for (const uint64_t e : draw.spheres) EXPECT_LE(c.xyz[3 * entry_index(e)], 7.0);
+}
+
+TEST_F(CullingTest, BudgetIsServedFromBrickPrefixes) {
+  const Cloud c = fcc(16, 1.5874);
+  SceneConfig s = scene(256, 0.5, OcclusionMode::kNone);
+  s.lod.budget = 4000;
+  const ParticleArrays p = c.arrays();
+  const BrickSet bricks = build_bricks(p, BrickOptions{});
+  Culler culler;
+  DrawList draw;
+  const CullStats st = culler.run(p, bricks, camera(s, c, orbit(30, 20)), s, &draw);
+  EXPECT_LE(st.drawn, 4000 + int64_t(bricks.bricks.size()));
+  EXPECT_GE(st.drawn, 3500);
+  EXPECT_EQ(st.lod_dropped + st.drawn, st.candidates);
+  for (const uint64_t e : draw.spheres) EXPECT_GT(entry_scale(e), 1.0f);  // spheres grew
+}
+
+}  // namespace
+}  // namespace lantern
