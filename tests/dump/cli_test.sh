@@ -1,0 +1,34 @@
+#!/bin/bash
+# tests/dump end-to-end checks of lantern-render, run by CTest.
+#   cli_test.sh MODE "MPIEXEC..." RANKS HELPER TOOL SRC_DIR WORK_DIR
+# MODE png:  the C API helper renders particles and writes them as a LAMMPS text dump;
+#            lantern-render renders that dump; the PNGs must be byte-identical. Then the dump is
+#            converted to H5MD (float64) and rendered again: identical too.
+# MODE h5py: lantern-render converts the dump to H5MD (float32); h5py_check.py reads it back.
+set -euo pipefail
+mode=$1 mpiexec=$2 ranks=$3 helper=$4 tool=$5 src=$6 work=$7
+run() { $mpiexec -n "$ranks" "$@"; }
+rm -rf "$work" && mkdir -p "$work/api" "$work/tool" "$work/h5"
+cd "$work/api" && run "$helper" "$src/image_config.yaml" ../particles.lammpstrj
+case $mode in
+png)
+  cd "$work/tool" && run "$tool" "$src/image_config.yaml" ../particles.lammpstrj
+  cd "$work/h5"
+  sed 's/float32/float64/' "$src/convert_config.yaml" > convert64.yaml
+  run "$tool" convert64.yaml ../particles.lammpstrj
+  run "$tool" "$src/image_config.yaml" converted.h5 --steps 0:10
+  cd "$work"
+  n=0
+  for f in api/*.png; do
+    cmp "$f" "tool/$(basename "$f")"
+    cmp "$f" "h5/$(basename "$f")"
+    n=$((n + 1))
+  done
+  [ "$n" -eq 2 ] || { echo "expected 2 images, found $n"; exit 1; }
+  echo "identical: $n images (C API, LAMMPS dump, H5MD) at $ranks rank(s)"
+  ;;
+h5py)
+  cd "$work/h5" && run "$tool" "$src/convert_config.yaml" ../particles.lammpstrj
+  /usr/bin/python3 "$src/h5py_check.py" converted.h5 ../particles.lammpstrj
+  ;;
+esac

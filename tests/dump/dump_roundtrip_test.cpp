@@ -1,0 +1,224 @@
+// Write -> read round trip of H5MD dumps through the C API, run at 1, 2 and 4 ranks: every rank
+// publishes a different number of particles, Lantern writes them collectively, and H5mdReader
+// (each rank reading its own share) finds every value where the global id says it belongs.
+#include <gtest/gtest.h>
+#include <mpi.h>
+
+#include <cmath>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "core/dump/h5md_reader.h"
+#include "lantern/lantern.h"
+#include "mpi_scratch_dir.h"
+
+namespace lantern {
+namespace {
+
+int world_rank() {
+  int r = 0;
+  MPI_Comm_rank(MPI_COMM_WORLD, &r);
+  return r;
+}
+int world_size() {
+  int s = 1;
+  MPI_Comm_size(MPI_COMM_WORLD, &s);
+  return s;
+}
+
+// Particle with global id g at a step: values anyone can recompute from (g, step).
+double coord(int64_t g, int c, int64_t step) {
+  return 0.25 * g + c + 0.001 * step + 1.0 / 3.0;
+}
+int64_t type_of(int64_t g) {
+  return g % 5;
+}
+double scalar_of(int64_t g, int64_t step) {
+  return std::sin(0.1 * g) + step;
+}
+
+// This rank's particles: 50 + 17 * rank of them, global ids after the lower ranks' ones.
+struct RankParticles {
+  std::vector<double> xyz, scalar;
+  std::vector<int32_t> type;
+  std::vector<int64_t> id;
+  int64_t first = 0, count = 0, total = 0;
+
+  RankParticles(int64_t step, int extra = 0) {
+    const int rank = world_rank(), size = world_size();
+    for (int r = 0; r < size; ++r) {
+      const int64_t n = 50 + 17 * r + extra;
+      if (r < rank) first += n;
+      if (r == rank) count = n;
+      total += n;
+    }
+    for (int64_t i = 0; i < count; ++i) {
+      const int64_t g = first + i;
+      for (int c = 0; c < 3; ++c) xyz.push_back(coord(g, c, step));
+      type.push_back(static_cast<int32_t>(type_of(g)));
+      id.push_back(g);
+      scalar.push_back(scalar_of(g, step));
+    }
+  }
+  lantern_particles view() const {
+    lantern_particles p{};
+    p.count = count;
+    p.position = {xyz.data(), LANTERN_FLOAT64, 0};
+    p.type = {type.data(), LANTERN_INT32, 0};
+    p.id = {id.data(), LANTERN_INT64, 0};
+    p.scalar = {scalar.data(), LANTERN_FLOAT64, 0};
+    return p;
+  }
+};
+
+struct ContextCloser {
+  void operator()(lantern_context *c) const { lantern_close(c); }
+};
+using Context = std::unique_ptr<lantern_context, ContextCloser>;
+
+Context open_dump(const std::string &file, const std::string &extra) {
+  const std::string yaml = "dump:\n  file: " + file + "\n" + extra;
+  lantern_context *raw = nullptr;
+  const lantern_status st = lantern_open(yaml.c_str(), MPI_Comm_c2f(MPI_COMM_WORLD), &raw);
+  Context ctx(raw);
+  EXPECT_EQ(st, LANTERN_OK) << lantern_error_message(ctx.get());
+  return ctx;
+}
+
+void write_steps(lantern_context *ctx, const std::vector<int64_t> &steps) {
+  const double low[3] = {-1, -2, -3}, high[3] = {100, 50, 25};
+  const int periodic[3] = {1, 1, 0};
+  for (const int64_t step : steps) {
+    const RankParticles p(step);
+    const lantern_particles v = p.view();
+    ASSERT_EQ(lantern_publish(ctx, &v), LANTERN_OK) << lantern_error_message(ctx);
+    ASSERT_EQ(lantern_set_box(ctx, low, high, periodic), LANTERN_OK);
+    ASSERT_EQ(lantern_execute(ctx, step, 0.5 * step), LANTERN_OK) << lantern_error_message(ctx);
+  }
+}
+
+// Reads every frame back, this rank's share only, and checks it against (id, step).
+void check_file(const std::string &file, const std::vector<int64_t> &steps, double tolerance) {
+  std::unique_ptr<H5mdReader> reader;
+  ASSERT_EQ(H5mdReader::open(file, MPI_COMM_WORLD, &reader), "");
+  ASSERT_EQ(reader->frames().size(), steps.size());
+  const RankParticles expected_layout(0);
+  for (size_t f = 0; f < steps.size(); ++f) {
+    const FrameInfo &info = reader->frames()[f];
+    EXPECT_EQ(info.step, steps[f]);
+    EXPECT_DOUBLE_EQ(info.time, 0.5 * steps[f]);
+    ASSERT_EQ(info.count, expected_layout.total);
+    const auto [begin, end] = rank_share(info.count, world_rank(), world_size());
+    ParticleFrame frame;
+    ASSERT_EQ(reader->read(f, begin, end, &frame), "");
+    ASSERT_EQ(frame.count(), end - begin);
+    ASSERT_EQ(frame.id.size(), size_t(end - begin));
+    ASSERT_EQ(frame.type.size(), size_t(end - begin));
+    ASSERT_EQ(frame.scalar.size(), size_t(end - begin));
+    EXPECT_TRUE(frame.radius.empty());
+    for (int64_t i = 0; i < frame.count(); ++i) {
+      const int64_t g = frame.id[i];
+      EXPECT_EQ(g, begin + i) << "particles are stored in rank order";
+      for (int c = 0; c < 3; ++c)
+        EXPECT_NEAR(frame.position[3 * i + c], coord(g, c, steps[f]),
+                    tolerance * std::abs(coord(g, c, steps[f])));
+      EXPECT_EQ(frame.type[i], type_of(g));
+      EXPECT_NEAR(frame.scalar[i], scalar_of(g, steps[f]),
+                  tolerance * (1 + std::abs(scalar_of(g, steps[f]))));
+    }
+    ASSERT_TRUE(frame.box.has_value());
+    EXPECT_EQ(frame.box->low, (std::array<double, 3>{-1, -2, -3}));
+    EXPECT_EQ(frame.box->high, (std::array<double, 3>{100, 50, 25}));
+    EXPECT_EQ(frame.box->periodic, (std::array<bool, 3>{true, true, false}));
+  }
+}
+
+TEST(DumpRoundTrip, Float64IsExact) {
+  const MpiScratchDir dir;
+  const std::string file = dir.file("exact.h5");
+  {
+    const Context ctx = open_dump(file, "  schedule: {every: 10}\n");
+    write_steps(ctx.get(), {0, 5, 10, 20});  // step 5 is not scheduled: no frame
+  }
+  check_file(file, {0, 10, 20}, 0.0);
+}
+
+TEST(DumpRoundTrip, Float32WithinSinglePrecision) {
+  const MpiScratchDir dir;
+  const std::string file = dir.file("single.h5");
+  {
+    const Context ctx = open_dump(file, "  precision: float32\n");
+    write_steps(ctx.get(), {3, 4});
+  }
+  check_file(file, {3, 4}, 1e-6);
+}
+
+TEST(DumpRoundTrip, FileIsValidAfterEveryFrameWithoutClose) {
+  const MpiScratchDir dir;
+  const std::string file = dir.file("open.h5");
+  const Context ctx = open_dump(file, "");
+  write_steps(ctx.get(), {1, 2});
+  // Still open for writing: the flushed file already holds both frames.
+  check_file(file, {1, 2}, 0.0);
+}
+
+TEST(DumpErrors, ParticleCountChangeIsAClearError) {
+  const MpiScratchDir dir;
+  const Context ctx = open_dump(dir.file("count.h5"), "");
+  write_steps(ctx.get(), {0});
+  const RankParticles more(1, /*extra=*/1);
+  const lantern_particles v = more.view();
+  ASSERT_EQ(lantern_publish(ctx.get(), &v), LANTERN_OK);
+  EXPECT_EQ(lantern_execute(ctx.get(), 1, 0.0), LANTERN_ERR_INVALID_ARGUMENT);
+  EXPECT_NE(std::string(lantern_error_message(ctx.get())).find("fixed size"), std::string::npos)
+      << lantern_error_message(ctx.get());
+}
+
+TEST(DumpErrors, ListedFieldNotPublished) {
+  const MpiScratchDir dir;
+  const Context ctx = open_dump(dir.file("fields.h5"), "  fields: [position, radius]\n");
+  const RankParticles p(0);
+  const lantern_particles v = p.view();
+  ASSERT_EQ(lantern_publish(ctx.get(), &v), LANTERN_OK);
+  EXPECT_EQ(lantern_execute(ctx.get(), 0, 0.0), LANTERN_ERR_INVALID_ARGUMENT);
+  EXPECT_NE(std::string(lantern_error_message(ctx.get())).find("dump.fields: 'radius'"),
+            std::string::npos)
+      << lantern_error_message(ctx.get());
+}
+
+TEST(DumpErrors, NoParticlesAnywhere) {
+  const MpiScratchDir dir;
+  const Context ctx = open_dump(dir.file("empty.h5"), "");
+  const lantern_particles none{};
+  ASSERT_EQ(lantern_publish(ctx.get(), &none), LANTERN_OK);
+  EXPECT_EQ(lantern_execute(ctx.get(), 0, 0.0), LANTERN_ERR_INVALID_ARGUMENT);
+  EXPECT_NE(std::string(lantern_error_message(ctx.get())).find("no rank has particles"),
+            std::string::npos);
+}
+
+TEST(DumpErrors, UnwritableFileIsAnIoErrorAndLaterStepsRetry) {
+  const MpiScratchDir dir;
+  const Context ctx = open_dump("/proc/lantern_cannot_write_here/d.h5", "");
+  const RankParticles p(0);
+  const lantern_particles v = p.view();
+  ASSERT_EQ(lantern_publish(ctx.get(), &v), LANTERN_OK);
+  EXPECT_EQ(lantern_execute(ctx.get(), 0, 0.0), LANTERN_ERR_IO);
+  EXPECT_NE(std::string(lantern_error_message(ctx.get())).find("/proc/lantern_cannot_write_here"),
+            std::string::npos)
+      << lantern_error_message(ctx.get());
+  EXPECT_EQ(lantern_execute(ctx.get(), 1, 0.0), LANTERN_ERR_IO);
+}
+
+TEST(SetBox, RejectsInvertedAndNull) {
+  const MpiScratchDir dir;
+  const Context ctx = open_dump(dir.file("box.h5"), "");
+  const double low[3] = {0, 5, 0}, high[3] = {1, 2, 1};
+  EXPECT_EQ(lantern_set_box(ctx.get(), low, high, nullptr), LANTERN_ERR_INVALID_ARGUMENT);
+  EXPECT_NE(std::string(lantern_error_message(ctx.get())).find("low[1]"), std::string::npos);
+  EXPECT_EQ(lantern_set_box(ctx.get(), nullptr, high, nullptr), LANTERN_ERR_NULL_ARGUMENT);
+  EXPECT_EQ(lantern_set_box(nullptr, low, high, nullptr), LANTERN_ERR_NULL_ARGUMENT);
+}
+
+}  // namespace
+}  // namespace lantern
