@@ -25,8 +25,10 @@ void prepare_scratch(CompositeMethod method, size_t pixels, int ranks, size_t ch
       s.block.resize(block);
       break;
     }
-    case CompositeMethod::kBinarySwap: {
+    case CompositeMethod::kBinarySwap:
+    case CompositeMethod::kDirectSend: {
       // Frames are merged in place; only a partner's segment (at most one chunk) is received.
+      // Binary swap's largest message is half the frame, direct send's 1/p of it.
       const size_t segment = std::max<size_t>(1, std::min(ceil_div(pixels, 2), chunk));
       s.depth.resize(segment);
       s.rgba.resize(4 * segment);
@@ -46,6 +48,8 @@ std::string run_method(CompositeMethod method, MPI_Comm comm, Frame &frame, int 
       return composite_reduce_scatter(comm, frame, root, scratch);
     case CompositeMethod::kBinarySwap:
       return composite_binary_swap(comm, frame, root, scratch);
+    case CompositeMethod::kDirectSend:
+      return composite_direct_send(comm, frame, root, scratch);
     case CompositeMethod::kAuto:
       break;
   }

@@ -37,6 +37,7 @@ std::string run_method(CompositeMethod method, MPI_Comm comm, Frame &frame, int 
 std::string composite_reduce64(MPI_Comm comm, Frame &frame, int root, MethodScratch &scratch);
 std::string composite_reduce_scatter(MPI_Comm comm, Frame &frame, int root, MethodScratch &scratch);
 std::string composite_binary_swap(MPI_Comm comm, Frame &frame, int root, MethodScratch &scratch);
+std::string composite_direct_send(MPI_Comm comm, Frame &frame, int root, MethodScratch &scratch);
 
 // "" for MPI_SUCCESS, else "<what>: <MPI error string>".
 std::string mpi_error(int code, const char *what);

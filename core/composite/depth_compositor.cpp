@@ -22,9 +22,8 @@ struct Agreement {
   std::string check(int ranks) const {
     const auto agreed = [&](int k) { return value[2 * k] == -value[2 * k + 1]; };
     if (value[2 * kCount] == 0)
-      return "composite: a rank has an inconsistent frame, an image over INT_MAX / 4 pixels or a "
-             "root "
-             "outside [0, " +
+      return "composite: a rank has an inconsistent frame, more than INT_MAX / 4 pixels, or a "
+             "root outside [0, " +
              std::to_string(ranks) + ")";
     if (!agreed(kWidth) || !agreed(kHeight)) return "composite: frame sizes differ between ranks";
     if (!agreed(kRoot)) return "composite: ranks passed different roots";
@@ -51,13 +50,16 @@ const char *to_string(CompositeMethod method) {
       return "reduce_scatter";
     case CompositeMethod::kBinarySwap:
       return "binary_swap";
+    case CompositeMethod::kDirectSend:
+      return "direct_send";
   }
   return "unknown";
 }
 
 bool parse_composite_method(const std::string &name, CompositeMethod *method) {
-  for (const CompositeMethod m : {CompositeMethod::kAuto, CompositeMethod::kReduce64,
-                                  CompositeMethod::kReduceScatter, CompositeMethod::kBinarySwap}) {
+  for (const CompositeMethod m :
+       {CompositeMethod::kAuto, CompositeMethod::kReduce64, CompositeMethod::kReduceScatter,
+        CompositeMethod::kBinarySwap, CompositeMethod::kDirectSend}) {
     if (name == to_string(m)) {
       *method = m;
       return true;

@@ -30,9 +30,11 @@ enum class CompositeMethod {
   kReduce64,       // pack depth+RGBA in one uint64, MPI_Reduce(MPI_MIN) in chunks to root
   kReduceScatter,  // MPI_Reduce_scatter_block(MPI_MIN) + MPI_Gather to root, in chunks
   kBinarySwap,     // hand-written binary swap in place; extra ranks (non power of 2) fold in first
+  kDirectSend,     // hand-written pairwise-exchange reduce-scatter in place + gather to root
 };
 
-// "auto", "reduce64", "reduce_scatter", "binary_swap"; "none" is what stats say for one rank.
+// "auto", "reduce64", "reduce_scatter", "binary_swap", "direct_send"; stats say "none" for one
+// rank.
 const char *to_string(CompositeMethod method);
 // Parses the names above (not "none"); returns false and leaves *method alone if unknown.
 bool parse_composite_method(const std::string &name, CompositeMethod *method);

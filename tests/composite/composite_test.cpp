@@ -134,6 +134,9 @@ TEST_P(CompositeMethods, SmallChunksAndSegmentsGiveTheSameImage) {
   Case c;
   c.seed = 3;
   expect_matches(composite_case(c, GetParam(), 0, 777));
+  // One pixel per message: every loop bound is exercised, on an image small enough to stay fast.
+  c.width = 37;
+  c.height = 23;
   expect_matches(composite_case(c, GetParam(), 0, 1));
 }
 
@@ -150,7 +153,8 @@ TEST_P(CompositeMethods, ImagesWithFewerPixelsThanRanks) {
 INSTANTIATE_TEST_SUITE_P(, CompositeMethods,
                          ::testing::Values(CompositeMethod::kAuto, CompositeMethod::kReduce64,
                                            CompositeMethod::kReduceScatter,
-                                           CompositeMethod::kBinarySwap),
+                                           CompositeMethod::kBinarySwap,
+                                           CompositeMethod::kDirectSend),
                          [](const ::testing::TestParamInfo<CompositeMethod> &info) {
                            return std::string(to_string(info.param));
                          });
@@ -162,15 +166,14 @@ TEST(Composite, AllMethodsAreBitIdentical) {
   c.height = 480;
   std::vector<Frame> results;
   for (const CompositeMethod m : {CompositeMethod::kReduce64, CompositeMethod::kReduceScatter,
-                                  CompositeMethod::kBinarySwap}) {
+                                  CompositeMethod::kBinarySwap, CompositeMethod::kDirectSend}) {
     Frame frame = frame_of_rank(c, world_rank(), world_size());
     EXPECT_TRUE(composite_frames(MPI_COMM_WORLD, frame, 0, m).ok());
     results.push_back(std::move(frame));
   }
-  if (world_rank() == 0) {
-    EXPECT_EQ(describe_difference(results[0], results[1]), "");
-    EXPECT_EQ(describe_difference(results[0], results[2]), "");
-  }
+  if (world_rank() == 0)
+    for (size_t m = 1; m < results.size(); ++m)
+      EXPECT_EQ(describe_difference(results[0], results[m]), "") << m;
 }
 
 TEST(Composite, OneRankIsANoOp) {
@@ -188,8 +191,9 @@ TEST(Composite, MismatchedFrameSizesFailOnEveryRankWithoutDeadlock) {
   if (world_size() < 2) GTEST_SKIP() << "needs two ranks";
   const int rank = world_rank();
   Frame frame = blank_frame(rank == 1 ? 33 : 32, 16);
-  for (const CompositeMethod m : {CompositeMethod::kAuto, CompositeMethod::kReduce64,
-                                  CompositeMethod::kReduceScatter, CompositeMethod::kBinarySwap}) {
+  for (const CompositeMethod m :
+       {CompositeMethod::kAuto, CompositeMethod::kReduce64, CompositeMethod::kReduceScatter,
+        CompositeMethod::kBinarySwap, CompositeMethod::kDirectSend}) {
     const CompositeStats stats = composite_frames(MPI_COMM_WORLD, frame, 0, m);
     EXPECT_FALSE(stats.ok());
     EXPECT_NE(stats.error.find("sizes differ"), std::string::npos) << stats.error;
@@ -219,8 +223,9 @@ TEST(Composite, StatsNameTheMethodThatRan) {
 }
 
 TEST(CompositeMethodNames, RoundTrip) {
-  for (const CompositeMethod m : {CompositeMethod::kAuto, CompositeMethod::kReduce64,
-                                  CompositeMethod::kReduceScatter, CompositeMethod::kBinarySwap}) {
+  for (const CompositeMethod m :
+       {CompositeMethod::kAuto, CompositeMethod::kReduce64, CompositeMethod::kReduceScatter,
+        CompositeMethod::kBinarySwap, CompositeMethod::kDirectSend}) {
     CompositeMethod parsed = CompositeMethod::kAuto;
     EXPECT_TRUE(parse_composite_method(to_string(m), &parsed));
     EXPECT_EQ(parsed, m);
@@ -255,8 +260,9 @@ TEST(LargeImage, TiledDisplaySizeMatchesSerialMerge) {
   c.spheres_per_rank = 1;
   const int rank = world_rank(), ranks = world_size();
   const Frame expected = rank == 0 ? expected_image(c, ranks) : Frame{};
-  for (const CompositeMethod m : {CompositeMethod::kAuto, CompositeMethod::kReduce64,
-                                  CompositeMethod::kReduceScatter, CompositeMethod::kBinarySwap}) {
+  for (const CompositeMethod m :
+       {CompositeMethod::kAuto, CompositeMethod::kReduce64, CompositeMethod::kReduceScatter,
+        CompositeMethod::kBinarySwap, CompositeMethod::kDirectSend}) {
     Frame frame = frame_of_rank(c, rank, ranks);
     const CompositeStats stats = composite_frames(MPI_COMM_WORLD, frame, 0, m);
     EXPECT_TRUE(stats.ok()) << stats.error;

@@ -21,7 +21,8 @@ namespace {
 
 struct Options {
   std::vector<std::pair<int, int>> sizes{{1024, 1024}, {1920, 1080}, {4096, 4096}, {6144, 3072}};
-  std::vector<std::string> methods{"reduce64", "reduce_scatter", "binary_swap", "auto"};
+  std::vector<std::string> methods{"reduce64", "reduce_scatter", "binary_swap", "direct_send",
+                                   "auto"};
   int reps = 7;
   int warmup = 2;
   size_t chunk = 0;
@@ -97,7 +98,8 @@ int main(int argc, char **argv) {
     if (rank == 0)
       std::fprintf(stderr,
                    "usage: lantern-bench-composite [--sizes=1024x1024,...] "
-                   "[--methods=reduce64,reduce_scatter,binary_swap,auto] [--reps=7] "
+                   "[--methods=reduce64,reduce_scatter,binary_swap,direct_send,auto] "
+                   "[--reps=7] "
                    "[--warmup=2] [--chunk=pixels]\n");
     MPI_Finalize();
     return 2;

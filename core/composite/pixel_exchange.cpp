@@ -1,0 +1,81 @@
+#include "core/composite/pixel_exchange.h"
+
+#include <algorithm>
+#include <array>
+
+#include "core/composite/packed_pixel.h"
+
+namespace lantern {
+namespace {
+
+constexpr int kDepthTag = 0x4c43;  // "LC"
+constexpr int kColourTag = kDepthTag + 1;
+
+size_t segments_of(size_t count, size_t segment) {
+  return (count + segment - 1) / segment;
+}
+
+}  // namespace
+
+std::string exchange_and_merge(MPI_Comm comm, int send_to, PixelRange give, int recv_from,
+                               PixelRange keep, Frame &frame, MethodScratch &scratch) {
+  const size_t segment = scratch.depth.size();
+  // Segment k of give and segment k of keep travel together. Every rank waits at step k only for
+  // partners' step k, which they reach because both sides cut the same range the same way: no
+  // deadlock, and (unlike posting every send at once) no flood of unexpected messages when the
+  // segments are small.
+  const size_t steps =
+      std::max(segments_of(give.size(), segment), segments_of(keep.size(), segment));
+  for (size_t k = 0; k < steps; ++k) {
+    std::array<MPI_Request, 4> requests;
+    int posted = 0;
+    const size_t send_first = give.lo + k * segment, recv_first = keep.lo + k * segment;
+    const int send_count = send_first < give.hi ? int(std::min(segment, give.hi - send_first)) : 0;
+    const int recv_count = recv_first < keep.hi ? int(std::min(segment, keep.hi - recv_first)) : 0;
+    if (recv_count > 0) {
+      MPI_Irecv(scratch.depth.data(), recv_count, MPI_FLOAT, recv_from, kDepthTag, comm,
+                &requests[posted++]);
+      MPI_Irecv(scratch.rgba.data(), 4 * recv_count, MPI_UINT8_T, recv_from, kColourTag, comm,
+                &requests[posted++]);
+    }
+    if (send_count > 0) {
+      MPI_Isend(frame.depth.data() + send_first, send_count, MPI_FLOAT, send_to, kDepthTag, comm,
+                &requests[posted++]);
+      MPI_Isend(frame.rgba.data() + 4 * send_first, 4 * send_count, MPI_UINT8_T, send_to,
+                kColourTag, comm, &requests[posted++]);
+    }
+    const int rc = MPI_Waitall(posted, requests.data(), MPI_STATUSES_IGNORE);
+    if (rc != MPI_SUCCESS) return mpi_error(rc, "compositing: exchange");
+    merge_pixels(scratch.depth.data(), scratch.rgba.data(), size_t(recv_count),
+                 frame.depth.data() + recv_first, frame.rgba.data() + 4 * recv_first);
+  }
+  return {};
+}
+
+std::string gather_ranges(MPI_Comm comm, int root, const std::vector<PixelRange> &owned,
+                          Frame &frame) {
+  int rank = 0;
+  MPI_Comm_rank(comm, &rank);
+  const size_t ranks = owned.size();
+  std::vector<int> counts(ranks), firsts(ranks);
+  for (size_t i = 0; i < ranks; ++i) {
+    counts[i] = int(owned[i].size());
+    firsts[i] = int(owned[i].lo);
+  }
+  const PixelRange mine = owned[size_t(rank)];
+  const bool is_root = rank == root;
+  int rc = MPI_Gatherv(is_root ? MPI_IN_PLACE : frame.depth.data() + mine.lo, int(mine.size()),
+                       MPI_FLOAT, frame.depth.data(), counts.data(), firsts.data(), MPI_FLOAT, root,
+                       comm);
+  if (rc != MPI_SUCCESS) return mpi_error(rc, "compositing: MPI_Gatherv (depth)");
+  for (size_t i = 0; i < ranks; ++i) {
+    counts[i] *= 4;
+    firsts[i] *= 4;
+  }
+  rc = MPI_Gatherv(is_root ? MPI_IN_PLACE : frame.rgba.data() + 4 * mine.lo, int(4 * mine.size()),
+                   MPI_UINT8_T, frame.rgba.data(), counts.data(), firsts.data(), MPI_UINT8_T, root,
+                   comm);
+  return mpi_error(rc, "compositing: MPI_Gatherv (colour)");
+}
+
+}  // namespace lantern
