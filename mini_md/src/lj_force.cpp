@@ -21,6 +21,7 @@ PairTally lj_kernel(int nlocal, const Vec3 *__restrict x, Vec3 *__restrict f,
                     double eshift) {
   double energy = 0.0;
   double virial = 0.0;
+  double inside = 0.0;
   for (int i = 0; i < nlocal; ++i) {
     const double xi = x[i][0], yi = x[i][1], zi = x[i][2];
     double fxi = 0.0, fyi = 0.0, fzi = 0.0;
@@ -44,6 +45,7 @@ PairTally lj_kernel(int nlocal, const Vec3 *__restrict x, Vec3 *__restrict f,
         if (kTally) {
           energy += 4.0 * r6inv * (r6inv - 1.0) - eshift;
           virial += r2 * fpair;
+          inside += 1.0;
         }
       }
     }
@@ -51,7 +53,7 @@ PairTally lj_kernel(int nlocal, const Vec3 *__restrict x, Vec3 *__restrict f,
     f[i][1] += fyi;
     f[i][2] += fzi;
   }
-  return PairTally{energy, virial};
+  return PairTally{energy, virial, inside};
 }
 
 }  // namespace

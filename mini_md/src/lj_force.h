@@ -15,6 +15,7 @@ namespace mini_md {
 struct PairTally {
   double energy = 0.0;  // sum of U over pairs
   double virial = 0.0;  // sum of r . f over pairs (pressure = (2 KE + virial) / 3V)
+  double inside = 0.0;  // pairs within the cutoff: energy + inside * shift switches conventions
 };
 
 // Zeroes owned and ghost forces and accumulates the pair forces of the half list (Newton's

@@ -29,9 +29,10 @@ int64_t wrap_periodic(Atoms &atoms, const Box &box) {
       if (!box.periodic[d] || (c >= box.lo[d] && c < box.hi[d])) continue;
       const double len = box.length(d);
       c -= len * std::floor((c - box.lo[d]) / len);
-      // Round-off can land exactly on hi; hi belongs to the next image.
+      // Round-off can land exactly on hi (hi belongs to the next image), and for absurd
+      // coordinates (a run-away atom) the reduction itself is inexact: clamp into the box.
       if (c >= box.hi[d]) c -= len;
-      if (c < box.lo[d]) c = box.lo[d];
+      if (c < box.lo[d] || c >= box.hi[d]) c = box.lo[d];
     }
   }
   return bad;
@@ -143,7 +144,8 @@ MigrationStats migrate_atoms(Atoms &atoms, const DomainDecomposition &dd, int64_
         std::ostringstream msg;
         msg << "step " << step << ": " << outside << " atoms could not reach their subdomain along"
             << " axis "
-            << "xyz"[dim] << " after " << hop << " hops";
+            << "xyz"[dim] << " after " << hop
+            << " hops; the integration is probably unstable: use a smaller --dt or --relax";
         throw MdError(msg.str());
       }
     }

@@ -116,14 +116,16 @@ void Simulation::setup() {
   counters_.setup_seconds += MPI_Wtime() - t0;
   if (is_root_ && cfg_.print_thermo) std::printf("%s\n", thermo_header().c_str());
   record_thermo(pairs);
-  e0_atom_ = thermo_.back().etot_atom;
+  e0_atom_ = thermo_.back().e_conserved_atom;
   notify_step();
   std::fflush(stdout);
 }
 
 void Simulation::record_thermo(const PairTally &pairs) {
+  const double cutoff_energy = lj_energy_at(cfg_.cutoff);
   const ThermoState t =
-      reduce_thermo(atoms_, pairs, natoms_, scene_.box.volume(), dd_->comm(), step_);
+      reduce_thermo(atoms_, pairs, natoms_, scene_.box.volume(),
+                    cfg_.shift_energy ? cutoff_energy : 0.0, cutoff_energy, dd_->comm(), step_);
   if (!std::isfinite(t.etot_atom) || !std::isfinite(t.pressure)) {
     raise_nonfinite(atoms_, dd_->comm(), step_, cfg_.dt);
   }
@@ -145,6 +147,11 @@ void Simulation::step_once(bool last) {
   double flags[2] = {drift.max_displacement2, (drift.finite && velocities_finite_) ? 0.0 : 1.0};
   MPI_Allreduce(MPI_IN_PLACE, flags, 2, MPI_DOUBLE, MPI_MAX, dd_->comm());
   if (flags[1] > 0) raise_nonfinite(atoms_, dd_->comm(), step_, cfg_.dt);
+  // Rebuilds follow any move beyond skin/2, so a larger displacement happened within one step:
+  // the dynamics is no longer resolved.
+  if (cfg_.neigh_check && flags[0] > ghost_cut() * ghost_cut()) {
+    raise_runaway(atoms_, dd_->comm(), step_, cfg_.dt, std::sqrt(flags[0]), ghost_cut());
+  }
   const double half_skin = 0.5 * cfg_.skin;
   if (step_ - last_build_ >= cfg_.neigh_every ||
       (cfg_.neigh_check && flags[0] > half_skin * half_skin)) {

@@ -109,12 +109,21 @@ std::string fastest_atom(const Atoms &atoms, MPI_Comm comm) {
 
 }  // namespace
 
+void raise_runaway(const Atoms &atoms, MPI_Comm comm, int64_t step, double dt, double displacement,
+                   double limit) {
+  std::ostringstream msg;
+  msg << "step " << step << ": an atom moved " << displacement
+      << " in one step, more than cutoff + skin = " << limit << "; " << fastest_atom(atoms, comm)
+      << ". " << remedy(dt);
+  throw MdError(msg.str());
+}
+
 void check_energy_blowup(const Atoms &atoms, MPI_Comm comm, const ThermoState &now, double e0_atom,
                          double limit, double dt) {
-  if (std::fabs(now.etot_atom - e0_atom) <= limit) return;
+  if (std::fabs(now.e_conserved_atom - e0_atom) <= limit) return;
   std::ostringstream msg;
-  msg << "step " << now.step << ": energy blow-up, E/atom went from " << e0_atom << " to "
-      << now.etot_atom << " (limit +-" << limit << ", --blowup-energy); "
+  msg << "step " << now.step << ": energy blow-up, E/atom (shifted potential) went from " << e0_atom
+      << " to " << now.e_conserved_atom << " (limit +-" << limit << ", --blowup-energy); "
       << fastest_atom(atoms, comm) << ". " << remedy(dt);
   throw MdError(msg.str());
 }

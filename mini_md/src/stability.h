@@ -16,7 +16,13 @@ namespace mini_md {
 // smallest id among those with a non-finite x, v or f and throws.
 [[noreturn]] void raise_nonfinite(const Atoms &atoms, MPI_Comm comm, int64_t step, double dt);
 
-// Throws if E/atom moved more than `limit` from `e0_atom` (NVE runs), naming the fastest atom.
+// Call when an atom moved farther than `limit` (cutoff + skin) since the last neighbour build,
+// i.e. within one step: pair interactions were certainly missed. Names the fastest atom.
+[[noreturn]] void raise_runaway(const Atoms &atoms, MPI_Comm comm, int64_t step, double dt,
+                                double displacement, double limit);
+
+// Throws if the conserved E/atom (shifted potential) moved more than `limit` from `e0_atom`
+// (NVE runs), naming the fastest atom.
 void check_energy_blowup(const Atoms &atoms, MPI_Comm comm, const ThermoState &now, double e0_atom,
                          double limit, double dt);
 

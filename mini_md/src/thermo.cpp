@@ -5,13 +5,13 @@
 namespace mini_md {
 
 ThermoState reduce_thermo(const Atoms &atoms, const PairTally &pairs, int64_t natoms, double volume,
-                          MPI_Comm comm, int64_t step) {
-  double sums[3] = {0.0, pairs.energy, pairs.virial};
+                          double energy_shift, double cutoff_energy, MPI_Comm comm, int64_t step) {
+  double sums[4] = {0.0, pairs.energy, pairs.virial, pairs.inside};
   for (int i = 0; i < atoms.nlocal; ++i) {
     const Vec3 &v = atoms.v[i];
     sums[0] += 0.5 * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
   }
-  MPI_Allreduce(MPI_IN_PLACE, sums, 3, MPI_DOUBLE, MPI_SUM, comm);
+  MPI_Allreduce(MPI_IN_PLACE, sums, 4, MPI_DOUBLE, MPI_SUM, comm);
   const double n = static_cast<double>(natoms);
   const double dof = 3.0 * n - 3.0;
   ThermoState t;
@@ -21,6 +21,7 @@ ThermoState reduce_thermo(const Atoms &atoms, const PairTally &pairs, int64_t na
   t.pe_atom = sums[1] / n;
   t.etot_atom = t.ke_atom + t.pe_atom;
   t.pressure = (2.0 * sums[0] + sums[2]) / (3.0 * volume);
+  t.e_conserved_atom = t.etot_atom - (cutoff_energy - energy_shift) * sums[3] / n;
   return t;
 }
 

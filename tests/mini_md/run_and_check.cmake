@@ -1,0 +1,26 @@
+# Runs PROGRAM under MPIEXEC with RANKS ranks and ARGS and checks what CTest alone cannot check
+# together: the exit status (EXIT_ZERO true/false), the output (regex EXPECT) and, optionally,
+# that files matching the glob EXPECT_FILES exist afterwards (at least MIN_FILES of them).
+string(REPLACE ";" " " shown "${ARGS}")
+separate_arguments(launcher UNIX_COMMAND "${MPIEXEC}")
+if(DEFINED CLEAN_DIR)
+  file(REMOVE_RECURSE "${CLEAN_DIR}")
+endif()
+execute_process(COMMAND ${launcher} -n ${RANKS} ${PROGRAM} ${ARGS}
+                RESULT_VARIABLE code OUTPUT_VARIABLE out ERROR_VARIABLE err)
+message("${out}${err}")
+if(EXIT_ZERO AND NOT code EQUAL 0)
+  message(FATAL_ERROR "mini_md ${shown} exited with ${code}; success was expected")
+elseif(NOT EXIT_ZERO AND code EQUAL 0)
+  message(FATAL_ERROR "mini_md ${shown} exited 0; a failure was expected")
+endif()
+if(NOT "${out}${err}" MATCHES "${EXPECT}")
+  message(FATAL_ERROR "mini_md ${shown}: output does not match '${EXPECT}'")
+endif()
+if(DEFINED EXPECT_FILES)
+  file(GLOB found "${EXPECT_FILES}")
+  list(LENGTH found n)
+  if(n LESS MIN_FILES)
+    message(FATAL_ERROR "mini_md ${shown}: ${n} files match ${EXPECT_FILES}, expected >= ${MIN_FILES}")
+  endif()
+endif()
