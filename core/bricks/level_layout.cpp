@@ -10,9 +10,12 @@ int bits_for(uint32_t n) {
 }
 
 uint32_t reverse_bits(uint32_t v, int bits) {
-  uint32_t r = 0;
-  for (int i = 0; i < bits; ++i) r |= ((v >> i) & 1u) << (bits - 1 - i);
-  return r;
+  v = ((v >> 1) & 0x55555555u) | ((v & 0x55555555u) << 1);
+  v = ((v >> 2) & 0x33333333u) | ((v & 0x33333333u) << 2);
+  v = ((v >> 4) & 0x0f0f0f0fu) | ((v & 0x0f0f0f0fu) << 4);
+  v = ((v >> 8) & 0x00ff00ffu) | ((v & 0x00ff00ffu) << 8);
+  v = (v >> 16) | (v << 16);
+  return bits == 0 ? 0u : v >> (32 - bits);
 }
 
 }  // namespace

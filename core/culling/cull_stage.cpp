@@ -278,7 +278,6 @@ void Culler::process(const Positions &pos, const Radii &radius, const Frustum &f
       else
         out->spheres.push_back(draw_entry(c.index, c.scale));
     }
-    if (mode == OcclusionMode::kHzb) hzb_.refresh();
   }
 }
 

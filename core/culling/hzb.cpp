@@ -8,12 +8,6 @@ namespace {
 
 constexpr float kUncovered = std::numeric_limits<float>::infinity();
 
-// The smallest float >= v (stored depths must never round towards the eye).
-float float_up(double v) {
-  float f = float(v);
-  if (double(f) < v) f = std::nextafter(f, kUncovered);
-  return f;
-}
 // The largest float <= v.
 float float_down(double v) {
   float f = float(v);
@@ -24,7 +18,11 @@ float float_down(double v) {
 // Window depths the GPU computes in float (matrix product, divide, z * 0.5 + 0.5) can be off by a
 // few float ulps near 1.0; with a tiny near plane (camera inside the particles) that is more than
 // the length tolerance buys. Stored and queried depths keep this many units apart on top.
-constexpr double kWindowMargin = 8.0 * 5.96e-8;
+constexpr double kUlpBelowOne = 5.96e-8;  // 2^-24: a float ulp in [0.5, 1), larger than below
+constexpr double kWindowMargin = 8.0 * kUlpBelowOne;
+// Stored depths are rounded to float to nearest (at most half an ulp down), so they get half an
+// ulp more margin instead of a nextafter per pixel.
+constexpr double kStoreMargin = kWindowMargin + 0.5 * kUlpBelowOne;
 
 }  // namespace
 
@@ -40,7 +38,10 @@ void Hzb::reset(const ViewGeometry &g) {
     w = (w + 1) / 2, h = (h + 1) / 2;
     levels_.emplace_back();
   }
-  dirty_ = PixelRect{};
+  ray_x_.resize(size_t(g.width));
+  ray_y_.resize(size_t(g.height));
+  for (int x = 0; x < g.width; ++x) ray_x_[size_t(x)] = g.ray_x(x);
+  for (int y = 0; y < g.height; ++y) ray_y_[size_t(y)] = g.ray_y(y);
 }
 
 bool Hzb::covered(const PixelRect &rect, double z) const {
@@ -88,59 +89,108 @@ bool Hzb::usable(const glm::dvec3 &c, double r) const {
   return t * wz - spread >= g_.near_plane * 1.0001 + eps && t * wz + spread <= g_.far_plane - eps;
 }
 
+// Columns of row `y` whose centres may lie inside the circle of radius r_in (a superset: one
+// pixel of slack each side); exactness comes from the per-pixel test that follows.
+bool Hzb::row_span(const glm::dvec3 &c, double r_in2, int y, const PixelRect &rect, int *x0,
+                   int *x1) const {
+  const double ry = ray_y_[size_t(y)];
+  double lo, hi;  // ray x range
+  if (g_.orthographic) {
+    const double dy = c.y - ry, h2 = r_in2 - dy * dy;
+    if (h2 <= 0.0) return false;
+    const double h = std::sqrt(h2);
+    lo = c.x - h, hi = c.x + h;
+  } else {
+    // q^2 < r_in^2  <=>  K (rx^2 + ry^2 + 1) - (cx rx + m)^2 < 0, K = |c|^2 - r_in^2, m = cy ry -
+    // cz.
+    const double k = glm::dot(c, c) - r_in2, m = c.y * ry - c.z;
+    const double a = k - c.x * c.x, b = -2.0 * c.x * m, cc = k * (ry * ry + 1.0) - m * m;
+    if (a <= 0.0) {
+      *x0 = rect.x0, *x1 = rect.x1;  // degenerate (sphere around the eye plane): whole row
+      return true;
+    }
+    const double disc = b * b - 4.0 * a * cc;
+    if (disc <= 0.0) return false;
+    const double sq = std::sqrt(disc);
+    lo = (-b - sq) / (2.0 * a), hi = (-b + sq) / (2.0 * a);
+  }
+  // ray_x is affine in the column: ray_x(x) = ray_x_[0] + x * step.
+  const double step = ray_x_.size() > 1 ? ray_x_[1] - ray_x_[0] : 1.0;
+  const double f0 = std::floor((lo - ray_x_[0]) / step) - 1,
+               f1 = std::ceil((hi - ray_x_[0]) / step) + 1;
+  *x0 = int(std::max(f0, double(rect.x0)));
+  *x1 = int(std::min(f1, double(rect.x1)));
+  return *x0 <= *x1;
+}
+
 bool Hzb::add_occluder(const glm::dvec3 &c, double r, const PixelRect &rect) {
   const double eps = g_.eps;
   const double r_in = r - eps;  // pixel centres closer than this to the axis are certainly inside
   if (r_in <= 0.0 || rect.empty() || !usable(c, r)) return false;
-  const double r2 = r * r, r_in2 = r_in * r_in;
+  const double r2 = r * r, r_in2 = r_in * r_in, c2 = glm::dot(c, c);
   const double z_lo = g_.near_plane + eps, z_hi = g_.far_plane - eps;
   Level &l0 = levels_[0];
   const double d = -c.z;
+  PixelRect written;
+  const double *ray_x = ray_x_.data();
   for (int y = rect.y0; y <= rect.y1; ++y) {
-    const double ry = g_.ray_y(y);
+    int xa, xb;
+    if (!row_span(c, r_in2, y, rect, &xa, &xb)) continue;
+    const double ry = ray_y_[size_t(y)];
     float *row = l0.z.data() + size_t(y) * l0.w;
-    for (int x = rect.x0; x <= rect.x1; ++x) {
-      const double rx = g_.ray_x(x);
-      double depth;
-      if (g_.orthographic) {
-        const double dx = c.x - rx, dy = c.y - ry;
-        const double q2 = dx * dx + dy * dy;
+    int wx0 = xb + 1, wx1 = xa - 1;  // columns written in this row
+    if (g_.orthographic) {
+      const double dy = c.y - ry, dy2 = dy * dy;
+      for (int x = xa; x <= xb; ++x) {
+        const double dx = c.x - ray_x[x], q2 = dx * dx + dy2;
         if (q2 >= r_in2) continue;
-        depth = d - std::sqrt(r2 - q2);
-      } else {
-        const double inv = 1.0 / std::sqrt(rx * rx + ry * ry + 1.0);
-        const glm::dvec3 dir{rx * inv, ry * inv, -inv};
-        const double b = glm::dot(c, dir);
-        const glm::dvec3 q = c - b * dir;
-        const double q2 = glm::dot(q, q);
-        if (q2 >= r_in2) continue;
-        depth = (b - std::sqrt(r2 - q2)) * inv;  // view depth of the hit: t * (-dir.z)
+        const double depth = d - std::sqrt(r2 - q2);
+        if (depth < z_lo || depth > z_hi) continue;  // the shader would discard it (clip z)
+        const float v = float(g_.window_depth(depth + eps) + kStoreMargin);
+        if (v < row[x]) row[x] = v, wx0 = std::min(wx0, x), wx1 = std::max(wx1, x);
       }
-      if (depth < z_lo || depth > z_hi) continue;  // the shader would discard it (clip z)
-      const float v = float_up(g_.window_depth(depth + eps) + kWindowMargin);
-      if (v < row[x]) row[x] = v;
+    } else {
+      // Unnormalised ray D = (rx, ry, -1), |D| = L: b = c.D / L, q^2 = |c|^2 - b^2 (no harmful
+      // cancellation in double), hit view depth = (b - sqrt(r^2 - q^2)) / L.
+      const double l2_row = ry * ry + 1.0, m = c.y * ry - c.z;
+      for (int x = xa; x <= xb; ++x) {
+        const double rx = ray_x[x];
+        const double l2 = rx * rx + l2_row, cd = c.x * rx + m;
+        const double q2l2 = c2 * l2 - cd * cd;
+        if (q2l2 >= r_in2 * l2) continue;
+        const double inv = 1.0 / std::sqrt(l2);
+        const double depth = (cd * inv - std::sqrt(r2 - q2l2 * inv * inv)) * inv;
+        if (depth < z_lo || depth > z_hi) continue;  // the shader would discard it (clip z)
+        const float v = float(g_.window_depth(depth + eps) + kStoreMargin);
+        if (v < row[x]) row[x] = v, wx0 = std::min(wx0, x), wx1 = std::max(wx1, x);
+      }
     }
+    if (wx0 <= wx1) written.unite(PixelRect{wx0, y, wx1, y});
   }
-  dirty_.unite(rect);
+  propagate(written);
   return true;
 }
 
-void Hzb::refresh() {
-  if (dirty_.empty()) return;
+// Brings the levels above 0 up to date over the level-0 pixels of `rect`.
+void Hzb::propagate(const PixelRect &rect) {
+  if (rect.empty()) return;
   for (size_t k = 1; k < levels_.size(); ++k) {
     const Level &below = levels_[k - 1];
     Level &l = levels_[k];
     const int sh = int(k);
-    for (int ty = dirty_.y0 >> sh; ty <= (dirty_.y1 >> sh); ++ty)
-      for (int tx = dirty_.x0 >> sh; tx <= (dirty_.x1 >> sh); ++tx) {
+    bool changed = false;
+    for (int ty = rect.y0 >> sh; ty <= (rect.y1 >> sh); ++ty)
+      for (int tx = rect.x0 >> sh; tx <= (rect.x1 >> sh); ++tx) {
         float m = -kUncovered;
         for (int cy = 2 * ty; cy <= std::min(2 * ty + 1, below.h - 1); ++cy)
           for (int cx = 2 * tx; cx <= std::min(2 * tx + 1, below.w - 1); ++cx)
             m = std::max(m, below.z[size_t(cy) * below.w + cx]);
-        l.z[size_t(ty) * l.w + tx] = m;
+        float &t = l.z[size_t(ty) * l.w + tx];
+        changed |= m != t;
+        t = m;
       }
+    if (!changed) return;  // maxima only shrink: levels above cannot change either
   }
-  dirty_ = PixelRect{};
 }
 
 }  // namespace lantern

@@ -6,13 +6,13 @@
 // A sphere is rasterised into it only where its silhouette certainly contains the pixel centre
 // (by the ViewGeometry tolerance), only if its impostor quad cannot be clipped by the near or far
 // plane, and with the depth of its ray hit at that centre plus the tolerance. Level k holds the
-// max of its 2x2 children. A query "is every pixel of this rectangle covered by something
-// strictly nearer than depth z?" answered yes therefore implies that the GPU would reject every
-// fragment of a sphere whose nearest depth is z: dropping it cannot change a bit of the image.
+// max of its 2x2 children, updated over each occluder's footprint as it is added. A query "is every
+// pixel of this rectangle covered by something strictly nearer than depth z?" answered yes
+// therefore implies that the GPU would reject every fragment of a sphere whose nearest depth is z:
+// dropping it cannot change a bit of the image.
 //
 // Queries take view-space depths (ViewGeometry); the pyramid stores window depths, the GPU's own
-// currency, with a margin of a few float ulps on each side. Upper levels may lag behind level 0
-// until refresh(); a stale level only holds LARGER values, so queries stay exact, only slower.
+// currency, with a margin of a few float ulps on each side.
 // Thread-safety: none (one culling thread owns it).
 #pragma once
 
@@ -38,9 +38,6 @@ class Hzb {
   // occluder (its impostor could be clipped, or the eye is inside it).
   bool add_occluder(const glm::dvec3 &c, double r, const PixelRect &rect);
 
-  // Brings the upper levels up to date over the pixels written since the last refresh.
-  void refresh();
-
  private:
   struct Level {
     int w = 0, h = 0;
@@ -48,10 +45,13 @@ class Hzb {
   };
   bool usable(const glm::dvec3 &c, double r) const;
   bool covered_at(int level, int x0, int y0, int x1, int y1, float z) const;
+  bool row_span(const glm::dvec3 &c, double r_in2, int y, const PixelRect &rect, int *x0,
+                int *x1) const;
+  void propagate(const PixelRect &rect);
 
   ViewGeometry g_;
   std::vector<Level> levels_;
-  PixelRect dirty_;
+  std::vector<double> ray_x_, ray_y_;  // per column / row: see ViewGeometry::ray_x / ray_y
 };
 
 }  // namespace lantern

@@ -1,0 +1,116 @@
+#include "bench_scenes.h"
+
+#include <cmath>
+
+#ifdef LANTERN_BENCH_HAS_MINI_MD
+#include <mpi.h>
+
+#include "atoms.h"
+#include "domain_decomposition.h"
+#include "run_config.h"
+#include "scenes.h"
+#endif
+
+namespace lantern::bench {
+namespace {
+
+constexpr double kNearestNeighbour = 1.122462048309373;  // 2^(1/6)
+const double kLattice = kNearestNeighbour * std::sqrt(2.0);
+
+BenchScene fcc(int n) {
+  BenchScene s;
+  const double basis[4][3] = {{0, 0, 0}, {0.5, 0.5, 0}, {0.5, 0, 0.5}, {0, 0.5, 0.5}};
+  s.xyz.reserve(size_t(12) * n * n * n);
+  s.type.reserve(size_t(4) * n * n * n);
+  for (int z = 0; z < n; ++z)
+    for (int y = 0; y < n; ++y)
+      for (int x = 0; x < n; ++x)
+        for (int b = 0; b < 4; ++b) {
+          s.xyz.insert(s.xyz.end(), {(x + basis[b][0]) * kLattice, (y + basis[b][1]) * kLattice,
+                                     (z + basis[b][2]) * kLattice});
+          s.type.push_back(int32_t(((x / 8) + (y / 8) + (z / 8)) % 4));  // coloured domains
+        }
+  s.config.radius = 0.5;
+  s.config.color.by = ColorBy::kType;
+  return s;
+}
+
+}  // namespace
+
+ParticleArrays BenchScene::arrays() const {
+  lantern_particles p{};
+  p.count = int64_t(type.size());
+  p.position = {xyz.data(), LANTERN_FLOAT64, 0};
+  p.type = {type.data(), LANTERN_INT32, 0};
+  ParticleArrays a;
+  ParticleArrays::validate(p, &a);
+  return a;
+}
+
+BenchScene fcc_outside(int n, int size) {
+  BenchScene s = fcc(n);
+  s.name = "fcc_" + std::to_string(4LL * n * n * n / 1000000) + "M_outside";
+  s.note = "fcc " + std::to_string(n) + "^3 cells (" + std::to_string(s.type.size()) +
+           " atoms), r 0.5, nn 1.12, camera outside (azimuth 30, elevation 20)";
+  s.config.width = s.config.height = size;
+  return s;
+}
+
+BenchScene fcc_inside(int n, int size) {
+  BenchScene s = fcc(n);
+  s.name = "fcc_" + std::to_string(4LL * n * n * n / 1000000) + "M_inside";
+  const double side = n * kLattice;
+  CameraConfig &cam = s.config.camera;
+  cam.fov_y = 70.0;
+  // Off the lattice planes, in a lattice-free channel, looking across the crystal.
+  cam.position = std::array<double, 3>{0.31 * side + 0.27, 0.43 * side + 0.61, 0.52 * side + 0.13};
+  cam.look_at = {0.9 * side, 0.8 * side, 0.6 * side};
+  cam.up = {0, 0, 1};
+  s.note = "fcc " + std::to_string(n) + "^3 cells (" + std::to_string(s.type.size()) +
+           " atoms), camera inside the crystal, fov 70";
+  s.config.width = s.config.height = size;
+  return s;
+}
+
+bool mini_md_scene(const std::string &kind, int cells, int size, BenchScene *out,
+                   std::string *why) {
+#ifdef LANTERN_BENCH_HAS_MINI_MD
+  mini_md::RunConfig cfg;
+  cfg.scene = kind == "droplet" ? mini_md::SceneKind::kDroplet : mini_md::SceneKind::kVoidImpact;
+  cfg.cells = cells;
+  cfg.print_thermo = false;
+  const mini_md::SceneSetup setup = mini_md::define_scene(cfg);
+  mini_md::DomainDecomposition dd(MPI_COMM_WORLD, setup.box, cfg.cutoff + cfg.skin);
+  mini_md::Atoms atoms;
+  mini_md::create_scene_atoms(cfg, setup, dd, atoms);
+  BenchScene s;
+  s.name = kind;
+  s.note = "mini_md start configuration: " + setup.description + " (" +
+           std::to_string(atoms.nlocal) + " atoms)";
+  s.xyz.resize(size_t(atoms.nlocal) * 3);
+  for (int i = 0; i < atoms.nlocal; ++i)
+    for (int c = 0; c < 3; ++c) s.xyz[size_t(3) * i + c] = atoms.x[size_t(i)][size_t(c)];
+  s.type.assign(atoms.type.begin(), atoms.type.begin() + atoms.nlocal);
+  s.config.radius = 0.5;
+  s.config.color.by = ColorBy::kType;
+  s.config.width = s.config.height = size;
+  if (kind == "void_impact") {
+    // The voids are centred on y = Ly/2: cut there to show them (exercises the cut-plane hook).
+    CutPlane cut;
+    cut.normal = {0, 1, 0};
+    cut.offset = 0.5 * (setup.box.lo[1] + setup.box.hi[1]);
+    s.config.cuts.push_back(cut);
+    s.config.camera.azimuth = 70.0;  // from +y, facing the cut
+    s.config.camera.elevation = 15.0;
+    s.note += ", cut at y = Ly/2";
+  }
+  *out = std::move(s);
+  return true;
+#else
+  (void)kind, (void)cells, (void)size, (void)out;
+  *why = "mini_md is not built (LANTERN_BUILD_MINI_MD=OFF)";
+  return false;
+#endif
+}
+
+}  // namespace lantern::bench

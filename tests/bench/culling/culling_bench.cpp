@@ -1,0 +1,330 @@
+// lantern-bench: every culling and level-of-detail mode on the same scenes, against brute force.
+//
+//   lantern-bench [--scenes fcc1m,fcc10m,inside,void_impact,droplet] [--size 1024] [--runs 5]
+//                 [--md-cells 64] [--out DIR] [--images]
+//
+// Per scene: the bricks are built once (as once per step in Lantern) and timed apart; then every
+// mode runs `runs` times, modes interleaved run by run so that the machine's noise hits all of
+// them alike. A frame's time is cull + instance building + render + readback (+ CPU splats).
+// Prints a table per scene and writes DIR/culling_bench.csv and DIR/culling_bench.svg.
+#include <mpi.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <ctime>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <OpenImageIO/imagebuf.h>
+
+#include "bench_scenes.h"
+#include "core/bricks/brick_set.h"
+#include "core/camera/camera.h"
+#include "core/culling/cull_stage.h"
+#include "core/culling/point_splats.h"
+#include "core/pipeline/particle_scan.h"
+#include "core/pipeline/sphere_instances.h"
+#include "core/render/gl_session.h"
+#include "error_plot.h"
+#include "image_metrics.h"
+
+namespace lantern::bench {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double ms_since(Clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+}
+
+// CPU time of the calling thread: the culling stage runs on one thread, so this is its cost
+// without the waiting a loaded machine adds to wall-clock time.
+double thread_cpu_ms() {
+  timespec ts{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return ts.tv_sec * 1e3 + ts.tv_nsec * 1e-6;
+}
+
+struct Options {
+  std::vector<std::string> scenes{"fcc1m", "fcc10m", "inside", "void_impact", "droplet"};
+  int size = 1024;
+  int runs = 5;
+  int md_cells = 64;
+  std::string out = ".";
+  bool images = false;
+};
+
+struct Mode {
+  std::string name;
+  bool brute = false;
+  OcclusionMode occlusion = OcclusionMode::kNone;
+  bool frustum = true;
+  LodConfig lod;
+};
+
+std::vector<Mode> modes() {
+  std::vector<Mode> m;
+  m.push_back({"brute_force", true, OcclusionMode::kNone, false, {}});
+  m.push_back({"frustum", false, OcclusionMode::kNone, true, {}});
+  m.push_back({"nine_spheres", false, OcclusionMode::kNineSpheres, true, {}});
+  m.push_back({"nine_spheres_sorted", false, OcclusionMode::kNineSpheresSorted, true, {}});
+  m.push_back({"hzb", false, OcclusionMode::kHzb, true, {}});
+  m.push_back({"auto", false, OcclusionMode::kAuto, true, {}});
+  for (const double f : {0.5, 0.25, 0.1}) {
+    Mode lod{"lod_" + std::to_string(int(f * 100)) + "%", false, OcclusionMode::kNone, true, {}};
+    lod.lod.fraction = f;
+    m.push_back(lod);
+  }
+  Mode budget{"auto+budget_100k", false, OcclusionMode::kAuto, true, {}};
+  budget.lod.budget = 100000;
+  m.push_back(budget);
+  Mode px{"auto+min_px_1", false, OcclusionMode::kAuto, true, {}};
+  px.lod.min_pixels = 1.0;
+  m.push_back(px);
+  Mode points{"auto+point_path", false, OcclusionMode::kAuto, true, {}};
+  points.lod.point_path = true;
+  m.push_back(points);
+  return m;
+}
+
+double median(std::vector<double> v) {
+  if (v.empty()) return 0.0;
+  std::sort(v.begin(), v.end());
+  const size_t n = v.size();
+  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+struct Result {
+  std::vector<double> total, cull, cull_cpu, render;
+  CullStats stats;
+  int64_t drawn = 0, splatted = 0;
+  ImageError error;
+  Frame frame;
+};
+
+class Bench {
+ public:
+  Bench(SphereRenderer *renderer, const Options &opt) : renderer_(renderer), opt_(opt) {}
+
+  // Runs every mode on one scene; appends CSV rows and plot points.
+  void run_scene(const BenchScene &bs, std::ostream &csv, std::vector<PlotPoint> *plot) {
+    const ParticleArrays p = bs.arrays();
+    const Extent ext = scan_particles(p, false, bs.config.radius);
+    Camera cam;
+    const glm::dvec3 lo{ext.lo[0], ext.lo[1], ext.lo[2]}, hi{ext.hi[0], ext.hi[1], ext.hi[2]};
+    if (auto e = make_camera(bs.config.camera, lo, hi, bs.config.radius, bs.config.width,
+                             bs.config.height, &cam);
+        !e.empty()) {
+      std::printf("%s: camera: %s\n", bs.name.c_str(), e.c_str());
+      return;
+    }
+    // Bricks: once per step in Lantern; timed apart (median of 3 builds).
+    std::vector<double> build;
+    BrickSet bricks;
+    BrickBuildTimings bt;
+    for (int k = 0; k < 3; ++k) {
+      bricks = BrickSet();
+      const auto t0 = Clock::now();
+      bricks = build_bricks(p, BrickOptions{}, &bt);
+      build.push_back(ms_since(t0));
+    }
+    std::printf("\n== %s: %s, %dx%d\n", bs.name.c_str(), bs.note.c_str(), bs.config.width,
+                bs.config.height);
+    std::printf(
+        "   bricks: %zu (<= 4096 particles), built in %.1f ms median of 3 (keys %.1f, "
+        "sort %.1f, split %.1f, layout %.1f, bounds %.1f; last build); once per step, "
+        "shared by all scenes, not in the times below\n",
+        bricks.bricks.size(), median(build), bt.keys_ms, bt.sort_ms, bt.split_ms, bt.layout_ms,
+        bt.bounds_ms);
+    const InstanceRecipe recipe = make_recipe(p, bs.config, cam, ext);
+    const std::vector<Mode> all = modes();
+    std::vector<Result> results(all.size());
+    for (int run = 0; run < opt_.runs; ++run)
+      for (size_t m = 0; m < all.size(); ++m)
+        frame(bs, p, bricks, cam, recipe, all[m], run == 0, &results[m]);
+    print_and_record(bs, all, &results, csv, plot);
+  }
+
+ private:
+  void frame(const BenchScene &bs, const ParticleArrays &p, const BrickSet &bricks,
+             const Camera &cam, const InstanceRecipe &recipe, const Mode &mode, bool keep,
+             Result *r) {
+    SceneConfig sc = bs.config;
+    sc.culling.occlusion = mode.occlusion;
+    sc.culling.frustum = mode.frustum;
+    sc.lod = mode.lod;
+    const auto t0 = Clock::now();
+    const double cpu0 = thread_cpu_ms();
+    if (mode.brute) {
+      build_all_instances(recipe, &instances_);
+      r->drawn = int64_t(instances_.size());
+    } else {
+      r->stats = culler_.run(p, bricks, cam, sc, &draw_);
+      if (draw_.everything)
+        build_all_instances(recipe, &instances_);
+      else
+        build_selected_instances(recipe, draw_.spheres, &instances_);
+      r->drawn = r->stats.drawn;
+      r->splatted = r->stats.splatted;
+    }
+    const double cull_ms = ms_since(t0);
+    r->cull_cpu.push_back(thread_cpu_ms() - cpu0);
+    const auto t1 = Clock::now();
+    const Rgb8 bg = to_rgb8(sc.background);
+    const uint8_t background[4] = {bg[0], bg[1], bg[2], 255};
+    RenderTimings t;
+    Frame &f = keep ? r->frame : scratch_frame_;
+    if (auto e = renderer_->render(cam.render_view(background), instances_.data(),
+                                   instances_.size(), &f, &t);
+        !e.empty())
+      std::printf("render failed: %s\n", e.c_str());
+    if (!mode.brute && !draw_.points.empty())
+      splat_points(
+          p, recipe.per_particle_radius, recipe.radius, draw_.points, culler_.geometry(),
+          [&recipe](int64_t i) { return recipe.colour(i); }, &f);
+    r->render.push_back(ms_since(t1));
+    r->cull.push_back(cull_ms);
+    r->total.push_back(ms_since(t0));
+  }
+
+  void print_and_record(const BenchScene &bs, const std::vector<Mode> &all,
+                        std::vector<Result> *results, std::ostream &csv,
+                        std::vector<PlotPoint> *plot) {
+    const Result &brute = (*results)[0];
+    const double brute_ms = median(brute.total);
+    const int64_t n = int64_t(bs.type.size());
+    std::printf("   %-20s %9s %8s %8s %9s %10s %8s %10s %8s %7s %8s  %s\n", "mode", "ms/frame",
+                "cull ms", "cull cpu", "render ms", "drawn", "culled", "diff px", "PSNR dB", "SSIM",
+                "speed-up", "occlusion");
+    for (size_t m = 0; m < all.size(); ++m) {
+      Result &r = (*results)[m];
+      r.error = m == 0 ? ImageError{0, 0, INFINITY, 1.0} : compare_frames(brute.frame, r.frame);
+      const double ms = median(r.total);
+      const double culled =
+          100.0 * double(n - r.drawn - r.splatted) / double(std::max<int64_t>(n, 1));
+      char psnr[32];
+      if (std::isinf(r.error.psnr))
+        std::snprintf(psnr, sizeof psnr, "inf");
+      else
+        std::snprintf(psnr, sizeof psnr, "%.2f", r.error.psnr);
+      const std::string occ = all[m].brute ? "-" : r.stats.occlusion;
+      std::string drawn = std::to_string(r.drawn);
+      if (r.splatted) drawn += "+" + std::to_string(r.splatted) + "pt";
+      std::printf("   %-20s %9.1f %8.1f %8.1f %9.1f %10s %7.1f%% %10lld %8s %7.4f %7.1fx  %s\n",
+                  all[m].name.c_str(), ms, median(r.cull), median(r.cull_cpu), median(r.render),
+                  drawn.c_str(), culled, static_cast<long long>(r.error.differing_pixels), psnr,
+                  r.error.ssim, brute_ms / ms, occ.c_str());
+      csv << bs.name << ',' << all[m].name << ',' << ms << ',' << median(r.cull) << ','
+          << median(r.cull_cpu) << ',' << median(r.render) << ',' << r.drawn << ',' << r.splatted
+          << ',' << culled << ',' << r.error.differing_pixels << ',' << r.error.differing_depth
+          << ',' << psnr << ',' << r.error.ssim << ',' << brute_ms / ms << ",\"" << occ << "\"\n";
+      plot->push_back({bs.name, all[m].name, ms, r.error.psnr});
+      if (opt_.images && (m == 0 || all[m].name == "hzb" || all[m].name == "nine_spheres" ||
+                          all[m].name == "lod_25%" || all[m].name == "auto+point_path"))
+        write_png(opt_.out + "/" + bs.name + "_" + all[m].name + ".png", r.frame);
+    }
+  }
+
+  static void write_png(const std::string &path, const Frame &f) {
+    OIIO::ImageBuf buf(OIIO::ImageSpec(f.width, f.height, 4, OIIO::TypeDesc::UINT8));
+    buf.set_pixels(OIIO::ROI::All(), OIIO::TypeDesc::UINT8, f.rgba.data());
+    buf.write(path);
+  }
+
+  SphereRenderer *renderer_;
+  const Options &opt_;
+  Culler culler_;
+  DrawList draw_;
+  std::vector<SphereInstance> instances_;
+  Frame scratch_frame_;
+};
+
+bool parse(int argc, char **argv, Options *o) {
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    const auto value = [&]() -> std::string { return i + 1 < argc ? argv[++i] : ""; };
+    if (a == "--scenes") {
+      o->scenes.clear();
+      std::stringstream ss(value());
+      for (std::string s; std::getline(ss, s, ',');) o->scenes.push_back(s);
+    } else if (a == "--size") {
+      o->size = std::stoi(value());
+    } else if (a == "--runs") {
+      o->runs = std::max(1, std::stoi(value()));
+    } else if (a == "--md-cells") {
+      o->md_cells = std::stoi(value());
+    } else if (a == "--out") {
+      o->out = value();
+    } else if (a == "--images") {
+      o->images = true;
+    } else {
+      std::fprintf(stderr,
+                   "usage: lantern-bench [--scenes fcc1m,fcc10m,inside,void_impact,droplet] "
+                   "[--size 1024] [--runs 5] [--md-cells 64] [--out DIR] [--images]\n");
+      return false;
+    }
+  }
+  return true;
+}
+
+int run(int argc, char **argv) {
+  Options opt;
+  if (!parse(argc, argv, &opt)) return 2;
+  std::string error;
+  auto session = GlSession::acquire(&error);
+  SphereRenderer *renderer = session ? session->renderer(&error) : nullptr;
+  if (!renderer) {
+    std::fprintf(stderr, "lantern-bench: %s\n", error.c_str());
+    return 1;
+  }
+  const char *threads = std::getenv("LP_NUM_THREADS");
+  std::printf("lantern-bench: %s, LP_NUM_THREADS=%s, %d runs per mode (median)\n",
+              session->description().c_str(), threads ? threads : "(default)", opt.runs);
+  std::ofstream csv(opt.out + "/culling_bench.csv");
+  csv << "scene,mode,ms_per_frame,cull_ms,cull_cpu_ms,render_ms,drawn,splatted,culled_percent,"
+         "differing_pixels,differing_depth,psnr_db,ssim,speedup,occlusion\n";
+  std::vector<PlotPoint> plot;
+  Bench bench(renderer, opt);
+  for (const std::string &name : opt.scenes) {
+    BenchScene s;
+    std::string why;
+    if (name == "fcc1m") {
+      s = fcc_outside(63, opt.size);
+    } else if (name == "fcc10m") {
+      s = fcc_outside(136, opt.size);
+    } else if (name == "inside") {
+      s = fcc_inside(63, opt.size);
+    } else if (name == "fcc_small") {
+      s = fcc_outside(24, opt.size);
+    } else if (name == "void_impact" || name == "droplet") {
+      if (!mini_md_scene(name, opt.md_cells, opt.size, &s, &why)) {
+        std::printf("\n== %s: skipped: %s\n", name.c_str(), why.c_str());
+        continue;
+      }
+    } else {
+      std::printf("\n== %s: unknown scene\n", name.c_str());
+      continue;
+    }
+    bench.run_scene(s, csv, &plot);
+    std::fflush(stdout);
+  }
+  if (auto e = write_error_plot(opt.out + "/culling_bench.svg", plot); !e.empty())
+    std::fprintf(stderr, "lantern-bench: %s\n", e.c_str());
+  std::printf("\nwrote %s/culling_bench.csv and %s/culling_bench.svg\n", opt.out.c_str(),
+              opt.out.c_str());
+  return 0;
+}
+
+}  // namespace
+}  // namespace lantern::bench
+
+int main(int argc, char **argv) {
+  MPI_Init(&argc, &argv);
+  const int rc = lantern::bench::run(argc, argv);
+  MPI_Finalize();
+  return rc;
+}

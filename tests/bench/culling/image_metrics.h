@@ -1,0 +1,21 @@
+// Error of an image against the brute-force reference: differing pixels, PSNR (OpenImageIO's
+// ImageBufAlgo::compare) and SSIM (a small function of our own, on luma).
+#pragma once
+
+#include <cstddef>  // frame.h uses size_t
+#include <cstdint>
+
+#include "core/render/frame.h"
+
+namespace lantern::bench {
+
+struct ImageError {
+  int64_t differing_pixels = 0;  // colour differs in any channel
+  int64_t differing_depth = 0;   // window depth differs
+  double psnr = 0.0;             // dB over RGB in [0, 1]; +inf when identical
+  double ssim = 1.0;             // mean SSIM of 8x8 luma windows (stride 4)
+};
+
+ImageError compare_frames(const Frame &reference, const Frame &test);
+
+}  // namespace lantern::bench
