@@ -33,7 +33,7 @@ for ranks in ${RANKS:-1 2 4 8}; do
 done | tee "$raw" >/dev/null
 
 echo "lantern-bench-composite: median ms of each method (root's time, after a barrier)"
-echo "binary: $bin   host: $(hostname)   cores: $(nproc)   $(date -u +%Y-%m-%dT%H:%MZ)"
+echo "binary: $bin   cores: $(nproc)   $(date -u +%Y-%m-%dT%H:%MZ)   load: $(cut -d' ' -f1-3 /proc/loadavg)"
 awk '
   {
     for (i = 1; i <= NF; ++i) { split($i, kv, "="); f[kv[1]] = kv[2] }
@@ -43,13 +43,13 @@ awk '
     if (f["method"] == "auto") picked[key] = f["ran"]
   }
   END {
-    printf "| %5s | %-9s | %10s | %14s | %11s | %10s | %-14s |\n", "ranks", "size",
-           "reduce64", "reduce_scatter", "binary_swap", "auto", "auto ran"
-    printf "|------:|-----------|-----------:|---------------:|------------:|-----------:|----------------|\n"
+    printf "| %5s | %-9s | %10s | %14s | %11s | %11s | %10s | %-14s |\n", "ranks", "size",
+           "reduce64", "reduce_scatter", "binary_swap", "direct_send", "auto", "auto ran"
+    printf "|------:|-----------|-----------:|---------------:|------------:|------------:|-----------:|----------------|\n"
     for (r = 1; r <= nrows; ++r) {
       key = rows[r]; split(key, parts, SUBSEP)
-      printf "| %5s | %-9s | %10s | %14s | %11s | %10s | %-14s |\n", parts[1], parts[2],
+      printf "| %5s | %-9s | %10s | %14s | %11s | %11s | %10s | %-14s |\n", parts[1], parts[2],
              ms[key, "reduce64"], ms[key, "reduce_scatter"], ms[key, "binary_swap"],
-             ms[key, "auto"], picked[key]
+             ms[key, "direct_send"], ms[key, "auto"], picked[key]
     }
   }' "$raw"

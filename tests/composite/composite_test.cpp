@@ -222,6 +222,15 @@ TEST(Composite, StatsNameTheMethodThatRan) {
   EXPECT_GE(stats.milliseconds, 0.0);
 }
 
+TEST(Composite, AutoPicksTheMeasuredMethodAndSaysWhich) {
+  const bool alone = world_size() == 1;
+  Frame small = blank_frame(64, 64), large = blank_frame(640, 480);
+  const CompositeStats s = composite_frames(MPI_COMM_WORLD, small, 0);
+  const CompositeStats l = composite_frames(MPI_COMM_WORLD, large, 0);
+  EXPECT_EQ(s.method, alone ? "none" : "reduce64");  // latency-bound: one MPI_Reduce
+  EXPECT_EQ(l.method, alone ? "none" : "binary_swap");
+}
+
 TEST(CompositeMethodNames, RoundTrip) {
   for (const CompositeMethod m :
        {CompositeMethod::kAuto, CompositeMethod::kReduce64, CompositeMethod::kReduceScatter,
