@@ -163,6 +163,24 @@ int64_t read_integer_line(LineReader &in, const char *item) {
   return v;
 }
 
+double read_real_line(LineReader &in, const char *item) {
+  std::string line;
+  if (!in.next(&line))
+    throw ParseError{in.line_number(), std::string("file ends after ITEM: ") + item};
+  const auto t = split(line);
+  double v = 0;
+  if (t.size() != 1 || !parse_number(t[0], &v))
+    throw ParseError{in.line_number(),
+                     std::string("ITEM: ") + item + ": expected one number, found '" + line + "'"};
+  return v;
+}
+
+// Other ITEM sections (UNITS, ...) hold one value line, which Lantern does not need.
+void skip_value_line(LineReader &in, const std::string &item) {
+  std::string value;
+  if (!in.next(&value)) throw ParseError{in.line_number(), "file ends after " + item.substr(0, 60)};
+}
+
 // Scans one frame's header after its "ITEM: TIMESTEP" line, up to and over its atom lines.
 LammpsDumpReader::Frame scan_frame(LineReader &in) {
   LammpsDumpReader::Frame f;
@@ -178,10 +196,7 @@ LammpsDumpReader::Frame scan_frame(LineReader &in) {
       if (f.info.count < 0) throw ParseError{in.line_number(), "ITEM: NUMBER OF ATOMS is negative"};
       have_count = true;
     } else if (starts_with(line, "ITEM: TIME") && !starts_with(line, "ITEM: TIMESTEP")) {
-      std::string value;
-      if (!in.next(&value) ||
-          !parse_number(split(value).empty() ? value : split(value)[0], &f.info.time))
-        throw ParseError{in.line_number(), "ITEM: TIME: expected a number"};
+      f.info.time = read_real_line(in, "TIME");
     } else if (starts_with(line, "ITEM: BOX BOUNDS")) {
       parse_box(t, in, &f);
     } else if (starts_with(line, "ITEM: ATOMS")) {
@@ -201,9 +216,11 @@ LammpsDumpReader::Frame scan_frame(LineReader &in) {
       return f;
     } else if (starts_with(line, "ITEM: TIMESTEP")) {
       throw ParseError{in.line_number(), "ITEM: TIMESTEP before the previous frame's ITEM: ATOMS"};
-    } else if (!starts_with(line, "ITEM:")) {
+    } else if (starts_with(line, "ITEM:")) {
+      skip_value_line(in, line);
+    } else {
       throw ParseError{in.line_number(), "unexpected line '" + line.substr(0, 60) + "'"};
-    }  // other ITEM sections (e.g. UNITS) are skipped with their value lines
+    }
   }
   throw ParseError{in.line_number(), "file ends before ITEM: ATOMS (truncated?)"};
 }
@@ -238,13 +255,24 @@ std::string LammpsDumpReader::open(const std::string &path,
   reader->path_ = path;
   try {
     std::string line;
+    bool has_time = false;  // LAMMPS writes UNITS and TIME before TIMESTEP
+    double time = 0.0;
     while (in.next(&line)) {
       if (line.find_first_not_of(" \t") == std::string::npos) continue;
-      if (!starts_with(line, "ITEM: TIMESTEP"))
+      if (starts_with(line, "ITEM: TIMESTEP")) {
+        reader->frames_.push_back(scan_frame(in));
+        if (has_time) reader->frames_.back().info.time = time;
+        has_time = false;
+        reader->infos_.push_back(reader->frames_.back().info);
+      } else if (starts_with(line, "ITEM: TIME")) {
+        time = read_real_line(in, "TIME");
+        has_time = true;
+      } else if (starts_with(line, "ITEM:")) {
+        skip_value_line(in, line);  // e.g. ITEM: UNITS
+      } else {
         throw ParseError{in.line_number(), "expected 'ITEM: TIMESTEP', found '" +
                                                line.substr(0, 60) + "' (not a LAMMPS text dump?)"};
-      reader->frames_.push_back(scan_frame(in));
-      reader->infos_.push_back(reader->frames_.back().info);
+      }
     }
   } catch (const ParseError &e) {
     return path + ":" + std::to_string(e.line) + ": " + e.what;

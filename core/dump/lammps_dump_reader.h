@@ -1,6 +1,6 @@
 // Reads LAMMPS text dumps (`dump atom`, `dump custom`): the format LAMMPS users already have.
 //
-// A frame is:
+// A frame is (ITEM: UNITS and ITEM: TIME may come first, as LAMMPS writes them):
 //   ITEM: TIMESTEP / <step>            (ITEM: TIME / <time> optional; else time = step)
 //   ITEM: NUMBER OF ATOMS / <N>
 //   ITEM: BOX BOUNDS [xy xz yz] pp pp pp / 3 lines "lo hi [tilt]"

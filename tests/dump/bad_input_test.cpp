@@ -245,5 +245,23 @@ TEST(LammpsReader, ScaledOrthogonalAndTriclinicAreUnscaled) {
   EXPECT_EQ(f.step, 200);
 }
 
+TEST(LammpsReader, UnitsAndTimeBeforeTimestepAsLammpsWritesThem) {
+  // dump_modify ... time yes units yes: ITEM: UNITS and ITEM: TIME precede ITEM: TIMESTEP.
+  const MpiScratchDir dir;
+  write_text(dir.file("d"),
+             "ITEM: UNITS\nlj\nITEM: TIME\n0.25\nITEM: TIMESTEP\n50\nITEM: NUMBER OF ATOMS\n1\n"
+             "ITEM: BOX BOUNDS pp pp pp\n0.0000000000000000e+00 3.3591923827650149e+01\n0 1\n0 "
+             "1\nITEM: ATOMS id type x y z vx\n7 1 1.5e+00 2 3 0.1\n");
+  std::unique_ptr<LammpsDumpReader> r;
+  ASSERT_EQ(LammpsDumpReader::open(dir.file("d"), &r), "");
+  ASSERT_EQ(r->frames().size(), 1u);
+  EXPECT_EQ(r->frames()[0].step, 50);
+  EXPECT_EQ(r->frames()[0].time, 0.25);
+  ParticleFrame f;
+  ASSERT_EQ(r->read(0, 0, 1, &f), "");
+  EXPECT_EQ(f.position, (std::vector<double>{1.5, 2, 3}));
+  EXPECT_DOUBLE_EQ(f.box->high[0], 33.591923827650149);
+}
+
 }  // namespace
 }  // namespace lantern
