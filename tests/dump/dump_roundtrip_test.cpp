@@ -163,6 +163,30 @@ TEST(DumpRoundTrip, FileIsValidAfterEveryFrameWithoutClose) {
   check_file(file, {1, 2}, 0.0);
 }
 
+TEST(DumpRoundTrip, EmptyRanksStillTakePart) {
+  // Odd ranks own nothing: they still join every collective write, selecting nothing.
+  const MpiScratchDir dir;
+  const std::string file = dir.file("holes.h5");
+  const RankParticles all(7);
+  const bool empty = world_rank() % 2 == 1;
+  {
+    const Context ctx = open_dump(file, "");
+    lantern_particles v = all.view();
+    if (empty) v = lantern_particles{};
+    ASSERT_EQ(lantern_publish(ctx.get(), &v), LANTERN_OK);
+    ASSERT_EQ(lantern_execute(ctx.get(), 7, 1.0), LANTERN_OK) << lantern_error_message(ctx.get());
+  }
+  int64_t mine = empty ? 0 : all.count, total = 0;
+  MPI_Allreduce(&mine, &total, 1, MPI_INT64_T, MPI_SUM, MPI_COMM_WORLD);
+  std::unique_ptr<H5mdReader> reader;
+  ASSERT_EQ(H5mdReader::open(file, MPI_COMM_WORLD, &reader), "");
+  ASSERT_EQ(reader->frames().size(), 1u);
+  EXPECT_EQ(reader->frames()[0].count, total);
+  ParticleFrame frame;
+  ASSERT_EQ(reader->read(0, 0, total, &frame), "");
+  for (int64_t i = 0; i < total; ++i) EXPECT_EQ(frame.position[3 * i], coord(frame.id[i], 0, 7));
+}
+
 TEST(DumpErrors, ParticleCountChangeIsAClearError) {
   const MpiScratchDir dir;
   const Context ctx = open_dump(dir.file("count.h5"), "");
