@@ -8,13 +8,6 @@ namespace {
 
 constexpr float kUncovered = std::numeric_limits<float>::infinity();
 
-// The largest float <= v.
-float float_down(double v) {
-  float f = float(v);
-  if (double(f) > v) f = std::nextafter(f, -kUncovered);
-  return f;
-}
-
 // Window depths the GPU computes in float (matrix product, divide, z * 0.5 + 0.5) can be off by a
 // few float ulps near 1.0; with a tiny near plane (camera inside the particles) that is more than
 // the length tolerance buys. Stored and queried depths keep this many units apart on top.
@@ -47,11 +40,11 @@ void Hzb::reset(const ViewGeometry &g) {
 bool Hzb::covered(const PixelRect &rect, double z) const {
   if (rect.empty()) return true;
   if (!(z > g_.near_plane)) return false;  // reaches the near plane: never provably hidden
-  const float zf = float_down(g_.window_depth(z) - kWindowMargin);
-  int level = 0;
-  while (level + 1 < int(levels_.size()) && ((rect.x1 >> level) - (rect.x0 >> level) > 1 ||
-                                             (rect.y1 >> level) - (rect.y0 >> level) > 1))
-    ++level;
+  // Rounded to nearest, the float is at most half an ulp above: take that off as well.
+  const float zf = float(g_.window_depth(z) - kStoreMargin);
+  // The level whose tiles are at least as wide as the rectangle: it spans at most 2 x 2 of them.
+  const auto extent = unsigned(std::max(rect.x1 - rect.x0, rect.y1 - rect.y0));
+  const int level = std::min(int(levels_.size()) - 1, extent == 0 ? 0 : 32 - __builtin_clz(extent));
   return covered_at(level, rect.x0, rect.y0, rect.x1, rect.y1, zf);
 }
 

@@ -25,17 +25,25 @@ ViewGeometry ViewGeometry::from_camera(const Camera &camera, double scale) {
 
 PixelRect ViewGeometry::ndc_rect(double x_lo, double x_hi, double y_lo, double y_hi) const {
   // Pixel column x is sampled at NDC (x + 0.5) / W * 2 - 1; keep every centre in [lo, hi] plus a
-  // pixel of slack on each side.
-  const auto col = [&](double ndc) { return (ndc + 1.0) * 0.5 * width - 0.5; };
-  const auto row = [&](double ndc) { return (1.0 - ndc) * 0.5 * height - 0.5; };
+  // pixel of slack on each side. Hand-rolled floor/ceil: this runs once per tested particle.
+  const auto first = [](double p, int n) {  // floor(p) - 1, clamped to [0, n]
+    if (!(p > 1.0)) return 0;               // NaN too: from the first pixel
+    if (p >= double(n) + 1.0) return n;
+    return int(p) - 1;
+  };
+  const auto last = [](double p, int n) {  // ceil(p) + 1, clamped to [-1, n - 1]
+    if (p != p) return n - 1;
+    if (p < -2.0) return -1;
+    if (p >= double(n) - 2.0) return n - 1;
+    const int t = int(p);  // p >= -2: truncation is ceil for p <= 0 and floor above
+    return (p > 0.0 && p > double(t) ? t + 1 : t) + 1;
+  };
+  const double hw = 0.5 * width, hh = 0.5 * height;
   PixelRect r;
-  const double fx0 = std::floor(col(x_lo)) - 1, fx1 = std::ceil(col(x_hi)) + 1;
-  const double fy0 = std::floor(row(y_hi)) - 1, fy1 = std::ceil(row(y_lo)) + 1;
-  if (!(fx0 <= fx1) || !(fy0 <= fy1)) return PixelRect{0, 0, width - 1, height - 1};  // NaN: all
-  r.x0 = int(std::max(fx0, 0.0));
-  r.x1 = int(std::min(fx1, double(width - 1)));
-  r.y0 = int(std::max(fy0, 0.0));
-  r.y1 = int(std::min(fy1, double(height - 1)));
+  r.x0 = first((x_lo + 1.0) * hw - 0.5, width);
+  r.x1 = last((x_hi + 1.0) * hw - 0.5, width);
+  r.y0 = first((1.0 - y_hi) * hh - 0.5, height);
+  r.y1 = last((1.0 - y_lo) * hh - 0.5, height);
   return r;
 }
 

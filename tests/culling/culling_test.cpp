@@ -11,6 +11,7 @@
 #include "core/bricks/brick_set.h"
 #include "core/camera/camera.h"
 #include "core/culling/cull_stage.h"
+#include "core/culling/point_splats.h"
 #include "core/pipeline/sphere_instances.h"
 #include "core/render/gl_session.h"
 
@@ -255,6 +256,34 @@ TEST_F(CullingTest, BudgetIsServedFromBrickPrefixes) {
   EXPECT_GE(st.drawn, 3500);
   EXPECT_EQ(st.lod_dropped + st.drawn, st.candidates);
   for (const uint64_t e : draw.spheres) EXPECT_GT(entry_scale(e), 1.0f);  // spheres grew
+}
+
+TEST_F(CullingTest, ScreenSpaceRuleAndPointPathTakeOverSubPixelSpheres) {
+  const Cloud c = fcc(20, 1.5874);
+  SceneConfig s = scene(64, 0.2, OcclusionMode::kNone);  // spheres far below a pixel
+  const ParticleArrays p = c.arrays();
+  const BrickSet bricks = build_bricks(p, BrickOptions{});
+  const Camera cam = camera(s, c, orbit(30, 20));
+  Culler culler;
+  DrawList draw;
+  s.lod.min_pixels = 3.0;
+  CullStats st = culler.run(p, bricks, cam, s, &draw);
+  EXPECT_LT(st.drawn, st.candidates / 4);
+  EXPECT_EQ(st.drawn + st.lod_dropped, st.candidates);
+  s.lod.min_pixels = 0.0;
+  s.lod.point_path = true;
+  st = culler.run(p, bricks, cam, s, &draw);
+  EXPECT_EQ(st.splatted, st.candidates);  // every sphere is below half a pixel here
+  EXPECT_EQ(st.drawn, 0);
+  // The splats land in the frame, nearest first.
+  Frame f = render({}, cam);
+  const InstanceRecipe recipe = make_recipe(p, s, cam, Extent{});
+  splat_points(
+      p, false, s.radius, draw.points, culler.geometry(),
+      [&recipe](int64_t i) { return recipe.colour(i); }, &f);
+  int64_t written = 0;
+  for (const float d : f.depth) written += d < 1.0f;
+  EXPECT_GT(written, 1000);
 }
 
 }  // namespace
