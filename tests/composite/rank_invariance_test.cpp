@@ -274,7 +274,11 @@ void expect_rank_invariant(const Particles &all, const std::string &label) {
       all_same = all_same && difference.empty();
     }
   }
-  if (all_same) std::system(("rm -rf '" + dir + "'").c_str());
+  // The images stay for inspection only when asked (LANTERN_KEEP_TEST_IMAGES=1).
+  if (all_same || std::getenv("LANTERN_KEEP_TEST_IMAGES") == nullptr)
+    std::system(("rm -rf '" + dir + "'").c_str());
+  else
+    std::printf("images kept in %s\n", dir.c_str());
 }
 
 TEST(RankInvariance, SameImagesForEveryRankCountAndSplit) {
