@@ -7,6 +7,11 @@
 // radix-sort scratch). Bricks depend only on the particles, not on a camera: build once per step
 // and reuse for every scene of that step.
 //
+// Brick size: octree leaves of at most 1024 particles (uniform data: 128..1024). Smaller bricks
+// cull more finely at the brick level (a thinner shell of per-particle tests behind the visible
+// surface); 1024 measured best on 1 M and 10 M fcc crystals (lantern-bench) and costs 64 bytes
+// per brick (< 0.5 B per particle) on top of the permutation.
+//
 // Ownership: a BrickSet owns its permutation and bricks; it refers to the particles only by
 // index, so it stays valid as long as the published arrays keep their order and count.
 // Thread-safety: immutable after build_bricks(); concurrent readers are fine.
@@ -30,7 +35,7 @@ struct Brick {
 };
 
 struct BrickOptions {
-  uint32_t max_particles = 4096;  // a brick never holds more
+  uint32_t max_particles = 1024;  // a brick never holds more (see the note on BrickSet)
   bool level_layout = true;       // z-order level layout inside bricks (prefix = uniform sample)
 };
 

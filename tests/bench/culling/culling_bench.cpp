@@ -135,7 +135,7 @@ class Bench {
     std::printf("\n== %s: %s, %dx%d\n", bs.name.c_str(), bs.note.c_str(), bs.config.width,
                 bs.config.height);
     std::printf(
-        "   bricks: %zu (<= 4096 particles), built in %.1f ms median of 3 (keys %.1f, "
+        "   bricks: %zu (<= 1024 particles), built in %.1f ms median of 3 (keys %.1f, "
         "sort %.1f, split %.1f, layout %.1f, bounds %.1f; last build); once per step, "
         "shared by all scenes, not in the times below\n",
         bricks.bricks.size(), median(build), bt.keys_ms, bt.sort_ms, bt.split_ms, bt.layout_ms,
