@@ -6,12 +6,15 @@
 // is bit-identical for any rank count, any split of the particles and every method below.
 //
 // Collective: every rank of comm calls composite_frames with the same width, height, root and
-// method. Errors (mismatched sizes, bad root, out of memory) are agreed collectively and returned
-// in CompositeStats::error on every rank; no rank throws or is left waiting in a collective.
+// method. Problems found before any pixel moves (mismatched sizes, bad root, disagreeing method,
+// out of memory) are agreed in one MPI_Allreduce and returned in CompositeStats::error on every
+// rank, so no rank throws or is left waiting. An MPI failure inside a method follows comm's error
+// handler (fatal by default); under MPI_ERRORS_RETURN it is returned in error on that rank.
 //
 // Memory: besides the Frame itself, a rank holds about two chunks of scratch (16 MiB at the
 // default chunk) whatever the frame size: reductions pack and reduce one chunk at a time (so
-// MPI's own temporaries stay chunk-sized too) and binary swap merges into the frame in place.
+// MPI's own temporaries stay chunk-sized too) and the point-to-point methods merge into the
+// frame in place, receiving one chunk-sized segment at a time.
 // The scratch is kept per thread between calls, so steady-state frames do not allocate.
 // Limit: at most INT_MAX / 4 pixels (MPI counts are int; 8192 x 8192 is 1/8 of that).
 #pragma once
@@ -26,7 +29,7 @@
 namespace lantern {
 
 enum class CompositeMethod {
-  kAuto,           // the measured-fastest method for (rank count, pixel count): method_table.h
+  kAuto,           // the measured-fastest method for (ranks, pixels): see method_table.cpp
   kReduce64,       // pack depth+RGBA in one uint64, MPI_Reduce(MPI_MIN) in chunks to root
   kReduceScatter,  // MPI_Reduce_scatter_block(MPI_MIN) + MPI_Gather to root, in chunks
   kBinarySwap,     // hand-written binary swap in place; extra ranks (non power of 2) fold in first
