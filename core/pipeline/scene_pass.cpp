@@ -1,6 +1,8 @@
 #include "core/pipeline/scene_pass.h"
 
+#include <algorithm>
 #include <chrono>
+#include <cstring>
 
 #include "core/bricks/brick_set.h"
 #include "core/camera/camera.h"
@@ -44,16 +46,37 @@ struct BrickCache {
   int64_t count = -1;
   const void *positions = nullptr;
   const void *radii = nullptr;
+  uint64_t fingerprint = 0;
   BrickSet set;
 };
+
+// A cheap guard against arrays rewritten in place under the same step number: the raw bytes of
+// up to 4096 evenly spaced positions and radii (positions that change between steps nearly
+// always change some of them).
+uint64_t sample_fingerprint(const ParticleArrays &p) {
+  uint64_t h = 1469598103934665603ull;
+  const auto mix = [&h](double v) {
+    uint64_t bits;
+    std::memcpy(&bits, &v, sizeof bits);
+    h = (h ^ bits) * 1099511628211ull;
+  };
+  const int64_t n = p.count(), stride = std::max<int64_t>(1, n / 4096);
+  for (int64_t i = 0; i < n; i += stride) {
+    const glm::dvec3 x = p.position(i);
+    mix(x.x), mix(x.y), mix(x.z);
+    if (p.has_radius()) mix(p.radius(i));
+  }
+  return h;
+}
 
 const BrickSet &bricks_for_step(const ScenePassInputs &in, double *build_ms) {
   static BrickCache cache;
   const ParticleArrays &p = *in.particles;
   const void *pos = p.position_array(0).data();
   const void *rad = p.radius_array().data();
+  const uint64_t fingerprint = sample_fingerprint(p);
   if (cache.count == p.count() && cache.step == in.step && cache.positions == pos &&
-      cache.radii == rad)
+      cache.radii == rad && cache.fingerprint == fingerprint)
     return cache.set;
   const auto t0 = Clock::now();
   cache.set = BrickSet();  // free the old permutation before building: keeps the peak low
@@ -62,6 +85,7 @@ const BrickSet &bricks_for_step(const ScenePassInputs &in, double *build_ms) {
   cache.count = p.count();
   cache.positions = pos;
   cache.radii = rad;
+  cache.fingerprint = fingerprint;
   *build_ms += ms_since(t0);
   return cache.set;
 }
