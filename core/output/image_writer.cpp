@@ -101,14 +101,17 @@ Prepared prepare(const Frame &frame, const OutputConfig &out, const DepthToDista
     }
     case ImageFormat::kTiff: {
       Prepared p = prepare_8bit(frame, 4);
-      p.spec.attribute("compression", "zip");
+      p.spec.attribute("compression", "zip:" + std::to_string(out.compression_level));
       return p;
     }
     case ImageFormat::kExr:
       return prepare_exr(frame, out.exr_half, to_distance);
     case ImageFormat::kPng:
-    default:
-      return prepare_8bit(frame, 4);
+    default: {
+      Prepared p = prepare_8bit(frame, 4);
+      p.spec.attribute("png:compressionLevel", out.compression_level);
+      return p;
+    }
   }
 }
 

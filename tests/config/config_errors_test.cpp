@@ -137,6 +137,8 @@ TEST(ConfigErrors, Colour) {
 TEST(ConfigErrors, Output) {
   expect_error("scenes:\n  - output: {jpeg_quality: 101}\n",
                {"scenes[0].output.jpeg_quality", "line 2", "1..100"});
+  expect_error("scenes:\n  - output: {compression_level: 10}\n",
+               {"scenes[0].output.compression_level", "line 2", "0..9"});
   expect_error("scenes:\n  - output: {pattern: 'f_{stp}.png'}\n",
                {"scenes[0].output.pattern", "line 2", "{stp}", "{step:0Nd}"});
   expect_error("scenes:\n  - output: {pattern: 'frame_{step}'}\n",
