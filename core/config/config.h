@@ -56,7 +56,7 @@ struct OutputConfig {
   ImageFormat format = ImageFormat::kPng;  // format: png|jpeg|tiff|exr (default: from pattern)
   int jpeg_quality = 95;                   // jpeg_quality: 1..100
   // compression_level: zlib level 0..9 of PNG and TIFF. 1 (fastest) by default: in situ, the
-  // encoder's time is the simulation's; level 6 makes files ~10% smaller at ~3x the time.
+  // encoder's time is the simulation's; level 6 makes files ~10% smaller at 2-2.6x the time.
   int compression_level = 1;
   bool exr_half = true;  // exr_color: half | float  (pixel type of the EXR R,G,B,A channels;
                          // the Z channel is always float)
