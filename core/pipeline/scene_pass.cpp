@@ -95,10 +95,18 @@ Culler &scene_culler() {
   return culler;
 }
 
-int64_t sum_over_ranks(MPI_Comm comm, int64_t local) {
-  int64_t total = 0;
-  MPI_Allreduce(&local, &total, 1, MPI_INT64_T, MPI_SUM, comm);
-  return total;
+// The particle counts of the stats, summed over ranks in one reduction.
+void sum_counts_over_ranks(MPI_Comm comm, const CullStats &local, SceneStats *stats) {
+  int64_t in[6] = {local.drawn,      local.splatted,    local.frustum_culled,
+                   local.cut_culled, local.lod_dropped, local.occlusion_culled};
+  int64_t out[6] = {0, 0, 0, 0, 0, 0};
+  MPI_Allreduce(in, out, 6, MPI_INT64_T, MPI_SUM, comm);
+  stats->drawn = out[0];
+  stats->splatted = out[1];
+  stats->frustum_culled = out[2];
+  stats->cut_culled = out[3];
+  stats->lod_dropped = out[4];
+  stats->occlusion_culled = out[5];
 }
 
 }  // namespace
@@ -123,18 +131,16 @@ Status run_scene_pass(const ScenePassInputs &in, const SceneConfig &scene, Scene
   stats->camera_ms = ms_since(t0);
 
   Status local = check_scene_needs(scene, *in.particles);
-  int64_t local_drawn = 0, local_splatted = 0;
+  CullStats cull;
   if (local.ok()) {
     // Bricks, culling and level of detail: what to draw.
     t0 = Clock::now();
     double build_ms = 0.0;
     const BrickSet &bricks = bricks_for_step(in, &build_ms);
     static DrawList draw;  // reused between frames, like the scene buffers
-    const CullStats cull = scene_culler().run(*in.particles, bricks, camera, scene, &draw);
+    cull = scene_culler().run(*in.particles, bricks, camera, scene, &draw);
     stats->cull_ms = ms_since(t0);
     stats->occlusion = cull.occlusion;
-    local_drawn = cull.drawn;
-    local_splatted = cull.splatted;
 
     t0 = Clock::now();
     const InstanceRecipe recipe = make_recipe(*in.particles, scene, camera, in.global);
@@ -162,8 +168,7 @@ Status run_scene_pass(const ScenePassInputs &in, const SceneConfig &scene, Scene
     }
   }
   if (Status s = agree_on_status(in.comm, local); !s.ok()) return s;
-  stats->drawn = sum_over_ranks(in.comm, local_drawn);
-  stats->splatted = sum_over_ranks(in.comm, local_splatted);
+  sum_counts_over_ranks(in.comm, cull, stats);
   stats->culled = in.global.finite_count - stats->drawn - stats->splatted;
 
   const CompositeStats cs = composite_frames(in.comm, buffers->frame, 0, CompositeMethod::kAuto);

@@ -14,7 +14,14 @@ nlohmann::json SceneStats::to_json() const {
             {"composite", composite_ms},
             {"write", write_ms},
             {"total", total_ms}}},
-          {"particles", {{"drawn", drawn}, {"splatted", splatted}, {"culled", culled}}},
+          {"particles",
+           {{"drawn", drawn},
+            {"splatted", splatted},
+            {"culled", culled},
+            {"frustum_culled", frustum_culled},
+            {"cut_culled", cut_culled},
+            {"lod_dropped", lod_dropped},
+            {"occlusion_culled", occlusion_culled}}},
           {"composite_method", composite_method},
           {"occlusion", occlusion}};
 }

@@ -18,8 +18,11 @@ struct SceneStats {
   int64_t drawn = 0;     // spheres sent to the renderer
   int64_t splatted = 0;  // sub-pixel spheres written by the CPU point path (lod.point_path)
   int64_t culled = 0;    // finite particles dropped by culling or level of detail
+  // ... of which: outside the frustum, beyond a cutting plane, left out by level of detail, and
+  // hidden (occlusion culling).
+  int64_t frustum_culled = 0, cut_culled = 0, lod_dropped = 0, occlusion_culled = 0;
   std::string composite_method;
-  std::string occlusion;  // occlusion mode run (and why, for auto)
+  std::string occlusion;  // occlusion mode run (and why, for auto), as rank 0 decided it
   std::string file;       // the image written
 
   nlohmann::json to_json() const;
