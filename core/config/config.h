@@ -58,6 +58,10 @@ struct OutputConfig {
   // compression_level: zlib level 0..9 of PNG and TIFF. 1 (fastest) by default: in situ, the
   // encoder's time is the simulation's; level 6 makes files ~10% smaller at 2-2.6x the time.
   int compression_level = 1;
+  // asynchronous: encode and write on a background thread (background_image_writer.h); the
+  // step returns after rendering and compositing, the file lands up to one scheduled step later
+  // (and at lantern_close). Off by default: then the file exists when lantern_execute returns.
+  bool asynchronous = false;
   bool exr_half = true;  // exr_color: half | float  (pixel type of the EXR R,G,B,A channels;
                          // the Z channel is always float)
 };

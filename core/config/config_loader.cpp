@@ -33,8 +33,8 @@ const std::vector<std::string> kCameraKeys = {"projection", "fov",      "azimuth
                                               "zoom",       "position", "look_at", "up",
                                               "near",       "far"};
 const std::vector<std::string> kColorKeys = {"by", "solid", "palette", "colormap", "range"};
-const std::vector<std::string> kOutputKeys = {"pattern", "format", "jpeg_quality",
-                                              "compression_level", "exr_color"};
+const std::vector<std::string> kOutputKeys = {"pattern",           "format",       "jpeg_quality",
+                                              "compression_level", "asynchronous", "exr_color"};
 const std::vector<std::string> kCullingKeys = {"frustum", "occlusion"};
 const std::vector<std::string> kLodKeys = {"budget", "fraction", "min_pixels", "point_path"};
 const std::vector<std::string> kCutPlaneKeys = {"normal", "offset"};
@@ -313,6 +313,9 @@ class Loader {
     });
     optional_key(node, path, "compression_level", [&](const YAML::Node &n, const std::string &p) {
       o.compression_level = static_cast<int>(r_.read_int(n, p, 0, 9));
+    });
+    optional_key(node, path, "asynchronous", [&](const YAML::Node &n, const std::string &p) {
+      o.asynchronous = r_.read_bool(n, p);
     });
     optional_key(node, path, "exr_color", [&](const YAML::Node &n, const std::string &p) {
       o.exr_half = r_.read_choice(n, p, {"half", "float"}) == "half";

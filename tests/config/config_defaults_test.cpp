@@ -44,6 +44,7 @@ TEST(ConfigDefaults, MinimalSceneGetsEveryDefault) {
   EXPECT_EQ(s.output.format, ImageFormat::kPng);
   EXPECT_EQ(s.output.jpeg_quality, 95);
   EXPECT_EQ(s.output.compression_level, 1);
+  EXPECT_FALSE(s.output.asynchronous);
   EXPECT_TRUE(s.output.exr_half);
   EXPECT_TRUE(s.culling.frustum);
   EXPECT_EQ(s.culling.occlusion, OcclusionMode::kAuto);

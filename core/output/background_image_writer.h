@@ -1,0 +1,42 @@
+// Writes images on a background thread, so that a simulation step does not wait for image
+// encoding (PNG compression of a 1-2 megapixel frame costs 100-300 ms, often more than culling
+// and drawing a million particles together).
+//
+// One image in flight at a time: submit() first waits for the previous image, so memory stays
+// bounded at one extra frame and errors surface at most one scheduled step late. What can be
+// checked at once is checked at once: a directory that cannot be created or written fails the
+// step that asked for it. The thread only encodes, writes the temporary file and renames it
+// (atomic_file.h), so a crash still never leaves a truncated image.
+//
+// Thread-safety: one owner thread calls submit()/wait(); the writer thread touches only the
+// frame it was given. The destructor waits for the image in flight.
+#pragma once
+
+#include <future>
+#include <string>
+
+#include "core/output/image_writer.h"
+
+namespace lantern {
+
+class BackgroundImageWriter {
+ public:
+  BackgroundImageWriter() = default;
+  ~BackgroundImageWriter();
+  BackgroundImageWriter(const BackgroundImageWriter &) = delete;
+  BackgroundImageWriter &operator=(const BackgroundImageWriter &) = delete;
+
+  // Checks that `path`'s directory exists (creating it) and is writable, waits for the previous
+  // image, then writes `frame` (taken over) to `path` in the background. Returns "" or the error
+  // of the check or of the previous image (which names its own path).
+  std::string submit(Frame frame, const OutputConfig &out, const std::string &path,
+                     DepthToDistance depth_to_distance);
+
+  // Waits for the image in flight. "" or its error.
+  std::string wait();
+
+ private:
+  std::future<std::string> in_flight_;
+};
+
+}  // namespace lantern

@@ -1,0 +1,71 @@
+// Images written off the caller's thread: all of them land, whole; a bad directory fails the
+// step that asked; a failure during the write surfaces at the next call.
+#include <gtest/gtest.h>
+
+#include <OpenImageIO/imageio.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "core/output/background_image_writer.h"
+#include "tests/output/scratch_dir.h"
+
+namespace lantern {
+namespace {
+
+Frame gradient(int w, int h, uint8_t seed) {
+  Frame f(w, h);
+  for (size_t i = 0; i < f.pixel_count(); ++i) {
+    for (int c = 0; c < 3; ++c) f.rgba[4 * i + c] = uint8_t(i * (c + 1) + seed);
+    f.rgba[4 * i + 3] = 255;
+    f.depth[i] = 0.5f;
+  }
+  return f;
+}
+
+std::vector<uint8_t> read_rgba(const std::string &path) {
+  auto in = OIIO::ImageInput::open(path);
+  if (!in) return {};
+  std::vector<uint8_t> px(size_t(in->spec().width) * in->spec().height * 4);
+  in->read_image(0, 0, 0, 4, OIIO::TypeDesc::UINT8, px.data());
+  return px;
+}
+
+TEST(BackgroundImageWriter, EveryImageLandsWholeAfterWait) {
+  ScratchDir dir;
+  BackgroundImageWriter writer;
+  const OutputConfig png;
+  for (int i = 0; i < 4; ++i)
+    ASSERT_EQ(writer.submit(gradient(64, 48, uint8_t(i)), png, dir.file(std::to_string(i) + ".png"),
+                            nullptr),
+              "");
+  ASSERT_EQ(writer.wait(), "");
+  for (int i = 0; i < 4; ++i)
+    EXPECT_EQ(read_rgba(dir.file(std::to_string(i) + ".png")), gradient(64, 48, uint8_t(i)).rgba);
+  EXPECT_EQ(dir.entry_count(), 4u);  // no temporary left behind
+}
+
+TEST(BackgroundImageWriter, UnwritableDirectoryFailsTheStepThatAsked) {
+  ScratchDir dir;
+  std::ofstream(dir.file("blocker")) << "a file, not a directory";
+  BackgroundImageWriter writer;
+  const std::string error =
+      writer.submit(gradient(8, 8, 0), OutputConfig{}, dir.file("blocker/a.png"), nullptr);
+  EXPECT_NE(error.find("blocker"), std::string::npos) << error;
+  EXPECT_EQ(writer.wait(), "");  // nothing was in flight
+}
+
+TEST(BackgroundImageWriter, AFailedWriteSurfacesAtTheNextCall) {
+  ScratchDir dir;
+  std::filesystem::create_directories(dir.file("taken.png"));  // rename onto a directory fails
+  BackgroundImageWriter writer;
+  ASSERT_EQ(writer.submit(gradient(8, 8, 0), OutputConfig{}, dir.file("taken.png"), nullptr), "");
+  const std::string error =
+      writer.submit(gradient(8, 8, 1), OutputConfig{}, dir.file("next.png"), nullptr);
+  EXPECT_NE(error.find("taken.png"), std::string::npos) << error;
+  EXPECT_EQ(writer.wait(), "");
+  EXPECT_TRUE(std::filesystem::is_regular_file(dir.file("next.png")));
+}
+
+}  // namespace
+}  // namespace lantern
