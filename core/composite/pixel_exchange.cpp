@@ -10,6 +10,8 @@ namespace {
 
 constexpr int kDepthTag = 0x4c43;  // "LC"
 constexpr int kColourTag = kDepthTag + 1;
+constexpr int kGatherDepthTag = kDepthTag + 2;
+constexpr int kGatherColourTag = kDepthTag + 3;
 
 size_t segments_of(size_t count, size_t segment) {
   return (count + segment - 1) / segment;
@@ -54,28 +56,38 @@ std::string exchange_and_merge(MPI_Comm comm, int send_to, PixelRange give, int 
 
 std::string gather_ranges(MPI_Comm comm, int root, const std::vector<PixelRange> &owned,
                           Frame &frame) {
+  // Point-to-point rather than two MPI_Gatherv (depth, colour): root receives every piece of both
+  // arrays under one MPI_Waitall, one synchronisation instead of two, which matters when ranks
+  // share cores. Open MPI's gatherv is linear at these sizes anyway.
   int rank = 0;
   MPI_Comm_rank(comm, &rank);
-  const size_t ranks = owned.size();
-  std::vector<int> counts(ranks), firsts(ranks);
-  for (size_t i = 0; i < ranks; ++i) {
-    counts[i] = int(owned[i].size());
-    firsts[i] = int(owned[i].lo);
+  std::vector<MPI_Request> requests;
+  const auto post = [&](bool receive, int peer, PixelRange r) {
+    if (r.size() == 0) return;
+    float *depth = frame.depth.data() + r.lo;
+    uint8_t *rgba = frame.rgba.data() + 4 * r.lo;
+    const int count = int(r.size());
+    requests.emplace_back();
+    if (receive) {
+      MPI_Irecv(depth, count, MPI_FLOAT, peer, kGatherDepthTag, comm, &requests.back());
+    } else {
+      MPI_Isend(depth, count, MPI_FLOAT, peer, kGatherDepthTag, comm, &requests.back());
+    }
+    requests.emplace_back();
+    if (receive) {
+      MPI_Irecv(rgba, 4 * count, MPI_UINT8_T, peer, kGatherColourTag, comm, &requests.back());
+    } else {
+      MPI_Isend(rgba, 4 * count, MPI_UINT8_T, peer, kGatherColourTag, comm, &requests.back());
+    }
+  };
+  if (rank == root) {
+    for (size_t i = 0; i < owned.size(); ++i)
+      if (int(i) != root) post(true, int(i), owned[i]);
+  } else {
+    post(false, root, owned[size_t(rank)]);
   }
-  const PixelRange mine = owned[size_t(rank)];
-  const bool is_root = rank == root;
-  int rc = MPI_Gatherv(is_root ? MPI_IN_PLACE : frame.depth.data() + mine.lo, int(mine.size()),
-                       MPI_FLOAT, frame.depth.data(), counts.data(), firsts.data(), MPI_FLOAT, root,
-                       comm);
-  if (rc != MPI_SUCCESS) return mpi_error(rc, "compositing: MPI_Gatherv (depth)");
-  for (size_t i = 0; i < ranks; ++i) {
-    counts[i] *= 4;
-    firsts[i] *= 4;
-  }
-  rc = MPI_Gatherv(is_root ? MPI_IN_PLACE : frame.rgba.data() + 4 * mine.lo, int(4 * mine.size()),
-                   MPI_UINT8_T, frame.rgba.data(), counts.data(), firsts.data(), MPI_UINT8_T, root,
-                   comm);
-  return mpi_error(rc, "compositing: MPI_Gatherv (colour)");
+  const int rc = MPI_Waitall(int(requests.size()), requests.data(), MPI_STATUSES_IGNORE);
+  return mpi_error(rc, "compositing: gather to root");
 }
 
 }  // namespace lantern

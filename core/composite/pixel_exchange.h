@@ -2,8 +2,8 @@
 // send): frames are merged in place, pixel ranges travel as separate depth and colour messages,
 // and the received side goes through a scratch segment of at most one chunk.
 //
-// Messages use kDepthTag/kColourTag on comm; a caller that sends its own messages on the same
-// communicator should give compositing a duplicate (MPI_Comm_dup), as the pipeline does.
+// Messages use four tags from 0x4c43 ("LC") on comm; a caller that sends its own messages on the
+// same communicator should give compositing a duplicate (MPI_Comm_dup), as the pipeline does.
 #pragma once
 
 #include <mpi.h>
