@@ -1,5 +1,6 @@
 // The C API: argument checks, and a wall that no C++ exception crosses. All real work is in
 // lantern::Runtime (core/pipeline/runtime.h).
+#include <cstdio>
 #include <memory>
 #include <new>
 #include <string>
@@ -117,6 +118,12 @@ lantern_status lantern_close(lantern_context *ctx) {
   const std::unique_ptr<lantern_context> owned(ctx);
   lantern_status status = LANTERN_OK;
   try {
+    if (ctx->runtime) {
+      const lantern::Status s = ctx->runtime->finish();
+      // The context (and its message) is gone after close: say what went wrong here.
+      if (!s.ok()) std::fprintf(stderr, "lantern: lantern_close: %s\n", s.message.c_str());
+      status = s.code;
+    }
     ctx->runtime.reset();
   } catch (...) {
     status = LANTERN_ERR_INTERNAL;

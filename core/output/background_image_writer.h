@@ -23,6 +23,7 @@ class BackgroundImageWriter {
  public:
   BackgroundImageWriter() = default;
   ~BackgroundImageWriter();
+  BackgroundImageWriter(BackgroundImageWriter &&) = default;
   BackgroundImageWriter(const BackgroundImageWriter &) = delete;
   BackgroundImageWriter &operator=(const BackgroundImageWriter &) = delete;
 

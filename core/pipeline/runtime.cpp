@@ -73,6 +73,14 @@ Status Runtime::publish(const lantern_particles &particles) {
   return {};
 }
 
+Status Runtime::finish() {
+  Status local;
+  for (size_t s = 0; s < buffers_.size(); ++s)
+    if (auto e = buffers_[s].writer.wait(); !e.empty() && local.ok())
+      local = {LANTERN_ERR_IO, "scenes '" + config_.scenes[s].name + "': " + e};
+  return broadcast_status(comm_, local, 0);
+}
+
 void Runtime::warn_nonfinite_once(int64_t count, int64_t step) {
   if (count == 0 || warned_nonfinite_) return;
   warned_nonfinite_ = true;

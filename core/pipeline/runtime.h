@@ -33,7 +33,10 @@ class Runtime {
 
   Status publish(const lantern_particles &particles);  // local
   Status execute(int64_t step, double time);           // collective on scheduled steps
-  Status set_box(const Box &box);                      // local; recorded with particle dumps
+  // Waits for images still being written in the background; collective, same status on every
+  // rank. Called by lantern_close before the Runtime is destroyed.
+  Status finish();
+  Status set_box(const Box &box);  // local; recorded with particle dumps
 
   const Config &config() const { return config_; }
   MPI_Comm communicator() const { return comm_; }

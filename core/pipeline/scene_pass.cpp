@@ -180,11 +180,14 @@ Status run_scene_pass(const ScenePassInputs &in, const SceneConfig &scene, Scene
   if (rank == 0) {
     t0 = Clock::now();
     stats->file = expand_pattern(scene.output.pattern, in.step, scene.name);
-    const auto to_distance = [&camera](float d) {
+    const auto to_distance = [camera](float d) {  // a copy: it may outlive this call
       return float(camera.window_depth_to_distance(d));
     };
-    if (auto e = write_image(buffers->frame, scene.output, stats->file, to_distance); !e.empty())
-      written = {LANTERN_ERR_IO, "scenes '" + scene.name + "': " + e};
+    const std::string e = scene.output.asynchronous
+                              ? buffers->writer.submit(std::move(buffers->frame), scene.output,
+                                                       stats->file, to_distance)
+                              : write_image(buffers->frame, scene.output, stats->file, to_distance);
+    if (!e.empty()) written = {LANTERN_ERR_IO, "scenes '" + scene.name + "': " + e};
     stats->write_ms = ms_since(t0);
   }
   stats->total_ms = ms_since(t_start);

@@ -8,6 +8,7 @@
 
 #include "core/composite/global_extent.h"
 #include "core/config/config.h"
+#include "core/output/background_image_writer.h"
 #include "core/particles/particle_arrays.h"
 #include "core/pipeline/scene_stats.h"
 #include "core/pipeline/status.h"
@@ -29,6 +30,7 @@ struct ScenePassInputs {
 struct SceneBuffers {
   std::vector<SphereInstance> instances;
   Frame frame;
+  BackgroundImageWriter writer;  // rank 0, with output.asynchronous
 };
 
 // Renders `scene` and writes its image. Every rank returns the same status.

@@ -27,15 +27,17 @@ class ApiTest : public ::testing::Test {
   }
 
   // One scene of w x h writing <dir>/<name>_{step:04d}.png, plus extra YAML lines for the scene.
+  // `output_extra` goes inside the output mapping, e.g. ", asynchronous: true".
   std::string scene_config(const std::string &name, int w = 96, int h = 64,
-                           const std::string &extra = "") const {
+                           const std::string &extra = "",
+                           const std::string &output_extra = "") const {
     return "stats: '" + (dir_ / "stats.jsonl").string() +
            "'\n"
            "scenes:\n"
            "  - name: " +
            name + "\n    width: " + std::to_string(w) + "\n    height: " + std::to_string(h) +
-           "\n    output: {pattern: '" + (dir_ / (name + "_{step:04d}.png")).string() + "'}\n" +
-           extra;
+           "\n    output: {pattern: '" + (dir_ / (name + "_{step:04d}.png")).string() + "'" +
+           output_extra + "}\n" + extra;
   }
   std::string png(const std::string &name, int step) const {
     char buf[16];

@@ -53,6 +53,24 @@ TEST_F(ImageOutcome, SceneFarFromTheOriginMatchesTheSameSceneAtTheOrigin) {
   }
 }
 
+TEST_F(ImageOutcome, AsynchronousWritingGivesTheSameFiles) {
+  std::vector<double> x = lattice(8);
+  const lantern_particles p = interleaved(x);
+  ASSERT_EQ(open(scene_config("sync", 120, 90)), LANTERN_OK) << message();
+  ASSERT_EQ(lantern_publish(ctx_, &p), LANTERN_OK);
+  ASSERT_EQ(lantern_execute(ctx_, 0, 0.0), LANTERN_OK) << message();
+  ASSERT_EQ(open(scene_config("async", 120, 90, "", ", asynchronous: true")), LANTERN_OK)
+      << message();
+  ASSERT_EQ(lantern_publish(ctx_, &p), LANTERN_OK);
+  for (int step = 0; step < 3; ++step)
+    ASSERT_EQ(lantern_execute(ctx_, step, 0.0), LANTERN_OK) << message();
+  ASSERT_EQ(lantern_close(ctx_), LANTERN_OK);  // waits for the image in flight
+  ctx_ = nullptr;
+  const auto reference = read_bytes(png("sync", 0));
+  ASSERT_GT(reference.size(), 100u);
+  for (int step = 0; step < 3; ++step) EXPECT_EQ(read_bytes(png("async", step)), reference);
+}
+
 TEST_F(ImageOutcome, ZeroParticlesRenderTheBackground) {
   ASSERT_EQ(open(scene_config("empty", 40, 30, "    background: [0.0, 0.5, 1.0]\n")), LANTERN_OK)
       << message();

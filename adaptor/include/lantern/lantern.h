@@ -150,7 +150,9 @@ LANTERN_API lantern_status lantern_execute(lantern_context *ctx, int64_t step, d
  * call on it. NULL context gives a static message. */
 LANTERN_API const char *lantern_error_message(const lantern_context *ctx);
 
-/* Flushes outputs and frees the context. Safe on NULL. Collective. */
+/* Flushes outputs (waits for images written in the background, see output.asynchronous) and
+ * frees the context. Returns LANTERN_ERR_IO if such an image could not be written. Safe on NULL.
+ * Collective. */
 LANTERN_API lantern_status lantern_close(lantern_context *ctx);
 
 #ifdef __cplusplus
