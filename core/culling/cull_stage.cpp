@@ -215,12 +215,9 @@ void Culler::gather(const Positions &pos, const Radii &radius, const Frustum &fr
       ++st->frustum_culled;
       continue;
     }
-    if (point_path && -c.z - r > g_.near_plane && r * g_.pixels_per_unit(-c.z) < kSplatPixels) {
-      out->points.push_back(draw_entry(i, scale));
-      continue;
-    }
     if (!keep_candidates) {
-      out->spheres.push_back(draw_entry(i, scale));
+      (point_path && splat_sized(c, r) ? out->points : out->spheres)
+          .push_back(draw_entry(i, scale));
       continue;
     }
     buffer_.push_back({c, r, i, scale});
@@ -241,6 +238,16 @@ void Culler::order_front_to_back() {
   for (const Candidate &c : buffer_) ++bucket_counts_[bucket(c) + 1];
   for (size_t k = 1; k < bucket_counts_.size(); ++k) bucket_counts_[k] += bucket_counts_[k - 1];
   for (const Candidate &c : buffer_) sorted_[bucket_counts_[bucket(c)]++] = c;
+}
+
+bool Culler::splat_sized(const glm::dvec3 &c, double r) const {
+  return -c.z - r > g_.near_plane && r * g_.pixels_per_unit(-c.z) < kSplatPixels;
+}
+
+// A survivor of occlusion culling: an impostor, or a CPU splat when it is that small.
+void Culler::accept(const Candidate &c, bool point_path, DrawList *out) const {
+  (point_path && splat_sized(c.c, c.r) ? out->points : out->spheres)
+      .push_back(draw_entry(c.index, c.scale));
 }
 
 bool Culler::occluded(OcclusionMode mode, const Candidate &cand) {
@@ -276,7 +283,7 @@ void Culler::process(const Positions &pos, const Radii &radius, const Frustum &f
       if (occluded(mode, c))
         ++st->occlusion_culled;
       else
-        out->spheres.push_back(draw_entry(c.index, c.scale));
+        accept(c, scene.lod.point_path, out);
     }
   }
 }
@@ -302,7 +309,7 @@ void Culler::process_sorted(const Positions &pos, const Radii &radius, const Fru
     if (occluded(OcclusionMode::kNineSpheresSorted, c))
       ++st->occlusion_culled;
     else
-      out->spheres.push_back(draw_entry(c.index, c.scale));
+      accept(c, scene.lod.point_path, out);
   }
 }
 

@@ -72,6 +72,8 @@ class Culler {
               const VisibleBrick &v, bool keep_candidates, CullStats *stats, DrawList *out);
   void order_front_to_back();  // buffer_ -> sorted_
   bool occluded(OcclusionMode mode, const Candidate &c);
+  bool splat_sized(const glm::dvec3 &c, double r) const;
+  void accept(const Candidate &c, bool point_path, DrawList *out) const;
 
   ViewGeometry g_;
   std::vector<VisibleBrick> visible_;

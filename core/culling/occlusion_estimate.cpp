@@ -7,10 +7,9 @@
 namespace lantern {
 namespace {
 
-constexpr int kGrid = 64;                  // coarse cells per image side
-constexpr int64_t kFewParticles = 20000;   // below this the GPU is cheaper than any culling pass
-constexpr double kMinSpherePixels = 0.75;  // smaller spheres rarely cover a pixel centre
-constexpr double kHiddenWorthIt = 0.5;     // hzb pays when at least half is expected hidden
+constexpr int kGrid = 64;                 // coarse cells per image side
+constexpr int64_t kFewParticles = 20000;  // below this the GPU is cheaper than any culling pass
+constexpr double kHiddenWorthIt = 0.5;    // hzb pays when at least half is expected hidden
 
 std::string percent(double f) {
   char buf[32];
@@ -62,13 +61,13 @@ OcclusionChoice choose_occlusion(const std::vector<VisibleBrick> &visible, const
   std::snprintf(px, sizeof px, "%.2f", c.sphere_pixels);
   if (candidates < kFewParticles) {
     c.reason = "few particles in view (" + std::to_string(candidates) + ")";
-  } else if (c.sphere_pixels < kMinSpherePixels) {
-    c.reason = std::string("sub-pixel spheres (r ~ ") + px + " px)";
   } else if (c.hidden_estimate < kHiddenWorthIt) {
-    c.reason = "sparse: est. " + percent(c.hidden_estimate) + " hidden";
+    c.reason = "sparse: est. " + percent(c.hidden_estimate) + " hidden, r ~ " + px + " px";
   } else {
+    // Sub-pixel spheres still hide each other once enough of them cover each pixel centre
+    // (the estimate already counts coverage by area), so size alone does not rule hzb out.
     c.mode = OcclusionMode::kHzb;
-    c.reason = "dense: est. " + percent(c.hidden_estimate) + " hidden";
+    c.reason = "dense: est. " + percent(c.hidden_estimate) + " hidden, r ~ " + px + " px";
   }
   return c;
 }

@@ -9,10 +9,30 @@
 namespace lantern {
 namespace {
 
-// The impostor shader at the sphere's centre: lambert = 1, so rgb + 0.3, clamped.
-uint8_t shade_centre(uint8_t c) {
-  const double v = std::min(c / 255.0 + 0.3, 1.0);
-  return uint8_t(std::lround(v * 255.0));
+// The impostor shader's colour for a hit whose normal makes `lambert` with the view ray: Lambert
+// diffuse plus a Blinn-Phong highlight, clamped, then stored as unorm8.
+uint8_t shade(uint8_t c, double lambert) {
+  const double v = c / 255.0 * (0.2 + 0.8 * lambert) + 0.3 * std::pow(lambert, 40.0);
+  return uint8_t(std::lround(std::min(v, 1.0) * 255.0));
+}
+
+// Casts the shader's ray through the centre of pixel (x, y) at the sphere (view-space centre c,
+// radius r). On a hit returns true with the view-space hit point and the unit ray direction.
+bool cast(const ViewGeometry &g, int x, int y, const glm::dvec3 &c, double r, glm::dvec3 *hit,
+          glm::dvec3 *dir) {
+  glm::dvec3 origin(0.0), d(0.0, 0.0, -1.0);
+  if (g.orthographic)
+    origin = {g.ray_x(x), g.ray_y(y), 0.0};
+  else
+    d = glm::normalize(glm::dvec3(g.ray_x(x), g.ray_y(y), -1.0));
+  const glm::dvec3 oc = c - origin;
+  const double b = glm::dot(oc, d);
+  const glm::dvec3 q = oc - b * d;
+  const double h2 = r * r - glm::dot(q, q);
+  if (h2 < 0.0) return false;
+  *hit = origin + (b - std::sqrt(h2)) * d;
+  *dir = d;
+  return true;
 }
 
 }  // namespace
@@ -32,17 +52,27 @@ void splat_points(const ParticleArrays &particles, bool per_particle, double rad
         } else {
           xn = g.sx * c.x / d, yn = g.sy * c.y / d;
         }
-        const double fx = std::floor((xn + 1.0) * 0.5 * g.width);
-        const double fy = std::floor((1.0 - yn) * 0.5 * g.height);
-        if (!(fx >= 0 && fy >= 0 && fx < g.width && fy < g.height)) continue;
-        const float wd = float(g.window_depth(std::max(d - r, g.near_plane)));
-        if (!(wd >= 0.0f && wd < 1.0f)) continue;
-        const size_t px = frame->index(int(fx), int(fy));
-        if (!(wd < frame->depth[px])) continue;
-        frame->depth[px] = wd;
-        const Rgb8 rgb = colour(int64_t(i));
-        for (int k = 0; k < 3; ++k) frame->rgba[4 * px + k] = shade_centre(rgb[k]);
-        frame->rgba[4 * px + 3] = 255;
+        // A silhouette under a pixel across holds at most one pixel centre, one of the four
+        // around the projected centre: ray-cast those, as the shader would.
+        const double px = (xn + 1.0) * 0.5 * g.width - 0.5, py = (1.0 - yn) * 0.5 * g.height - 0.5;
+        if (!(px > -2.0 && py > -2.0 && px < g.width + 1.0 && py < g.height + 1.0)) continue;
+        const int x0 = int(std::floor(px)), y0 = int(std::floor(py));
+        for (int k = 0; k < 4; ++k) {
+          const int x = x0 + (k & 1), y = y0 + (k >> 1);
+          if (x < 0 || y < 0 || x >= g.width || y >= g.height) continue;
+          glm::dvec3 hit, dir;
+          if (!cast(g, x, y, c, r, &hit, &dir)) continue;
+          const double depth = -hit.z;
+          if (depth < g.near_plane || depth > g.far_plane) continue;
+          const auto wd = float(g.window_depth(depth));
+          const size_t p = frame->index(x, y);
+          if (!(wd < frame->depth[p])) continue;
+          frame->depth[p] = wd;
+          const double lambert = std::max(glm::dot((hit - c) / r, -dir), 0.0);
+          const Rgb8 rgb = colour(int64_t(i));
+          for (int ch = 0; ch < 3; ++ch) frame->rgba[4 * p + ch] = shade(rgb[ch], lambert);
+          frame->rgba[4 * p + 3] = 255;
+        }
       }
     });
   });

@@ -1,8 +1,10 @@
-// The CPU point path (approximate, opt-in with lod.point_path): a sphere far below a pixel is
-// written straight into the rendered Frame as one pixel - the pixel its centre projects into,
-// coloured as the impostor shades its centre, at the window depth of its nearest point - and
-// merged with what OpenGL drew by nearest depth. About a hundred times cheaper than an impostor
-// on llvmpipe. Thread-safety: none (writes the frame).
+// The CPU point path (opt-in with lod.point_path): a sphere whose silhouette is under a pixel
+// across skips OpenGL. Its silhouette can hold at most one pixel centre, so the CPU casts the
+// impostor shader's own ray through the (at most four) candidate centres, in double, and writes
+// that pixel's colour (same shading formula) and window depth into the rendered Frame where it is
+// nearer than what OpenGL drew. Nearly exact - the shader works in float, so a silhouette edge
+// or a colour can differ by one unit - and far cheaper than an impostor on llvmpipe.
+// Thread-safety: none (writes the frame).
 #pragma once
 
 #include <cstdint>
