@@ -26,6 +26,7 @@
 #include "core/bricks/brick_set.h"
 #include "core/camera/camera.h"
 #include "core/culling/cull_stage.h"
+#include "core/culling/cut_planes.h"
 #include "core/culling/point_splats.h"
 #include "core/pipeline/particle_scan.h"
 #include "core/pipeline/sphere_instances.h"
@@ -160,7 +161,7 @@ class Bench {
     const auto t0 = Clock::now();
     const double cpu0 = thread_cpu_ms();
     if (mode.brute) {
-      build_all_instances(recipe, &instances_);
+      brute_force_instances(p, sc, recipe);
       r->drawn = int64_t(instances_.size());
     } else {
       r->stats = culler_.run(p, bricks, cam, sc, &draw_);
@@ -189,6 +190,22 @@ class Bench {
     r->render.push_back(ms_since(t1));
     r->cull.push_back(cull_ms);
     r->total.push_back(ms_since(t0));
+  }
+
+  // Every finite particle, in published order; cutting planes are part of the scene, so brute
+  // force applies them too (per particle, no bricks).
+  void brute_force_instances(const ParticleArrays &p, const SceneConfig &sc,
+                             const InstanceRecipe &recipe) {
+    if (sc.cuts.empty()) {
+      build_all_instances(recipe, &instances_);
+      return;
+    }
+    const CutPlanes cuts(sc.cuts);
+    instances_.clear();
+    for (int64_t i = 0; i < p.count(); ++i) {
+      const glm::dvec3 x = p.position(i);
+      if (finite_position(x) && !cuts.drops(x)) instances_.push_back(recipe.make(i));
+    }
   }
 
   void print_and_record(const BenchScene &bs, const std::vector<Mode> &all,
