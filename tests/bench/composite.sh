@@ -14,7 +14,7 @@ bin=${1:-}
 if [[ -n $bin && -x $bin ]]; then
   shift
 else
-  bin=$(find "$repo" -path '*/tests/composite/bench/lantern-bench-composite' -type f -executable \
+  bin=$(find "$repo" -name lantern-bench-composite -type f -executable \
         2>/dev/null | head -n 1)
 fi
 if [[ -z $bin ]]; then
