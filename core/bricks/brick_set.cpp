@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <thread>
 
 #include <glm/common.hpp>
 
@@ -38,32 +39,52 @@ uint32_t word_prefix(uint64_t w) {
   return uint32_t(w >> 32);
 }
 
-template <typename Positions>
-void find_bounds(const Positions &pos, int64_t n, BrickSet *set) {
-  glm::dvec3 lo(std::numeric_limits<double>::infinity()), hi(-lo);
+// Bounds and non-finite count of the centres in [begin, end).
+struct RangeBounds {
+  glm::dvec3 lo{std::numeric_limits<double>::infinity()};
+  glm::dvec3 hi{-std::numeric_limits<double>::infinity()};
   int64_t nonfinite = 0;
-  for (int64_t i = 0; i < n; ++i) {
-    const glm::dvec3 p = pos.get(i);
-    if (!finite(p)) {
-      ++nonfinite;
-      continue;
-    }
-    lo = glm::min(lo, p);
-    hi = glm::max(hi, p);
-  }
-  set->lo = lo;
-  set->hi = hi;
-  set->nonfinite = nonfinite;
-}
+};
 
 template <typename Positions>
-void fill_words(const Positions &pos, int64_t n, const MortonQuantiser &q,
-                std::vector<uint64_t> *words) {
-  uint64_t *out = words->data();
-  for (int64_t i = 0; i < n; ++i) {
+RangeBounds find_bounds(const Positions &pos, int64_t begin, int64_t end) {
+  RangeBounds r;
+  for (int64_t i = begin; i < end; ++i) {
+    const glm::dvec3 p = pos.get(i);
+    if (!finite(p)) {
+      ++r.nonfinite;
+      continue;
+    }
+    r.lo = glm::min(r.lo, p);
+    r.hi = glm::max(r.hi, p);
+  }
+  return r;
+}
+
+// Key words of the finite particles of [begin, end), written from `out` on.
+template <typename Positions>
+void fill_words(const Positions &pos, int64_t begin, int64_t end, const MortonQuantiser &q,
+                uint64_t *out) {
+  for (int64_t i = begin; i < end; ++i) {
     const glm::dvec3 p = pos.get(i);
     if (finite(p)) *out++ = make_word(q.key(p), uint32_t(i));
   }
+}
+
+// Runs f(part, begin, end) over [0, n) cut in two halves, the second on a helper thread, when n
+// is large enough to pay for a thread. Both halves write disjoint data; results are the same as
+// with one thread.
+constexpr int64_t kTwoThreadsFrom = 200000;  // particles
+template <typename F>
+void in_two(int64_t n, F &&f, bool worth_a_thread) {
+  if (!worth_a_thread || n < 2) {
+    f(0, int64_t(0), n);
+    return;
+  }
+  const int64_t mid = n / 2;
+  std::thread helper([&f, mid, n] { f(1, mid, n); });
+  f(0, int64_t(0), mid);
+  helper.join();
 }
 
 // Words with the same upper half are in index order; order them by the full key instead.
@@ -112,8 +133,10 @@ void split_cells(const std::vector<uint64_t> &words, uint32_t a, uint32_t b, int
 }
 
 template <typename Positions, typename Radii>
-void brick_bounds(const Positions &pos, const Radii &radius, bool has_radius, BrickSet *set) {
-  for (Brick &b : set->bricks) {
+void brick_bounds(const Positions &pos, const Radii &radius, bool has_radius, int64_t first,
+                  int64_t last, BrickSet *set) {
+  for (int64_t k = first; k < last; ++k) {
+    Brick &b = set->bricks[size_t(k)];
     glm::dvec3 lo(std::numeric_limits<double>::infinity()), hi(-lo);
     double r = 0.0;
     const uint32_t *idx = set->order.data() + b.first;
@@ -141,10 +164,23 @@ BrickSet build_bricks(const ParticleArrays &particles, const BrickOptions &optio
   std::vector<uint64_t> words;
   MortonQuantiser q;
   visit_positions(particles, [&](const auto &pos) {
-    find_bounds(pos, n, &set);
+    RangeBounds half[2];
+    const bool two = n >= kTwoThreadsFrom;
+    in_two(
+        n, [&](int part, int64_t b, int64_t e) { half[part] = find_bounds(pos, b, e); }, two);
+    set.lo = glm::min(half[0].lo, half[1].lo);
+    set.hi = glm::max(half[0].hi, half[1].hi);
+    set.nonfinite = half[0].nonfinite + half[1].nonfinite;
     words.resize(size_t(n - set.nonfinite));
     q = MortonQuantiser::for_bounds(set.lo, set.hi);
-    fill_words(pos, n, q, &words);
+    // The second half's words start after the first half's finite particles.
+    const int64_t first_half_finite = (two ? n / 2 : n) - half[0].nonfinite;
+    in_two(
+        n,
+        [&](int part, int64_t b, int64_t e) {
+          fill_words(pos, b, e, q, words.data() + (part == 0 ? 0 : first_half_finite));
+        },
+        two);
   });
   t.keys_ms = ms_since(t0);
 
@@ -165,17 +201,32 @@ BrickSet build_bricks(const ParticleArrays &particles, const BrickOptions &optio
   t.split_ms = ms_since(t0);
 
   t0 = Clock::now();
+  const auto bricks = int64_t(set.bricks.size());
+  const bool two = int64_t(set.order.size()) >= kTwoThreadsFrom;
   if (options.level_layout) {
-    std::vector<uint32_t> scratch;
-    for (const Brick &b : set.bricks)
-      apply_level_layout(set.order.data() + b.first, b.count, &scratch);
+    in_two(
+        bricks,
+        [&](int, int64_t first, int64_t last) {
+          std::vector<uint32_t> scratch;
+          for (int64_t k = first; k < last; ++k) {
+            const Brick &br = set.bricks[size_t(k)];
+            apply_level_layout(set.order.data() + br.first, br.count, &scratch);
+          }
+        },
+        two);
   }
   t.layout_ms = ms_since(t0);
 
   t0 = Clock::now();
   visit_positions(particles, [&](const auto &pos) {
-    visit_radii(particles, true, 0.0,
-                [&](const auto &radius) { brick_bounds(pos, radius, set.has_radius, &set); });
+    visit_radii(particles, true, 0.0, [&](const auto &radius) {
+      in_two(
+          bricks,
+          [&](int, int64_t first, int64_t last) {
+            brick_bounds(pos, radius, set.has_radius, first, last, &set);
+          },
+          two);
+    });
   });
   t.bounds_ms = ms_since(t0);
   if (timings) *timings = t;

@@ -78,19 +78,21 @@ TEST(RadixSort, MatchesStdSortOnFullAndPartialBitRanges) {
 }
 
 TEST(Bricks, OrderIsMortonOrderOfEveryFiniteParticle) {
-  std::vector<double> xyz = random_points(50000, 3);
+  // 300 k: large enough for the two-thread key pass; non-finite particles in both halves.
+  constexpr uint32_t kN = 300000;
+  std::vector<double> xyz = random_points(kN, 3);
   xyz[3 * 17 + 1] = std::nan("");  // left out
-  xyz[3 * 99] = INFINITY;
+  xyz[3 * 250001] = INFINITY;
   const ParticleArrays p = borrow(xyz);
   BrickOptions opt;
   opt.level_layout = false;  // plain z-order, to compare with std::sort
   const BrickSet set = build_bricks(p, opt);
   EXPECT_EQ(set.nonfinite, 2);
-  ASSERT_EQ(set.particle_count(), 50000 - 2);
+  ASSERT_EQ(set.particle_count(), kN - 2);
   const MortonQuantiser q = MortonQuantiser::for_bounds(set.lo, set.hi);
   std::vector<std::pair<uint64_t, uint32_t>> expect;
-  for (uint32_t i = 0; i < 50000; ++i)
-    if (i != 17 && i != 99) expect.emplace_back(q.key(p.position(i)), i);
+  for (uint32_t i = 0; i < kN; ++i)
+    if (i != 17 && i != 250001) expect.emplace_back(q.key(p.position(i)), i);
   std::sort(expect.begin(), expect.end());
   for (size_t k = 0; k < expect.size(); ++k) ASSERT_EQ(set.order[k], expect[k].second) << k;
 }
