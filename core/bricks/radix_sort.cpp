@@ -3,12 +3,38 @@
 #include <algorithm>
 #include <array>
 #include <cstddef>
+#include <thread>
 
 namespace lantern {
 namespace {
 
 constexpr int kDigitBits = 11;
 constexpr size_t kBuckets = size_t(1) << kDigitBits;
+constexpr size_t kTwoThreadsFrom = 200000;  // words; below, a helper thread does not pay
+using Counts = std::array<uint32_t, kBuckets>;
+
+// One stable counting pass on the digit (w >> shift) & mask. `offsets` holds the exclusive
+// prefix sums of the digit's counts over all of src. With two threads, the first half's counts
+// give the second half its own start offsets, so both halves scatter at once, still stably.
+void scatter(const uint64_t *src, uint64_t *dst, size_t n, int shift, uint64_t mask,
+             const Counts &offsets) {
+  const auto run = [=](size_t begin, size_t end, Counts at) {
+    for (size_t i = begin; i < end; ++i) {
+      const uint64_t w = src[i];
+      dst[at[(w >> shift) & mask]++] = w;
+    }
+  };
+  if (n < kTwoThreadsFrom) {
+    run(0, n, offsets);
+    return;
+  }
+  const size_t mid = n / 2;
+  Counts second = offsets;
+  for (size_t i = 0; i < mid; ++i) ++second[(src[i] >> shift) & mask];
+  std::thread helper(run, mid, n, second);
+  run(0, mid, offsets);
+  helper.join();
+}
 
 }  // namespace
 
@@ -49,12 +75,7 @@ void radix_sort_words(std::vector<uint64_t> *words, std::vector<uint64_t> *scrat
       c[b] = sum;
       sum += k;
     }
-    const uint64_t *src = words->data();
-    uint64_t *dst = scratch->data();
-    for (size_t i = 0; i < n; ++i) {
-      const uint64_t w = src[i];
-      dst[c[(w >> shift) & mask]++] = w;
-    }
+    scatter(words->data(), scratch->data(), n, shift, mask, c);
     words->swap(*scratch);
   }
 }
