@@ -182,6 +182,7 @@ CullStats Culler::run(const ParticleArrays &particles, const BrickSet &bricks, c
     // Published order, as brute force draws (see draw_list.h).
     radix_sort_words(&out->spheres, &scratch_, 32, 64);
     radix_sort_words(&out->points, &scratch_, 32, 64);
+    std::vector<uint64_t>().swap(scratch_);  // per-frame scratch: keep nothing between frames
     st.drawn = int64_t(out->spheres.size());
     st.splatted = int64_t(out->points.size());
   }

@@ -137,7 +137,7 @@ Status run_scene_pass(const ScenePassInputs &in, const SceneConfig &scene, Scene
     t0 = Clock::now();
     double build_ms = 0.0;
     const BrickSet &bricks = bricks_for_step(in, &build_ms);
-    static DrawList draw;  // reused between frames, like the scene buffers
+    static DrawList draw;  // its lists are released once drawn (see below)
     cull = scene_culler().run(*in.particles, bricks, camera, scene, &draw);
     stats->cull_ms = ms_since(t0);
     stats->occlusion = cull.occlusion;
@@ -148,6 +148,7 @@ Status run_scene_pass(const ScenePassInputs &in, const SceneConfig &scene, Scene
       build_all_instances(recipe, &buffers->instances);
     else
       build_selected_instances(recipe, draw.spheres, &buffers->instances);
+    std::vector<uint64_t>().swap(draw.spheres);  // only the instances outlive this point
     stats->instances_ms = ms_since(t0);
     const Rgb8 bg = to_rgb8(scene.background);
     const uint8_t background[4] = {bg[0], bg[1], bg[2], 255};
@@ -164,6 +165,7 @@ Status run_scene_pass(const ScenePassInputs &in, const SceneConfig &scene, Scene
           *in.particles, recipe.per_particle_radius, recipe.radius, draw.points,
           scene_culler().geometry(), [&recipe](int64_t i) { return recipe.colour(i); },
           &buffers->frame);
+      std::vector<uint64_t>().swap(draw.points);
       stats->draw_ms += ms_since(t0);
     }
   }
