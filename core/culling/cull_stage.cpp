@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <thread>
 
 #include "core/bricks/radix_sort.h"
 #include "core/bricks/typed_access.h"
@@ -19,7 +20,9 @@ using Clock = std::chrono::steady_clock;
 // Spheres whose projected radius is below this many pixels take the CPU point path (when on):
 // they cover at most one pixel centre or two.
 constexpr double kSplatPixels = 0.5;
-constexpr int kDepthBuckets = 64;  // front-to-back order inside a brick: a bucket sort suffices
+constexpr int kDepthBuckets = 64;
+constexpr int kTwoStripsFrom = 256;  // image width from which hzb runs on two threads  //
+                                     // front-to-back order inside a brick: a bucket sort suffices
 
 glm::dvec3 box_corner(const glm::dvec3 &lo, const glm::dvec3 &hi, int k) {
   return {k & 1 ? hi.x : lo.x, k & 2 ? hi.y : lo.y, k & 4 ? hi.z : lo.z};
@@ -159,7 +162,7 @@ CullStats Culler::run(const ParticleArrays &particles, const BrickSet &bricks, c
     if (mode != OcclusionMode::kNone)
       std::stable_sort(visible_.begin(), visible_.end(), front_to_back);
   }
-  if (mode == OcclusionMode::kHzb) hzb_.reset(g_);
+  if (mode == OcclusionMode::kHzb) ws_[0].hzb.reset(g_);
   if (mode == OcclusionMode::kNineSpheres || mode == OcclusionMode::kNineSpheresSorted)
     nine_.reset(g_.width, g_.height);
 
@@ -175,6 +178,8 @@ CullStats Culler::run(const ParticleArrays &particles, const BrickSet &bricks, c
       visit_radii(particles, per_particle, scene.radius, [&](const auto &radius) {
         if (mode == OcclusionMode::kNineSpheresSorted)
           process_sorted(pos, radius, frustum, cuts, scene, bricks, &st, out);
+        else if (mode == OcclusionMode::kHzb && g_.width >= kTwoStripsFrom)
+          process_hzb_strips(pos, radius, frustum, cuts, scene, bricks, &st, out);
         else
           process(pos, radius, frustum, cuts, scene, bricks, mode, &st, out);
       });
@@ -193,7 +198,8 @@ CullStats Culler::run(const ParticleArrays &particles, const BrickSet &bricks, c
 template <typename Positions, typename Radii>
 void Culler::gather(const Positions &pos, const Radii &radius, const Frustum &frustum,
                     const CutPlanes &cuts, const SceneConfig &scene, const BrickSet &bricks,
-                    const VisibleBrick &v, bool keep_candidates, CullStats *st, DrawList *out) {
+                    const VisibleBrick &v, bool keep_candidates, Workspace *w, CullStats *st,
+                    DrawList *out) const {
   const Brick &b = bricks.bricks[v.brick];
   const uint32_t *idx = bricks.order.data() + b.first;
   const bool straddle = v.containment == Containment::kStraddling;
@@ -221,24 +227,27 @@ void Culler::gather(const Positions &pos, const Radii &radius, const Frustum &fr
           .push_back(draw_entry(i, scale));
       continue;
     }
-    buffer_.push_back({c, r, i, scale});
+    w->buffer.push_back({c, r, i, scale});
   }
 }
 
-void Culler::order_front_to_back() {
-  sorted_.resize(buffer_.size());
-  if (buffer_.size() < 2) {
-    sorted_ = buffer_;
+void Culler::order_front_to_back(Workspace *w) {
+  const std::vector<Candidate> &in = w->buffer;
+  std::vector<Candidate> &out = w->sorted;
+  out.resize(in.size());
+  if (in.size() < 2) {
+    out = in;
     return;
   }
   double lo = std::numeric_limits<double>::infinity(), hi = -lo;
-  for (const Candidate &c : buffer_) lo = std::min(lo, -c.c.z), hi = std::max(hi, -c.c.z);
+  for (const Candidate &c : in) lo = std::min(lo, -c.c.z), hi = std::max(hi, -c.c.z);
   const double scale = hi > lo ? (kDepthBuckets - 1) / (hi - lo) : 0.0;
-  bucket_counts_.assign(kDepthBuckets + 1, 0);
+  std::vector<uint32_t> &counts = w->bucket_counts;
+  counts.assign(kDepthBuckets + 1, 0);
   const auto bucket = [&](const Candidate &c) { return size_t((-c.c.z - lo) * scale); };
-  for (const Candidate &c : buffer_) ++bucket_counts_[bucket(c) + 1];
-  for (size_t k = 1; k < bucket_counts_.size(); ++k) bucket_counts_[k] += bucket_counts_[k - 1];
-  for (const Candidate &c : buffer_) sorted_[bucket_counts_[bucket(c)]++] = c;
+  for (const Candidate &c : in) ++counts[bucket(c) + 1];
+  for (size_t k = 1; k < counts.size(); ++k) counts[k] += counts[k - 1];
+  for (const Candidate &c : in) out[counts[bucket(c)]++] = c;
 }
 
 bool Culler::splat_sized(const glm::dvec3 &c, double r) const {
@@ -251,11 +260,12 @@ void Culler::accept(const Candidate &c, bool point_path, DrawList *out) const {
       .push_back(draw_entry(c.index, c.scale));
 }
 
-bool Culler::occluded(OcclusionMode mode, const Candidate &cand) {
+bool Culler::occluded(OcclusionMode mode, const Candidate &cand, Workspace *w) {
   if (mode == OcclusionMode::kHzb) {
-    const PixelRect rect = g_.sphere_rect(cand.c, cand.r);
-    if (hzb_.covered(rect, -cand.c.z - cand.r - g_.eps)) return true;
-    hzb_.add_occluder(cand.c, cand.r, rect);
+    PixelRect rect = g_.sphere_rect(cand.c, cand.r);
+    rect.x0 = std::max(rect.x0, w->x0), rect.x1 = std::min(rect.x1, w->x1);
+    if (w->hzb.covered(rect, -cand.c.z - cand.r - g_.eps)) return true;
+    w->hzb.add_occluder(cand.c, cand.r, rect);
     return false;
   }
   int x, y;
@@ -268,25 +278,102 @@ void Culler::process(const Positions &pos, const Radii &radius, const Frustum &f
                      const CutPlanes &cuts, const SceneConfig &scene, const BrickSet &bricks,
                      OcclusionMode mode, CullStats *st, DrawList *out) {
   const bool occlusion = mode != OcclusionMode::kNone;
+  Workspace &w = ws_[0];
+  w.x0 = 0, w.x1 = g_.width - 1;
   for (const VisibleBrick &v : visible_) {
     const Brick &b = bricks.bricks[v.brick];
     st->lod_dropped += b.count - v.keep;
-    if (mode == OcclusionMode::kHzb && hzb_.covered(v.rect, v.near_depth)) {
+    if (mode == OcclusionMode::kHzb && w.hzb.covered(v.rect, v.near_depth)) {
       ++st->bricks_occluded;
       st->occlusion_culled += v.keep;
       continue;
     }
-    buffer_.clear();
-    gather(pos, radius, frustum, cuts, scene, bricks, v, occlusion, st, out);
+    w.buffer.clear();
+    gather(pos, radius, frustum, cuts, scene, bricks, v, occlusion, &w, st, out);
     if (!occlusion) continue;
-    order_front_to_back();
-    for (const Candidate &c : sorted_) {
-      if (occluded(mode, c))
+    order_front_to_back(&w);
+    for (const Candidate &c : w.sorted) {
+      if (occluded(mode, c, &w))
         ++st->occlusion_culled;
       else
         accept(c, scene.lod.point_path, out);
     }
   }
+}
+
+// hzb on two threads, each owning a strip of columns with its own pyramid, both walking all
+// bricks and particles in the same order. Exact, and the same decisions as one thread: a strip
+// skips a brick or particle when ITS part of the rectangle is covered, and draws (and rasterises
+// into its strip) what its part shows. A particle shown in one strip but covered in the other
+// is not rasterised there - which changes nothing, since covered means every pixel of that part
+// already holds something nearer than the particle's nearest point. So each strip's pyramid
+// equals the one-thread pyramid on those columns, and "shown in some strip" equals "not covered
+// over the whole rectangle". The particle lists are merged (union) afterwards.
+template <typename Positions, typename Radii>
+void Culler::run_strip(const Positions &pos, const Radii &radius, const Frustum &frustum,
+                       const CutPlanes &cuts, const SceneConfig &scene, const BrickSet &bricks,
+                       Workspace *w) {
+  w->out.clear();
+  w->frustum_pp.assign(visible_.size(), -1);
+  w->cut_pp.assign(visible_.size(), 0);
+  for (size_t k = 0; k < visible_.size(); ++k) {
+    const VisibleBrick &v = visible_[k];
+    PixelRect rect = v.rect;
+    rect.x0 = std::max(rect.x0, w->x0), rect.x1 = std::min(rect.x1, w->x1);
+    if (rect.empty() || w->hzb.covered(rect, v.near_depth)) continue;
+    CullStats brick;
+    w->buffer.clear();
+    gather(pos, radius, frustum, cuts, scene, bricks, v, true, w, &brick, &w->out);
+    w->frustum_pp[k] = brick.frustum_culled;
+    w->cut_pp[k] = brick.cut_culled;
+    order_front_to_back(w);
+    for (const Candidate &c : w->sorted) {
+      PixelRect r = g_.sphere_rect(c.c, c.r);
+      r.x0 = std::max(r.x0, w->x0), r.x1 = std::min(r.x1, w->x1);
+      if (r.empty() || w->hzb.covered(r, -c.c.z - c.r - g_.eps)) continue;
+      w->hzb.add_occluder(c.c, c.r, r);
+      accept(c, scene.lod.point_path, &w->out);
+    }
+  }
+}
+
+template <typename Positions, typename Radii>
+void Culler::process_hzb_strips(const Positions &pos, const Radii &radius, const Frustum &frustum,
+                                const CutPlanes &cuts, const SceneConfig &scene,
+                                const BrickSet &bricks, CullStats *st, DrawList *out) {
+  const int split = (g_.width / 2) / 64 * 64;  // on a tile boundary of the upper levels
+  ws_[0].x0 = 0, ws_[0].x1 = split - 1;
+  ws_[1].x0 = split, ws_[1].x1 = g_.width - 1;
+  ws_[1].hzb.reset(g_);
+  std::thread helper([&] { run_strip(pos, radius, frustum, cuts, scene, bricks, &ws_[1]); });
+  run_strip(pos, radius, frustum, cuts, scene, bricks, &ws_[0]);
+  helper.join();
+  // Union of what either strip shows (a particle both show appears twice: same entry).
+  const auto merge = [this](const std::vector<uint64_t> &a, const std::vector<uint64_t> &b,
+                            std::vector<uint64_t> *merged) {
+    *merged = a;
+    merged->insert(merged->end(), b.begin(), b.end());
+    radix_sort_words(merged, &scratch_, 32, 64);
+    merged->erase(std::unique(merged->begin(), merged->end()), merged->end());
+  };
+  merge(ws_[0].out.spheres, ws_[1].out.spheres, &out->spheres);
+  merge(ws_[0].out.points, ws_[1].out.points, &out->points);
+  // Counts: a brick gathered by either strip had the same per-particle frustum and cut drops.
+  int64_t judged = 0;
+  for (size_t k = 0; k < visible_.size(); ++k) {
+    const VisibleBrick &v = visible_[k];
+    st->lod_dropped += bricks.bricks[v.brick].count - v.keep;
+    const int s = ws_[0].frustum_pp[k] >= 0 ? 0 : ws_[1].frustum_pp[k] >= 0 ? 1 : -1;
+    if (s < 0) {
+      ++st->bricks_occluded;
+      st->occlusion_culled += v.keep;
+      continue;
+    }
+    st->frustum_culled += ws_[s].frustum_pp[k];
+    st->cut_culled += ws_[s].cut_pp[k];
+    judged += v.keep - ws_[s].frustum_pp[k] - ws_[s].cut_pp[k];
+  }
+  st->occlusion_culled += judged - int64_t(out->spheres.size() + out->points.size());
 }
 
 template <typename Positions, typename Radii>
@@ -297,9 +384,9 @@ void Culler::process_sorted(const Positions &pos, const Radii &radius, const Fru
   std::vector<Candidate> all;
   for (const VisibleBrick &v : visible_) {
     st->lod_dropped += bricks.bricks[v.brick].count - v.keep;
-    buffer_.clear();
-    gather(pos, radius, frustum, cuts, scene, bricks, v, true, st, out);
-    all.insert(all.end(), buffer_.begin(), buffer_.end());
+    ws_[0].buffer.clear();
+    gather(pos, radius, frustum, cuts, scene, bricks, v, true, &ws_[0], st, out);
+    all.insert(all.end(), ws_[0].buffer.begin(), ws_[0].buffer.end());
   }
   std::vector<uint64_t> keys(all.size());
   for (size_t k = 0; k < all.size(); ++k)
@@ -307,7 +394,7 @@ void Culler::process_sorted(const Positions &pos, const Radii &radius, const Fru
   radix_sort_words(&keys, &scratch_, 32, 64);
   for (const uint64_t key : keys) {
     const Candidate &c = all[uint32_t(key)];
-    if (occluded(OcclusionMode::kNineSpheresSorted, c))
+    if (occluded(OcclusionMode::kNineSpheresSorted, c, &ws_[0]))
       ++st->occlusion_culled;
     else
       accept(c, scene.lod.point_path, out);

@@ -56,31 +56,48 @@ class Culler {
     uint32_t index;
     float scale;
   };
+  // Scratch of one culling thread. hzb runs on two threads, each owning a strip of image columns
+  // [x0, x1] and its own pyramid (see process_hzb_strips for why that is still exact).
+  struct Workspace {
+    Hzb hzb;
+    int x0 = 0, x1 = -1;
+    std::vector<Candidate> buffer, sorted;
+    std::vector<uint32_t> bucket_counts;
+    DrawList out;
+    std::vector<int64_t> frustum_pp, cut_pp;  // per visible brick; -1: not gathered
+  };
   template <typename Positions, typename Radii>
   void process(const Positions &pos, const Radii &radius, const Frustum &frustum,
                const CutPlanes &cuts, const SceneConfig &scene, const BrickSet &bricks,
                OcclusionMode mode, CullStats *stats, DrawList *out);
   template <typename Positions, typename Radii>
+  void process_hzb_strips(const Positions &pos, const Radii &radius, const Frustum &frustum,
+                          const CutPlanes &cuts, const SceneConfig &scene, const BrickSet &bricks,
+                          CullStats *stats, DrawList *out);
+  template <typename Positions, typename Radii>
+  void run_strip(const Positions &pos, const Radii &radius, const Frustum &frustum,
+                 const CutPlanes &cuts, const SceneConfig &scene, const BrickSet &bricks,
+                 Workspace *w);
+  template <typename Positions, typename Radii>
   void process_sorted(const Positions &pos, const Radii &radius, const Frustum &frustum,
                       const CutPlanes &cuts, const SceneConfig &scene, const BrickSet &bricks,
                       CullStats *stats, DrawList *out);
   // The kept prefix of one brick after cuts, per-particle frustum and the point path: straight
-  // into `out`, or into buffer_ when occlusion still has to judge them.
+  // into `out`, or into w->buffer when occlusion still has to judge them.
   template <typename Positions, typename Radii>
   void gather(const Positions &pos, const Radii &radius, const Frustum &frustum,
               const CutPlanes &cuts, const SceneConfig &scene, const BrickSet &bricks,
-              const VisibleBrick &v, bool keep_candidates, CullStats *stats, DrawList *out);
-  void order_front_to_back();  // buffer_ -> sorted_
-  bool occluded(OcclusionMode mode, const Candidate &c);
+              const VisibleBrick &v, bool keep_candidates, Workspace *w, CullStats *stats,
+              DrawList *out) const;
+  static void order_front_to_back(Workspace *w);  // w->buffer -> w->sorted
+  bool occluded(OcclusionMode mode, const Candidate &c, Workspace *w);
   bool splat_sized(const glm::dvec3 &c, double r) const;
   void accept(const Candidate &c, bool point_path, DrawList *out) const;
 
   ViewGeometry g_;
   std::vector<VisibleBrick> visible_;
-  std::vector<Candidate> buffer_, sorted_;
-  std::vector<uint32_t> bucket_counts_;
   std::vector<uint64_t> scratch_;
-  Hzb hzb_;
+  Workspace ws_[2];
   NineSpheresGrid nine_;
 };
 
