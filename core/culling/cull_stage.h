@@ -6,7 +6,8 @@
 // Exact modes (frustum, cuts, occlusion none/hzb, no LOD, no point path) produce a list whose
 // rendering is bit-identical to drawing every particle. Ownership: a Culler owns scratch buffers
 // reused from frame to frame; it borrows the particles and bricks for one call.
-// Thread-safety: one Culler per thread.
+// Thread-safety: one Culler per thread. hzb on images at least 256 px wide runs on two threads
+// (the caller's and one helper, joined before run() returns), one strip of columns each.
 #pragma once
 
 #include <string>
