@@ -7,6 +7,7 @@
 // projections, so "nearer" is "smaller" everywhere. Ownership: a Frame owns its buffers.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <vector>
 

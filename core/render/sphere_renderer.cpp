@@ -110,11 +110,10 @@ struct SphereRenderer::Impl {
     for (size_t first = 0; first < count; first += kChunkInstances) {
       const size_t n = std::min(kChunkInstances, count - first);
       if (reupload) {
-        // Orphan, then fill: llvmpipe need not wait for the previous chunk's draw.
-        glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(kChunkInstances * sizeof(SphereInstance)), nullptr,
+        // A new store of exactly this chunk's size, filled in the same call: llvmpipe need not
+        // wait for the previous chunk's draw, and nothing larger is allocated or cleared.
+        glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(n * sizeof(SphereInstance)), spheres + first,
                      GL_STREAM_DRAW);
-        glBufferSubData(GL_ARRAY_BUFFER, 0, GLsizeiptr(n * sizeof(SphereInstance)),
-                        spheres + first);
       }
       glDrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, GLsizei(n));
     }

@@ -1,0 +1,83 @@
+// lantern-bench-render: what the OpenGL sphere pass costs on this machine, per sphere and per
+// frame, apart from culling. Prints median milliseconds of several runs for sphere counts and
+// sizes at one image size, so a change to the renderer can be judged side by side.
+//   lantern-bench-render [--size 1024] [--runs 7]
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <string>
+#include <vector>
+
+#include "core/camera/camera.h"
+#include "core/render/gl_session.h"
+
+using namespace lantern;
+
+namespace {
+
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  return v[v.size() / 2];
+}
+
+// n spheres scattered in a cube of side 10 with radius r, seen from outside.
+std::vector<SphereInstance> scatter(int n, float r) {
+  std::vector<SphereInstance> s(static_cast<size_t>(n));
+  uint32_t h = 12345;
+  const auto next = [&h] {
+    h = h * 1664525u + 1013904223u;
+    return float(h >> 8) / float(1 << 24);
+  };
+  for (auto &x : s) {
+    x = {10 * next() - 5, 10 * next() - 5, 10 * next() - 5, r, {200, 100, 50, 255}};
+  }
+  return s;
+}
+
+}  // namespace
+
+int main(int argc, char **argv) {
+  int size = 1024, runs = 7;
+  for (int i = 1; i + 1 < argc; i += 2) {
+    if (!std::strcmp(argv[i], "--size")) size = std::atoi(argv[i + 1]);
+    if (!std::strcmp(argv[i], "--runs")) runs = std::atoi(argv[i + 1]);
+  }
+  std::string error;
+  auto session = GlSession::acquire(&error);
+  SphereRenderer *renderer = session ? session->renderer(&error) : nullptr;
+  if (!renderer) {
+    std::fprintf(stderr, "lantern-bench-render: %s\n", error.c_str());
+    return 1;
+  }
+  CameraConfig cfg;
+  Camera cam;
+  make_camera(cfg, {-5, -5, -5}, {5, 5, 5}, 0.5, size, size, &cam);
+  const uint8_t bg[4] = {255, 255, 255, 255};
+  const RenderView view = cam.render_view(bg);
+  const double px_per_unit = cam.projection[1][1] * size / 2.0 / glm::length(cam.eye - cam.target);
+  std::printf("%s, %dx%d, median of %d runs\n", session->description().c_str(), size, size, runs);
+  std::printf("%10s %10s %12s %10s %12s %14s\n", "spheres", "radius_px", "draw_ms", "read_ms",
+              "total_ms", "spheres_per_s");
+  for (const int n : {0, 10000, 50000, 200000, 1000000})
+    for (const float r : {0.005f, 0.02f, 0.08f}) {
+      if (n == 0 && r != 0.005f) continue;
+      const auto spheres = scatter(n, r);
+      std::vector<double> draw, read, total;
+      for (int k = 0; k < runs; ++k) {
+        Frame f;
+        RenderTimings t;
+        const auto t0 = std::chrono::steady_clock::now();
+        renderer->render(view, spheres.data(), spheres.size(), &f, &t);
+        total.push_back(
+            std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0)
+                .count());
+        draw.push_back(t.draw_ms);
+        read.push_back(t.readback_ms);
+      }
+      std::printf("%10d %10.1f %12.1f %10.1f %12.1f %14.3g\n", n, r * px_per_unit, median(draw),
+                  median(read), median(total), n / (median(total) / 1000.0));
+    }
+  return 0;
+}
