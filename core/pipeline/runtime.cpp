@@ -114,7 +114,7 @@ Status Runtime::execute(int64_t step, double time) {
     SphereRenderer *renderer = gl_->renderer(&e);
     Status gl_status = agree_on_status(comm_, renderer ? Status() : Status(LANTERN_ERR_GL, e));
     if (!gl_status.ok()) return gl_status;
-    const ScenePassInputs in{comm_, renderer, &particles_, global, step, time};
+    const ScenePassInputs in{comm_, renderer, &particles_, global, step, time, &scratch_};
     for (size_t s = 0; s < config_.scenes.size(); ++s) {
       const Status st = run_scene_pass(in, config_.scenes[s], &buffers_[s], &stats[s]);
       if (!st.ok() && first_error.ok()) first_error = st;  // later scenes still render

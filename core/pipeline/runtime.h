@@ -53,6 +53,7 @@ class Runtime {
   ParticleArrays particles_;
   std::shared_ptr<GlSession> gl_;
   std::vector<SceneBuffers> buffers_;  // one per scene
+  PassScratch scratch_;                // bricks and culling buffers, shared by the scenes
   bool warned_nonfinite_ = false;
   std::optional<Box> box_;           // lantern_set_box(); dumps use particle bounds without it
   std::unique_ptr<DumpStage> dump_;  // null unless config_.dump.enabled

@@ -37,19 +37,6 @@ Status check_scene_needs(const SceneConfig &scene, const ParticleArrays &p) {
   return {};
 }
 
-// Bricks depend only on the particles, so they are built once per step and shared by every scene
-// of that step (a new step, or other arrays, rebuilds them: particles move between steps). Kept
-// between steps: the permutation (4 B per particle) and the bricks. Lantern calls scene passes
-// from one thread, so plain statics suffice.
-struct BrickCache {
-  int64_t step = 0;
-  int64_t count = -1;
-  const void *positions = nullptr;
-  const void *radii = nullptr;
-  uint64_t fingerprint = 0;
-  BrickSet set;
-};
-
 // A cheap guard against arrays rewritten in place under the same step number: the raw bytes of
 // up to 4096 evenly spaced positions and radii (positions that change between steps nearly
 // always change some of them).
@@ -70,7 +57,7 @@ uint64_t sample_fingerprint(const ParticleArrays &p) {
 }
 
 const BrickSet &bricks_for_step(const ScenePassInputs &in, double *build_ms) {
-  static BrickCache cache;
+  StepBricks &cache = in.scratch->bricks;
   const ParticleArrays &p = *in.particles;
   const void *pos = p.position_array(0).data();
   const void *rad = p.radius_array().data();
@@ -88,11 +75,6 @@ const BrickSet &bricks_for_step(const ScenePassInputs &in, double *build_ms) {
   cache.fingerprint = fingerprint;
   *build_ms += ms_since(t0);
   return cache.set;
-}
-
-Culler &scene_culler() {
-  static Culler culler;  // scratch buffers (pyramid, grids) reused from frame to frame
-  return culler;
 }
 
 // The particle counts of the stats, summed over ranks in one reduction.
@@ -137,8 +119,8 @@ Status run_scene_pass(const ScenePassInputs &in, const SceneConfig &scene, Scene
     t0 = Clock::now();
     double build_ms = 0.0;
     const BrickSet &bricks = bricks_for_step(in, &build_ms);
-    static DrawList draw;  // its lists are released once drawn (see below)
-    cull = scene_culler().run(*in.particles, bricks, camera, scene, &draw);
+    DrawList &draw = in.scratch->draw;
+    cull = in.scratch->culler.run(*in.particles, bricks, camera, scene, &draw);
     stats->cull_ms = ms_since(t0);
     stats->occlusion = cull.occlusion;
 
@@ -163,7 +145,7 @@ Status run_scene_pass(const ScenePassInputs &in, const SceneConfig &scene, Scene
       t0 = Clock::now();
       splat_points(
           *in.particles, recipe.per_particle_radius, recipe.radius, draw.points,
-          scene_culler().geometry(), [&recipe](int64_t i) { return recipe.colour(i); },
+          in.scratch->culler.geometry(), [&recipe](int64_t i) { return recipe.colour(i); },
           &buffers->frame);
       std::vector<uint64_t>().swap(draw.points);
       stats->draw_ms += ms_since(t0);

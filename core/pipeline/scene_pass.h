@@ -6,8 +6,10 @@
 
 #include <vector>
 
+#include "core/bricks/brick_set.h"
 #include "core/composite/global_extent.h"
 #include "core/config/config.h"
+#include "core/culling/cull_stage.h"
 #include "core/output/background_image_writer.h"
 #include "core/particles/particle_arrays.h"
 #include "core/pipeline/scene_stats.h"
@@ -17,6 +19,25 @@
 
 namespace lantern {
 
+// The bricks of the current step: they depend only on the particles, so they are built once per
+// step and shared by every scene of that step (a new step, or other arrays, rebuilds them).
+// Kept between steps: the permutation (4 B per particle) and the bricks.
+struct StepBricks {
+  int64_t step = 0;
+  int64_t count = -1;
+  const void *positions = nullptr;
+  const void *radii = nullptr;
+  uint64_t fingerprint = 0;
+  BrickSet set;
+};
+
+// What the scenes of one context share and keep between steps; owned by the Runtime.
+struct PassScratch {
+  StepBricks bricks;
+  Culler culler;  // scratch buffers (pyramid, grids) reused from frame to frame
+  DrawList draw;  // its lists are released once drawn
+};
+
 // What a scene pass reads and reuses between steps (buffers are kept to avoid reallocation).
 struct ScenePassInputs {
   MPI_Comm comm = MPI_COMM_NULL;
@@ -25,6 +46,7 @@ struct ScenePassInputs {
   Extent global;  // reduced over ranks
   int64_t step = 0;
   double time = 0.0;
+  PassScratch *scratch = nullptr;
 };
 
 struct SceneBuffers {
