@@ -3,6 +3,7 @@
 #
 #   tests/bench/lammps_dump_image.sh [BUILD_DIR] [CELLS] [SIZE] [IMAGES] [EVERY] [RANKS]
 #   defaults: build-h5, 63 (4*63^3 = 1,000,188 atoms), 1024, 4, 5, 2
+#   ASYNC=true: Lantern encodes and writes its PNGs on a background thread (output.asynchronous)
 #
 # examples/lammps/lammps_lantern runs LAMMPS through its library interface; at every image step it
 # renders once through Lantern (lantern_execute on LAMMPS's own x/type arrays) and once through
@@ -26,6 +27,7 @@ scenes:
     radius: 0.5
     output:
       pattern: "$work/lantern_{step:06d}.png"
+      asynchronous: ${ASYNC:-false}
 stats: "$work/stats.jsonl"
 YAML
 mpiflags=(--oversubscribe)
