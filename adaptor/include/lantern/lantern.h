@@ -86,6 +86,12 @@ typedef struct lantern_array {
  * Pass only the particles this rank owns, never ghost/halo copies: Lantern draws every published
  * particle once, and a ghost would be drawn twice.
  *
+ * Images do not depend on the number of ranks or on how particles are split between them, bit
+ * for bit, with one exception: a pixel where two differently coloured spheres have exactly the
+ * same depth (two particles at the same position with the same radius, or, rarely, a pixel centre
+ * exactly on the curve where two spheres meet). One rank keeps the sphere it draws first,
+ * compositing across ranks the smaller RGBA value, so such pixels may differ between rank counts.
+ *
  * Lifetime: the arrays are borrowed. Lantern reads them in place during every later
  * lantern_execute() call until the next lantern_publish() (or lantern_close()), so they must stay
  * valid and unchanged in size until then. Re-publish whenever the simulation reallocates or
