@@ -4,7 +4,7 @@
 # median milliseconds of each method (root's wall time in composite_frames, >= 5 timed runs).
 #
 # Usage: tests/bench/composite.sh [path/to/lantern-bench-composite] [bench options...]
-#   e.g. tests/bench/composite.sh build/tests/composite/bench/lantern-bench-composite --reps=9
+#   e.g. tests/bench/composite.sh build/tests/bench/composite/lantern-bench-composite --reps=9
 # Environment: RANKS="1 2 4 8" to choose rank counts; RAW=file keeps the raw lines.
 set -euo pipefail
 
