@@ -14,6 +14,7 @@
 #include "core/composite/depth_compositor.h"
 #include "core/composite/packed_pixel.h"
 #include "synthetic_frames.h"
+#include "tests/support/mpi_world.h"
 
 namespace lantern {
 // Readable parameter names in gtest output (found by ADL).
@@ -24,17 +25,6 @@ void PrintTo(CompositeMethod m, std::ostream *os) {
 
 namespace lantern::testing {
 namespace {
-
-int world_rank() {
-  int r = 0;
-  MPI_Comm_rank(MPI_COMM_WORLD, &r);
-  return r;
-}
-int world_size() {
-  int n = 1;
-  MPI_Comm_size(MPI_COMM_WORLD, &n);
-  return n;
-}
 
 enum class Empty { kNone, kEvenRanks, kAllButLast, kAll };
 

@@ -7,20 +7,10 @@
 #include <limits>
 
 #include "core/composite/global_extent.h"
+#include "tests/support/mpi_world.h"
 
 namespace lantern::testing {
 namespace {
-
-int world_rank() {
-  int r = 0;
-  MPI_Comm_rank(MPI_COMM_WORLD, &r);
-  return r;
-}
-int world_size() {
-  int n = 1;
-  MPI_Comm_size(MPI_COMM_WORLD, &n);
-  return n;
-}
 
 // Rank r owns r particles (rank 0 none) along a diagonal, one of them with a NaN coordinate when
 // r is odd, and scalars only on ranks >= 2.

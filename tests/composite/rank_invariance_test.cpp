@@ -16,20 +16,10 @@
 #include <vector>
 
 #include "lantern/lantern.h"
+#include "tests/support/mpi_world.h"
 
 namespace lantern::testing {
 namespace {
-
-int world_rank() {
-  int r = 0;
-  MPI_Comm_rank(MPI_COMM_WORLD, &r);
-  return r;
-}
-int world_size() {
-  int n = 1;
-  MPI_Comm_size(MPI_COMM_WORLD, &n);
-  return n;
-}
 
 uint32_t hash(uint32_t x) {
   x ^= x >> 16;

@@ -12,20 +12,13 @@
 #include "core/dump/h5md_reader.h"
 #include "lantern/lantern.h"
 #include "mpi_scratch_dir.h"
+#include "tests/support/mpi_world.h"
 
 namespace lantern {
 namespace {
 
-int world_rank() {
-  int r = 0;
-  MPI_Comm_rank(MPI_COMM_WORLD, &r);
-  return r;
-}
-int world_size() {
-  int s = 1;
-  MPI_Comm_size(MPI_COMM_WORLD, &s);
-  return s;
-}
+using testing::world_rank;
+using testing::world_size;
 
 // Particle with global id g at a step: values anyone can recompute from (g, step).
 double coord(int64_t g, int c, int64_t step) {

@@ -10,21 +10,13 @@
 
 #include "md_error.h"
 #include "simulation.h"
+#include "tests/support/mpi_world.h"
 
 namespace mini_md {
 namespace {
 
-int world_rank() {
-  int r = 0;
-  MPI_Comm_rank(MPI_COMM_WORLD, &r);
-  return r;
-}
-
-int world_size() {
-  int s = 1;
-  MPI_Comm_size(MPI_COMM_WORLD, &s);
-  return s;
-}
+using lantern::testing::world_rank;
+using lantern::testing::world_size;
 
 // Runs cfg on the first `ranks` ranks of the world; returns the thermo log (on those ranks).
 std::vector<ThermoState> run_on(const RunConfig &cfg, int ranks) {
