@@ -16,22 +16,11 @@
 #include <vector>
 
 #include "lantern/lantern.h"
+#include "tests/support/hash_noise.h"
 #include "tests/support/mpi_world.h"
 
 namespace lantern::testing {
 namespace {
-
-uint32_t hash(uint32_t x) {
-  x ^= x >> 16;
-  x *= 0x7feb352dU;
-  x ^= x >> 15;
-  x *= 0x846ca68bU;
-  x ^= x >> 16;
-  return x;
-}
-double unit(uint32_t h) {
-  return double(h & 0xffffff) / double(0x1000000);
-}
 
 // Structure-of-arrays particles, as a simulation would own them.
 struct Particles {

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstring>
 #include <sstream>
+#include "tests/support/hash_noise.h"
 
 namespace lantern::testing {
 namespace {
@@ -12,19 +13,6 @@ namespace {
 bool wins(float depth_a, const uint8_t *rgba_a, float depth_b, const uint8_t *rgba_b) {
   if (depth_a != depth_b) return depth_a < depth_b;
   return std::lexicographical_compare(rgba_a, rgba_a + 4, rgba_b, rgba_b + 4);
-}
-
-uint32_t hash(uint32_t x) {
-  x ^= x >> 16;
-  x *= 0x7feb352dU;
-  x ^= x >> 15;
-  x *= 0x846ca68bU;
-  x ^= x >> 16;
-  return x;
-}
-
-double unit(uint32_t h) {
-  return double(h & 0xffffff) / double(0x1000000);
 }
 
 }  // namespace
