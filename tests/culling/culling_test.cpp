@@ -14,6 +14,7 @@
 #include "core/culling/point_splats.h"
 #include "core/pipeline/sphere_instances.h"
 #include "core/render/gl_session.h"
+#include "tests/support/gl_test.h"
 
 namespace lantern {
 namespace {
@@ -53,16 +54,8 @@ Cloud fcc(int n, double a, unsigned seed = 1) {
   return c;
 }
 
-class CullingTest : public ::testing::Test {
+class CullingTest : public testing::GlTest {
  protected:
-  void SetUp() override {
-    std::string error;
-    session_ = GlSession::acquire(&error);
-    ASSERT_TRUE(session_) << error;
-    renderer_ = session_->renderer(&error);
-    ASSERT_TRUE(renderer_) << error;
-  }
-
   static SceneConfig scene(int size, double radius, OcclusionMode mode) {
     SceneConfig s;
     s.width = s.height = size;
@@ -117,9 +110,6 @@ class CullingTest : public ::testing::Test {
         ++*differ;
     return st;
   }
-
-  std::shared_ptr<GlSession> session_;
-  SphereRenderer *renderer_ = nullptr;
 };
 
 CameraConfig orbit(double azimuth, double elevation, double zoom = 1.0) {

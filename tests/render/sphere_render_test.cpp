@@ -7,22 +7,15 @@
 
 #include "core/camera/camera.h"
 #include "core/render/gl_session.h"
+#include "tests/support/gl_test.h"
 
 namespace lantern {
 namespace {
 
 constexpr uint8_t kWhite[4] = {255, 255, 255, 255};
 
-class SphereRenderTest : public ::testing::Test {
+class SphereRenderTest : public testing::GlTest {
  protected:
-  void SetUp() override {
-    std::string error;
-    session_ = GlSession::acquire(&error);
-    ASSERT_TRUE(session_) << error;
-    renderer_ = session_->renderer(&error);
-    ASSERT_TRUE(renderer_) << error;
-  }
-
   // An explicit camera on the +z axis at distance `d`, looking at the origin.
   Camera camera(Projection projection, double d, int w, int h) {
     CameraConfig cfg;
@@ -43,9 +36,6 @@ class SphereRenderTest : public ::testing::Test {
               "");
     return f;
   }
-
-  std::shared_ptr<GlSession> session_;
-  SphereRenderer *renderer_ = nullptr;
 };
 
 SphereInstance sphere(float x, float y, float z, float r, uint8_t red, uint8_t green) {
