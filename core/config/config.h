@@ -66,6 +66,12 @@ struct OutputConfig {
                          // the Z channel is always float)
 };
 
+// renderer: what draws the spheres. opengl: the GL impostor renderer (OSMesa). cpu: the CPU
+// ray caster (cpu_sphere_raster.h), fused with hzb occlusion culling; it serves scenes whose
+// occlusion mode is hzb or none. auto: cpu where occlusion runs as hzb and spheres are small
+// on screen (where it measured faster), opengl elsewhere.
+enum class RendererChoice { kAuto, kOpenGl, kCpu };
+
 enum class OcclusionMode { kAuto, kNone, kNineSpheres, kNineSpheresSorted, kHzb };
 
 // culling: (issue 5 fills the algorithms; the keys exist from the start)
@@ -101,8 +107,9 @@ struct SceneConfig {
   ColorConfig color;                 // color: {...}
   OutputConfig output;               // output: {...}
   CullingConfig culling;             // culling: {...}
-  LodConfig lod;                     // lod: {...}
-  std::vector<CutPlane> cuts;        // cut_planes: [{normal: [...], offset: ...}, ...]
+  RendererChoice renderer = RendererChoice::kAuto;  // renderer: auto | opengl | cpu
+  LodConfig lod;                                    // lod: {...}
+  std::vector<CutPlane> cuts;  // cut_planes: [{normal: [...], offset: ...}, ...]
 };
 
 // dump: (HDF5 / H5MD particle dumps; issue 6)

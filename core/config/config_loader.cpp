@@ -26,9 +26,9 @@ constexpr int64_t kMaxInt = std::numeric_limits<int64_t>::max();
 // The keys of every section: the schema. README.md (config/) documents the same keys.
 const std::vector<std::string> kTopKeys = {"schedule", "scenes", "stats", "verbose", "dump"};
 const std::vector<std::string> kScheduleKeys = {"every", "start", "steps"};
-const std::vector<std::string> kSceneKeys = {"name",    "width",  "height",    "background",
-                                             "radius",  "camera", "color",     "output",
-                                             "culling", "lod",    "cut_planes"};
+const std::vector<std::string> kSceneKeys = {"name",    "width",  "height",     "background",
+                                             "radius",  "camera", "color",      "output",
+                                             "culling", "lod",    "cut_planes", "renderer"};
 const std::vector<std::string> kCameraKeys = {"projection", "fov",      "azimuth", "elevation",
                                               "zoom",       "position", "look_at", "up",
                                               "near",       "far"};
@@ -189,6 +189,12 @@ class Loader {
                  [&](const YAML::Node &n, const std::string &p) { s.culling = culling(n, p); });
     optional_key(node, path, "lod",
                  [&](const YAML::Node &n, const std::string &p) { s.lod = lod(n, p); });
+    optional_key(node, path, "renderer", [&](const YAML::Node &n, const std::string &p) {
+      const std::string choice = r_.read_choice(n, p, {"auto", "opengl", "cpu"});
+      s.renderer = choice == "cpu"      ? RendererChoice::kCpu
+                   : choice == "opengl" ? RendererChoice::kOpenGl
+                                        : RendererChoice::kAuto;
+    });
     optional_key(node, path, "cut_planes", [&](const YAML::Node &n, const std::string &p) {
       r_.check_sequence(n, p);
       for (size_t i = 0; i < n.size(); ++i) s.cuts.push_back(cut_plane(n[i], index_path(p, i)));

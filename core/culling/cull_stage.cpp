@@ -91,7 +91,7 @@ std::string occlusion_mode_name(OcclusionMode mode) {
 }
 
 CullStats Culler::run(const ParticleArrays &particles, const BrickSet &bricks, const Camera &camera,
-                      const SceneConfig &scene, DrawList *out) {
+                      const SceneConfig &scene, DrawList *out, const RasterTarget *raster) {
   const auto t0 = Clock::now();
   CullStats st;
   out->clear();
@@ -162,11 +162,18 @@ CullStats Culler::run(const ParticleArrays &particles, const BrickSet &bricks, c
     if (mode != OcclusionMode::kNone)
       std::stable_sort(visible_.begin(), visible_.end(), front_to_back);
   }
-  if (mode == OcclusionMode::kHzb) ws_[0].hzb.reset(g_);
+  // The CPU raster, when the caller asks for it: fused with hzb, or alone under `none`.
+  raster_ = nullptr;
+  occlusion_ = mode == OcclusionMode::kHzb;
+  if (raster && raster->frame && raster->owner &&
+      (mode == OcclusionMode::kHzb || mode == OcclusionMode::kNone))
+    raster_ = raster;
+  st.renderer = raster_ ? "cpu" : "opengl";
+  if (mode == OcclusionMode::kHzb && !raster_) ws_[0].hzb.reset(g_);
   if (mode == OcclusionMode::kNineSpheres || mode == OcclusionMode::kNineSpheresSorted)
     nine_.reset(g_.width, g_.height);
 
-  const bool trivial = mode == OcclusionMode::kNone && !reduced && !lod.point_path &&
+  const bool trivial = !raster_ && mode == OcclusionMode::kNone && !reduced && !lod.point_path &&
                        !st.per_particle_frustum && st.frustum_culled == 0 && st.cut_culled == 0 &&
                        std::none_of(visible_.begin(), visible_.end(),
                                     [](const VisibleBrick &v) { return v.cut_each; });
@@ -178,8 +185,8 @@ CullStats Culler::run(const ParticleArrays &particles, const BrickSet &bricks, c
       visit_radii(particles, per_particle, scene.radius, [&](const auto &radius) {
         if (mode == OcclusionMode::kNineSpheresSorted)
           process_sorted(pos, radius, frustum, cuts, scene, bricks, &st, out);
-        else if (mode == OcclusionMode::kHzb && g_.width >= kTwoStripsFrom)
-          process_hzb_strips(pos, radius, frustum, cuts, scene, bricks, &st, out);
+        else if (raster_ || (mode == OcclusionMode::kHzb && g_.width >= kTwoStripsFrom))
+          process_strips(pos, radius, frustum, cuts, scene, bricks, &st, out);
         else
           process(pos, radius, frustum, cuts, scene, bricks, mode, &st, out);
       });
@@ -191,6 +198,8 @@ CullStats Culler::run(const ParticleArrays &particles, const BrickSet &bricks, c
     st.drawn = int64_t(out->spheres.size());
     st.splatted = int64_t(out->points.size());
   }
+  out->rasterized = raster_ != nullptr;
+  raster_ = nullptr;
   st.ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
   return st;
 }
@@ -320,7 +329,10 @@ void Culler::run_strip(const Positions &pos, const Radii &radius, const Frustum 
     const VisibleBrick &v = visible_[k];
     PixelRect rect = v.rect;
     rect.x0 = std::max(rect.x0, w->x0), rect.x1 = std::min(rect.x1, w->x1);
-    if (rect.empty() || w->hzb.covered(rect, v.near_depth)) continue;
+    if (rect.empty()) continue;
+    if (occlusion_ &&
+        (raster_ ? w->raster.covered(rect, v.near_depth) : w->hzb.covered(rect, v.near_depth)))
+      continue;
     CullStats brick;
     w->buffer.clear();
     gather(pos, radius, frustum, cuts, scene, bricks, v, true, w, &brick, &w->out);
@@ -330,7 +342,21 @@ void Culler::run_strip(const Positions &pos, const Radii &radius, const Frustum 
     for (const Candidate &c : w->sorted) {
       PixelRect r = g_.sphere_rect(c.c, c.r);
       r.x0 = std::max(r.x0, w->x0), r.x1 = std::min(r.x1, w->x1);
-      if (r.empty() || w->hzb.covered(r, -c.c.z - c.r - g_.eps)) continue;
+      if (r.empty()) continue;
+      const double nearest = -c.c.z - c.r - g_.eps;
+      if (raster_) {
+        if (scene.lod.point_path && splat_sized(c.c, c.r)) {
+          w->out.points.push_back(draw_entry(c.index, c.scale));  // splatted after the raster
+          continue;
+        }
+        if (occlusion_ && w->raster.covered(r, nearest)) continue;
+        uint8_t rgb[3];
+        raster_->colour(c.index, rgb);
+        w->raster.draw(c.c, c.r, rgb, c.index, r);
+        w->out.spheres.push_back(draw_entry(c.index, c.scale));
+        continue;
+      }
+      if (w->hzb.covered(r, nearest)) continue;
       w->hzb.add_occluder(c.c, c.r, r);
       accept(c, scene.lod.point_path, &w->out);
     }
@@ -338,16 +364,29 @@ void Culler::run_strip(const Positions &pos, const Radii &radius, const Frustum 
 }
 
 template <typename Positions, typename Radii>
-void Culler::process_hzb_strips(const Positions &pos, const Radii &radius, const Frustum &frustum,
-                                const CutPlanes &cuts, const SceneConfig &scene,
-                                const BrickSet &bricks, CullStats *st, DrawList *out) {
-  const int split = (g_.width / 2) / 64 * 64;  // on a tile boundary of the upper levels
+void Culler::process_strips(const Positions &pos, const Radii &radius, const Frustum &frustum,
+                            const CutPlanes &cuts, const SceneConfig &scene, const BrickSet &bricks,
+                            CullStats *st, DrawList *out) {
+  const bool two = g_.width >= kTwoStripsFrom;
+  // On a tile boundary of the pyramid levels up to 64 px, so no tile of those straddles it.
+  const int split = two ? (g_.width / 2) / 64 * 64 : g_.width;
   ws_[0].x0 = 0, ws_[0].x1 = split - 1;
   ws_[1].x0 = split, ws_[1].x1 = g_.width - 1;
-  ws_[1].hzb.reset(g_);
-  std::thread helper([&] { run_strip(pos, radius, frustum, cuts, scene, bricks, &ws_[1]); });
-  run_strip(pos, radius, frustum, cuts, scene, bricks, &ws_[0]);
-  helper.join();
+  if (raster_) {
+    CpuSphereRaster::clear_target(g_, raster_->background, raster_->frame, raster_->owner);
+    for (Workspace &w : ws_) w.raster.begin_strip(g_, raster_->frame, raster_->owner, w.x0, w.x1);
+  } else {
+    ws_[1].hzb.reset(g_);
+  }
+  if (two) {
+    std::thread helper([&] { run_strip(pos, radius, frustum, cuts, scene, bricks, &ws_[1]); });
+    run_strip(pos, radius, frustum, cuts, scene, bricks, &ws_[0]);
+    helper.join();
+  } else {
+    run_strip(pos, radius, frustum, cuts, scene, bricks, &ws_[0]);
+    ws_[1].out.clear();
+    ws_[1].frustum_pp.assign(visible_.size(), -1);
+  }
   // Union of what either strip shows (a particle both show appears twice: same entry).
   const auto merge = [this](const std::vector<uint64_t> &a, const std::vector<uint64_t> &b,
                             std::vector<uint64_t> *merged) {

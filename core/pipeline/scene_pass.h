@@ -34,8 +34,9 @@ struct StepBricks {
 // What the scenes of one context share and keep between steps; owned by the Runtime.
 struct PassScratch {
   StepBricks bricks;
-  Culler culler;  // scratch buffers (pyramid, grids) reused from frame to frame
-  DrawList draw;  // its lists are released once drawn
+  Culler culler;                      // scratch buffers (pyramid, grids) reused from frame to frame
+  DrawList draw;                      // its lists are released once drawn
+  std::vector<uint32_t> pixel_owner;  // CPU raster: particle index per pixel (depth ties)
 };
 
 // What a scene pass reads and reuses between steps (buffers are kept to avoid reallocation).

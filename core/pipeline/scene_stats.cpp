@@ -23,7 +23,8 @@ nlohmann::json SceneStats::to_json() const {
             {"lod_dropped", lod_dropped},
             {"occlusion_culled", occlusion_culled}}},
           {"composite_method", composite_method},
-          {"occlusion", occlusion}};
+          {"occlusion", occlusion},
+          {"renderer", renderer}};
 }
 
 }  // namespace lantern

@@ -23,6 +23,7 @@ struct SceneStats {
   // hidden (occlusion culling).
   int64_t frustum_culled = 0, cut_culled = 0, lod_dropped = 0, occlusion_culled = 0;
   std::string composite_method;
+  std::string renderer;   // "cpu" (CPU raster) or "opengl"
   std::string occlusion;  // occlusion mode run (and why, for auto), as rank 0 decided it
   std::string file;       // the image written
 

@@ -1,0 +1,67 @@
+// Ray-cast spheres on the CPU, straight into a Frame, with the hierarchical depth test that lets
+// hidden spheres be skipped before any pixel work: the renderer for dense scenes of small spheres,
+// where llvmpipe spends most of its time on per-primitive setup and on fragments it cannot reject
+// early (the impostor shader writes depth).
+//
+// Each pixel centre gets the same ray as the OpenGL impostor shader (sphere_shaders.h), the hit
+// depth as window depth in float, and the same headlight shading; the arithmetic runs in double,
+// so a pixel can differ from OpenGL's float result by one colour level or where a silhouette
+// passes within float rounding of a pixel centre. Equal depths resolve to the lower particle
+// index, so the image does not depend on the order spheres are drawn in, and a sphere skipped
+// because `covered` said so would not have changed a bit: skipping is exact.
+//
+// One raster owns a column strip [x0, x1] of a shared Frame and a max-depth pyramid over it;
+// two rasters on disjoint strips of one Frame may draw from two threads at once.
+// Ownership: borrows the Frame and owner buffer given to begin() until the next begin().
+// Units: view space of ViewGeometry (camera looks down -z); depths stored as window depth.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+#include "core/culling/view_geometry.h"
+#include "core/render/frame.h"
+
+namespace lantern {
+
+class CpuSphereRaster {
+ public:
+  // Clears `frame` (width x height of g) to `background` at background depth and `owner` to "no
+  // particle". Call once per frame, before any begin_strip on it, from one thread.
+  static void clear_target(const ViewGeometry &g, const uint8_t background[4], Frame *frame,
+                           std::vector<uint32_t> *owner);
+
+  // Draw into columns [x0, x1] of the cleared `frame` / `owner`.
+  void begin_strip(const ViewGeometry &g, Frame *frame, std::vector<uint32_t> *owner, int x0,
+                   int x1);
+
+  // True if every pixel of `rect` (within the strip) already holds something strictly nearer
+  // than view depth z: a sphere whose nearest point is at z would change none of them.
+  bool covered(PixelRect rect, double z) const;
+
+  // Ray-casts the sphere (view-space centre c, radius r, colour rgb, particle `index`) over the
+  // pixels of `rect` inside the strip. Returns true if it won at least one pixel.
+  bool draw(const glm::dvec3 &c, double r, const uint8_t rgb[3], uint32_t index, PixelRect rect);
+
+ private:
+  struct Level {
+    int w = 0, h = 0;
+    std::vector<float> z;  // max window depth of the tile's pixels
+  };
+  bool covered_at(int level, int x0, int y0, int x1, int y1, float z) const;
+  bool row_span(const glm::dvec3 &c, double r2, int y, const PixelRect &rect, int *x0,
+                int *x1) const;
+  void propagate(const PixelRect &rect);
+  void shade(size_t pixel, const uint8_t rgb[3], double lambert);
+
+  ViewGeometry g_;
+  Frame *frame_ = nullptr;
+  uint32_t *owner_ = nullptr;
+  int x0_ = 0, x1_ = -1;
+  std::vector<Level> levels_;  // levels_[0] is unused: level 0 is the frame's depth
+  std::vector<double> ray_x_, ray_y_;
+};
+
+}  // namespace lantern
