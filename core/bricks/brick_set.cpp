@@ -229,8 +229,49 @@ BrickSet build_bricks(const ParticleArrays &particles, const BrickOptions &optio
     });
   });
   t.bounds_ms = ms_since(t0);
+  set.spread_at_build = set.spread();
   if (timings) *timings = t;
   return set;
+}
+
+double BrickSet::spread() const {
+  double s = 0.0;
+  for (const Brick &b : bricks) s += (b.hi.x - b.lo.x) + (b.hi.y - b.lo.y) + (b.hi.z - b.lo.z);
+  return s;
+}
+
+bool refit_bricks(const ParticleArrays &particles, double max_growth, BrickSet *set) {
+  if (set->nonfinite != 0 || particles.count() != set->particle_count() ||
+      particles.has_radius() != set->has_radius)
+    return false;
+  const bool two = set->particle_count() >= kTwoThreadsFrom;
+  bool nonfinite[2] = {false, false};
+  visit_positions(particles, [&](const auto &pos) {
+    visit_radii(particles, true, 0.0, [&](const auto &radius) {
+      in_two(
+          int64_t(set->bricks.size()),
+          [&](int part, int64_t first, int64_t last) {
+            brick_bounds(pos, radius, set->has_radius, first, last, set);
+            // min/max skip NaN silently: a non-finite particle must force a rebuild instead.
+            double sum = 0.0;
+            for (int64_t k = first; k < last; ++k) {
+              const Brick &b = set->bricks[size_t(k)];
+              for (uint32_t j = 0; j < b.count; ++j) {
+                const glm::dvec3 x = pos.get(set->order[b.first + j]);
+                sum += x.x + x.y + x.z;
+              }
+              sum += b.max_radius;
+            }
+            nonfinite[part] = !std::isfinite(sum);
+          },
+          two);
+    });
+  });
+  if (nonfinite[0] || nonfinite[1]) return false;
+  glm::dvec3 lo(std::numeric_limits<double>::infinity()), hi(-lo);
+  for (const Brick &b : set->bricks) lo = glm::min(lo, b.lo), hi = glm::max(hi, b.hi);
+  if (!set->bricks.empty()) set->lo = lo, set->hi = hi;
+  return set->spread() <= max_growth * set->spread_at_build;
 }
 
 }  // namespace lantern

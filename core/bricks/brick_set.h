@@ -46,7 +46,11 @@ struct BrickSet {
   int64_t nonfinite = 0;        // particles left out for a NaN or infinite coordinate
   bool has_radius = false;      // bricks carry max_radius from the published radius array
 
+  double spread_at_build = 0.0;  // spread() when built: how tight z-order made the bricks
+
   int64_t particle_count() const { return int64_t(order.size()); }
+  // Sum of the bricks' bound extents (x + y + z): grows as particles drift out of their cells.
+  double spread() const;
 };
 
 // Timings of one build, milliseconds.
@@ -58,5 +62,13 @@ struct BrickBuildTimings {
 // coordinate are left out.
 BrickSet build_bricks(const ParticleArrays &particles, const BrickOptions &options,
                       BrickBuildTimings *timings = nullptr);
+
+// Keeps the bricks (the permutation) of an earlier step and recomputes every bound from the
+// particles' current positions and radii: one pass instead of a sort, for particles that moved
+// a little. The bounds are exact, so culling stays exact; only brick tightness can suffer.
+// Returns false - and leaves *set unusable, to be rebuilt - when the count or the radius array
+// changed, a position is not finite, or the summed brick extents grew beyond max_growth times
+// those at build (particles reordered in memory, or drifted far: rebuild for tight bricks).
+bool refit_bricks(const ParticleArrays &particles, double max_growth, BrickSet *set);
 
 }  // namespace lantern

@@ -66,6 +66,16 @@ const BrickSet &bricks_for_step(const ScenePassInputs &in, double *build_ms) {
       cache.radii == rad && cache.fingerprint == fingerprint)
     return cache.set;
   const auto t0 = Clock::now();
+  // Same arrays, a later step: particles moved a little, keep the z-order and refit the bounds.
+  constexpr double kMaxSpreadGrowth = 1.25;
+  if (cache.count == p.count() && cache.positions == pos && cache.radii == rad &&
+      refit_bricks(p, kMaxSpreadGrowth, &cache.set)) {
+    cache.step = in.step;
+    cache.fingerprint = fingerprint;
+    ++cache.refits;
+    *build_ms += ms_since(t0);
+    return cache.set;
+  }
   cache.set = BrickSet();  // free the old permutation before building: keeps the peak low
   cache.set = build_bricks(p, BrickOptions{});
   cache.step = in.step;

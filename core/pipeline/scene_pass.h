@@ -28,6 +28,7 @@ struct StepBricks {
   const void *positions = nullptr;
   const void *radii = nullptr;
   uint64_t fingerprint = 0;
+  int64_t refits = 0;  // steps served by refit_bricks instead of a rebuild
   BrickSet set;
 };
 

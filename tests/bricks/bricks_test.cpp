@@ -2,9 +2,14 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <cstring>
+#include <limits>
 #include <random>
 #include <vector>
+
+#include <glm/common.hpp>
 
 #include "core/bricks/brick_set.h"
 #include "core/bricks/level_layout.h"
@@ -130,6 +135,55 @@ TEST(Bricks, BoundedCountsCoverEveryParticleAndBoundsContainThem) {
   for (const Brick &b : set.bricks)
     mean_side += std::max({b.hi.x - b.lo.x, b.hi.y - b.lo.y, b.hi.z - b.lo.z});
   EXPECT_LT(mean_side / set.bricks.size(), 0.35 * 8.0);
+}
+
+TEST(Bricks, RefitKeepsTheOrderAndGivesExactBoundsForMovedParticles) {
+  std::vector<double> xyz = random_points(50000, 9);
+  const BrickSet built = build_bricks(borrow(xyz), BrickOptions{});
+  // Every particle moves a little (a few per cent of a brick's size).
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> jitter(-0.02, 0.02);
+  for (double &v : xyz) v += jitter(rng);
+  const ParticleArrays moved = borrow(xyz);
+  BrickSet refit = built;
+  ASSERT_TRUE(refit_bricks(moved, 1.25, &refit));
+  EXPECT_EQ(refit.order, built.order);
+  ASSERT_EQ(refit.bricks.size(), built.bricks.size());
+  for (const Brick &b : refit.bricks) {
+    glm::dvec3 lo(1e300), hi(-1e300);
+    for (uint32_t k = 0; k < b.count; ++k) {
+      lo = glm::min(lo, moved.position(refit.order[b.first + k]));
+      hi = glm::max(hi, moved.position(refit.order[b.first + k]));
+    }
+    EXPECT_EQ(b.lo, lo);  // exact: the same min/max over the same particles
+    EXPECT_EQ(b.hi, hi);
+  }
+  EXPECT_GT(refit.spread(), built.spread());
+}
+
+TEST(Bricks, RefitRefusesReorderedNonFiniteOrResizedParticles) {
+  std::vector<double> xyz = random_points(20000, 5);
+  const BrickSet built = build_bricks(borrow(xyz), BrickOptions{});
+  {  // the host sorted its atoms differently: bricks would span the whole box
+    std::vector<std::array<double, 3>> pts(xyz.size() / 3);
+    std::memcpy(pts.data(), xyz.data(), xyz.size() * sizeof(double));
+    std::shuffle(pts.begin(), pts.end(), std::mt19937(1));
+    std::vector<double> shuffled(xyz.size());
+    std::memcpy(shuffled.data(), pts.data(), xyz.size() * sizeof(double));
+    BrickSet set = built;
+    EXPECT_FALSE(refit_bricks(borrow(shuffled), 1.25, &set));
+  }
+  {
+    std::vector<double> bad = xyz;
+    bad[300] = std::numeric_limits<double>::quiet_NaN();
+    BrickSet set = built;
+    EXPECT_FALSE(refit_bricks(borrow(bad), 1.25, &set));
+  }
+  {
+    const std::vector<double> fewer(xyz.begin(), xyz.end() - 3);
+    BrickSet set = built;
+    EXPECT_FALSE(refit_bricks(borrow(fewer), 1.25, &set));
+  }
 }
 
 TEST(LevelLayout, MatchesFigure3OfSeed001) {
