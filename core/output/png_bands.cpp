@@ -1,0 +1,366 @@
+#include "core/output/png_bands.h"
+
+#include <zlib.h>
+
+#include <algorithm>
+#include <cstdlib>
+#include <cstring>
+#include <exception>
+#include <limits>
+#include <stdexcept>
+#include <thread>
+
+namespace lantern {
+
+namespace {
+
+// Filtered scanlines are handed to zlib in chunks of about this many bytes: small enough to stay
+// in cache between filtering, adler32 and deflate, large enough that per-call costs vanish.
+constexpr size_t kChunkBytes = 64 * 1024;
+
+// IDAT chunks carry at most this much data (the PNG limit is 2^31 - 1).
+constexpr size_t kIdatBytes = 1 << 20;
+
+int zlib_strategy(PngStrategy s) {
+  switch (s) {
+    case PngStrategy::kFiltered:
+      return Z_FILTERED;
+    case PngStrategy::kRle:
+      return Z_RLE;
+    case PngStrategy::kHuffmanOnly:
+      return Z_HUFFMAN_ONLY;
+    case PngStrategy::kDefault:
+    default:
+      return Z_DEFAULT_STRATEGY;
+  }
+}
+
+uint8_t paeth(int a, int b, int c) {
+  const int p = a + b - c;
+  const int pa = std::abs(p - a), pb = std::abs(p - b), pc = std::abs(p - c);
+  if (pa <= pb && pa <= pc) return static_cast<uint8_t>(a);
+  return static_cast<uint8_t>(pb <= pc ? b : c);
+}
+
+// Writes one scanline: filter byte, then `n` filtered bytes of `cur` (bpp bytes per pixel),
+// `prev` being the same row above (only read by Up / Average / Paeth).
+template <int kBpp>
+void filter_row(PngFilter filter, const uint8_t *cur, const uint8_t *prev, size_t n, uint8_t *out) {
+  *out++ = static_cast<uint8_t>(filter);
+  switch (filter) {
+    case PngFilter::kNone:
+      std::memcpy(out, cur, n);
+      break;
+    case PngFilter::kSub:
+      for (size_t i = 0; i < kBpp; ++i) out[i] = cur[i];
+      for (size_t i = kBpp; i < n; ++i) out[i] = static_cast<uint8_t>(cur[i] - cur[i - kBpp]);
+      break;
+    case PngFilter::kUp:
+      for (size_t i = 0; i < n; ++i) out[i] = static_cast<uint8_t>(cur[i] - prev[i]);
+      break;
+    case PngFilter::kAverage:
+      for (size_t i = 0; i < kBpp; ++i) out[i] = static_cast<uint8_t>(cur[i] - (prev[i] >> 1));
+      for (size_t i = kBpp; i < n; ++i)
+        out[i] = static_cast<uint8_t>(cur[i] - ((cur[i - kBpp] + prev[i]) >> 1));
+      break;
+    case PngFilter::kPaeth:
+      for (size_t i = 0; i < kBpp; ++i) out[i] = static_cast<uint8_t>(cur[i] - prev[i]);
+      for (size_t i = kBpp; i < n; ++i)
+        out[i] = static_cast<uint8_t>(cur[i] - paeth(cur[i - kBpp], prev[i], prev[i - kBpp]));
+      break;
+  }
+}
+
+// Copies the RGB bytes of `width` RGBA8 pixels.
+void drop_alpha(const uint8_t *rgba, int width, uint8_t *rgb) {
+  for (int x = 0; x < width; ++x, rgba += 4, rgb += 3) {
+    rgb[0] = rgba[0];
+    rgb[1] = rgba[1];
+    rgb[2] = rgba[2];
+  }
+}
+
+class Deflater {
+ public:
+  Deflater(int level, PngStrategy strategy) {
+    // Raw deflate (windowBits -15): no zlib header or trailer, the root writes them once.
+    if (deflateInit2(&z_, level, Z_DEFLATED, -15, 9, zlib_strategy(strategy)) != Z_OK)
+      throw std::runtime_error("zlib deflateInit2 failed");
+  }
+  ~Deflater() { deflateEnd(&z_); }
+  Deflater(const Deflater &) = delete;
+  Deflater &operator=(const Deflater &) = delete;
+
+  void reserve(size_t raw_len) { out_.reserve(deflateBound(&z_, uLong(raw_len)) + 64); }
+
+  // Compresses `n` bytes with `flush` (Z_NO_FLUSH, Z_SYNC_FLUSH or Z_FINISH).
+  void add(const uint8_t *data, size_t n, int flush) {
+    z_.next_in = const_cast<Bytef *>(data);
+    z_.avail_in = static_cast<uInt>(n);
+    for (;;) {
+      if (out_.size() - used_ < 64) out_.resize(std::max<size_t>(2 * out_.size(), used_ + 4096));
+      z_.next_out = out_.data() + used_;
+      z_.avail_out = static_cast<uInt>(
+          std::min<size_t>(out_.size() - used_, std::numeric_limits<uInt>::max()));
+      const uInt avail = z_.avail_out;
+      const int rc = deflate(&z_, flush);
+      used_ += avail - z_.avail_out;
+      if (rc == Z_STREAM_END) break;
+      if (rc != Z_OK && rc != Z_BUF_ERROR) throw std::runtime_error("zlib deflate failed");
+      // Done when all input is consumed and, for a flush, zlib had output space left over.
+      if (z_.avail_in == 0 && (flush == Z_NO_FLUSH || z_.avail_out != 0)) break;
+    }
+  }
+
+  std::vector<uint8_t> take() {
+    out_.resize(used_);
+    return std::move(out_);
+  }
+
+ private:
+  z_stream z_{};
+  std::vector<uint8_t> out_;
+  size_t used_ = 0;
+};
+
+void put_be32(std::vector<uint8_t> *out, uint32_t v) {
+  const uint8_t b[4] = {uint8_t(v >> 24), uint8_t(v >> 16), uint8_t(v >> 8), uint8_t(v)};
+  out->insert(out->end(), b, b + 4);
+}
+
+// Appends one chunk: length, type, data, CRC of type + data.
+void put_chunk(std::vector<uint8_t> *out, const char type[4], const uint8_t *data, size_t n) {
+  put_be32(out, static_cast<uint32_t>(n));
+  const size_t start = out->size();
+  out->insert(out->end(), type, type + 4);
+  if (n) out->insert(out->end(), data, data + n);
+  put_be32(out, static_cast<uint32_t>(crc32(0, out->data() + start, uInt(out->size() - start))));
+}
+
+// Appends IDAT chunks of at most kIdatBytes from a sequence of byte ranges (one stream).
+class IdatWriter {
+ public:
+  explicit IdatWriter(std::vector<uint8_t> *out) : out_(out) {}
+  void write(const uint8_t *data, size_t n) {
+    while (n > 0) {
+      if (!open_) begin();
+      const size_t take = std::min(n, kIdatBytes - in_chunk_);
+      out_->insert(out_->end(), data, data + take);
+      in_chunk_ += take;
+      data += take;
+      n -= take;
+      if (in_chunk_ == kIdatBytes) end();
+    }
+  }
+  void finish() {
+    if (open_) end();
+  }
+
+ private:
+  void begin() {
+    start_ = out_->size();
+    put_be32(out_, 0);  // patched in end()
+    const char type[4] = {'I', 'D', 'A', 'T'};
+    out_->insert(out_->end(), type, type + 4);
+    in_chunk_ = 0;
+    open_ = true;
+  }
+  void end() {
+    uint8_t *p = out_->data() + start_;
+    const uint32_t n = static_cast<uint32_t>(in_chunk_);
+    p[0] = uint8_t(n >> 24), p[1] = uint8_t(n >> 16), p[2] = uint8_t(n >> 8), p[3] = uint8_t(n);
+    put_be32(out_, static_cast<uint32_t>(crc32(0, p + 4, uInt(in_chunk_ + 4))));
+    open_ = false;
+  }
+
+  std::vector<uint8_t> *out_;
+  size_t start_ = 0, in_chunk_ = 0;
+  bool open_ = false;
+};
+
+bool fail(std::string *error, const std::string &message) {
+  if (error) *error = message;
+  return false;
+}
+
+}  // namespace
+
+PngBand deflate_png_band(const uint8_t *rgba, int width, int rows, int channels_out, bool last_band,
+                         int level, const uint8_t *previous_row, const PngBandOptions &options) {
+  if (width < 1 || rows < 0 || (channels_out != 3 && channels_out != 4) || level < 0 || level > 9 ||
+      (!rgba && rows > 0))
+    throw std::invalid_argument("deflate_png_band: bad arguments");
+  const size_t src_stride = size_t(width) * 4;
+  const size_t row_bytes = size_t(width) * size_t(channels_out);
+  const size_t line_bytes = row_bytes + 1;
+
+  PngBand band;
+  band.rows = rows;
+  band.last = last_band;
+  band.raw_len = uint64_t(rows) * line_bytes;
+
+  Deflater z(level, options.strategy);
+  z.reserve(band.raw_len);
+  const size_t chunk_rows = std::max<size_t>(1, kChunkBytes / line_bytes);
+  std::vector<uint8_t> chunk(std::min<size_t>(chunk_rows, std::max(rows, 1)) * line_bytes);
+  // RGB copies of the current and previous rows (channels_out == 3 only).
+  std::vector<uint8_t> rgb_cur, rgb_prev;
+  if (channels_out == 3) {
+    rgb_cur.resize(row_bytes);
+    rgb_prev.resize(row_bytes);
+    if (previous_row) drop_alpha(previous_row, width, rgb_prev.data());
+  }
+  const uint8_t *prev = channels_out == 3 && previous_row ? rgb_prev.data() : previous_row;
+
+  uint32_t adler = adler32(0, nullptr, 0);
+  int row = 0;
+  do {
+    const int n = static_cast<int>(std::min<size_t>(chunk_rows, size_t(rows - row)));
+    uint8_t *out = chunk.data();
+    for (int r = 0; r < n; ++r, ++row, out += line_bytes) {
+      const uint8_t *src = rgba + size_t(row) * src_stride;
+      const uint8_t *cur = src;
+      if (channels_out == 3) {
+        drop_alpha(src, width, rgb_cur.data());
+        cur = rgb_cur.data();
+      }
+      PngFilter f = options.filter;
+      if (!prev && f != PngFilter::kNone) f = PngFilter::kSub;  // nothing above this row
+      if (channels_out == 3)
+        filter_row<3>(f, cur, prev, row_bytes, out);
+      else
+        filter_row<4>(f, cur, prev, row_bytes, out);
+      if (channels_out == 3) {
+        rgb_cur.swap(rgb_prev);
+        prev = rgb_prev.data();
+      } else {
+        prev = src;
+      }
+    }
+    const size_t bytes = size_t(n) * line_bytes;
+    adler = static_cast<uint32_t>(adler32_z(adler, chunk.data(), bytes));
+    const int flush = row < rows ? Z_NO_FLUSH : last_band ? Z_FINISH : Z_SYNC_FLUSH;
+    z.add(chunk.data(), bytes, flush);
+  } while (row < rows);
+  band.adler = adler;
+  band.bytes = z.take();
+  return band;
+}
+
+bool assemble_png(const std::vector<PngBand> &bands, int width, int height, int channels_out,
+                  std::vector<uint8_t> *file, std::string *error) {
+  if (!file) return fail(error, "assemble_png: no output buffer");
+  if (width < 1 || height < 1) return fail(error, "assemble_png: the image is empty");
+  if (channels_out != 3 && channels_out != 4)
+    return fail(error, "assemble_png: channels_out must be 3 or 4");
+  if (bands.empty()) return fail(error, "assemble_png: no bands");
+  const uint64_t line_bytes = uint64_t(width) * uint64_t(channels_out) + 1;
+  uint64_t rows = 0;
+  for (size_t i = 0; i < bands.size(); ++i) {
+    const PngBand &b = bands[i];
+    if (b.rows < 0 || b.raw_len != uint64_t(b.rows) * line_bytes)
+      return fail(error, "assemble_png: band " + std::to_string(i) +
+                             " was compressed for a different width or channel count");
+    if (b.last != (i + 1 == bands.size()))
+      return fail(error, "assemble_png: only the last band may finish the deflate stream (band " +
+                             std::to_string(i) + ")");
+    rows += uint64_t(b.rows);
+  }
+  if (rows != uint64_t(height))
+    return fail(error, "assemble_png: the bands hold " + std::to_string(rows) + " rows, not " +
+                           std::to_string(height));
+
+  try {
+    size_t compressed = 0;
+    for (const PngBand &b : bands) compressed += b.bytes.size();
+    file->clear();
+    file->reserve(compressed + compressed / kIdatBytes * 12 + 128);
+    static const uint8_t kSignature[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
+    file->insert(file->end(), kSignature, kSignature + 8);
+
+    std::vector<uint8_t> ihdr;
+    put_be32(&ihdr, static_cast<uint32_t>(width));
+    put_be32(&ihdr, static_cast<uint32_t>(height));
+    // Bit depth 8; colour type 2 (RGB) or 6 (RGBA); deflate; adaptive filtering; no interlace.
+    const uint8_t rest[5] = {8, uint8_t(channels_out == 3 ? 2 : 6), 0, 0, 0};
+    ihdr.insert(ihdr.end(), rest, rest + 5);
+    put_chunk(file, "IHDR", ihdr.data(), ihdr.size());
+
+    IdatWriter idat(file);
+    // zlib header: deflate with a 32 KiB window, "fastest" level hint, no dictionary
+    // (0x7801 is a multiple of 31, as the FCHECK bits require).
+    const uint8_t zlib_header[2] = {0x78, 0x01};
+    idat.write(zlib_header, 2);
+    uLong adler = adler32(0, nullptr, 0);
+    for (const PngBand &b : bands) {
+      idat.write(b.bytes.data(), b.bytes.size());
+      adler = adler32_combine(adler, b.adler, static_cast<z_off_t>(b.raw_len));
+    }
+    const uint8_t trailer[4] = {uint8_t(adler >> 24), uint8_t(adler >> 16), uint8_t(adler >> 8),
+                                uint8_t(adler)};
+    idat.write(trailer, 4);
+    idat.finish();
+    put_chunk(file, "IEND", nullptr, 0);
+    return true;
+  } catch (const std::exception &e) {
+    file->clear();
+    return fail(error, std::string("assemble_png: ") + e.what());
+  }
+}
+
+std::vector<uint8_t> encode_png(const uint8_t *rgba, int width, int height, int channels_out,
+                                int level, int threads, std::string *error,
+                                const PngBandOptions &options) {
+  std::vector<uint8_t> file;
+  if (!rgba || width < 1 || height < 1) {
+    fail(error, "encode_png: the image is empty");
+    return file;
+  }
+  if ((channels_out != 3 && channels_out != 4) || level < 0 || level > 9) {
+    fail(error, "encode_png: channels_out must be 3 or 4 and level 0..9");
+    return file;
+  }
+  const int n = std::clamp(threads, 1, height);
+  std::vector<PngBand> bands(static_cast<size_t>(n));
+  std::vector<std::exception_ptr> failures(static_cast<size_t>(n));
+  const size_t stride = size_t(width) * 4;
+  const auto compress = [&](int b) {
+    try {
+      const int y0 = int(int64_t(height) * b / n), y1 = int(int64_t(height) * (b + 1) / n);
+      const uint8_t *first = rgba + size_t(y0) * stride;
+      bands[size_t(b)] = deflate_png_band(first, width, y1 - y0, channels_out, b + 1 == n, level,
+                                          y0 > 0 ? first - stride : nullptr, options);
+    } catch (...) {
+      failures[size_t(b)] = std::current_exception();
+    }
+  };
+  std::vector<std::thread> workers;
+  std::string start_error;
+  try {
+    workers.reserve(size_t(n - 1));
+    for (int b = 1; b < n; ++b) workers.emplace_back(compress, b);
+  } catch (const std::exception &e) {  // a thread could not be started
+    start_error = std::string("encode_png: cannot start a thread: ") + e.what();
+  }
+  if (start_error.empty()) compress(0);
+  for (std::thread &t : workers) t.join();
+  if (!start_error.empty()) {
+    fail(error, start_error);
+    return file;
+  }
+  for (const std::exception_ptr &f : failures) {
+    if (!f) continue;
+    try {
+      std::rethrow_exception(f);
+    } catch (const std::exception &e) {
+      fail(error, std::string("encode_png: ") + e.what());
+    } catch (...) {
+      fail(error, "encode_png: unknown error");
+    }
+    return file;
+  }
+  if (!assemble_png(bands, width, height, channels_out, &file, error)) file.clear();
+  return file;
+}
+
+}  // namespace lantern

@@ -1,0 +1,315 @@
+#include "core/output/png_bands.h"
+
+#include <OpenImageIO/imageio.h>
+#include <gtest/gtest.h>
+#include <zlib.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "core/output/atomic_file.h"
+#include "tests/output/scratch_dir.h"
+#include "tests/support/hash_noise.h"
+
+namespace lantern {
+namespace {
+
+using testing::hash;
+
+struct Image {
+  int width = 0, height = 0;
+  std::vector<uint8_t> rgba;  // width * height * 4, top row first
+};
+
+// Every byte random, alpha included: nothing to compress, every filter path exercised.
+Image noise_image(int w, int h, uint32_t seed) {
+  Image img{w, h, std::vector<uint8_t>(size_t(w) * h * 4)};
+  for (size_t i = 0; i < img.rgba.size(); ++i) img.rgba[i] = uint8_t(hash(seed * 2654435761u + i));
+  return img;
+}
+
+// What Lantern renders: a flat opaque background with shaded discs, some partly transparent
+// (so RGB and RGBA files differ), discs overlapping band boundaries.
+Image rendered_image(int w, int h, uint32_t seed) {
+  Image img{w, h, std::vector<uint8_t>(size_t(w) * h * 4)};
+  for (size_t i = 0; i < img.rgba.size(); i += 4) {
+    img.rgba[i + 0] = 250, img.rgba[i + 1] = 250, img.rgba[i + 2] = 255, img.rgba[i + 3] = 255;
+  }
+  const int discs = std::max(1, w * h / 40);
+  for (int d = 0; d < discs; ++d) {
+    const uint32_t k = hash(seed + uint32_t(d) * 7919u);
+    const float cx = float(testing::unit(k) * w), cy = float(testing::unit(hash(k)) * h);
+    const float r = 1.5f + 3.0f * float(testing::unit(hash(k + 1)));
+    const uint8_t alpha = d % 5 == 0 ? uint8_t(128 + d % 100) : 255;
+    for (int y = std::max(0, int(cy - r)); y <= std::min(h - 1, int(cy + r)); ++y)
+      for (int x = std::max(0, int(cx - r)); x <= std::min(w - 1, int(cx + r)); ++x) {
+        const float dx = (x + 0.5f - cx) / r, dy = (y + 0.5f - cy) / r;
+        const float d2 = dx * dx + dy * dy;
+        if (d2 > 1.0f) continue;
+        const float shade = 0.3f + 0.7f * std::sqrt(1.0f - d2);
+        uint8_t *p = &img.rgba[(size_t(y) * w + x) * 4];
+        p[0] = uint8_t(shade * (k & 0xff)), p[1] = uint8_t(shade * ((k >> 8) & 0xff));
+        p[2] = uint8_t(shade * 200), p[3] = alpha;
+      }
+  }
+  return img;
+}
+
+// The first `channels` bytes of every RGBA pixel.
+std::vector<uint8_t> expected(const Image &img, int channels) {
+  if (channels == 4) return img.rgba;
+  std::vector<uint8_t> rgb;
+  rgb.reserve(img.rgba.size() / 4 * 3);
+  for (size_t i = 0; i < img.rgba.size(); i += 4)
+    rgb.insert(rgb.end(), &img.rgba[i], &img.rgba[i + 3]);
+  return rgb;
+}
+
+struct Decoded {
+  int width = 0, height = 0, channels = 0;
+  std::vector<uint8_t> pixels;
+  std::string error;
+};
+
+// Writes the PNG bytes to a file and reads them back with OpenImageIO (raw bytes: no
+// premultiplication by alpha on read).
+Decoded decode(const ScratchDir &dir, const std::vector<uint8_t> &png) {
+  Decoded d;
+  const std::string path = dir.file("decode.png");
+  d.error = write_bytes_atomically(path, png.data(), png.size());
+  if (!d.error.empty()) return d;
+  OIIO::ImageSpec config;
+  config.attribute("oiio:UnassociatedAlpha", 1);
+  auto in = OIIO::ImageInput::open(path, &config);
+  if (!in) {
+    d.error = "cannot open: " + OIIO::geterror();
+    return d;
+  }
+  const OIIO::ImageSpec &spec = in->spec();
+  d.width = spec.width, d.height = spec.height, d.channels = spec.nchannels;
+  if (spec.format != OIIO::TypeDesc::UINT8) d.error = "not 8-bit";
+  d.pixels.resize(size_t(d.width) * d.height * d.channels);
+  if (!in->read_image(0, 0, 0, d.channels, OIIO::TypeDesc::UINT8, d.pixels.data()))
+    d.error = "cannot read: " + in->geterror();
+  return d;
+}
+
+// Asserts that `png` decodes to exactly the image's RGB or RGBA bytes.
+void expect_decodes_to(const ScratchDir &dir, const std::vector<uint8_t> &png, const Image &img,
+                       int channels, const std::string &what) {
+  SCOPED_TRACE(what);
+  ASSERT_FALSE(png.empty());
+  const Decoded d = decode(dir, png);
+  ASSERT_EQ(d.error, "");
+  EXPECT_EQ(d.width, img.width);
+  EXPECT_EQ(d.height, img.height);
+  ASSERT_EQ(d.channels, channels);
+  EXPECT_TRUE(d.pixels == expected(img, channels)) << "decoded pixels differ";
+}
+
+std::string describe(const Image &img, int channels, int bands) {
+  return std::to_string(img.width) + "x" + std::to_string(img.height) + " " +
+         (channels == 3 ? "RGB" : "RGBA") + ", " + std::to_string(bands) + " bands";
+}
+
+TEST(PngBands, RoundTripsAtEverySizeAndBandCount) {
+  const ScratchDir dir;
+  const std::pair<int, int> sizes[] = {{1, 1}, {3, 7}, {37, 23}, {101, 5}, {2, 64}, {255, 130}};
+  for (const auto &[w, h] : sizes) {
+    for (const Image &img : {noise_image(w, h, 1), rendered_image(w, h, 2)}) {
+      for (int channels : {3, 4}) {
+        for (int bands : {1, 2, 3, 4, 7}) {
+          std::string error;
+          const std::vector<uint8_t> png =
+              encode_png(img.rgba.data(), w, h, channels, 1, bands, &error);
+          EXPECT_EQ(error, "");
+          expect_decodes_to(dir, png, img, channels, describe(img, channels, bands));
+        }
+      }
+    }
+  }
+}
+
+TEST(PngBands, FullFrameRoundTripsAndBandCountsDecodeIdentically) {
+  const ScratchDir dir;
+  for (const Image &img : {rendered_image(1024, 1024, 3), noise_image(1024, 1024, 4)}) {
+    for (int channels : {3, 4}) {
+      std::vector<uint8_t> first;
+      for (int bands : {1, 2, 3, 4, 7}) {
+        const std::vector<uint8_t> png =
+            encode_png(img.rgba.data(), img.width, img.height, channels, 1, bands);
+        expect_decodes_to(dir, png, img, channels, describe(img, channels, bands));
+        const Decoded d = decode(dir, png);
+        if (first.empty()) first = d.pixels;
+        EXPECT_TRUE(d.pixels == first) << describe(img, channels, bands);
+      }
+    }
+  }
+}
+
+TEST(PngBands, MoreBandsThanRowsGiveOneRowBands) {
+  const ScratchDir dir;
+  const Image img = rendered_image(29, 5, 5);
+  for (int bands : {5, 6, 64, 1000}) {
+    const std::vector<uint8_t> png = encode_png(img.rgba.data(), 29, 5, 4, 1, bands);
+    expect_decodes_to(dir, png, img, 4, describe(img, 4, bands));
+  }
+  // Zero or negative counts run on the calling thread as one band.
+  for (int bands : {0, -3})
+    expect_decodes_to(dir, encode_png(img.rgba.data(), 29, 5, 4, 1, bands), img, 4, "bands <= 0");
+}
+
+// As MPI ranks would: every band compressed on its own, without the row above it, in uneven
+// sizes including 1-row and 0-row bands, then assembled by the root.
+TEST(PngBands, IndependentBandsWithEveryFilterAndStrategy) {
+  const ScratchDir dir;
+  const Image img = rendered_image(53, 17, 6);
+  const int split[] = {1, 0, 5, 1, 1, 9};  // rows per band, sum 17
+  const PngFilter filters[] = {PngFilter::kNone, PngFilter::kSub, PngFilter::kUp,
+                               PngFilter::kAverage, PngFilter::kPaeth};
+  const PngStrategy strategies[] = {PngStrategy::kDefault, PngStrategy::kFiltered,
+                                    PngStrategy::kRle, PngStrategy::kHuffmanOnly};
+  for (PngFilter filter : filters) {
+    for (PngStrategy strategy : strategies) {
+      for (bool with_previous_row : {false, true}) {
+        for (int channels : {3, 4}) {
+          const PngBandOptions options{filter, strategy};
+          std::vector<PngBand> bands;
+          int y = 0;
+          for (size_t b = 0; b < std::size(split); ++b) {
+            const uint8_t *first = img.rgba.data() + size_t(y) * img.width * 4;
+            const uint8_t *previous = with_previous_row && y > 0 ? first - img.width * 4 : nullptr;
+            bands.push_back(deflate_png_band(first, img.width, split[b], channels,
+                                             b + 1 == std::size(split), 6, previous, options));
+            EXPECT_EQ(bands.back().raw_len, uint64_t(split[b]) * (1 + img.width * channels));
+            y += split[b];
+          }
+          std::vector<uint8_t> png;
+          std::string error;
+          ASSERT_TRUE(assemble_png(bands, img.width, img.height, channels, &png, &error)) << error;
+          expect_decodes_to(dir, png, img, channels,
+                            "filter " + std::to_string(int(filter)) + " strategy " +
+                                std::to_string(int(strategy)) +
+                                (with_previous_row ? " with" : " without") + " previous row, " +
+                                std::to_string(channels) + " channels");
+        }
+      }
+    }
+  }
+}
+
+TEST(PngBands, EveryLevelRoundTrips) {
+  const ScratchDir dir;
+  const Image img = rendered_image(64, 48, 7);
+  for (int level = 0; level <= 9; ++level)
+    expect_decodes_to(dir, encode_png(img.rgba.data(), 64, 48, 4, level, 3), img, 4,
+                      "level " + std::to_string(level));
+}
+
+uint32_t be32(const uint8_t *p) {
+  return uint32_t(p[0]) << 24 | uint32_t(p[1]) << 16 | uint32_t(p[2]) << 8 | uint32_t(p[3]);
+}
+
+// The container by hand: signature, IHDR, IDAT chunks of at most 1 MiB, IEND, valid CRCs; the
+// IDAT payload inflates (zlib checks the adler32) to the filtered scanlines' length.
+TEST(PngBands, ContainerIsWellFormedWithMebibyteIdatChunks) {
+  const Image img = noise_image(1024, 700, 8);  // ~2.8 MB that does not compress
+  const std::vector<uint8_t> png = encode_png(img.rgba.data(), 1024, 700, 4, 1, 3);
+  ASSERT_GT(png.size(), 8u);
+  const uint8_t signature[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
+  ASSERT_TRUE(std::equal(signature, signature + 8, png.begin()));
+  std::vector<std::string> types;
+  std::vector<uint8_t> idat;
+  size_t pos = 8;
+  while (pos + 12 <= png.size()) {
+    const uint32_t n = be32(&png[pos]);
+    ASSERT_LE(pos + 12 + n, png.size());
+    const std::string type(png.begin() + long(pos) + 4, png.begin() + long(pos) + 8);
+    EXPECT_EQ(be32(&png[pos + 8 + n]), uint32_t(crc32(0, &png[pos + 4], n + 4))) << type;
+    if (type == "IHDR") {
+      ASSERT_EQ(n, 13u);
+      EXPECT_EQ(be32(&png[pos + 8]), 1024u);
+      EXPECT_EQ(be32(&png[pos + 12]), 700u);
+      EXPECT_EQ(png[pos + 16], 8);  // bit depth
+      EXPECT_EQ(png[pos + 17], 6);  // RGBA
+    }
+    if (type == "IDAT") {
+      EXPECT_LE(n, 1u << 20);
+      idat.insert(idat.end(), &png[pos + 8], &png[pos + 8] + n);
+    }
+    types.push_back(type);
+    pos += 12 + n;
+  }
+  EXPECT_EQ(pos, png.size());
+  ASSERT_GE(types.size(), 5u);  // IHDR, at least 3 IDAT, IEND
+  EXPECT_EQ(types.front(), "IHDR");
+  EXPECT_EQ(types.back(), "IEND");
+  for (size_t i = 1; i + 1 < types.size(); ++i) EXPECT_EQ(types[i], "IDAT");
+
+  const uLong raw_len = 700ul * (1 + 1024 * 4);
+  std::vector<uint8_t> raw(raw_len + 16);
+  uLongf out_len = uLongf(raw.size());
+  EXPECT_EQ(uncompress(raw.data(), &out_len, idat.data(), uLong(idat.size())), Z_OK);
+  EXPECT_EQ(out_len, raw_len);
+}
+
+TEST(PngBands, MismatchedBandsAreRejectedWithAMessage) {
+  const Image img = rendered_image(16, 8, 9);
+  const auto band = [&](int y0, int rows, bool last, int channels = 4, int width = 16) {
+    return deflate_png_band(img.rgba.data() + size_t(y0) * 16 * 4, width, rows, channels, last, 1);
+  };
+  std::vector<uint8_t> png = {1, 2, 3};
+  std::string error;
+  // Too few rows.
+  EXPECT_FALSE(assemble_png({band(0, 4, false), band(4, 3, true)}, 16, 8, 4, &png, &error));
+  EXPECT_NE(error.find("7 rows"), std::string::npos) << error;
+  // The stream finishes before the last band, or never.
+  error.clear();
+  EXPECT_FALSE(assemble_png({band(0, 4, true), band(4, 4, true)}, 16, 8, 4, &png, &error));
+  EXPECT_NE(error.find("last band"), std::string::npos) << error;
+  EXPECT_FALSE(assemble_png({band(0, 4, false), band(4, 4, false)}, 16, 8, 4, &png, &error));
+  // Compressed for another channel count or width.
+  error.clear();
+  EXPECT_FALSE(assemble_png({band(0, 4, false, 3), band(4, 4, true)}, 16, 8, 4, &png, &error));
+  EXPECT_NE(error.find("band 0"), std::string::npos) << error;
+  EXPECT_FALSE(assemble_png({band(0, 4, false, 4, 15), band(4, 4, true)}, 16, 8, 4, &png, &error));
+  // No bands, bad sizes, bad channels, no output.
+  EXPECT_FALSE(assemble_png({}, 16, 8, 4, &png, &error));
+  EXPECT_FALSE(assemble_png({band(0, 8, true)}, 0, 8, 4, &png, &error));
+  EXPECT_FALSE(assemble_png({band(0, 8, true)}, 16, 8, 2, &png, &error));
+  EXPECT_FALSE(assemble_png({band(0, 8, true)}, 16, 8, 4, nullptr, &error));
+  EXPECT_FALSE(assemble_png({}, 16, 8, 4, &png, nullptr));  // no message wanted: no crash
+  // The good case still works after all that.
+  EXPECT_TRUE(assemble_png({band(0, 4, false), band(4, 4, true)}, 16, 8, 4, &png, &error));
+}
+
+TEST(PngBands, BadArgumentsAreRejected) {
+  const Image img = rendered_image(4, 4, 10);
+  EXPECT_THROW(deflate_png_band(img.rgba.data(), 0, 4, 4, true, 1), std::invalid_argument);
+  EXPECT_THROW(deflate_png_band(img.rgba.data(), 4, -1, 4, true, 1), std::invalid_argument);
+  EXPECT_THROW(deflate_png_band(img.rgba.data(), 4, 4, 2, true, 1), std::invalid_argument);
+  EXPECT_THROW(deflate_png_band(img.rgba.data(), 4, 4, 4, true, 10), std::invalid_argument);
+  EXPECT_THROW(deflate_png_band(nullptr, 4, 4, 4, true, 1), std::invalid_argument);
+  EXPECT_NO_THROW(deflate_png_band(nullptr, 4, 0, 4, true, 1));
+
+  std::string error;
+  EXPECT_TRUE(encode_png(nullptr, 4, 4, 4, 1, 1, &error).empty());
+  EXPECT_FALSE(error.empty());
+  error.clear();
+  EXPECT_TRUE(encode_png(img.rgba.data(), 4, 0, 4, 1, 1, &error).empty());
+  EXPECT_FALSE(error.empty());
+  error.clear();
+  EXPECT_TRUE(encode_png(img.rgba.data(), 4, 4, 1, 1, 1, &error).empty());
+  EXPECT_FALSE(error.empty());
+  error.clear();
+  EXPECT_TRUE(encode_png(img.rgba.data(), 4, 4, 4, -1, 1, &error).empty());
+  EXPECT_FALSE(error.empty());
+  EXPECT_TRUE(encode_png(img.rgba.data(), 4, 4, 4, 1, 1, nullptr, {}).size() > 0);
+}
+
+}  // namespace
+}  // namespace lantern
