@@ -8,6 +8,7 @@ nlohmann::json SceneStats::to_json() const {
           {"ms",
            {{"camera", camera_ms},
             {"cull", cull_ms},
+            {"bricks", bricks_ms},
             {"instances", instances_ms},
             {"draw", draw_ms},
             {"readback", readback_ms},
@@ -24,7 +25,8 @@ nlohmann::json SceneStats::to_json() const {
             {"occlusion_culled", occlusion_culled}}},
           {"composite_method", composite_method},
           {"occlusion", occlusion},
-          {"renderer", renderer}};
+          {"renderer", renderer},
+          {"bricks", bricks}};
 }
 
 }  // namespace lantern

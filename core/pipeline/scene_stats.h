@@ -13,6 +13,8 @@ struct SceneStats {
   std::string name;
   // Milliseconds per stage, measured on rank 0 (the rank that also writes the file). cull_ms
   // includes building the step's bricks in the first scene of a step (later scenes reuse them).
+  double bricks_ms = 0;  // part of cull_ms: building (or refitting) this step's bricks
+  std::string bricks;    // "built", "refit" (kept z-order, new bounds) or "cached" (same step)
   double camera_ms = 0, cull_ms = 0, instances_ms = 0, draw_ms = 0, readback_ms = 0,
          composite_ms = 0, write_ms = 0, total_ms = 0;
   // Particle counts summed over ranks.

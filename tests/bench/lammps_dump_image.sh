@@ -17,7 +17,7 @@ cells=${2:-63} size=${3:-1024} images=${4:-4} every=${5:-5} ranks=${6:-2}
 exe=$build/examples/lammps/lammps_lantern
 [ -x "$exe" ] || { echo "build lammps_lantern first: cmake --build $build --target lammps_lantern"; exit 1; }
 work=$(mktemp -d /tmp/lantern_lammps_bench.XXXXXX)
-trap 'rm -rf "$work"' EXIT
+trap '[ -n "${KEEP:-}" ] || rm -rf "$work"' EXIT
 cat > "$work/bench.yaml" <<YAML
 # Lantern's side: one 1024x1024 PNG per image step, spheres of diameter 1 (LAMMPS: adiam 1.0).
 scenes:

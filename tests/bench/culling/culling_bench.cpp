@@ -1,7 +1,7 @@
 // lantern-bench: every culling and level-of-detail mode on the same scenes, against brute force.
 //
 //   lantern-bench [--scenes fcc1m,fcc10m,inside,void_impact,droplet] [--size 1024] [--runs 5]
-//                 [--md-cells 64] [--out DIR] [--images]
+//                 [--md-cells 64] [--out DIR] [--images] [--modes hzb,cpu_raster+hzb]
 //
 // Per scene: the bricks are built once (as once per step in Lantern) and timed apart; then every
 // mode runs `runs` times, modes interleaved run by run so that the machine's noise hits all of
@@ -57,6 +57,7 @@ struct Options {
   int md_cells = 64;
   std::string out = ".";
   bool images = false;
+  std::vector<std::string> modes;  // --modes a,b: only these (brute_force always runs: reference)
 };
 
 struct Mode {
@@ -65,6 +66,7 @@ struct Mode {
   OcclusionMode occlusion = OcclusionMode::kNone;
   bool frustum = true;
   LodConfig lod;
+  bool cpu = false;  // drawn by the CPU raster (renderer: cpu) instead of OpenGL
 };
 
 std::vector<Mode> modes() {
@@ -75,6 +77,8 @@ std::vector<Mode> modes() {
   m.push_back({"nine_spheres_sorted", false, OcclusionMode::kNineSpheresSorted, true, {}});
   m.push_back({"hzb", false, OcclusionMode::kHzb, true, {}});
   m.push_back({"auto", false, OcclusionMode::kAuto, true, {}});
+  m.push_back({"cpu_raster", false, OcclusionMode::kNone, true, {}, true});
+  m.push_back({"cpu_raster+hzb", false, OcclusionMode::kHzb, true, {}, true});
   for (const double f : {0.5, 0.25, 0.1}) {
     Mode lod{"lod_" + std::to_string(int(f * 100)) + "%", false, OcclusionMode::kNone, true, {}};
     lod.lod.fraction = f;
@@ -142,7 +146,14 @@ class Bench {
         bricks.bricks.size(), median(build), bt.keys_ms, bt.sort_ms, bt.split_ms, bt.layout_ms,
         bt.bounds_ms);
     const InstanceRecipe recipe = make_recipe(p, bs.config, cam, ext);
-    const std::vector<Mode> all = modes();
+    std::vector<Mode> all = modes();
+    if (!opt_.modes.empty())
+      all.erase(std::remove_if(all.begin() + 1, all.end(),
+                               [this](const Mode &m) {
+                                 return std::find(opt_.modes.begin(), opt_.modes.end(), m.name) ==
+                                        opt_.modes.end();
+                               }),
+                all.end());
     std::vector<Result> results(all.size());
     for (int run = 0; run < opt_.runs; ++run)
       for (size_t m = 0; m < all.size(); ++m)
@@ -158,6 +169,28 @@ class Bench {
     sc.culling.occlusion = mode.occlusion;
     sc.culling.frustum = mode.frustum;
     sc.lod = mode.lod;
+    sc.renderer = mode.cpu ? RendererChoice::kCpu : RendererChoice::kOpenGl;
+    Frame &f = keep ? r->frame : scratch_frame_;
+    if (mode.cpu) {  // one fused pass: culling and drawing
+      RasterTarget target;
+      target.frame = &f;
+      target.owner = &owner_;
+      const Rgb8 bg = to_rgb8(sc.background);
+      std::copy(bg.begin(), bg.end(), target.background);
+      target.colour = [&recipe](int64_t i, uint8_t rgb[3]) {
+        const Rgb8 c = recipe.colour(i);
+        std::copy(c.begin(), c.end(), rgb);
+      };
+      const auto t0 = Clock::now();
+      const double cpu0 = thread_cpu_ms();
+      r->stats = culler_.run(p, bricks, cam, sc, &draw_, &target);
+      r->drawn = r->stats.drawn;
+      r->cull_cpu.push_back(thread_cpu_ms() - cpu0);
+      r->cull.push_back(ms_since(t0));
+      r->render.push_back(0.0);
+      r->total.push_back(ms_since(t0));
+      return;
+    }
     const auto t0 = Clock::now();
     const double cpu0 = thread_cpu_ms();
     if (mode.brute) {
@@ -178,7 +211,6 @@ class Bench {
     const Rgb8 bg = to_rgb8(sc.background);
     const uint8_t background[4] = {bg[0], bg[1], bg[2], 255};
     RenderTimings t;
-    Frame &f = keep ? r->frame : scratch_frame_;
     if (auto e = renderer_->render(cam.render_view(background), instances_.data(),
                                    instances_.size(), &f, &t);
         !e.empty())
@@ -258,6 +290,7 @@ class Bench {
   DrawList draw_;
   std::vector<SphereInstance> instances_;
   Frame scratch_frame_;
+  std::vector<uint32_t> owner_;  // CPU raster: particle per pixel
 };
 
 bool parse(int argc, char **argv, Options *o) {
@@ -278,10 +311,14 @@ bool parse(int argc, char **argv, Options *o) {
       o->out = value();
     } else if (a == "--images") {
       o->images = true;
+    } else if (a == "--modes") {
+      std::stringstream ss(value());
+      for (std::string s; std::getline(ss, s, ',');) o->modes.push_back(s);
     } else {
       std::fprintf(stderr,
                    "usage: lantern-bench [--scenes fcc1m,fcc10m,inside,void_impact,droplet] "
-                   "[--size 1024] [--runs 5] [--md-cells 64] [--out DIR] [--images]\n");
+                   "[--size 1024] [--runs 5] [--md-cells 64] [--out DIR] [--images] "
+                   "[--modes hzb,cpu_raster+hzb,...]\n");
       return false;
     }
   }

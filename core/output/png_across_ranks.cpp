@@ -1,0 +1,163 @@
+#include "core/output/png_across_ranks.h"
+
+#include <algorithm>
+#include <climits>
+#include <cstdint>
+#include <exception>
+#include <thread>
+#include <vector>
+
+#include "core/output/atomic_file.h"
+#include "core/output/png_bands.h"
+
+namespace lantern {
+namespace {
+
+constexpr int kChannels = 4;  // RGBA8, as OpenImageIO wrote it before
+constexpr int kHeaderWords = 4;
+
+// First row of band k of n over `height` rows (k == n gives height).
+int first_row(int k, int n, int height) {
+  return int(int64_t(height) * k / n);
+}
+
+// First band of worker w of `workers` sharing n bands.
+int first_band(int w, int workers, int n) {
+  return int(int64_t(n) * w / workers);
+}
+
+// Deflates bands [b0, b1) of n; `rows` points at the first row of band b0. Returns "" or why not.
+std::string deflate_bands(const uint8_t *rows, int width, int height, int n, int b0, int b1,
+                          int level, std::vector<PngBand> *out) {
+  try {
+    const size_t row_bytes = size_t(width) * kChannels;
+    for (int b = b0; b < b1; ++b) {
+      const int first = first_row(b, n, height), count = first_row(b + 1, n, height) - first;
+      const uint8_t *p = rows + size_t(first - first_row(b0, n, height)) * row_bytes;
+      (*out)[size_t(b)] = deflate_png_band(p, width, count, kChannels, b == n - 1, level);
+    }
+    return "";
+  } catch (const std::exception &e) {
+    return e.what();
+  }
+}
+
+std::string write_file(const std::vector<PngBand> &bands, int width, int height,
+                       const std::string &path) {
+  std::vector<uint8_t> file;
+  std::string error;
+  if (!assemble_png(bands, width, height, kChannels, &file, &error))
+    return "cannot encode " + path + ": " + error;
+  return write_bytes_atomically(path, file.data(), file.size());
+}
+
+}  // namespace
+
+int png_band_count(int height) {
+  return std::clamp(height / 32, 1, 8);  // bands of >= 32 rows: flushes cost next to nothing
+}
+
+std::string write_png(const Frame &frame, int level, const std::string &path, int threads) {
+  const int n = png_band_count(frame.height);
+  const int workers = std::clamp(threads, 1, n);
+  std::vector<PngBand> bands(static_cast<size_t>(n));
+  std::vector<std::string> failure(static_cast<size_t>(workers));
+  const auto work = [&](int w) {
+    const int b0 = first_band(w, workers, n), b1 = first_band(w + 1, workers, n);
+    const size_t offset = size_t(first_row(b0, n, frame.height)) * frame.width * kChannels;
+    failure[size_t(w)] = deflate_bands(frame.rgba.data() + offset, frame.width, frame.height, n, b0,
+                                       b1, level, &bands);
+  };
+  std::vector<std::thread> helpers;
+  try {
+    for (int w = 1; w < workers; ++w) helpers.emplace_back(work, w);
+  } catch (const std::exception &) {  // no thread to be had: the caller's thread does the rest
+    for (int w = int(helpers.size()) + 1; w < workers; ++w) work(w);
+  }
+  work(0);
+  for (std::thread &t : helpers) t.join();
+  for (const std::string &f : failure)
+    if (!f.empty()) return "cannot encode " + path + ": " + f;
+  return write_file(bands, frame.width, frame.height, path);
+}
+
+std::string write_png_across_ranks(MPI_Comm comm, int root, const Frame &frame, int width,
+                                   int height, int level, const std::string &path) {
+  int rank = 0, size = 1;
+  MPI_Comm_rank(comm, &rank);
+  MPI_Comm_size(comm, &size);
+  const int n = png_band_count(height);
+  if (size == 1) return write_png(frame, level, path, 2);
+
+  // Each rank's rows: those of its bands (none when there are more ranks than bands). Bands
+  // are far below 2 GiB (16384 x 16384 RGBA is 1 GiB in all), so MPI's int counts suffice.
+  const int64_t row_bytes = int64_t(width) * kChannels;
+  std::vector<int> counts(static_cast<size_t>(size)), offsets(static_cast<size_t>(size));
+  for (int r = 0; r < size; ++r) {
+    const int b0 = first_band(r, size, n), b1 = first_band(r + 1, size, n);
+    const int64_t first = first_row(b0, n, height), last = first_row(b1, n, height);
+    if ((last - first) * row_bytes > INT_MAX || first * row_bytes > INT_MAX)
+      return rank == root ? write_png(frame, level, path, 2) : "";  // same on every rank
+    counts[size_t(r)] = int((last - first) * row_bytes);
+    offsets[size_t(r)] = int(first * row_bytes);
+  }
+  std::vector<uint8_t> mine(size_t(counts[size_t(rank)]));
+  MPI_Scatterv(rank == root ? frame.rgba.data() : nullptr, counts.data(), offsets.data(),
+               MPI_UINT8_T, mine.data(), counts[size_t(rank)], MPI_UINT8_T, root, comm);
+
+  const int b0 = first_band(rank, size, n), b1 = first_band(rank + 1, size, n);
+  std::vector<PngBand> bands(static_cast<size_t>(n));
+  const std::string failure = deflate_bands(mine.data(), width, height, n, b0, b1, level, &bands);
+  std::vector<uint8_t>().swap(mine);
+
+  // Every rank sends a header per band (zeros for bands it does not own) plus a failure flag,
+  // then its bands' bytes back to back.
+  std::vector<int64_t> header(size_t(n) * kHeaderWords + 1, 0);
+  std::vector<uint8_t> bytes;
+  for (int b = b0; b < b1; ++b) {
+    const PngBand &p = bands[size_t(b)];
+    int64_t *h = &header[size_t(b) * kHeaderWords];
+    h[0] = int64_t(p.bytes.size()), h[1] = p.adler, h[2] = int64_t(p.raw_len), h[3] = p.rows;
+    bytes.insert(bytes.end(), p.bytes.begin(), p.bytes.end());
+  }
+  header.back() = failure.empty() ? 0 : 1;
+  const int words = int(header.size());
+  std::vector<int64_t> headers(rank == root ? size_t(size) * words : 0);
+  MPI_Gather(header.data(), words, MPI_INT64_T, headers.data(), words, MPI_INT64_T, root, comm);
+  std::vector<int> piece_counts(static_cast<size_t>(size), 0),
+      piece_offsets(static_cast<size_t>(size), 0);
+  std::vector<uint8_t> pieces;
+  bool failed = false;
+  if (rank == root) {
+    int64_t total = 0;
+    for (int r = 0; r < size; ++r) {
+      piece_offsets[size_t(r)] = int(total);
+      for (int b = first_band(r, size, n); b < first_band(r + 1, size, n); ++b)
+        piece_counts[size_t(r)] += int(headers[size_t(r) * words + size_t(b) * kHeaderWords]);
+      total += piece_counts[size_t(r)];
+      failed |= headers[size_t(r) * words + size_t(words - 1)] != 0;
+    }
+    pieces.resize(size_t(total));
+  }
+  MPI_Gatherv(bytes.data(), int(bytes.size()), MPI_UINT8_T, pieces.data(), piece_counts.data(),
+              piece_offsets.data(), MPI_UINT8_T, root, comm);
+  if (rank != root)
+    return failure.empty() ? "" : "cannot encode a band of " + path + ": " + failure;
+  if (failed) return "cannot encode " + path + ": a rank failed to compress its band";
+
+  size_t at = 0;
+  for (int r = 0; r < size; ++r)
+    for (int b = first_band(r, size, n); b < first_band(r + 1, size, n); ++b) {
+      const int64_t *h = &headers[size_t(r) * words + size_t(b) * kHeaderWords];
+      PngBand &p = bands[size_t(b)];
+      p.bytes.assign(pieces.begin() + long(at), pieces.begin() + long(at + size_t(h[0])));
+      at += size_t(h[0]);
+      p.adler = uint32_t(h[1]);
+      p.raw_len = uint64_t(h[2]);
+      p.rows = int(h[3]);
+      p.last = b == n - 1;
+    }
+  return write_file(bands, width, height, path);
+}
+
+}  // namespace lantern
