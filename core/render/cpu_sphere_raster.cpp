@@ -35,15 +35,16 @@ void CpuSphereRaster::begin_strip(const ViewGeometry &g, Frame *frame, std::vect
   frame_ = frame;
   owner_ = owner->data();
   x0_ = std::max(x0, 0), x1_ = std::min(x1, g.width - 1);
-  levels_.resize(1);
   int w = g.width, h = g.height;
+  size_t k = 1;  // levels are kept between frames: refilled, not reallocated
   while (w > 1 || h > 1) {
     w = (w + 1) / 2, h = (h + 1) / 2;
-    Level l;
+    if (levels_.size() <= k) levels_.resize(k + 1);
+    Level &l = levels_[k++];
     l.w = w, l.h = h;
     l.z.assign(size_t(w) * size_t(h), kBackgroundDepth);
-    levels_.push_back(std::move(l));
   }
+  levels_.resize(std::max<size_t>(k, 1));
   ray_x_.resize(size_t(g.width));
   ray_y_.resize(size_t(g.height));
   for (int x = 0; x < g.width; ++x) ray_x_[size_t(x)] = g.ray_x(x);
@@ -80,8 +81,9 @@ bool CpuSphereRaster::covered_at(int level, int x0, int y0, int x1, int y1, floa
   return true;
 }
 
-// Columns of row y whose centres may lie inside the silhouette (one pixel of slack each side);
-// the per-pixel test decides.
+// Columns of row y whose centres may lie inside the silhouette: the analytic span, widened by a
+// relative 1e-7 of a pixel against rounding; the per-pixel test decides. (Every drawing of a
+// sphere goes through here, so whatever it decides at a boundary, it decides the same always.)
 bool CpuSphereRaster::row_span(const glm::dvec3 &c, double r2, int y, const PixelRect &rect,
                                int *x0, int *x1) const {
   const double ry = ray_y_[size_t(y)];
@@ -104,8 +106,8 @@ bool CpuSphereRaster::row_span(const glm::dvec3 &c, double r2, int y, const Pixe
     lo = (-b - sq) / (2.0 * a), hi = (-b + sq) / (2.0 * a);
   }
   const double step = ray_x_.size() > 1 ? ray_x_[1] - ray_x_[0] : 1.0;
-  const double f0 = std::floor((lo - ray_x_[0]) / step) - 1,
-               f1 = std::ceil((hi - ray_x_[0]) / step) + 1;
+  const double f0 = std::ceil((lo - ray_x_[0]) / step - 1e-7),
+               f1 = std::floor((hi - ray_x_[0]) / step + 1e-7);
   *x0 = int(std::max(f0, double(rect.x0)));
   *x1 = int(std::min(f1, double(rect.x1)));
   return *x0 <= *x1;
