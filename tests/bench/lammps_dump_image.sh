@@ -41,7 +41,14 @@ summary=$(grep '^images:' "$work/out.txt")
 lantern=$(echo "$summary" | sed -E 's/.*lantern: ([0-9.]+) s.*/\1/')
 lammps=$(echo "$summary" | sed -E 's/.*dump image: ([0-9.]+) s.*/\1/')
 ratio=$(echo "$summary" | sed -E 's/.*ratio: ([0-9.]+)x.*/\1/')
-printf '\n| atoms | image | images | LAMMPS dump image s/image | Lantern s/image | ratio |\n'
-printf '|---|---|---|---|---|---|\n'
-printf '| %d | %dx%d | %d | %s | %s | %sx |\n' $((4 * cells * cells * cells)) "$size" "$size" \
+med=$(grep '^median per image:' "$work/out.txt")
+lantern_med=$(echo "$med" | sed -E 's/.*lantern: ([0-9.]+) s.*/\1/')
+lammps_med=$(echo "$med" | sed -E 's/.*dump image: ([0-9.]+) s.*/\1/')
+ratio_med=$(echo "$med" | sed -E 's/.*ratio: ([0-9.]+)x.*/\1/')
+atoms=$((4 * cells * cells * cells))
+printf '\n| atoms | ranks | image | images | statistic | LAMMPS dump image s/image | Lantern s/image | ratio |\n'
+printf '|---|---|---|---|---|---|---|---|\n'
+printf '| %d | %d | %dx%d | %d | mean | %s | %s | %sx |\n' "$atoms" "$ranks" "$size" "$size" \
   "$images" "$lammps" "$lantern" "$ratio"
+printf '| %d | %d | %dx%d | %d | median | %s | %s | %sx |\n' "$atoms" "$ranks" "$size" "$size" \
+  "$images" "$lammps_med" "$lantern_med" "$ratio_med"
