@@ -8,9 +8,12 @@
 #include <cstdio>
 #include <cstring>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "core/camera/camera.h"
+#include "core/culling/view_geometry.h"
+#include "core/render/cpu_sphere_raster.h"
 #include "core/render/gl_session.h"
 
 using namespace lantern;
@@ -58,10 +61,32 @@ int main(int argc, char **argv) {
   const RenderView view = cam.render_view(bg);
   const double px_per_unit = cam.projection[1][1] * size / 2.0 / glm::length(cam.eye - cam.target);
   std::printf("%s, %dx%d, median of %d runs\n", session->description().c_str(), size, size, runs);
-  std::printf("%10s %10s %12s %10s %12s %14s\n", "spheres", "radius_px", "draw_ms", "read_ms",
-              "total_ms", "spheres_per_s");
+  std::printf("%10s %10s %12s %10s %12s %14s %12s %10s\n", "spheres", "radius_px", "draw_ms",
+              "read_ms", "total_ms", "spheres_per_s", "cpu_ms", "gl/cpu");
+  // The CPU raster on the same spheres, everything drawn (no culling), two column strips on two
+  // threads as the pipeline runs it.
+  const ViewGeometry g = ViewGeometry::from_camera(cam, 20.0);
+  Frame cpu_frame;
+  std::vector<uint32_t> owner;
+  const auto cpu_render = [&](const std::vector<SphereInstance> &spheres) {
+    CpuSphereRaster::clear_target(g, bg, &cpu_frame, &owner);
+    CpuSphereRaster strips[2];
+    const int split = size / 2;
+    const auto run = [&](int k) {
+      strips[k].begin_strip(g, &cpu_frame, &owner, k == 0 ? 0 : split,
+                            k == 0 ? split - 1 : size - 1);
+      for (size_t i = 0; i < spheres.size(); ++i) {
+        const SphereInstance &s = spheres[i];
+        const glm::dvec3 c = g.to_view(cam.origin + glm::dvec3(s.x, s.y, s.z));
+        strips[k].draw(c, s.radius, s.rgba, uint32_t(i), g.sphere_rect(c, s.radius));
+      }
+    };
+    std::thread helper(run, 1);
+    run(0);
+    helper.join();
+  };
   for (const int n : {0, 10000, 50000, 200000, 1000000})
-    for (const float r : {0.005f, 0.02f, 0.08f}) {
+    for (const float r : {0.005f, 0.02f, 0.08f, 0.3f}) {
       if (n == 0 && r != 0.005f) continue;
       const auto spheres = scatter(n, r);
       std::vector<double> draw, read, total;
@@ -76,8 +101,17 @@ int main(int argc, char **argv) {
         draw.push_back(t.draw_ms);
         read.push_back(t.readback_ms);
       }
-      std::printf("%10d %10.1f %12.1f %10.1f %12.1f %14.3g\n", n, r * px_per_unit, median(draw),
-                  median(read), median(total), n / (median(total) / 1000.0));
+      std::vector<double> cpu;
+      for (int k = 0; k < runs; ++k) {
+        const auto t0 = std::chrono::steady_clock::now();
+        cpu_render(spheres);
+        cpu.push_back(
+            std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0)
+                .count());
+      }
+      std::printf("%10d %10.1f %12.1f %10.1f %12.1f %14.3g %12.1f %10.1f\n", n, r * px_per_unit,
+                  median(draw), median(read), median(total), n / (median(total) / 1000.0),
+                  median(cpu), median(total) / std::max(median(cpu), 1e-3));
     }
   return 0;
 }
