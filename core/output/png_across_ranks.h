@@ -21,11 +21,13 @@ namespace lantern {
 // Row bands of every PNG Lantern writes for an image `height` rows high.
 int png_band_count(int height);
 
-// Writes `frame` to `path` as an RGBA8 PNG at zlib `level`, compressing on up to `threads`
+// Writes `frame` to `path` as an 8-bit PNG at zlib `level` (RGB when every pixel is opaque, as
+// Lantern's frames are; RGBA otherwise), compressing on up to `threads`
 // threads of this process. Returns "" or a message naming the path.
 std::string write_png(const Frame &frame, int level, const std::string &path, int threads);
 
-// Collective over `comm` (same width, height and level on every rank): the root's `frame` is
+// Collective over `comm` (same width, height and level on every rank), same files as write_png:
+// the root's `frame` is
 // scattered in rows, every rank compresses its share of the bands, and the root writes `path`.
 // `frame` and `path` matter on root only. Returns "" or, on root, the error naming the path (a
 // rank whose compression failed also reports it; the others still finish the call).

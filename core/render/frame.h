@@ -9,6 +9,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <cstring>
 #include <vector>
 
 namespace lantern {
@@ -29,8 +30,10 @@ struct Frame {
 
   // Fills every pixel with the background colour (RGBA8) at background depth.
   void clear(const uint8_t background_rgba[4]) {
-    for (size_t i = 0; i < pixel_count(); ++i)
-      for (int c = 0; c < 4; ++c) rgba[4 * i + c] = background_rgba[c];
+    uint32_t packed;  // one 4-byte store per pixel: this runs for every frame
+    std::memcpy(&packed, background_rgba, 4);
+    uint8_t *out = rgba.data();
+    for (size_t i = 0; i < pixel_count(); ++i) std::memcpy(out + 4 * i, &packed, 4);
     depth.assign(pixel_count(), kBackgroundDepth);
   }
 };

@@ -2,6 +2,8 @@
 // step that asked; a failure during the write surfaces at the next call.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include <OpenImageIO/imageio.h>
 
 #include <filesystem>
@@ -23,11 +25,16 @@ Frame gradient(int w, int h, uint8_t seed) {
   return f;
 }
 
+// RGBA bytes of an image file; opaque frames are stored as RGB, so alpha then reads as 255.
 std::vector<uint8_t> read_rgba(const std::string &path) {
   auto in = OIIO::ImageInput::open(path);
   if (!in) return {};
-  std::vector<uint8_t> px(size_t(in->spec().width) * in->spec().height * 4);
-  in->read_image(0, 0, 0, 4, OIIO::TypeDesc::UINT8, px.data());
+  const int channels = in->spec().nchannels;
+  const size_t pixels = size_t(in->spec().width) * in->spec().height;
+  std::vector<uint8_t> stored(pixels * size_t(channels)), px(pixels * 4, 255);
+  in->read_image(0, 0, 0, channels, OIIO::TypeDesc::UINT8, stored.data());
+  for (size_t i = 0; i < pixels; ++i)
+    for (int c = 0; c < std::min(channels, 4); ++c) px[4 * i + c] = stored[i * channels + c];
   return px;
 }
 
