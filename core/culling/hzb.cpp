@@ -3,6 +3,8 @@
 #include <cmath>
 #include <limits>
 
+#include "core/culling/max_depth_tile.h"
+
 namespace lantern {
 namespace {
 
@@ -31,10 +33,7 @@ void Hzb::reset(const ViewGeometry &g) {
     w = (w + 1) / 2, h = (h + 1) / 2;
     levels_.emplace_back();
   }
-  ray_x_.resize(size_t(g.width));
-  ray_y_.resize(size_t(g.height));
-  for (int x = 0; x < g.width; ++x) ray_x_[size_t(x)] = g.ray_x(x);
-  for (int y = 0; y < g.height; ++y) ray_y_[size_t(y)] = g.ray_y(y);
+  rays_.reset(g);
 }
 
 bool Hzb::covered(const PixelRect &rect, double z) const {
@@ -82,40 +81,6 @@ bool Hzb::usable(const glm::dvec3 &c, double r) const {
   return t * wz - spread >= g_.near_plane * 1.0001 + eps && t * wz + spread <= g_.far_plane - eps;
 }
 
-// Columns of row `y` whose centres may lie inside the circle of radius r_in (a superset: one
-// pixel of slack each side); exactness comes from the per-pixel test that follows.
-bool Hzb::row_span(const glm::dvec3 &c, double r_in2, int y, const PixelRect &rect, int *x0,
-                   int *x1) const {
-  const double ry = ray_y_[size_t(y)];
-  double lo, hi;  // ray x range
-  if (g_.orthographic) {
-    const double dy = c.y - ry, h2 = r_in2 - dy * dy;
-    if (h2 <= 0.0) return false;
-    const double h = std::sqrt(h2);
-    lo = c.x - h, hi = c.x + h;
-  } else {
-    // q^2 < r_in^2  <=>  K (rx^2 + ry^2 + 1) - (cx rx + m)^2 < 0, K = |c|^2 - r_in^2, m = cy ry -
-    // cz.
-    const double k = glm::dot(c, c) - r_in2, m = c.y * ry - c.z;
-    const double a = k - c.x * c.x, b = -2.0 * c.x * m, cc = k * (ry * ry + 1.0) - m * m;
-    if (a <= 0.0) {
-      *x0 = rect.x0, *x1 = rect.x1;  // degenerate (sphere around the eye plane): whole row
-      return true;
-    }
-    const double disc = b * b - 4.0 * a * cc;
-    if (disc <= 0.0) return false;
-    const double sq = std::sqrt(disc);
-    lo = (-b - sq) / (2.0 * a), hi = (-b + sq) / (2.0 * a);
-  }
-  // ray_x is affine in the column: ray_x(x) = ray_x_[0] + x * step.
-  const double step = ray_x_.size() > 1 ? ray_x_[1] - ray_x_[0] : 1.0;
-  const double f0 = std::floor((lo - ray_x_[0]) / step) - 1,
-               f1 = std::ceil((hi - ray_x_[0]) / step) + 1;
-  *x0 = int(std::max(f0, double(rect.x0)));
-  *x1 = int(std::min(f1, double(rect.x1)));
-  return *x0 <= *x1;
-}
-
 bool Hzb::add_occluder(const glm::dvec3 &c, double r, const PixelRect &rect) {
   const double eps = g_.eps;
   const double r_in = r - eps;  // pixel centres closer than this to the axis are certainly inside
@@ -125,11 +90,13 @@ bool Hzb::add_occluder(const glm::dvec3 &c, double r, const PixelRect &rect) {
   Level &l0 = levels_[0];
   const double d = -c.z;
   PixelRect written;
-  const double *ray_x = ray_x_.data();
+  const double *ray_x = rays_.x_data();
   for (int y = rect.y0; y <= rect.y1; ++y) {
     int xa, xb;
-    if (!row_span(c, r_in2, y, rect, &xa, &xb)) continue;
-    const double ry = ray_y_[size_t(y)];
+    // Columns whose centres may lie inside the circle of radius r_in, with a pixel of slack each
+    // side; exactness comes from the per-pixel test that follows.
+    if (!rays_.row_span(c, r_in2, y, rect.x0, rect.x1, 2.0, &xa, &xb)) continue;
+    const double ry = rays_.y(y);
     float *row = l0.z.data() + size_t(y) * l0.w;
     int wx0 = xb + 1, wx1 = xa - 1;  // columns written in this row
     if (g_.orthographic) {
@@ -174,10 +141,7 @@ void Hzb::propagate(const PixelRect &rect) {
     bool changed = false;
     for (int ty = rect.y0 >> sh; ty <= (rect.y1 >> sh); ++ty)
       for (int tx = rect.x0 >> sh; tx <= (rect.x1 >> sh); ++tx) {
-        float m = -kUncovered;
-        for (int cy = 2 * ty; cy <= std::min(2 * ty + 1, below.h - 1); ++cy)
-          for (int cx = 2 * tx; cx <= std::min(2 * tx + 1, below.w - 1); ++cx)
-            m = std::max(m, below.z[size_t(cy) * below.w + cx]);
+        const float m = max_of_children(below.z.data(), below.w, below.h, tx, ty, -kUncovered);
         float &t = l.z[size_t(ty) * l.w + tx];
         changed |= m != t;
         t = m;

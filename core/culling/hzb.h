@@ -20,6 +20,7 @@
 
 #include <glm/vec3.hpp>
 
+#include "core/culling/pixel_rays.h"
 #include "core/culling/view_geometry.h"
 
 namespace lantern {
@@ -45,13 +46,11 @@ class Hzb {
   };
   bool usable(const glm::dvec3 &c, double r) const;
   bool covered_at(int level, int x0, int y0, int x1, int y1, float z) const;
-  bool row_span(const glm::dvec3 &c, double r_in2, int y, const PixelRect &rect, int *x0,
-                int *x1) const;
   void propagate(const PixelRect &rect);
 
   ViewGeometry g_;
   std::vector<Level> levels_;
-  std::vector<double> ray_x_, ray_y_;  // per column / row: see ViewGeometry::ray_x / ray_y
+  PixelRays rays_;
 };
 
 }  // namespace lantern

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <limits>
 
+#include "core/culling/max_depth_tile.h"
+
 namespace lantern {
 namespace {
 
@@ -45,10 +47,7 @@ void CpuSphereRaster::begin_strip(const ViewGeometry &g, Frame *frame, std::vect
     l.z.assign(size_t(w) * size_t(h), kBackgroundDepth);
   }
   levels_.resize(std::max<size_t>(k, 1));
-  ray_x_.resize(size_t(g.width));
-  ray_y_.resize(size_t(g.height));
-  for (int x = 0; x < g.width; ++x) ray_x_[size_t(x)] = g.ray_x(x);
-  for (int y = 0; y < g.height; ++y) ray_y_[size_t(y)] = g.ray_y(y);
+  rays_.reset(g);
 }
 
 bool CpuSphereRaster::covered(PixelRect rect, double z) const {
@@ -81,38 +80,6 @@ bool CpuSphereRaster::covered_at(int level, int x0, int y0, int x1, int y1, floa
   return true;
 }
 
-// Columns of row y whose centres may lie inside the silhouette: the analytic span, widened by a
-// relative 1e-7 of a pixel against rounding; the per-pixel test decides. (Every drawing of a
-// sphere goes through here, so whatever it decides at a boundary, it decides the same always.)
-bool CpuSphereRaster::row_span(const glm::dvec3 &c, double r2, int y, const PixelRect &rect,
-                               int *x0, int *x1) const {
-  const double ry = ray_y_[size_t(y)];
-  double lo, hi;
-  if (g_.orthographic) {
-    const double dy = c.y - ry, h2 = r2 - dy * dy;
-    if (h2 <= 0.0) return false;
-    const double h = std::sqrt(h2);
-    lo = c.x - h, hi = c.x + h;
-  } else {
-    const double k = glm::dot(c, c) - r2, m = c.y * ry - c.z;
-    const double a = k - c.x * c.x, b = -2.0 * c.x * m, cc = k * (ry * ry + 1.0) - m * m;
-    if (a <= 0.0) {
-      *x0 = rect.x0, *x1 = rect.x1;
-      return true;
-    }
-    const double disc = b * b - 4.0 * a * cc;
-    if (disc <= 0.0) return false;
-    const double sq = std::sqrt(disc);
-    lo = (-b - sq) / (2.0 * a), hi = (-b + sq) / (2.0 * a);
-  }
-  const double step = ray_x_.size() > 1 ? ray_x_[1] - ray_x_[0] : 1.0;
-  const double f0 = std::ceil((lo - ray_x_[0]) / step - 1e-7),
-               f1 = std::floor((hi - ray_x_[0]) / step + 1e-7);
-  *x0 = int(std::max(f0, double(rect.x0)));
-  *x1 = int(std::min(f1, double(rect.x1)));
-  return *x0 <= *x1;
-}
-
 // The impostor shader's headlight: Lambert (light along the view ray) plus a Blinn-Phong
 // highlight of exponent 40, clamped, to 8 bits.
 void CpuSphereRaster::shade(size_t pixel, const uint8_t rgb[3], double lambert) {
@@ -135,8 +102,10 @@ bool CpuSphereRaster::draw(const glm::dvec3 &c, double r, const uint8_t rgb[3], 
   PixelRect written;
   for (int y = rect.y0; y <= rect.y1; ++y) {
     int xa, xb;
-    if (!row_span(c, r2, y, rect, &xa, &xb)) continue;
-    const double ry = ray_y_[size_t(y)];
+    // The analytic span, widened by 1e-7 px against rounding; the per-pixel test decides.
+    // (Every drawing of a sphere goes through here, so a boundary pixel is decided alike always.)
+    if (!rays_.row_span(c, r2, y, rect.x0, rect.x1, 1e-7, &xa, &xb)) continue;
+    const double ry = rays_.y(y);
     int wx0 = xb + 1, wx1 = xa - 1;
     const auto write = [&](int x, double hit_depth, double h) {
       if (hit_depth < near || hit_depth > far) return;  // the shader's clip-z discard
@@ -151,7 +120,7 @@ bool CpuSphereRaster::draw(const glm::dvec3 &c, double r, const uint8_t rgb[3], 
     if (g_.orthographic) {
       const double dy = c.y - ry, dy2 = dy * dy;
       for (int x = xa; x <= xb; ++x) {
-        const double dx = c.x - ray_x_[size_t(x)], q2 = dx * dx + dy2;
+        const double dx = c.x - rays_.x(x), q2 = dx * dx + dy2;
         if (q2 >= r2) continue;
         const double h = std::sqrt(r2 - q2);
         write(x, d - h, h);
@@ -161,7 +130,7 @@ bool CpuSphereRaster::draw(const glm::dvec3 &c, double r, const uint8_t rgb[3], 
       // lies h = sqrt(r^2 - q^2) before the closest approach; its view depth is t / L.
       const double l2_row = ry * ry + 1.0, m = c.y * ry - c.z;
       for (int x = xa; x <= xb; ++x) {
-        const double rx = ray_x_[size_t(x)];
+        const double rx = rays_.x(x);
         const double l2 = rx * rx + l2_row, cd = c.x * rx + m;
         const double q2l2 = c2 * l2 - cd * cd;
         if (q2l2 >= r2 * l2) continue;
@@ -185,17 +154,10 @@ void CpuSphereRaster::propagate(const PixelRect &rect) {
     bool changed = false;
     for (int ty = rect.y0 >> sh; ty <= (rect.y1 >> sh); ++ty)
       for (int tx = rect.x0 >> sh; tx <= (rect.x1 >> sh); ++tx) {
-        float m = -1.0f;
-        if (k == 1) {
-          for (int y = 2 * ty; y <= std::min(2 * ty + 1, g_.height - 1); ++y)
-            for (int x = 2 * tx; x <= std::min(2 * tx + 1, g_.width - 1); ++x)
-              m = std::max(m, frame_->depth[size_t(y) * size_t(g_.width) + size_t(x)]);
-        } else {
-          const Level &below = levels_[k - 1];
-          for (int cy = 2 * ty; cy <= std::min(2 * ty + 1, below.h - 1); ++cy)
-            for (int cx = 2 * tx; cx <= std::min(2 * tx + 1, below.w - 1); ++cx)
-              m = std::max(m, below.z[size_t(cy) * below.w + cx]);
-        }
+        const float m =
+            k == 1 ? max_of_children(frame_->depth.data(), g_.width, g_.height, tx, ty, -1.0f)
+                   : max_of_children(levels_[k - 1].z.data(), levels_[k - 1].w, levels_[k - 1].h,
+                                     tx, ty, -1.0f);
         float &t = l.z[size_t(ty) * l.w + tx];
         changed |= m != t;
         t = m;

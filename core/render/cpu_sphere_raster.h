@@ -21,6 +21,7 @@
 
 #include <glm/vec3.hpp>
 
+#include "core/culling/pixel_rays.h"
 #include "core/culling/view_geometry.h"
 #include "core/render/frame.h"
 
@@ -51,8 +52,6 @@ class CpuSphereRaster {
     std::vector<float> z;  // max window depth of the tile's pixels
   };
   bool covered_at(int level, int x0, int y0, int x1, int y1, float z) const;
-  bool row_span(const glm::dvec3 &c, double r2, int y, const PixelRect &rect, int *x0,
-                int *x1) const;
   void propagate(const PixelRect &rect);
   void shade(size_t pixel, const uint8_t rgb[3], double lambert);
 
@@ -61,7 +60,7 @@ class CpuSphereRaster {
   uint32_t *owner_ = nullptr;
   int x0_ = 0, x1_ = -1;
   std::vector<Level> levels_;  // levels_[0] is unused: level 0 is the frame's depth
-  std::vector<double> ray_x_, ray_y_;
+  PixelRays rays_;
 };
 
 }  // namespace lantern

@@ -28,6 +28,7 @@
 #include "core/output/image_writer.h"
 #include "core/output/png_bands.h"
 #include "core/render/frame.h"
+#include "tests/support/hash_noise.h"
 
 using namespace lantern;
 
@@ -50,14 +51,7 @@ double time_ms(int runs, const std::function<void()> &f) {
   return median(t);
 }
 
-uint32_t hash(uint32_t x) {
-  x ^= x >> 16;
-  x *= 0x7feb352dU;
-  x ^= x >> 15;
-  x *= 0x846ca68bU;
-  x ^= x >> 16;
-  return x;
-}
+using lantern::testing::hash;  // the tests' integer hash (tests/support/hash_noise.h)
 
 // An fcc slab (2 cells deep) seen at an angle, orthographic, z-buffered, Lambert + specular
 // shading. One colour for all atoms (Lantern's default), or with `colored` a colour per atom

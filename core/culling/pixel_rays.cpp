@@ -1,0 +1,49 @@
+#include "core/culling/pixel_rays.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <glm/geometric.hpp>
+
+namespace lantern {
+
+void PixelRays::reset(const ViewGeometry &g) {
+  orthographic_ = g.orthographic;
+  x_.resize(size_t(g.width));
+  y_.resize(size_t(g.height));
+  for (int c = 0; c < g.width; ++c) x_[size_t(c)] = g.ray_x(c);
+  for (int r = 0; r < g.height; ++r) y_[size_t(r)] = g.ray_y(r);
+}
+
+bool PixelRays::row_span(const glm::dvec3 &c, double r2, int row, int lo, int hi, double widen,
+                         int *x0, int *x1) const {
+  const double ry = y_[size_t(row)];
+  double a_lo, a_hi;  // ray x range
+  if (orthographic_) {
+    const double dy = c.y - ry, h2 = r2 - dy * dy;
+    if (h2 <= 0.0) return false;
+    const double h = std::sqrt(h2);
+    a_lo = c.x - h, a_hi = c.x + h;
+  } else {
+    // q^2 < r^2  <=>  K (rx^2 + ry^2 + 1) - (cx rx + m)^2 < 0, K = |c|^2 - r^2, m = cy ry - cz.
+    const double k = glm::dot(c, c) - r2, m = c.y * ry - c.z;
+    const double a = k - c.x * c.x, b = -2.0 * c.x * m, cc = k * (ry * ry + 1.0) - m * m;
+    if (a <= 0.0) {  // degenerate (sphere around the eye plane): the whole row
+      *x0 = lo, *x1 = hi;
+      return lo <= hi;
+    }
+    const double disc = b * b - 4.0 * a * cc;
+    if (disc <= 0.0) return false;
+    const double sq = std::sqrt(disc);
+    a_lo = (-b - sq) / (2.0 * a), a_hi = (-b + sq) / (2.0 * a);
+  }
+  // ray_x is affine in the column: ray_x(x) = ray_x(0) + x * step.
+  const double step = x_.size() > 1 ? x_[1] - x_[0] : 1.0;
+  const double f0 = std::ceil((a_lo - x_[0]) / step - widen),
+               f1 = std::floor((a_hi - x_[0]) / step + widen);
+  *x0 = int(std::max(f0, double(lo)));
+  *x1 = int(std::min(f1, double(hi)));
+  return *x0 <= *x1;
+}
+
+}  // namespace lantern
