@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <thread>
 
@@ -240,37 +241,200 @@ double BrickSet::spread() const {
   return s;
 }
 
-bool refit_bricks(const ParticleArrays &particles, double max_growth, BrickSet *set) {
-  if (set->nonfinite != 0 || particles.count() != set->particle_count() ||
-      particles.has_radius() != set->has_radius)
+namespace {
+
+// Keeps, in place and in order at the front of the brick's slice `seg`, the particles of `b`
+// that are still published (index below `count`) and inside the brick's last bounds grown by a
+// quarter of its size, and gives *b their count and bounds; the others go to `outliers`.
+// False if a particle is not finite.
+template <typename Positions, typename Radii>
+bool sort_out(const Positions &pos, const Radii &radius, bool has_radius, int64_t count,
+              uint32_t *seg, Brick *b, std::vector<uint32_t> *outliers) {
+  const glm::dvec3 grow = 0.25 * (b->hi - b->lo) + 1e-9 * (glm::abs(b->lo) + glm::abs(b->hi));
+  const glm::dvec3 lo = b->lo - grow, hi = b->hi + grow;
+  glm::dvec3 new_lo(std::numeric_limits<double>::infinity()), new_hi(-new_lo);
+  double r = 0.0;
+  uint32_t kept = 0;
+  for (uint32_t k = 0; k < b->count; ++k) {
+    const uint32_t i = seg[k];
+    if (int64_t(i) >= count) continue;  // no longer published
+    const glm::dvec3 x = pos.get(i);
+    if (!finite(x)) return false;
+    if (x.x >= lo.x && x.y >= lo.y && x.z >= lo.z && x.x <= hi.x && x.y <= hi.y && x.z <= hi.z) {
+      seg[kept++] = i;
+      new_lo = glm::min(new_lo, x), new_hi = glm::max(new_hi, x);
+      if (has_radius) r = std::max(r, radius.get(i));
+    } else {
+      outliers->push_back(i);
+    }
+  }
+  b->count = kept, b->lo = new_lo, b->hi = new_hi, b->max_radius = r;
+  return true;
+}
+
+}  // namespace
+
+// First pass of a refit, read-only and branch-free on the data so loads overlap: each brick's
+// bounds over its particles with index below `count`, and whether the brick still fits - every
+// index below `count` and the new bounds finite and inside the old ones grown by a quarter (the
+// common case between two host re-neighbourings).
+template <typename Positions, typename Radii>
+void fresh_bounds(const Positions &pos, const Radii &radius, int64_t count, const BrickSet &set,
+                  std::vector<Brick> *fresh, std::vector<uint8_t> *fits) {
+  *fresh = set.bricks;
+  fits->assign(set.bricks.size(), 0);
+  in_two(
+      int64_t(fresh->size()),
+      [&](int, int64_t first, int64_t last) {
+        for (int64_t k = first; k < last; ++k) {
+          Brick &f = (*fresh)[size_t(k)];
+          glm::dvec3 lo(std::numeric_limits<double>::infinity()), hi(-lo);
+          double r = 0.0, sum = 0.0;  // sum: NaN or inf anywhere makes it non-finite
+          bool all_published = true;
+          const uint32_t *idx = set.order.data() + f.first;
+          for (uint32_t j = 0; j < f.count; ++j) {
+            if (int64_t(idx[j]) >= count) {
+              all_published = false;
+              continue;
+            }
+            const glm::dvec3 x = pos.get(idx[j]);
+            sum += x.x + x.y + x.z;
+            lo = glm::min(lo, x), hi = glm::max(hi, x);
+            if (set.has_radius) r = std::max(r, radius.get(idx[j]));
+          }
+          const Brick &old = set.bricks[size_t(k)];
+          const glm::dvec3 grow = 0.25 * (old.hi - old.lo);
+          // Written so that NaN (skipped by min/max, or a NaN bound) fails the test.
+          const bool inside = lo.x >= old.lo.x - grow.x && lo.y >= old.lo.y - grow.y &&
+                              lo.z >= old.lo.z - grow.z && hi.x <= old.hi.x + grow.x &&
+                              hi.y <= old.hi.y + grow.y && hi.z <= old.hi.z + grow.z &&
+                              std::isfinite(r) && std::isfinite(sum);
+          (*fits)[size_t(k)] = all_published && inside;
+          f.lo = lo, f.hi = hi, f.max_radius = r;
+        }
+      },
+      set.particle_count() >= kTwoThreadsFrom);
+}
+
+bool refit_bricks(const ParticleArrays &particles, double max_growth, BrickSet *set,
+                  const BrickOptions &options) {
+  const int64_t count = particles.count();
+  if (set->nonfinite != 0 || particles.has_radius() != set->has_radius ||
+      count >= (int64_t(1) << 32) || count == 0)
     return false;
-  const bool two = set->particle_count() >= kTwoThreadsFrom;
-  bool nonfinite[2] = {false, false};
+  std::vector<Brick> fresh;
+  std::vector<uint8_t> fits;
+  visit_positions(particles, [&](const auto &pos) {
+    visit_radii(particles, true, 0.0,
+                [&](const auto &radius) { fresh_bounds(pos, radius, count, *set, &fresh, &fits); });
+  });
+  if (count == set->particle_count() &&
+      std::all_of(fits.begin(), fits.end(), [](uint8_t f) { return f != 0; })) {
+    set->bricks = std::move(fresh);
+    glm::dvec3 lo(std::numeric_limits<double>::infinity()), hi(-lo);
+    for (const Brick &b : set->bricks) lo = glm::min(lo, b.lo), hi = glm::max(hi, b.hi);
+    set->lo = lo, set->hi = hi;
+    return set->spread() <= max_growth * set->spread_at_build;
+  }
+  const int64_t known = set->particle_count();
+  // Each half of the bricks (two threads for large sets) sorts out its strays in place.
+  struct Half {
+    std::vector<uint32_t> outliers;
+    bool finite = true;
+  } half[2];
+  std::vector<uint32_t> outliers;
+  bool finite_all = true;
+  size_t kept_bricks = 0;
   visit_positions(particles, [&](const auto &pos) {
     visit_radii(particles, true, 0.0, [&](const auto &radius) {
+      // Particles that left their brick (moved far, wrapped through a periodic boundary, or an
+      // index the host now uses for another particle) and new indices become outliers.
       in_two(
           int64_t(set->bricks.size()),
           [&](int part, int64_t first, int64_t last) {
-            brick_bounds(pos, radius, set->has_radius, first, last, set);
-            // min/max skip NaN silently: a non-finite particle must force a rebuild instead.
-            double sum = 0.0;
-            for (int64_t k = first; k < last; ++k) {
-              const Brick &b = set->bricks[size_t(k)];
-              for (uint32_t j = 0; j < b.count; ++j) {
-                const glm::dvec3 x = pos.get(set->order[b.first + j]);
-                sum += x.x + x.y + x.z;
-              }
-              sum += b.max_radius;
+            Half &h = half[part];
+            for (int64_t k = first; k < last && h.finite; ++k) {
+              Brick &br = set->bricks[size_t(k)];
+              if (fits[size_t(k)])
+                br = fresh[size_t(k)];  // still fits: the first pass's bounds stand
+              else
+                h.finite = sort_out(pos, radius, set->has_radius, count,
+                                    set->order.data() + br.first, &br, &h.outliers);
             }
-            nonfinite[part] = !std::isfinite(sum);
           },
-          two);
+          known >= kTwoThreadsFrom);
+      if (!half[0].finite || !half[1].finite) {
+        finite_all = false;
+        return;
+      }
+      // Close the gaps the strays left: kept slices move down, empty bricks go.
+      uint32_t at = 0;
+      size_t out = 0;
+      for (const Brick &br : set->bricks) {
+        if (br.count == 0) continue;
+        Brick moved = br;
+        std::memmove(set->order.data() + at, set->order.data() + br.first,
+                     size_t(br.count) * sizeof(uint32_t));
+        moved.first = at;
+        at += br.count;
+        set->bricks[out++] = moved;
+      }
+      set->bricks.resize(out);
+      set->order.resize(at);
+      kept_bricks = out;
+      outliers = std::move(half[0].outliers);
+      outliers.insert(outliers.end(), half[1].outliers.begin(), half[1].outliers.end());
+      for (int64_t i = known; i < count; ++i) {
+        if (!finite(pos.get(i))) {
+          finite_all = false;
+          return;
+        }
+        outliers.push_back(uint32_t(i));
+      }
+      // Too many strays: a fresh build gives tighter bricks for about the same cost.
+      if (outliers.size() * 10 > size_t(count)) {
+        finite_all = false;
+        return;
+      }
+      if (outliers.empty()) return;
+      // The strays in z-order of their own bounds, cut into octree bricks as build_bricks does.
+      glm::dvec3 lo(std::numeric_limits<double>::infinity()), hi(-lo);
+      for (const uint32_t i : outliers)
+        lo = glm::min(lo, pos.get(i)), hi = glm::max(hi, pos.get(i));
+      const MortonQuantiser q = MortonQuantiser::for_bounds(lo, hi);
+      std::vector<uint64_t> words(outliers.size()), scratch;
+      for (size_t k = 0; k < outliers.size(); ++k)
+        words[k] = make_word(q.key(pos.get(outliers[k])), outliers[k]);
+      radix_sort_words(&words, &scratch, 32, 64);
+      break_ties(pos, q, &words);
+      std::vector<Brick> extra;
+      split_cells(words, 0, uint32_t(words.size()), 0, std::max<uint32_t>(1, options.max_particles),
+                  &extra);
+      const auto offset = uint32_t(set->order.size());
+      for (const uint64_t w : words) set->order.push_back(word_index(w));
+      std::vector<uint32_t> layout_scratch;
+      for (Brick e : extra) {
+        e.first += offset;
+        if (options.level_layout)
+          apply_level_layout(set->order.data() + e.first, e.count, &layout_scratch);
+        set->bricks.push_back(e);
+      }
     });
   });
-  if (nonfinite[0] || nonfinite[1]) return false;
+  if (!finite_all || set->particle_count() != count) return false;
+  // Kept bricks got their bounds while sorting out; the strays' bricks get theirs here.
+  visit_positions(particles, [&](const auto &pos) {
+    visit_radii(particles, true, 0.0, [&](const auto &radius) {
+      brick_bounds(pos, radius, set->has_radius, int64_t(kept_bricks), int64_t(set->bricks.size()),
+                   set);
+    });
+  });
   glm::dvec3 lo(std::numeric_limits<double>::infinity()), hi(-lo);
-  for (const Brick &b : set->bricks) lo = glm::min(lo, b.lo), hi = glm::max(hi, b.hi);
-  if (!set->bricks.empty()) set->lo = lo, set->hi = hi;
+  for (const Brick &b : set->bricks) {
+    if (!std::isfinite(b.max_radius)) return false;
+    lo = glm::min(lo, b.lo), hi = glm::max(hi, b.hi);
+  }
+  set->lo = lo, set->hi = hi;
   return set->spread() <= max_growth * set->spread_at_build;
 }
 

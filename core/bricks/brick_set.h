@@ -63,12 +63,16 @@ struct BrickBuildTimings {
 BrickSet build_bricks(const ParticleArrays &particles, const BrickOptions &options,
                       BrickBuildTimings *timings = nullptr);
 
-// Keeps the bricks (the permutation) of an earlier step and recomputes every bound from the
-// particles' current positions and radii: one pass instead of a sort, for particles that moved
-// a little. The bounds are exact, so culling stays exact; only brick tightness can suffer.
-// Returns false - and leaves *set unusable, to be rebuilt - when the count or the radius array
-// changed, a position is not finite, or the summed brick extents grew beyond max_growth times
-// those at build (particles reordered in memory, or drifted far: rebuild for tight bricks).
-bool refit_bricks(const ParticleArrays &particles, double max_growth, BrickSet *set);
-
+// Keeps the bricks (the z-order permutation) of an earlier step for particles that moved a
+// little, instead of sorting again: one pass over the particles. A particle stays in its brick
+// if it lies within the brick's last bounds grown by a quarter of its size; the others (moved
+// far, wrapped through a periodic boundary, or an index the host now gives another particle, as
+// LAMMPS does when atoms migrate) and indices beyond the old count are sorted in z-order among
+// themselves into extra bricks; indices beyond the new count are dropped. Every bound is then
+// recomputed from the current positions, so culling stays exact whatever the indices now hold.
+// Returns false - and leaves *set unusable, to be rebuilt - when the radius array appeared or
+// went, a position is not finite, more than a tenth of the particles strayed, or the summed
+// brick extents grew beyond max_growth times those at build (bricks too loose to cull well).
+bool refit_bricks(const ParticleArrays &particles, double max_growth, BrickSet *set,
+                  const BrickOptions &options = {});
 }  // namespace lantern

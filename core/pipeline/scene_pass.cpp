@@ -69,10 +69,14 @@ const BrickSet &bricks_for_step(const ScenePassInputs &in, double *build_ms, std
     return cache.set;
   }
   const auto t0 = Clock::now();
-  // Same arrays, a later step: particles moved a little, keep the z-order and refit the bounds.
+  // A later step with as many particles: they moved a little, so keep the z-order and refit
+  // the bounds. The arrays may have moved (hosts reallocate them, LAMMPS when its ghost count
+  // grows): the bounds are recomputed from the particles themselves, so culling stays exact
+  // whatever the indices now hold, and refit_bricks asks for a rebuild if bricks got loose.
   constexpr double kMaxSpreadGrowth = 1.25;
-  if (cache.count == p.count() && cache.positions == pos && cache.radii == rad &&
-      refit_bricks(p, kMaxSpreadGrowth, &cache.set)) {
+  if (cache.count == p.count() && refit_bricks(p, kMaxSpreadGrowth, &cache.set)) {
+    cache.positions = pos;
+    cache.radii = rad;
     cache.step = in.step;
     cache.fingerprint = fingerprint;
     ++cache.refits;

@@ -161,10 +161,32 @@ TEST(Bricks, RefitKeepsTheOrderAndGivesExactBoundsForMovedParticles) {
   EXPECT_GT(refit.spread(), built.spread());
 }
 
-TEST(Bricks, RefitRefusesReorderedNonFiniteOrResizedParticles) {
+// Every index below `count` exactly once, and each brick's bounds exactly those of its particles.
+void expect_valid_bricks(const BrickSet &set, const ParticleArrays &p) {
+  std::vector<int> seen(size_t(p.count()), 0);
+  uint32_t next = 0;
+  for (const Brick &b : set.bricks) {
+    EXPECT_EQ(b.first, next);
+    next += b.count;
+    glm::dvec3 lo(1e300), hi(-1e300);
+    for (uint32_t k = 0; k < b.count; ++k) {
+      const uint32_t i = set.order[b.first + k];
+      ASSERT_LT(int64_t(i), p.count());
+      ++seen[i];
+      lo = glm::min(lo, p.position(i));
+      hi = glm::max(hi, p.position(i));
+    }
+    EXPECT_EQ(b.lo, lo);
+    EXPECT_EQ(b.hi, hi);
+  }
+  EXPECT_EQ(int64_t(next), p.count());
+  EXPECT_TRUE(std::all_of(seen.begin(), seen.end(), [](int s) { return s == 1; }));
+}
+
+TEST(Bricks, RefitRefusesReorderedOrNonFiniteParticles) {
   std::vector<double> xyz = random_points(20000, 5);
   const BrickSet built = build_bricks(borrow(xyz), BrickOptions{});
-  {  // the host sorted its atoms differently: bricks would span the whole box
+  {  // the host sorted its atoms differently: nearly every particle left its brick
     std::vector<std::array<double, 3>> pts(xyz.size() / 3);
     std::memcpy(pts.data(), xyz.data(), xyz.size() * sizeof(double));
     std::shuffle(pts.begin(), pts.end(), std::mt19937(1));
@@ -179,11 +201,39 @@ TEST(Bricks, RefitRefusesReorderedNonFiniteOrResizedParticles) {
     BrickSet set = built;
     EXPECT_FALSE(refit_bricks(borrow(bad), 1.25, &set));
   }
-  {
-    const std::vector<double> fewer(xyz.begin(), xyz.end() - 3);
-    BrickSet set = built;
-    EXPECT_FALSE(refit_bricks(borrow(fewer), 1.25, &set));
+}
+
+TEST(Bricks, RefitRepairsWrappedAndMigratedParticles) {
+  // As LAMMPS does between two render steps: a few atoms wrap through a periodic boundary,
+  // leaving atoms' slots are filled with the last atoms, and arrivals are appended.
+  std::vector<double> xyz = random_points(30000, 8, 0.0, 10.0);
+  const BrickSet built = build_bricks(borrow(xyz), BrickOptions{});
+  std::vector<double> next = xyz;
+  for (size_t i = 0; i < 300; ++i) next[3 * (i * 97) + 0] += 10.0 * (i % 2 ? 1 : -1);  // wrap
+  for (size_t i = 0; i < 200; ++i) {  // 200 leave: the last atom moves into the hole
+    const size_t hole = 3 * (i * 131 + 7), last = next.size() - 3;
+    std::copy(next.begin() + long(last), next.end(), next.begin() + long(hole));
+    next.resize(last);
   }
+  std::mt19937 rng(4);
+  std::uniform_real_distribution<double> u(0.0, 10.0);
+  for (int i = 0; i < 250; ++i) next.insert(next.end(), {u(rng), u(rng), u(rng)});  // arrive
+  const ParticleArrays moved = borrow(next);
+  BrickSet set = built;
+  ASSERT_TRUE(refit_bricks(moved, 1.25, &set));
+  expect_valid_bricks(set, moved);
+  EXPECT_GT(set.bricks.size(), built.bricks.size());  // the strays got bricks of their own
+  // Only wraps, same count: the strays' bricks are re-sorted, the others keep their slices.
+  std::vector<double> wrapped = xyz;
+  for (size_t i = 0; i < 100; ++i) wrapped[3 * (i * 211) + 1] += 10.0;
+  BrickSet rewrapped = built;
+  ASSERT_TRUE(refit_bricks(borrow(wrapped), 1.25, &rewrapped));
+  expect_valid_bricks(rewrapped, borrow(wrapped));
+  // Fewer particles than before and nothing strayed: only the dropped indices go.
+  const std::vector<double> fewer(xyz.begin(), xyz.end() - 30);
+  BrickSet shrunk = built;
+  ASSERT_TRUE(refit_bricks(borrow(fewer), 1.25, &shrunk));
+  expect_valid_bricks(shrunk, borrow(fewer));
 }
 
 TEST(LevelLayout, MatchesFigure3OfSeed001) {
