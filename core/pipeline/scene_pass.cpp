@@ -69,14 +69,16 @@ const BrickSet &bricks_for_step(const ScenePassInputs &in, double *build_ms, std
     return cache.set;
   }
   const auto t0 = Clock::now();
-  // A later step with as many particles: they moved a little, so keep the z-order and refit
-  // the bounds. The arrays may have moved (hosts reallocate them, LAMMPS when its ghost count
-  // grows): the bounds are recomputed from the particles themselves, so culling stays exact
-  // whatever the indices now hold, and refit_bricks asks for a rebuild if bricks got loose.
+  // A later step: particles moved a little, so keep the z-order and refit the bounds. The host
+  // may have moved its arrays (LAMMPS reallocates when its ghost count grows), wrapped, dropped
+  // or added particles (migration): refit_bricks re-sorts only the strays, recomputes every
+  // bound from the particles themselves - culling stays exact whatever the indices now hold -
+  // and asks for a rebuild when too much changed.
   constexpr double kMaxSpreadGrowth = 1.25;
-  if (cache.count == p.count() && refit_bricks(p, kMaxSpreadGrowth, &cache.set)) {
+  if (cache.count >= 0 && refit_bricks(p, kMaxSpreadGrowth, &cache.set)) {
     cache.positions = pos;
     cache.radii = rad;
+    cache.count = p.count();
     cache.step = in.step;
     cache.fingerprint = fingerprint;
     ++cache.refits;
