@@ -5,10 +5,6 @@
 #include <gtest/gtest.h>
 
 #include <mpi.h>
-#include <fstream>
-#include <iterator>
-
-#include <OpenImageIO/imageio.h>
 
 #include <unistd.h>
 #include <cmath>
@@ -20,6 +16,7 @@
 
 #include "lantern/lantern.h"
 #include "tests/support/hash_noise.h"
+#include "tests/support/image_file.h"
 #include "tests/support/mpi_world.h"
 
 namespace lantern::testing {
@@ -150,32 +147,9 @@ std::string file_of(const std::string &directory, const std::string &prefix,
   return directory + "/" + prefix + name;
 }
 
-struct Pixels {
-  int width = 0, height = 0, channels = 0;
-  std::vector<uint8_t> data;
-  std::string error;
-};
-
-Pixels read_png(const std::string &path) {
-  Pixels p;
-  auto in = OIIO::ImageInput::open(path);
-  if (!in) {
-    p.error = "cannot open " + path;
-    return p;
-  }
-  const OIIO::ImageSpec &spec = in->spec();
-  p.width = spec.width;
-  p.height = spec.height;
-  p.channels = spec.nchannels;
-  p.data.resize(size_t(p.width) * p.height * p.channels);
-  if (!in->read_image(0, 0, 0, p.channels, OIIO::TypeDesc::UINT8, p.data.data()))
-    p.error = "cannot read " + path;
-  return p;
-}
-
 // "" if identical, else how many pixels differ.
 std::string compare_images(const std::string &expected_path, const std::string &actual_path) {
-  const Pixels e = read_png(expected_path), a = read_png(actual_path);
+  const ImagePixels e = read_image(expected_path), a = read_image(actual_path);
   if (!e.error.empty()) return e.error;
   if (!a.error.empty()) return a.error;
   if (e.width != a.width || e.height != a.height || e.channels != a.channels)
@@ -184,16 +158,15 @@ std::string compare_images(const std::string &expected_path, const std::string &
   const size_t pixels = size_t(e.width) * e.height, c = size_t(e.channels);
   for (size_t i = 0; i < pixels; ++i)
     for (size_t k = 0; k < c; ++k)
-      if (e.data[i * c + k] != a.data[i * c + k]) {
+      if (e.pixels[i * c + k] != a.pixels[i * c + k]) {
         ++differing;
         break;
       }
   if (differing == 0) {
     // PNG bands do not depend on who compressed them: the files are the same bytes too.
-    std::ifstream fe(expected_path, std::ios::binary), fa(actual_path, std::ios::binary);
-    const std::string be((std::istreambuf_iterator<char>(fe)), std::istreambuf_iterator<char>());
-    const std::string ba((std::istreambuf_iterator<char>(fa)), std::istreambuf_iterator<char>());
-    return be == ba ? std::string() : "same pixels but different file bytes (" + actual_path + ")";
+    return read_bytes(expected_path) == read_bytes(actual_path)
+               ? std::string()
+               : "same pixels but different file bytes (" + actual_path + ")";
   }
   return std::to_string(differing) + " of " + std::to_string(pixels) + " pixels differ (" +
          expected_path + " vs " + actual_path + ")";
