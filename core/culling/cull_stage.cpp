@@ -21,6 +21,9 @@ using Clock = std::chrono::steady_clock;
 // they cover at most one pixel centre or two.
 constexpr double kSplatPixels = 0.5;
 constexpr int kDepthBuckets = 64;
+// Pixels of slack around a sphere's outline for the CPU raster: its float per-pixel test errs by
+// about 1e-4 px at most (column offsets of up to thousands of pixels times a float step).
+constexpr double kRasterSlack = 0.05;
 constexpr int kTwoStripsFrom = 256;  // image width from which hzb runs on two threads  //
                                      // front-to-back order inside a brick: a bucket sort suffices
 
@@ -340,22 +343,30 @@ void Culler::run_strip(const Positions &pos, const Radii &radius, const Frustum 
     w->cut_pp[k] = brick.cut_culled;
     order_front_to_back(w);
     for (const Candidate &c : w->sorted) {
-      PixelRect r = g_.sphere_rect(c.c, c.r);
-      r.x0 = std::max(r.x0, w->x0), r.x1 = std::min(r.x1, w->x1);
-      if (r.empty()) continue;
       const double nearest = -c.c.z - c.r - g_.eps;
       if (raster_) {
         if (scene.lod.point_path && splat_sized(c.c, c.r)) {
           w->out.points.push_back(draw_entry(c.index, c.scale));  // splatted after the raster
           continue;
         }
-        if (occlusion_ && w->raster.covered(r, nearest)) continue;
+        // The CPU raster tests and casts exactly the pixels its per-pixel test can accept (up to
+        // kRasterSlack), not sphere_rect's extra pixel that OpenGL's float rasterisation needs.
+        PixelRect r = g_.sphere_rect_tight(c.c, c.r, kRasterSlack);
+        if (r.empty()) {  // covers no pixel centre: drawn, as OpenGL would, with nothing to cast
+          w->out.spheres.push_back(draw_entry(c.index, c.scale));
+          continue;
+        }
+        r.x0 = std::max(r.x0, w->x0), r.x1 = std::min(r.x1, w->x1);
+        if (r.empty() || (occlusion_ && w->raster.covered(r, nearest))) continue;
         uint8_t rgb[3];
         raster_->colour(c.index, rgb);
         w->raster.draw(c.c, c.r, rgb, c.index, r);
         w->out.spheres.push_back(draw_entry(c.index, c.scale));
         continue;
       }
+      PixelRect r = g_.sphere_rect(c.c, c.r);
+      r.x0 = std::max(r.x0, w->x0), r.x1 = std::min(r.x1, w->x1);
+      if (r.empty()) continue;
       if (w->hzb.covered(r, nearest)) continue;
       w->hzb.add_occluder(c.c, c.r, r);
       accept(c, scene.lod.point_path, &w->out);

@@ -9,10 +9,11 @@ namespace lantern {
 
 void PixelRays::reset(const ViewGeometry &g) {
   orthographic_ = g.orthographic;
-  x_.resize(size_t(g.width));
-  y_.resize(size_t(g.height));
-  for (int c = 0; c < g.width; ++c) x_[size_t(c)] = g.ray_x(c);
-  for (int r = 0; r < g.height; ++r) y_[size_t(r)] = g.ray_y(r);
+  width_ = g.width;
+  x_.resize(size_t(g.width + kPadding));
+  y_.resize(size_t(g.height + kPadding));
+  for (int c = 0; c < g.width + kPadding; ++c) x_[size_t(c)] = g.ray_x(c);
+  for (int r = 0; r < g.height + kPadding; ++r) y_[size_t(r)] = g.ray_y(r);
 }
 
 bool PixelRays::row_span(const glm::dvec3 &c, double r2, int row, int lo, int hi, double widen,
@@ -38,7 +39,7 @@ bool PixelRays::row_span(const glm::dvec3 &c, double r2, int row, int lo, int hi
     a_lo = (-b - sq) / (2.0 * a), a_hi = (-b + sq) / (2.0 * a);
   }
   // ray_x is affine in the column: ray_x(x) = ray_x(0) + x * step.
-  const double step = x_.size() > 1 ? x_[1] - x_[0] : 1.0;
+  const double step = x_[1] - x_[0];
   const double f0 = std::ceil((a_lo - x_[0]) / step - widen),
                f1 = std::floor((a_hi - x_[0]) / step + widen);
   *x0 = int(std::max(f0, double(lo)));

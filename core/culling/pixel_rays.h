@@ -18,11 +18,16 @@ namespace lantern {
 
 class PixelRays {
  public:
+  // x_data() / y_data() hold kPadding columns / rows past the image (same affine formula), so
+  // blocked loops may read a few entries beyond the last one they use.
+  static constexpr int kPadding = 8;
+
   void reset(const ViewGeometry &g);
 
   double x(int column) const { return x_[size_t(column)]; }
   double y(int row) const { return y_[size_t(row)]; }
   const double *x_data() const { return x_.data(); }
+  const double *y_data() const { return y_.data(); }
 
   // Columns [*x0, *x1] of `row`, within [lo, hi], whose rays may pass closer than sqrt(r2) to
   // the view-space point c: the analytic interval widened by `widen` pixels on each side.
@@ -32,7 +37,8 @@ class PixelRays {
 
  private:
   bool orthographic_ = false;
-  std::vector<double> x_, y_;
+  int width_ = 0;
+  std::vector<double> x_, y_;  // width_ + kPadding, height + kPadding entries
 };
 
 }  // namespace lantern

@@ -1,5 +1,7 @@
 #include "core/culling/view_geometry.h"
 
+#include <algorithm>
+#include <cmath>
 #include <limits>
 
 namespace lantern {
@@ -55,18 +57,55 @@ PixelRect ViewGeometry::sphere_rect(const glm::dvec3 &c, double radius) const {
                     sy * (c.y + r) + ty);
   const double d = -c.z;
   if (d - r <= 0.5 * near_plane) return full;
+  double mx0, mx1, my0, my1;
+  outline_slopes(c, r, &mx0, &mx1, &my0, &my1);
+  return ndc_rect(sx * mx0, sx * mx1, sy * my0, sy * my1);
+}
+
+void ViewGeometry::outline_slopes(const glm::dvec3 &c, double r, double *mx0, double *mx1,
+                                  double *my0, double *my1) const {
   // Tangent lines from the eye to the circle in the xz (yz) plane: slopes m = x / d with
   // m^2 (d^2 - r^2) - 2 x d m + x^2 - r^2 = 0.
-  const double dd = d * d - r * r;
+  const double d = -c.z, dd = d * d - r * r;
   const auto slopes = [&](double x, double *lo, double *hi) {
     const double root = r * std::sqrt(std::max(x * x + dd, 0.0));
     *lo = (x * d - root) / dd;
     *hi = (x * d + root) / dd;
   };
+  slopes(c.x, mx0, mx1);
+  slopes(c.y, my0, my1);
+}
+
+PixelRect ViewGeometry::sphere_rect_tight(const glm::dvec3 &c, double radius, double slack) const {
+  const double r = radius + eps;
+  if (orthographic)
+    return ndc_rect_tight(sx * (c.x - r) + tx, sx * (c.x + r) + tx, sy * (c.y - r) + ty,
+                          sy * (c.y + r) + ty, slack);
+  if (-c.z - r <= 0.5 * near_plane) return PixelRect{0, 0, width - 1, height - 1};
   double mx0, mx1, my0, my1;
-  slopes(c.x, &mx0, &mx1);
-  slopes(c.y, &my0, &my1);
-  return ndc_rect(sx * mx0, sx * mx1, sy * my0, sy * my1);
+  outline_slopes(c, r, &mx0, &mx1, &my0, &my1);
+  return ndc_rect_tight(sx * mx0, sx * mx1, sy * my0, sy * my1, slack);
+}
+
+PixelRect ViewGeometry::ndc_rect_tight(double x_lo, double x_hi, double y_lo, double y_hi,
+                                       double slack) const {
+  // Pixel column x is sampled at NDC (x + 0.5) / W * 2 - 1: the centres in [lo, hi] widened by
+  // `slack` pixels. NaN bounds give the whole range.
+  const auto first = [slack](double p, int n) {
+    const double f = std::ceil(p - slack);
+    return f > 0.0 ? int(std::min(f, double(n))) : 0;
+  };
+  const auto last = [slack](double p, int n) {
+    const double f = std::floor(p + slack);
+    return p != p ? n - 1 : f < double(n - 1) ? int(std::max(f, -1.0)) : n - 1;
+  };
+  const double hw = 0.5 * width, hh = 0.5 * height;
+  PixelRect r;
+  r.x0 = first((x_lo + 1.0) * hw - 0.5, width);
+  r.x1 = last((x_hi + 1.0) * hw - 0.5, width);
+  r.y0 = first((1.0 - y_hi) * hh - 0.5, height);
+  r.y1 = last((1.0 - y_lo) * hh - 0.5, height);
+  return r;
 }
 
 PixelRect ViewGeometry::box_rect(const glm::dvec3 corners[8]) const {

@@ -73,6 +73,10 @@ struct ViewGeometry {
   // Every pixel whose centre the sphere (view-space centre c, radius r) could cover, clamped to
   // the image. A sphere reaching behind the near plane gets the whole image.
   PixelRect sphere_rect(const glm::dvec3 &c, double r) const;
+  // The pixels whose centres lie within `slack` pixels of the sphere's projected outline (the
+  // outline computed in double for radius r + eps), clamped to the image: for the CPU raster,
+  // whose own per-pixel test errs far less than `slack`. Empty when no centre is that close.
+  PixelRect sphere_rect_tight(const glm::dvec3 &c, double r, double slack) const;
   // The same for a view-space box given by its 8 corners' bounds (already expanded by radius).
   PixelRect box_rect(const glm::dvec3 corners[8]) const;
 
@@ -89,6 +93,10 @@ struct ViewGeometry {
 
  private:
   PixelRect ndc_rect(double x_lo, double x_hi, double y_lo, double y_hi) const;
+  PixelRect ndc_rect_tight(double x_lo, double x_hi, double y_lo, double y_hi, double slack) const;
+  // Tangent slopes x / d of the sphere's outline seen from the eye (perspective, d - r > 0).
+  void outline_slopes(const glm::dvec3 &c, double r, double *mx0, double *mx1, double *my0,
+                      double *my1) const;
 };
 
 }  // namespace lantern

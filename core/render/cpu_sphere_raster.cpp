@@ -14,9 +14,13 @@ constexpr uint32_t kNoParticle = std::numeric_limits<uint32_t>::max();
 // depths are double results rounded to float, so this keeps "covered" a guarantee.
 constexpr double kQueryMargin = 2.0 * 5.96e-8;
 
-uint8_t to_unorm8(double v) {
-  return uint8_t(std::min(v, 1.0) * 255.0 + 0.5);
-}
+// Pixels are ray-cast in square tiles of side kTile, or kSmallTile for spheres that small
+// (PixelRays pads its tables for the overrun).
+constexpr int kTile = PixelRays::kPadding;
+constexpr int kSmallTile = 4;
+constexpr int kTilePixels = kTile * kTile;
+// Window depth of a ray that misses or is clipped: loses every depth test (depths are <= 1).
+constexpr float kMiss = 2.0f;
 
 }  // namespace
 
@@ -80,67 +84,281 @@ bool CpuSphereRaster::covered_at(int level, int x0, int y0, int x1, int y1, floa
   return true;
 }
 
-// The impostor shader's headlight: Lambert (light along the view ray) plus a Blinn-Phong
-// highlight of exponent 40, clamped, to 8 bits.
-void CpuSphereRaster::shade(size_t pixel, const uint8_t rgb[3], double lambert) {
-  const double l2 = lambert * lambert, l4 = l2 * l2, l8 = l4 * l4, l32 = (l8 * l8) * (l8 * l8);
-  const double diffuse = (0.2 + 0.8 * lambert) / 255.0, highlight = 0.3 * l32 * l8;
-  uint8_t *out = frame_->rgba.data() + 4 * pixel;
-  for (int k = 0; k < 3; ++k) out[k] = to_unorm8(rgb[k] * diffuse + highlight);
-  out[3] = 255;
+namespace {
+
+// A tile of n x n pixels (n = kTile or kSmallTile), ray-cast for one sphere: the window depth of
+// each pixel's hit (kMiss where the ray misses the sphere, the hit is clipped by the near or far
+// plane, or the pixel lies outside the w x h part asked for) and the squared Lambert factor of the
+// shading. Pixel (k, j) of the tile is entry j * n + k. A small sphere fits one tile, so its pixels
+// are cast in one straight-line loop that the compiler turns into vector instructions.
+struct Tile {
+  float wz[kTilePixels];
+  float lambert2[kTilePixels];
+};
+
+// The float path, for every sphere wholly in front of the eye (all that dense scenes draw). It
+// works relative to the ray through the sphere's centre, in quantities of order one or smaller:
+// the large part of the window depth (that of the centre) is computed once per sphere in double
+// and float adds only the small offset, so depths stay within about one float ulp of the double
+// computation, and the silhouette test within float rounding of the pixel position. A pixel's
+// offset from the centre's ray is (integer columns from a reference column) x step + the
+// reference's own offset, so it depends on the pixel and the sphere only, never on the tile.
+//
+// Perspective, D = (rx, ry, -1) the ray, d = -c.z, (u0, v0) = (c.x, c.y) / d the centre's ray,
+// (dx, dy) = (rx, ry) - (u0, v0): with L0^2 = 1 + u0^2 + v0^2, e = u0 dx + v0 dy,
+//   |D|^2 = L^2 = L0^2 + 2e + dx^2 + dy^2,   c.D / d = L0^2 + e,
+//   |c x D|^2 / d^2 = dx^2 + dy^2 + (u0 dy - v0 dx)^2      (no cancellation),
+//   (hL/d)^2 = (r/d)^2 L^2 - |c x D|^2 / d^2               (h: half chord; hit iff > 0),
+// the hit at view depth d (L0^2 + e - hL/d) / L^2, and window depth wa + wb / depth =
+// (wa + wb/d) + (wb/d) delta with delta = (e + dx^2 + dy^2 + hL/d) / (L0^2 + e - hL/d).
+// Orthographic: the hit is h = sqrt(r^2 - dx^2 - dy^2) before the centre's depth d.
+struct CentredCast {
+  // Usable when the sphere lies wholly in front of the eye (perspective), or always (ortho).
+  static bool applies(const ViewGeometry &g, const glm::dvec3 &c, double r) {
+    return g.orthographic || -c.z - r > 0.0;
+  }
+  CentredCast(const ViewGeometry &g, const PixelRays &rays, const glm::dvec3 &c, double r);
+
+  bool orthographic;
+  float u0 = 0, v0 = 0;      // the centre's ray (perspective) or ray origin (orthographic)
+  float l0sq = 0, rho2 = 0;  // perspective: L0^2, (r / d)^2
+  float r2 = 0;              // orthographic: r^2
+  float wc = 0, wd = 0;      // perspective: wz = wc + wd delta; orthographic: wz = wc - wd h
+  float lo = 0, hi = 0;      // clip: perspective near / d, far / d; ortho d - near, d - far
+  int ref_x = 0, ref_y = 0;  // reference column and row
+  float step_x = 0, step_y = 0, off_x = 0, off_y = 0;  // ray steps; the reference's (dx, dy)
+};
+
+CentredCast::CentredCast(const ViewGeometry &g, const PixelRays &rays, const glm::dvec3 &c,
+                         double r)
+    : orthographic(g.orthographic) {
+  const double d = -c.z;
+  double cu = c.x, cv = c.y;
+  if (orthographic) {
+    r2 = float(r * r);
+    wc = float(0.5 + 0.5 * g.p32 - 0.5 * g.p22 * d), wd = float(-0.5 * g.p22);
+    lo = float(d - g.near_plane), hi = float(d - g.far_plane);
+  } else {
+    cu /= d, cv /= d;
+    l0sq = float(1.0 + cu * cu + cv * cv), rho2 = float((r / d) * (r / d));
+    wc = float(0.5 - 0.5 * g.p22 + 0.5 * g.p32 / d), wd = float(0.5 * g.p32 / d);
+    lo = float(g.near_plane / d), hi = float(g.far_plane / d);
+  }
+  // Centres on an axis to within 1e-30 count as on it: their products would be float
+  // denormals, which are slow.
+  u0 = std::abs(cu) < 1e-30 ? 0.0f : float(cu), v0 = std::abs(cv) < 1e-30 ? 0.0f : float(cv);
+  // Reference column and row: those of the centre's ray (any fixed pair would do).
+  const double *rx = rays.x_data(), *ry = rays.y_data();
+  const double sx = rx[1] - rx[0], sy = ry[1] - ry[0];
+  ref_x = int(std::clamp(std::floor((cu - rx[0]) / sx), -1e9, 1e9));
+  ref_y = int(std::clamp(std::floor((cv - ry[0]) / sy), -1e9, 1e9));
+  step_x = float(sx), step_y = float(sy);
+  off_x = float(rx[0] + ref_x * sx - cu), off_y = float(ry[0] + ref_y * sy - cv);
 }
+
+// The tile kernels below come in an AVX2 clone and a baseline one, picked at load time. Both
+// run the same IEEE operations in the same order (no contraction into FMA), so their results
+// are bit-identical: an image does not depend on the machine's vector width.
+#if defined(__x86_64__) && defined(__GNUC__)
+#define LANTERN_TILE_KERNEL __attribute__((target_clones("avx2", "default")))
+#else
+#define LANTERN_TILE_KERNEL
+#endif
+
+#define LANTERN_INLINE inline __attribute__((always_inline))
+
+// The pixel kx columns and jy rows from the sphere's reference pixel, perspective; `inside`
+// false makes it a miss. Every path casts a pixel through here, in the same operations.
+LANTERN_INLINE void perspective_pixel(const CentredCast &p, int kx, int jy, bool inside,
+                                      float *wz_out, float *lambert2_out) {
+  const float dx = p.off_x + float(kx) * p.step_x, dy = p.off_y + float(jy) * p.step_y;
+  const float dd = dx * dx + dy * dy, e = p.u0 * dx + p.v0 * dy;
+  const float cross = p.u0 * dy - p.v0 * dx;
+  const float l2 = p.l0sq + 2.0f * e + dd;
+  const float h2 = p.rho2 * l2 - (dd + cross * cross);
+  const float s = std::sqrt(std::max(h2, 0.0f));
+  const float den = p.l0sq + e - s;  // view depth / d, times L^2
+  // The shader's clip-z discard: view depth d den / L^2 outside [near, far].
+  const bool hit = inside & (h2 > 0.0f) & (den >= p.lo * l2) & (den <= p.hi * l2);
+  const float wz = p.wc + p.wd * ((e + dd + s) / den);
+  *wz_out = hit ? wz : kMiss;
+  *lambert2_out = h2 / (p.rho2 * l2);
+}
+
+// The same, orthographic.
+LANTERN_INLINE void orthographic_pixel(const CentredCast &p, int kx, int jy, bool inside,
+                                       float *wz_out, float *lambert2_out) {
+  const float dx = p.off_x + float(kx) * p.step_x, dy = p.off_y + float(jy) * p.step_y;
+  const float h2 = p.r2 - (dx * dx + dy * dy);
+  const float s = std::sqrt(std::max(h2, 0.0f));
+  const bool hit = inside & (h2 > 0.0f) & (s <= p.lo) & (s >= p.hi);
+  const float wz = p.wc - p.wd * s;
+  *wz_out = hit ? wz : kMiss;
+  *lambert2_out = h2 / p.r2;
+}
+
+// Pixels (x0 + k, y0 + j), k < w, j < h, of a tile of side n, as straight-line loops.
+template <int n>
+LANTERN_INLINE void cast_tile(const CentredCast &sphere, int x0, int y0, int w, int h, Tile *t) {
+  const CentredCast p = sphere;  // a local copy: the tile's stores cannot alias it
+  const int kx = x0 - p.ref_x, jy = y0 - p.ref_y;
+  if (p.orthographic) {
+    for (int i = 0; i < n * n; ++i)
+      orthographic_pixel(p, kx + i % n, jy + i / n, (i % n < w) & (i / n < h), &t->wz[i],
+                         &t->lambert2[i]);
+  } else {
+    for (int i = 0; i < n * n; ++i)
+      perspective_pixel(p, kx + i % n, jy + i / n, (i % n < w) & (i / n < h), &t->wz[i],
+                        &t->lambert2[i]);
+  }
+}
+
+// A tile of side n (kTile or kSmallTile) of a sphere wholly in front of the eye.
+LANTERN_TILE_KERNEL void cast_centred(const CentredCast &p, int n, int x0, int y0, int w, int h,
+                                      Tile *t) {
+  if (n == kSmallTile)
+    cast_tile<kSmallTile>(p, x0, y0, w, h, t);
+  else
+    cast_tile<kTile>(p, x0, y0, w, h, t);
+}
+
+// The general path in double, for spheres reaching behind the eye plane (near-plane clipping),
+// with the unnormalised ray D = (rx, ry, -1) from the eye: (hL)^2 = r^2 L^2 - (|c|^2 L^2 -
+// (c.D)^2), the hit at view depth t / L^2 with t = c.D - hL.
+class GeneralCast {
+ public:
+  GeneralCast(const ViewGeometry &g, const PixelRays &rays, const glm::dvec3 &c, double r)
+      : rays_(rays),
+        c_(c),
+        r2_(r * r),
+        c2_(glm::dot(c, c)),
+        near_(g.near_plane),
+        far_(g.far_plane),
+        wa_(0.5 - 0.5 * g.p22),
+        wb_(0.5 * g.p32) {}
+
+  void cast(int n, int x0, int y0, int w, int h, Tile *t) const {
+    const double *ray_x = rays_.x_data() + x0, *ray_y = rays_.y_data() + y0;  // padded tables
+    for (int i = 0; i < n * n; ++i) {
+      const int k = i % n, j = i / n;
+      const double rx = ray_x[k], ry = ray_y[j];
+      const double l2 = rx * rx + ry * ry + 1.0, cd = c_.x * rx + c_.y * ry - c_.z;
+      const double h2l2 = r2_ * l2 - (c2_ * l2 - cd * cd);
+      const double tt = cd - std::sqrt(std::max(h2l2, 0.0));
+      const bool hit = (k < w) & (j < h) & (h2l2 > 0.0) & (tt >= near_ * l2) & (tt <= far_ * l2);
+      const float wz = float(wa_ + wb_ * l2 / tt);
+      t->wz[i] = hit ? wz : kMiss;
+      t->lambert2[i] = float(h2l2 / (r2_ * l2));
+    }
+  }
+
+ private:
+  const PixelRays &rays_;
+  glm::dvec3 c_;
+  double r2_, c2_, near_, far_, wa_, wb_;
+};
+
+// The impostor shader's headlight: Lambert (light along the view ray) plus a Blinn-Phong
+// highlight of exponent 40, clamped, to 8 bits; packed as R | G << 8 | B << 16.
+LANTERN_INLINE uint32_t shade_pixel(float lambert2, float red, float green, float blue) {
+  const auto unorm8 = [](float v) { return uint32_t(int32_t(std::min(v, 1.0f) * 255.0f + 0.5f)); };
+  const float lambert = std::sqrt(std::max(lambert2, 0.0f));
+  const float l2 = lambert * lambert, l4 = l2 * l2, l8 = l4 * l4, l32 = (l8 * l8) * (l8 * l8);
+  const float diffuse = (0.2f + 0.8f * lambert) * (1.0f / 255.0f), highlight = 0.3f * l32 * l8;
+  return unorm8(red * diffuse + highlight) | unorm8(green * diffuse + highlight) << 8 |
+         unorm8(blue * diffuse + highlight) << 16;
+}
+
+template <int n>
+LANTERN_INLINE void shade_tile_n(const float lambert2[], const uint8_t rgb[3], uint32_t out[]) {
+  for (int i = 0; i < n * n; ++i) out[i] = shade_pixel(lambert2[i], rgb[0], rgb[1], rgb[2]);
+}
+
+LANTERN_TILE_KERNEL void shade_tile(int n, const float lambert2[kTilePixels], const uint8_t rgb[3],
+                                    uint32_t out[kTilePixels]) {
+  if (n == kSmallTile)
+    shade_tile_n<kSmallTile>(lambert2, rgb, out);
+  else
+    shade_tile_n<kTile>(lambert2, rgb, out);
+}
+
+}  // namespace
 
 bool CpuSphereRaster::draw(const glm::dvec3 &c, double r, const uint8_t rgb[3], uint32_t index,
                            PixelRect rect) {
   rect.x0 = std::max(rect.x0, x0_), rect.x1 = std::min(rect.x1, x1_);
   if (rect.empty() || !(r > 0.0)) return false;
-  const double r2 = r * r, c2 = glm::dot(c, c), d = -c.z;
-  if (!g_.orthographic && c2 <= r2) return false;  // eye inside: the impostor draws nothing
-  const double near = g_.near_plane, far = g_.far_plane, inv_r = 1.0 / r;
+  if (!g_.orthographic && glm::dot(c, c) <= r * r) return false;  // eye inside: nothing drawn
+  // The per-pixel test alone decides which pixels a sphere covers (the caller's rectangle holds
+  // them all), and a pixel's result does not depend on the tile it was cast in.
+  const bool centred = CentredCast::applies(g_, c, r);
+  const CentredCast fast(g_, rays_, centred ? c : glm::dvec3(0, 0, -1), centred ? r : 0.5);
+  const GeneralCast general(g_, rays_, c, r);
   const size_t width = size_t(g_.width);
   float *depth = frame_->depth.data();
+  uint8_t *rgba = frame_->rgba.data();
   PixelRect written;
-  for (int y = rect.y0; y <= rect.y1; ++y) {
-    int xa, xb;
-    // The analytic span, widened by 1e-7 px against rounding; the per-pixel test decides.
-    // (Every drawing of a sphere goes through here, so a boundary pixel is decided alike always.)
-    if (!rays_.row_span(c, r2, y, rect.x0, rect.x1, 1e-7, &xa, &xb)) continue;
-    const double ry = rays_.y(y);
-    int wx0 = xb + 1, wx1 = xa - 1;
-    const auto write = [&](int x, double hit_depth, double h) {
-      if (hit_depth < near || hit_depth > far) return;  // the shader's clip-z discard
-      const float wz = float(g_.window_depth(hit_depth));
-      const size_t p = size_t(y) * width + size_t(x);
-      if (wz > depth[p] || (wz == depth[p] && index >= owner_[p])) return;
-      depth[p] = wz;
-      owner_[p] = index;
-      shade(p, rgb, h * inv_r);
-      wx0 = std::min(wx0, x), wx1 = std::max(wx1, x);
-    };
-    if (g_.orthographic) {
-      const double dy = c.y - ry, dy2 = dy * dy;
-      for (int x = xa; x <= xb; ++x) {
-        const double dx = c.x - rays_.x(x), q2 = dx * dx + dy2;
-        if (q2 >= r2) continue;
-        const double h = std::sqrt(r2 - q2);
-        write(x, d - h, h);
+  if (centred && rect.x1 - rect.x0 < 3 && rect.y1 - rect.y0 < 3) {
+    // A sphere of a pixel or so: its few pixels one by one, through the same pixel functions.
+    for (int y = rect.y0; y <= rect.y1; ++y)
+      for (int x = rect.x0; x <= rect.x1; ++x) {
+        float wz, lambert2;
+        if (fast.orthographic)
+          orthographic_pixel(fast, x - fast.ref_x, y - fast.ref_y, true, &wz, &lambert2);
+        else
+          perspective_pixel(fast, x - fast.ref_x, y - fast.ref_y, true, &wz, &lambert2);
+        const size_t p = size_t(y) * width + size_t(x);
+        if (!(wz < depth[p] || (wz == depth[p] && index < owner_[p]))) continue;
+        depth[p] = wz;
+        owner_[p] = index;
+        const uint32_t colour = shade_pixel(lambert2, rgb[0], rgb[1], rgb[2]);
+        uint8_t *out = rgba + 4 * p;
+        out[0] = uint8_t(colour), out[1] = uint8_t(colour >> 8), out[2] = uint8_t(colour >> 16);
+        out[3] = 255;
+        written.unite(PixelRect{x, y, x, y});
       }
-    } else {
-      // Unnormalised ray D = (rx, ry, -1), |D| = L: q^2 L^2 = |c|^2 L^2 - (c.D)^2, and the hit
-      // lies h = sqrt(r^2 - q^2) before the closest approach; its view depth is t / L.
-      const double l2_row = ry * ry + 1.0, m = c.y * ry - c.z;
-      for (int x = xa; x <= xb; ++x) {
-        const double rx = rays_.x(x);
-        const double l2 = rx * rx + l2_row, cd = c.x * rx + m;
-        const double q2l2 = c2 * l2 - cd * cd;
-        if (q2l2 >= r2 * l2) continue;
-        const double inv = 1.0 / std::sqrt(l2);
-        const double h = std::sqrt(r2 - q2l2 * inv * inv);
-        write(x, (cd * inv - h) * inv, h);
-      }
-    }
-    if (wx0 <= wx1) written.unite(PixelRect{wx0, y, wx1, y});
+    propagate(written);
+    return !written.empty();
   }
+  // Tile side: small spheres get small tiles (a pixel's result does not depend on the tile).
+  const int n =
+      rect.x1 - rect.x0 < kSmallTile && rect.y1 - rect.y0 < kSmallTile ? kSmallTile : kTile;
+  for (int y0 = rect.y0; y0 <= rect.y1; y0 += n)
+    for (int x0 = rect.x0; x0 <= rect.x1; x0 += n) {
+      const int w = std::min(n, rect.x1 - x0 + 1), h = std::min(n, rect.y1 - y0 + 1);
+      Tile t;
+      if (centred)
+        cast_centred(fast, n, x0, y0, w, h, &t);
+      else
+        general.cast(n, x0, y0, w, h, &t);
+      // Depth test without branches: nearer wins, equal depths go to the lower index.
+      uint64_t won = 0;
+      for (int j = 0; j < h; ++j) {
+        const size_t row = size_t(y0 + j) * width + size_t(x0);
+        for (int k = 0; k < w; ++k) {
+          const int i = j * n + k;
+          const float dz = depth[row + k];
+          const uint32_t o = owner_[row + k];
+          const bool win = (t.wz[i] < dz) | ((t.wz[i] == dz) & (index < o));
+          depth[row + k] = win ? t.wz[i] : dz;
+          owner_[row + k] = win ? index : o;
+          won |= uint64_t(win) << i;
+        }
+      }
+      if (!won) continue;
+      uint32_t colour[kTilePixels];
+      shade_tile(n, t.lambert2, rgb, colour);
+      int kmin = n, kmax = -1;
+      for (uint64_t bits = won; bits; bits &= bits - 1) {
+        const int i = __builtin_ctzll(bits), k = i % n;
+        uint8_t *out = rgba + 4 * (size_t(y0 + i / n) * width + size_t(x0 + k));
+        out[0] = uint8_t(colour[i]), out[1] = uint8_t(colour[i] >> 8);
+        out[2] = uint8_t(colour[i] >> 16), out[3] = 255;
+        kmin = std::min(kmin, k), kmax = std::max(kmax, k);
+      }
+      written.unite(PixelRect{x0 + kmin, y0 + __builtin_ctzll(won) / n, x0 + kmax,
+                              y0 + (63 - __builtin_clzll(won)) / n});
+    }
   propagate(written);
   return !written.empty();
 }

@@ -4,11 +4,17 @@
 // early (the impostor shader writes depth).
 //
 // Each pixel centre gets the same ray as the OpenGL impostor shader (sphere_shaders.h), the hit
-// depth as window depth in float, and the same headlight shading; the arithmetic runs in double,
-// so a pixel can differ from OpenGL's float result by one colour level or where a silhouette
-// passes within float rounding of a pixel centre. Equal depths resolve to the lower particle
-// index, so the image does not depend on the order spheres are drawn in, and a sphere skipped
-// because `covered` said so would not have changed a bit: skipping is exact.
+// depth as window depth in float, and the same headlight shading. Pixels are cast in tiles of
+// 8 x 8 (4 x 4, or one by one, for small spheres) by loops the compiler vectorises (an AVX2
+// clone is picked at load time where the CPU has it). Spheres wholly in front of the eye are
+// cast in float relative to the ray through their centre, with the window depth of the centre
+// added in double, so depths stay within about a float ulp of a double computation; spheres
+// reaching behind the eye plane take a double path. A pixel's result depends only on the pixel
+// and the sphere - not on the rectangle passed, the tile it fell in, or the CPU - so a pixel can
+// differ from OpenGL's float result by one colour level or where a silhouette passes within
+// float rounding of a pixel centre. Equal depths resolve to the lower particle index, so the
+// image does not depend on the order spheres are drawn in, and a sphere skipped because
+// `covered` said so would not have changed a bit: skipping is exact.
 //
 // One raster owns a column strip [x0, x1] of a shared Frame and a max-depth pyramid over it;
 // two rasters on disjoint strips of one Frame may draw from two threads at once.
@@ -43,7 +49,9 @@ class CpuSphereRaster {
   bool covered(PixelRect rect, double z) const;
 
   // Ray-casts the sphere (view-space centre c, radius r, colour rgb, particle `index`) over the
-  // pixels of `rect` inside the strip. Returns true if it won at least one pixel.
+  // pixels of `rect` inside the strip; `rect` must hold every pixel the sphere covers
+  // (ViewGeometry::sphere_rect_tight with a slack of 0.05 px does). Returns true if it won at
+  // least one pixel.
   bool draw(const glm::dvec3 &c, double r, const uint8_t rgb[3], uint32_t index, PixelRect rect);
 
  private:
@@ -53,7 +61,6 @@ class CpuSphereRaster {
   };
   bool covered_at(int level, int x0, int y0, int x1, int y1, float z) const;
   void propagate(const PixelRect &rect);
-  void shade(size_t pixel, const uint8_t rgb[3], double lambert);
 
   ViewGeometry g_;
   Frame *frame_ = nullptr;

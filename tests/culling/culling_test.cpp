@@ -464,5 +464,49 @@ TEST(CpuSphereRaster, CoveredIsFalseUntilEveryPixelHoldsSomethingNearer) {
   EXPECT_FALSE(raster.covered(PixelRect{0, 0, 31, 31}, -c.z + 2.0));  // corners are background
 }
 
+TEST(CpuSphereRaster, PixelsDoNotDependOnTheRectangleOrItsTilesAndTheTightRectHoldsThemAll) {
+  // Every sphere drawn once over the whole image and once over its tight rectangle, which starts
+  // its tiles elsewhere and picks small tiles or the one-by-one path for small spheres: the
+  // frames must agree bit for bit, so the rectangle and the tiling decide nothing.
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  const uint8_t bg[4] = {0, 0, 0, 255};
+  int64_t drawn_pixels = 0;
+  for (int it = 0; it < 40; ++it) {
+    CameraConfig cfg;
+    if (it % 3 == 0) cfg.projection = Projection::kOrthographic;
+    const double offset = it % 4 == 1 ? 1e4 : 0.0;
+    Camera cam;
+    const int w = 40 + int(u(rng) * 300), h = 40 + int(u(rng) * 300);
+    ASSERT_EQ(make_camera(cfg, glm::dvec3(offset - 5), glm::dvec3(offset + 5), 0.5, w, h, &cam),
+              "");
+    const ViewGeometry g = ViewGeometry::from_camera(cam, 20.0);
+    Frame whole, tight;
+    std::vector<uint32_t> owner_whole, owner_tight;
+    CpuSphereRaster::clear_target(g, bg, &whole, &owner_whole);
+    CpuSphereRaster::clear_target(g, bg, &tight, &owner_tight);
+    CpuSphereRaster a, b;
+    a.begin_strip(g, &whole, &owner_whole, 0, w - 1);
+    b.begin_strip(g, &tight, &owner_tight, 0, w - 1);
+    for (uint32_t i = 0; i < 60; ++i) {
+      const glm::dvec3 p(offset + 12 * u(rng) - 6, offset + 12 * u(rng) - 6,
+                         offset + 12 * u(rng) - 6);
+      const double r = 0.003 + std::pow(u(rng), 3) * 1.5;  // from a fraction of a pixel to ~40 px
+      const uint8_t rgb[3] = {uint8_t(40 + i), 200, uint8_t(255 - i)};
+      const glm::dvec3 c = g.to_view(p);
+      a.draw(c, r, rgb, i, PixelRect{0, 0, w - 1, h - 1});
+      const PixelRect t = g.sphere_rect_tight(c, r, 0.05);
+      if (!t.empty()) b.draw(c, r, rgb, i, t);
+    }
+    for (size_t k = 0; k < whole.pixel_count(); ++k) {
+      ASSERT_EQ(whole.depth[k], tight.depth[k]) << "case " << it << " pixel " << k;
+      ASSERT_EQ(std::memcmp(&whole.rgba[4 * k], &tight.rgba[4 * k], 4), 0) << "case " << it;
+      ASSERT_EQ(owner_whole[k], owner_tight[k]);
+      drawn_pixels += owner_whole[k] != UINT32_MAX;
+    }
+  }
+  EXPECT_GT(drawn_pixels, 10000);
+}
+
 }  // namespace
 }  // namespace lantern

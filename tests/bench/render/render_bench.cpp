@@ -1,7 +1,8 @@
 // lantern-bench-render: what the OpenGL sphere pass costs on this machine, per sphere and per
 // frame, apart from culling. Prints median milliseconds of several runs for sphere counts and
 // sizes at one image size, so a change to the renderer can be judged side by side.
-//   lantern-bench-render [--size 1024] [--runs 7]
+//   lantern-bench-render [--size 1024] [--runs 7] [--cpu-only]
+// --cpu-only: time only the CPU raster (OpenGL columns print as 0), for quick raster changes.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -21,6 +22,7 @@ using namespace lantern;
 namespace {
 
 double median(std::vector<double> v) {
+  if (v.empty()) return 0.0;
   std::sort(v.begin(), v.end());
   return v[v.size() / 2];
 }
@@ -43,7 +45,10 @@ std::vector<SphereInstance> scatter(int n, float r) {
 
 int main(int argc, char **argv) {
   int size = 1024, runs = 7;
-  for (int i = 1; i + 1 < argc; i += 2) {
+  bool cpu_only = false;
+  for (int i = 1; i < argc; ++i) {
+    if (!std::strcmp(argv[i], "--cpu-only")) cpu_only = true;
+    if (i + 1 >= argc) continue;
     if (!std::strcmp(argv[i], "--size")) size = std::atoi(argv[i + 1]);
     if (!std::strcmp(argv[i], "--runs")) runs = std::atoi(argv[i + 1]);
   }
@@ -78,7 +83,7 @@ int main(int argc, char **argv) {
       for (size_t i = 0; i < spheres.size(); ++i) {
         const SphereInstance &s = spheres[i];
         const glm::dvec3 c = g.to_view(cam.origin + glm::dvec3(s.x, s.y, s.z));
-        strips[k].draw(c, s.radius, s.rgba, uint32_t(i), g.sphere_rect(c, s.radius));
+        strips[k].draw(c, s.radius, s.rgba, uint32_t(i), g.sphere_rect_tight(c, s.radius, 0.05));
       }
     };
     std::thread helper(run, 1);
@@ -90,7 +95,7 @@ int main(int argc, char **argv) {
       if (n == 0 && r != 0.005f) continue;
       const auto spheres = scatter(n, r);
       std::vector<double> draw, read, total;
-      for (int k = 0; k < runs; ++k) {
+      for (int k = 0; k < (cpu_only ? 0 : runs); ++k) {
         Frame f;
         RenderTimings t;
         const auto t0 = std::chrono::steady_clock::now();
