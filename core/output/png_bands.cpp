@@ -1,5 +1,7 @@
 #include "core/output/png_bands.h"
 
+#include "core/output/run_deflate.h"
+
 #include <zlib.h>
 
 #include <algorithm>
@@ -7,6 +9,7 @@
 #include <cstring>
 #include <exception>
 #include <limits>
+#include <optional>
 #include <stdexcept>
 #include <thread>
 
@@ -30,6 +33,7 @@ int zlib_strategy(PngStrategy s) {
     case PngStrategy::kHuffmanOnly:
       return Z_HUFFMAN_ONLY;
     case PngStrategy::kDefault:
+    case PngStrategy::kRuns:  // not zlib's: never asked for
     default:
       return Z_DEFAULT_STRATEGY;
   }
@@ -185,6 +189,10 @@ bool fail(std::string *error, const std::string &message) {
 
 }  // namespace
 
+PngBandOptions png_options_for_level(int level) {
+  return PngBandOptions{PngFilter::kSub, level == 1 ? PngStrategy::kRuns : PngStrategy::kRle};
+}
+
 PngBand deflate_png_band(const uint8_t *rgba, int width, int rows, int channels_out, bool last_band,
                          int level, const uint8_t *previous_row, const PngBandOptions &options) {
   if (width < 1 || rows < 0 || (channels_out != 3 && channels_out != 4) || level < 0 || level > 9 ||
@@ -199,8 +207,13 @@ PngBand deflate_png_band(const uint8_t *rgba, int width, int rows, int channels_
   band.last = last_band;
   band.raw_len = uint64_t(rows) * line_bytes;
 
-  Deflater z(level, options.strategy);
-  z.reserve(band.raw_len);
+  const bool runs = options.strategy == PngStrategy::kRuns;
+  std::optional<Deflater> z;
+  RunDeflater run_deflater;
+  if (!runs) {
+    z.emplace(level, options.strategy);
+    z->reserve(band.raw_len);
+  }
   const size_t chunk_rows = std::max<size_t>(1, kChunkBytes / line_bytes);
   std::vector<uint8_t> chunk(std::min<size_t>(chunk_rows, std::max(rows, 1)) * line_bytes);
   // RGB copies of the current and previous rows (channels_out == 3 only).
@@ -239,11 +252,20 @@ PngBand deflate_png_band(const uint8_t *rgba, int width, int rows, int channels_
     }
     const size_t bytes = size_t(n) * line_bytes;
     adler = static_cast<uint32_t>(adler32_z(adler, chunk.data(), bytes));
-    const int flush = row < rows ? Z_NO_FLUSH : last_band ? Z_FINISH : Z_SYNC_FLUSH;
-    z.add(chunk.data(), bytes, flush);
+    if (runs) {
+      run_deflater.add_block(chunk.data(), bytes, last_band && row >= rows);
+    } else {
+      const int flush = row < rows ? Z_NO_FLUSH : last_band ? Z_FINISH : Z_SYNC_FLUSH;
+      z->add(chunk.data(), bytes, flush);
+    }
   } while (row < rows);
   band.adler = adler;
-  band.bytes = z.take();
+  if (runs) {
+    run_deflater.finish(last_band);
+    band.bytes = run_deflater.take();
+  } else {
+    band.bytes = z->take();
+  }
   return band;
 }
 

@@ -4,26 +4,25 @@
 // Why this exists: libpng (and OpenImageIO on top of it) compresses a whole image as one zlib
 // stream on one thread, and at zlib level 1 with libpng's adaptive filter choice a 1024x1024
 // RGBA frame costs ~58 ms. Here each band becomes a raw deflate piece that ends on a byte boundary
-// (Z_SYNC_FLUSH; the last band ends with Z_FINISH), so pieces of consecutive bands concatenate
-// into one valid deflate stream (the pigz technique). The zlib checksum of the whole stream is
-// combined from the bands' adler32 values with adler32_combine. zlib does all the compression;
-// this file only filters scanlines and lays out the PNG container (signature, IHDR, IDAT, IEND).
+// (an empty stored block, as Z_SYNC_FLUSH; the last band ends the stream), so pieces of
+// consecutive bands concatenate into one valid deflate stream (the pigz technique). The zlib
+// checksum of the whole stream is combined from the bands' adler32 values with adler32_combine.
+// This file filters scanlines, hands them to the encoder and lays out the PNG container
+// (signature, IHDR, IDAT, IEND).
 //
 // Filtering: every scanline of a band may only refer to rows the decoder will have decoded
 // before it, which is always true inside the band. The first row of a band refers to nothing
 // above it unless the caller passes the previous image row (`previous_row`), so bands never
 // depend on another band's bytes, only (optionally) on one row of pixels.
 //
-// Default filter and strategy (PngBandOptions): Sub + Z_RLE at the caller's level (1 in situ),
-// the fastest pair in lantern-bench-png's filter x strategy table on 1024x1024 sphere renders:
-// deflate takes ~90% of the time (filtering + adler32 ~2 ms), and Z_RLE's cost barely depends on
-// the content, while LZ77 (Z_DEFAULT_STRATEGY) costs 1.1-2x as much. Sub needs no row above, so
-// bands need no halo row. Files vs OpenImageIO's level 1 (RGBA): ~1.06x with a colour per atom,
-// 1.27x on a real one-colour fcc render. One-colour crystals repeat the same sphere sprite, which
-// LZ77 exploits: {kNone, kDefault} gives 0.71x of OIIO's size there at ~1.1-1.5x the time of the
-// default, and ~2x the time with a colour per atom. Up / Average + Z_RLE are as fast and ~2%
-// smaller but want `previous_row`; Paeth costs ~1.5x; Z_HUFFMAN_ONLY is slower than Z_RLE (no
-// runs over the background) and larger.
+// Default filter and strategy (PngBandOptions): Sub + PngStrategy::kRuns, Lantern's own
+// literal + byte-run deflate encoder (run_deflate.h). It finds what zlib's Z_RLE finds (runs at
+// distance 1), so files are the same size (1643 vs 1645 KiB on a 1 M-atom 1024^2 render), at
+// 2.3x zlib's speed (9.5 vs 21.6 ms, RGBA, one thread, lantern-bench-png). The zlib strategies
+// stay available: {kNone, kDefault} (LZ77) gives 0.71x of OpenImageIO's size on one-colour
+// crystals, whose repeated sphere sprites LZ77 exploits, at ~2.5x the time of the default. Up /
+// Average are as fast and ~2% smaller but want `previous_row`; Paeth costs ~1.5x; Sub needs no
+// row above, so bands need no halo row.
 //
 // Ownership: the functions read the caller's pixels during the call only and return buffers
 // the caller owns. Thread-safety: pure functions without shared state; call them from any
@@ -42,15 +41,20 @@ namespace lantern {
 // PNG scanline filter types (PNG spec 9.2). Up, Average and Paeth look at the row above.
 enum class PngFilter : uint8_t { kNone = 0, kSub = 1, kUp = 2, kAverage = 3, kPaeth = 4 };
 
+// kRuns: Lantern's own literal + byte-run encoder (run_deflate.h), the default; the others are
 // zlib strategies (deflateInit2): Z_DEFAULT_STRATEGY, Z_FILTERED, Z_RLE, Z_HUFFMAN_ONLY.
-enum class PngStrategy { kDefault, kFiltered, kRle, kHuffmanOnly };
+enum class PngStrategy { kRuns, kDefault, kFiltered, kRle, kHuffmanOnly };
 
 struct PngBandOptions {
   // The filter of every row. A band's first row without `previous_row` uses Sub instead of
   // Up / Average / Paeth (None stays None), so it never refers to a row the band does not have.
   PngFilter filter = PngFilter::kSub;
-  PngStrategy strategy = PngStrategy::kRle;
+  PngStrategy strategy = PngStrategy::kRuns;
 };
+
+// What Lantern's PNG writer uses at a compression level: level 1 (the fastest, and the default)
+// Sub + kRuns; any other level Sub + zlib's Z_RLE at that level, as before kRuns existed.
+PngBandOptions png_options_for_level(int level);
 
 // One band's compressed piece and what the root needs to join it to the others.
 struct PngBand {

@@ -171,8 +171,9 @@ TEST(PngBands, IndependentBandsWithEveryFilterAndStrategy) {
   const int split[] = {1, 0, 5, 1, 1, 9};  // rows per band, sum 17
   const PngFilter filters[] = {PngFilter::kNone, PngFilter::kSub, PngFilter::kUp,
                                PngFilter::kAverage, PngFilter::kPaeth};
-  const PngStrategy strategies[] = {PngStrategy::kDefault, PngStrategy::kFiltered,
-                                    PngStrategy::kRle, PngStrategy::kHuffmanOnly};
+  const PngStrategy strategies[] = {PngStrategy::kRuns, PngStrategy::kDefault,
+                                    PngStrategy::kFiltered, PngStrategy::kRle,
+                                    PngStrategy::kHuffmanOnly};
   for (PngFilter filter : filters) {
     for (PngStrategy strategy : strategies) {
       for (bool with_previous_row : {false, true}) {

@@ -1,0 +1,271 @@
+#include "core/output/run_deflate.h"
+
+#include <algorithm>
+#include <array>
+#include <cstring>
+
+namespace lantern {
+namespace {
+
+constexpr int kLitLenSymbols = 286;  // 0..255 literals, 256 end of block, 257..285 lengths
+constexpr int kEndOfBlock = 256;
+constexpr int kMinRun = 3, kMaxRun = 258;
+constexpr int kMaxCodeBits = 15, kMaxCodeLengthBits = 7;
+
+// RFC 1951 3.2.5: length codes 257.. by base length and extra bits.
+constexpr std::array<uint16_t, 29> kLengthBase = {3,  4,  5,  6,   7,   8,   9,   10,  11, 13,
+                                                  15, 17, 19, 23,  27,  31,  35,  43,  51, 59,
+                                                  67, 83, 99, 115, 131, 163, 195, 227, 258};
+constexpr std::array<uint8_t, 29> kLengthExtra = {0, 0, 0, 0, 0, 0, 0, 0, 1, 1, 1, 1, 2, 2, 2,
+                                                  2, 3, 3, 3, 3, 4, 4, 4, 4, 5, 5, 5, 5, 0};
+// The order in which the code-length code's lengths are sent.
+constexpr std::array<uint8_t, 19> kCodeLengthOrder = {16, 17, 18, 0, 8,  7, 9,  6, 10, 5,
+                                                      11, 4,  12, 3, 13, 2, 14, 1, 15};
+
+// For each run length 0..258: its length code (index into kLengthBase).
+struct LengthCodes {
+  std::array<uint8_t, kMaxRun + 1> code{};
+  LengthCodes() {
+    int c = 0;
+    for (int len = kMinRun; len <= kMaxRun; ++len) {
+      while (c + 1 < int(kLengthBase.size()) && kLengthBase[size_t(c + 1)] <= len) ++c;
+      code[size_t(len)] = uint8_t(c);
+    }
+  }
+};
+const LengthCodes kLengthCodes;
+
+// Huffman code lengths of at most `limit` bits for `n` symbols of the given frequencies. Unused
+// symbols get 0. At least two symbols always get a code (a lone used symbol is paired with
+// another), so every code is complete, as strict inflaters want.
+void huffman_lengths(const uint32_t *freq, int n, int limit, uint8_t *lengths) {
+  std::fill(lengths, lengths + n, uint8_t(0));
+  std::vector<int> used;
+  for (int s = 0; s < n; ++s)
+    if (freq[s]) used.push_back(s);
+  if (used.size() < 2) {
+    const int a = used.empty() ? 0 : used[0];
+    lengths[a] = 1;
+    lengths[a == 0 ? 1 : 0] = 1;
+    return;
+  }
+  // Two-queue Huffman: leaves by ascending frequency, internal nodes in creation order.
+  std::stable_sort(used.begin(), used.end(), [&](int a, int b) { return freq[a] < freq[b]; });
+  const size_t m = used.size();
+  std::vector<uint64_t> weight(2 * m - 1);
+  std::vector<int> parent(2 * m - 1, -1);
+  for (size_t i = 0; i < m; ++i) weight[i] = freq[used[i]];
+  size_t leaf = 0, inner = m, next = m;
+  const auto pop = [&]() {
+    if (leaf < m && (inner >= next || weight[leaf] <= weight[inner])) return leaf++;
+    return inner++;
+  };
+  while (next < 2 * m - 1) {
+    const size_t a = pop(), b = pop();
+    weight[next] = weight[a] + weight[b];
+    parent[a] = parent[b] = int(next);
+    ++next;
+  }
+  // Depths (root is the last node), counted per length.
+  std::vector<int> depth(2 * m - 1, 0);
+  std::vector<int> count(m + 1, 0);
+  for (size_t i = 2 * m - 1; i-- > 0;)
+    if (parent[i] >= 0) depth[i] = depth[size_t(parent[i])] + 1;
+  int longest = 0;
+  for (size_t i = 0; i < m; ++i) ++count[size_t(depth[i])], longest = std::max(longest, depth[i]);
+  // Too long: move leaves up while keeping the code complete (JPEG, ITU T.81 Annex K.3).
+  for (int i = longest; i > limit; --i)
+    while (count[size_t(i)] > 0) {
+      int j = i - 2;
+      while (count[size_t(j)] == 0) --j;
+      count[size_t(i)] -= 2;
+      count[size_t(i - 1)] += 1;
+      count[size_t(j + 1)] += 2;
+      count[size_t(j)] -= 1;
+    }
+  // Shortest codes to the most frequent symbols (the end of `used`).
+  size_t k = m;
+  for (int len = 1; len <= std::min(longest, limit); ++len)
+    for (int c = 0; c < count[size_t(len)]; ++c) lengths[used[--k]] = uint8_t(len);
+}
+
+// Canonical codes for the lengths (RFC 1951 3.2.2), bit-reversed: deflate sends Huffman codes
+// most significant bit first into a least-significant-first bit stream.
+void canonical_codes(const uint8_t *lengths, int n, uint16_t *codes) {
+  std::array<int, kMaxCodeBits + 2> count{}, next{};
+  for (int s = 0; s < n; ++s) ++count[lengths[s]];
+  count[0] = 0;
+  int code = 0;
+  for (int bits = 1; bits <= kMaxCodeBits; ++bits) {
+    code = (code + count[size_t(bits - 1)]) << 1;
+    next[size_t(bits)] = code;
+  }
+  for (int s = 0; s < n; ++s) {
+    const int len = lengths[s];
+    if (!len) continue;
+    int c = next[size_t(len)]++, reversed = 0;
+    for (int b = 0; b < len; ++b, c >>= 1) reversed = (reversed << 1) | (c & 1);
+    codes[s] = uint16_t(reversed);
+  }
+}
+
+// The code lengths of both trees, run-length coded with symbols 16 (repeat the previous length
+// 3..6 times), 17 (3..10 zeros) and 18 (11..138 zeros): pairs of symbol and extra-bits value.
+std::vector<std::pair<uint8_t, uint8_t>> code_length_symbols(const uint8_t *lengths, int n) {
+  std::vector<std::pair<uint8_t, uint8_t>> out;
+  for (int i = 0; i < n;) {
+    const uint8_t len = lengths[i];
+    int run = 1;
+    while (i + run < n && lengths[i + run] == len) ++run;
+    i += run;
+    if (len == 0) {
+      for (; run >= 11; run -= std::min(run, 138))
+        out.push_back({18, uint8_t(std::min(run, 138) - 11)});
+      if (run >= 3) out.push_back({17, uint8_t(run - 3)}), run = 0;
+      for (; run > 0; --run) out.push_back({0, 0});
+    } else {
+      out.push_back({len, 0}), --run;
+      for (; run >= 3; run -= std::min(run, 6)) out.push_back({16, uint8_t(std::min(run, 6) - 3)});
+      for (; run > 0; --run) out.push_back({len, 0});
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
+void RunDeflater::reserve(size_t bytes) {
+  if (out_.size() < used_ + bytes) out_.resize(std::max(2 * out_.size(), used_ + bytes));
+}
+
+void RunDeflater::put(uint64_t bits, int count) {
+  acc_ |= bits << pending_;
+  pending_ += count;
+  if (pending_ >= 32) {  // room reserved by the caller
+    uint8_t *p = out_.data() + used_;
+    p[0] = uint8_t(acc_), p[1] = uint8_t(acc_ >> 8), p[2] = uint8_t(acc_ >> 16);
+    p[3] = uint8_t(acc_ >> 24);
+    used_ += 4;
+    acc_ >>= 32;
+    pending_ -= 32;
+  }
+}
+
+void RunDeflater::align() {
+  reserve(8);
+  for (; pending_ > 0; pending_ -= 8, acc_ >>= 8) out_[used_++] = uint8_t(acc_);
+  pending_ = 0, acc_ = 0;
+}
+
+void RunDeflater::add_block(const uint8_t *data, size_t n, bool final) {
+  if (n == 0) return;
+  // Tokens: a literal, or a run of the previous byte of kMinRun..kMaxRun (distance 1).
+  tokens_.clear();
+  tokens_.reserve(n);
+  std::array<uint32_t, kLitLenSymbols> lit_freq{};
+  uint32_t runs = 0;
+  for (size_t i = 0; i < n;) {
+    const uint8_t b = data[i];
+    if (i > 0 && b == data[i - 1]) {
+      const size_t end = std::min(n, i + kMaxRun);
+      size_t j = i + 1;
+      while (j < end && data[j] == b) ++j;
+      if (j - i >= size_t(kMinRun)) {
+        tokens_.push_back(uint16_t(256 + (j - i)));
+        ++lit_freq[size_t(257 + kLengthCodes.code[j - i])];
+        ++runs;
+        i = j;
+        continue;
+      }
+    }
+    tokens_.push_back(b);
+    ++lit_freq[b];
+    ++i;
+  }
+  lit_freq[kEndOfBlock] = 1;
+
+  // The two trees: literal/length, and distance (only distance 1, code 0, is ever used).
+  std::array<uint8_t, kLitLenSymbols + 2> lengths{};  // literal/length lengths, then distance
+  huffman_lengths(lit_freq.data(), kLitLenSymbols, kMaxCodeBits, lengths.data());
+  int nlit = kLitLenSymbols;
+  while (nlit > 257 && lengths[size_t(nlit - 1)] == 0) --nlit;
+  const uint32_t dist_freq[2] = {runs, 0};
+  uint8_t dist_len[2];
+  huffman_lengths(dist_freq, 2, kMaxCodeBits, dist_len);  // codes 0 and 1, one bit each
+  std::array<uint8_t, kLitLenSymbols + 2> all{};
+  std::copy(lengths.begin(), lengths.begin() + nlit, all.begin());
+  all[size_t(nlit)] = dist_len[0], all[size_t(nlit + 1)] = dist_len[1];
+  const auto symbols = code_length_symbols(all.data(), nlit + 2);
+  std::array<uint32_t, 19> cl_freq{};
+  for (const auto &s : symbols) ++cl_freq[s.first];
+  std::array<uint8_t, 19> cl_len{};
+  huffman_lengths(cl_freq.data(), 19, kMaxCodeLengthBits, cl_len.data());
+  std::array<uint16_t, 19> cl_code{};
+  canonical_codes(cl_len.data(), 19, cl_code.data());
+  int hclen = 19;
+  while (hclen > 4 && cl_len[kCodeLengthOrder[size_t(hclen - 1)]] == 0) --hclen;
+
+  // Block header (RFC 1951 3.2.7); a literal takes at most 15 bits and a run at most 21 bits for
+  // 3 or more bytes, so 2 bytes per input byte bound the data.
+  reserve(2 * n + 1024);
+  put(final ? 1 : 0, 1);
+  put(2, 2);  // dynamic Huffman codes
+  put(uint64_t(nlit - 257), 5);
+  put(uint64_t(2 - 1), 5);
+  put(uint64_t(hclen - 4), 4);
+  for (int k = 0; k < hclen; ++k) put(cl_len[kCodeLengthOrder[size_t(k)]], 3);
+  static constexpr int kExtraBits[3] = {2, 3, 7};  // of symbols 16, 17, 18
+  for (const auto &[sym, extra] : symbols) {
+    put(cl_code[sym], cl_len[sym]);
+    if (sym >= 16) put(extra, kExtraBits[sym - 16]);
+  }
+
+  // Data: each token as one put of at most 15 + 5 + 1 bits.
+  std::array<uint16_t, kLitLenSymbols> code{};
+  canonical_codes(lengths.data(), kLitLenSymbols, code.data());
+  uint16_t dist_code[2];
+  canonical_codes(dist_len, 2, dist_code);
+  for (const uint16_t t : tokens_) {
+    if (t < 256) {
+      put(code[t], lengths[t]);
+      continue;
+    }
+    const int len = t - 256, c = kLengthCodes.code[size_t(len)], sym = 257 + c;
+    const int extra = kLengthExtra[size_t(c)];
+    uint64_t bits = code[size_t(sym)];
+    int count = lengths[size_t(sym)];
+    bits |= uint64_t(len - kLengthBase[size_t(c)]) << count, count += extra;
+    bits |= uint64_t(dist_code[0]) << count, count += dist_len[0];
+    put(bits, count);
+  }
+  put(code[kEndOfBlock], lengths[kEndOfBlock]);
+  ended_ |= final;
+}
+
+void RunDeflater::finish(bool end_of_stream) {
+  reserve(16);
+  if (end_of_stream) {
+    if (!ended_) {
+      put(1, 1);  // an empty final block with the fixed codes: end of block is 7 zero bits
+      put(1, 2);
+      put(0, 7);
+      ended_ = true;
+    }
+    align();
+    return;
+  }
+  put(0, 3);  // an empty stored block: three header bits, alignment, LEN 0, NLEN 0xffff
+  align();
+  reserve(4);
+  for (const uint8_t b : {0x00, 0x00, 0xff, 0xff}) out_[used_++] = b;
+}
+
+std::vector<uint8_t> RunDeflater::take() {
+  out_.resize(used_);
+  std::vector<uint8_t> out;
+  out.swap(out_);
+  acc_ = 0, pending_ = 0, used_ = 0, ended_ = false;
+  return out;
+}
+
+}  // namespace lantern
