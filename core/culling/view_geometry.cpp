@@ -25,9 +25,27 @@ ViewGeometry ViewGeometry::from_camera(const Camera &camera, double scale) {
   return g;
 }
 
+namespace {
+
+// The pixel rectangle of NDC bounds, each edge mapped to continuous pixel coordinates (pixel
+// column x is sampled at NDC (x + 0.5) / W * 2 - 1) and rounded by `first` / `last`.
+template <typename First, typename Last>
+PixelRect pixels_of(double x_lo, double x_hi, double y_lo, double y_hi, int width, int height,
+                    First first, Last last) {
+  const double hw = 0.5 * width, hh = 0.5 * height;
+  PixelRect r;
+  r.x0 = first((x_lo + 1.0) * hw - 0.5, width);
+  r.x1 = last((x_hi + 1.0) * hw - 0.5, width);
+  r.y0 = first((1.0 - y_hi) * hh - 0.5, height);
+  r.y1 = last((1.0 - y_lo) * hh - 0.5, height);
+  return r;
+}
+
+}  // namespace
+
 PixelRect ViewGeometry::ndc_rect(double x_lo, double x_hi, double y_lo, double y_hi) const {
-  // Pixel column x is sampled at NDC (x + 0.5) / W * 2 - 1; keep every centre in [lo, hi] plus a
-  // pixel of slack on each side. Hand-rolled floor/ceil: this runs once per tested particle.
+  // Every centre in [lo, hi] plus a pixel of slack on each side. Hand-rolled floor/ceil: this
+  // runs once per tested particle.
   const auto first = [](double p, int n) {  // floor(p) - 1, clamped to [0, n]
     if (!(p > 1.0)) return 0;               // NaN too: from the first pixel
     if (p >= double(n) + 1.0) return n;
@@ -40,57 +58,12 @@ PixelRect ViewGeometry::ndc_rect(double x_lo, double x_hi, double y_lo, double y
     const int t = int(p);  // p >= -2: truncation is ceil for p <= 0 and floor above
     return (p > 0.0 && p > double(t) ? t + 1 : t) + 1;
   };
-  const double hw = 0.5 * width, hh = 0.5 * height;
-  PixelRect r;
-  r.x0 = first((x_lo + 1.0) * hw - 0.5, width);
-  r.x1 = last((x_hi + 1.0) * hw - 0.5, width);
-  r.y0 = first((1.0 - y_hi) * hh - 0.5, height);
-  r.y1 = last((1.0 - y_lo) * hh - 0.5, height);
-  return r;
-}
-
-PixelRect ViewGeometry::sphere_rect(const glm::dvec3 &c, double radius) const {
-  const double r = radius + eps;
-  const PixelRect full{0, 0, width - 1, height - 1};
-  if (orthographic)
-    return ndc_rect(sx * (c.x - r) + tx, sx * (c.x + r) + tx, sy * (c.y - r) + ty,
-                    sy * (c.y + r) + ty);
-  const double d = -c.z;
-  if (d - r <= 0.5 * near_plane) return full;
-  double mx0, mx1, my0, my1;
-  outline_slopes(c, r, &mx0, &mx1, &my0, &my1);
-  return ndc_rect(sx * mx0, sx * mx1, sy * my0, sy * my1);
-}
-
-void ViewGeometry::outline_slopes(const glm::dvec3 &c, double r, double *mx0, double *mx1,
-                                  double *my0, double *my1) const {
-  // Tangent lines from the eye to the circle in the xz (yz) plane: slopes m = x / d with
-  // m^2 (d^2 - r^2) - 2 x d m + x^2 - r^2 = 0.
-  const double d = -c.z, dd = d * d - r * r;
-  const auto slopes = [&](double x, double *lo, double *hi) {
-    const double root = r * std::sqrt(std::max(x * x + dd, 0.0));
-    *lo = (x * d - root) / dd;
-    *hi = (x * d + root) / dd;
-  };
-  slopes(c.x, mx0, mx1);
-  slopes(c.y, my0, my1);
-}
-
-PixelRect ViewGeometry::sphere_rect_tight(const glm::dvec3 &c, double radius, double slack) const {
-  const double r = radius + eps;
-  if (orthographic)
-    return ndc_rect_tight(sx * (c.x - r) + tx, sx * (c.x + r) + tx, sy * (c.y - r) + ty,
-                          sy * (c.y + r) + ty, slack);
-  if (-c.z - r <= 0.5 * near_plane) return PixelRect{0, 0, width - 1, height - 1};
-  double mx0, mx1, my0, my1;
-  outline_slopes(c, r, &mx0, &mx1, &my0, &my1);
-  return ndc_rect_tight(sx * mx0, sx * mx1, sy * my0, sy * my1, slack);
+  return pixels_of(x_lo, x_hi, y_lo, y_hi, width, height, first, last);
 }
 
 PixelRect ViewGeometry::ndc_rect_tight(double x_lo, double x_hi, double y_lo, double y_hi,
                                        double slack) const {
-  // Pixel column x is sampled at NDC (x + 0.5) / W * 2 - 1: the centres in [lo, hi] widened by
-  // `slack` pixels. NaN bounds give the whole range.
+  // The centres in [lo, hi] widened by `slack` pixels. NaN bounds give the whole range.
   const auto first = [slack](double p, int n) {
     const double f = std::ceil(p - slack);
     return f > 0.0 ? int(std::min(f, double(n))) : 0;
@@ -99,13 +72,43 @@ PixelRect ViewGeometry::ndc_rect_tight(double x_lo, double x_hi, double y_lo, do
     const double f = std::floor(p + slack);
     return p != p ? n - 1 : f < double(n - 1) ? int(std::max(f, -1.0)) : n - 1;
   };
-  const double hw = 0.5 * width, hh = 0.5 * height;
-  PixelRect r;
-  r.x0 = first((x_lo + 1.0) * hw - 0.5, width);
-  r.x1 = last((x_hi + 1.0) * hw - 0.5, width);
-  r.y0 = first((1.0 - y_hi) * hh - 0.5, height);
-  r.y1 = last((1.0 - y_lo) * hh - 0.5, height);
-  return r;
+  return pixels_of(x_lo, x_hi, y_lo, y_hi, width, height, first, last);
+}
+
+bool ViewGeometry::sphere_ndc(const glm::dvec3 &c, double radius, double *x_lo, double *x_hi,
+                              double *y_lo, double *y_hi) const {
+  const double r = radius + eps;
+  if (orthographic) {
+    *x_lo = sx * (c.x - r) + tx, *x_hi = sx * (c.x + r) + tx;
+    *y_lo = sy * (c.y - r) + ty, *y_hi = sy * (c.y + r) + ty;
+    return true;
+  }
+  if (-c.z - r <= 0.5 * near_plane) return false;
+  // Tangent lines from the eye to the circle in the xz (yz) plane: slopes m = x / d with
+  // m^2 (d^2 - r^2) - 2 x d m + x^2 - r^2 = 0.
+  const double d = -c.z, dd = d * d - r * r;
+  const auto slopes = [&](double x, double scale, double *lo, double *hi) {
+    const double root = r * std::sqrt(std::max(x * x + dd, 0.0));
+    *lo = scale * ((x * d - root) / dd);
+    *hi = scale * ((x * d + root) / dd);
+  };
+  slopes(c.x, sx, x_lo, x_hi);
+  slopes(c.y, sy, y_lo, y_hi);
+  return true;
+}
+
+PixelRect ViewGeometry::sphere_rect(const glm::dvec3 &c, double radius) const {
+  double x_lo, x_hi, y_lo, y_hi;
+  if (!sphere_ndc(c, radius, &x_lo, &x_hi, &y_lo, &y_hi))
+    return PixelRect{0, 0, width - 1, height - 1};
+  return ndc_rect(x_lo, x_hi, y_lo, y_hi);
+}
+
+PixelRect ViewGeometry::sphere_rect_tight(const glm::dvec3 &c, double radius, double slack) const {
+  double x_lo, x_hi, y_lo, y_hi;
+  if (!sphere_ndc(c, radius, &x_lo, &x_hi, &y_lo, &y_hi))
+    return PixelRect{0, 0, width - 1, height - 1};
+  return ndc_rect_tight(x_lo, x_hi, y_lo, y_hi, slack);
 }
 
 PixelRect ViewGeometry::box_rect(const glm::dvec3 corners[8]) const {

@@ -94,9 +94,10 @@ struct ViewGeometry {
  private:
   PixelRect ndc_rect(double x_lo, double x_hi, double y_lo, double y_hi) const;
   PixelRect ndc_rect_tight(double x_lo, double x_hi, double y_lo, double y_hi, double slack) const;
-  // Tangent slopes x / d of the sphere's outline seen from the eye (perspective, d - r > 0).
-  void outline_slopes(const glm::dvec3 &c, double r, double *mx0, double *mx1, double *my0,
-                      double *my1) const;
+  // NDC bounds of the sphere's outline for radius + eps (tangent lines from the eye, or the
+  // orthographic box); false when the sphere reaches behind half the near plane.
+  bool sphere_ndc(const glm::dvec3 &c, double radius, double *x_lo, double *x_hi, double *y_lo,
+                  double *y_hi) const;
 };
 
 }  // namespace lantern

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 
 #include "core/culling/max_depth_tile.h"
 
@@ -291,14 +292,18 @@ bool CpuSphereRaster::draw(const glm::dvec3 &c, double r, const uint8_t rgb[3], 
   if (!g_.orthographic && glm::dot(c, c) <= r * r) return false;  // eye inside: nothing drawn
   // The per-pixel test alone decides which pixels a sphere covers (the caller's rectangle holds
   // them all), and a pixel's result does not depend on the tile it was cast in.
-  const bool centred = CentredCast::applies(g_, c, r);
-  const CentredCast fast(g_, rays_, centred ? c : glm::dvec3(0, 0, -1), centred ? r : 0.5);
-  const GeneralCast general(g_, rays_, c, r);
+  std::optional<CentredCast> centred;  // the float path when it applies, else the double one
+  std::optional<GeneralCast> general;
+  if (CentredCast::applies(g_, c, r))
+    centred.emplace(g_, rays_, c, r);
+  else
+    general.emplace(g_, rays_, c, r);
   const size_t width = size_t(g_.width);
   float *depth = frame_->depth.data();
   uint8_t *rgba = frame_->rgba.data();
   PixelRect written;
   if (centred && rect.x1 - rect.x0 < 3 && rect.y1 - rect.y0 < 3) {
+    const CentredCast &fast = *centred;
     // A sphere of a pixel or so: its few pixels one by one, through the same pixel functions.
     for (int y = rect.y0; y <= rect.y1; ++y)
       for (int x = rect.x0; x <= rect.x1; ++x) {
@@ -328,9 +333,9 @@ bool CpuSphereRaster::draw(const glm::dvec3 &c, double r, const uint8_t rgb[3], 
       const int w = std::min(n, rect.x1 - x0 + 1), h = std::min(n, rect.y1 - y0 + 1);
       Tile t;
       if (centred)
-        cast_centred(fast, n, x0, y0, w, h, &t);
+        cast_centred(*centred, n, x0, y0, w, h, &t);
       else
-        general.cast(n, x0, y0, w, h, &t);
+        general->cast(n, x0, y0, w, h, &t);
       // Depth test without branches: nearer wins, equal depths go to the lower index.
       uint64_t won = 0;
       for (int j = 0; j < h; ++j) {
