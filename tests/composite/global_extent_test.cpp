@@ -7,6 +7,7 @@
 #include <limits>
 
 #include "core/composite/global_extent.h"
+#include "tests/support/extent_expect.h"
 #include "tests/support/mpi_world.h"
 
 namespace lantern::testing {
@@ -25,23 +26,11 @@ Extent local_extent_of(int rank) {
   return e;
 }
 
-void expect_same(const Extent &a, const Extent &b) {
-  for (int k = 0; k < 3; ++k) {
-    EXPECT_EQ(a.lo[k], b.lo[k]) << k;
-    EXPECT_EQ(a.hi[k], b.hi[k]) << k;
-  }
-  EXPECT_EQ(a.max_radius, b.max_radius);
-  EXPECT_EQ(a.scalar_min, b.scalar_min);
-  EXPECT_EQ(a.scalar_max, b.scalar_max);
-  EXPECT_EQ(a.finite_count, b.finite_count);
-  EXPECT_EQ(a.nonfinite_count, b.nonfinite_count);
-}
-
 TEST(GlobalExtent, EveryRankGetsTheUnionAndEmptyRanksAreNeutral) {
   const Extent global = reduce_extent(MPI_COMM_WORLD, local_extent_of(world_rank()));
   Extent expected;
   for (int r = 0; r < world_size(); ++r) expected = merge_extents(expected, local_extent_of(r));
-  expect_same(global, expected);
+  expect_same_extent(global, expected);
   // Rank 0 owns nothing and rank 1 only a NaN particle: up to two ranks the union is empty.
   EXPECT_EQ(global.empty(), world_size() <= 2);
   EXPECT_EQ(global.nonfinite_count, world_size() >= 2 ? (world_size() / 2) : 0);

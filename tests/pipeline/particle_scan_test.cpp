@@ -9,6 +9,8 @@
 #include <random>
 #include <vector>
 
+#include "tests/support/extent_expect.h"
+
 namespace lantern {
 namespace {
 
@@ -19,14 +21,6 @@ Extent reference(const ParticleArrays &p, double radius) {
     e.add_particle(x.x, x.y, x.z, radius);
   }
   return e;
-}
-
-void expect_same(const Extent &a, const Extent &b) {
-  EXPECT_EQ(a.lo, b.lo);
-  EXPECT_EQ(a.hi, b.hi);
-  EXPECT_EQ(a.max_radius, b.max_radius);
-  EXPECT_EQ(a.finite_count, b.finite_count);
-  EXPECT_EQ(a.nonfinite_count, b.nonfinite_count);
 }
 
 TEST(ParticleScan, FastPathMatchesAddParticleForEveryLayout) {
@@ -54,7 +48,7 @@ TEST(ParticleScan, FastPathMatchesAddParticleForEveryLayout) {
     ASSERT_EQ(ParticleArrays::validate(p, &a), "") << "layout " << layout;
     for (const double radius : {0.5, std::numeric_limits<double>::quiet_NaN()}) {
       const Extent fast = scan_particles(a, false, radius);
-      expect_same(fast, reference(a, radius));
+      expect_same_extent(fast, reference(a, radius));
       if (layout < 3) EXPECT_EQ(fast.nonfinite_count, 2) << "layout " << layout;
     }
   }
