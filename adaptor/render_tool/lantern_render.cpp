@@ -16,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "c_translation.h"
 #include "frame_source.h"
 #include "lantern/lantern.h"
 #include "step_selection.h"
@@ -87,7 +88,7 @@ std::string render_frame(lantern_context *ctx, const lantern::FrameSource &sourc
   const auto [begin, end] = lantern::rank_share(info.count, rank, size);
   lantern::ParticleFrame frame;
   if (auto e = agree(source.read(index, begin, end, &frame)); !e.empty()) return e;
-  const lantern_particles particles = frame.view();
+  const lantern_particles particles = lantern::to_c(frame.view());
   lantern_status st = lantern_publish(ctx, &particles);
   std::string local = st == LANTERN_OK ? ""
                                        : input + ": step " + std::to_string(info.step) + ": " +

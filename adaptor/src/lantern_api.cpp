@@ -5,6 +5,7 @@
 #include <new>
 #include <string>
 
+#include "c_translation.h"
 #include "core/pipeline/runtime.h"
 #include "lantern/lantern.h"
 #include "mpi_bootstrap.h"
@@ -23,7 +24,7 @@ lantern_status fail(lantern_context *ctx, lantern_status code, std::string messa
 
 lantern_status report(lantern_context *ctx, const lantern::Status &s) {
   ctx->error = s.message;
-  return s.code;
+  return lantern::to_c(s.code);
 }
 
 // Runs f, turning any exception into a status and message on ctx.
@@ -77,7 +78,7 @@ lantern_status lantern_publish(lantern_context *ctx, const lantern_particles *pa
     if (!ctx->runtime)
       return fail(ctx, LANTERN_ERR_INVALID_ARGUMENT, "ctx: this context failed to open");
     if (!particles) return fail(ctx, LANTERN_ERR_NULL_ARGUMENT, "particles: NULL");
-    return report(ctx, ctx->runtime->publish(*particles));
+    return report(ctx, ctx->runtime->publish(lantern::from_c(*particles)));
   });
 }
 
@@ -122,7 +123,7 @@ lantern_status lantern_close(lantern_context *ctx) {
       const lantern::Status s = ctx->runtime->finish();
       // The context (and its message) is gone after close: say what went wrong here.
       if (!s.ok()) std::fprintf(stderr, "lantern: lantern_close: %s\n", s.message.c_str());
-      status = s.code;
+      status = lantern::to_c(s.code);
     }
     ctx->runtime.reset();
   } catch (...) {

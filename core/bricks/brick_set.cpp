@@ -12,7 +12,7 @@
 #include "core/bricks/level_layout.h"
 #include "core/bricks/morton.h"
 #include "core/bricks/radix_sort.h"
-#include "core/bricks/typed_access.h"
+#include "core/particles/typed_access.h"
 
 namespace lantern {
 namespace {

@@ -11,7 +11,7 @@
 #include <glm/vec3.hpp>
 
 #include "core/config/config.h"
-#include "core/render/sphere_renderer.h"
+#include "core/camera/render_view.h"
 
 namespace lantern {
 

@@ -14,7 +14,7 @@
 
 #include "core/composite/depth_compositor.h"
 #include "core/composite/uninitialized_buffer.h"
-#include "core/render/frame.h"
+#include "core/view/frame.h"
 
 namespace lantern {
 

@@ -24,7 +24,7 @@
 #include <cstddef>
 #include <string>
 
-#include "core/render/frame.h"
+#include "core/view/frame.h"
 
 namespace lantern {
 

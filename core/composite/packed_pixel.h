@@ -13,7 +13,7 @@
 #include <cstdint>
 #include <cstring>
 
-#include "core/render/frame.h"
+#include "core/view/frame.h"
 
 namespace lantern {
 

@@ -13,7 +13,7 @@
 #include <vector>
 
 #include "core/composite/composite_methods.h"
-#include "core/render/frame.h"
+#include "core/view/frame.h"
 
 namespace lantern {
 

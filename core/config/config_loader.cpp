@@ -14,7 +14,7 @@
 #include <sstream>
 
 #include "core/config/yaml_reader.h"
-#include "core/output/file_pattern.h"
+#include "core/config/file_pattern.h"
 
 namespace lantern {
 

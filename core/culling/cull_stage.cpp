@@ -6,7 +6,7 @@
 #include <thread>
 
 #include "core/bricks/radix_sort.h"
-#include "core/bricks/typed_access.h"
+#include "core/particles/typed_access.h"
 #include "core/culling/cut_planes.h"
 #include "core/culling/frustum.h"
 #include "core/culling/level_of_detail.h"

@@ -22,7 +22,7 @@
 #include "core/culling/frustum.h"
 #include "core/culling/hzb.h"
 #include "core/culling/nine_spheres.h"
-#include "core/culling/view_geometry.h"
+#include "core/view/view_geometry.h"
 #include "core/culling/visible_brick.h"
 #include "core/particles/particle_arrays.h"
 #include "core/render/cpu_sphere_raster.h"

@@ -3,7 +3,6 @@
 #include <cmath>
 #include <limits>
 
-#include "core/culling/max_depth_tile.h"
 
 namespace lantern {
 namespace {
@@ -23,16 +22,8 @@ constexpr double kStoreMargin = kWindowMargin + 0.5 * kUlpBelowOne;
 
 void Hzb::reset(const ViewGeometry &g) {
   g_ = g;
-  int w = g.width, h = g.height;
-  levels_.resize(1);
-  for (;;) {
-    Level &l = levels_.back();
-    l.w = w, l.h = h;
-    l.z.assign(size_t(w) * size_t(h), kUncovered);
-    if (w == 1 && h == 1) break;
-    w = (w + 1) / 2, h = (h + 1) / 2;
-    levels_.emplace_back();
-  }
+  depth_.assign(size_t(g.width) * size_t(g.height), kUncovered);
+  pyramid_.reset(depth_.data(), g.width, g.height, kUncovered);
   rays_.reset(g);
 }
 
@@ -40,26 +31,7 @@ bool Hzb::covered(const PixelRect &rect, double z) const {
   if (rect.empty()) return true;
   if (!(z > g_.near_plane)) return false;  // reaches the near plane: never provably hidden
   // Rounded to nearest, the float is at most half an ulp above: take that off as well.
-  const float zf = float(g_.window_depth(z) - kStoreMargin);
-  // The level whose tiles are at least as wide as the rectangle: it spans at most 2 x 2 of them.
-  const auto extent = unsigned(std::max(rect.x1 - rect.x0, rect.y1 - rect.y0));
-  const int level = std::min(int(levels_.size()) - 1, extent == 0 ? 0 : 32 - __builtin_clz(extent));
-  return covered_at(level, rect.x0, rect.y0, rect.x1, rect.y1, zf);
-}
-
-// Tiles of `level` overlapping the pixel rectangle [x0, x1] x [y0, y1] (level-0 pixels).
-bool Hzb::covered_at(int level, int x0, int y0, int x1, int y1, float z) const {
-  const Level &l = levels_[size_t(level)];
-  for (int ty = y0 >> level; ty <= (y1 >> level); ++ty)
-    for (int tx = x0 >> level; tx <= (x1 >> level); ++tx) {
-      if (l.z[size_t(ty) * l.w + tx] < z) continue;
-      if (level == 0) return false;
-      // Refine: this tile's pixels that lie inside the rectangle.
-      const int px0 = std::max(x0, tx << level), px1 = std::min(x1, ((tx + 1) << level) - 1);
-      const int py0 = std::max(y0, ty << level), py1 = std::min(y1, ((ty + 1) << level) - 1);
-      if (!covered_at(level - 1, px0, py0, px1, py1, z)) return false;
-    }
-  return true;
+  return pyramid_.covered(rect, float(g_.window_depth(z) - kStoreMargin));
 }
 
 bool Hzb::usable(const glm::dvec3 &c, double r) const {
@@ -87,7 +59,6 @@ bool Hzb::add_occluder(const glm::dvec3 &c, double r, const PixelRect &rect) {
   if (r_in <= 0.0 || rect.empty() || !usable(c, r)) return false;
   const double r2 = r * r, r_in2 = r_in * r_in, c2 = glm::dot(c, c);
   const double z_lo = g_.near_plane + eps, z_hi = g_.far_plane - eps;
-  Level &l0 = levels_[0];
   const double d = -c.z;
   PixelRect written;
   const double *ray_x = rays_.x_data();
@@ -97,7 +68,7 @@ bool Hzb::add_occluder(const glm::dvec3 &c, double r, const PixelRect &rect) {
     // side; exactness comes from the per-pixel test that follows.
     if (!rays_.row_span(c, r_in2, y, rect.x0, rect.x1, 2.0, &xa, &xb)) continue;
     const double ry = rays_.y(y);
-    float *row = l0.z.data() + size_t(y) * l0.w;
+    float *row = depth_.data() + size_t(y) * size_t(g_.width);
     int wx0 = xb + 1, wx1 = xa - 1;  // columns written in this row
     if (g_.orthographic) {
       const double dy = c.y - ry, dy2 = dy * dy;
@@ -127,27 +98,8 @@ bool Hzb::add_occluder(const glm::dvec3 &c, double r, const PixelRect &rect) {
     }
     if (wx0 <= wx1) written.unite(PixelRect{wx0, y, wx1, y});
   }
-  propagate(written);
+  pyramid_.propagate(written);
   return true;
-}
-
-// Brings the levels above 0 up to date over the level-0 pixels of `rect`.
-void Hzb::propagate(const PixelRect &rect) {
-  if (rect.empty()) return;
-  for (size_t k = 1; k < levels_.size(); ++k) {
-    const Level &below = levels_[k - 1];
-    Level &l = levels_[k];
-    const int sh = int(k);
-    bool changed = false;
-    for (int ty = rect.y0 >> sh; ty <= (rect.y1 >> sh); ++ty)
-      for (int tx = rect.x0 >> sh; tx <= (rect.x1 >> sh); ++tx) {
-        const float m = max_of_children(below.z.data(), below.w, below.h, tx, ty, -kUncovered);
-        float &t = l.z[size_t(ty) * l.w + tx];
-        changed |= m != t;
-        t = m;
-      }
-    if (!changed) return;  // maxima only shrink: levels above cannot change either
-  }
 }
 
 }  // namespace lantern

@@ -20,8 +20,9 @@
 
 #include <glm/vec3.hpp>
 
-#include "core/culling/pixel_rays.h"
-#include "core/culling/view_geometry.h"
+#include "core/view/max_depth_pyramid.h"
+#include "core/view/pixel_rays.h"
+#include "core/view/view_geometry.h"
 
 namespace lantern {
 
@@ -40,16 +41,11 @@ class Hzb {
   bool add_occluder(const glm::dvec3 &c, double r, const PixelRect &rect);
 
  private:
-  struct Level {
-    int w = 0, h = 0;
-    std::vector<float> z;
-  };
   bool usable(const glm::dvec3 &c, double r) const;
-  bool covered_at(int level, int x0, int y0, int x1, int y1, float z) const;
-  void propagate(const PixelRect &rect);
 
   ViewGeometry g_;
-  std::vector<Level> levels_;
+  std::vector<float> depth_;  // level 0: the conservative window depth per pixel
+  MaxDepthPyramid pyramid_;   // levels 1.. over depth_
   PixelRays rays_;
 };
 

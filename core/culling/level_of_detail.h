@@ -13,7 +13,7 @@
 
 #include "core/bricks/brick_set.h"
 #include "core/config/config.h"
-#include "core/culling/view_geometry.h"
+#include "core/view/view_geometry.h"
 #include "core/culling/visible_brick.h"
 
 namespace lantern {

@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "core/config/config.h"
-#include "core/culling/view_geometry.h"
+#include "core/view/view_geometry.h"
 #include "core/culling/visible_brick.h"
 
 namespace lantern {

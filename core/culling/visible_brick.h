@@ -6,7 +6,7 @@
 #include <cstdint>
 
 #include "core/culling/frustum.h"
-#include "core/culling/view_geometry.h"
+#include "core/view/view_geometry.h"
 
 namespace lantern {
 

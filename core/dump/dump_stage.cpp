@@ -2,8 +2,8 @@
 
 #include <filesystem>
 
-#include "core/pipeline/collective_status.h"
-#include "core/pipeline/particle_scan.h"
+#include "core/common/collective_status.h"
+#include "core/particles/particle_scan.h"
 
 namespace lantern {
 namespace {
@@ -49,7 +49,7 @@ Status choose_fields(MPI_Comm comm, const DumpConfig &config, const ParticleArra
   for (const auto &f : config.fields) wanted |= bit_of(f);
   for (int bit : {kType, kId, kScalar, kRadius})
     if ((wanted & bit) && !(any & bit))
-      return {LANTERN_ERR_INVALID_ARGUMENT, std::string("dump.fields: '") + name_of(bit) +
+      return {StatusCode::kInvalidArgument, std::string("dump.fields: '") + name_of(bit) +
                                                 "' is listed but no rank published a " +
                                                 name_of(bit) + " array"};
   *out = wanted;
@@ -73,7 +73,7 @@ Status check_local_fields(const DumpFields &f, const ParticleArrays &p, int64_t 
                       (f.radius && !p.has_radius() ? kRadius : 0);
   for (int bit : {kType, kId, kScalar, kRadius})
     if (missing & bit)
-      return {LANTERN_ERR_INVALID_ARGUMENT,
+      return {StatusCode::kInvalidArgument,
               "dump: step " + std::to_string(step) + ": the dump file has a '" + name_of(bit) +
                   "' field but this rank published no " + name_of(bit) + " array"};
   return {};
@@ -114,14 +114,14 @@ Status DumpStage::open_writer(MPI_Comm comm, const ParticleArrays &particles, co
     std::error_code ec;
     if (!dir.empty()) std::filesystem::create_directories(dir, ec);
     if (ec)
-      local = {LANTERN_ERR_IO, "dump.file: " + config_.file + ": cannot create directory " +
+      local = {StatusCode::kIo, "dump.file: " + config_.file + ": cannot create directory " +
                                    dir.string() + " (" + ec.message() + ")"};
   }
   if (Status s = agree_on_status(comm, local); !s.ok()) return s;
   try {
     writer_ = std::make_unique<H5mdWriter>(comm, config_.file, layout);
   } catch (const Hdf5Error &e) {
-    local = {LANTERN_ERR_IO,
+    local = {StatusCode::kIo,
              "dump.file: " + config_.file + ": step " + std::to_string(step) + ": " + e.what()};
   }
   Status agreed = agree_on_status(comm, local);
@@ -139,13 +139,13 @@ Status DumpStage::write(MPI_Comm comm, const ParticleArrays &particles,
   if (rank == 0) offset = 0;  // MPI_Exscan leaves rank 0's result undefined
   const std::string where = "dump.file: " + config_.file + ": step " + std::to_string(step) + ": ";
   if (total == 0)
-    return {LANTERN_ERR_INVALID_ARGUMENT, where + "no rank has particles; nothing dumped"};
+    return {StatusCode::kInvalidArgument, where + "no rank has particles; nothing dumped"};
 
   const Box b = frame_box(comm, particles, box);
   if (!writer_)
     if (Status s = open_writer(comm, particles, b, total, step); !s.ok()) return s;
   if (total != writer_->layout().global_count)
-    return {LANTERN_ERR_INVALID_ARGUMENT,
+    return {StatusCode::kInvalidArgument,
             where + std::to_string(total) + " particles, but the file holds " +
                 std::to_string(writer_->layout().global_count) +
                 " per frame (H5MD frames have a fixed size; use one dump file per particle count)"};
@@ -158,7 +158,7 @@ Status DumpStage::write(MPI_Comm comm, const ParticleArrays &particles,
   try {
     writer_->append({&particles, offset, step, time, b});
   } catch (const Hdf5Error &e) {
-    local = {LANTERN_ERR_IO, where + e.what()};
+    local = {StatusCode::kIo, where + e.what()};
   }
   return agree_on_status(comm, local);
 }

@@ -15,7 +15,7 @@
 #include "core/dump/box.h"
 #include "core/dump/h5md_writer.h"
 #include "core/particles/particle_arrays.h"
-#include "core/pipeline/status.h"
+#include "core/common/status.h"
 
 namespace lantern {
 

@@ -33,11 +33,9 @@ void append_real(TimeSeries &series, bool single, hsize_t frame, const DumpFrame
   }
 }
 
-// lantern_version() lives in the shared C API library; the core builds the same string.
-std::string version_string() {
-  return std::to_string(LANTERN_VERSION_MAJOR) + "." + std::to_string(LANTERN_VERSION_MINOR) + "." +
-         std::to_string(LANTERN_VERSION_PATCH);
-}
+// The version lantern_version() reports: CMake reads it from the public header (the one place
+// it is defined) and hands it to core as LANTERN_VERSION_STRING.
+std::string version_string() { return LANTERN_VERSION_STRING; }
 
 std::string author_name() {
   const char *user = std::getenv("USER");

@@ -6,22 +6,22 @@ namespace lantern {
 namespace {
 
 template <typename T>
-lantern_array array_of(const std::vector<T> &v, lantern_datatype type) {
+BorrowedArray array_of(const std::vector<T> &v, DataType type) {
   if (v.empty()) return {};
   return {v.data(), type, 0};
 }
 
 }  // namespace
 
-lantern_particles ParticleFrame::view() const {
-  lantern_particles p{};
+ParticleDescription ParticleFrame::view() const {
+  ParticleDescription p{};
   p.count = count();
   if (p.count == 0) return p;
-  p.position = array_of(position, LANTERN_FLOAT64);
-  p.type = array_of(type, LANTERN_INT64);
-  p.id = array_of(id, LANTERN_INT64);
-  p.scalar = array_of(scalar, LANTERN_FLOAT64);
-  p.radius = array_of(radius, LANTERN_FLOAT64);
+  p.position = array_of(position, DataType::kFloat64);
+  p.type = array_of(type, DataType::kInt64);
+  p.id = array_of(id, DataType::kInt64);
+  p.scalar = array_of(scalar, DataType::kFloat64);
+  p.radius = array_of(radius, DataType::kFloat64);
   return p;
 }
 

@@ -1,5 +1,5 @@
 // One frame of particles read from a dump file: this rank's share, owned in memory, and a
-// lantern_particles view of it for lantern_publish(). Filled by the H5MD and LAMMPS readers.
+// ParticleDescription view of it for lantern_publish(). Filled by the H5MD and LAMMPS readers.
 #pragma once
 
 #include <cstdint>
@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "core/dump/box.h"
-#include "lantern/lantern.h"
+#include "core/particles/particle_description.h"
 
 namespace lantern {
 
@@ -23,7 +23,7 @@ struct ParticleFrame {
 
   int64_t count() const { return static_cast<int64_t>(position.size() / 3); }
   // Borrows this frame's vectors: valid while the frame is alive and unchanged.
-  lantern_particles view() const;
+  ParticleDescription view() const;
 };
 
 // The rows [begin, end) of n that `rank` of `size` reads: contiguous, sizes differ by <= 1.

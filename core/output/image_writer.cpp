@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "core/output/atomic_file.h"
-#include "core/output/png_across_ranks.h"
+#include "core/output/png/png_across_ranks.h"
 
 namespace lantern {
 

@@ -12,7 +12,7 @@
 #include <string>
 
 #include "core/config/config.h"
-#include "core/render/frame.h"
+#include "core/view/frame.h"
 
 namespace lantern {
 

@@ -3,53 +3,53 @@
 namespace lantern {
 namespace {
 
-int64_t element_size(lantern_datatype t) {
+int64_t element_size(DataType t) {
   switch (t) {
-    case LANTERN_FLOAT32:
-    case LANTERN_INT32:
+    case DataType::kFloat32:
+    case DataType::kInt32:
       return 4;
-    case LANTERN_FLOAT64:
-    case LANTERN_INT64:
+    case DataType::kFloat64:
+    case DataType::kInt64:
       return 8;
     default:
       return 0;
   }
 }
 
-const char *type_name(lantern_datatype t) {
+const char *type_name(DataType t) {
   switch (t) {
-    case LANTERN_FLOAT32:
+    case DataType::kFloat32:
       return "float32";
-    case LANTERN_FLOAT64:
+    case DataType::kFloat64:
       return "float64";
-    case LANTERN_INT32:
+    case DataType::kInt32:
       return "int32";
-    case LANTERN_INT64:
+    case DataType::kInt64:
       return "int64";
     default:
       return "none";
   }
 }
 
-bool is_real(lantern_datatype t) {
-  return t == LANTERN_FLOAT32 || t == LANTERN_FLOAT64;
+bool is_real(DataType t) {
+  return t == DataType::kFloat32 || t == DataType::kFloat64;
 }
-bool is_integer(lantern_datatype t) {
-  return t == LANTERN_INT32 || t == LANTERN_INT64;
+bool is_integer(DataType t) {
+  return t == DataType::kInt32 || t == DataType::kInt64;
 }
 
 // Validates one array; `components` elements per entry. Returns "" or an error message.
-std::string check_array(const lantern_array &a, const char *name, int components, bool want_real,
+std::string check_array(const BorrowedArray &a, const char *name, int components, bool want_real,
                         int64_t count, StridedArray *out) {
   const std::string field = std::string("particles.") + name;
-  if (a.type == LANTERN_TYPE_NONE && a.data == nullptr) return {};  // absent
+  if (a.type == DataType::kNone && a.data == nullptr) return {};  // absent
   const int64_t esize = element_size(a.type);
   if (esize == 0)
     return field + ".type: unknown datatype " + std::to_string(static_cast<int>(a.type));
   if (want_real && !is_real(a.type))
-    return field + ".type: must be LANTERN_FLOAT32 or LANTERN_FLOAT64, got " + type_name(a.type);
+    return field + ".type: must be DataType::kFloat32 or DataType::kFloat64, got " + type_name(a.type);
   if (!want_real && !is_integer(a.type))
-    return field + ".type: must be LANTERN_INT32 or LANTERN_INT64, got " + type_name(a.type);
+    return field + ".type: must be DataType::kInt32 or DataType::kInt64, got " + type_name(a.type);
   if (a.data == nullptr && count > 0) return field + ".data: NULL with count > 0";
   const int64_t natural = esize * components;
   const int64_t stride = a.stride_bytes == 0 ? natural : a.stride_bytes;
@@ -61,13 +61,13 @@ std::string check_array(const lantern_array &a, const char *name, int components
   return {};
 }
 
-bool given(const lantern_array &a) {
-  return a.data != nullptr || a.type != LANTERN_TYPE_NONE;
+bool given(const BorrowedArray &a) {
+  return a.data != nullptr || a.type != DataType::kNone;
 }
 
 }  // namespace
 
-std::string ParticleArrays::validate(const lantern_particles &p, ParticleArrays *out) {
+std::string ParticleArrays::validate(const ParticleDescription &p, ParticleArrays *out) {
   if (p.count < 0) return "particles.count: negative (" + std::to_string(p.count) + ")";
   ParticleArrays r;
   r.count_ = p.count;
@@ -83,7 +83,7 @@ std::string ParticleArrays::validate(const lantern_particles &p, ParticleArrays 
       return e;
   } else {
     r.interleaved_ = false;
-    const lantern_array *c[3] = {&p.position_x, &p.position_y, &p.position_z};
+    const BorrowedArray *c[3] = {&p.position_x, &p.position_y, &p.position_z};
     const char *names[3] = {"position_x", "position_y", "position_z"};
     for (int k = 0; k < 3; ++k) {
       if (!given(*c[k]) && p.count > 0)

@@ -1,7 +1,7 @@
 // Typed, validated access to the particle arrays a simulation lends Lantern.
 //
 // Ownership: ParticleArrays never owns or copies the data; it stores the pointers and strides of
-// lantern_particles. The caller keeps the arrays alive (see lantern.h). Thread-safety: read-only
+// ParticleDescription. The caller keeps the arrays alive (lantern_publish in the C API). Thread-safety: read-only
 // after construction, so concurrent readers are fine. Units: those of the simulation.
 #pragma once
 
@@ -11,7 +11,7 @@
 
 #include <glm/vec3.hpp>
 
-#include "lantern/lantern.h"
+#include "core/particles/particle_description.h"
 
 namespace lantern {
 
@@ -19,11 +19,11 @@ namespace lantern {
 class StridedArray {
  public:
   StridedArray() = default;
-  StridedArray(const void *data, lantern_datatype type, int64_t stride_bytes)
+  StridedArray(const void *data, DataType type, int64_t stride_bytes)
       : base_(static_cast<const unsigned char *>(data)), type_(type), stride_(stride_bytes) {}
 
-  bool present() const { return base_ != nullptr && type_ != LANTERN_TYPE_NONE; }
-  lantern_datatype type() const { return type_; }
+  bool present() const { return base_ != nullptr && type_ != DataType::kNone; }
+  DataType type() const { return type_; }
   int64_t stride_bytes() const { return stride_; }
   const void *data() const { return base_; }
 
@@ -31,13 +31,13 @@ class StridedArray {
   double real(int64_t i, int c = 0) const {
     const unsigned char *p = base_ + i * stride_;
     switch (type_) {
-      case LANTERN_FLOAT32:
+      case DataType::kFloat32:
         return load<float>(p, c);
-      case LANTERN_FLOAT64:
+      case DataType::kFloat64:
         return load<double>(p, c);
-      case LANTERN_INT32:
+      case DataType::kInt32:
         return load<int32_t>(p, c);
-      case LANTERN_INT64:
+      case DataType::kInt64:
         return static_cast<double>(load<int64_t>(p, c));
       default:
         return 0.0;
@@ -46,13 +46,13 @@ class StridedArray {
   int64_t integer(int64_t i) const {
     const unsigned char *p = base_ + i * stride_;
     switch (type_) {
-      case LANTERN_INT32:
+      case DataType::kInt32:
         return load<int32_t>(p, 0);
-      case LANTERN_INT64:
+      case DataType::kInt64:
         return load<int64_t>(p, 0);
-      case LANTERN_FLOAT32:
+      case DataType::kFloat32:
         return static_cast<int64_t>(load<float>(p, 0));
-      case LANTERN_FLOAT64:
+      case DataType::kFloat64:
         return static_cast<int64_t>(load<double>(p, 0));
       default:
         return 0;
@@ -69,7 +69,7 @@ class StridedArray {
   }
 
   const unsigned char *base_ = nullptr;
-  lantern_datatype type_ = LANTERN_TYPE_NONE;
+  DataType type_ = DataType::kNone;
   int64_t stride_ = 0;
 };
 
@@ -78,11 +78,11 @@ class ParticleArrays {
  public:
   ParticleArrays() = default;
 
-  // Checks a lantern_particles description (types, strides, NULL pointers, negative count) and,
+  // Checks a description (types, strides, NULL pointers, negative count) and,
   // on success, returns an empty string and fills *out. On failure returns a message naming the
   // offending field (e.g. "particles.position.stride_bytes: 8 is shorter than 3 float64 (24)").
   // It reads no element: NaN positions are found later, per frame.
-  static std::string validate(const lantern_particles &p, ParticleArrays *out);
+  static std::string validate(const ParticleDescription &p, ParticleArrays *out);
 
   int64_t count() const { return count_; }
   glm::dvec3 position(int64_t i) const {

@@ -6,8 +6,8 @@
 
 #include "core/config/config_loader.h"
 #include "core/output/stats_writer.h"
-#include "core/pipeline/collective_status.h"
-#include "core/pipeline/particle_scan.h"
+#include "core/common/collective_status.h"
+#include "core/particles/particle_scan.h"
 
 namespace lantern {
 namespace {
@@ -31,16 +31,16 @@ std::string check_radii(const ParticleArrays &p) {
 Status Runtime::open(const std::string &config_text, MPI_Comm comm, std::unique_ptr<Runtime> *out) {
   std::unique_ptr<Runtime> rt(new Runtime());
   if (MPI_Comm_dup(comm, &rt->comm_) != MPI_SUCCESS)
-    return {LANTERN_ERR_MPI, "mpi_comm_f: MPI_Comm_dup failed on this communicator"};
+    return {StatusCode::kMpi, "mpi_comm_f: MPI_Comm_dup failed on this communicator"};
   MPI_Comm_rank(rt->comm_, &rt->rank_);
   MPI_Comm_size(rt->comm_, &rt->size_);
 
   Status local;
-  if (auto e = load_config(config_text, &rt->config_); !e.empty()) local = {LANTERN_ERR_CONFIG, e};
+  if (auto e = load_config(config_text, &rt->config_); !e.empty()) local = {StatusCode::kConfig, e};
   if (local.ok() && !rt->config_.scenes.empty()) {
     std::string e;
     rt->gl_ = GlSession::acquire(&e);
-    if (!rt->gl_) local = {LANTERN_ERR_GL, e};
+    if (!rt->gl_) local = {StatusCode::kGl, e};
   }
   if (Status s = agree_on_status(rt->comm_, local); !s.ok()) return s;
   rt->buffers_.resize(rt->config_.scenes.size());
@@ -63,12 +63,12 @@ Runtime::~Runtime() {
   }
 }
 
-Status Runtime::publish(const lantern_particles &particles) {
+Status Runtime::publish(const ParticleDescription &particles) {
   ParticleArrays validated;
-  particles_ = ParticleArrays();  // a failed publish leaves no particles (see lantern.h)
+  particles_ = ParticleArrays();  // a failed publish leaves no particles (lantern_publish in the C API)
   if (auto e = ParticleArrays::validate(particles, &validated); !e.empty())
-    return {LANTERN_ERR_INVALID_ARGUMENT, e};
-  if (auto e = check_radii(validated); !e.empty()) return {LANTERN_ERR_INVALID_ARGUMENT, e};
+    return {StatusCode::kInvalidArgument, e};
+  if (auto e = check_radii(validated); !e.empty()) return {StatusCode::kInvalidArgument, e};
   particles_ = validated;
   return {};
 }
@@ -77,7 +77,7 @@ Status Runtime::finish() {
   Status local;
   for (size_t s = 0; s < buffers_.size(); ++s)
     if (auto e = buffers_[s].writer.wait(); !e.empty() && local.ok())
-      local = {LANTERN_ERR_IO, "scenes '" + config_.scenes[s].name + "': " + e};
+      local = {StatusCode::kIo, "scenes '" + config_.scenes[s].name + "': " + e};
   return broadcast_status(comm_, local, 0);
 }
 
@@ -92,7 +92,7 @@ void Runtime::warn_nonfinite_once(int64_t count, int64_t step) {
 }
 
 Status Runtime::set_box(const Box &box) {
-  if (auto e = validate_box(box); !e.empty()) return {LANTERN_ERR_INVALID_ARGUMENT, "box: " + e};
+  if (auto e = validate_box(box); !e.empty()) return {StatusCode::kInvalidArgument, "box: " + e};
   box_ = box;
   return {};
 }
@@ -112,7 +112,7 @@ Status Runtime::execute(int64_t step, double time) {
   if (!config_.scenes.empty()) {
     std::string e;
     SphereRenderer *renderer = gl_->renderer(&e);
-    Status gl_status = agree_on_status(comm_, renderer ? Status() : Status(LANTERN_ERR_GL, e));
+    Status gl_status = agree_on_status(comm_, renderer ? Status() : Status(StatusCode::kGl, e));
     if (!gl_status.ok()) return gl_status;
     const ScenePassInputs in{comm_, renderer, &particles_, global, step, time, &scratch_};
     for (size_t s = 0; s < config_.scenes.size(); ++s) {

@@ -3,7 +3,7 @@
 // around this class.
 //
 // Ownership: owns a duplicate of the caller's communicator and borrows the particle arrays.
-// Thread-safety: one thread at a time (see lantern.h).
+// Thread-safety: one thread at a time (lantern_publish in the C API).
 #pragma once
 
 #include <mpi.h>
@@ -18,7 +18,7 @@
 #include "core/dump/dump_stage.h"
 #include "core/particles/particle_arrays.h"
 #include "core/pipeline/scene_pass.h"
-#include "core/pipeline/status.h"
+#include "core/common/status.h"
 #include "core/render/gl_session.h"
 
 namespace lantern {
@@ -31,7 +31,7 @@ class Runtime {
   Runtime(const Runtime &) = delete;
   Runtime &operator=(const Runtime &) = delete;
 
-  Status publish(const lantern_particles &particles);  // local
+  Status publish(const ParticleDescription &particles);  // local
   Status execute(int64_t step, double time);           // collective on scheduled steps
   // Waits for images still being written in the background; collective, same status on every
   // rank. Called by lantern_close before the Runtime is destroyed.

@@ -9,11 +9,11 @@
 #include "core/color/colormap.h"
 #include "core/composite/depth_compositor.h"
 #include "core/culling/cull_stage.h"
-#include "core/culling/point_splats.h"
-#include "core/output/file_pattern.h"
+#include "core/render/point_splats.h"
+#include "core/config/file_pattern.h"
 #include "core/output/image_writer.h"
-#include "core/output/png_across_ranks.h"
-#include "core/pipeline/collective_status.h"
+#include "core/output/png/png_across_ranks.h"
+#include "core/common/collective_status.h"
 #include "core/pipeline/sphere_instances.h"
 
 namespace lantern {
@@ -28,74 +28,14 @@ double ms_since(Clock::time_point t0) {
 Status check_scene_needs(const SceneConfig &scene, const ParticleArrays &p) {
   if (p.count() == 0) return {};
   if (scene.per_particle_radius && !p.has_radius())
-    return {LANTERN_ERR_INVALID_ARGUMENT, "scenes '" + scene.name +
+    return {StatusCode::kInvalidArgument, "scenes '" + scene.name +
                                               "': radius is per_particle but no radius array was "
                                               "published (lantern_particles.radius)"};
   if (scene.color.by == ColorBy::kScalar && !p.has_scalar())
-    return {LANTERN_ERR_INVALID_ARGUMENT, "scenes '" + scene.name +
+    return {StatusCode::kInvalidArgument, "scenes '" + scene.name +
                                               "': color.by is scalar but no scalar array was "
                                               "published (lantern_particles.scalar)"};
   return {};
-}
-
-// A cheap guard against arrays rewritten in place under the same step number: the raw bytes of
-// up to 4096 evenly spaced positions and radii (positions that change between steps nearly
-// always change some of them).
-uint64_t sample_fingerprint(const ParticleArrays &p) {
-  uint64_t h = 1469598103934665603ull;
-  const auto mix = [&h](double v) {
-    uint64_t bits;
-    std::memcpy(&bits, &v, sizeof bits);
-    h = (h ^ bits) * 1099511628211ull;
-  };
-  const int64_t n = p.count(), stride = std::max<int64_t>(1, n / 4096);
-  for (int64_t i = 0; i < n; i += stride) {
-    const glm::dvec3 x = p.position(i);
-    mix(x.x), mix(x.y), mix(x.z);
-    if (p.has_radius()) mix(p.radius(i));
-  }
-  return h;
-}
-
-const BrickSet &bricks_for_step(const ScenePassInputs &in, double *build_ms, std::string *how) {
-  StepBricks &cache = in.scratch->bricks;
-  const ParticleArrays &p = *in.particles;
-  const void *pos = p.position_array(0).data();
-  const void *rad = p.radius_array().data();
-  const uint64_t fingerprint = sample_fingerprint(p);
-  if (cache.count == p.count() && cache.step == in.step && cache.positions == pos &&
-      cache.radii == rad && cache.fingerprint == fingerprint) {
-    *how = "cached";
-    return cache.set;
-  }
-  const auto t0 = Clock::now();
-  // A later step: particles moved a little, so keep the z-order and refit the bounds. The host
-  // may have moved its arrays (LAMMPS reallocates when its ghost count grows), wrapped, dropped
-  // or added particles (migration): refit_bricks re-sorts only the strays, recomputes every
-  // bound from the particles themselves - culling stays exact whatever the indices now hold -
-  // and asks for a rebuild when too much changed.
-  constexpr double kMaxSpreadGrowth = 1.25;
-  if (cache.count >= 0 && refit_bricks(p, kMaxSpreadGrowth, &cache.set)) {
-    cache.positions = pos;
-    cache.radii = rad;
-    cache.count = p.count();
-    cache.step = in.step;
-    cache.fingerprint = fingerprint;
-    ++cache.refits;
-    *build_ms += ms_since(t0);
-    *how = "refit";
-    return cache.set;
-  }
-  cache.set = BrickSet();  // free the old permutation before building: keeps the peak low
-  cache.set = build_bricks(p, BrickOptions{});
-  cache.step = in.step;
-  cache.count = p.count();
-  cache.positions = pos;
-  cache.radii = rad;
-  cache.fingerprint = fingerprint;
-  *build_ms += ms_since(t0);
-  *how = "built";
-  return cache.set;
 }
 
 // Spheres of at most this projected radius (pixels, at the camera's target) go to the CPU
@@ -146,7 +86,7 @@ Status run_scene_pass(const ScenePassInputs &in, const SceneConfig &scene, Scene
   const glm::dvec3 hi{in.global.hi[0], in.global.hi[1], in.global.hi[2]};
   if (auto e = make_camera(scene.camera, lo, hi, max_radius, scene.width, scene.height, &camera);
       !e.empty())
-    return {LANTERN_ERR_CONFIG, "scenes '" + scene.name + "': " + e};
+    return {StatusCode::kConfig, "scenes '" + scene.name + "': " + e};
   stats->camera_ms = ms_since(t0);
 
   Status local = check_scene_needs(scene, *in.particles);
@@ -155,7 +95,8 @@ Status run_scene_pass(const ScenePassInputs &in, const SceneConfig &scene, Scene
     // Bricks, culling and level of detail: what to draw.
     t0 = Clock::now();
     double build_ms = 0.0;
-    const BrickSet &bricks = bricks_for_step(in, &build_ms, &stats->bricks);
+    const BrickSet &bricks =
+        in.scratch->bricks.for_step(*in.particles, in.step, &build_ms, &stats->bricks);
     stats->bricks_ms = build_ms;
     DrawList &draw = in.scratch->draw;
     const InstanceRecipe recipe = make_recipe(*in.particles, scene, camera, in.global);
@@ -188,7 +129,7 @@ Status run_scene_pass(const ScenePassInputs &in, const SceneConfig &scene, Scene
       const std::string e =
           in.renderer->render(camera.render_view(background), buffers->instances.data(),
                               buffers->instances.size(), &buffers->frame, &timings);
-      if (!e.empty()) local = {LANTERN_ERR_GL, "scenes '" + scene.name + "': " + e};
+      if (!e.empty()) local = {StatusCode::kGl, "scenes '" + scene.name + "': " + e};
       stats->draw_ms = timings.draw_ms;
       stats->readback_ms = timings.readback_ms;
     }
@@ -207,7 +148,7 @@ Status run_scene_pass(const ScenePassInputs &in, const SceneConfig &scene, Scene
   stats->culled = in.global.finite_count - stats->drawn - stats->splatted;
 
   const CompositeStats cs = composite_frames(in.comm, buffers->frame, 0, CompositeMethod::kAuto);
-  if (!cs.ok()) return {LANTERN_ERR_MPI, "scenes '" + scene.name + "': compositing: " + cs.error};
+  if (!cs.ok()) return {StatusCode::kMpi, "scenes '" + scene.name + "': compositing: " + cs.error};
   stats->composite_ms = cs.milliseconds;
   stats->composite_method = cs.method;
 
@@ -219,7 +160,7 @@ Status run_scene_pass(const ScenePassInputs &in, const SceneConfig &scene, Scene
     const std::string e =
         write_png_across_ranks(in.comm, 0, buffers->frame, scene.width, scene.height,
                                scene.output.compression_level, stats->file);
-    if (!e.empty()) written = {LANTERN_ERR_IO, "scenes '" + scene.name + "': " + e};
+    if (!e.empty()) written = {StatusCode::kIo, "scenes '" + scene.name + "': " + e};
     stats->write_ms = ms_since(t0);
     stats->total_ms = ms_since(t_start);
     return agree_on_status(in.comm, written);
@@ -234,7 +175,7 @@ Status run_scene_pass(const ScenePassInputs &in, const SceneConfig &scene, Scene
                               ? buffers->writer.submit(std::move(buffers->frame), scene.output,
                                                        stats->file, to_distance)
                               : write_image(buffers->frame, scene.output, stats->file, to_distance);
-    if (!e.empty()) written = {LANTERN_ERR_IO, "scenes '" + scene.name + "': " + e};
+    if (!e.empty()) written = {StatusCode::kIo, "scenes '" + scene.name + "': " + e};
     stats->write_ms = ms_since(t0);
   }
   stats->total_ms = ms_since(t_start);

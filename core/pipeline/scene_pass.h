@@ -6,35 +6,22 @@
 
 #include <vector>
 
-#include "core/bricks/brick_set.h"
-#include "core/composite/global_extent.h"
+#include "core/bricks/brick_cache.h"
+#include "core/particles/global_extent.h"
 #include "core/config/config.h"
 #include "core/culling/cull_stage.h"
 #include "core/output/background_image_writer.h"
 #include "core/particles/particle_arrays.h"
 #include "core/pipeline/scene_stats.h"
-#include "core/pipeline/status.h"
-#include "core/render/frame.h"
+#include "core/common/status.h"
+#include "core/view/frame.h"
 #include "core/render/sphere_renderer.h"
 
 namespace lantern {
 
-// The bricks of the current step: they depend only on the particles, so they are built once per
-// step and shared by every scene of that step (a new step, or other arrays, rebuilds them).
-// Kept between steps: the permutation (4 B per particle) and the bricks.
-struct StepBricks {
-  int64_t step = 0;
-  int64_t count = -1;
-  const void *positions = nullptr;
-  const void *radii = nullptr;
-  uint64_t fingerprint = 0;
-  int64_t refits = 0;  // steps served by refit_bricks instead of a rebuild
-  BrickSet set;
-};
-
 // What the scenes of one context share and keep between steps; owned by the Runtime.
 struct PassScratch {
-  StepBricks bricks;
+  BrickCache bricks;                  // this step's bricks, refit on later steps
   Culler culler;                      // scratch buffers (pyramid, grids) reused from frame to frame
   DrawList draw;                      // its lists are released once drawn
   std::vector<uint32_t> pixel_owner;  // CPU raster: particle index per pixel (depth ties)

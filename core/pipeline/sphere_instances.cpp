@@ -1,8 +1,8 @@
 #include "core/pipeline/sphere_instances.h"
 
-#include "core/bricks/typed_access.h"
+#include "core/particles/typed_access.h"
 #include "core/culling/draw_list.h"
-#include "core/pipeline/particle_scan.h"
+#include "core/particles/particle_scan.h"
 
 namespace lantern {
 

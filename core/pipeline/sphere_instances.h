@@ -7,7 +7,7 @@
 
 #include "core/camera/camera.h"
 #include "core/color/colormap.h"
-#include "core/composite/global_extent.h"
+#include "core/particles/global_extent.h"
 #include "core/config/config.h"
 #include "core/particles/particle_arrays.h"
 #include "core/render/sphere_renderer.h"

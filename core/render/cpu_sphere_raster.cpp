@@ -5,7 +5,6 @@
 #include <limits>
 #include <optional>
 
-#include "core/culling/max_depth_tile.h"
 
 namespace lantern {
 namespace {
@@ -42,16 +41,7 @@ void CpuSphereRaster::begin_strip(const ViewGeometry &g, Frame *frame, std::vect
   frame_ = frame;
   owner_ = owner->data();
   x0_ = std::max(x0, 0), x1_ = std::min(x1, g.width - 1);
-  int w = g.width, h = g.height;
-  size_t k = 1;  // levels are kept between frames: refilled, not reallocated
-  while (w > 1 || h > 1) {
-    w = (w + 1) / 2, h = (h + 1) / 2;
-    if (levels_.size() <= k) levels_.resize(k + 1);
-    Level &l = levels_[k++];
-    l.w = w, l.h = h;
-    l.z.assign(size_t(w) * size_t(h), kBackgroundDepth);
-  }
-  levels_.resize(std::max<size_t>(k, 1));
+  pyramid_.reset(frame->depth.data(), g.width, g.height, kBackgroundDepth);
   rays_.reset(g);
 }
 
@@ -59,30 +49,7 @@ bool CpuSphereRaster::covered(PixelRect rect, double z) const {
   rect.x0 = std::max(rect.x0, x0_), rect.x1 = std::min(rect.x1, x1_);
   if (rect.empty()) return true;
   if (!(z > g_.near_plane)) return false;
-  const float zf = float(g_.window_depth(z) - kQueryMargin);
-  const auto extent = unsigned(std::max(rect.x1 - rect.x0, rect.y1 - rect.y0));
-  const int level = std::min(int(levels_.size()) - 1, extent == 0 ? 0 : 32 - __builtin_clz(extent));
-  return covered_at(level, rect.x0, rect.y0, rect.x1, rect.y1, zf);
-}
-
-bool CpuSphereRaster::covered_at(int level, int x0, int y0, int x1, int y1, float z) const {
-  if (level == 0) {
-    for (int y = y0; y <= y1; ++y) {
-      const float *row = frame_->depth.data() + size_t(y) * size_t(g_.width);
-      for (int x = x0; x <= x1; ++x)
-        if (!(row[x] < z)) return false;
-    }
-    return true;
-  }
-  const Level &l = levels_[size_t(level)];
-  for (int ty = y0 >> level; ty <= (y1 >> level); ++ty)
-    for (int tx = x0 >> level; tx <= (x1 >> level); ++tx) {
-      if (l.z[size_t(ty) * l.w + tx] < z) continue;
-      const int px0 = std::max(x0, tx << level), px1 = std::min(x1, ((tx + 1) << level) - 1);
-      const int py0 = std::max(y0, ty << level), py1 = std::min(y1, ((ty + 1) << level) - 1);
-      if (!covered_at(level - 1, px0, py0, px1, py1, z)) return false;
-    }
-  return true;
+  return pyramid_.covered(rect, float(g_.window_depth(z) - kQueryMargin));
 }
 
 namespace {
@@ -322,7 +289,7 @@ bool CpuSphereRaster::draw(const glm::dvec3 &c, double r, const uint8_t rgb[3], 
         out[3] = 255;
         written.unite(PixelRect{x, y, x, y});
       }
-    propagate(written);
+    pyramid_.propagate(written);
     return !written.empty();
   }
   // Tile side: small spheres get small tiles (a pixel's result does not depend on the tile).
@@ -364,29 +331,8 @@ bool CpuSphereRaster::draw(const glm::dvec3 &c, double r, const uint8_t rgb[3], 
       written.unite(PixelRect{x0 + kmin, y0 + __builtin_ctzll(won) / n, x0 + kmax,
                               y0 + (63 - __builtin_clzll(won)) / n});
     }
-  propagate(written);
+  pyramid_.propagate(written);
   return !written.empty();
-}
-
-// Brings levels 1.. up to date over the level-0 pixels of `rect` (inside the strip).
-void CpuSphereRaster::propagate(const PixelRect &rect) {
-  if (rect.empty()) return;
-  for (size_t k = 1; k < levels_.size(); ++k) {
-    Level &l = levels_[k];
-    const int sh = int(k);
-    bool changed = false;
-    for (int ty = rect.y0 >> sh; ty <= (rect.y1 >> sh); ++ty)
-      for (int tx = rect.x0 >> sh; tx <= (rect.x1 >> sh); ++tx) {
-        const float m =
-            k == 1 ? max_of_children(frame_->depth.data(), g_.width, g_.height, tx, ty, -1.0f)
-                   : max_of_children(levels_[k - 1].z.data(), levels_[k - 1].w, levels_[k - 1].h,
-                                     tx, ty, -1.0f);
-        float &t = l.z[size_t(ty) * l.w + tx];
-        changed |= m != t;
-        t = m;
-      }
-    if (!changed) return;  // maxima only shrink: the levels above cannot change either
-  }
 }
 
 }  // namespace lantern

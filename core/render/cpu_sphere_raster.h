@@ -27,9 +27,10 @@
 
 #include <glm/vec3.hpp>
 
-#include "core/culling/pixel_rays.h"
-#include "core/culling/view_geometry.h"
-#include "core/render/frame.h"
+#include "core/view/max_depth_pyramid.h"
+#include "core/view/pixel_rays.h"
+#include "core/view/view_geometry.h"
+#include "core/view/frame.h"
 
 namespace lantern {
 
@@ -55,18 +56,11 @@ class CpuSphereRaster {
   bool draw(const glm::dvec3 &c, double r, const uint8_t rgb[3], uint32_t index, PixelRect rect);
 
  private:
-  struct Level {
-    int w = 0, h = 0;
-    std::vector<float> z;  // max window depth of the tile's pixels
-  };
-  bool covered_at(int level, int x0, int y0, int x1, int y1, float z) const;
-  void propagate(const PixelRect &rect);
-
   ViewGeometry g_;
   Frame *frame_ = nullptr;
   uint32_t *owner_ = nullptr;
   int x0_ = 0, x1_ = -1;
-  std::vector<Level> levels_;  // levels_[0] is unused: level 0 is the frame's depth
+  MaxDepthPyramid pyramid_;  // over the frame's depth (level 0), kept between frames
   PixelRays rays_;
 };
 

@@ -11,9 +11,8 @@
 #include <memory>
 #include <string>
 
-#include <glm/mat4x4.hpp>
-
-#include "core/render/frame.h"
+#include "core/camera/render_view.h"
+#include "core/view/frame.h"
 
 namespace lantern {
 
@@ -24,17 +23,6 @@ struct SphereInstance {
   uint8_t rgba[4];
 };
 static_assert(sizeof(SphereInstance) == 20, "SphereInstance is uploaded as raw bytes");
-
-// What the renderer needs of the camera, already in float and scene-relative.
-struct RenderView {
-  glm::mat4 view{1.0f};        // scene-relative world -> view; the camera looks down -z
-  glm::mat4 projection{1.0f};  // view -> clip (OpenGL conventions, NDC z in [-1, 1])
-  bool orthographic = false;
-  float near_plane = 0.01f;
-  int width = 1;
-  int height = 1;
-  uint8_t background[4] = {255, 255, 255, 255};
-};
 
 struct RenderTimings {
   double draw_ms = 0;      // upload + draw (GL finished)

@@ -31,10 +31,10 @@ uint64_t reference_morton(uint32_t x, uint32_t y, uint32_t z) {
 }
 
 ParticleArrays borrow(const std::vector<double> &xyz, const std::vector<float> *radius = nullptr) {
-  lantern_particles p{};
+  ParticleDescription p{};
   p.count = int64_t(xyz.size() / 3);
-  p.position = {xyz.data(), LANTERN_FLOAT64, 0};
-  if (radius) p.radius = {radius->data(), LANTERN_FLOAT32, 0};
+  p.position = {xyz.data(), DataType::kFloat64, 0};
+  if (radius) p.radius = {radius->data(), DataType::kFloat32, 0};
   ParticleArrays a;
   EXPECT_EQ(ParticleArrays::validate(p, &a), "");
   return a;

@@ -6,7 +6,7 @@
 #include <cmath>
 #include <limits>
 
-#include "core/composite/global_extent.h"
+#include "core/particles/global_extent.h"
 #include "tests/support/extent_expect.h"
 #include "tests/support/mpi_world.h"
 

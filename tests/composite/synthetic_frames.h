@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "core/render/frame.h"
+#include "core/view/frame.h"
 
 namespace lantern::testing {
 

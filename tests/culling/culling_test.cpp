@@ -13,7 +13,7 @@
 #include "core/bricks/brick_set.h"
 #include "core/camera/camera.h"
 #include "core/culling/cull_stage.h"
-#include "core/culling/point_splats.h"
+#include "core/render/point_splats.h"
 #include "core/pipeline/sphere_instances.h"
 #include "core/render/cpu_sphere_raster.h"
 #include "core/render/gl_session.h"
@@ -27,11 +27,11 @@ struct Cloud {
   std::vector<double> radius;  // empty: the scene's radius
   std::vector<int32_t> type;
   ParticleArrays arrays() const {
-    lantern_particles p{};
+    ParticleDescription p{};
     p.count = int64_t(xyz.size() / 3);
-    p.position = {xyz.data(), LANTERN_FLOAT64, 0};
-    if (!radius.empty()) p.radius = {radius.data(), LANTERN_FLOAT64, 0};
-    p.type = {type.data(), LANTERN_INT32, 0};
+    p.position = {xyz.data(), DataType::kFloat64, 0};
+    if (!radius.empty()) p.radius = {radius.data(), DataType::kFloat64, 0};
+    p.type = {type.data(), DataType::kInt32, 0};
     ParticleArrays a;
     EXPECT_EQ(ParticleArrays::validate(p, &a), "");
     return a;

@@ -1,4 +1,4 @@
-#include "core/output/png_bands.h"
+#include "core/output/png/png_bands.h"
 
 #include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>

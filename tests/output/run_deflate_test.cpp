@@ -1,5 +1,5 @@
 // RunDeflater: its pieces, alone or concatenated, inflate (zlib, raw deflate) to the input.
-#include "core/output/run_deflate.h"
+#include "core/output/png/run_deflate.h"
 
 #include <zlib.h>
 

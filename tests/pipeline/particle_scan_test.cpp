@@ -1,6 +1,6 @@
 // scan_particles: its fast path (one radius, no scalar) agrees with Extent::add_particle
 // particle by particle, for every position layout, including non-finite positions.
-#include "core/pipeline/particle_scan.h"
+#include "core/particles/particle_scan.h"
 
 #include <gtest/gtest.h>
 
@@ -35,14 +35,14 @@ TEST(ParticleScan, FastPathMatchesAddParticleForEveryLayout) {
   for (size_t i = 0; i < n; ++i) x[i] = xyz[3 * i], y[i] = xyz[3 * i + 1], z[i] = xyz[3 * i + 2];
   for (size_t i = 0; i < 3 * n; ++i) xyzf[i] = float(xyz[i]);
   for (int layout = 0; layout < 4; ++layout) {
-    lantern_particles p{};
+    ParticleDescription p{};
     p.count = int64_t(layout == 3 ? 0 : n);
-    if (layout == 0 || layout == 3) p.position = {xyz.data(), LANTERN_FLOAT64, 0};
-    if (layout == 1) p.position = {xyzf.data(), LANTERN_FLOAT32, 0};
+    if (layout == 0 || layout == 3) p.position = {xyz.data(), DataType::kFloat64, 0};
+    if (layout == 1) p.position = {xyzf.data(), DataType::kFloat32, 0};
     if (layout == 2) {
-      p.position_x = {x.data(), LANTERN_FLOAT64, 0};
-      p.position_y = {y.data(), LANTERN_FLOAT64, 0};
-      p.position_z = {z.data(), LANTERN_FLOAT64, 0};
+      p.position_x = {x.data(), DataType::kFloat64, 0};
+      p.position_y = {y.data(), DataType::kFloat64, 0};
+      p.position_z = {z.data(), DataType::kFloat64, 0};
     }
     ParticleArrays a;
     ASSERT_EQ(ParticleArrays::validate(p, &a), "") << "layout " << layout;

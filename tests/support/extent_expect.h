@@ -3,7 +3,7 @@
 
 #include <gtest/gtest.h>
 
-#include "core/composite/global_extent.h"
+#include "core/particles/global_extent.h"
 
 namespace lantern {
 

@@ -15,7 +15,7 @@
 #include <vector>
 
 #include "core/composite/depth_compositor.h"
-#include "core/render/frame.h"
+#include "core/view/frame.h"
 
 namespace {
 

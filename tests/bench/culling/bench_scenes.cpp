@@ -38,10 +38,10 @@ BenchScene fcc(int n) {
 }  // namespace
 
 ParticleArrays BenchScene::arrays() const {
-  lantern_particles p{};
+  ParticleDescription p{};
   p.count = int64_t(type.size());
-  p.position = {xyz.data(), LANTERN_FLOAT64, 0};
-  p.type = {type.data(), LANTERN_INT32, 0};
+  p.position = {xyz.data(), DataType::kFloat64, 0};
+  p.type = {type.data(), DataType::kInt32, 0};
   ParticleArrays a;
   ParticleArrays::validate(p, &a);
   return a;

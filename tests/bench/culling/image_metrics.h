@@ -5,7 +5,7 @@
 #include <cstddef>  // frame.h uses size_t
 #include <cstdint>
 
-#include "core/render/frame.h"
+#include "core/view/frame.h"
 
 namespace lantern::bench {
 

@@ -26,8 +26,8 @@
 
 #include "core/output/atomic_file.h"
 #include "core/output/image_writer.h"
-#include "core/output/png_bands.h"
-#include "core/render/frame.h"
+#include "core/output/png/png_bands.h"
+#include "core/view/frame.h"
 #include "tests/support/hash_noise.h"
 
 using namespace lantern;

@@ -13,7 +13,7 @@
 #include <vector>
 
 #include "core/camera/camera.h"
-#include "core/culling/view_geometry.h"
+#include "core/view/view_geometry.h"
 #include "core/render/cpu_sphere_raster.h"
 #include "core/render/gl_session.h"
 

@@ -1,9 +1,9 @@
-#include "core/culling/point_splats.h"
+#include "core/render/point_splats.h"
 
 #include <algorithm>
 #include <cmath>
 
-#include "core/bricks/typed_access.h"
+#include "core/particles/typed_access.h"
 #include "core/culling/draw_list.h"
 
 namespace lantern {

@@ -1,9 +1,9 @@
-#include "core/pipeline/particle_scan.h"
+#include "core/particles/particle_scan.h"
 
 #include <algorithm>
 #include <cmath>
 
-#include "core/bricks/typed_access.h"
+#include "core/particles/typed_access.h"
 
 namespace lantern {
 namespace {

@@ -1,4 +1,4 @@
-#include "core/output/file_pattern.h"
+#include "core/config/file_pattern.h"
 
 #include <cinttypes>
 #include <cstdio>

@@ -1,4 +1,4 @@
-#include "core/output/png_across_ranks.h"
+#include "core/output/png/png_across_ranks.h"
 
 #include <algorithm>
 #include <climits>
@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "core/output/atomic_file.h"
-#include "core/output/png_bands.h"
+#include "core/output/png/png_bands.h"
 
 namespace lantern {
 namespace {

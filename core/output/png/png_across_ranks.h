@@ -14,7 +14,7 @@
 
 #include <string>
 
-#include "core/render/frame.h"
+#include "core/view/frame.h"
 
 namespace lantern {
 

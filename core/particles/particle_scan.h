@@ -4,7 +4,7 @@
 
 #include <cmath>
 
-#include "core/composite/global_extent.h"
+#include "core/particles/global_extent.h"
 #include "core/particles/particle_arrays.h"
 
 namespace lantern {

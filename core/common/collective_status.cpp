@@ -1,4 +1,4 @@
-#include "core/pipeline/collective_status.h"
+#include "core/common/collective_status.h"
 
 #include <vector>
 
@@ -12,7 +12,7 @@ Status broadcast_status(MPI_Comm comm, const Status &status, int root) {
   std::vector<char> text(size_t(header[1]) + 1, '\0');
   if (rank == root) status.message.copy(text.data(), status.message.size());
   if (header[1] > 0) MPI_Bcast(text.data(), header[1], MPI_CHAR, root, comm);
-  return Status(lantern_status(header[0]), std::string(text.data(), size_t(header[1])));
+  return Status(StatusCode(header[0]), std::string(text.data(), size_t(header[1])));
 }
 
 Status agree_on_status(MPI_Comm comm, const Status &local) {

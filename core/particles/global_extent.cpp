@@ -1,4 +1,4 @@
-#include "core/composite/global_extent.h"
+#include "core/particles/global_extent.h"
 
 #include <algorithm>
 #include <cmath>

@@ -4,7 +4,7 @@
 
 #include <mpi.h>
 
-#include "core/pipeline/status.h"
+#include "core/common/status.h"
 
 namespace lantern {
 

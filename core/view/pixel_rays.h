@@ -12,7 +12,7 @@
 
 #include <glm/vec3.hpp>
 
-#include "core/culling/view_geometry.h"
+#include "core/view/view_geometry.h"
 
 namespace lantern {
 

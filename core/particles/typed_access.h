@@ -64,15 +64,15 @@ decltype(auto) visit_positions(const ParticleArrays &p, F &&f) {
   };
   if (p.interleaved()) {
     const StridedArray &a = p.position_array(0);
-    if (a.type() == LANTERN_FLOAT32)
+    if (a.type() == DataType::kFloat32)
       return f(InterleavedPositions<float>{bytes(a), a.stride_bytes()});
     return f(InterleavedPositions<double>{bytes(a), a.stride_bytes()});
   }
   const StridedArray &x = p.position_array(0), &y = p.position_array(1), &z = p.position_array(2);
-  if (x.type() == LANTERN_FLOAT32 && y.type() == LANTERN_FLOAT32 && z.type() == LANTERN_FLOAT32)
+  if (x.type() == DataType::kFloat32 && y.type() == DataType::kFloat32 && z.type() == DataType::kFloat32)
     return f(SeparatePositions<float>{{bytes(x), bytes(y), bytes(z)},
                                       {x.stride_bytes(), y.stride_bytes(), z.stride_bytes()}});
-  if (x.type() == LANTERN_FLOAT64 && y.type() == LANTERN_FLOAT64 && z.type() == LANTERN_FLOAT64)
+  if (x.type() == DataType::kFloat64 && y.type() == DataType::kFloat64 && z.type() == DataType::kFloat64)
     return f(SeparatePositions<double>{{bytes(x), bytes(y), bytes(z)},
                                        {x.stride_bytes(), y.stride_bytes(), z.stride_bytes()}});
   return f(MixedPositions{&p});
@@ -99,7 +99,7 @@ decltype(auto) visit_radii(const ParticleArrays &p, bool per_particle, double ra
   if (!per_particle || !p.has_radius()) return f(ConstantReal{radius});
   const StridedArray &a = p.radius_array();
   const auto *b = static_cast<const unsigned char *>(a.data());
-  if (a.type() == LANTERN_FLOAT32) return f(StridedReals<float>{b, a.stride_bytes()});
+  if (a.type() == DataType::kFloat32) return f(StridedReals<float>{b, a.stride_bytes()});
   return f(StridedReals<double>{b, a.stride_bytes()});
 }
 

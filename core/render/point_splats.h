@@ -12,9 +12,9 @@
 #include <vector>
 
 #include "core/color/colormap.h"
-#include "core/culling/view_geometry.h"
+#include "core/view/view_geometry.h"
 #include "core/particles/particle_arrays.h"
-#include "core/render/frame.h"
+#include "core/view/frame.h"
 
 namespace lantern {
 

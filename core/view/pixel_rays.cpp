@@ -1,4 +1,4 @@
-#include "core/culling/pixel_rays.h"
+#include "core/view/pixel_rays.h"
 
 #include <algorithm>
 #include <cmath>

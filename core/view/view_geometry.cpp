@@ -1,4 +1,4 @@
-#include "core/culling/view_geometry.h"
+#include "core/view/view_geometry.h"
 
 #include <algorithm>
 #include <cmath>

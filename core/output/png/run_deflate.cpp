@@ -1,4 +1,4 @@
-#include "core/output/run_deflate.h"
+#include "core/output/png/run_deflate.h"
 
 #include <algorithm>
 #include <array>

@@ -1,0 +1,46 @@
+// The bricks of the current step, kept between the scenes of a step and between steps.
+//
+// Bricks depend only on the particles, so they are built once per step and shared by every
+// scene of that step. On a later step the z-order is kept and the bounds refit (particles moved a
+// little); a rebuild happens when the host's arrays changed too much for a refit to pay.
+//
+// Ownership: owns the BrickSet (the permutation, 4 B per particle, and the bricks); remembers the
+// host's array addresses only to notice that they changed, never reads through them outside
+// for_step(). Thread-safety: one thread. Units: the simulation's.
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+#include "core/bricks/brick_set.h"
+#include "core/particles/particle_arrays.h"
+
+namespace lantern {
+
+class BrickCache {
+ public:
+  // The bricks of `particles` at `step`: the cached set when this step's bricks were already made
+  // from the same arrays (same addresses, count and sampled contents), else refit or rebuilt.
+  // Adds the time spent to *build_ms and says "cached", "refit" or "built" in *how.
+  const BrickSet &for_step(const ParticleArrays &particles, int64_t step, double *build_ms,
+                           std::string *how);
+
+  int64_t refits() const { return refits_; }  // steps served by a refit instead of a rebuild
+
+ private:
+  void remember(const ParticleArrays &particles, int64_t step, uint64_t fingerprint);
+
+  int64_t step_ = 0;
+  int64_t count_ = -1;  // -1: nothing built yet
+  const void *positions_ = nullptr;
+  const void *radii_ = nullptr;
+  uint64_t fingerprint_ = 0;
+  int64_t refits_ = 0;
+  BrickSet set_;
+};
+
+// A cheap guard against arrays rewritten in place under the same step number: a hash of the raw
+// bytes of up to 4096 evenly spaced positions and radii.
+uint64_t sample_fingerprint(const ParticleArrays &particles);
+
+}  // namespace lantern

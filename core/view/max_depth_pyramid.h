@@ -1,0 +1,54 @@
+// A max-depth pyramid over a depth image: level k holds, per tile of 2^k x 2^k pixels, the
+// largest depth of the tile's pixels. It answers "does every pixel of this rectangle hold a depth
+// strictly below z?" touching at most 2 x 2 tiles of the level whose tiles are as wide as the
+// rectangle, refining only where a tile is inconclusive. Used by the hzb occlusion test
+// (core/culling/hzb.h, over its own conservative depth image) and by the CPU sphere raster
+// (core/render/cpu_sphere_raster.h, over the frame's depth).
+//
+// Ownership: level 0 is borrowed (the caller's depth image, valid until the next reset); levels
+// 1.. are owned and kept between resets (refilled, not reallocated). Thread-safety: none; one
+// thread writes and reads a pyramid (two threads may each own a pyramid over disjoint column
+// strips of one image). Units: whatever depth the caller stores (window depth in Lantern).
+#pragma once
+
+#include <algorithm>
+#include <vector>
+
+#include "core/view/view_geometry.h"
+
+namespace lantern {
+
+class MaxDepthPyramid {
+ public:
+  // Builds levels 1.. over the w x h row-major image `base`, every tile set to `fill` (the
+  // depth `base` holds everywhere at this point).
+  void reset(const float *base, int w, int h, float fill);
+
+  // True if every pixel of `rect` (inside the image, or empty) holds a depth strictly below z.
+  bool covered(const PixelRect &rect, float z) const {
+    if (rect.empty()) return true;
+    // The level whose tiles are at least as wide as the rectangle: it spans at most 2 x 2 of them.
+    const auto extent = unsigned(std::max(rect.x1 - rect.x0, rect.y1 - rect.y0));
+    const int level = std::min(levels(), extent == 0 ? 0 : 32 - __builtin_clz(extent));
+    return covered_at(level, rect.x0, rect.y0, rect.x1, rect.y1, z);
+  }
+
+  // Brings the levels above 0 up to date after the caller lowered depths inside `rect`.
+  void propagate(const PixelRect &rect);
+
+  // The number of levels above level 0.
+  int levels() const { return int(levels_.size()) - 1; }
+
+ private:
+  struct Level {
+    int w = 0, h = 0;
+    std::vector<float> z;  // level 0: empty (the borrowed base is read instead)
+  };
+  bool covered_at(int level, int x0, int y0, int x1, int y1, float z) const;
+  const float *level_data(size_t k) const { return k == 0 ? base_ : levels_[k].z.data(); }
+
+  const float *base_ = nullptr;
+  std::vector<Level> levels_;
+};
+
+}  // namespace lantern
