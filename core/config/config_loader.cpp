@@ -13,8 +13,9 @@
 #include <map>
 #include <sstream>
 
-#include "core/config/yaml_reader.h"
+#include "core/config/enum_names.h"
 #include "core/config/file_pattern.h"
+#include "core/config/yaml_reader.h"
 
 namespace lantern {
 
@@ -190,10 +191,7 @@ class Loader {
     optional_key(node, path, "lod",
                  [&](const YAML::Node &n, const std::string &p) { s.lod = lod(n, p); });
     optional_key(node, path, "renderer", [&](const YAML::Node &n, const std::string &p) {
-      const std::string choice = r_.read_choice(n, p, {"auto", "opengl", "cpu"});
-      s.renderer = choice == "cpu"      ? RendererChoice::kCpu
-                   : choice == "opengl" ? RendererChoice::kOpenGl
-                                        : RendererChoice::kAuto;
+      s.renderer = read_enum<RendererChoice>(n, p);
     });
     optional_key(node, path, "cut_planes", [&](const YAML::Node &n, const std::string &p) {
       r_.check_sequence(n, p);
@@ -213,13 +211,17 @@ class Loader {
     return name;
   }
 
+  // A configuration enum, by the names of its table (core/config/enum_names.h).
+  template <typename E>
+  E read_enum(const YAML::Node &node, const std::string &path) const {
+    return *value_of<E>(r_.read_choice(node, path, names_of<E>()));
+  }
+
   CameraConfig camera(const YAML::Node &node, const std::string &path) const {
     r_.check_map(node, path, kCameraKeys);
     CameraConfig c;
     optional_key(node, path, "projection", [&](const YAML::Node &n, const std::string &p) {
-      c.projection = r_.read_choice(n, p, {"perspective", "orthographic"}) == "perspective"
-                         ? Projection::kPerspective
-                         : Projection::kOrthographic;
+      c.projection = read_enum<Projection>(n, p);
     });
     optional_key(node, path, "fov", [&](const YAML::Node &n, const std::string &p) {
       c.fov_y = r_.read_in_range(n, p, 0.0, false, 180.0, false);
@@ -262,8 +264,7 @@ class Loader {
     r_.check_map(node, path, kColorKeys);
     ColorConfig c;
     optional_key(node, path, "by", [&](const YAML::Node &n, const std::string &p) {
-      const std::string by = r_.read_choice(n, p, {"solid", "type", "scalar"});
-      c.by = by == "solid" ? ColorBy::kSolid : by == "type" ? ColorBy::kType : ColorBy::kScalar;
+      c.by = read_enum<ColorBy>(n, p);
     });
     optional_key(node, path, "solid",
                  [&](const YAML::Node &n, const std::string &p) { c.solid = r_.read_rgb(n, p); });
@@ -299,7 +300,7 @@ class Loader {
     const std::optional<ImageFormat> from_extension = format_of_extension(o.pattern);
     bool format_given = false;
     optional_key(node, path, "format", [&](const YAML::Node &n, const std::string &p) {
-      o.format = *format_named(r_.read_choice(n, p, {"png", "jpeg", "jpg", "tiff", "tif", "exr"}));
+      o.format = read_enum<ImageFormat>(n, p);
       if (from_extension && *from_extension != o.format)
         r_.fail(
             n, p,
@@ -329,18 +330,10 @@ class Loader {
     return o;
   }
 
-  static std::optional<ImageFormat> format_named(const std::string &name) {
-    if (name == "png") return ImageFormat::kPng;
-    if (name == "jpeg" || name == "jpg") return ImageFormat::kJpeg;
-    if (name == "tiff" || name == "tif") return ImageFormat::kTiff;
-    if (name == "exr") return ImageFormat::kExr;
-    return std::nullopt;
-  }
-
   static std::optional<ImageFormat> format_of_extension(const std::string &pattern) {
     const std::string extension = lower(std::filesystem::path(pattern).extension().string());
     if (extension.size() < 2) return std::nullopt;
-    return format_named(extension.substr(1));
+    return value_of<ImageFormat>(extension.substr(1));
   }
 
   CullingConfig culling(const YAML::Node &node, const std::string &path) const {
@@ -350,13 +343,7 @@ class Loader {
       c.frustum = r_.read_bool(n, p);
     });
     optional_key(node, path, "occlusion", [&](const YAML::Node &n, const std::string &p) {
-      const std::string mode =
-          r_.read_choice(n, p, {"auto", "none", "nine_spheres", "nine_spheres_sorted", "hzb"});
-      c.occlusion = mode == "auto"           ? OcclusionMode::kAuto
-                    : mode == "none"         ? OcclusionMode::kNone
-                    : mode == "nine_spheres" ? OcclusionMode::kNineSpheres
-                    : mode == "hzb"          ? OcclusionMode::kHzb
-                                             : OcclusionMode::kNineSpheresSorted;
+      c.occlusion = read_enum<OcclusionMode>(n, p);
     });
     return c;
   }

@@ -5,6 +5,7 @@
 
 #include <vector>
 
+#include <glm/geometric.hpp>
 #include <glm/vec3.hpp>
 
 #include "core/config/config.h"

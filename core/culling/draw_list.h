@@ -32,14 +32,10 @@ struct DrawList {
   // Nothing was culled and nothing changed size: draw every finite particle in published order
   // (`spheres` is then left empty; the caller streams the particles directly).
   bool everything = false;
-  // The CPU raster already drew `spheres` into the frame during culling: they are listed for the
-  // counts only and must not be drawn again.
-  bool rasterized = false;
   void clear() {
     spheres.clear();
     points.clear();
     everything = false;
-    rasterized = false;
   }
 };
 

@@ -8,13 +8,15 @@
 #include "core/camera/camera.h"
 #include "core/color/colormap.h"
 #include "core/composite/depth_compositor.h"
+#include "core/culling/brick_selection.h"
 #include "core/culling/cull_stage.h"
+#include "core/render/cpu_sphere_pass.h"
 #include "core/render/point_splats.h"
 #include "core/config/file_pattern.h"
 #include "core/output/image_writer.h"
 #include "core/output/png/png_across_ranks.h"
 #include "core/common/collective_status.h"
-#include "core/pipeline/sphere_instances.h"
+#include "core/render/sphere_instances.h"
 
 namespace lantern {
 namespace {
@@ -99,25 +101,23 @@ Status run_scene_pass(const ScenePassInputs &in, const SceneConfig &scene, Scene
         in.scratch->bricks.for_step(*in.particles, in.step, &build_ms, &stats->bricks);
     stats->bricks_ms = build_ms;
     DrawList &draw = in.scratch->draw;
+    BrickSelection &selection = in.scratch->selection;
+    select_bricks(*in.particles, bricks, camera, scene, &selection);
     const InstanceRecipe recipe = make_recipe(*in.particles, scene, camera, in.global);
     const Rgb8 bg = to_rgb8(scene.background);
     const uint8_t background[4] = {bg[0], bg[1], bg[2], 255};
-    RasterTarget raster;
-    if (wants_cpu_raster(scene, camera, max_radius)) {
-      raster.frame = &buffers->frame;
-      raster.owner = &in.scratch->pixel_owner;
-      std::copy(background, background + 4, raster.background);
-      raster.colour = [&recipe](int64_t i, uint8_t rgb[3]) {
-        const Rgb8 c = recipe.colour(i);
-        rgb[0] = c[0], rgb[1] = c[1], rgb[2] = c[2];
-      };
-    }
-    cull = in.scratch->culler.run(*in.particles, bricks, camera, scene, &draw, &raster);
+    // The renderer, decided here once: from the configuration, the camera and the occlusion mode
+    // the selection resolved, so every rank decides the same.
+    const bool cpu =
+        wants_cpu_raster(scene, camera, max_radius) && cpu_pass_serves(selection.mode);
+    stats->renderer = cpu ? "cpu" : "opengl";
+    cull = cpu ? in.scratch->cpu_pass.run(*in.particles, bricks, scene, selection, recipe,
+                                          background, &buffers->frame, &draw)
+               : in.scratch->culler.cull(*in.particles, bricks, scene, selection, &draw);
     stats->cull_ms = ms_since(t0);
     stats->occlusion = cull.occlusion;
-    stats->renderer = cull.renderer;
 
-    if (!draw.rasterized) {
+    if (!cpu) {
       t0 = Clock::now();
       if (draw.everything)
         build_all_instances(recipe, &buffers->instances);
@@ -136,9 +136,8 @@ Status run_scene_pass(const ScenePassInputs &in, const SceneConfig &scene, Scene
     if (!draw.points.empty()) {
       t0 = Clock::now();
       splat_points(
-          *in.particles, recipe.per_particle_radius, recipe.radius, draw.points,
-          in.scratch->culler.geometry(), [&recipe](int64_t i) { return recipe.colour(i); },
-          &buffers->frame);
+          *in.particles, recipe.per_particle_radius, recipe.radius, draw.points, selection.g,
+          [&recipe](int64_t i) { return recipe.colour(i); }, &buffers->frame);
       std::vector<uint64_t>().swap(draw.points);
       stats->draw_ms += ms_since(t0);
     }

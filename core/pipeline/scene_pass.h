@@ -9,22 +9,25 @@
 #include "core/bricks/brick_cache.h"
 #include "core/particles/global_extent.h"
 #include "core/config/config.h"
+#include "core/culling/brick_selection.h"
 #include "core/culling/cull_stage.h"
 #include "core/output/background_image_writer.h"
 #include "core/particles/particle_arrays.h"
 #include "core/pipeline/scene_stats.h"
 #include "core/common/status.h"
 #include "core/view/frame.h"
+#include "core/render/cpu_sphere_pass.h"
 #include "core/render/sphere_renderer.h"
 
 namespace lantern {
 
 // What the scenes of one context share and keep between steps; owned by the Runtime.
 struct PassScratch {
-  BrickCache bricks;                  // this step's bricks, refit on later steps
-  Culler culler;                      // scratch buffers (pyramid, grids) reused from frame to frame
-  DrawList draw;                      // its lists are released once drawn
-  std::vector<uint32_t> pixel_owner;  // CPU raster: particle index per pixel (depth ties)
+  BrickCache bricks;         // this step's bricks, refit on later steps
+  BrickSelection selection;  // the visible bricks of the scene being drawn
+  Culler culler;             // per-particle culling for OpenGL (pyramids, grids reused)
+  CpuSpherePass cpu_pass;    // culling and drawing in one pass for the CPU renderer
+  DrawList draw;             // its lists are released once drawn
 };
 
 // What a scene pass reads and reuses between steps (buffers are kept to avoid reallocation).

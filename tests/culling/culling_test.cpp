@@ -14,7 +14,8 @@
 #include "core/camera/camera.h"
 #include "core/culling/cull_stage.h"
 #include "core/render/point_splats.h"
-#include "core/pipeline/sphere_instances.h"
+#include "core/render/sphere_instances.h"
+#include "core/render/cpu_sphere_pass.h"
 #include "core/render/cpu_sphere_raster.h"
 #include "core/render/gl_session.h"
 #include "tests/support/gl_test.h"
@@ -119,20 +120,15 @@ class CullingTest : public testing::GlTest {
     const ParticleArrays p = c.arrays();
     const InstanceRecipe recipe = make_recipe(p, s, cam, Extent{});
     const BrickSet bricks = build_bricks(p, BrickOptions{});
+    const Rgb8 bg = to_rgb8(s.background);
+    const uint8_t background[4] = {bg[0], bg[1], bg[2], 255};
+    BrickSelection selection;
+    select_bricks(p, bricks, cam, s, &selection);
+    EXPECT_TRUE(cpu_pass_serves(selection.mode));
     Frame frame;
-    std::vector<uint32_t> owner;
-    RasterTarget target;
-    target.frame = &frame;
-    target.owner = &owner;
-    target.colour = [&recipe](int64_t i, uint8_t rgb[3]) {
-      const Rgb8 col = recipe.colour(i);
-      rgb[0] = col[0], rgb[1] = col[1], rgb[2] = col[2];
-    };
-    Culler culler;
+    CpuSpherePass pass;
     DrawList draw;
-    *stats = culler.run(p, bricks, cam, s, &draw, &target);
-    EXPECT_TRUE(draw.rasterized);
-    EXPECT_EQ(stats->renderer, "cpu");
+    *stats = pass.run(p, bricks, s, selection, recipe, background, &frame, &draw);
     return frame;
   }
 

@@ -27,9 +27,10 @@
 #include "core/camera/camera.h"
 #include "core/culling/cull_stage.h"
 #include "core/culling/cut_planes.h"
+#include "core/render/cpu_sphere_pass.h"
 #include "core/render/point_splats.h"
 #include "core/particles/particle_scan.h"
-#include "core/pipeline/sphere_instances.h"
+#include "core/render/sphere_instances.h"
 #include "core/render/gl_session.h"
 #include "error_plot.h"
 #include "image_metrics.h"
@@ -172,18 +173,12 @@ class Bench {
     sc.renderer = mode.cpu ? RendererChoice::kCpu : RendererChoice::kOpenGl;
     Frame &f = keep ? r->frame : scratch_frame_;
     if (mode.cpu) {  // one fused pass: culling and drawing
-      RasterTarget target;
-      target.frame = &f;
-      target.owner = &owner_;
       const Rgb8 bg = to_rgb8(sc.background);
-      std::copy(bg.begin(), bg.end(), target.background);
-      target.colour = [&recipe](int64_t i, uint8_t rgb[3]) {
-        const Rgb8 c = recipe.colour(i);
-        std::copy(c.begin(), c.end(), rgb);
-      };
+      const uint8_t background[4] = {bg[0], bg[1], bg[2], 255};
       const auto t0 = Clock::now();
       const double cpu0 = thread_cpu_ms();
-      r->stats = culler_.run(p, bricks, cam, sc, &draw_, &target);
+      select_bricks(p, bricks, cam, sc, &selection_);
+      r->stats = cpu_pass_.run(p, bricks, sc, selection_, recipe, background, &f, &draw_);
       r->drawn = r->stats.drawn;
       r->cull_cpu.push_back(thread_cpu_ms() - cpu0);
       r->cull.push_back(ms_since(t0));
@@ -290,7 +285,8 @@ class Bench {
   DrawList draw_;
   std::vector<SphereInstance> instances_;
   Frame scratch_frame_;
-  std::vector<uint32_t> owner_;  // CPU raster: particle per pixel
+  BrickSelection selection_;  // CPU modes: the visible bricks
+  CpuSpherePass cpu_pass_;    // CPU modes: culling and drawing in one pass
 };
 
 bool parse(int argc, char **argv, Options *o) {

@@ -1,4 +1,4 @@
-#include "core/pipeline/sphere_instances.h"
+#include "core/render/sphere_instances.h"
 
 #include "core/particles/typed_access.h"
 #include "core/culling/draw_list.h"

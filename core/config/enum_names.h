@@ -1,0 +1,75 @@
+// One name <-> value table per configuration enum: the configuration loader parses the YAML
+// words with them, and the stats lines and messages print the same words, so a value is spelled
+// in exactly one place.
+//
+// Each table lists the canonical name first for every value; aliases accepted when reading
+// (e.g. "jpg" for jpeg) follow with the same value. Thread-safety: constant data.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "core/config/config.h"
+
+namespace lantern {
+
+template <typename E>
+struct EnumName {
+  E value;
+  const char *name;
+};
+
+inline constexpr EnumName<OcclusionMode> kOcclusionModeNames[] = {
+    {OcclusionMode::kAuto, "auto"},
+    {OcclusionMode::kNone, "none"},
+    {OcclusionMode::kNineSpheres, "nine_spheres"},
+    {OcclusionMode::kNineSpheresSorted, "nine_spheres_sorted"},
+    {OcclusionMode::kHzb, "hzb"}};
+
+inline constexpr EnumName<RendererChoice> kRendererChoiceNames[] = {
+    {RendererChoice::kAuto, "auto"}, {RendererChoice::kOpenGl, "opengl"}, {RendererChoice::kCpu, "cpu"}};
+
+inline constexpr EnumName<Projection> kProjectionNames[] = {
+    {Projection::kPerspective, "perspective"}, {Projection::kOrthographic, "orthographic"}};
+
+inline constexpr EnumName<ColorBy> kColorByNames[] = {
+    {ColorBy::kSolid, "solid"}, {ColorBy::kType, "type"}, {ColorBy::kScalar, "scalar"}};
+
+inline constexpr EnumName<ImageFormat> kImageFormatNames[] = {
+    {ImageFormat::kPng, "png"},  {ImageFormat::kJpeg, "jpeg"}, {ImageFormat::kJpeg, "jpg"},
+    {ImageFormat::kTiff, "tiff"}, {ImageFormat::kTiff, "tif"},  {ImageFormat::kExr, "exr"}};
+
+// The table of each enum, so that name_of / value_of / names_of need only the enum type.
+inline constexpr const auto &names_table(OcclusionMode) { return kOcclusionModeNames; }
+inline constexpr const auto &names_table(RendererChoice) { return kRendererChoiceNames; }
+inline constexpr const auto &names_table(Projection) { return kProjectionNames; }
+inline constexpr const auto &names_table(ColorBy) { return kColorByNames; }
+inline constexpr const auto &names_table(ImageFormat) { return kImageFormatNames; }
+
+// The canonical name of `value` ("?" for a value missing from its table: a bug).
+template <typename E>
+const char *name_of(E value) {
+  for (const EnumName<E> &entry : names_table(E{}))
+    if (entry.value == value) return entry.name;
+  return "?";
+}
+
+// The value named `name` (canonical or alias), if any.
+template <typename E>
+std::optional<E> value_of(std::string_view name) {
+  for (const EnumName<E> &entry : names_table(E{}))
+    if (name == entry.name) return entry.value;
+  return std::nullopt;
+}
+
+// Every accepted name, canonical and aliases, in table order (for "must be one of ..." errors).
+template <typename E>
+std::vector<std::string> names_of() {
+  std::vector<std::string> names;
+  for (const EnumName<E> &entry : names_table(E{})) names.emplace_back(entry.name);
+  return names;
+}
+
+}  // namespace lantern

@@ -1,0 +1,123 @@
+#include "core/culling/brick_selection.h"
+
+#include <algorithm>
+#include <limits>
+
+#include "core/config/enum_names.h"
+#include "core/culling/cut_planes.h"
+#include "core/culling/frustum.h"
+#include "core/culling/level_of_detail.h"
+#include "core/culling/occlusion_estimate.h"
+
+namespace lantern {
+namespace {
+
+glm::dvec3 box_corner(const glm::dvec3 &lo, const glm::dvec3 &hi, int k) {
+  return {k & 1 ? hi.x : lo.x, k & 2 ? hi.y : lo.y, k & 4 ? hi.z : lo.z};
+}
+
+// A length bounding |x - origin| for every sphere and the eye: the scale of float rounding.
+double scene_scale(const BrickSet &set, const Camera &camera, double max_radius) {
+  double s = 0.0;
+  for (int k = 0; k < 8; ++k)
+    s = std::max(s, glm::length(box_corner(set.lo, set.hi, k) - camera.origin));
+  return s + max_radius;
+}
+
+// Screen rectangle and nearest depth of a brick whose spheres have radius <= r.
+void footprint(const ViewGeometry &g, const Brick &b, double r, VisibleBrick *v) {
+  glm::dvec3 grown[8];
+  double nearest = std::numeric_limits<double>::infinity();
+  for (int k = 0; k < 8; ++k) {
+    nearest = std::min(nearest, ViewGeometry::depth_of(g.to_view(box_corner(b.lo, b.hi, k))));
+    grown[k] = g.to_view(box_corner(b.lo - r, b.hi + r, k));
+  }
+  v->near_depth = nearest - r - g.eps;
+  v->rect = g.box_rect(grown);
+}
+
+// Frustum and cutting planes, brick by brick: the survivors with their footprints.
+void classify(const BrickSet &bricks, const SceneConfig &scene, BrickSelection *sel) {
+  const ViewGeometry &g = sel->g;
+  const Frustum frustum(g);
+  const CutPlanes cuts(scene.cuts);
+  CullStats &st = sel->stats;
+  for (uint32_t i = 0; i < bricks.bricks.size(); ++i) {
+    const Brick &b = bricks.bricks[i];
+    const double r = sel->per_particle_radius ? b.max_radius : scene.radius;
+    VisibleBrick v;
+    v.brick = i;
+    v.radius = r;
+    v.keep = b.count;
+    if (scene.culling.frustum) {
+      glm::dvec3 corners[8];
+      for (int k = 0; k < 8; ++k) corners[k] = g.to_view(box_corner(b.lo, b.hi, k));
+      v.containment = frustum.classify_box(corners, r);
+      if (v.containment == Containment::kOutside) {
+        ++st.bricks_outside;
+        st.frustum_culled += b.count;
+        continue;
+      }
+    }
+    if (!cuts.empty()) {
+      const CutPlanes::Side side = cuts.classify_box(b.lo, b.hi);
+      if (side == CutPlanes::Side::kDropped) {
+        st.cut_culled += b.count;
+        continue;
+      }
+      v.cut_each = side == CutPlanes::Side::kBoth;
+    }
+    if (v.containment == Containment::kInside) ++st.bricks_inside;
+    st.per_particle_frustum |= v.containment == Containment::kStraddling;
+    footprint(g, b, r, &v);
+    sel->visible.push_back(v);
+  }
+}
+
+// The configured occlusion mode, or under auto the one choose_occlusion picks; bricks front to
+// back for every mode that judges particles by depth.
+void resolve_occlusion(const SceneConfig &scene, BrickSelection *sel) {
+  const auto front_to_back = [](const VisibleBrick &a, const VisibleBrick &b) {
+    return a.near_depth < b.near_depth;
+  };
+  CullStats &st = sel->stats;
+  sel->mode = scene.culling.occlusion;
+  if (sel->mode == OcclusionMode::kAuto) {
+    std::stable_sort(sel->visible.begin(), sel->visible.end(), front_to_back);
+    const OcclusionChoice choice = choose_occlusion(sel->visible, sel->g);
+    sel->mode = choice.mode;
+    st.occlusion = std::string(name_of(sel->mode)) + " (auto: " + choice.reason +
+                   (st.per_particle_frustum ? "" : "; all in view, no per-particle frustum") + ")";
+  } else {
+    st.occlusion = name_of(sel->mode);
+    if (sel->mode != OcclusionMode::kNone)
+      std::stable_sort(sel->visible.begin(), sel->visible.end(), front_to_back);
+  }
+}
+
+}  // namespace
+
+void select_bricks(const ParticleArrays &particles, const BrickSet &bricks, const Camera &camera,
+                   const SceneConfig &scene, BrickSelection *out) {
+  out->visible.clear();
+  out->stats = CullStats();
+  out->stats.candidates = bricks.particle_count();
+  out->stats.bricks = int64_t(bricks.bricks.size());
+  out->per_particle_radius = scene.per_particle_radius && particles.has_radius();
+  double max_r = out->per_particle_radius ? 0.0 : scene.radius;
+  if (out->per_particle_radius)
+    for (const Brick &b : bricks.bricks) max_r = std::max(max_r, b.max_radius);
+  out->g = ViewGeometry::from_camera(camera, scene_scale(bricks, camera, max_r));
+  classify(bricks, scene, out);
+
+  // Level of detail, then footprints of the bricks whose spheres grew.
+  const LodConfig &lod = scene.lod;
+  const bool lod_on = lod.budget > 0 || lod.fraction < 1.0 || lod.min_pixels > 0.0;
+  out->reduced = lod_on && apply_level_of_detail(lod, bricks, out->g, &out->visible);
+  for (VisibleBrick &v : out->visible)
+    if (v.radius_scale != 1.0f)
+      footprint(out->g, bricks.bricks[v.brick], v.radius * v.radius_scale, &v);
+  resolve_occlusion(scene, out);
+}
+
+}  // namespace lantern

@@ -1,0 +1,109 @@
+// The per-particle side of culling, shared by the culler's passes (cull_stage.h) and the CPU
+// sphere pass (core/render/cpu_sphere_pass.h): one context struct for a frame's pass instead of
+// the same seven parameters through every function, the candidates a brick yields, and their
+// front-to-back order.
+//
+// Ownership: a CullPass borrows everything it names for the duration of one pass.
+// Thread-safety: read-only; the passes run it from one or two threads, each with its own
+// buffers.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+#include "core/bricks/brick_set.h"
+#include "core/config/config.h"
+#include "core/culling/cull_stats.h"
+#include "core/culling/cut_planes.h"
+#include "core/culling/draw_list.h"
+#include "core/culling/frustum.h"
+#include "core/culling/visible_brick.h"
+#include "core/view/view_geometry.h"
+
+namespace lantern {
+
+// One frame's pass over particles read through typed readers (core/particles/typed_access.h).
+template <typename Positions, typename Radii>
+struct CullPass {
+  const Positions &pos;
+  const Radii &radius;
+  const ViewGeometry &g;
+  const Frustum &frustum;
+  const CutPlanes &cuts;
+  const SceneConfig &scene;
+  const BrickSet &bricks;
+};
+
+// A particle that survived cuts, frustum and level of detail, in view space.
+struct Candidate {
+  glm::dvec3 c;  // view-space centre
+  double r;      // drawn radius
+  uint32_t index;
+  float scale;  // level-of-detail radius scale
+};
+
+// Buffers of one thread's pass, reused from brick to brick and frame to frame.
+struct CandidateBuffers {
+  std::vector<Candidate> gathered, sorted;
+  std::vector<uint32_t> bucket_counts;
+};
+
+// Spheres whose projected radius is below this many pixels take the CPU point path (when on):
+// they cover at most one pixel centre or two.
+inline constexpr double kSplatPixels = 0.5;
+
+// True when the sphere is small enough for the point path and wholly beyond the near plane.
+inline bool splat_sized(const ViewGeometry &g, const glm::dvec3 &c, double r) {
+  return -c.z - r > g.near_plane && r * g.pixels_per_unit(-c.z) < kSplatPixels;
+}
+
+// A survivor of occlusion culling: an impostor, or a CPU splat when it is that small.
+inline void accept(const ViewGeometry &g, const Candidate &c, bool point_path, DrawList *out) {
+  (point_path && splat_sized(g, c.c, c.r) ? out->points : out->spheres)
+      .push_back(draw_entry(c.index, c.scale));
+}
+
+// The kept prefix of brick `v` after cuts, per-particle frustum and the point path: straight
+// into `out` (keep_candidates false), or into b->gathered when occlusion still has to judge them.
+// Counts per-particle cut and frustum drops in *counts.
+template <typename Positions, typename Radii>
+void gather(const CullPass<Positions, Radii> &pass, const VisibleBrick &v, bool keep_candidates,
+            CandidateBuffers *b, CullStats *counts, DrawList *out) {
+  const Brick &brick = pass.bricks.bricks[v.brick];
+  const uint32_t *idx = pass.bricks.order.data() + brick.first;
+  const bool straddle = v.containment == Containment::kStraddling;
+  const bool point_path = pass.scene.lod.point_path;
+  const float scale = v.radius_scale;
+  if (!keep_candidates && !straddle && !v.cut_each && !point_path) {
+    for (uint32_t k = 0; k < v.keep; ++k) out->spheres.push_back(draw_entry(idx[k], scale));
+    return;
+  }
+  for (uint32_t k = 0; k < v.keep; ++k) {
+    const uint32_t i = idx[k];
+    const glm::dvec3 p = pass.pos.get(i);
+    if (v.cut_each && pass.cuts.drops(p)) {
+      ++counts->cut_culled;
+      continue;
+    }
+    const double r = pass.radius.get(i) * scale;
+    const glm::dvec3 c = pass.g.to_view(p);
+    if (straddle && pass.frustum.classify_sphere(c, r) == Containment::kOutside) {
+      ++counts->frustum_culled;
+      continue;
+    }
+    if (!keep_candidates) {
+      (point_path && splat_sized(pass.g, c, r) ? out->points : out->spheres)
+          .push_back(draw_entry(i, scale));
+      continue;
+    }
+    b->gathered.push_back({c, r, i, scale});
+  }
+}
+
+// b->gathered -> b->sorted, nearest first by depth bucket (inside a brick a bucket sort suffices:
+// the order only makes occluders come early, it decides nothing exact).
+void order_front_to_back(CandidateBuffers *b);
+
+}  // namespace lantern

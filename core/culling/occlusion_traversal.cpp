@@ -1,0 +1,184 @@
+// Culler: the per-particle occlusion traversal over a brick selection (cull_stage.h).
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+
+#include "core/bricks/radix_sort.h"
+#include "core/culling/cull_stage.h"
+#include "core/particles/typed_access.h"
+
+namespace lantern {
+namespace {
+
+// The reference pixel of seed 000: the pixel the projected centre falls in.
+bool reference_pixel(const ViewGeometry &g, const glm::dvec3 &c, int *x, int *y) {
+  double xn, yn;
+  if (g.orthographic) {
+    xn = g.sx * c.x + g.tx, yn = g.sy * c.y + g.ty;
+  } else {
+    const double d = -c.z;
+    if (d <= g.near_plane) return false;
+    xn = g.sx * c.x / d, yn = g.sy * c.y / d;
+  }
+  const double fx = std::floor((xn + 1.0) * 0.5 * g.width),
+               fy = std::floor((1.0 - yn) * 0.5 * g.height);
+  if (!(fx >= 0 && fy >= 0 && fx < g.width && fy < g.height)) return false;
+  *x = int(fx), *y = int(fy);
+  return true;
+}
+
+uint32_t float_key(double depth) {
+  const float f = float(std::max(depth, 0.0));  // non-negative floats sort like their bits
+  uint32_t bits;
+  std::memcpy(&bits, &f, sizeof bits);
+  return bits;
+}
+
+// Nothing to judge per particle: every particle drawn, in brute force's order.
+bool trivial(const SceneConfig &scene, const BrickSelection &sel) {
+  const CullStats &st = sel.stats;
+  return sel.mode == OcclusionMode::kNone && !sel.reduced && !scene.lod.point_path &&
+         !st.per_particle_frustum && st.frustum_culled == 0 && st.cut_culled == 0 &&
+         std::none_of(sel.visible.begin(), sel.visible.end(),
+                      [](const VisibleBrick &v) { return v.cut_each; });
+}
+
+}  // namespace
+
+CullStats Culler::run(const ParticleArrays &particles, const BrickSet &bricks, const Camera &camera,
+                      const SceneConfig &scene, DrawList *out) {
+  select_bricks(particles, bricks, camera, scene, &selection_);
+  return cull(particles, bricks, scene, selection_, out);
+}
+
+CullStats Culler::cull(const ParticleArrays &particles, const BrickSet &bricks,
+                       const SceneConfig &scene, const BrickSelection &sel, DrawList *out) {
+  CullStats st = sel.stats;
+  out->clear();
+  const OcclusionMode mode = sel.mode;
+  if (mode == OcclusionMode::kHzb) hzb_[0].reset(sel.g);
+  if (mode == OcclusionMode::kNineSpheres || mode == OcclusionMode::kNineSpheresSorted)
+    nine_.reset(sel.g.width, sel.g.height);
+  if (trivial(scene, sel)) {
+    out->everything = true;  // nothing to cull: brute force order, no per-particle pass
+    st.drawn = st.candidates;
+    return st;
+  }
+  const Frustum frustum(sel.g);
+  const CutPlanes cuts(scene.cuts);
+  visit_positions(particles, [&](const auto &pos) {
+    visit_radii(particles, sel.per_particle_radius, scene.radius, [&](const auto &radius) {
+      const CullPass<std::decay_t<decltype(pos)>, std::decay_t<decltype(radius)>> pass{
+          pos, radius, sel.g, frustum, cuts, scene, bricks};
+      if (mode == OcclusionMode::kNineSpheresSorted)
+        process_sorted(pass, sel, &st, out);
+      else if (mode == OcclusionMode::kHzb && sel.g.width >= kTwoStripsFrom)
+        process_strips(pass, sel, &st, out);
+      else
+        process(pass, sel, &st, out);
+    });
+  });
+  // Published order, as brute force draws (see draw_list.h).
+  radix_sort_words(&out->spheres, &scratch_, 32, 64);
+  radix_sort_words(&out->points, &scratch_, 32, 64);
+  std::vector<uint64_t>().swap(scratch_);  // per-frame scratch: keep nothing between frames
+  st.drawn = int64_t(out->spheres.size());
+  st.splatted = int64_t(out->points.size());
+  return st;
+}
+
+bool Culler::occluded(OcclusionMode mode, const ViewGeometry &g, const Candidate &cand,
+                      int strip) {
+  if (mode == OcclusionMode::kHzb) {
+    PixelRect rect = g.sphere_rect(cand.c, cand.r);
+    rect.x0 = std::max(rect.x0, strips_[strip].x0), rect.x1 = std::min(rect.x1, strips_[strip].x1);
+    if (hzb_[strip].covered(rect, -cand.c.z - cand.r - g.eps)) return true;
+    hzb_[strip].add_occluder(cand.c, cand.r, rect);
+    return false;
+  }
+  int x, y;
+  if (!reference_pixel(g, cand.c, &x, &y)) return false;
+  return nine_.test_and_record(x, y, float(-cand.c.z), float(cand.r));
+}
+
+// One thread, bricks front to back: none (with per-particle work), hzb on narrow images, and
+// nine_spheres.
+template <typename Positions, typename Radii>
+void Culler::process(const CullPass<Positions, Radii> &pass, const BrickSelection &sel,
+                     CullStats *st, DrawList *out) {
+  const bool occlusion = sel.mode != OcclusionMode::kNone;
+  StripState &s = strips_[0];
+  s.x0 = 0, s.x1 = sel.g.width - 1;
+  for (const VisibleBrick &v : sel.visible) {
+    const Brick &b = pass.bricks.bricks[v.brick];
+    st->lod_dropped += b.count - v.keep;
+    if (sel.mode == OcclusionMode::kHzb && hzb_[0].covered(v.rect, v.near_depth)) {
+      ++st->bricks_occluded;
+      st->occlusion_culled += v.keep;
+      continue;
+    }
+    s.buffers.gathered.clear();
+    gather(pass, v, occlusion, &s.buffers, st, out);
+    if (!occlusion) continue;
+    order_front_to_back(&s.buffers);
+    for (const Candidate &c : s.buffers.sorted) {
+      if (occluded(sel.mode, sel.g, c, 0))
+        ++st->occlusion_culled;
+      else
+        accept(sel.g, c, pass.scene.lod.point_path, out);
+    }
+  }
+}
+
+// hzb on two threads, one column strip each (column_strips.h).
+template <typename Positions, typename Radii>
+void Culler::process_strips(const CullPass<Positions, Radii> &pass, const BrickSelection &sel,
+                            CullStats *st, DrawList *out) {
+  const ViewGeometry &g = sel.g;
+  const bool two = split_strips(g.width, strips_);
+  hzb_[1].reset(g);
+  const bool point_path = pass.scene.lod.point_path;
+  const auto strip = [&](int k) {
+    const Hzb &hzb = hzb_[k];
+    const auto covered = [&hzb](const PixelRect &r, double z) { return hzb.covered(r, z); };
+    const auto visit = [&](const Candidate &c, StripState *s) {
+      PixelRect r = g.sphere_rect(c.c, c.r);
+      r.x0 = std::max(r.x0, s->x0), r.x1 = std::min(r.x1, s->x1);
+      if (r.empty()) return;
+      if (hzb_[k].covered(r, -c.c.z - c.r - g.eps)) return;
+      hzb_[k].add_occluder(c.c, c.r, r);
+      accept(g, c, point_path, &s->out);
+    };
+    walk_strip(pass, sel.visible, true, covered, visit, &strips_[k]);
+  };
+  run_strips(two, sel.visible, strip, strips_);
+  merge_strips(sel.visible, pass.bricks, strips_, &scratch_, st, out);
+}
+
+// nine_spheres_sorted: every candidate first (as the paper sorts all particles), then one global
+// depth order.
+template <typename Positions, typename Radii>
+void Culler::process_sorted(const CullPass<Positions, Radii> &pass, const BrickSelection &sel,
+                            CullStats *st, DrawList *out) {
+  CandidateBuffers &b = strips_[0].buffers;
+  std::vector<Candidate> all;
+  for (const VisibleBrick &v : sel.visible) {
+    st->lod_dropped += pass.bricks.bricks[v.brick].count - v.keep;
+    b.gathered.clear();
+    gather(pass, v, true, &b, st, out);
+    all.insert(all.end(), b.gathered.begin(), b.gathered.end());
+  }
+  std::vector<uint64_t> keys(all.size());
+  for (size_t k = 0; k < all.size(); ++k)
+    keys[k] = uint64_t(float_key(-all[k].c.z)) << 32 | uint32_t(k);
+  radix_sort_words(&keys, &scratch_, 32, 64);
+  for (const uint64_t key : keys) {
+    const Candidate &c = all[uint32_t(key)];
+    if (occluded(OcclusionMode::kNineSpheresSorted, sel.g, c, 0))
+      ++st->occlusion_culled;
+    else
+      accept(sel.g, c, pass.scene.lod.point_path, out);
+  }
+}
+
+}  // namespace lantern

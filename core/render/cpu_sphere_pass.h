@@ -1,0 +1,54 @@
+// Culling and drawing in one pass for the CPU renderer: the visible bricks of a selection
+// (core/culling/brick_selection.h) walked front to back in column strips (one thread each,
+// core/culling/column_strips.h), every surviving particle ray-cast straight into the frame by
+// the strip's CpuSphereRaster, and hzb occlusion tested against the same depth pyramid the raster
+// draws into - so a hidden brick or particle costs one pyramid query and nothing else. Under
+// occlusion `none` the same pass draws everything it gathers.
+//
+// Exact: the image is bit-identical to ray-casting every particle (cpu_sphere_raster.h explains
+// why a skipped sphere could not have changed a bit). Sub-pixel spheres go to out->points when
+// lod.point_path is on, for point_splats.h to draw afterwards.
+// Ownership: owns its strips' rasters, buffers and the per-pixel owner buffer (reused between
+// frames); borrows the frame, particles and bricks for one call. Thread-safety: one pass per
+// thread; run() starts and joins its own helper thread on images >= kTwoStripsFrom px wide.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "core/bricks/brick_set.h"
+#include "core/config/config.h"
+#include "core/culling/brick_selection.h"
+#include "core/culling/column_strips.h"
+#include "core/culling/cull_stats.h"
+#include "core/culling/draw_list.h"
+#include "core/particles/particle_arrays.h"
+#include "core/render/cpu_sphere_raster.h"
+#include "core/render/sphere_instances.h"
+#include "core/view/frame.h"
+
+namespace lantern {
+
+class CpuSpherePass {
+ public:
+  // Clears `frame` to `background` (RGBA8) and draws into it the particles of `selection`
+  // (select_bricks for these particles, bricks and scene; its mode must be hzb or none), colored
+  // by `recipe`. `out` lists the spheres drawn (for the counts) and the points left to splat.
+  // Returns the selection's counts completed by this pass.
+  CullStats run(const ParticleArrays &particles, const BrickSet &bricks, const SceneConfig &scene,
+                const BrickSelection &selection, const InstanceRecipe &recipe,
+                const uint8_t background[4], Frame *frame, DrawList *out);
+
+ private:
+  StripState strips_[2];
+  CpuSphereRaster rasters_[2];
+  std::vector<uint32_t> owner_;  // particle index per pixel: equal depths go to the lower index
+  std::vector<uint64_t> scratch_;
+};
+
+// True when the CPU pass can render a selection in `mode`: it culls with hzb or not at all.
+inline bool cpu_pass_serves(OcclusionMode mode) {
+  return mode == OcclusionMode::kHzb || mode == OcclusionMode::kNone;
+}
+
+}  // namespace lantern
