@@ -9,6 +9,7 @@
 
 #include "core/output/atomic_file.h"
 #include "core/output/png/png_bands.h"
+#include "core/output/png/png_container.h"
 
 namespace lantern {
 namespace {

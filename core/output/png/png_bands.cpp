@@ -5,8 +5,6 @@
 #include <zlib.h>
 
 #include <algorithm>
-#include <cstdlib>
-#include <cstring>
 #include <exception>
 #include <limits>
 #include <optional>
@@ -21,9 +19,6 @@ namespace {
 // in cache between filtering, adler32 and deflate, large enough that per-call costs vanish.
 constexpr size_t kChunkBytes = 64 * 1024;
 
-// IDAT chunks carry at most this much data (the PNG limit is 2^31 - 1).
-constexpr size_t kIdatBytes = 1 << 20;
-
 int zlib_strategy(PngStrategy s) {
   switch (s) {
     case PngStrategy::kFiltered:
@@ -36,51 +31,6 @@ int zlib_strategy(PngStrategy s) {
     case PngStrategy::kRuns:  // not zlib's: never asked for
     default:
       return Z_DEFAULT_STRATEGY;
-  }
-}
-
-uint8_t paeth(int a, int b, int c) {
-  const int p = a + b - c;
-  const int pa = std::abs(p - a), pb = std::abs(p - b), pc = std::abs(p - c);
-  if (pa <= pb && pa <= pc) return static_cast<uint8_t>(a);
-  return static_cast<uint8_t>(pb <= pc ? b : c);
-}
-
-// Writes one scanline: filter byte, then `n` filtered bytes of `cur` (bpp bytes per pixel),
-// `prev` being the same row above (only read by Up / Average / Paeth).
-template <int kBpp>
-void filter_row(PngFilter filter, const uint8_t *cur, const uint8_t *prev, size_t n, uint8_t *out) {
-  *out++ = static_cast<uint8_t>(filter);
-  switch (filter) {
-    case PngFilter::kNone:
-      std::memcpy(out, cur, n);
-      break;
-    case PngFilter::kSub:
-      for (size_t i = 0; i < kBpp; ++i) out[i] = cur[i];
-      for (size_t i = kBpp; i < n; ++i) out[i] = static_cast<uint8_t>(cur[i] - cur[i - kBpp]);
-      break;
-    case PngFilter::kUp:
-      for (size_t i = 0; i < n; ++i) out[i] = static_cast<uint8_t>(cur[i] - prev[i]);
-      break;
-    case PngFilter::kAverage:
-      for (size_t i = 0; i < kBpp; ++i) out[i] = static_cast<uint8_t>(cur[i] - (prev[i] >> 1));
-      for (size_t i = kBpp; i < n; ++i)
-        out[i] = static_cast<uint8_t>(cur[i] - ((cur[i - kBpp] + prev[i]) >> 1));
-      break;
-    case PngFilter::kPaeth:
-      for (size_t i = 0; i < kBpp; ++i) out[i] = static_cast<uint8_t>(cur[i] - prev[i]);
-      for (size_t i = kBpp; i < n; ++i)
-        out[i] = static_cast<uint8_t>(cur[i] - paeth(cur[i - kBpp], prev[i], prev[i - kBpp]));
-      break;
-  }
-}
-
-// Copies the RGB bytes of `width` RGBA8 pixels.
-void drop_alpha(const uint8_t *rgba, int width, uint8_t *rgb) {
-  for (int x = 0; x < width; ++x, rgba += 4, rgb += 3) {
-    rgb[0] = rgba[0];
-    rgb[1] = rgba[1];
-    rgb[2] = rgba[2];
   }
 }
 
@@ -126,66 +76,6 @@ class Deflater {
   std::vector<uint8_t> out_;
   size_t used_ = 0;
 };
-
-void put_be32(std::vector<uint8_t> *out, uint32_t v) {
-  const uint8_t b[4] = {uint8_t(v >> 24), uint8_t(v >> 16), uint8_t(v >> 8), uint8_t(v)};
-  out->insert(out->end(), b, b + 4);
-}
-
-// Appends one chunk: length, type, data, CRC of type + data.
-void put_chunk(std::vector<uint8_t> *out, const char type[4], const uint8_t *data, size_t n) {
-  put_be32(out, static_cast<uint32_t>(n));
-  const size_t start = out->size();
-  out->insert(out->end(), type, type + 4);
-  if (n) out->insert(out->end(), data, data + n);
-  put_be32(out, static_cast<uint32_t>(crc32(0, out->data() + start, uInt(out->size() - start))));
-}
-
-// Appends IDAT chunks of at most kIdatBytes from a sequence of byte ranges (one stream).
-class IdatWriter {
- public:
-  explicit IdatWriter(std::vector<uint8_t> *out) : out_(out) {}
-  void write(const uint8_t *data, size_t n) {
-    while (n > 0) {
-      if (!open_) begin();
-      const size_t take = std::min(n, kIdatBytes - in_chunk_);
-      out_->insert(out_->end(), data, data + take);
-      in_chunk_ += take;
-      data += take;
-      n -= take;
-      if (in_chunk_ == kIdatBytes) end();
-    }
-  }
-  void finish() {
-    if (open_) end();
-  }
-
- private:
-  void begin() {
-    start_ = out_->size();
-    put_be32(out_, 0);  // patched in end()
-    const char type[4] = {'I', 'D', 'A', 'T'};
-    out_->insert(out_->end(), type, type + 4);
-    in_chunk_ = 0;
-    open_ = true;
-  }
-  void end() {
-    uint8_t *p = out_->data() + start_;
-    const uint32_t n = static_cast<uint32_t>(in_chunk_);
-    p[0] = uint8_t(n >> 24), p[1] = uint8_t(n >> 16), p[2] = uint8_t(n >> 8), p[3] = uint8_t(n);
-    put_be32(out_, static_cast<uint32_t>(crc32(0, p + 4, uInt(in_chunk_ + 4))));
-    open_ = false;
-  }
-
-  std::vector<uint8_t> *out_;
-  size_t start_ = 0, in_chunk_ = 0;
-  bool open_ = false;
-};
-
-bool fail(std::string *error, const std::string &message) {
-  if (error) *error = message;
-  return false;
-}
 
 }  // namespace
 
@@ -269,77 +159,16 @@ PngBand deflate_png_band(const uint8_t *rgba, int width, int rows, int channels_
   return band;
 }
 
-bool assemble_png(const std::vector<PngBand> &bands, int width, int height, int channels_out,
-                  std::vector<uint8_t> *file, std::string *error) {
-  if (!file) return fail(error, "assemble_png: no output buffer");
-  if (width < 1 || height < 1) return fail(error, "assemble_png: the image is empty");
-  if (channels_out != 3 && channels_out != 4)
-    return fail(error, "assemble_png: channels_out must be 3 or 4");
-  if (bands.empty()) return fail(error, "assemble_png: no bands");
-  const uint64_t line_bytes = uint64_t(width) * uint64_t(channels_out) + 1;
-  uint64_t rows = 0;
-  for (size_t i = 0; i < bands.size(); ++i) {
-    const PngBand &b = bands[i];
-    if (b.rows < 0 || b.raw_len != uint64_t(b.rows) * line_bytes)
-      return fail(error, "assemble_png: band " + std::to_string(i) +
-                             " was compressed for a different width or channel count");
-    if (b.last != (i + 1 == bands.size()))
-      return fail(error, "assemble_png: only the last band may finish the deflate stream (band " +
-                             std::to_string(i) + ")");
-    rows += uint64_t(b.rows);
-  }
-  if (rows != uint64_t(height))
-    return fail(error, "assemble_png: the bands hold " + std::to_string(rows) + " rows, not " +
-                           std::to_string(height));
-
-  try {
-    size_t compressed = 0;
-    for (const PngBand &b : bands) compressed += b.bytes.size();
-    file->clear();
-    file->reserve(compressed + compressed / kIdatBytes * 12 + 128);
-    static const uint8_t kSignature[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
-    file->insert(file->end(), kSignature, kSignature + 8);
-
-    std::vector<uint8_t> ihdr;
-    put_be32(&ihdr, static_cast<uint32_t>(width));
-    put_be32(&ihdr, static_cast<uint32_t>(height));
-    // Bit depth 8; colour type 2 (RGB) or 6 (RGBA); deflate; adaptive filtering; no interlace.
-    const uint8_t rest[5] = {8, uint8_t(channels_out == 3 ? 2 : 6), 0, 0, 0};
-    ihdr.insert(ihdr.end(), rest, rest + 5);
-    put_chunk(file, "IHDR", ihdr.data(), ihdr.size());
-
-    IdatWriter idat(file);
-    // zlib header: deflate with a 32 KiB window, "fastest" level hint, no dictionary
-    // (0x7801 is a multiple of 31, as the FCHECK bits require).
-    const uint8_t zlib_header[2] = {0x78, 0x01};
-    idat.write(zlib_header, 2);
-    uLong adler = adler32(0, nullptr, 0);
-    for (const PngBand &b : bands) {
-      idat.write(b.bytes.data(), b.bytes.size());
-      adler = adler32_combine(adler, b.adler, static_cast<z_off_t>(b.raw_len));
-    }
-    const uint8_t trailer[4] = {uint8_t(adler >> 24), uint8_t(adler >> 16), uint8_t(adler >> 8),
-                                uint8_t(adler)};
-    idat.write(trailer, 4);
-    idat.finish();
-    put_chunk(file, "IEND", nullptr, 0);
-    return true;
-  } catch (const std::exception &e) {
-    file->clear();
-    return fail(error, std::string("assemble_png: ") + e.what());
-  }
-}
-
 std::vector<uint8_t> encode_png(const uint8_t *rgba, int width, int height, int channels_out,
                                 int level, int threads, std::string *error,
                                 const PngBandOptions &options) {
   std::vector<uint8_t> file;
   if (!rgba || width < 1 || height < 1) {
-    fail(error, "encode_png: the image is empty");
+    png_fail(error, "encode_png: the image is empty");
     return file;
   }
   if ((channels_out != 3 && channels_out != 4) || level < 0 || level > 9) {
-    fail(error, "encode_png: channels_out must be 3 or 4 and level 0..9");
+    png_fail(error, "encode_png: channels_out must be 3 or 4 and level 0..9");
     return file;
   }
   const int n = std::clamp(threads, 1, height);
@@ -367,7 +196,7 @@ std::vector<uint8_t> encode_png(const uint8_t *rgba, int width, int height, int 
   if (start_error.empty()) compress(0);
   for (std::thread &t : workers) t.join();
   if (!start_error.empty()) {
-    fail(error, start_error);
+    png_fail(error, start_error);
     return file;
   }
   for (const std::exception_ptr &f : failures) {
@@ -375,9 +204,9 @@ std::vector<uint8_t> encode_png(const uint8_t *rgba, int width, int height, int 
     try {
       std::rethrow_exception(f);
     } catch (const std::exception &e) {
-      fail(error, std::string("encode_png: ") + e.what());
+      png_fail(error, std::string("encode_png: ") + e.what());
     } catch (...) {
-      fail(error, "encode_png: unknown error");
+      png_fail(error, "encode_png: unknown error");
     }
     return file;
   }

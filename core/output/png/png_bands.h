@@ -7,8 +7,10 @@
 // (an empty stored block, as Z_SYNC_FLUSH; the last band ends the stream), so pieces of
 // consecutive bands concatenate into one valid deflate stream (the pigz technique). The zlib
 // checksum of the whole stream is combined from the bands' adler32 values with adler32_combine.
-// This file filters scanlines, hands them to the encoder and lays out the PNG container
-// (signature, IHDR, IDAT, IEND).
+// This file cuts an image into bands and compresses them: it filters each band's scanlines
+// (png_filters.h) and hands them to the encoder; png_container.h lays out the file from the
+// pieces. It includes both headers, so its includers also get PngFilter, PngBand and
+// assemble_png.
 //
 // Filtering: every scanline of a band may only refer to rows the decoder will have decoded
 // before it, which is always true inside the band. The first row of a band refers to nothing
@@ -27,19 +29,18 @@
 // Ownership: the functions read the caller's pixels during the call only and return buffers
 // the caller owns. Thread-safety: pure functions without shared state; call them from any
 // thread, concurrently. Errors: deflate_png_band throws std::invalid_argument for bad arguments
-// (and std::bad_alloc / std::runtime_error if zlib runs out of memory); assemble_png and
-// encode_png never throw and report errors as messages.
+// (and std::bad_alloc / std::runtime_error if zlib runs out of memory); encode_png never throws
+// and reports errors as messages.
 #pragma once
 
-#include <cstddef>
 #include <cstdint>
 #include <string>
 #include <vector>
 
-namespace lantern {
+#include "core/output/png/png_container.h"
+#include "core/output/png/png_filters.h"
 
-// PNG scanline filter types (PNG spec 9.2). Up, Average and Paeth look at the row above.
-enum class PngFilter : uint8_t { kNone = 0, kSub = 1, kUp = 2, kAverage = 3, kPaeth = 4 };
+namespace lantern {
 
 // kRuns: Lantern's own literal + byte-run encoder (run_deflate.h), the default; the others are
 // zlib strategies (deflateInit2): Z_DEFAULT_STRATEGY, Z_FILTERED, Z_RLE, Z_HUFFMAN_ONLY.
@@ -56,15 +57,6 @@ struct PngBandOptions {
 // Sub + kRuns; any other level Sub + zlib's Z_RLE at that level, as before kRuns existed.
 PngBandOptions png_options_for_level(int level);
 
-// One band's compressed piece and what the root needs to join it to the others.
-struct PngBand {
-  std::vector<uint8_t> bytes;  // raw deflate data (no zlib header or trailer), owned
-  uint32_t adler = 1;          // adler32 of the band's uncompressed filtered scanlines
-  uint64_t raw_len = 0;        // their length: rows * (1 + width * channels_out)
-  int rows = 0;                // scanlines in the band
-  bool last = false;           // ends the deflate stream (Z_FINISH)
-};
-
 // Compresses `rows` rows of RGBA8 pixels (`rgba`: row stride width * 4 bytes, top row first)
 // as PNG scanlines (filter byte + filtered bytes of RGB when channels_out == 3, dropping alpha,
 // or of RGBA when 4). The piece ends with Z_SYNC_FLUSH, or with Z_FINISH when `last_band`, so
@@ -76,14 +68,6 @@ struct PngBand {
 PngBand deflate_png_band(const uint8_t *rgba, int width, int rows, int channels_out, bool last_band,
                          int level, const uint8_t *previous_row = nullptr,
                          const PngBandOptions &options = {});
-
-// Lays out a PNG file from the bands of one image, top band first: signature, IHDR (8-bit,
-// colour type 2 for channels_out == 3 or 6 for 4, no interlace), IDAT chunks of at most
-// 1 MiB holding the zlib header, the concatenated pieces and the combined adler32, then IEND.
-// Replaces *file. Returns false with a message in *error (if not null) when the bands do not
-// describe a width x height image (row count, raw length, only the last band finishing).
-bool assemble_png(const std::vector<PngBand> &bands, int width, int height, int channels_out,
-                  std::vector<uint8_t> *file, std::string *error);
 
 // The whole image in one call: splits `rgba` (width x height RGBA8, top row first) into
 // min(threads, height) bands of near-equal row counts, compresses them on that many threads

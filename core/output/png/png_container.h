@@ -1,0 +1,42 @@
+// The PNG file container (PNG spec 5 and 11): the signature, chunks with their CRC, IHDR, IDAT
+// chunks of at most 1 MiB and IEND, and the assembly of one file from the compressed pieces of an
+// image's row bands (png_bands.h) without recompressing anything: the zlib header, the pieces back
+// to back, and the zlib checksum combined from the pieces' adler32 values (adler32_combine).
+//
+// PngBand, the piece type, lives here rather than in png_bands.h because it is what assembly
+// consumes, and png_bands.h builds on this file (compression uses the container, not the other
+// way round).
+//
+// Ownership: assemble_png reads the caller's bands during the call and writes into the caller's
+// buffer. Thread-safety: no shared state; call it from any thread, concurrently on different
+// buffers. Errors: assemble_png never throws and reports errors as messages.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace lantern {
+
+// One band's compressed piece and what the root needs to join it to the others.
+struct PngBand {
+  std::vector<uint8_t> bytes;  // raw deflate data (no zlib header or trailer), owned
+  uint32_t adler = 1;          // adler32 of the band's uncompressed filtered scanlines
+  uint64_t raw_len = 0;        // their length: rows * (1 + width * channels_out)
+  int rows = 0;                // scanlines in the band
+  bool last = false;           // ends the deflate stream (Z_FINISH)
+};
+
+// Lays out a PNG file from the bands of one image, top band first: signature, IHDR (8-bit,
+// colour type 2 for channels_out == 3 or 6 for 4, no interlace), IDAT chunks of at most
+// 1 MiB holding the zlib header, the concatenated pieces and the combined adler32, then IEND.
+// Replaces *file. Returns false with a message in *error (if not null) when the bands do not
+// describe a width x height image (row count, raw length, only the last band finishing).
+bool assemble_png(const std::vector<PngBand> &bands, int width, int height, int channels_out,
+                  std::vector<uint8_t> *file, std::string *error);
+
+// Stores `message` in *error (if not null) and returns false. Declared here, rather than
+// file-local, because assemble_png and encode_png (png_bands.cpp) report errors the same way.
+bool png_fail(std::string *error, const std::string &message);
+
+}  // namespace lantern
