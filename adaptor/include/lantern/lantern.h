@@ -156,6 +156,15 @@ LANTERN_API lantern_status lantern_execute(lantern_context *ctx, int64_t step, d
  * call on it. NULL context gives a static message. */
 LANTERN_API const char *lantern_error_message(const lantern_context *ctx);
 
+/*
+ * The name and a one-line English description of a status, such as
+ * "LANTERN_ERR_IO: a file could not be read or written", for logs. A value that is not a
+ * lantern_status gives "unknown lantern_status"; never NULL. The string is static: never free
+ * it. Callable at any time, from any thread, without a context or MPI. For what went wrong in a
+ * particular call, use lantern_error_message().
+ */
+LANTERN_API const char *lantern_status_string(lantern_status status);
+
 /* Flushes outputs (waits for images written in the background, see output.asynchronous) and
  * frees the context. Returns LANTERN_ERR_IO if such an image could not be written. Safe on NULL.
  * Collective. */
