@@ -131,6 +131,10 @@ lantern_status lantern_close(lantern_context *ctx) {
   return status;
 }
 
+int lantern_version_number(void) {
+  return LANTERN_VERSION;
+}
+
 const char *lantern_status_string(lantern_status status) {
   // No default: the compiler warns (-Wswitch) when a status is added without a string.
   switch (status) {

@@ -40,7 +40,8 @@ extern "C" {
 #define LANTERN_VERSION_MAJOR 0
 #define LANTERN_VERSION_MINOR 1
 #define LANTERN_VERSION_PATCH 0
-/* One integer that orders versions: 10000*major + 100*minor + patch. */
+/* One integer that orders versions: 10000*major + 100*minor + patch. The version of the
+ * library a program runs against is lantern_version_number(). */
 #define LANTERN_VERSION \
   (LANTERN_VERSION_MAJOR * 10000 + LANTERN_VERSION_MINOR * 100 + LANTERN_VERSION_PATCH)
 
@@ -117,6 +118,13 @@ typedef struct lantern_context lantern_context;
 
 /* The library's version as "major.minor.patch"; a static string, never freed. */
 LANTERN_API const char *lantern_version(void);
+
+/*
+ * The LANTERN_VERSION the library was built with. LANTERN_VERSION is the header a client
+ * compiled against; this is the library it runs against (they differ when the shared library
+ * was replaced). Callable at any time, from any thread, without a context or MPI.
+ */
+LANTERN_API int lantern_version_number(void);
 
 /*
  * Opens a context. `config` is the path of a YAML file, or an inline YAML document (any string
