@@ -37,6 +37,7 @@ extern "C" {
 #define LANTERN_API
 #endif
 
+/* The one definition of the version: CMakeLists.txt reads these three lines (keep their form). */
 #define LANTERN_VERSION_MAJOR 0
 #define LANTERN_VERSION_MINOR 1
 #define LANTERN_VERSION_PATCH 0
