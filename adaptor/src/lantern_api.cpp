@@ -132,4 +132,33 @@ lantern_status lantern_close(lantern_context *ctx) {
   return status;
 }
 
+int lantern_version_number(void) {
+  return LANTERN_VERSION;
+}
+
+const char *lantern_status_string(lantern_status status) {
+  // No default: the compiler warns (-Wswitch) when a status is added without a string.
+  switch (status) {
+    case LANTERN_OK:
+      return "LANTERN_OK: success";
+    case LANTERN_ERR_NULL_ARGUMENT:
+      return "LANTERN_ERR_NULL_ARGUMENT: a required pointer argument was NULL";
+    case LANTERN_ERR_INVALID_ARGUMENT:
+      return "LANTERN_ERR_INVALID_ARGUMENT: an argument's value is out of range or inconsistent";
+    case LANTERN_ERR_CONFIG:
+      return "LANTERN_ERR_CONFIG: the configuration is malformed or has an invalid key or value";
+    case LANTERN_ERR_IO:
+      return "LANTERN_ERR_IO: a file could not be read or written";
+    case LANTERN_ERR_GL:
+      return "LANTERN_ERR_GL: the OpenGL/OSMesa back end failed";
+    case LANTERN_ERR_MPI:
+      return "LANTERN_ERR_MPI: an MPI call failed or the communicator is invalid";
+    case LANTERN_ERR_OUT_OF_MEMORY:
+      return "LANTERN_ERR_OUT_OF_MEMORY: an allocation failed";
+    case LANTERN_ERR_INTERNAL:
+      return "LANTERN_ERR_INTERNAL: a bug in Lantern (please report the error message)";
+  }
+  return "unknown lantern_status";
+}
+
 }  // extern "C"

@@ -17,12 +17,20 @@ namespace {
 
 using namespace mini_md;
 
-void print_perf(int64_t atoms, int ranks, int64_t steps, double seconds, double insitu) {
-  const double rate = seconds > 0 ? static_cast<double>(atoms) * steps / seconds : 0.0;
+// The loop time `seconds` and its breakdown (force + neighbor + comm + insitu + other).
+struct LoopTimes {
+  double seconds = 0.0, force = 0.0, neighbor = 0.0, comm = 0.0, insitu = 0.0, other = 0.0;
+};
+
+// The keys up to insitu_seconds are parsed by scripts: append new keys, never reorder.
+void print_perf(int64_t atoms, int ranks, int64_t steps, const LoopTimes &t) {
+  const double rate = t.seconds > 0 ? static_cast<double>(atoms) * steps / t.seconds : 0.0;
   std::printf(
       "PERF atoms=%lld ranks=%d steps=%lld seconds=%.6f atom_steps_per_s=%.6e "
-      "insitu_seconds=%.6f\n",
-      static_cast<long long>(atoms), ranks, static_cast<long long>(steps), seconds, rate, insitu);
+      "insitu_seconds=%.6f force_seconds=%.6f neighbor_seconds=%.6f comm_seconds=%.6f "
+      "other_seconds=%.6f\n",
+      static_cast<long long>(atoms), ranks, static_cast<long long>(steps), t.seconds, rate,
+      t.insitu, t.force, t.neighbor, t.comm, t.other);
 }
 
 int run_simulation(const CommandLine &cl, MPI_Comm comm, int rank, int size) {
@@ -44,7 +52,9 @@ int run_simulation(const CommandLine &cl, MPI_Comm comm, int rank, int size) {
         c.setup_seconds, c.loop_seconds, static_cast<long long>(c.rebuilds),
         static_cast<long long>(c.migrated), c.max_hops);
     // The loop time is what LAMMPS reports as "Loop time"; it includes in-situ time.
-    print_perf(sim.natoms(), size, cl.run.steps, c.loop_seconds, c.insitu_seconds);
+    print_perf(sim.natoms(), size, cl.run.steps,
+               {c.loop_seconds, c.force_seconds, c.neighbor_seconds, c.comm_seconds,
+                c.insitu_seconds, c.other_seconds()});
   }
   return 0;
 }
@@ -60,7 +70,9 @@ int run_sweep(const CommandLine &cl, MPI_Comm comm, int rank, int size) {
   }
   int64_t steps = 0;
   for (const SweepRow &r : rows) steps += r.steps;
-  print_perf(rows.empty() ? 0 : rows.front().atoms, size, steps, MPI_Wtime() - t0, 0.0);
+  // The sweep's several runs are not broken down: all of the time is "other".
+  const double seconds = MPI_Wtime() - t0;
+  print_perf(rows.empty() ? 0 : rows.front().atoms, size, steps, {seconds, 0, 0, 0, 0, seconds});
   return 0;
 }
 

@@ -28,11 +28,17 @@ Simulation::Simulation(const RunConfig &cfg, MPI_Comm comm) : cfg_(cfg), scene_(
   counters_.setup_seconds += MPI_Wtime() - t0;
 }
 
+double Simulation::charge(double *phase, double t0) {
+  const double now = MPI_Wtime();
+  if (in_loop_) *phase += now - t0;
+  return now;
+}
+
 void Simulation::notify_publish() {
   if (observer_ == nullptr) return;
   const double t0 = MPI_Wtime();
   observer_->on_publish(atoms_);
-  counters_.insitu_seconds += MPI_Wtime() - t0;
+  charge(&counters_.insitu_seconds, t0);
 }
 
 void Simulation::notify_step() {
@@ -44,30 +50,38 @@ void Simulation::notify_step() {
   }
   const double t0 = MPI_Wtime();
   observer_->on_step(step_, static_cast<double>(step_) * cfg_.dt);
-  counters_.insitu_seconds += MPI_Wtime() - t0;
+  charge(&counters_.insitu_seconds, t0);
 }
 
 void Simulation::rebuild() {
+  double t = MPI_Wtime();
   atoms_.clear_ghosts();
   const MigrationStats moved = migrate_atoms(atoms_, *dd_, step_);
   check_atom_count(atoms_, dd_->comm(), natoms_, step_);
   counters_.migrated += moved.moved;
   counters_.max_hops = std::max(counters_.max_hops, moved.max_hops);
+  t = charge(&counters_.comm_seconds, t);
   if (cfg_.sort_every > 0 && counters_.rebuilds % cfg_.sort_every == 0) {
     atoms_.permute_owned(spatial_sort_order(atoms_, dd_->sub_lo(), dd_->sub_hi(), ghost_cut()));
   }
+  t = charge(&counters_.neighbor_seconds, t);
   ghosts_.borders(atoms_, *dd_, ghost_cut());
+  t = charge(&counters_.comm_seconds, t);
   list_.build(atoms_, dd_->sub_lo(), dd_->sub_hi(), ghost_cut());
   std::copy(atoms_.x.begin(), atoms_.x.begin() + atoms_.nlocal, atoms_.x_build.begin());
+  charge(&counters_.neighbor_seconds, t);
   last_build_ = step_;
   ++counters_.rebuilds;
   notify_publish();
 }
 
 PairTally Simulation::compute_forces(bool tally) {
+  double t = MPI_Wtime();
   const PairTally pairs = compute_lj_forces(
       atoms_, list_, cfg_.cutoff, cfg_.shift_energy ? lj_energy_at(cfg_.cutoff) : 0.0, tally);
+  t = charge(&counters_.force_seconds, t);
   ghosts_.reverse_forces(atoms_);
+  charge(&counters_.comm_seconds, t);
   return pairs;
 }
 
@@ -157,7 +171,9 @@ void Simulation::step_once(bool last) {
       (cfg_.neigh_check && flags[0] > half_skin * half_skin)) {
     rebuild();
   } else {
+    const double t = MPI_Wtime();
     refresh_ghosts();
+    charge(&counters_.comm_seconds, t);
   }
   const bool thermo_due = last || (cfg_.thermo_every > 0 && step_ % cfg_.thermo_every == 0);
   const PairTally pairs = compute_forces(thermo_due);
@@ -170,9 +186,11 @@ void Simulation::step_once(bool last) {
 }
 
 void Simulation::run(int64_t steps) {
+  in_loop_ = true;
   const double t0 = MPI_Wtime();
   for (int64_t s = 0; s < steps; ++s) step_once(s + 1 == steps);
   counters_.loop_seconds += MPI_Wtime() - t0;
+  in_loop_ = false;
   std::fflush(stdout);
 }
 

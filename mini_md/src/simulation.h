@@ -8,6 +8,7 @@
 
 #include <mpi.h>
 
+#include <algorithm>
 #include <cstdint>
 #include <memory>
 #include <vector>
@@ -30,8 +31,18 @@ struct RunCounters {
   int max_hops = 0;      // most subdomains an atom crossed along one axis between rebuilds
   int64_t relax_iterations = 0;
   double setup_seconds = 0.0;
-  double loop_seconds = 0.0;    // wall time of the time-stepping loop (run())
-  double insitu_seconds = 0.0;  // time inside the observer (Lantern calls)
+  double loop_seconds = 0.0;  // wall time of the time-stepping loop (run())
+  // loop_seconds by phase, as miniMD prints it. Only time inside run() counts: setup's rebuild,
+  // forces and step-0 observer calls are not in these.
+  double force_seconds = 0.0;     // pair forces
+  double neighbor_seconds = 0.0;  // neighbour-list builds, with the spatial sort
+  double comm_seconds = 0.0;      // ghost exchange (borders, forward, reverse) and migration
+  double insitu_seconds = 0.0;    // time inside the observer (Lantern calls)
+  // The rest of the loop (integration, thermo, the per-step allreduce, ...), never negative.
+  double other_seconds() const {
+    return std::max(
+        0.0, loop_seconds - force_seconds - neighbor_seconds - comm_seconds - insitu_seconds);
+  }
 };
 
 class Simulation {
@@ -72,6 +83,8 @@ class Simulation {
   void record_thermo(const PairTally &pairs);
   void notify_publish();
   void notify_step();
+  // Adds the time since t0 to *phase while run() steps; returns the current time.
+  double charge(double *phase, double t0);
 
   RunConfig cfg_;
   SceneSetup scene_;
@@ -88,6 +101,7 @@ class Simulation {
   double e0_atom_ = 0.0;
   bool velocities_finite_ = true;
   bool is_root_ = false;
+  bool in_loop_ = false;  // inside run(): phase times count
 };
 
 }  // namespace mini_md

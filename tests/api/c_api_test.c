@@ -46,6 +46,12 @@ int main(int argc, char **argv) {
            dir);
   CHECK(strlen(lantern_version()) >= 5);
   CHECK(LANTERN_VERSION == 100);
+  CHECK(lantern_version_number() == LANTERN_VERSION);
+  /* Status names: static, never NULL, also for values that are no status. */
+  CHECK(strncmp(lantern_status_string(LANTERN_ERR_IO), "LANTERN_ERR_IO: ", 16) == 0);
+  CHECK(strncmp(lantern_status_string(LANTERN_OK), "LANTERN_OK: ", 12) == 0);
+  CHECK(strcmp(lantern_status_string((lantern_status)1000), "unknown lantern_status") == 0);
+  CHECK(strcmp(lantern_status_string((lantern_status)-1), "unknown lantern_status") == 0);
 
   lantern_context *ctx = NULL;
   CHECK(lantern_open(config, LANTERN_COMM_WORLD, &ctx) == LANTERN_OK);

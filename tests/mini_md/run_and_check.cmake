@@ -1,6 +1,7 @@
 # Runs PROGRAM under MPIEXEC with RANKS ranks and ARGS and checks what CTest alone cannot check
 # together: the exit status (EXIT_ZERO true/false), the output (regex EXPECT) and, optionally,
-# that files matching the glob EXPECT_FILES exist afterwards (at least MIN_FILES of them).
+# that files matching the glob EXPECT_FILES exist afterwards (at least MIN_FILES of them), and,
+# with CHECK_PERF true, that the PERF line's loop breakdown adds up.
 string(REPLACE ";" " " shown "${ARGS}")
 separate_arguments(launcher UNIX_COMMAND "${MPIEXEC}")
 if(DEFINED CLEAN_DIR)
@@ -22,5 +23,31 @@ if(DEFINED EXPECT_FILES)
   list(LENGTH found n)
   if(n LESS MIN_FILES)
     message(FATAL_ERROR "mini_md ${shown}: ${n} files match ${EXPECT_FILES}, expected >= ${MIN_FILES}")
+  endif()
+endif()
+if(CHECK_PERF)
+  # force + neighbor + comm + insitu + other = seconds, each printed >= 0 with 6 decimals; in
+  # microseconds (CMake has integer arithmetic only) the rounding allows a few units.
+  if(NOT "${out}" MATCHES "PERF [^\n]*")
+    message(FATAL_ERROR "mini_md ${shown}: no PERF line")
+  endif()
+  set(perf "${CMAKE_MATCH_0}")
+  set(phases 0)
+  foreach(key seconds insitu_seconds force_seconds neighbor_seconds comm_seconds other_seconds)
+    if(NOT perf MATCHES " ${key}=([0-9]+)\\.([0-9][0-9][0-9][0-9][0-9][0-9])")
+      message(FATAL_ERROR "mini_md ${shown}: PERF line lacks ${key}=<seconds >= 0>: ${perf}")
+    endif()
+    # The leading 1 keeps the fraction's leading zeros from being dropped or misread.
+    math(EXPR us "${CMAKE_MATCH_1} * 1000000 + 1${CMAKE_MATCH_2} - 1000000")
+    if(key STREQUAL "seconds")
+      set(loop ${us})
+    else()
+      math(EXPR phases "${phases} + ${us}")
+    endif()
+  endforeach()
+  math(EXPR off "${phases} - ${loop}")
+  if(off GREATER 5 OR off LESS -5)
+    message(FATAL_ERROR "mini_md ${shown}: the PERF phases add up to ${phases} us, "
+                        "seconds is ${loop} us: ${perf}")
   endif()
 endif()

@@ -37,10 +37,12 @@ extern "C" {
 #define LANTERN_API
 #endif
 
+/* The one definition of the version: CMakeLists.txt reads these three lines (keep their form). */
 #define LANTERN_VERSION_MAJOR 0
 #define LANTERN_VERSION_MINOR 1
 #define LANTERN_VERSION_PATCH 0
-/* One integer that orders versions: 10000*major + 100*minor + patch. */
+/* One integer that orders versions: 10000*major + 100*minor + patch. The version of the
+ * library a program runs against is lantern_version_number(). */
 #define LANTERN_VERSION \
   (LANTERN_VERSION_MAJOR * 10000 + LANTERN_VERSION_MINOR * 100 + LANTERN_VERSION_PATCH)
 
@@ -119,6 +121,13 @@ typedef struct lantern_context lantern_context;
 LANTERN_API const char *lantern_version(void);
 
 /*
+ * The LANTERN_VERSION the library was built with. LANTERN_VERSION is the header a client
+ * compiled against; this is the library it runs against (they differ when the shared library
+ * was replaced). Callable at any time, from any thread, without a context or MPI.
+ */
+LANTERN_API int lantern_version_number(void);
+
+/*
  * Opens a context. `config` is the path of a YAML file, or an inline YAML document (any string
  * containing a newline or starting with '{' is taken as a document). `mpi_comm_f` is the Fortran
  * handle of the communicator (MPI_Comm_c2f(comm)) or LANTERN_COMM_WORLD; Lantern duplicates it.
@@ -155,6 +164,15 @@ LANTERN_API lantern_status lantern_execute(lantern_context *ctx, int64_t step, d
 /* The last error of this context, or "" if none. Owned by the context; valid until the next
  * call on it. NULL context gives a static message. */
 LANTERN_API const char *lantern_error_message(const lantern_context *ctx);
+
+/*
+ * The name and a one-line English description of a status, such as
+ * "LANTERN_ERR_IO: a file could not be read or written", for logs. A value that is not a
+ * lantern_status gives "unknown lantern_status"; never NULL. The string is static: never free
+ * it. Callable at any time, from any thread, without a context or MPI. For what went wrong in a
+ * particular call, use lantern_error_message().
+ */
+LANTERN_API const char *lantern_status_string(lantern_status status);
 
 /* Flushes outputs (waits for images written in the background, see output.asynchronous) and
  * frees the context. Returns LANTERN_ERR_IO if such an image could not be written. Safe on NULL.
