@@ -44,7 +44,7 @@ void classify(const BrickSet &bricks, const SceneConfig &scene, BrickSelection *
   CullStats &st = sel->stats;
   for (uint32_t i = 0; i < bricks.bricks.size(); ++i) {
     const Brick &b = bricks.bricks[i];
-    const double r = sel->per_particle_radius ? b.max_radius : scene.radius;
+    const double r = sel->radius.per_particle ? b.max_radius : sel->radius.radius;
     VisibleBrick v;
     v.brick = i;
     v.radius = r;
@@ -97,15 +97,15 @@ void resolve_occlusion(const SceneConfig &scene, BrickSelection *sel) {
 
 }  // namespace
 
-void select_bricks(const ParticleArrays &particles, const BrickSet &bricks, const Camera &camera,
-                   const SceneConfig &scene, BrickSelection *out) {
+void select_bricks(const BrickSet &bricks, const Camera &camera, const SceneConfig &scene,
+                   const RadiusRule &radius, BrickSelection *out) {
   out->visible.clear();
   out->stats = CullStats();
   out->stats.candidates = bricks.particle_count();
   out->stats.bricks = int64_t(bricks.bricks.size());
-  out->per_particle_radius = scene.per_particle_radius && particles.has_radius();
-  double max_r = out->per_particle_radius ? 0.0 : scene.radius;
-  if (out->per_particle_radius)
+  out->radius = radius;
+  double max_r = radius.per_particle ? 0.0 : radius.radius;
+  if (radius.per_particle)
     for (const Brick &b : bricks.bricks) max_r = std::max(max_r, b.max_radius);
   out->g = ViewGeometry::from_camera(camera, scene_scale(bricks, camera, max_r));
   classify(bricks, scene, out);

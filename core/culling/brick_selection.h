@@ -16,6 +16,7 @@
 #include "core/culling/cull_stats.h"
 #include "core/culling/visible_brick.h"
 #include "core/particles/particle_arrays.h"
+#include "core/particles/radius_rule.h"
 #include "core/view/view_geometry.h"
 
 namespace lantern {
@@ -24,13 +25,13 @@ struct BrickSelection {
   ViewGeometry g;                     // the double-precision camera of this frame
   std::vector<VisibleBrick> visible;  // front to back unless the mode is none (as configured)
   OcclusionMode mode = OcclusionMode::kNone;  // resolved: never kAuto
-  bool per_particle_radius = false;   // radii come from the published array
+  RadiusRule radius;                  // the scene's radius rule
   bool reduced = false;               // level of detail keeps less than some brick holds
   CullStats stats;  // so far: candidates, brick counts, brick-level frustum / cut drops, mode
 };
 
-// Classifies `bricks` (of `particles`) for `scene` seen by `camera` into *out.
-void select_bricks(const ParticleArrays &particles, const BrickSet &bricks, const Camera &camera,
-                   const SceneConfig &scene, BrickSelection *out);
+// Classifies `bricks` for `scene`, whose spheres follow `radius`, seen by `camera` into *out.
+void select_bricks(const BrickSet &bricks, const Camera &camera, const SceneConfig &scene,
+                   const RadiusRule &radius, BrickSelection *out);
 
 }  // namespace lantern

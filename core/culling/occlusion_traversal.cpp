@@ -47,7 +47,7 @@ bool trivial(const SceneConfig &scene, const BrickSelection &sel) {
 
 CullStats Culler::run(const ParticleArrays &particles, const BrickSet &bricks, const Camera &camera,
                       const SceneConfig &scene, DrawList *out) {
-  select_bricks(particles, bricks, camera, scene, &selection_);
+  select_bricks(bricks, camera, scene, RadiusRule::of(scene, particles), &selection_);
   return cull(particles, bricks, scene, selection_, out);
 }
 
@@ -67,7 +67,7 @@ CullStats Culler::cull(const ParticleArrays &particles, const BrickSet &bricks,
   const Frustum frustum(sel.g);
   const CutPlanes cuts(scene.cuts);
   visit_positions(particles, [&](const auto &pos) {
-    visit_radii(particles, sel.per_particle_radius, scene.radius, [&](const auto &radius) {
+    visit_radii(particles, sel.radius.per_particle, sel.radius.radius, [&](const auto &radius) {
       const CullPass<std::decay_t<decltype(pos)>, std::decay_t<decltype(radius)>> pass{
           pos, radius, sel.g, frustum, cuts, scene, bricks};
       if (mode == OcclusionMode::kNineSpheresSorted)

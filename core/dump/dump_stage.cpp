@@ -3,7 +3,6 @@
 #include <filesystem>
 
 #include "core/common/collective_status.h"
-#include "core/particles/particle_scan.h"
 
 namespace lantern {
 namespace {
@@ -80,8 +79,7 @@ Status check_local_fields(const DumpFields &f, const ParticleArrays &p, int64_t 
 }
 
 // Rank 0's box, or the global particle bounds when rank 0 has none. Collective.
-Box frame_box(MPI_Comm comm, const ParticleArrays &p, const std::optional<Box> &box) {
-  const Extent global = reduce_extent(comm, scan_particles(p, false, 0.0));
+Box frame_box(MPI_Comm comm, const Extent &global, const std::optional<Box> &box) {
   Box b = box.value_or(Box{});
   int has_box = box.has_value();
   MPI_Bcast(&has_box, 1, MPI_INT, 0, comm);
@@ -129,7 +127,7 @@ Status DumpStage::open_writer(MPI_Comm comm, const ParticleArrays &particles, co
   return agreed;
 }
 
-Status DumpStage::write(MPI_Comm comm, const ParticleArrays &particles,
+Status DumpStage::write(MPI_Comm comm, const ParticleArrays &particles, const Extent &global,
                         const std::optional<Box> &box, int64_t step, double time) {
   int64_t count = particles.count(), offset = 0, total = 0;
   MPI_Exscan(&count, &offset, 1, MPI_INT64_T, MPI_SUM, comm);
@@ -141,7 +139,7 @@ Status DumpStage::write(MPI_Comm comm, const ParticleArrays &particles,
   if (total == 0)
     return {StatusCode::kInvalidArgument, where + "no rank has particles; nothing dumped"};
 
-  const Box b = frame_box(comm, particles, box);
+  const Box b = frame_box(comm, global, box);
   if (!writer_)
     if (Status s = open_writer(comm, particles, b, total, step); !s.ok()) return s;
   if (total != writer_->layout().global_count)

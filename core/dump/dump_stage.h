@@ -14,6 +14,7 @@
 #include "core/config/config.h"
 #include "core/dump/box.h"
 #include "core/dump/h5md_writer.h"
+#include "core/particles/global_extent.h"
 #include "core/particles/particle_arrays.h"
 #include "core/common/status.h"
 
@@ -24,10 +25,11 @@ class DumpStage {
   explicit DumpStage(DumpConfig config) : config_(std::move(config)) {}
   bool due(int64_t step) const { return config_.enabled && config_.schedule.due(step); }
 
-  // Collective. `box` is this rank's lantern_set_box() box; without one (on rank 0) the dump
+  // Collective. `global` is the step's extent reduced over ranks (the pipeline computes it once
+  // per step). `box` is this rank's lantern_set_box() box; without one (on rank 0) the dump
   // records the global bounds of the particles, non-periodic.
-  Status write(MPI_Comm comm, const ParticleArrays &particles, const std::optional<Box> &box,
-               int64_t step, double time);
+  Status write(MPI_Comm comm, const ParticleArrays &particles, const Extent &global,
+               const std::optional<Box> &box, int64_t step, double time);
 
  private:
   Status open_writer(MPI_Comm comm, const ParticleArrays &particles, const Box &box,

@@ -98,13 +98,19 @@ Status Runtime::set_box(const Box &box) {
 }
 
 Status Runtime::execute(int64_t step, double time) {
-  // The dump has its own schedule; a dump error is returned unless rendering fails too.
-  const Status dumped =
-      dump_ && dump_->due(step) ? dump_->write(comm_, particles_, box_, step, time) : Status();
-  if (!config_.schedule.due(step)) return dumped;
-  const auto t0 = Clock::now();
+  const bool dump_due = dump_ && dump_->due(step);
+  const bool render_due = config_.schedule.due(step);
+  if (!dump_due && !render_due) return {};
+  // One scan and one reduction per step, for the dump and every scene.
+  const auto t_scan = Clock::now();
   const Extent global =
       reduce_extent(comm_, scan_particles(particles_, particles_.has_radius(), 0.0));
+  const double scan_ms = std::chrono::duration<double, std::milli>(Clock::now() - t_scan).count();
+  // The dump has its own schedule; a dump error is returned unless rendering fails too.
+  const Status dumped =
+      dump_due ? dump_->write(comm_, particles_, global, box_, step, time) : Status();
+  if (!render_due) return dumped;
+  const auto t0 = Clock::now();
   warn_nonfinite_once(global.nonfinite_count, step);
 
   Status first_error;
@@ -120,7 +126,8 @@ Status Runtime::execute(int64_t step, double time) {
       if (!st.ok() && first_error.ok()) first_error = st;  // later scenes still render
     }
   }
-  const double total_ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+  const double total_ms =
+      scan_ms + std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
   write_stats(step, time, global, total_ms, stats, first_error);
   if (config_.verbose && rank_ == 0)
     std::fprintf(stderr, "lantern: step %lld rendered %zu scene(s) in %.1f ms\n",

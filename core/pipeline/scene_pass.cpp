@@ -27,9 +27,10 @@ double ms_since(Clock::time_point t0) {
 }
 
 // The arrays a scene needs that this rank did not publish.
-Status check_scene_needs(const SceneConfig &scene, const ParticleArrays &p) {
+Status check_scene_needs(const SceneConfig &scene, const RadiusRule &radius,
+                         const ParticleArrays &p) {
   if (p.count() == 0) return {};
-  if (scene.per_particle_radius && !p.has_radius())
+  if (radius.wanted && !radius.per_particle)
     return {StatusCode::kInvalidArgument, "scenes '" + scene.name +
                                               "': radius is per_particle but no radius array was "
                                               "published (lantern_particles.radius)"};
@@ -82,8 +83,8 @@ Status run_scene_pass(const ScenePassInputs &in, const SceneConfig &scene, Scene
   // Every rank has the same inputs here, so these outcomes agree without communication.
   auto t0 = Clock::now();
   Camera camera;
-  const double max_radius =
-      scene.per_particle_radius ? std::max(in.global.max_radius, 0.0) : scene.radius;
+  const RadiusRule radius = RadiusRule::of(scene, *in.particles);  // for every stage below
+  const double max_radius = radius.max_radius(in.global);
   const glm::dvec3 lo{in.global.lo[0], in.global.lo[1], in.global.lo[2]};
   const glm::dvec3 hi{in.global.hi[0], in.global.hi[1], in.global.hi[2]};
   if (auto e = make_camera(scene.camera, lo, hi, max_radius, scene.width, scene.height, &camera);
@@ -91,7 +92,7 @@ Status run_scene_pass(const ScenePassInputs &in, const SceneConfig &scene, Scene
     return {StatusCode::kConfig, "scenes '" + scene.name + "': " + e};
   stats->camera_ms = ms_since(t0);
 
-  Status local = check_scene_needs(scene, *in.particles);
+  Status local = check_scene_needs(scene, radius, *in.particles);
   CullStats cull;
   if (local.ok()) {
     // Bricks, culling and level of detail: what to draw.
@@ -102,8 +103,8 @@ Status run_scene_pass(const ScenePassInputs &in, const SceneConfig &scene, Scene
     stats->bricks_ms = build_ms;
     DrawList &draw = in.scratch->draw;
     BrickSelection &selection = in.scratch->selection;
-    select_bricks(*in.particles, bricks, camera, scene, &selection);
-    const InstanceRecipe recipe = make_recipe(*in.particles, scene, camera, in.global);
+    select_bricks(bricks, camera, scene, radius, &selection);
+    const InstanceRecipe recipe = make_recipe(*in.particles, scene, radius, camera, in.global);
     const Rgb8 bg = to_rgb8(scene.background);
     const uint8_t background[4] = {bg[0], bg[1], bg[2], 255};
     // The renderer, decided here once: from the configuration, the camera and the occlusion mode

@@ -30,7 +30,7 @@ CullStats CpuSpherePass::run(const ParticleArrays &particles, const BrickSet &br
   const Frustum frustum(g);
   const CutPlanes cuts(scene.cuts);
   visit_positions(particles, [&](const auto &pos) {
-    visit_radii(particles, sel.per_particle_radius, scene.radius, [&](const auto &radius) {
+    visit_radii(particles, sel.radius.per_particle, sel.radius.radius, [&](const auto &radius) {
       const CullPass<std::decay_t<decltype(pos)>, std::decay_t<decltype(radius)>> pass{
           pos, radius, g, frustum, cuts, scene, bricks};
       const auto strip = [&](int k) {

@@ -23,12 +23,12 @@ Colouring make_colouring(const ColorConfig &config, const Extent &global) {
 }
 
 InstanceRecipe make_recipe(const ParticleArrays &particles, const SceneConfig &scene,
-                           const Camera &camera, const Extent &global) {
+                           const RadiusRule &radius, const Camera &camera, const Extent &global) {
   InstanceRecipe r;
   r.particles = &particles;
   r.origin = camera.origin;
-  r.per_particle_radius = scene.per_particle_radius && particles.has_radius();
-  r.radius = float(scene.radius);
+  r.per_particle_radius = radius.per_particle;
+  r.radius = float(radius.radius);
   r.colouring = make_colouring(scene.color, global);
   return r;
 }

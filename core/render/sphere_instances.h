@@ -10,6 +10,7 @@
 #include "core/particles/global_extent.h"
 #include "core/config/config.h"
 #include "core/particles/particle_arrays.h"
+#include "core/particles/radius_rule.h"
 #include "core/render/sphere_renderer.h"
 
 namespace lantern {
@@ -62,8 +63,9 @@ struct InstanceRecipe {
   }
 };
 
+// Colors from `scene.color` (ranges resolved against `global`), sizes by `radius`.
 InstanceRecipe make_recipe(const ParticleArrays &particles, const SceneConfig &scene,
-                           const Camera &camera, const Extent &global);
+                           const RadiusRule &radius, const Camera &camera, const Extent &global);
 
 // Instances of every particle with finite coordinates, in published order.
 void build_all_instances(const InstanceRecipe &recipe, std::vector<SphereInstance> *out);

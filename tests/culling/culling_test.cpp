@@ -94,7 +94,7 @@ class CullingTest : public testing::GlTest {
   // pixels (colour or depth).
   CullStats compare(const Cloud &c, const SceneConfig &s, const Camera &cam, int64_t *differ) {
     const ParticleArrays p = c.arrays();
-    const InstanceRecipe recipe = make_recipe(p, s, cam, Extent{});
+    const InstanceRecipe recipe = make_recipe(p, s, RadiusRule::of(s, p), cam, Extent{});
     std::vector<SphereInstance> all, some;
     build_all_instances(recipe, &all);
     const Frame brute = render(all, cam);
@@ -118,12 +118,12 @@ class CullingTest : public testing::GlTest {
   // The scene drawn by the CPU raster through the culler in s.culling.occlusion mode.
   Frame raster(const Cloud &c, const SceneConfig &s, const Camera &cam, CullStats *stats) {
     const ParticleArrays p = c.arrays();
-    const InstanceRecipe recipe = make_recipe(p, s, cam, Extent{});
+    const InstanceRecipe recipe = make_recipe(p, s, RadiusRule::of(s, p), cam, Extent{});
     const BrickSet bricks = build_bricks(p, BrickOptions{});
     const Rgb8 bg = to_rgb8(s.background);
     const uint8_t background[4] = {bg[0], bg[1], bg[2], 255};
     BrickSelection selection;
-    select_bricks(p, bricks, cam, s, &selection);
+    select_bricks(bricks, cam, s, RadiusRule::of(s, p), &selection);
     EXPECT_TRUE(cpu_pass_serves(selection.mode));
     Frame frame;
     CpuSpherePass pass;
@@ -295,7 +295,7 @@ TEST_F(CullingTest, ScreenSpaceRuleAndPointPathTakeOverSubPixelSpheres) {
   EXPECT_EQ(st.drawn, 0);
   // The splats land in the frame, nearest first.
   Frame f = render({}, cam);
-  const InstanceRecipe recipe = make_recipe(p, s, cam, Extent{});
+  const InstanceRecipe recipe = make_recipe(p, s, RadiusRule::of(s, p), cam, Extent{});
   splat_points(
       p, false, s.radius, draw.points, culler.geometry(),
       [&recipe](int64_t i) { return recipe.colour(i); }, &f);
@@ -383,7 +383,7 @@ TEST_F(CullingTest, CpuRasterCullsTheHiddenCrystalAndMatchesOpenGl) {
 
   const ParticleArrays p = c.arrays();
   std::vector<SphereInstance> all;
-  build_all_instances(make_recipe(p, s, cam, Extent{}), &all);
+  build_all_instances(make_recipe(p, s, RadiusRule::of(s, p), cam, Extent{}), &all);
   const Frame gl = render(all, cam);
   int64_t background_mismatch = 0, off_by_more = 0;
   double squared = 0.0;

@@ -146,7 +146,7 @@ class Bench {
         "shared by all scenes, not in the times below\n",
         bricks.bricks.size(), median(build), bt.keys_ms, bt.sort_ms, bt.split_ms, bt.layout_ms,
         bt.bounds_ms);
-    const InstanceRecipe recipe = make_recipe(p, bs.config, cam, ext);
+    const InstanceRecipe recipe = make_recipe(p, bs.config, RadiusRule::of(bs.config, p), cam, ext);
     std::vector<Mode> all = modes();
     if (!opt_.modes.empty())
       all.erase(std::remove_if(all.begin() + 1, all.end(),
@@ -177,7 +177,7 @@ class Bench {
       const uint8_t background[4] = {bg[0], bg[1], bg[2], 255};
       const auto t0 = Clock::now();
       const double cpu0 = thread_cpu_ms();
-      select_bricks(p, bricks, cam, sc, &selection_);
+      select_bricks(bricks, cam, sc, RadiusRule::of(sc, p), &selection_);
       r->stats = cpu_pass_.run(p, bricks, sc, selection_, recipe, background, &f, &draw_);
       r->drawn = r->stats.drawn;
       r->cull_cpu.push_back(thread_cpu_ms() - cpu0);
