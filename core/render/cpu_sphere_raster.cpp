@@ -5,6 +5,7 @@
 #include <limits>
 #include <optional>
 
+#include "core/render/shading.h"
 
 namespace lantern {
 namespace {
@@ -226,13 +227,18 @@ class GeneralCast {
   double r2_, c2_, near_, far_, wa_, wb_;
 };
 
-// The impostor shader's headlight: Lambert (light along the view ray) plus a Blinn-Phong
-// highlight of exponent 40, clamped, to 8 bits; packed as R | G << 8 | B << 16.
+// The impostor shader's headlight (shading.h): Lambert (light along the view ray) plus a
+// Blinn-Phong highlight, clamped, to 8 bits; packed as R | G << 8 | B << 16.
+static_assert(shading::kShininess == 40,
+              "shade_pixel raises lambert to the power 40 by squaring (l32 * l8): rewrite that "
+              "product for the new exponent");
 LANTERN_INLINE uint32_t shade_pixel(float lambert2, float red, float green, float blue) {
+  using shading::kAmbient, shading::kDiffuse, shading::kSpecular;
   const auto unorm8 = [](float v) { return uint32_t(int32_t(std::min(v, 1.0f) * 255.0f + 0.5f)); };
   const float lambert = std::sqrt(std::max(lambert2, 0.0f));
   const float l2 = lambert * lambert, l4 = l2 * l2, l8 = l4 * l4, l32 = (l8 * l8) * (l8 * l8);
-  const float diffuse = (0.2f + 0.8f * lambert) * (1.0f / 255.0f), highlight = 0.3f * l32 * l8;
+  const float diffuse = (kAmbient<float> + kDiffuse<float> * lambert) * (1.0f / 255.0f),
+              highlight = kSpecular<float> * l32 * l8;
   return unorm8(red * diffuse + highlight) | unorm8(green * diffuse + highlight) << 8 |
          unorm8(blue * diffuse + highlight) << 16;
 }

@@ -3,16 +3,19 @@
 #include <algorithm>
 #include <cmath>
 
-#include "core/particles/typed_access.h"
 #include "core/culling/draw_list.h"
+#include "core/particles/typed_access.h"
+#include "core/render/shading.h"
 
 namespace lantern {
 namespace {
 
-// The impostor shader's colour for a hit whose normal makes `lambert` with the view ray: Lambert
-// diffuse plus a Blinn-Phong highlight, clamped, then stored as unorm8.
+// The impostor shader's color for a hit whose normal makes `lambert` with the view ray: Lambert
+// diffuse plus a Blinn-Phong highlight (shading.h), clamped, then stored as unorm8.
 uint8_t shade(uint8_t c, double lambert) {
-  const double v = c / 255.0 * (0.2 + 0.8 * lambert) + 0.3 * std::pow(lambert, 40.0);
+  using shading::kAmbient, shading::kDiffuse, shading::kSpecular, shading::kShininess;
+  const double v = c / 255.0 * (kAmbient<double> + kDiffuse<double> * lambert) +
+                   kSpecular<double> * std::pow(lambert, double(kShininess));
   return uint8_t(std::lround(std::min(v, 1.0) * 255.0));
 }
 

@@ -40,7 +40,8 @@ std::string compile(GLenum kind, const char *source, GlShader *out) {
 std::string link_program(GlProgram *out) {
   GlShader vs, fs;
   if (auto e = compile(GL_VERTEX_SHADER, shaders::kSphereVertex, &vs); !e.empty()) return e;
-  if (auto e = compile(GL_FRAGMENT_SHADER, shaders::kSphereFragment, &fs); !e.empty()) return e;
+  const std::string fragment = shaders::sphere_fragment_source();
+  if (auto e = compile(GL_FRAGMENT_SHADER, fragment.c_str(), &fs); !e.empty()) return e;
   GlProgram program(glCreateProgram());
   glAttachShader(program.get(), vs.get());
   glAttachShader(program.get(), fs.get());

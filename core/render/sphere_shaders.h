@@ -7,6 +7,11 @@
 // that pixel and that sphere, so tiles, ranks and draw chunks cannot change a single bit.
 #pragma once
 
+#include <cstdio>
+#include <string>
+
+#include "core/render/shading.h"
+
 namespace lantern::shaders {
 
 inline constexpr const char *kSphereVertex = R"GLSL(#version 330 core
@@ -53,7 +58,9 @@ void main() {
 }
 )GLSL";
 
-inline constexpr const char *kSphereFragment = R"GLSL(#version 330 core
+// The fragment shader without its #version line and lighting constants, which
+// sphere_fragment_source() puts in front.
+inline constexpr const char *kSphereFragmentBody = R"GLSL(
 uniform mat4 u_proj;          // full-image view -> clip
 uniform mat4 u_inv_proj;
 uniform vec2 u_image_size;    // full image, pixels
@@ -84,9 +91,33 @@ void main() {
   // Headlight: light along the view ray, Lambert diffuse plus a Blinn-Phong highlight.
   vec3 n = (hit - v_center) / v_radius;
   float lambert = max(dot(n, -dir), 0.0);
-  vec3 rgb = v_color.rgb * (0.2 + 0.8 * lambert) + vec3(0.3) * pow(lambert, 40.0);
+  // k_ambient, k_diffuse, k_specular, k_shininess: shading.h's, put in front by
+  // sphere_fragment_source().
+  vec3 rgb = v_color.rgb * (k_ambient + k_diffuse * lambert) +
+             vec3(k_specular) * pow(lambert, k_shininess);
   o_color = vec4(min(rgb, vec3(1.0)), 1.0);
 }
 )GLSL";
+
+// A GLSL float literal that reads back as exactly v: 9 significant digits round-trip every float
+// (0.2f prints as 0.200000003), and a '.' is added where needed so GLSL reads a float, not an int.
+inline std::string glsl_float(float v) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.9g", double(v));
+  std::string literal = text;
+  if (literal.find_first_of(".e") == std::string::npos) literal += ".0";
+  return literal;
+}
+
+// The impostor fragment shader, with the headlight constants of shading.h injected as GLSL
+// constants: one change there changes the OpenGL and the CPU images alike.
+inline std::string sphere_fragment_source() {
+  return std::string("#version 330 core\n") +
+         "const float k_ambient = " + glsl_float(shading::kAmbient<float>) + ";\n" +
+         "const float k_diffuse = " + glsl_float(shading::kDiffuse<float>) + ";\n" +
+         "const float k_specular = " + glsl_float(shading::kSpecular<float>) + ";\n" +
+         "const float k_shininess = " + glsl_float(float(shading::kShininess)) + ";\n" +
+         kSphereFragmentBody;
+}
 
 }  // namespace lantern::shaders

@@ -1,240 +1,25 @@
 #include "core/bricks/brick_set.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstring>
 #include <limits>
-#include <thread>
+#include <vector>
 
 #include <glm/common.hpp>
 
+#include "core/bricks/brick_steps.h"
 #include "core/bricks/level_layout.h"
 #include "core/bricks/morton.h"
 #include "core/bricks/radix_sort.h"
 #include "core/particles/typed_access.h"
 
 namespace lantern {
-namespace {
 
-using Clock = std::chrono::steady_clock;
-double ms_since(Clock::time_point t0) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
-}
+using namespace brick_steps;
 
-bool finite(const glm::dvec3 &p) {
-  return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z);
-}
-
-// The sort word: the key's top 32 bits above the particle index. Sorting words by their upper
-// half orders particles by key down to cells of 1/2^10.67 of the box; ties (rare) are broken by
-// the full key afterwards. 8 bytes per particle, plus 8 of radix scratch: the 16-byte peak.
-constexpr int kKeyShift = 2 * kMortonBitsPerAxis + kMortonBitsPerAxis - 32;  // 63 - 32 = 31
-uint64_t make_word(uint64_t key, uint32_t index) {
-  return (key >> kKeyShift) << 32 | index;
-}
-uint32_t word_index(uint64_t w) {
-  return uint32_t(w);
-}
-uint32_t word_prefix(uint64_t w) {
-  return uint32_t(w >> 32);
-}
-
-// Bounds and non-finite count of the centres in [begin, end).
-struct RangeBounds {
-  glm::dvec3 lo{std::numeric_limits<double>::infinity()};
-  glm::dvec3 hi{-std::numeric_limits<double>::infinity()};
-  int64_t nonfinite = 0;
-};
-
-template <typename Positions>
-RangeBounds find_bounds(const Positions &pos, int64_t begin, int64_t end) {
-  RangeBounds r;
-  for (int64_t i = begin; i < end; ++i) {
-    const glm::dvec3 p = pos.get(i);
-    if (!finite(p)) {
-      ++r.nonfinite;
-      continue;
-    }
-    r.lo = glm::min(r.lo, p);
-    r.hi = glm::max(r.hi, p);
-  }
-  return r;
-}
-
-// Key words of the finite particles of [begin, end), written from `out` on.
-template <typename Positions>
-void fill_words(const Positions &pos, int64_t begin, int64_t end, const MortonQuantiser &q,
-                uint64_t *out) {
-  for (int64_t i = begin; i < end; ++i) {
-    const glm::dvec3 p = pos.get(i);
-    if (finite(p)) *out++ = make_word(q.key(p), uint32_t(i));
-  }
-}
-
-// Runs f(part, begin, end) over [0, n) cut in two halves, the second on a helper thread, when n
-// is large enough to pay for a thread. Both halves write disjoint data; results are the same as
-// with one thread.
-constexpr int64_t kTwoThreadsFrom = 200000;  // particles
-template <typename F>
-void in_two(int64_t n, F &&f, bool worth_a_thread) {
-  if (!worth_a_thread || n < 2) {
-    f(0, int64_t(0), n);
-    return;
-  }
-  const int64_t mid = n / 2;
-  std::thread helper([&f, mid, n] { f(1, mid, n); });
-  f(0, int64_t(0), mid);
-  helper.join();
-}
-
-// Words with the same upper half are in index order; order them by the full key instead.
-template <typename Positions>
-void break_ties(const Positions &pos, const MortonQuantiser &q, std::vector<uint64_t> *words) {
-  std::vector<std::pair<uint64_t, uint64_t>> run;
-  uint64_t *w = words->data();
-  const size_t n = words->size();
-  for (size_t a = 0; a < n;) {
-    size_t b = a + 1;
-    while (b < n && word_prefix(w[b]) == word_prefix(w[a])) ++b;
-    if (b - a > 1) {
-      run.clear();
-      for (size_t k = a; k < b; ++k) run.emplace_back(q.key(pos.get(word_index(w[k]))), w[k]);
-      std::sort(run.begin(), run.end());
-      for (size_t k = a; k < b; ++k) w[k] = run[k - a].second;
-    }
-    a = b;
-  }
-}
-
-// Cuts [a, b) of the sorted words into octree cells of at most `max` particles. `level` is the
-// octree depth of the cell [a, b) is known to share (its top 3*level key bits agree).
-void split_cells(const std::vector<uint64_t> &words, uint32_t a, uint32_t b, int level,
-                 uint32_t max, std::vector<Brick> *out) {
-  constexpr int kMaxLevel = 10;  // 30 of the 32 prefix bits: cells of 1/1024 of the box
-  if (b - a <= max || level >= kMaxLevel) {
-    for (uint32_t s = a; s < b; s += max) {  // a crowded finest cell: cut it linearly
-      Brick br;
-      br.first = s;
-      br.count = std::min(max, b - s);
-      out->push_back(br);
-    }
-    return;
-  }
-  const int shift = 32 - 3 * (level + 1);
-  const auto digit = [&](uint64_t w) { return (word_prefix(w) >> shift) & 7u; };
-  uint32_t start = a;
-  for (uint32_t child = 0; child < 8 && start < b; ++child) {
-    const auto end = std::partition_point(words.begin() + start, words.begin() + b,
-                                          [&](uint64_t w) { return digit(w) <= child; });
-    const auto stop = uint32_t(end - words.begin());
-    if (stop > start) split_cells(words, start, stop, level + 1, max, out);
-    start = stop;
-  }
-}
-
-template <typename Positions, typename Radii>
-void brick_bounds(const Positions &pos, const Radii &radius, bool has_radius, int64_t first,
-                  int64_t last, BrickSet *set) {
-  for (int64_t k = first; k < last; ++k) {
-    Brick &b = set->bricks[size_t(k)];
-    glm::dvec3 lo(std::numeric_limits<double>::infinity()), hi(-lo);
-    double r = 0.0;
-    const uint32_t *idx = set->order.data() + b.first;
-    for (uint32_t k = 0; k < b.count; ++k) {
-      const glm::dvec3 p = pos.get(idx[k]);
-      lo = glm::min(lo, p);
-      hi = glm::max(hi, p);
-      if (has_radius) r = std::max(r, radius.get(idx[k]));
-    }
-    b.lo = lo;
-    b.hi = hi;
-    b.max_radius = r;
-  }
-}
-
-}  // namespace
-
-BrickSet build_bricks(const ParticleArrays &particles, const BrickOptions &options,
-                      BrickBuildTimings *timings) {
-  BrickBuildTimings t;
-  BrickSet set;
-  const int64_t n = particles.count();
-  set.has_radius = particles.has_radius();
-  auto t0 = Clock::now();
-  std::vector<uint64_t> words;
-  MortonQuantiser q;
-  visit_positions(particles, [&](const auto &pos) {
-    RangeBounds half[2];
-    const bool two = n >= kTwoThreadsFrom;
-    in_two(
-        n, [&](int part, int64_t b, int64_t e) { half[part] = find_bounds(pos, b, e); }, two);
-    set.lo = glm::min(half[0].lo, half[1].lo);
-    set.hi = glm::max(half[0].hi, half[1].hi);
-    set.nonfinite = half[0].nonfinite + half[1].nonfinite;
-    words.resize(size_t(n - set.nonfinite));
-    q = MortonQuantiser::for_bounds(set.lo, set.hi);
-    // The second half's words start after the first half's finite particles.
-    const int64_t first_half_finite = (two ? n / 2 : n) - half[0].nonfinite;
-    in_two(
-        n,
-        [&](int part, int64_t b, int64_t e) {
-          fill_words(pos, b, e, q, words.data() + (part == 0 ? 0 : first_half_finite));
-        },
-        two);
-  });
-  t.keys_ms = ms_since(t0);
-
-  t0 = Clock::now();
-  {
-    std::vector<uint64_t> scratch;
-    radix_sort_words(&words, &scratch, 32, 64);
-  }  // scratch freed before the permutation is allocated: the peak stays at 16 B/particle
-  visit_positions(particles, [&](const auto &pos) { break_ties(pos, q, &words); });
-  t.sort_ms = ms_since(t0);
-
-  t0 = Clock::now();
-  const uint32_t max = std::max<uint32_t>(1, options.max_particles);
-  if (!words.empty()) split_cells(words, 0, uint32_t(words.size()), 0, max, &set.bricks);
-  set.order.resize(words.size());
-  for (size_t i = 0; i < words.size(); ++i) set.order[i] = word_index(words[i]);
-  std::vector<uint64_t>().swap(words);
-  t.split_ms = ms_since(t0);
-
-  t0 = Clock::now();
-  const auto bricks = int64_t(set.bricks.size());
-  const bool two = int64_t(set.order.size()) >= kTwoThreadsFrom;
-  if (options.level_layout) {
-    in_two(
-        bricks,
-        [&](int, int64_t first, int64_t last) {
-          std::vector<uint32_t> scratch;
-          for (int64_t k = first; k < last; ++k) {
-            const Brick &br = set.bricks[size_t(k)];
-            apply_level_layout(set.order.data() + br.first, br.count, &scratch);
-          }
-        },
-        two);
-  }
-  t.layout_ms = ms_since(t0);
-
-  t0 = Clock::now();
-  visit_positions(particles, [&](const auto &pos) {
-    visit_radii(particles, true, 0.0, [&](const auto &radius) {
-      in_two(
-          bricks,
-          [&](int, int64_t first, int64_t last) {
-            brick_bounds(pos, radius, set.has_radius, first, last, &set);
-          },
-          two);
-    });
-  });
-  t.bounds_ms = ms_since(t0);
-  set.spread_at_build = set.spread();
-  if (timings) *timings = t;
-  return set;
-}
-
+// Here, with the refit: spread() is what refit_bricks's max_growth limits; build_bricks records
+// its value at build (spread_at_build) for that comparison.
 double BrickSet::spread() const {
   double s = 0.0;
   for (const Brick &b : bricks) s += (b.hi.x - b.lo.x) + (b.hi.y - b.lo.y) + (b.hi.z - b.lo.z);
@@ -271,8 +56,6 @@ bool sort_out(const Positions &pos, const Radii &radius, bool has_radius, int64_
   b->count = kept, b->lo = new_lo, b->hi = new_hi, b->max_radius = r;
   return true;
 }
-
-}  // namespace
 
 // First pass of a refit, read-only and branch-free on the data so loads overlap: each brick's
 // bounds over its particles with index below `count`, and whether the brick still fits - every
@@ -315,6 +98,8 @@ void fresh_bounds(const Positions &pos, const Radii &radius, int64_t count, cons
       },
       set.particle_count() >= kTwoThreadsFrom);
 }
+
+}  // namespace
 
 bool refit_bricks(const ParticleArrays &particles, double max_growth, BrickSet *set,
                   const BrickOptions &options) {
