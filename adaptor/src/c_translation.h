@@ -10,19 +10,25 @@
 
 namespace lantern {
 
-static_assert(int(StatusCode::kOk) == LANTERN_OK && int(StatusCode::kInternal) == LANTERN_ERR_INTERNAL &&
+static_assert(int(StatusCode::kOk) == LANTERN_OK &&
+                  int(StatusCode::kInternal) == LANTERN_ERR_INTERNAL &&
                   int(StatusCode::kNullArgument) == LANTERN_ERR_NULL_ARGUMENT &&
                   int(StatusCode::kInvalidArgument) == LANTERN_ERR_INVALID_ARGUMENT &&
-                  int(StatusCode::kConfig) == LANTERN_ERR_CONFIG && int(StatusCode::kIo) == LANTERN_ERR_IO &&
-                  int(StatusCode::kGl) == LANTERN_ERR_GL && int(StatusCode::kMpi) == LANTERN_ERR_MPI &&
+                  int(StatusCode::kConfig) == LANTERN_ERR_CONFIG &&
+                  int(StatusCode::kIo) == LANTERN_ERR_IO &&
+                  int(StatusCode::kGl) == LANTERN_ERR_GL &&
+                  int(StatusCode::kMpi) == LANTERN_ERR_MPI &&
                   int(StatusCode::kOutOfMemory) == LANTERN_ERR_OUT_OF_MEMORY,
               "StatusCode and lantern_status must keep the same values");
-static_assert(int(DataType::kNone) == LANTERN_TYPE_NONE && int(DataType::kFloat32) == LANTERN_FLOAT32 &&
-                  int(DataType::kFloat64) == LANTERN_FLOAT64 && int(DataType::kInt32) == LANTERN_INT32 &&
-                  int(DataType::kInt64) == LANTERN_INT64,
+static_assert(int(DataType::kNone) == LANTERN_TYPE_NONE &&
+                  int(DataType::kFloat32) == LANTERN_FLOAT32 &&
+                  int(DataType::kFloat64) == LANTERN_FLOAT64 &&
+                  int(DataType::kInt32) == LANTERN_INT32 && int(DataType::kInt64) == LANTERN_INT64,
               "DataType and lantern_datatype must keep the same values");
 
-inline lantern_status to_c(StatusCode code) { return static_cast<lantern_status>(code); }
+inline lantern_status to_c(StatusCode code) {
+  return static_cast<lantern_status>(code);
+}
 
 // Unknown datatype values pass through unchanged, so validation can name them.
 inline BorrowedArray from_c(const lantern_array &a) {

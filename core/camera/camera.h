@@ -10,8 +10,8 @@
 #include <glm/mat4x4.hpp>
 #include <glm/vec3.hpp>
 
-#include "core/config/config.h"
 #include "core/camera/render_view.h"
+#include "core/config/config.h"
 
 namespace lantern {
 

@@ -32,7 +32,7 @@ TypePalette::TypePalette(const std::vector<std::array<double, 3>> &custom) {
   static const std::vector<std::array<double, 3>> kBuiltIn = {
       {0.902, 0.624, 0.000}, {0.337, 0.706, 0.914}, {0.000, 0.620, 0.451}, {0.941, 0.894, 0.259},
       {0.000, 0.447, 0.698}, {0.835, 0.369, 0.000}, {0.800, 0.475, 0.655}, {0.600, 0.600, 0.600}};
-  for (const auto &c : custom.empty() ? kBuiltIn : custom) colours_.push_back(to_rgb8(c));
+  for (const auto &c : custom.empty() ? kBuiltIn : custom) colors_.push_back(to_rgb8(c));
 }
 
 }  // namespace lantern

@@ -1,5 +1,5 @@
-// Scalar -> colour through a named colormap, and integer type -> colour through a palette.
-// Thread-safety: immutable after construction. Colours are RGB8.
+// Scalar -> color through a named colormap, and integer type -> color through a palette.
+// Thread-safety: immutable after construction. Colors are RGB8.
 #pragma once
 
 #include <array>
@@ -36,18 +36,18 @@ class Colormap {
   const std::array<Rgb8, 256> *table_;
 };
 
-// Colour of an integer particle type: palette[type mod size] (negative types wrap too). An empty
-// palette uses the built-in one (Okabe-Ito colours, distinguishable with colour blindness).
+// Color of an integer particle type: palette[type mod size] (negative types wrap too). An empty
+// palette uses the built-in one (Okabe-Ito colors, distinguishable with color blindness).
 class TypePalette {
  public:
   explicit TypePalette(const std::vector<std::array<double, 3>> &custom);
   Rgb8 at(int64_t type) const {
-    const auto n = static_cast<int64_t>(colours_.size());
-    return colours_[static_cast<size_t>(((type % n) + n) % n)];
+    const auto n = static_cast<int64_t>(colors_.size());
+    return colors_[static_cast<size_t>(((type % n) + n) % n)];
   }
 
  private:
-  std::vector<Rgb8> colours_;
+  std::vector<Rgb8> colors_;
 };
 
 }  // namespace lantern

@@ -22,7 +22,7 @@ struct MethodScratch {
   PackedBuffer packed;                // reductions: one chunk of packed pixels
   PackedBuffer block;                 // reduce-scatter: this rank's reduced block of a chunk
   UninitializedBuffer<float> depth;   // binary swap: one received segment, depth
-  UninitializedBuffer<uint8_t> rgba;  // binary swap: one received segment, colour
+  UninitializedBuffer<uint8_t> rgba;  // binary swap: one received segment, color
 };
 
 // Sizes the buffers for one call; they depend only on (method, pixels, ranks, chunk), so they

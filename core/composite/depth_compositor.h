@@ -2,7 +2,7 @@
 // the frames are merged pixel by pixel by nearest depth into one image on a root rank.
 //
 // Merge rule (see packed_pixel.h): the smaller window depth wins; on equal depth the smaller
-// colour (R, then G, B, A) wins. The rule is commutative and associative, so the merged image
+// color (R, then G, B, A) wins. The rule is commutative and associative, so the merged image
 // is bit-identical for any rank count, any split of the particles and every method below.
 //
 // Collective: every rank of comm calls composite_frames with the same width, height, root and
@@ -56,7 +56,7 @@ struct CompositeStats {
 inline constexpr size_t kDefaultCompositeChunkPixels = size_t(1) << 20;
 
 // Merges every rank's frame into frame on root (see the rule above). On return frame on root
-// holds the merged colour and depth; frames on other ranks are unspecified. With one rank this is
+// holds the merged color and depth; frames on other ranks are unspecified. With one rank this is
 // a no-op. chunk_pixels bounds the pixels per MPI call (0 = kDefaultCompositeChunkPixels).
 CompositeStats composite_frames(MPI_Comm comm, Frame &frame, int root,
                                 CompositeMethod method = CompositeMethod::kAuto,

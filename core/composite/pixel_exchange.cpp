@@ -9,9 +9,9 @@ namespace lantern {
 namespace {
 
 constexpr int kDepthTag = 0x4c43;  // "LC"
-constexpr int kColourTag = kDepthTag + 1;
+constexpr int kColorTag = kDepthTag + 1;
 constexpr int kGatherDepthTag = kDepthTag + 2;
-constexpr int kGatherColourTag = kDepthTag + 3;
+constexpr int kGatherColorTag = kDepthTag + 3;
 
 size_t segments_of(size_t count, size_t segment) {
   return (count + segment - 1) / segment;
@@ -37,14 +37,14 @@ std::string exchange_and_merge(MPI_Comm comm, int send_to, PixelRange give, int 
     if (recv_count > 0) {
       MPI_Irecv(scratch.depth.data(), recv_count, MPI_FLOAT, recv_from, kDepthTag, comm,
                 &requests[posted++]);
-      MPI_Irecv(scratch.rgba.data(), 4 * recv_count, MPI_UINT8_T, recv_from, kColourTag, comm,
+      MPI_Irecv(scratch.rgba.data(), 4 * recv_count, MPI_UINT8_T, recv_from, kColorTag, comm,
                 &requests[posted++]);
     }
     if (send_count > 0) {
       MPI_Isend(frame.depth.data() + send_first, send_count, MPI_FLOAT, send_to, kDepthTag, comm,
                 &requests[posted++]);
-      MPI_Isend(frame.rgba.data() + 4 * send_first, 4 * send_count, MPI_UINT8_T, send_to,
-                kColourTag, comm, &requests[posted++]);
+      MPI_Isend(frame.rgba.data() + 4 * send_first, 4 * send_count, MPI_UINT8_T, send_to, kColorTag,
+                comm, &requests[posted++]);
     }
     const int rc = MPI_Waitall(posted, requests.data(), MPI_STATUSES_IGNORE);
     if (rc != MPI_SUCCESS) return mpi_error(rc, "compositing: exchange");
@@ -56,7 +56,7 @@ std::string exchange_and_merge(MPI_Comm comm, int send_to, PixelRange give, int 
 
 std::string gather_ranges(MPI_Comm comm, int root, const std::vector<PixelRange> &owned,
                           Frame &frame) {
-  // Point-to-point rather than two MPI_Gatherv (depth, colour): root receives every piece of both
+  // Point-to-point rather than two MPI_Gatherv (depth, color): root receives every piece of both
   // arrays under one MPI_Waitall, one synchronisation instead of two, which matters when ranks
   // share cores. Open MPI's gatherv is linear at these sizes anyway.
   int rank = 0;
@@ -75,9 +75,9 @@ std::string gather_ranges(MPI_Comm comm, int root, const std::vector<PixelRange>
     }
     requests.emplace_back();
     if (receive) {
-      MPI_Irecv(rgba, 4 * count, MPI_UINT8_T, peer, kGatherColourTag, comm, &requests.back());
+      MPI_Irecv(rgba, 4 * count, MPI_UINT8_T, peer, kGatherColorTag, comm, &requests.back());
     } else {
-      MPI_Isend(rgba, 4 * count, MPI_UINT8_T, peer, kGatherColourTag, comm, &requests.back());
+      MPI_Isend(rgba, 4 * count, MPI_UINT8_T, peer, kGatherColorTag, comm, &requests.back());
     }
   };
   if (rank == root) {

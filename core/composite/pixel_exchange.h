@@ -1,5 +1,5 @@
 // Point-to-point building blocks of the hand-written compositing methods (binary swap, direct
-// send): frames are merged in place, pixel ranges travel as separate depth and colour messages,
+// send): frames are merged in place, pixel ranges travel as separate depth and color messages,
 // and the received side goes through a scratch segment of at most one chunk.
 //
 // Messages use four tags from 0x4c43 ("LC") on comm; a caller that sends its own messages on the

@@ -270,7 +270,7 @@ class Loader {
                  [&](const YAML::Node &n, const std::string &p) { c.solid = r_.read_rgb(n, p); });
     optional_key(node, path, "palette", [&](const YAML::Node &n, const std::string &p) {
       r_.check_sequence(n, p);
-      if (n.size() == 0) r_.fail(n, p, "must list at least one colour (omit it for the default)");
+      if (n.size() == 0) r_.fail(n, p, "must list at least one color (omit it for the default)");
       for (size_t i = 0; i < n.size(); ++i)
         c.palette.push_back(r_.read_rgb(n[i], index_path(p, i)));
     });

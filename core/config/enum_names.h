@@ -29,7 +29,9 @@ inline constexpr EnumName<OcclusionMode> kOcclusionModeNames[] = {
     {OcclusionMode::kHzb, "hzb"}};
 
 inline constexpr EnumName<RendererChoice> kRendererChoiceNames[] = {
-    {RendererChoice::kAuto, "auto"}, {RendererChoice::kOpenGl, "opengl"}, {RendererChoice::kCpu, "cpu"}};
+    {RendererChoice::kAuto, "auto"},
+    {RendererChoice::kOpenGl, "opengl"},
+    {RendererChoice::kCpu, "cpu"}};
 
 inline constexpr EnumName<Projection> kProjectionNames[] = {
     {Projection::kPerspective, "perspective"}, {Projection::kOrthographic, "orthographic"}};
@@ -38,15 +40,25 @@ inline constexpr EnumName<ColorBy> kColorByNames[] = {
     {ColorBy::kSolid, "solid"}, {ColorBy::kType, "type"}, {ColorBy::kScalar, "scalar"}};
 
 inline constexpr EnumName<ImageFormat> kImageFormatNames[] = {
-    {ImageFormat::kPng, "png"},  {ImageFormat::kJpeg, "jpeg"}, {ImageFormat::kJpeg, "jpg"},
+    {ImageFormat::kPng, "png"},   {ImageFormat::kJpeg, "jpeg"}, {ImageFormat::kJpeg, "jpg"},
     {ImageFormat::kTiff, "tiff"}, {ImageFormat::kTiff, "tif"},  {ImageFormat::kExr, "exr"}};
 
 // The table of each enum, so that name_of / value_of / names_of need only the enum type.
-inline constexpr const auto &names_table(OcclusionMode) { return kOcclusionModeNames; }
-inline constexpr const auto &names_table(RendererChoice) { return kRendererChoiceNames; }
-inline constexpr const auto &names_table(Projection) { return kProjectionNames; }
-inline constexpr const auto &names_table(ColorBy) { return kColorByNames; }
-inline constexpr const auto &names_table(ImageFormat) { return kImageFormatNames; }
+inline constexpr const auto &names_table(OcclusionMode) {
+  return kOcclusionModeNames;
+}
+inline constexpr const auto &names_table(RendererChoice) {
+  return kRendererChoiceNames;
+}
+inline constexpr const auto &names_table(Projection) {
+  return kProjectionNames;
+}
+inline constexpr const auto &names_table(ColorBy) {
+  return kColorByNames;
+}
+inline constexpr const auto &names_table(ImageFormat) {
+  return kImageFormatNames;
+}
 
 // The canonical name of `value` ("?" for a value missing from its table: a bug).
 template <typename E>

@@ -154,7 +154,7 @@ std::array<double, 3> YamlReader::read_vec3(const YAML::Node &node, const std::s
 
 std::array<double, 3> YamlReader::read_rgb(const YAML::Node &node, const std::string &path) const {
   if (!node.IsSequence() || node.size() != 3)
-    fail(node, path, "must be a colour [r, g, b] with components in [0, 1], got " + shown(node));
+    fail(node, path, "must be a color [r, g, b] with components in [0, 1], got " + shown(node));
   std::array<double, 3> rgb{};
   for (size_t i = 0; i < 3; ++i)
     rgb[i] = read_in_range(node[i], index_path(path, i), 0.0, true, 1.0, true);

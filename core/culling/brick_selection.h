@@ -25,8 +25,8 @@ struct BrickSelection {
   ViewGeometry g;                     // the double-precision camera of this frame
   std::vector<VisibleBrick> visible;  // front to back unless the mode is none (as configured)
   OcclusionMode mode = OcclusionMode::kNone;  // resolved: never kAuto
-  RadiusRule radius;                  // the scene's radius rule
-  bool reduced = false;               // level of detail keeps less than some brick holds
+  RadiusRule radius;                          // the scene's radius rule
+  bool reduced = false;                       // level of detail keeps less than some brick holds
   CullStats stats;  // so far: candidates, brick counts, brick-level frustum / cut drops, mode
 };
 

@@ -8,14 +8,14 @@
 namespace lantern {
 
 struct CullStats {
-  std::string occlusion;          // the mode run; for auto also why, e.g. "hzb (auto: dense, ...)"
-  int64_t candidates = 0;         // finite particles of the rank
-  int64_t frustum_culled = 0;     // outside the view frustum
-  int64_t cut_culled = 0;         // on the dropped side of a cutting plane
-  int64_t lod_dropped = 0;        // left out by level of detail
-  int64_t occlusion_culled = 0;   // hidden (hzb: provably; nine_spheres: by the rule)
-  int64_t drawn = 0;              // spheres drawn (impostors, or ray-cast by the CPU pass)
-  int64_t splatted = 0;           // CPU point path
+  std::string occlusion;         // the mode run; for auto also why, e.g. "hzb (auto: dense, ...)"
+  int64_t candidates = 0;        // finite particles of the rank
+  int64_t frustum_culled = 0;    // outside the view frustum
+  int64_t cut_culled = 0;        // on the dropped side of a cutting plane
+  int64_t lod_dropped = 0;       // left out by level of detail
+  int64_t occlusion_culled = 0;  // hidden (hzb: provably; nine_spheres: by the rule)
+  int64_t drawn = 0;             // spheres drawn (impostors, or ray-cast by the CPU pass)
+  int64_t splatted = 0;          // CPU point path
   int64_t bricks = 0, bricks_outside = 0, bricks_inside = 0, bricks_occluded = 0;
   bool per_particle_frustum = false;  // some brick straddled the frustum
 };

@@ -13,8 +13,8 @@
 
 #include "core/bricks/brick_set.h"
 #include "core/config/config.h"
-#include "core/view/view_geometry.h"
 #include "core/culling/visible_brick.h"
+#include "core/view/view_geometry.h"
 
 namespace lantern {
 

@@ -10,8 +10,8 @@
 #include <vector>
 
 #include "core/config/config.h"
-#include "core/view/view_geometry.h"
 #include "core/culling/visible_brick.h"
+#include "core/view/view_geometry.h"
 
 namespace lantern {
 

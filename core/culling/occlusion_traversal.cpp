@@ -87,8 +87,7 @@ CullStats Culler::cull(const ParticleArrays &particles, const BrickSet &bricks,
   return st;
 }
 
-bool Culler::occluded(OcclusionMode mode, const ViewGeometry &g, const Candidate &cand,
-                      int strip) {
+bool Culler::occluded(OcclusionMode mode, const ViewGeometry &g, const Candidate &cand, int strip) {
   if (mode == OcclusionMode::kHzb) {
     PixelRect rect = g.sphere_rect(cand.c, cand.r);
     rect.x0 = std::max(rect.x0, strips_[strip].x0), rect.x1 = std::min(rect.x1, strips_[strip].x1);

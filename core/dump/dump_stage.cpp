@@ -113,7 +113,7 @@ Status DumpStage::open_writer(MPI_Comm comm, const ParticleArrays &particles, co
     if (!dir.empty()) std::filesystem::create_directories(dir, ec);
     if (ec)
       local = {StatusCode::kIo, "dump.file: " + config_.file + ": cannot create directory " +
-                                   dir.string() + " (" + ec.message() + ")"};
+                                    dir.string() + " (" + ec.message() + ")"};
   }
   if (Status s = agree_on_status(comm, local); !s.ok()) return s;
   try {

@@ -11,12 +11,12 @@
 #include <memory>
 #include <optional>
 
+#include "core/common/status.h"
 #include "core/config/config.h"
 #include "core/dump/box.h"
 #include "core/dump/h5md_writer.h"
 #include "core/particles/global_extent.h"
 #include "core/particles/particle_arrays.h"
-#include "core/common/status.h"
 
 namespace lantern {
 

@@ -35,7 +35,9 @@ void append_real(TimeSeries &series, bool single, hsize_t frame, const DumpFrame
 
 // The version lantern_version() reports: CMake reads it from the public header (the one place
 // it is defined) and hands it to core as LANTERN_VERSION_STRING.
-std::string version_string() { return LANTERN_VERSION_STRING; }
+std::string version_string() {
+  return LANTERN_VERSION_STRING;
+}
 
 std::string author_name() {
   const char *user = std::getenv("USER");

@@ -24,7 +24,7 @@ float srgb_to_linear(uint8_t code) {
 // frame (RGBA8 formats, no copy) or built here.
 struct Prepared {
   OIIO::ImageSpec spec;
-  OIIO::TypeDesc buffer_type;  // UNKNOWN = native per-channel formats (EXR with half colour)
+  OIIO::TypeDesc buffer_type;  // UNKNOWN = native per-channel formats (EXR with half color)
   const uint8_t *borrowed = nullptr;
   std::vector<uint8_t> storage;
   const void *data() const { return borrowed ? borrowed : storage.data(); }

@@ -1,9 +1,9 @@
 // Per-frame quantities every rank must agree on: the bounds of the particles (for automatic
-// cameras) and the range of the colouring scalar (for automatic colormaps).
+// cameras) and the range of the coloring scalar (for automatic colormaps).
 //
 // Each rank accumulates an Extent over the particles it owns, then reduce_extent() combines them
 // with one MPI_Allreduce(MIN) and one MPI_Allreduce(SUM), so every rank gets the same result and
-// therefore the same camera and colours.
+// therefore the same camera and colors.
 //
 // Empty is neutral: a default Extent has lo = +inf, hi = -inf, max_radius = -inf,
 // scalar_min = +inf, scalar_max = -inf and zero counts, so an empty rank changes nothing. If
@@ -38,7 +38,7 @@ struct Extent {
   // scalar are ignored). Returns whether the particle counted as finite, so the caller can
   // add_scalar() for it.
   bool add_particle(double x, double y, double z, double radius);
-  // Adds the colouring scalar of a finite particle; NaN and infinities are ignored.
+  // Adds the coloring scalar of a finite particle; NaN and infinities are ignored.
   void add_scalar(double value);
 };
 

@@ -47,7 +47,8 @@ std::string check_array(const BorrowedArray &a, const char *name, int components
   if (esize == 0)
     return field + ".type: unknown datatype " + std::to_string(static_cast<int>(a.type));
   if (want_real && !is_real(a.type))
-    return field + ".type: must be DataType::kFloat32 or DataType::kFloat64, got " + type_name(a.type);
+    return field + ".type: must be DataType::kFloat32 or DataType::kFloat64, got " +
+           type_name(a.type);
   if (!want_real && !is_integer(a.type))
     return field + ".type: must be DataType::kInt32 or DataType::kInt64, got " + type_name(a.type);
   if (a.data == nullptr && count > 0) return field + ".data: NULL with count > 0";

@@ -1,8 +1,9 @@
 // Typed, validated access to the particle arrays a simulation lends Lantern.
 //
 // Ownership: ParticleArrays never owns or copies the data; it stores the pointers and strides of
-// ParticleDescription. The caller keeps the arrays alive (lantern_publish in the C API). Thread-safety: read-only
-// after construction, so concurrent readers are fine. Units: those of the simulation.
+// ParticleDescription. The caller keeps the arrays alive (lantern_publish in the C API).
+// Thread-safety: read-only after construction, so concurrent readers are fine. Units: those of the
+// simulation.
 #pragma once
 
 #include <cstdint>

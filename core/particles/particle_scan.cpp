@@ -8,7 +8,7 @@
 namespace lantern {
 namespace {
 
-// The common case (one radius, no colouring scalar) in a loop the compiler keeps in registers:
+// The common case (one radius, no coloring scalar) in a loop the compiler keeps in registers:
 // the same result as Extent::add_particle for every particle.
 template <typename Positions>
 Extent scan_positions(const Positions &pos, int64_t count, double radius) {

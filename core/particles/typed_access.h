@@ -69,10 +69,12 @@ decltype(auto) visit_positions(const ParticleArrays &p, F &&f) {
     return f(InterleavedPositions<double>{bytes(a), a.stride_bytes()});
   }
   const StridedArray &x = p.position_array(0), &y = p.position_array(1), &z = p.position_array(2);
-  if (x.type() == DataType::kFloat32 && y.type() == DataType::kFloat32 && z.type() == DataType::kFloat32)
+  if (x.type() == DataType::kFloat32 && y.type() == DataType::kFloat32 &&
+      z.type() == DataType::kFloat32)
     return f(SeparatePositions<float>{{bytes(x), bytes(y), bytes(z)},
                                       {x.stride_bytes(), y.stride_bytes(), z.stride_bytes()}});
-  if (x.type() == DataType::kFloat64 && y.type() == DataType::kFloat64 && z.type() == DataType::kFloat64)
+  if (x.type() == DataType::kFloat64 && y.type() == DataType::kFloat64 &&
+      z.type() == DataType::kFloat64)
     return f(SeparatePositions<double>{{bytes(x), bytes(y), bytes(z)},
                                        {x.stride_bytes(), y.stride_bytes(), z.stride_bytes()}});
   return f(MixedPositions{&p});

@@ -4,9 +4,9 @@
 #include <cmath>
 #include <cstdio>
 
+#include "core/common/collective_status.h"
 #include "core/config/config_loader.h"
 #include "core/output/stats_writer.h"
-#include "core/common/collective_status.h"
 #include "core/particles/particle_scan.h"
 
 namespace lantern {
@@ -65,7 +65,8 @@ Runtime::~Runtime() {
 
 Status Runtime::publish(const ParticleDescription &particles) {
   ParticleArrays validated;
-  particles_ = ParticleArrays();  // a failed publish leaves no particles (lantern_publish in the C API)
+  particles_ =
+      ParticleArrays();  // a failed publish leaves no particles (lantern_publish in the C API)
   if (auto e = ParticleArrays::validate(particles, &validated); !e.empty())
     return {StatusCode::kInvalidArgument, e};
   if (auto e = check_radii(validated); !e.empty()) return {StatusCode::kInvalidArgument, e};

@@ -13,12 +13,12 @@
 #include <string>
 #include <vector>
 
+#include "core/common/status.h"
 #include "core/config/config.h"
 #include "core/dump/box.h"
 #include "core/dump/dump_stage.h"
 #include "core/particles/particle_arrays.h"
 #include "core/pipeline/scene_pass.h"
-#include "core/common/status.h"
 #include "core/render/gl_session.h"
 
 namespace lantern {
@@ -32,7 +32,7 @@ class Runtime {
   Runtime &operator=(const Runtime &) = delete;
 
   Status publish(const ParticleDescription &particles);  // local
-  Status execute(int64_t step, double time);           // collective on scheduled steps
+  Status execute(int64_t step, double time);             // collective on scheduled steps
   // Waits for images still being written in the background; collective, same status on every
   // rank. Called by lantern_close before the Runtime is destroyed.
   Status finish();

@@ -7,15 +7,15 @@
 #include "core/bricks/brick_set.h"
 #include "core/camera/camera.h"
 #include "core/color/colormap.h"
+#include "core/common/collective_status.h"
 #include "core/composite/depth_compositor.h"
+#include "core/config/file_pattern.h"
 #include "core/culling/brick_selection.h"
 #include "core/culling/cull_stage.h"
-#include "core/render/cpu_sphere_pass.h"
-#include "core/render/point_splats.h"
-#include "core/config/file_pattern.h"
 #include "core/output/image_writer.h"
 #include "core/output/png/png_across_ranks.h"
-#include "core/common/collective_status.h"
+#include "core/render/cpu_sphere_pass.h"
+#include "core/render/point_splats.h"
 #include "core/render/sphere_instances.h"
 
 namespace lantern {
@@ -109,8 +109,7 @@ Status run_scene_pass(const ScenePassInputs &in, const SceneConfig &scene, Scene
     const uint8_t background[4] = {bg[0], bg[1], bg[2], 255};
     // The renderer, decided here once: from the configuration, the camera and the occlusion mode
     // the selection resolved, so every rank decides the same.
-    const bool cpu =
-        wants_cpu_raster(scene, camera, max_radius) && cpu_pass_serves(selection.mode);
+    const bool cpu = wants_cpu_raster(scene, camera, max_radius) && cpu_pass_serves(selection.mode);
     stats->renderer = cpu ? "cpu" : "opengl";
     cull = cpu ? in.scratch->cpu_pass.run(*in.particles, bricks, scene, selection, recipe,
                                           background, &buffers->frame, &draw)
@@ -138,7 +137,7 @@ Status run_scene_pass(const ScenePassInputs &in, const SceneConfig &scene, Scene
       t0 = Clock::now();
       splat_points(
           *in.particles, recipe.per_particle_radius, recipe.radius, draw.points, selection.g,
-          [&recipe](int64_t i) { return recipe.colour(i); }, &buffers->frame);
+          [&recipe](int64_t i) { return recipe.color(i); }, &buffers->frame);
       std::vector<uint64_t>().swap(draw.points);
       stats->draw_ms += ms_since(t0);
     }

@@ -7,17 +7,17 @@
 #include <vector>
 
 #include "core/bricks/brick_cache.h"
-#include "core/particles/global_extent.h"
+#include "core/common/status.h"
 #include "core/config/config.h"
 #include "core/culling/brick_selection.h"
 #include "core/culling/cull_stage.h"
 #include "core/output/background_image_writer.h"
+#include "core/particles/global_extent.h"
 #include "core/particles/particle_arrays.h"
 #include "core/pipeline/scene_stats.h"
-#include "core/common/status.h"
-#include "core/view/frame.h"
 #include "core/render/cpu_sphere_pass.h"
 #include "core/render/sphere_renderer.h"
+#include "core/view/frame.h"
 
 namespace lantern {
 

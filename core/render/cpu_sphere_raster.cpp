@@ -289,9 +289,9 @@ bool CpuSphereRaster::draw(const glm::dvec3 &c, double r, const uint8_t rgb[3], 
         if (!(wz < depth[p] || (wz == depth[p] && index < owner_[p]))) continue;
         depth[p] = wz;
         owner_[p] = index;
-        const uint32_t colour = shade_pixel(lambert2, rgb[0], rgb[1], rgb[2]);
+        const uint32_t color = shade_pixel(lambert2, rgb[0], rgb[1], rgb[2]);
         uint8_t *out = rgba + 4 * p;
-        out[0] = uint8_t(colour), out[1] = uint8_t(colour >> 8), out[2] = uint8_t(colour >> 16);
+        out[0] = uint8_t(color), out[1] = uint8_t(color >> 8), out[2] = uint8_t(color >> 16);
         out[3] = 255;
         written.unite(PixelRect{x, y, x, y});
       }
@@ -324,14 +324,14 @@ bool CpuSphereRaster::draw(const glm::dvec3 &c, double r, const uint8_t rgb[3], 
         }
       }
       if (!won) continue;
-      uint32_t colour[kTilePixels];
-      shade_tile(n, t.lambert2, rgb, colour);
+      uint32_t color[kTilePixels];
+      shade_tile(n, t.lambert2, rgb, color);
       int kmin = n, kmax = -1;
       for (uint64_t bits = won; bits; bits &= bits - 1) {
         const int i = __builtin_ctzll(bits), k = i % n;
         uint8_t *out = rgba + 4 * (size_t(y0 + i / n) * width + size_t(x0 + k));
-        out[0] = uint8_t(colour[i]), out[1] = uint8_t(colour[i] >> 8);
-        out[2] = uint8_t(colour[i] >> 16), out[3] = 255;
+        out[0] = uint8_t(color[i]), out[1] = uint8_t(color[i] >> 8);
+        out[2] = uint8_t(color[i] >> 16), out[3] = 255;
         kmin = std::min(kmin, k), kmax = std::max(kmax, k);
       }
       written.unite(PixelRect{x0 + kmin, y0 + __builtin_ctzll(won) / n, x0 + kmax,

@@ -11,7 +11,7 @@
 // added in double, so depths stay within about a float ulp of a double computation; spheres
 // reaching behind the eye plane take a double path. A pixel's result depends only on the pixel
 // and the sphere - not on the rectangle passed, the tile it fell in, or the CPU - so a pixel can
-// differ from OpenGL's float result by one colour level or where a silhouette passes within
+// differ from OpenGL's float result by one color level or where a silhouette passes within
 // float rounding of a pixel centre. Equal depths resolve to the lower particle index, so the
 // image does not depend on the order spheres are drawn in, and a sphere skipped because
 // `covered` said so would not have changed a bit: skipping is exact.
@@ -27,10 +27,10 @@
 
 #include <glm/vec3.hpp>
 
+#include "core/view/frame.h"
 #include "core/view/max_depth_pyramid.h"
 #include "core/view/pixel_rays.h"
 #include "core/view/view_geometry.h"
-#include "core/view/frame.h"
 
 namespace lantern {
 
@@ -49,7 +49,7 @@ class CpuSphereRaster {
   // than view depth z: a sphere whose nearest point is at z would change none of them.
   bool covered(PixelRect rect, double z) const;
 
-  // Ray-casts the sphere (view-space centre c, radius r, colour rgb, particle `index`) over the
+  // Ray-casts the sphere (view-space centre c, radius r, color rgb, particle `index`) over the
   // pixels of `rect` inside the strip; `rect` must hold every pixel the sphere covers
   // (ViewGeometry::sphere_rect_tight with a slack of 0.05 px does). Returns true if it won at
   // least one pixel.

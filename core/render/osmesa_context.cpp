@@ -17,7 +17,7 @@ class OsmesaContext final : public GlContext {
   ~OsmesaContext() override { OSMesaDestroyContext(ctx_); }
 
   std::string make_current() override {
-    // OSMesa insists on a colour buffer; Lantern draws into its own FBOs, so 1x1 is enough.
+    // OSMesa insists on a color buffer; Lantern draws into its own FBOs, so 1x1 is enough.
     if (!OSMesaMakeCurrent(ctx_, dummy_.data(), GL_UNSIGNED_BYTE, 1, 1))
       return "OSMesaMakeCurrent failed";
     return {};

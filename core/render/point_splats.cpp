@@ -41,8 +41,8 @@ bool cast(const ViewGeometry &g, int x, int y, const glm::dvec3 &c, double r, gl
 }  // namespace
 
 void splat_points(const ParticleArrays &particles, bool per_particle, double radius,
-                  const std::vector<uint64_t> &entries, const ViewGeometry &g,
-                  const ColourOf &colour, Frame *frame) {
+                  const std::vector<uint64_t> &entries, const ViewGeometry &g, const ColorOf &color,
+                  Frame *frame) {
   visit_positions(particles, [&](const auto &pos) {
     visit_radii(particles, per_particle, radius, [&](const auto &rad) {
       for (const uint64_t e : entries) {
@@ -72,7 +72,7 @@ void splat_points(const ParticleArrays &particles, bool per_particle, double rad
           if (!(wd < frame->depth[p])) continue;
           frame->depth[p] = wd;
           const double lambert = std::max(glm::dot((hit - c) / r, -dir), 0.0);
-          const Rgb8 rgb = colour(int64_t(i));
+          const Rgb8 rgb = color(int64_t(i));
           for (int ch = 0; ch < 3; ++ch) frame->rgba[4 * p + ch] = shade(rgb[ch], lambert);
           frame->rgba[4 * p + 3] = 255;
         }

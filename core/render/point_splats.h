@@ -1,9 +1,9 @@
 // The CPU point path (opt-in with lod.point_path): a sphere whose silhouette is under a pixel
 // across skips OpenGL. Its silhouette can hold at most one pixel centre, so the CPU casts the
 // impostor shader's own ray through the (at most four) candidate centres, in double, and writes
-// that pixel's colour (same shading formula) and window depth into the rendered Frame where it is
+// that pixel's color (same shading formula) and window depth into the rendered Frame where it is
 // nearer than what OpenGL drew. Nearly exact - the shader works in float, so a silhouette edge
-// or a colour can differ by one unit - and far cheaper than an impostor on llvmpipe.
+// or a color can differ by one unit - and far cheaper than an impostor on llvmpipe.
 // Thread-safety: none (writes the frame).
 #pragma once
 
@@ -12,17 +12,17 @@
 #include <vector>
 
 #include "core/color/colormap.h"
-#include "core/view/view_geometry.h"
 #include "core/particles/particle_arrays.h"
 #include "core/view/frame.h"
+#include "core/view/view_geometry.h"
 
 namespace lantern {
 
-using ColourOf = std::function<Rgb8(int64_t)>;
+using ColorOf = std::function<Rgb8(int64_t)>;
 
 // `entries` as in DrawList::points. Radius: the published array when per_particle, else radius.
 void splat_points(const ParticleArrays &particles, bool per_particle, double radius,
-                  const std::vector<uint64_t> &entries, const ViewGeometry &g,
-                  const ColourOf &colour, Frame *frame);
+                  const std::vector<uint64_t> &entries, const ViewGeometry &g, const ColorOf &color,
+                  Frame *frame);
 
 }  // namespace lantern

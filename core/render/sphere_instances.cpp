@@ -1,13 +1,13 @@
 #include "core/render/sphere_instances.h"
 
-#include "core/particles/typed_access.h"
 #include "core/culling/draw_list.h"
 #include "core/particles/particle_scan.h"
+#include "core/particles/typed_access.h"
 
 namespace lantern {
 
-Colouring make_colouring(const ColorConfig &config, const Extent &global) {
-  Colouring c;
+Coloring make_coloring(const ColorConfig &config, const Extent &global) {
+  Coloring c;
   c.by = config.by;
   c.solid = to_rgb8(config.solid);
   c.palette = TypePalette(config.palette);
@@ -29,14 +29,14 @@ InstanceRecipe make_recipe(const ParticleArrays &particles, const SceneConfig &s
   r.origin = camera.origin;
   r.per_particle_radius = radius.per_particle;
   r.radius = float(radius.radius);
-  r.colouring = make_colouring(scene.color, global);
+  r.coloring = make_coloring(scene.color, global);
   return r;
 }
 
 namespace {
 
 // One instance from typed readers: the hot loop of every frame, so no per-element type switch
-// for positions and radii (colours still go through the recipe: few branches, table lookups).
+// for positions and radii (colors still go through the recipe: few branches, table lookups).
 template <typename Positions, typename Radii>
 SphereInstance make_instance(const InstanceRecipe &recipe, const Positions &pos,
                              const Radii &radius, int64_t i, float scale) {
@@ -46,7 +46,7 @@ SphereInstance make_instance(const InstanceRecipe &recipe, const Positions &pos,
   s.y = float(p.y);
   s.z = float(p.z);
   s.radius = float(radius.get(i)) * scale;
-  const Rgb8 c = recipe.colour(i);
+  const Rgb8 c = recipe.color(i);
   s.rgba[0] = c[0];
   s.rgba[1] = c[1];
   s.rgba[2] = c[2];

@@ -1,5 +1,5 @@
 // Turns particles into the renderer's SphereInstances: scene-relative float position, radius and
-// colour. The only per-particle conversion Lantern makes, streamed for the particles drawn.
+// color. The only per-particle conversion Lantern makes, streamed for the particles drawn.
 #pragma once
 
 #include <cstdint>
@@ -7,16 +7,16 @@
 
 #include "core/camera/camera.h"
 #include "core/color/colormap.h"
-#include "core/particles/global_extent.h"
 #include "core/config/config.h"
+#include "core/particles/global_extent.h"
 #include "core/particles/particle_arrays.h"
 #include "core/particles/radius_rule.h"
 #include "core/render/sphere_renderer.h"
 
 namespace lantern {
 
-// How one scene colours particles, resolved against the global extent (same on every rank).
-struct Colouring {
+// How one scene colors particles, resolved against the global extent (same on every rank).
+struct Coloring {
   ColorBy by = ColorBy::kSolid;
   Rgb8 solid{200, 200, 200};
   TypePalette palette{{}};
@@ -24,7 +24,7 @@ struct Colouring {
   double lo = 0.0, hi = 1.0;  // scalar range
 };
 
-Colouring make_colouring(const ColorConfig &config, const Extent &global);
+Coloring make_coloring(const ColorConfig &config, const Extent &global);
 
 // Everything needed to turn particle i into an instance.
 struct InstanceRecipe {
@@ -32,7 +32,7 @@ struct InstanceRecipe {
   glm::dvec3 origin{0.0};
   bool per_particle_radius = false;
   float radius = 0.5f;
-  Colouring colouring;
+  Coloring coloring;
 
   SphereInstance make(int64_t i) const {
     const glm::dvec3 p = particles->position(i) - origin;
@@ -41,7 +41,7 @@ struct InstanceRecipe {
     s.y = float(p.y);
     s.z = float(p.z);
     s.radius = per_particle_radius ? float(particles->radius(i)) : radius;
-    const Rgb8 c = colour(i);
+    const Rgb8 c = color(i);
     s.rgba[0] = c[0];
     s.rgba[1] = c[1];
     s.rgba[2] = c[2];
@@ -49,16 +49,16 @@ struct InstanceRecipe {
     return s;
   }
 
-  Rgb8 colour(int64_t i) const {
-    switch (colouring.by) {
+  Rgb8 color(int64_t i) const {
+    switch (coloring.by) {
       case ColorBy::kType:
-        return colouring.palette.at(particles->has_type() ? particles->type(i) : 0);
+        return coloring.palette.at(particles->has_type() ? particles->type(i) : 0);
       case ColorBy::kScalar:
-        return colouring.map.at(
-            particles->has_scalar() ? particles->scalar(i) : 0.5 * (colouring.lo + colouring.hi),
-            colouring.lo, colouring.hi);
+        return coloring.map.at(
+            particles->has_scalar() ? particles->scalar(i) : 0.5 * (coloring.lo + coloring.hi),
+            coloring.lo, coloring.hi);
       default:
-        return colouring.solid;
+        return coloring.solid;
     }
   }
 };

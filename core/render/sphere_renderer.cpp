@@ -74,7 +74,7 @@ struct SphereRenderer::Impl {
   GlVertexArray vao;
   GlBuffer instances;
   GlFramebuffer fbo;
-  GlRenderbuffer colour_rb, depth_rb;
+  GlRenderbuffer color_rb, depth_rb;
   int fbo_w = 0, fbo_h = 0;
   int tile_limit = kMaxTileSize;
   int gl_limit = kMaxTileSize;  // min(kMaxTileSize, GL renderbuffer and viewport limits)
@@ -88,8 +88,8 @@ struct SphereRenderer::Impl {
     if (w == fbo_w && h == fbo_h) return {};
     GLuint name = 0;
     glGenRenderbuffers(1, &name);
-    colour_rb = GlRenderbuffer(name);
-    glBindRenderbuffer(GL_RENDERBUFFER, colour_rb.get());
+    color_rb = GlRenderbuffer(name);
+    glBindRenderbuffer(GL_RENDERBUFFER, color_rb.get());
     glRenderbufferStorage(GL_RENDERBUFFER, GL_RGBA8, w, h);
     glGenRenderbuffers(1, &name);
     depth_rb = GlRenderbuffer(name);
@@ -97,7 +97,7 @@ struct SphereRenderer::Impl {
     glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT32F, w, h);
     glBindFramebuffer(GL_FRAMEBUFFER, fbo.get());
     glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER,
-                              colour_rb.get());
+                              color_rb.get());
     glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, depth_rb.get());
     if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
       return "framebuffer of " + std::to_string(w) + "x" + std::to_string(h) + " is incomplete";

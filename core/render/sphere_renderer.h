@@ -1,4 +1,4 @@
-// Draws spheres as ray-cast impostors with OpenGL into a Frame (colour + window depth).
+// Draws spheres as ray-cast impostors with OpenGL into a Frame (color + window depth).
 //
 // Ownership: the renderer owns its GL program, buffers and framebuffer; it must be created and
 // used while the process's GlContext is current (one thread). Units: positions and radii in the
@@ -26,7 +26,7 @@ static_assert(sizeof(SphereInstance) == 20, "SphereInstance is uploaded as raw b
 
 struct RenderTimings {
   double draw_ms = 0;      // upload + draw (GL finished)
-  double readback_ms = 0;  // glReadPixels of colour and depth into the Frame
+  double readback_ms = 0;  // glReadPixels of color and depth into the Frame
   int tiles = 0;
 };
 

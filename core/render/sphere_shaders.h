@@ -3,7 +3,7 @@
 // and writes the true per-pixel depth, so intersecting spheres cut each other correctly.
 //
 // Rays are built from gl_FragCoord and the FULL image's inverse projection (plus the tile's
-// pixel origin), never from interpolated varyings: a pixel's colour and depth then depend only on
+// pixel origin), never from interpolated varyings: a pixel's color and depth then depend only on
 // that pixel and that sphere, so tiles, ranks and draw chunks cannot change a single bit.
 #pragma once
 

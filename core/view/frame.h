@@ -1,7 +1,7 @@
 // One rendered image with per-pixel depth: what a rank renders, what compositing merges, and what
 // the output stage writes.
 //
-// Layout: row-major, row 0 is the TOP of the image (as image files store it). colour is RGBA8,
+// Layout: row-major, row 0 is the TOP of the image (as image files store it). color is RGBA8,
 // 4 bytes per pixel; depth is the OpenGL window depth in [0, 1] (0 = near plane), with exactly
 // 1.0f (kBackgroundDepth) where nothing was drawn. Window depth is monotonic in distance for both
 // projections, so "nearer" is "smaller" everywhere. Ownership: a Frame owns its buffers.
@@ -28,7 +28,7 @@ struct Frame {
   size_t pixel_count() const { return size_t(width) * size_t(height); }
   size_t index(int x, int y) const { return size_t(y) * size_t(width) + size_t(x); }
 
-  // Fills every pixel with the background colour (RGBA8) at background depth.
+  // Fills every pixel with the background color (RGBA8) at background depth.
   void clear(const uint8_t background_rgba[4]) {
     uint32_t packed;  // one 4-byte store per pixel: this runs for every frame
     std::memcpy(&packed, background_rgba, 4);

@@ -92,7 +92,7 @@ TEST_P(CompositeMethods, SpheresPerRankMatchSerialMerge) {
   expect_matches(composite_case(Case{}, GetParam(), 0));
 }
 
-TEST_P(CompositeMethods, DepthTiesAreBrokenByColourNotByRank) {
+TEST_P(CompositeMethods, DepthTiesAreBrokenByColorNotByRank) {
   Case c;
   c.flat = true;
   c.seed = 2;
@@ -234,7 +234,7 @@ TEST(CompositeMethodNames, RoundTrip) {
   EXPECT_EQ(untouched, CompositeMethod::kBinarySwap);
 }
 
-TEST(PackedPixel, KeysOrderByDepthThenColourAndRoundTrip) {
+TEST(PackedPixel, KeysOrderByDepthThenColorAndRoundTrip) {
   const uint8_t red[4] = {200, 0, 0, 255}, blue[4] = {0, 0, 200, 255};
   EXPECT_LT(pack_pixel(0.25f, red), pack_pixel(0.5f, blue));
   EXPECT_LT(pack_pixel(0.5f, blue), pack_pixel(0.5f, red));

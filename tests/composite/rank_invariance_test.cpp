@@ -1,7 +1,7 @@
 // Rank-count invariance of the whole pipeline through the C API: the same particles, rendered on
 // one rank (rank 0 alone, MPI_COMM_SELF) and on every rank of MPI_COMM_WORLD under several
 // splits (all on one rank, round robin, blocks, slabs, hashed), give pixel-identical images in
-// both projections and every colouring. Run under mpiexec with 1, 2, 3, 4 and 8 ranks.
+// both projections and every coloring. Run under mpiexec with 1, 2, 3, 4 and 8 ranks.
 #include <gtest/gtest.h>
 
 #include <mpi.h>
@@ -111,18 +111,18 @@ lantern_particles describe(const Particles &p) {
   return d;
 }
 
-// Both projections times every colouring (and a per-particle radius), small images.
+// Both projections times every coloring (and a per-particle radius), small images.
 // persp_zoom looks at the middle only, so on slab splits some ranks have no pixel in view.
 const char *const kSceneNames[] = {"persp_type",   "persp_scalar", "persp_solid", "ortho_type",
                                    "ortho_scalar", "ortho_solid",  "persp_zoom"};
 
 std::string scene_yaml(const std::string &name, const std::string &projection,
-                       const std::string &colour, const std::string &radius,
+                       const std::string &color, const std::string &radius,
                        const std::string &pattern, double zoom = 1.3) {
   return "  - name: " + name +
          "\n    width: 120\n    height: 90\n    background: [0.1, 0.2, 0.3]\n" +
          "    radius: " + radius + "\n    camera: {projection: " + projection +
-         ", azimuth: 35, elevation: 25, zoom: " + std::to_string(zoom) + "}\n    color: " + colour +
+         ", azimuth: 35, elevation: 25, zoom: " + std::to_string(zoom) + "}\n    color: " + color +
          "\n    output: {pattern: \"" + pattern + "\"}\n";
 }
 

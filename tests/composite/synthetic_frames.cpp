@@ -9,7 +9,7 @@
 namespace lantern::testing {
 namespace {
 
-// Nearer first, then lexicographically smaller colour: the documented compositing rule.
+// Nearer first, then lexicographically smaller color: the documented compositing rule.
 bool wins(float depth_a, const uint8_t *rgba_a, float depth_b, const uint8_t *rgba_b) {
   if (depth_a != depth_b) return depth_a < depth_b;
   return std::lexicographical_compare(rgba_a, rgba_a + 4, rgba_b, rgba_b + 4);

@@ -24,8 +24,8 @@ struct Sphere {
 // A background-cleared frame.
 Frame blank_frame(int width, int height);
 
-// Draws s into frame with a depth test (nearer wins, ties keep the smaller colour), shading the
-// colour by the surface normal so neighbouring pixels differ.
+// Draws s into frame with a depth test (nearer wins, ties keep the smaller color), shading the
+// color by the surface normal so neighbouring pixels differ.
 void draw_sphere(const Sphere &s, Frame &frame);
 
 // The sphere rank `rank` of a test case draws: deterministic in (rank, seed), overlapping its
@@ -36,7 +36,7 @@ Sphere sphere_for_rank(int rank, int seed, int width, int height, bool flat);
 // RGBA. Written independently of core/composite (no packed keys).
 Frame serial_merge(const std::vector<Frame> &frames);
 
-// "" if a and b are bit-identical (colour and depth bits), else how many pixels differ and where
+// "" if a and b are bit-identical (color and depth bits), else how many pixels differ and where
 // the first one is.
 std::string describe_difference(const Frame &a, const Frame &b);
 

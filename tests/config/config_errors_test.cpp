@@ -46,6 +46,7 @@ TEST(ConfigErrors, UnknownKeyInEverySection) {
                {"schedule.evry", "line 1", "did you mean 'every'?"});
   expect_error("scenes:\n  - {}\n  - widht: 3\n",
                {"scenes[1].widht", "line 3", "did you mean 'width'?"});
+  // British spelling: the keys are spelt "color"; a user typing "colour" gets a suggestion.
   expect_error("scenes:\n  - color: {colourmap: plasma}\n",
                {"scenes[0].color.colourmap", "line 2", "did you mean 'colormap'?"});
   expect_error("scenes:\n  - output: {patern: x.png}\n",
@@ -120,7 +121,7 @@ TEST(ConfigErrors, Camera) {
   expect_error("scenes:\n  - camera: {near: 10, far: 5}\n", {"scenes[0].camera.far", "> 10"});
 }
 
-TEST(ConfigErrors, Colour) {
+TEST(ConfigErrors, Color) {
   expect_error(
       "scenes:\n  - color: {colormap: jet}\n",
       {"scenes[0].color.colormap", "line 2", "viridis, plasma, coolwarm, grayscale", "'jet'"});

@@ -27,7 +27,7 @@ TEST(ExampleConfigs, EveryFileInConfigDirLoads) {
   }
 }
 
-TEST(ExampleConfigs, TwoScenesHasBothProjectionsAndColourings) {
+TEST(ExampleConfigs, TwoScenesHasBothProjectionsAndColorings) {
   Config c;
   ASSERT_EQ(load_config(std::string(LANTERN_CONFIG_DIR) + "/two_scenes.yaml", &c), "");
   ASSERT_EQ(c.scenes.size(), 2u);

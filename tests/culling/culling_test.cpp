@@ -13,11 +13,11 @@
 #include "core/bricks/brick_set.h"
 #include "core/camera/camera.h"
 #include "core/culling/cull_stage.h"
-#include "core/render/point_splats.h"
-#include "core/render/sphere_instances.h"
 #include "core/render/cpu_sphere_pass.h"
 #include "core/render/cpu_sphere_raster.h"
 #include "core/render/gl_session.h"
+#include "core/render/point_splats.h"
+#include "core/render/sphere_instances.h"
 #include "tests/support/gl_test.h"
 
 namespace lantern {
@@ -91,7 +91,7 @@ class CullingTest : public testing::GlTest {
   }
 
   // Renders brute force and culled; returns the culling stats and the number of differing
-  // pixels (colour or depth).
+  // pixels (color or depth).
   CullStats compare(const Cloud &c, const SceneConfig &s, const Camera &cam, int64_t *differ) {
     const ParticleArrays p = c.arrays();
     const InstanceRecipe recipe = make_recipe(p, s, RadiusRule::of(s, p), cam, Extent{});
@@ -298,7 +298,7 @@ TEST_F(CullingTest, ScreenSpaceRuleAndPointPathTakeOverSubPixelSpheres) {
   const InstanceRecipe recipe = make_recipe(p, s, RadiusRule::of(s, p), cam, Extent{});
   splat_points(
       p, false, s.radius, draw.points, culler.geometry(),
-      [&recipe](int64_t i) { return recipe.colour(i); }, &f);
+      [&recipe](int64_t i) { return recipe.color(i); }, &f);
   int64_t written = 0;
   for (const float d : f.depth) written += d < 1.0f;
   EXPECT_GT(written, 1000);

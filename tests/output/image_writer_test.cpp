@@ -17,7 +17,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// A 37x23 frame (odd sizes catch stride bugs) with a colour gradient, varying alpha and a
+// A 37x23 frame (odd sizes catch stride bugs) with a color gradient, varying alpha and a
 // background border where depth is exactly 1.
 Frame test_frame() {
   Frame f(37, 23);
@@ -139,7 +139,7 @@ TEST(ImageWriter, ExrCarriesZAsCameraDistance) {
       }
       EXPECT_NEAR(r.pixels[5 * i + 3], frame.rgba[4 * i + 3] / 255.0f, 1e-3f);
     }
-    // Colour is linearised from sRGB: code 255 -> 1.0, code 0 -> 0.0, code 128 -> ~0.2158.
+    // Color is linearised from sRGB: code 255 -> 1.0, code 0 -> 0.0, code 128 -> ~0.2158.
     const size_t white_red = frame.index(36, 5);  // 7 * 36 = 252
     EXPECT_NEAR(r.pixels[5 * white_red], std::pow((252 / 255.0 + 0.055) / 1.055, 2.4), 1e-3);
   }

@@ -81,7 +81,7 @@ TEST_F(SphereRenderTest, OrthographicSilhouetteAndDepthMatchAnalytic) {
   EXPECT_NEAR(cam.window_depth_to_distance(f.depth[f.index(100, 100)]), d - r, 1e-3);
 }
 
-// Two spheres that cut each other: each pixel shows whichever surface is nearer, so the colour
+// Two spheres that cut each other: each pixel shows whichever surface is nearer, so the color
 // boundary is the analytic intersection curve.
 TEST_F(SphereRenderTest, IntersectingSpheresShowTheAnalyticIntersectionCurve) {
   const double ra = 0.6, rb = 0.5;

@@ -89,7 +89,7 @@ typedef struct lantern_array {
  * particle once, and a ghost would be drawn twice.
  *
  * Images do not depend on the number of ranks or on how particles are split between them, bit
- * for bit, with one exception: a pixel where two differently coloured spheres have exactly the
+ * for bit, with one exception: a pixel where two differently colored spheres have exactly the
  * same depth (two particles at the same position with the same radius, or, rarely, a pixel centre
  * exactly on the curve where two spheres meet). One rank keeps the sphere it draws first,
  * compositing across ranks the smaller RGBA value, so such pixels may differ between rank counts.
@@ -107,8 +107,8 @@ typedef struct lantern_particles {
   lantern_array position_z;
   lantern_array
       radius; /* optional per-particle radius (used when a scene says radius: per_particle) */
-  lantern_array scalar; /* optional per-particle scalar (colour by scalar) */
-  lantern_array type;   /* optional per-particle integer type (colour by type) */
+  lantern_array scalar; /* optional per-particle scalar (color by scalar) */
+  lantern_array type;   /* optional per-particle integer type (color by type) */
   lantern_array id;     /* optional global particle id (kept in particle dumps) */
 } lantern_particles;
 

@@ -109,7 +109,7 @@ bool assemble_png(const std::vector<PngBand> &bands, int width, int height, int 
     std::vector<uint8_t> ihdr;
     put_be32(&ihdr, static_cast<uint32_t>(width));
     put_be32(&ihdr, static_cast<uint32_t>(height));
-    // Bit depth 8; colour type 2 (RGB) or 6 (RGBA); deflate; adaptive filtering; no interlace.
+    // Bit depth 8; color type 2 (RGB) or 6 (RGBA); deflate; adaptive filtering; no interlace.
     const uint8_t rest[5] = {8, uint8_t(channels_out == 3 ? 2 : 6), 0, 0, 0};
     ihdr.insert(ihdr.end(), rest, rest + 5);
     put_chunk(file, "IHDR", ihdr.data(), ihdr.size());

@@ -28,7 +28,7 @@ struct PngBand {
 };
 
 // Lays out a PNG file from the bands of one image, top band first: signature, IHDR (8-bit,
-// colour type 2 for channels_out == 3 or 6 for 4, no interlace), IDAT chunks of at most
+// color type 2 for channels_out == 3 or 6 for 4, no interlace), IDAT chunks of at most
 // 1 MiB holding the zlib header, the concatenated pieces and the combined adler32, then IEND.
 // Replaces *file. Returns false with a message in *error (if not null) when the bands do not
 // describe a width x height image (row count, raw length, only the last band finishing).

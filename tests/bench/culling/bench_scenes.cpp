@@ -28,7 +28,7 @@ BenchScene fcc(int n) {
         for (int b = 0; b < 4; ++b) {
           s.xyz.insert(s.xyz.end(), {(x + basis[b][0]) * kLattice, (y + basis[b][1]) * kLattice,
                                      (z + basis[b][2]) * kLattice});
-          s.type.push_back(int32_t(((x / 8) + (y / 8) + (z / 8)) % 4));  // coloured domains
+          s.type.push_back(int32_t(((x / 8) + (y / 8) + (z / 8)) % 4));  // colored domains
         }
   s.config.radius = 0.5;
   s.config.color.by = ColorBy::kType;

@@ -16,7 +16,7 @@ struct BenchScene {
   std::string note;         // one line: what it is
   std::vector<double> xyz;  // interleaved positions, owned here (the "simulation's" arrays)
   std::vector<int32_t> type;
-  SceneConfig config;  // size, radius, camera, colours, cuts
+  SceneConfig config;  // size, radius, camera, colors, cuts
 
   ParticleArrays arrays() const;
 };

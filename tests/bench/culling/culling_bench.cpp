@@ -27,11 +27,11 @@
 #include "core/camera/camera.h"
 #include "core/culling/cull_stage.h"
 #include "core/culling/cut_planes.h"
-#include "core/render/cpu_sphere_pass.h"
-#include "core/render/point_splats.h"
 #include "core/particles/particle_scan.h"
-#include "core/render/sphere_instances.h"
+#include "core/render/cpu_sphere_pass.h"
 #include "core/render/gl_session.h"
+#include "core/render/point_splats.h"
+#include "core/render/sphere_instances.h"
 #include "error_plot.h"
 #include "image_metrics.h"
 
@@ -213,7 +213,7 @@ class Bench {
     if (!mode.brute && !draw_.points.empty())
       splat_points(
           p, recipe.per_particle_radius, recipe.radius, draw_.points, culler_.geometry(),
-          [&recipe](int64_t i) { return recipe.colour(i); }, &f);
+          [&recipe](int64_t i) { return recipe.color(i); }, &f);
     r->render.push_back(ms_since(t1));
     r->cull.push_back(cull_ms);
     r->total.push_back(ms_since(t0));

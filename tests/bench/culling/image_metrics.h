@@ -10,7 +10,7 @@
 namespace lantern::bench {
 
 struct ImageError {
-  int64_t differing_pixels = 0;  // colour differs in any channel
+  int64_t differing_pixels = 0;  // color differs in any channel
   int64_t differing_depth = 0;   // window depth differs
   double psnr = 0.0;             // dB over RGB in [0, 1]; +inf when identical
   double ssim = 1.0;             // mean SSIM of 8x8 luma windows (stride 4)

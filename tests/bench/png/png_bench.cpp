@@ -6,7 +6,7 @@
 // spheres (radius ~2.7 px) covering ~60% of the image, as Lantern renders one.
 //   lantern-bench-png [--size 1024] [--runs 7] [--level 1] [--colored] [--image frame.png]
 //                     [--save out.png]
-// --colored gives every atom its own colour (default: one colour); --image benchmarks a real
+// --colored gives every atom its own color (default: one color); --image benchmarks a real
 // rendered frame (any 8-bit image OIIO reads) instead of the synthetic one; --save writes the frame
 // used (as PNG) for a look.
 #include <OpenImageIO/imageio.h>
@@ -54,8 +54,8 @@ double time_ms(int runs, const std::function<void()> &f) {
 using lantern::testing::hash;  // the tests' integer hash (tests/support/hash_noise.h)
 
 // An fcc slab (2 cells deep) seen at an angle, orthographic, z-buffered, Lambert + specular
-// shading. One colour for all atoms (Lantern's default), or with `colored` a colour per atom
-// from a smooth ramp plus per-atom jitter (like colouring by a noisy per-atom quantity), which
+// shading. One color for all atoms (Lantern's default), or with `colored` a color per atom
+// from a smooth ramp plus per-atom jitter (like coloring by a noisy per-atom quantity), which
 // defeats LZ77 matches between repeated sphere sprites. Returns the frame and sets *coverage
 // (fraction of non-background pixels) and *spheres (atoms drawn).
 Frame render_crystal(int size, bool colored, double *coverage, int *spheres) {
@@ -82,8 +82,8 @@ Frame render_crystal(int size, bool colored, double *coverage, int *spheres) {
           const float x1 = cy * p[0] + sy * p[2], z1 = -sy * p[0] + cy * p[2];
           const float y2 = cx * p[1] - sx * z1, z2 = sx * p[1] + cx * z1;
           const float px = 0.5f * size + x1, py = 0.5f * size + y2;
-          // Colour: a smooth ramp across the slab (like colouring by a coordinate or a slowly
-          // varying field) with +-8% per-atom jitter (thermal noise in the coloured quantity).
+          // Color: a smooth ramp across the slab (like coloring by a coordinate or a slowly
+          // varying field) with +-8% per-atom jitter (thermal noise in the colored quantity).
           const float t = !colored
                               ? 0.35f
                               : std::clamp(float(i) / cells * 0.8f +
@@ -221,7 +221,7 @@ int main(int argc, char **argv) {
   const uint8_t *rgba = frame.rgba.data();
   if (image.empty())
     std::printf("%dx%d synthetic frame (%s): %d spheres of radius %.1f px drawn, %.0f%% covered",
-                width, height, colored ? "colour per atom" : "one colour", spheres,
+                width, height, colored ? "color per atom" : "one color", spheres,
                 2.7 * size / 1024.0, 100 * coverage);
   else
     std::printf("%dx%d frame from %s", width, height, image.c_str());

@@ -13,9 +13,9 @@
 #include <vector>
 
 #include "core/camera/camera.h"
-#include "core/view/view_geometry.h"
 #include "core/render/cpu_sphere_raster.h"
 #include "core/render/gl_session.h"
+#include "core/view/view_geometry.h"
 
 using namespace lantern;
 
