@@ -1,9 +1,11 @@
 // A stage's outcome inside Lantern: a status code plus a message naming what went wrong.
 //
-// This is core's one error convention: functions that can fail return a Status (or, where they
-// only ever fail one way, a std::string message that the caller wraps into one). The codes have
-// the numeric values of the C API's lantern_status (adaptor/), which translates them one to one;
-// core itself never sees the public header.
+// This is core's one error convention: a function that can fail returns a Status (OK, or the code
+// that fits where the failure is known and a message naming what is at fault) and hands results
+// back through pointer out-parameters (factories: static Status create(..., std::unique_ptr<T> *)).
+// A caller keeps a lower stage's code and only adds context to its message, with with_context().
+// The codes have the numeric values of the C API's lantern_status (adaptor/), which translates
+// them one to one; core itself never sees the public header.
 #pragma once
 
 #include <string>
@@ -32,5 +34,12 @@ struct Status {
   Status(StatusCode c, std::string m) : code(c), message(std::move(m)) {}
   bool ok() const { return code == StatusCode::kOk; }
 };
+
+// `s` with `prefix` in front of its message (e.g. "scenes 'top': "); the code is kept, and an
+// OK status stays OK.
+inline Status with_context(const std::string &prefix, Status s) {
+  if (!s.ok()) s.message.insert(0, prefix);
+  return s;
+}
 
 }  // namespace lantern
