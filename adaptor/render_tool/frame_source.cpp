@@ -12,7 +12,7 @@ class ReaderSource : public FrameSource {
   explicit ReaderSource(std::unique_ptr<Reader> reader) : reader_(std::move(reader)) {}
   const std::vector<FrameInfo> &frames() const override { return reader_->frames(); }
   std::string read(size_t index, int64_t begin, int64_t end, ParticleFrame *out) const override {
-    return reader_->read(index, begin, end, out);
+    return reader_->read(index, begin, end, out).message;
   }
 
  private:
@@ -25,12 +25,12 @@ std::string open_frame_source(const std::string &path, MPI_Comm comm,
                               std::unique_ptr<FrameSource> *out) {
   if (has_hdf5_signature(path)) {
     std::unique_ptr<H5mdReader> reader;
-    if (auto e = H5mdReader::open(path, comm, &reader); !e.empty()) return e;
+    if (Status s = H5mdReader::open(path, comm, &reader); !s.ok()) return s.message;
     *out = std::make_unique<ReaderSource<H5mdReader>>(std::move(reader));
     return {};
   }
   std::unique_ptr<LammpsDumpReader> reader;
-  if (auto e = LammpsDumpReader::open(path, &reader); !e.empty()) return e;
+  if (Status s = LammpsDumpReader::open(path, &reader); !s.ok()) return s.message;
   *out = std::make_unique<ReaderSource<LammpsDumpReader>>(std::move(reader));
   return {};
 }

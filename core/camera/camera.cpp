@@ -51,9 +51,8 @@ double Camera::window_depth_to_distance(double d) const {
   return 2.0 * n * f / (f + n - z_ndc * (f - n));
 }
 
-std::string make_camera(const CameraConfig &config, const glm::dvec3 &lo_in,
-                        const glm::dvec3 &hi_in, double max_radius, int width, int height,
-                        Camera *out) {
+Status make_camera(const CameraConfig &config, const glm::dvec3 &lo_in, const glm::dvec3 &hi_in,
+                   double max_radius, int width, int height, Camera *out) {
   Camera cam;
   cam.width = width;
   cam.height = height;
@@ -73,10 +72,11 @@ std::string make_camera(const CameraConfig &config, const glm::dvec3 &lo_in,
     cam.target = {config.look_at[0], config.look_at[1], config.look_at[2]};
     cam.up = {config.up[0], config.up[1], config.up[2]};
     const glm::dvec3 forward = cam.target - cam.eye;
-    if (glm::length(forward) == 0.0) return "camera.look_at: equals camera.position";
+    if (glm::length(forward) == 0.0)
+      return {StatusCode::kConfig, "camera.look_at: equals camera.position"};
     if (glm::length(glm::cross(forward, cam.up)) <=
         1e-12 * glm::length(forward) * glm::length(cam.up))
-      return "camera.up: parallel to the viewing direction (or zero)";
+      return {StatusCode::kConfig, "camera.up: parallel to the viewing direction (or zero)"};
   } else {
     const double az = radians(config.azimuth), el = radians(config.elevation);
     const glm::dvec3 dir{std::cos(el) * std::cos(az), std::cos(el) * std::sin(az), std::sin(el)};
@@ -98,7 +98,7 @@ std::string make_camera(const CameraConfig &config, const glm::dvec3 &lo_in,
   if (config.near_plane) cam.near_plane = *config.near_plane;
   if (config.far_plane) cam.far_plane = *config.far_plane;
   if (!(cam.near_plane > 0.0 && cam.far_plane > cam.near_plane))
-    return "camera.near/far: need 0 < near < far";
+    return {StatusCode::kConfig, "camera.near/far: need 0 < near < far"};
 
   if (cam.orthographic) {
     // The bounding sphere fills the shorter image side at zoom 1.

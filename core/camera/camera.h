@@ -11,6 +11,7 @@
 #include <glm/vec3.hpp>
 
 #include "core/camera/render_view.h"
+#include "core/common/status.h"
 #include "core/config/config.h"
 
 namespace lantern {
@@ -32,8 +33,8 @@ struct Camera {
 
 // Builds the camera for `config` and the global particle bounds [lo, hi] (centres), whose
 // spheres reach at most `max_radius` beyond them. Empty bounds (lo > hi) frame the unit cube.
-// Returns "" or an error naming the camera key at fault (e.g. position == look_at).
-std::string make_camera(const CameraConfig &config, const glm::dvec3 &lo, const glm::dvec3 &hi,
-                        double max_radius, int width, int height, Camera *out);
+// Returns OK, or kConfig naming the camera key at fault (e.g. position == look_at).
+Status make_camera(const CameraConfig &config, const glm::dvec3 &lo, const glm::dvec3 &hi,
+                   double max_radius, int width, int height, Camera *out);
 
 }  // namespace lantern

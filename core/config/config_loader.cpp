@@ -294,8 +294,8 @@ class Loader {
     OutputConfig o;
     optional_key(node, path, "pattern", [&](const YAML::Node &n, const std::string &p) {
       o.pattern = r_.read_string(n, p);
-      const std::string problem = validate_pattern(o.pattern);
-      if (!problem.empty()) r_.fail(n, p, "'" + o.pattern + "': " + problem);
+      const Status problem = validate_pattern(o.pattern);
+      if (!problem.ok()) r_.fail(n, p, "'" + o.pattern + "': " + problem.message);
     });
     const std::optional<ImageFormat> from_extension = format_of_extension(o.pattern);
     bool format_given = false;
@@ -414,51 +414,54 @@ bool is_inline_document(const std::string &s) {
   return s.find('\n') != std::string::npos || (first != std::string::npos && s[first] == '{');
 }
 
-// Reads the whole file; "" on success, else a message naming the file and the OS reason.
-std::string read_file(const std::string &path, std::string *text) {
+// Reads the whole file. On failure kConfig (a configuration that cannot be read is a
+// configuration error, LANTERN_ERROR_CONFIG in the C API) naming the file and the OS reason.
+Status read_file(const std::string &path, std::string *text) {
+  const auto unreadable = [&](const std::string &reason) {
+    return Status(StatusCode::kConfig, "cannot read config file '" + path + "': " + reason);
+  };
   std::error_code ec;
-  if (std::filesystem::is_directory(path, ec))
-    return "cannot read config file '" + path + "': " + std::strerror(EISDIR);
+  if (std::filesystem::is_directory(path, ec)) return unreadable(std::strerror(EISDIR));
   errno = 0;
   std::ifstream in(path, std::ios::binary);
-  if (!in) {
-    const int error = errno != 0 ? errno : ENOENT;
-    return "cannot read config file '" + path + "': " + std::strerror(error);
-  }
+  if (!in) return unreadable(std::strerror(errno != 0 ? errno : ENOENT));
   std::ostringstream buffer;
   buffer << in.rdbuf();
-  if (in.bad()) return "cannot read config file '" + path + "': read error";
+  if (in.bad()) return unreadable("read error");
   *text = buffer.str();
-  return "";
+  return {};
 }
 
 }  // namespace
 
-std::string load_config(const std::string &path_or_document, Config *out) {
-  if (out == nullptr) return "load_config: the output Config pointer is null";
+Status load_config(const std::string &path_or_document, Config *out) {
+  if (out == nullptr)
+    return {StatusCode::kNullArgument, "load_config: the output Config pointer is null"};
   const bool is_inline = is_inline_document(path_or_document);
   const std::string source = is_inline ? "inline config" : path_or_document;
-  if (!is_inline && path_or_document.empty()) return "the configuration path is empty";
+  if (!is_inline && path_or_document.empty())
+    return {StatusCode::kConfig, "the configuration path is empty"};
   std::string text = path_or_document;
-  if (!is_inline) {
-    const std::string error = read_file(path_or_document, &text);
-    if (!error.empty()) return error;
-  }
+  if (!is_inline)
+    if (Status s = read_file(path_or_document, &text); !s.ok()) return s;
+  const auto invalid = [](std::string message) {
+    return Status(StatusCode::kConfig, std::move(message));
+  };
   try {
     const YAML::Node root = YAML::Load(text);
     *out = Loader(source).load(root);
-    return "";
+    return {};
   } catch (const ConfigError &e) {
-    return e.what();
+    return invalid(e.what());
   } catch (const YAML::ParserException &e) {
-    return source + " line " + std::to_string(e.mark.line + 1) + ", column " +
-           std::to_string(e.mark.column + 1) + ": malformed YAML: " + e.msg;
+    return invalid(source + " line " + std::to_string(e.mark.line + 1) + ", column " +
+                   std::to_string(e.mark.column + 1) + ": malformed YAML: " + e.msg);
   } catch (const YAML::Exception &e) {
-    return source + ": " + e.what();
+    return invalid(source + ": " + e.what());
   } catch (const std::exception &e) {
-    return source + ": " + e.what();
+    return invalid(source + ": " + e.what());
   } catch (...) {
-    return source + ": unexpected error while loading the configuration";
+    return invalid(source + ": unexpected error while loading the configuration");
   }
 }
 

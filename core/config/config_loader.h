@@ -6,13 +6,15 @@
 
 #include <string>
 
+#include "core/common/status.h"
 #include "core/config/config.h"
 
 namespace lantern {
 
 // `path_or_document` is a YAML file path, or an inline YAML document when it contains a newline
-// or starts with '{'. On success fills `*out` (defaults for every absent key) and returns "";
-// on failure returns the error message and leaves `*out` untouched. `out` must not be null.
-std::string load_config(const std::string &path_or_document, Config *out);
+// or starts with '{'. On success fills `*out` (defaults for every absent key) and returns OK; on
+// failure returns kConfig (also for a file that cannot be read) with the error message and leaves
+// `*out` untouched. `out` must not be null (kNullArgument).
+Status load_config(const std::string &path_or_document, Config *out);
 
 }  // namespace lantern

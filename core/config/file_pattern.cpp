@@ -40,10 +40,10 @@ std::string format_step(int64_t step, int width) {
   return buffer;
 }
 
-// Walks the pattern once. With `error` set, stops at the first problem and describes it there;
-// otherwise expands (copying malformed parts through).
+// Walks the pattern once. With `error` set, stops at the first problem and describes it there
+// (kConfig); otherwise expands (copying malformed parts through).
 std::string walk(const std::string &pattern, int64_t step, const std::string &scene,
-                 std::string *error) {
+                 Status *error) {
   std::string out;
   for (size_t i = 0; i < pattern.size(); ++i) {
     const char c = pattern[i];
@@ -54,7 +54,8 @@ std::string walk(const std::string &pattern, int64_t step, const std::string &sc
     }
     if (c == '}') {
       if (error) {
-        *error = "unmatched '}' at position " + std::to_string(i) + " (write '}}' for a brace)";
+        *error = {StatusCode::kConfig,
+                  "unmatched '}' at position " + std::to_string(i) + " (write '}}' for a brace)"};
         return "";
       }
       out += c;
@@ -67,7 +68,7 @@ std::string walk(const std::string &pattern, int64_t step, const std::string &sc
     const size_t close = pattern.find('}', i);
     if (close == std::string::npos) {
       if (error) {
-        *error = "unclosed '{' at position " + std::to_string(i);
+        *error = {StatusCode::kConfig, "unclosed '{' at position " + std::to_string(i)};
         return "";
       }
       out += pattern.substr(i);
@@ -77,8 +78,9 @@ std::string walk(const std::string &pattern, int64_t step, const std::string &sc
     const std::optional<Placeholder> placeholder = parse_placeholder(body);
     if (!placeholder) {
       if (error) {
-        *error = "unknown placeholder '{" + body +
-                 "}'; allowed: {step}, {step:0Nd} (N = 1..20, e.g. {step:06d}), {scene}";
+        *error = {StatusCode::kConfig,
+                  "unknown placeholder '{" + body +
+                      "}'; allowed: {step}, {step:0Nd} (N = 1..20, e.g. {step:06d}), {scene}"};
         return "";
       }
       out += pattern.substr(i, close - i + 1);
@@ -94,9 +96,9 @@ std::string walk(const std::string &pattern, int64_t step, const std::string &sc
 
 }  // namespace
 
-std::string validate_pattern(const std::string &pattern) {
-  if (pattern.empty()) return "the pattern is empty";
-  std::string error;
+Status validate_pattern(const std::string &pattern) {
+  if (pattern.empty()) return {StatusCode::kConfig, "the pattern is empty"};
+  Status error;
   walk(pattern, 0, "", &error);
   return error;
 }

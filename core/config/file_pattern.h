@@ -8,12 +8,14 @@
 #include <cstdint>
 #include <string>
 
+#include "core/common/status.h"
+
 namespace lantern {
 
-// "" if `pattern` is well formed, else a message naming the offending placeholder.
-std::string validate_pattern(const std::string &pattern);
+// OK if `pattern` is well formed, else kConfig with a message naming the offending placeholder.
+Status validate_pattern(const std::string &pattern);
 
-// The file name for `step` of `scene`. Precondition: validate_pattern(pattern) == ""; on a
+// The file name for `step` of `scene`. Precondition: validate_pattern(pattern).ok(); on a
 // malformed pattern, unknown placeholders are copied through verbatim (never throws).
 std::string expand_pattern(const std::string &pattern, int64_t step, const std::string &scene);
 

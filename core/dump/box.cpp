@@ -4,14 +4,17 @@
 
 namespace lantern {
 
-std::string validate_box(const Box &box) {
+Status validate_box(const Box &box) {
+  const auto invalid = [](std::string message) {
+    return Status(StatusCode::kInvalidArgument, std::move(message));
+  };
   for (int a = 0; a < 3; ++a) {
     const std::string axis = "[" + std::to_string(a) + "]";
-    if (!std::isfinite(box.low[a])) return "low" + axis + " is not finite";
-    if (!std::isfinite(box.high[a])) return "high" + axis + " is not finite";
+    if (!std::isfinite(box.low[a])) return invalid("low" + axis + " is not finite");
+    if (!std::isfinite(box.high[a])) return invalid("high" + axis + " is not finite");
     if (box.low[a] > box.high[a])
-      return "low" + axis + " = " + std::to_string(box.low[a]) + " is above high" + axis + " = " +
-             std::to_string(box.high[a]);
+      return invalid("low" + axis + " = " + std::to_string(box.low[a]) + " is above high" + axis +
+                     " = " + std::to_string(box.high[a]));
   }
   return {};
 }

@@ -6,6 +6,8 @@
 #include <array>
 #include <string>
 
+#include "core/common/status.h"
+
 namespace lantern {
 
 struct Box {
@@ -18,8 +20,8 @@ struct Box {
   }
 };
 
-// "" when the box is usable (finite corners, low <= high on every axis), else a message naming
-// the axis, e.g. "low[1] = 5 is above high[1] = 2".
-std::string validate_box(const Box &box);
+// OK when the box is usable (finite corners, low <= high on every axis), else kInvalidArgument
+// with a message naming the axis, e.g. "low[1] = 5 is above high[1] = 2".
+Status validate_box(const Box &box);
 
 }  // namespace lantern

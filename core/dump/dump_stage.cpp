@@ -116,12 +116,8 @@ Status DumpStage::open_writer(MPI_Comm comm, const ParticleArrays &particles, co
                                     dir.string() + " (" + ec.message() + ")"};
   }
   if (Status s = agree_on_status(comm, local); !s.ok()) return s;
-  try {
-    writer_ = std::make_unique<H5mdWriter>(comm, config_.file, layout);
-  } catch (const Hdf5Error &e) {
-    local = {StatusCode::kIo,
-             "dump.file: " + config_.file + ": step " + std::to_string(step) + ": " + e.what()};
-  }
+  local = with_context("dump.file: " + config_.file + ": step " + std::to_string(step) + ": ",
+                       H5mdWriter::create(comm, config_.file, layout, &writer_));
   Status agreed = agree_on_status(comm, local);
   if (!agreed.ok()) writer_.reset();
   return agreed;
@@ -152,13 +148,8 @@ Status DumpStage::write(MPI_Comm comm, const ParticleArrays &particles, const Ex
       !s.ok())
     return s;
 
-  Status local;
-  try {
-    writer_->append({&particles, offset, step, time, b});
-  } catch (const Hdf5Error &e) {
-    local = {StatusCode::kIo, where + e.what()};
-  }
-  return agree_on_status(comm, local);
+  return agree_on_status(comm,
+                         with_context(where, writer_->append({&particles, offset, step, time, b})));
 }
 
 }  // namespace lantern

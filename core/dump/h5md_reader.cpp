@@ -245,11 +245,13 @@ bool has_hdf5_signature(const std::string &path) {
   return in.read(head, 8) && std::memcmp(head, kSignature, 8) == 0;
 }
 
-std::string H5mdReader::open(const std::string &path, MPI_Comm comm,
-                             std::unique_ptr<H5mdReader> *out) {
+Status H5mdReader::open(const std::string &path, MPI_Comm comm, std::unique_ptr<H5mdReader> *out) {
+  const auto unreadable = [&path](const std::string &what) {
+    return Status(StatusCode::kIo, path + ": " + what);
+  };
   silence_hdf5_errors();
-  if (!std::ifstream(path)) return path + ": cannot open the file (missing or unreadable)";
-  if (!has_hdf5_signature(path)) return path + ": not an HDF5 file (no HDF5 signature)";
+  if (!std::ifstream(path)) return unreadable("cannot open the file (missing or unreadable)");
+  if (!has_hdf5_signature(path)) return unreadable("not an HDF5 file (no HDF5 signature)");
   auto impl = std::make_unique<Impl>();
   impl->path = path;
   try {
@@ -266,16 +268,17 @@ std::string H5mdReader::open(const std::string &path, MPI_Comm comm,
     impl->radius = impl->open_field(h5md::kRadius);
     impl->open_box();
   } catch (const Hdf5Error &e) {
-    return path + ": " + e.what();
+    return unreadable(e.what());
   }
   out->reset(new H5mdReader(std::move(impl)));  // private constructor: make_unique cannot
   return {};
 }
 
-std::string H5mdReader::read(size_t index, int64_t begin, int64_t end, ParticleFrame *out) const {
+Status H5mdReader::read(size_t index, int64_t begin, int64_t end, ParticleFrame *out) const {
   const Impl &m = *impl_;
   if (index >= m.frames.size())
-    return m.path + ": frame " + std::to_string(index) + " does not exist";
+    return {StatusCode::kInvalidArgument,
+            m.path + ": frame " + std::to_string(index) + " does not exist"};
   ParticleFrame f;
   f.step = m.frames[index].step;
   f.time = m.frames[index].time;
@@ -313,7 +316,7 @@ std::string H5mdReader::read(size_t index, int64_t begin, int64_t end, ParticleF
       f.box = b;
     }
   } catch (const Hdf5Error &e) {
-    return m.path + ": " + e.what();
+    return {StatusCode::kIo, m.path + ": " + e.what()};
   }
   *out = std::move(f);
   return {};

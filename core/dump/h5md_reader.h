@@ -15,22 +15,24 @@
 #include <string>
 #include <vector>
 
+#include "core/common/status.h"
 #include "core/dump/particle_frame.h"
 
 namespace lantern {
 
 class H5mdReader {
  public:
-  // Opens `path` on `comm` (collective: MPI-IO) and checks its structure. Returns "" and sets
-  // *out, or an error message naming the file.
-  static std::string open(const std::string &path, MPI_Comm comm, std::unique_ptr<H5mdReader> *out);
+  // Opens `path` on `comm` (collective: MPI-IO) and checks its structure. Returns OK and sets
+  // *out, or kIo with an error message naming the file.
+  static Status open(const std::string &path, MPI_Comm comm, std::unique_ptr<H5mdReader> *out);
   ~H5mdReader();
   H5mdReader(const H5mdReader &) = delete;
   H5mdReader &operator=(const H5mdReader &) = delete;
 
   const std::vector<FrameInfo> &frames() const;
-  // Reads particles [begin, end) of frame `index` into *out (independent I/O). "" or an error.
-  std::string read(size_t index, int64_t begin, int64_t end, ParticleFrame *out) const;
+  // Reads particles [begin, end) of frame `index` into *out (independent I/O). OK, kIo naming the
+  // file, or kInvalidArgument for a frame that does not exist.
+  Status read(size_t index, int64_t begin, int64_t end, ParticleFrame *out) const;
 
  private:
   struct Impl;

@@ -46,15 +46,35 @@ std::string author_name() {
 
 }  // namespace
 
-H5mdWriter::H5mdWriter(MPI_Comm comm, const std::string &path, const DumpLayout &layout)
-    : path_(path), layout_(layout) {
+Status H5mdWriter::create(MPI_Comm comm, const std::string &path, const DumpLayout &layout,
+                          std::unique_ptr<H5mdWriter> *out) {
+  std::unique_ptr<H5mdWriter> writer(new H5mdWriter(path, layout));  // private constructor
+  try {
+    writer->create_file(comm);
+  } catch (const Hdf5Error &e) {
+    return {StatusCode::kIo, e.what()};
+  }
+  *out = std::move(writer);
+  return {};
+}
+
+Status H5mdWriter::append(const DumpFrame &frame) {
+  try {
+    write_frame(frame);
+  } catch (const Hdf5Error &e) {
+    return {StatusCode::kIo, e.what()};
+  }
+  return {};
+}
+
+void H5mdWriter::create_file(MPI_Comm comm) {
   silence_hdf5_errors();
   MPI_Comm_rank(comm, &rank_);
   const H5Handle fapl = own_plist(H5Pcreate(H5P_FILE_ACCESS), "file access list");
   h5_check(H5Pset_fapl_mpio(fapl.get(), comm, MPI_INFO_NULL), "MPI-IO driver");
   // Metadata written collectively by all ranks instead of many small independent writes.
   h5_check(H5Pset_coll_metadata_write(fapl.get(), true), "collective metadata");
-  file_ = own_file(H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, fapl.get()),
+  file_ = own_file(H5Fcreate(path_.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, fapl.get()),
                    "cannot create the file");
   dxpl_ = own_plist(H5Pcreate(H5P_DATASET_XFER), "transfer list");
   h5_check(H5Pset_dxpl_mpio(dxpl_.get(), H5FD_MPIO_COLLECTIVE), "collective transfers");
@@ -104,7 +124,7 @@ void H5mdWriter::create_elements() {
   if (f.radius) radius_.emplace(group, h5md::kRadius, std::vector<hsize_t>{n}, real, kChunkRows);
 }
 
-void H5mdWriter::append(const DumpFrame &f) {
+void H5mdWriter::write_frame(const DumpFrame &f) {
   const ParticleArrays &p = *f.particles;
   const int64_t n = p.count();
   const bool root = rank_ == 0;

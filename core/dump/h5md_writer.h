@@ -5,17 +5,19 @@
 // exclusive prefix sum of the counts), so a frame is one collective MPI-IO write per field.
 // The particle count N is fixed per file (set by the first frame): H5MD stores fixed-size frames
 // and Lantern does not pad. After every frame the file is flushed, so a crash later leaves a
-// valid file with every completed frame. Errors throw Hdf5Error (the caller turns it into a
-// Status).
+// valid file with every completed frame. HDF5 failures are returned as kIo with HDF5's message
+// (the Hdf5Error of hdf5_handle.h stays inside the writer).
 #pragma once
 
 #include <mpi.h>
 
 #include <array>
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <string>
 
+#include "core/common/status.h"
 #include "core/dump/box.h"
 #include "core/dump/hdf5_handle.h"
 #include "core/dump/time_series.h"
@@ -50,19 +52,25 @@ struct DumpFrame {
 
 class H5mdWriter {
  public:
-  // Collective. Creates `path` (replacing an existing file) and its H5MD structure.
-  H5mdWriter(MPI_Comm comm, const std::string &path, const DumpLayout &layout);
+  // Collective. Creates `path` (replacing an existing file) and its H5MD structure, into *out.
+  // On failure returns kIo and leaves *out alone.
+  static Status create(MPI_Comm comm, const std::string &path, const DumpLayout &layout,
+                       std::unique_ptr<H5mdWriter> *out);
   H5mdWriter(const H5mdWriter &) = delete;
   H5mdWriter &operator=(const H5mdWriter &) = delete;
 
-  // Collective. Appends one frame and flushes the file.
-  void append(const DumpFrame &frame);
+  // Collective. Appends one frame and flushes the file. OK or kIo.
+  Status append(const DumpFrame &frame);
 
   const DumpLayout &layout() const { return layout_; }
   const std::string &path() const { return path_; }
   int64_t frames() const { return static_cast<int64_t>(frames_); }
 
  private:
+  H5mdWriter(const std::string &path, const DumpLayout &layout) : path_(path), layout_(layout) {}
+  // The steps of create() and append(); they throw Hdf5Error.
+  void create_file(MPI_Comm comm);
+  void write_frame(const DumpFrame &frame);
   void write_metadata();
   void create_elements();
 

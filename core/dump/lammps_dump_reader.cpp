@@ -247,10 +247,12 @@ int tokenize(const std::string &line, int needed,
 
 }  // namespace
 
-std::string LammpsDumpReader::open(const std::string &path,
-                                   std::unique_ptr<LammpsDumpReader> *out) {
+Status LammpsDumpReader::open(const std::string &path, std::unique_ptr<LammpsDumpReader> *out) {
+  const auto unreadable = [&path](const std::string &what) {
+    return Status(StatusCode::kIo, path + what);
+  };
   LineReader in(path);
-  if (!in.good()) return path + ": cannot open the file (missing or unreadable)";
+  if (!in.good()) return unreadable(": cannot open the file (missing or unreadable)");
   auto reader = std::make_unique<LammpsDumpReader>();
   reader->path_ = path;
   try {
@@ -275,17 +277,18 @@ std::string LammpsDumpReader::open(const std::string &path,
       }
     }
   } catch (const ParseError &e) {
-    return path + ":" + std::to_string(e.line) + ": " + e.what;
+    return unreadable(":" + std::to_string(e.line) + ": " + e.what);
   }
-  if (reader->frames_.empty()) return path + ": no frames (empty file or not a LAMMPS text dump)";
+  if (reader->frames_.empty())
+    return unreadable(": no frames (empty file or not a LAMMPS text dump)");
   *out = std::move(reader);
   return {};
 }
 
-std::string LammpsDumpReader::read(size_t index, int64_t begin, int64_t end,
-                                   ParticleFrame *out) const {
+Status LammpsDumpReader::read(size_t index, int64_t begin, int64_t end, ParticleFrame *out) const {
   if (index >= frames_.size())
-    return path_ + ": frame " + std::to_string(index) + " does not exist";
+    return {StatusCode::kInvalidArgument,
+            path_ + ": frame " + std::to_string(index) + " does not exist"};
   const Frame &fr = frames_[index];
   const Columns &c = fr.columns;
   ParticleFrame f;
@@ -308,26 +311,29 @@ std::string LammpsDumpReader::read(size_t index, int64_t begin, int64_t end,
   auto token = [&](int k) { return k < 64 ? tok[k] : more[k - 64]; };
   for (size_t r = 0; r < rows; ++r) {
     const int64_t line_no = fr.atoms_line + begin + static_cast<int64_t>(r);
-    const std::string where = path_ + ":" + std::to_string(line_no) + ": ";
-    if (!std::getline(in, line)) return where + "cannot read the atom line (file changed?)";
+    const auto bad_line = [&](const std::string &what) {
+      return Status(StatusCode::kIo, path_ + ":" + std::to_string(line_no) + ": " + what);
+    };
+    if (!std::getline(in, line)) return bad_line("cannot read the atom line (file changed?)");
     more.clear();
     const int n = tokenize(line, c.needed, &tok, &more);
     if (n < c.needed)
-      return where + "short line: " + std::to_string(n) + " columns, ITEM: ATOMS needs at least " +
-             std::to_string(c.needed) + " (" + c.names[n] + " is missing)";
-    auto real = [&](int col, double *v) -> std::string {
+      return bad_line("short line: " + std::to_string(n) + " columns, ITEM: ATOMS needs at least " +
+                      std::to_string(c.needed) + " (" + c.names[n] + " is missing)");
+    auto real = [&](int col, double *v) -> Status {
       const auto [s, e] = token(col);
       if (parse_number(s, e, v)) return {};
-      return where + "column '" + c.names[col] + "': '" + std::string(s, e) + "' is not a number";
+      return bad_line("column '" + c.names[col] + "': '" + std::string(s, e) + "' is not a number");
     };
-    auto integer = [&](int col, int64_t *v) -> std::string {
+    auto integer = [&](int col, int64_t *v) -> Status {
       const auto [s, e] = token(col);
       if (parse_number(s, e, v)) return {};
-      return where + "column '" + c.names[col] + "': '" + std::string(s, e) + "' is not an integer";
+      return bad_line("column '" + c.names[col] + "': '" + std::string(s, e) +
+                      "' is not an integer");
     };
     double p[3];
     for (int a = 0; a < 3; ++a)
-      if (auto e = real(c.position[a], &p[a]); !e.empty()) return e;
+      if (Status s = real(c.position[a], &p[a]); !s.ok()) return s;
     if (c.scaled) {  // unscale: x = xlo + xs lx + ys xy + zs xz, ...
       const double xs = p[0], ys = p[1], zs = p[2];
       p[0] = fr.origin[0] + xs * fr.length[0] + ys * fr.tilt[0] + zs * fr.tilt[1];
@@ -336,11 +342,11 @@ std::string LammpsDumpReader::read(size_t index, int64_t begin, int64_t end,
     }
     std::copy(p, p + 3, f.position.begin() + 3 * r);
     if (c.type >= 0)
-      if (auto e = integer(c.type, &f.type[r]); !e.empty()) return e;
+      if (Status s = integer(c.type, &f.type[r]); !s.ok()) return s;
     if (c.id >= 0)
-      if (auto e = integer(c.id, &f.id[r]); !e.empty()) return e;
+      if (Status s = integer(c.id, &f.id[r]); !s.ok()) return s;
     if (c.radius >= 0) {
-      if (auto e = real(c.radius, &f.radius[r]); !e.empty()) return e;
+      if (Status s = real(c.radius, &f.radius[r]); !s.ok()) return s;
       if (c.diameter) f.radius[r] *= 0.5;
     }
   }

@@ -21,18 +21,21 @@
 #include <string>
 #include <vector>
 
+#include "core/common/status.h"
 #include "core/dump/particle_frame.h"
 
 namespace lantern {
 
 class LammpsDumpReader {
  public:
-  // Returns "" and sets *out, or an error naming the file and line.
-  static std::string open(const std::string &path, std::unique_ptr<LammpsDumpReader> *out);
+  // Returns OK and sets *out, or kIo with an error naming the file (and line, for a malformed
+  // dump).
+  static Status open(const std::string &path, std::unique_ptr<LammpsDumpReader> *out);
 
   const std::vector<FrameInfo> &frames() const { return infos_; }
-  // Parses atoms [begin, end) of frame `index` into *out. "" or an error naming file and line.
-  std::string read(size_t index, int64_t begin, int64_t end, ParticleFrame *out) const;
+  // Parses atoms [begin, end) of frame `index` into *out. OK, kIo naming file and line, or
+  // kInvalidArgument for a frame that does not exist.
+  Status read(size_t index, int64_t begin, int64_t end, ParticleFrame *out) const;
 
   // Where a frame's atoms are and how to read them (filled by open()).
   struct Columns {

@@ -38,26 +38,30 @@ bool is_integer(DataType t) {
   return t == DataType::kInt32 || t == DataType::kInt64;
 }
 
-// Validates one array; `components` elements per entry. Returns "" or an error message.
-std::string check_array(const BorrowedArray &a, const char *name, int components, bool want_real,
-                        int64_t count, StridedArray *out) {
+// Validates one array; `components` elements per entry. OK, or kInvalidArgument naming the field.
+Status check_array(const BorrowedArray &a, const char *name, int components, bool want_real,
+                   int64_t count, StridedArray *out) {
   const std::string field = std::string("particles.") + name;
+  const auto invalid = [&field](const std::string &what) {
+    return Status(StatusCode::kInvalidArgument, field + what);
+  };
   if (a.type == DataType::kNone && a.data == nullptr) return {};  // absent
   const int64_t esize = element_size(a.type);
   if (esize == 0)
-    return field + ".type: unknown datatype " + std::to_string(static_cast<int>(a.type));
+    return invalid(".type: unknown datatype " + std::to_string(static_cast<int>(a.type)));
   if (want_real && !is_real(a.type))
-    return field + ".type: must be DataType::kFloat32 or DataType::kFloat64, got " +
-           type_name(a.type);
+    return invalid(".type: must be DataType::kFloat32 or DataType::kFloat64, got " +
+                   std::string(type_name(a.type)));
   if (!want_real && !is_integer(a.type))
-    return field + ".type: must be DataType::kInt32 or DataType::kInt64, got " + type_name(a.type);
-  if (a.data == nullptr && count > 0) return field + ".data: NULL with count > 0";
+    return invalid(".type: must be DataType::kInt32 or DataType::kInt64, got " +
+                   std::string(type_name(a.type)));
+  if (a.data == nullptr && count > 0) return invalid(".data: NULL with count > 0");
   const int64_t natural = esize * components;
   const int64_t stride = a.stride_bytes == 0 ? natural : a.stride_bytes;
   if (stride < natural)
-    return field + ".stride_bytes: " + std::to_string(a.stride_bytes) + " is shorter than " +
-           std::to_string(components) + " " + type_name(a.type) + " (" + std::to_string(natural) +
-           " bytes)";
+    return invalid(".stride_bytes: " + std::to_string(a.stride_bytes) + " is shorter than " +
+                   std::to_string(components) + " " + type_name(a.type) + " (" +
+                   std::to_string(natural) + " bytes)");
   *out = StridedArray(a.data, a.type, stride);
   return {};
 }
@@ -68,34 +72,38 @@ bool given(const BorrowedArray &a) {
 
 }  // namespace
 
-std::string ParticleArrays::validate(const ParticleDescription &p, ParticleArrays *out) {
-  if (p.count < 0) return "particles.count: negative (" + std::to_string(p.count) + ")";
+Status ParticleArrays::validate(const ParticleDescription &p, ParticleArrays *out) {
+  const auto invalid = [](std::string message) {
+    return Status(StatusCode::kInvalidArgument, std::move(message));
+  };
+  if (p.count < 0) return invalid("particles.count: negative (" + std::to_string(p.count) + ")");
   ParticleArrays r;
   r.count_ = p.count;
   const bool inter = given(p.position);
   const bool separate = given(p.position_x) || given(p.position_y) || given(p.position_z);
   if (inter && separate)
-    return "particles.position: give either the interleaved array or position_x/y/z, not both";
+    return invalid(
+        "particles.position: give either the interleaved array or position_x/y/z, not both");
   if (!inter && !separate) {
-    if (p.count > 0) return "particles.position: NULL positions with count > 0";
+    if (p.count > 0) return invalid("particles.position: NULL positions with count > 0");
   } else if (inter) {
     r.interleaved_ = true;
-    if (auto e = check_array(p.position, "position", 3, true, p.count, &r.pos_[0]); !e.empty())
-      return e;
+    if (Status s = check_array(p.position, "position", 3, true, p.count, &r.pos_[0]); !s.ok())
+      return s;
   } else {
     r.interleaved_ = false;
     const BorrowedArray *c[3] = {&p.position_x, &p.position_y, &p.position_z};
     const char *names[3] = {"position_x", "position_y", "position_z"};
     for (int k = 0; k < 3; ++k) {
       if (!given(*c[k]) && p.count > 0)
-        return std::string("particles.") + names[k] + ": NULL positions with count > 0";
-      if (auto e = check_array(*c[k], names[k], 1, true, p.count, &r.pos_[k]); !e.empty()) return e;
+        return invalid(std::string("particles.") + names[k] + ": NULL positions with count > 0");
+      if (Status s = check_array(*c[k], names[k], 1, true, p.count, &r.pos_[k]); !s.ok()) return s;
     }
   }
-  if (auto e = check_array(p.radius, "radius", 1, true, p.count, &r.radius_); !e.empty()) return e;
-  if (auto e = check_array(p.scalar, "scalar", 1, true, p.count, &r.scalar_); !e.empty()) return e;
-  if (auto e = check_array(p.type, "type", 1, false, p.count, &r.type_); !e.empty()) return e;
-  if (auto e = check_array(p.id, "id", 1, false, p.count, &r.id_); !e.empty()) return e;
+  if (Status s = check_array(p.radius, "radius", 1, true, p.count, &r.radius_); !s.ok()) return s;
+  if (Status s = check_array(p.scalar, "scalar", 1, true, p.count, &r.scalar_); !s.ok()) return s;
+  if (Status s = check_array(p.type, "type", 1, false, p.count, &r.type_); !s.ok()) return s;
+  if (Status s = check_array(p.id, "id", 1, false, p.count, &r.id_); !s.ok()) return s;
   *out = r;
   return {};
 }

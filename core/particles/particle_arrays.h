@@ -12,6 +12,7 @@
 
 #include <glm/vec3.hpp>
 
+#include "core/common/status.h"
 #include "core/particles/particle_description.h"
 
 namespace lantern {
@@ -79,11 +80,11 @@ class ParticleArrays {
  public:
   ParticleArrays() = default;
 
-  // Checks a description (types, strides, NULL pointers, negative count) and,
-  // on success, returns an empty string and fills *out. On failure returns a message naming the
-  // offending field (e.g. "particles.position.stride_bytes: 8 is shorter than 3 float64 (24)").
+  // Checks a description (types, strides, NULL pointers, negative count) and, on success, fills
+  // *out and returns OK. On failure returns kInvalidArgument with a message naming the offending
+  // field (e.g. "particles.position.stride_bytes: 8 is shorter than 3 float64 (24)").
   // It reads no element: NaN positions are found later, per frame.
-  static std::string validate(const ParticleDescription &p, ParticleArrays *out);
+  static Status validate(const ParticleDescription &p, ParticleArrays *out);
 
   int64_t count() const { return count_; }
   glm::dvec3 position(int64_t i) const {

@@ -14,14 +14,16 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-// Per-particle radii must be usable: finite and non-negative. Returns "" or the first offender.
-std::string check_radii(const ParticleArrays &p) {
+// Per-particle radii must be usable: finite and non-negative. OK, or kInvalidArgument naming the
+// first offender.
+Status check_radii(const ParticleArrays &p) {
   if (!p.has_radius()) return {};
   for (int64_t i = 0; i < p.count(); ++i) {
     const double r = p.radius(i);
     if (!(r >= 0.0) || !std::isfinite(r))
-      return "particles.radius[" + std::to_string(i) + "]: " + std::to_string(r) +
-             " (radii must be finite and >= 0)";
+      return {StatusCode::kInvalidArgument, "particles.radius[" + std::to_string(i) +
+                                                "]: " + std::to_string(r) +
+                                                " (radii must be finite and >= 0)"};
   }
   return {};
 }
@@ -35,8 +37,7 @@ Status Runtime::open(const std::string &config_text, MPI_Comm comm, std::unique_
   MPI_Comm_rank(rt->comm_, &rt->rank_);
   MPI_Comm_size(rt->comm_, &rt->size_);
 
-  Status local;
-  if (auto e = load_config(config_text, &rt->config_); !e.empty()) local = {StatusCode::kConfig, e};
+  Status local = load_config(config_text, &rt->config_);
   if (local.ok() && !rt->config_.scenes.empty()) {
     std::string e;
     rt->gl_ = GlSession::acquire(&e);
@@ -67,9 +68,8 @@ Status Runtime::publish(const ParticleDescription &particles) {
   ParticleArrays validated;
   particles_ =
       ParticleArrays();  // a failed publish leaves no particles (lantern_publish in the C API)
-  if (auto e = ParticleArrays::validate(particles, &validated); !e.empty())
-    return {StatusCode::kInvalidArgument, e};
-  if (auto e = check_radii(validated); !e.empty()) return {StatusCode::kInvalidArgument, e};
+  if (Status s = ParticleArrays::validate(particles, &validated); !s.ok()) return s;
+  if (Status s = check_radii(validated); !s.ok()) return s;
   particles_ = validated;
   return {};
 }
@@ -93,7 +93,7 @@ void Runtime::warn_nonfinite_once(int64_t count, int64_t step) {
 }
 
 Status Runtime::set_box(const Box &box) {
-  if (auto e = validate_box(box); !e.empty()) return {StatusCode::kInvalidArgument, "box: " + e};
+  if (Status s = validate_box(box); !s.ok()) return with_context("box: ", std::move(s));
   box_ = box;
   return {};
 }

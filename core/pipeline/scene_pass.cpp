@@ -87,9 +87,10 @@ Status run_scene_pass(const ScenePassInputs &in, const SceneConfig &scene, Scene
   const double max_radius = radius.max_radius(in.global);
   const glm::dvec3 lo{in.global.lo[0], in.global.lo[1], in.global.lo[2]};
   const glm::dvec3 hi{in.global.hi[0], in.global.hi[1], in.global.hi[2]};
-  if (auto e = make_camera(scene.camera, lo, hi, max_radius, scene.width, scene.height, &camera);
-      !e.empty())
-    return {StatusCode::kConfig, "scenes '" + scene.name + "': " + e};
+  const std::string where = "scenes '" + scene.name + "': ";
+  if (Status s = make_camera(scene.camera, lo, hi, max_radius, scene.width, scene.height, &camera);
+      !s.ok())
+    return with_context(where, std::move(s));
   stats->camera_ms = ms_since(t0);
 
   Status local = check_scene_needs(scene, radius, *in.particles);

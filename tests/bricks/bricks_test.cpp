@@ -15,6 +15,7 @@
 #include "core/bricks/level_layout.h"
 #include "core/bricks/morton.h"
 #include "core/bricks/radix_sort.h"
+#include "tests/support/status_expect.h"
 
 namespace lantern {
 namespace {
@@ -36,7 +37,7 @@ ParticleArrays borrow(const std::vector<double> &xyz, const std::vector<float> *
   p.position = {xyz.data(), DataType::kFloat64, 0};
   if (radius) p.radius = {radius->data(), DataType::kFloat32, 0};
   ParticleArrays a;
-  EXPECT_EQ(ParticleArrays::validate(p, &a), "");
+  EXPECT_OK(ParticleArrays::validate(p, &a));
   return a;
 }
 

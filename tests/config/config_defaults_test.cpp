@@ -7,14 +7,14 @@
 #include <fstream>
 
 #include "core/config/config_loader.h"
+#include "tests/support/status_expect.h"
 
 namespace lantern {
 namespace {
 
 Config load_ok(const std::string &document) {
   Config c;
-  const std::string error = load_config(document, &c);
-  EXPECT_EQ(error, "") << document;
+  EXPECT_OK(load_config(document, &c)) << document;
   return c;
 }
 
@@ -183,7 +183,7 @@ TEST(ConfigDefaults, LoadsFromFile) {
   const std::string path = ::testing::TempDir() + "lantern_config_test.yaml";
   std::ofstream(path) << "scenes:\n  - width: 8\n";
   Config c;
-  EXPECT_EQ(load_config(path, &c), "");
+  EXPECT_OK(load_config(path, &c));
   EXPECT_EQ(c.scenes[0].width, 8);
   std::remove(path.c_str());
 }

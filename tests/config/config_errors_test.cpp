@@ -13,8 +13,10 @@ std::string expect_error(const std::string &document,
                          std::initializer_list<const char *> fragments) {
   Config c;
   c.verbose = true;  // sentinel: a failed load must leave the output untouched
-  const std::string error = load_config(document, &c);
-  EXPECT_NE(error, "") << document;
+  const Status status = load_config(document, &c);
+  const std::string &error = status.message;
+  EXPECT_FALSE(status.ok()) << document;
+  EXPECT_EQ(status.code, StatusCode::kConfig) << error;
   for (const char *fragment : fragments)
     EXPECT_NE(error.find(fragment), std::string::npos)
         << "missing '" << fragment << "' in: " << error;

@@ -4,6 +4,7 @@
 #include <filesystem>
 
 #include "core/config/config_loader.h"
+#include "tests/support/status_expect.h"
 
 namespace lantern {
 namespace {
@@ -22,14 +23,14 @@ TEST(ExampleConfigs, EveryFileInConfigDirLoads) {
   ASSERT_GE(files.size(), 4u) << "expected the example configurations in " LANTERN_CONFIG_DIR;
   for (const std::string &file : files) {
     Config c;
-    EXPECT_EQ(load_config(file, &c), "") << file;
+    EXPECT_OK(load_config(file, &c)) << file;
     EXPECT_FALSE(c.scenes.empty() && !c.dump.enabled) << file;
   }
 }
 
 TEST(ExampleConfigs, TwoScenesHasBothProjectionsAndColorings) {
   Config c;
-  ASSERT_EQ(load_config(std::string(LANTERN_CONFIG_DIR) + "/two_scenes.yaml", &c), "");
+  ASSERT_OK(load_config(std::string(LANTERN_CONFIG_DIR) + "/two_scenes.yaml", &c));
   ASSERT_EQ(c.scenes.size(), 2u);
   EXPECT_EQ(c.scenes[0].camera.projection, Projection::kPerspective);
   EXPECT_EQ(c.scenes[1].camera.projection, Projection::kOrthographic);
@@ -39,7 +40,7 @@ TEST(ExampleConfigs, TwoScenesHasBothProjectionsAndColorings) {
 
 TEST(ExampleConfigs, ExrDepthWritesExr) {
   Config c;
-  ASSERT_EQ(load_config(std::string(LANTERN_CONFIG_DIR) + "/exr_depth.yaml", &c), "");
+  ASSERT_OK(load_config(std::string(LANTERN_CONFIG_DIR) + "/exr_depth.yaml", &c));
   ASSERT_FALSE(c.scenes.empty());
   EXPECT_EQ(c.scenes[0].output.format, ImageFormat::kExr);
 }

@@ -2,6 +2,7 @@
 
 #include "core/config/config.h"
 #include "core/config/config_loader.h"
+#include "tests/support/status_expect.h"
 
 namespace lantern {
 namespace {
@@ -53,7 +54,7 @@ TEST(Schedule, EveryAndStepsIsTheUnion) {
 
 TEST(Schedule, LoadedStepsAreSortedAndUnique) {
   Config c;
-  ASSERT_EQ(load_config("schedule: {steps: [30, 10, 30, 20]}\nscenes: [{}]\n", &c), "");
+  ASSERT_OK(load_config("schedule: {steps: [30, 10, 30, 20]}\nscenes: [{}]\n", &c));
   EXPECT_EQ(c.schedule.steps, (std::vector<int64_t>{10, 20, 30}));
   EXPECT_TRUE(c.schedule.due(20));
   EXPECT_FALSE(c.schedule.due(0));

@@ -19,6 +19,7 @@
 #include "core/render/point_splats.h"
 #include "core/render/sphere_instances.h"
 #include "tests/support/gl_test.h"
+#include "tests/support/status_expect.h"
 
 namespace lantern {
 namespace {
@@ -34,7 +35,7 @@ struct Cloud {
     if (!radius.empty()) p.radius = {radius.data(), DataType::kFloat64, 0};
     p.type = {type.data(), DataType::kInt32, 0};
     ParticleArrays a;
-    EXPECT_EQ(ParticleArrays::validate(p, &a), "");
+    EXPECT_OK(ParticleArrays::validate(p, &a));
     return a;
   }
   void add(double x, double y, double z) {
@@ -78,7 +79,7 @@ class CullingTest : public testing::GlTest {
     double r = s.radius;
     for (double v : c.radius) r = std::max(r, v);
     Camera cam;
-    EXPECT_EQ(make_camera(cfg, lo, hi, r, s.width, s.height, &cam), "");
+    EXPECT_OK(make_camera(cfg, lo, hi, r, s.width, s.height, &cam));
     return cam;
   }
 
@@ -408,7 +409,7 @@ TEST_F(CullingTest, CpuRasterCullsTheHiddenCrystalAndMatchesOpenGl) {
 
 TEST(CpuSphereRaster, DepthTiesGoToTheLowerIndexInAnyDrawingOrder) {
   Camera cam;
-  ASSERT_EQ(make_camera(CameraConfig{}, {-1, -1, -1}, {1, 1, 1}, 1.0, 64, 64, &cam), "");
+  ASSERT_OK(make_camera(CameraConfig{}, {-1, -1, -1}, {1, 1, 1}, 1.0, 64, 64, &cam));
   const ViewGeometry g = ViewGeometry::from_camera(cam, 4.0);
   const glm::dvec3 c = g.to_view(glm::dvec3(0.0));
   const uint8_t bg[4] = {0, 0, 0, 255}, red[3] = {255, 0, 0}, blue[3] = {0, 0, 255};
@@ -443,7 +444,7 @@ TEST(CpuSphereRaster, DepthTiesGoToTheLowerIndexInAnyDrawingOrder) {
 
 TEST(CpuSphereRaster, CoveredIsFalseUntilEveryPixelHoldsSomethingNearer) {
   Camera cam;
-  ASSERT_EQ(make_camera(CameraConfig{}, {-1, -1, -1}, {1, 1, 1}, 1.0, 32, 32, &cam), "");
+  ASSERT_OK(make_camera(CameraConfig{}, {-1, -1, -1}, {1, 1, 1}, 1.0, 32, 32, &cam));
   const ViewGeometry g = ViewGeometry::from_camera(cam, 4.0);
   const uint8_t bg[4] = {0, 0, 0, 255}, white[3] = {255, 255, 255};
   Frame frame;
@@ -474,8 +475,7 @@ TEST(CpuSphereRaster, PixelsDoNotDependOnTheRectangleOrItsTilesAndTheTightRectHo
     const double offset = it % 4 == 1 ? 1e4 : 0.0;
     Camera cam;
     const int w = 40 + int(u(rng) * 300), h = 40 + int(u(rng) * 300);
-    ASSERT_EQ(make_camera(cfg, glm::dvec3(offset - 5), glm::dvec3(offset + 5), 0.5, w, h, &cam),
-              "");
+    ASSERT_OK(make_camera(cfg, glm::dvec3(offset - 5), glm::dvec3(offset + 5), 0.5, w, h, &cam));
     const ViewGeometry g = ViewGeometry::from_camera(cam, 20.0);
     Frame whole, tight;
     std::vector<uint32_t> owner_whole, owner_tight;

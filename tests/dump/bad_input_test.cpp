@@ -13,6 +13,7 @@
 #include "core/dump/hdf5_handle.h"
 #include "core/dump/lammps_dump_reader.h"
 #include "mpi_scratch_dir.h"
+#include "tests/support/status_expect.h"
 
 namespace lantern {
 namespace {
@@ -21,19 +22,24 @@ void write_text(const std::string &path, const std::string &text) {
   std::ofstream(path, std::ios::binary) << text;
 }
 
+// The message of a failed open or read ("" when the file reads): a bad file is always kIo.
+std::string io_error(const Status &s) {
+  if (!s.ok()) EXPECT_EQ(s.code, StatusCode::kIo) << s.message;
+  return s.message;
+}
+
 std::string h5md_error(const std::string &path) {
   std::unique_ptr<H5mdReader> reader;
-  return H5mdReader::open(path, MPI_COMM_SELF, &reader);
+  return io_error(H5mdReader::open(path, MPI_COMM_SELF, &reader));
 }
 
 std::string lammps_error(const std::string &path) {
   std::unique_ptr<LammpsDumpReader> reader;
-  std::string e = LammpsDumpReader::open(path, &reader);
-  if (!e.empty()) return e;
+  if (Status s = LammpsDumpReader::open(path, &reader); !s.ok()) return io_error(s);
   for (size_t f = 0; f < reader->frames().size(); ++f) {
     ParticleFrame frame;
-    e = reader->read(f, 0, reader->frames()[f].count, &frame);
-    if (!e.empty()) return e;
+    if (Status s = reader->read(f, 0, reader->frames()[f].count, &frame); !s.ok())
+      return io_error(s);
   }
   return {};
 }
@@ -231,15 +237,15 @@ TEST(LammpsReader, ScaledOrthogonalAndTriclinicAreUnscaled) {
           "ITEM: BOX BOUNDS xy xz yz pp pp pp\n-1 12 1\n0 10 -2\n0 10 0\n"  // xy=1 xz=-2 yz=0
           "ITEM: ATOMS xs ys zs\n1 1 1\n");
   std::unique_ptr<LammpsDumpReader> r;
-  ASSERT_EQ(LammpsDumpReader::open(dir.file("d"), &r), "");
+  ASSERT_OK(LammpsDumpReader::open(dir.file("d"), &r));
   ASSERT_EQ(r->frames().size(), 2u);
   ParticleFrame f;
-  ASSERT_EQ(r->read(0, 1, 2, &f), "");  // the second atom only, as a second rank would
+  ASSERT_OK(r->read(0, 1, 2, &f));  // the second atom only, as a second rank would
   EXPECT_EQ(f.position, (std::vector<double>{10, 0, 7.5}));
   EXPECT_EQ(f.type, (std::vector<int64_t>{3}));
   EXPECT_EQ(f.id, (std::vector<int64_t>{2}));
   EXPECT_EQ(f.box->periodic, (std::array<bool, 3>{true, true, false}));
-  ASSERT_EQ(r->read(1, 0, 1, &f), "");
+  ASSERT_OK(r->read(1, 0, 1, &f));
   // xlo = -1 - min(0, 1, -2, -1) = 1, lx = (12 - 1) - 1 = 10: x = 1 + 10 + 1 - 2 = 10.
   EXPECT_EQ(f.position, (std::vector<double>{10, 10, 10}));
   EXPECT_EQ(f.step, 200);
@@ -253,12 +259,12 @@ TEST(LammpsReader, UnitsAndTimeBeforeTimestepAsLammpsWritesThem) {
              "ITEM: BOX BOUNDS pp pp pp\n0.0000000000000000e+00 3.3591923827650149e+01\n0 1\n0 "
              "1\nITEM: ATOMS id type x y z vx\n7 1 1.5e+00 2 3 0.1\n");
   std::unique_ptr<LammpsDumpReader> r;
-  ASSERT_EQ(LammpsDumpReader::open(dir.file("d"), &r), "");
+  ASSERT_OK(LammpsDumpReader::open(dir.file("d"), &r));
   ASSERT_EQ(r->frames().size(), 1u);
   EXPECT_EQ(r->frames()[0].step, 50);
   EXPECT_EQ(r->frames()[0].time, 0.25);
   ParticleFrame f;
-  ASSERT_EQ(r->read(0, 0, 1, &f), "");
+  ASSERT_OK(r->read(0, 0, 1, &f));
   EXPECT_EQ(f.position, (std::vector<double>{1.5, 2, 3}));
   EXPECT_DOUBLE_EQ(f.box->high[0], 33.591923827650149);
 }

@@ -13,6 +13,7 @@
 #include "lantern/lantern.h"
 #include "mpi_scratch_dir.h"
 #include "tests/support/mpi_world.h"
+#include "tests/support/status_expect.h"
 
 namespace lantern {
 namespace {
@@ -94,7 +95,7 @@ void write_steps(lantern_context *ctx, const std::vector<int64_t> &steps) {
 // Reads every frame back, this rank's share only, and checks it against (id, step).
 void check_file(const std::string &file, const std::vector<int64_t> &steps, double tolerance) {
   std::unique_ptr<H5mdReader> reader;
-  ASSERT_EQ(H5mdReader::open(file, MPI_COMM_WORLD, &reader), "");
+  ASSERT_OK(H5mdReader::open(file, MPI_COMM_WORLD, &reader));
   ASSERT_EQ(reader->frames().size(), steps.size());
   const RankParticles expected_layout(0);
   for (size_t f = 0; f < steps.size(); ++f) {
@@ -104,7 +105,7 @@ void check_file(const std::string &file, const std::vector<int64_t> &steps, doub
     ASSERT_EQ(info.count, expected_layout.total);
     const auto [begin, end] = rank_share(info.count, world_rank(), world_size());
     ParticleFrame frame;
-    ASSERT_EQ(reader->read(f, begin, end, &frame), "");
+    ASSERT_OK(reader->read(f, begin, end, &frame));
     ASSERT_EQ(frame.count(), end - begin);
     ASSERT_EQ(frame.id.size(), size_t(end - begin));
     ASSERT_EQ(frame.type.size(), size_t(end - begin));
@@ -172,11 +173,11 @@ TEST(DumpRoundTrip, EmptyRanksStillTakePart) {
   int64_t mine = empty ? 0 : all.count, total = 0;
   MPI_Allreduce(&mine, &total, 1, MPI_INT64_T, MPI_SUM, MPI_COMM_WORLD);
   std::unique_ptr<H5mdReader> reader;
-  ASSERT_EQ(H5mdReader::open(file, MPI_COMM_WORLD, &reader), "");
+  ASSERT_OK(H5mdReader::open(file, MPI_COMM_WORLD, &reader));
   ASSERT_EQ(reader->frames().size(), 1u);
   EXPECT_EQ(reader->frames()[0].count, total);
   ParticleFrame frame;
-  ASSERT_EQ(reader->read(0, 0, total, &frame), "");
+  ASSERT_OK(reader->read(0, 0, total, &frame));
   for (int64_t i = 0; i < total; ++i) EXPECT_EQ(frame.position[3 * i], coord(frame.id[i], 0, 7));
 }
 

@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include "tests/support/status_expect.h"
+
 namespace lantern {
 namespace {
 
@@ -26,18 +28,18 @@ TEST(FilePattern, SceneAndSeveralPlaceholders) {
 }
 
 TEST(FilePattern, EscapedBraces) {
-  EXPECT_EQ(validate_pattern("a{{b}}_{step}.png"), "");
+  EXPECT_OK(validate_pattern("a{{b}}_{step}.png"));
   EXPECT_EQ(expand_pattern("a{{b}}_{step}.png", 1, "s"), "a{b}_1.png");
 }
 
 TEST(FilePattern, ValidPatterns) {
   for (const char *p : {"a.png", "{step}", "{step:06d}", "{scene}", "x/{scene}/{step:01d}.tif"})
-    EXPECT_EQ(validate_pattern(p), "") << p;
+    EXPECT_OK(validate_pattern(p)) << p;
 }
 
 TEST(FilePattern, InvalidPatternsAreNamed) {
-  const auto contains = [](const std::string &s, const std::string &part) {
-    return s.find(part) != std::string::npos;
+  const auto contains = [](const Status &s, const std::string &part) {
+    return s.code == StatusCode::kConfig && s.message.find(part) != std::string::npos;
   };
   EXPECT_TRUE(contains(validate_pattern("f_{stp}.png"), "{stp}"));
   EXPECT_TRUE(contains(validate_pattern("f_{step:6d}.png"), "{step:6d}"));
@@ -46,7 +48,7 @@ TEST(FilePattern, InvalidPatternsAreNamed) {
   EXPECT_TRUE(contains(validate_pattern("f_{}.png"), "{}"));
   EXPECT_TRUE(contains(validate_pattern("f_{step.png"), "unclosed"));
   EXPECT_TRUE(contains(validate_pattern("f_step}.png"), "unmatched"));
-  EXPECT_NE(validate_pattern(""), "");
+  EXPECT_FALSE(validate_pattern("").ok());
 }
 
 }  // namespace

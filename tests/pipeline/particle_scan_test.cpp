@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "tests/support/extent_expect.h"
+#include "tests/support/status_expect.h"
 
 namespace lantern {
 namespace {
@@ -45,7 +46,7 @@ TEST(ParticleScan, FastPathMatchesAddParticleForEveryLayout) {
       p.position_z = {z.data(), DataType::kFloat64, 0};
     }
     ParticleArrays a;
-    ASSERT_EQ(ParticleArrays::validate(p, &a), "") << "layout " << layout;
+    ASSERT_OK(ParticleArrays::validate(p, &a)) << "layout " << layout;
     for (const double radius : {0.5, std::numeric_limits<double>::quiet_NaN()}) {
       const Extent fast = scan_particles(a, false, radius);
       expect_same_extent(fast, reference(a, radius));

@@ -8,6 +8,7 @@
 #include "core/camera/camera.h"
 #include "core/render/gl_session.h"
 #include "tests/support/gl_test.h"
+#include "tests/support/status_expect.h"
 
 namespace lantern {
 namespace {
@@ -25,7 +26,7 @@ class SphereRenderTest : public testing::GlTest {
     cfg.up = {0, 1, 0};
     cfg.fov_y = 40.0;
     Camera cam;
-    EXPECT_EQ(make_camera(cfg, {-2, -2, -2}, {2, 2, 2}, 0.0, w, h, &cam), "");
+    EXPECT_OK(make_camera(cfg, {-2, -2, -2}, {2, 2, 2}, 0.0, w, h, &cam));
     return cam;
   }
 

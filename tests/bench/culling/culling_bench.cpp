@@ -122,10 +122,10 @@ class Bench {
     const Extent ext = scan_particles(p, false, bs.config.radius);
     Camera cam;
     const glm::dvec3 lo{ext.lo[0], ext.lo[1], ext.lo[2]}, hi{ext.hi[0], ext.hi[1], ext.hi[2]};
-    if (auto e = make_camera(bs.config.camera, lo, hi, bs.config.radius, bs.config.width,
-                             bs.config.height, &cam);
-        !e.empty()) {
-      std::printf("%s: camera: %s\n", bs.name.c_str(), e.c_str());
+    if (Status s = make_camera(bs.config.camera, lo, hi, bs.config.radius, bs.config.width,
+                               bs.config.height, &cam);
+        !s.ok()) {
+      std::printf("%s: camera: %s\n", bs.name.c_str(), s.message.c_str());
       return;
     }
     // Bricks: once per step in Lantern; timed apart (median of 3 builds).
