@@ -42,16 +42,18 @@ int write_all(int fd, const char *data, size_t size) {
 
 }  // namespace
 
-std::string create_parent_directories(const std::string &path) {
+Status create_parent_directories(const std::string &path) {
   const fs::path parent = fs::path(path).parent_path();
-  if (parent.empty()) return "";
+  if (parent.empty()) return {};
   std::error_code ec;
   fs::create_directories(parent, ec);
   if (ec)
-    return "cannot create directory '" + parent.string() + "' for '" + path + "': " + ec.message();
+    return {StatusCode::kIo, "cannot create directory '" + parent.string() + "' for '" + path +
+                                 "': " + ec.message()};
   if (!fs::is_directory(parent, ec))
-    return "cannot write '" + path + "': '" + parent.string() + "' is not a directory";
-  return "";
+    return {StatusCode::kIo,
+            "cannot write '" + path + "': '" + parent.string() + "' is not a directory"};
+  return {};
 }
 
 std::string temporary_path_for(const std::string &final_path, const std::string &extension) {
@@ -63,48 +65,51 @@ std::string temporary_path_for(const std::string &final_path, const std::string 
   return (target.parent_path() / name).string();
 }
 
-std::string write_atomically(const std::string &final_path, const std::string &extension,
-                             const std::function<std::string(const std::string &)> &write) {
-  if (final_path.empty()) return "cannot write a file with an empty name";
+Status write_atomically(const std::string &final_path, const std::string &extension,
+                        const std::function<Status(const std::string &)> &write) {
+  if (final_path.empty()) return {StatusCode::kIo, "cannot write a file with an empty name"};
+  const std::string where = "cannot write '" + final_path + "': ";
   if (fs::path(final_path).filename().empty())
-    return "cannot write '" + final_path + "': it names a directory, not a file";
-  std::string error = create_parent_directories(final_path);
-  if (!error.empty()) return error;
+    return {StatusCode::kIo, where + "it names a directory, not a file"};
+  if (Status s = create_parent_directories(final_path); !s.ok()) return s;
 
   const std::string temp = temporary_path_for(final_path, extension);
   // Create the file ourselves first, so that an unwritable directory is reported with the OS
   // reason (image libraries often just say "could not open").
   const int fd = ::open(temp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0644);
-  if (fd < 0) return "cannot write '" + final_path + "': " + os_reason(errno);
+  if (fd < 0) return {StatusCode::kIo, where + os_reason(errno)};
   ::close(fd);
 
+  Status written;
   try {
-    error = write(temp);
+    written = write(temp);
   } catch (const std::exception &e) {
-    error = e.what();
+    written = {StatusCode::kIo, e.what()};
   } catch (...) {
-    error = "unknown error";
+    written = {StatusCode::kIo, "unknown error"};
   }
-  if (!error.empty()) {
+  if (!written.ok()) {
     remove_quietly(temp);
-    return "cannot write '" + final_path + "': " + error;
+    return with_context(where, std::move(written));
   }
   if (std::rename(temp.c_str(), final_path.c_str()) != 0) {
     const int reason = errno;
     remove_quietly(temp);
-    return "cannot rename '" + temp + "' to '" + final_path + "': " + os_reason(reason);
+    return {StatusCode::kIo,
+            "cannot rename '" + temp + "' to '" + final_path + "': " + os_reason(reason)};
   }
-  return "";
+  return {};
 }
 
-std::string write_bytes_atomically(const std::string &final_path, const void *data, size_t size) {
+Status write_bytes_atomically(const std::string &final_path, const void *data, size_t size) {
   const std::string extension = fs::path(final_path).extension().string();
-  return write_atomically(final_path, extension, [&](const std::string &temp) -> std::string {
+  return write_atomically(final_path, extension, [&](const std::string &temp) -> Status {
     const int fd = ::open(temp.c_str(), O_WRONLY | O_TRUNC | O_CLOEXEC);
-    if (fd < 0) return os_reason(errno);
+    if (fd < 0) return {StatusCode::kIo, os_reason(errno)};
     int error = write_all(fd, static_cast<const char *>(data), size);
     if (::close(fd) != 0 && error == 0) error = errno;
-    return error == 0 ? "" : os_reason(error);
+    if (error != 0) return {StatusCode::kIo, os_reason(error)};
+    return {};
   });
 }
 

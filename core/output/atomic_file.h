@@ -10,11 +10,13 @@
 #include <functional>
 #include <string>
 
+#include "core/common/status.h"
+
 namespace lantern {
 
-// Creates the parent directories of `path` (no-op if there are none). "" on success, else a
-// message naming the directory and the OS reason.
-std::string create_parent_directories(const std::string &path);
+// Creates the parent directories of `path` (no-op if there are none). OK, or kIo with a message
+// naming the directory and the OS reason.
+Status create_parent_directories(const std::string &path);
 
 // The temporary name used for `final_path`: same directory, hidden, unique per process and
 // call, ending in `extension` (e.g. ".png", so libraries that choose a format by extension
@@ -23,13 +25,14 @@ std::string temporary_path_for(const std::string &final_path, const std::string 
 
 // Writes `final_path` atomically: creates parent directories, creates the temporary file
 // (exclusively, mode 0644 minus umask), calls `write(temp_path)` which must fill it and return
-// "" or an error message, then renames. On any failure the temporary file is removed and the
-// message names the path and the reason; `final_path` is then untouched. Exceptions thrown by
-// `write` are caught and reported.
-std::string write_atomically(const std::string &final_path, const std::string &extension,
-                             const std::function<std::string(const std::string &)> &write);
+// OK or a failed Status, then renames. On any failure the temporary file is removed and the
+// message names the path and the reason; `final_path` is then untouched. The code is kIo, or
+// `write`'s own code when it failed. Exceptions thrown by `write` are caught and reported (kIo).
+Status write_atomically(const std::string &final_path, const std::string &extension,
+                        const std::function<Status(const std::string &)> &write);
 
 // Convenience: atomically writes `size` bytes from `data` (not owned; read during the call).
-std::string write_bytes_atomically(const std::string &final_path, const void *data, size_t size);
+// OK or kIo.
+Status write_bytes_atomically(const std::string &final_path, const void *data, size_t size);
 
 }  // namespace lantern

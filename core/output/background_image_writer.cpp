@@ -14,12 +14,12 @@
 namespace lantern {
 namespace {
 
-std::string check_writable_directory(const std::string &path) {
-  if (auto e = create_parent_directories(path); !e.empty()) return e;
+Status check_writable_directory(const std::string &path) {
+  if (Status s = create_parent_directories(path); !s.ok()) return s;
   std::filesystem::path dir = std::filesystem::path(path).parent_path();
   if (dir.empty()) dir = ".";
   if (::access(dir.c_str(), W_OK) != 0)
-    return "cannot write into '" + dir.string() + "': " + std::strerror(errno);
+    return {StatusCode::kIo, "cannot write into '" + dir.string() + "': " + std::strerror(errno)};
   return {};
 }
 
@@ -29,25 +29,28 @@ BackgroundImageWriter::~BackgroundImageWriter() {
   wait();
 }
 
-std::string BackgroundImageWriter::wait() {
+Status BackgroundImageWriter::wait() {
   if (!in_flight_.valid()) return {};
   return in_flight_.get();
 }
 
-std::string BackgroundImageWriter::submit(Frame frame, const OutputConfig &out,
-                                          const std::string &path,
-                                          DepthToDistance depth_to_distance) {
-  const std::string error = check_writable_directory(path);
-  const std::string previous = wait();
-  if (!error.empty()) return previous.empty() ? error : previous + "; " + error;
+Status BackgroundImageWriter::submit(Frame frame, const OutputConfig &out, const std::string &path,
+                                     DepthToDistance depth_to_distance) {
+  const Status error = check_writable_directory(path);
+  Status previous = wait();
+  if (!error.ok()) {
+    if (previous.ok()) return error;
+    previous.message += "; " + error.message;  // both failures, under the earlier one's code
+    return previous;
+  }
   // Shared so that the task stays here if no thread can be started.
-  auto task = std::make_shared<std::packaged_task<std::string()>>(
+  auto task = std::make_shared<std::packaged_task<Status()>>(
       [frame = std::move(frame), out, path,
-       to_distance = std::move(depth_to_distance)]() -> std::string {
+       to_distance = std::move(depth_to_distance)]() -> Status {
         try {
           return write_image(frame, out, path, to_distance);
         } catch (const std::exception &e) {
-          return "writing '" + path + "': " + e.what();
+          return {StatusCode::kIo, "writing '" + path + "': " + e.what()};
         }
       });
   in_flight_ = task->get_future();

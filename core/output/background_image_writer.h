@@ -15,6 +15,7 @@
 #include <future>
 #include <string>
 
+#include "core/common/status.h"
 #include "core/output/image_writer.h"
 
 namespace lantern {
@@ -28,16 +29,16 @@ class BackgroundImageWriter {
   BackgroundImageWriter &operator=(const BackgroundImageWriter &) = delete;
 
   // Checks that `path`'s directory exists (creating it) and is writable, waits for the previous
-  // image, then writes `frame` (taken over) to `path` in the background. Returns "" or the error
-  // of the check or of the previous image (which names its own path).
-  std::string submit(Frame frame, const OutputConfig &out, const std::string &path,
-                     DepthToDistance depth_to_distance);
+  // image, then writes `frame` (taken over) to `path` in the background. Returns OK or the error
+  // of the check (kIo) or of the previous image (write_image's status, which names its own path).
+  Status submit(Frame frame, const OutputConfig &out, const std::string &path,
+                DepthToDistance depth_to_distance);
 
-  // Waits for the image in flight. "" or its error.
-  std::string wait();
+  // Waits for the image in flight. OK or its write_image status.
+  Status wait();
 
  private:
-  std::future<std::string> in_flight_;
+  std::future<Status> in_flight_;
 };
 
 }  // namespace lantern

@@ -116,31 +116,33 @@ Prepared prepare(const Frame &frame, const OutputConfig &out, const DepthToDista
   }
 }
 
-// Writes the prepared pixels to `file` (format from `file`'s extension). "" or OIIO's message.
-std::string write_with_oiio(const Prepared &p, const std::string &file) {
+// Writes the prepared pixels to `file` (format from `file`'s extension). OK or kIo with OIIO's
+// message.
+Status write_with_oiio(const Prepared &p, const std::string &file) {
   std::unique_ptr<OIIO::ImageOutput> output = OIIO::ImageOutput::create(file);
-  if (!output) return "OpenImageIO cannot create a writer: " + OIIO::geterror();
+  if (!output) return {StatusCode::kIo, "OpenImageIO cannot create a writer: " + OIIO::geterror()};
   OIIO::ImageSpec spec = p.spec;
   // Deterministic files: no wall-clock or host metadata, whatever a plugin would add.
   // TIFF and OpenEXR writers stamp the current time when DateTime is absent; an empty value
   // keeps them from doing so.
   spec.attribute("DateTime", "");
   spec.attribute("Software", "Lantern");
-  if (!output->open(file, spec)) return output->geterror();
+  if (!output->open(file, spec)) return {StatusCode::kIo, output->geterror()};
   const bool written = output->write_image(p.buffer_type, p.data());
   const bool closed = output->close();
   if (!written || !closed) {
     const std::string message = output->geterror();
-    return message.empty() ? "OpenImageIO write failed" : message;
+    return {StatusCode::kIo, message.empty() ? "OpenImageIO write failed" : message};
   }
-  return "";
+  return {};
 }
 
-std::string check_frame(const Frame &frame) {
-  if (frame.width <= 0 || frame.height <= 0) return "the frame is empty";
+Status check_frame(const Frame &frame) {
+  if (frame.width <= 0 || frame.height <= 0)
+    return {StatusCode::kInvalidArgument, "the frame is empty"};
   if (frame.rgba.size() != frame.pixel_count() * 4 || frame.depth.size() != frame.pixel_count())
-    return "the frame's buffers do not match its size";
-  return "";
+    return {StatusCode::kInvalidArgument, "the frame's buffers do not match its size"};
+  return {};
 }
 
 }  // namespace
@@ -159,11 +161,11 @@ const char *image_format_extension(ImageFormat format) {
   }
 }
 
-std::string write_image(const Frame &frame, const OutputConfig &out, const std::string &path,
-                        const DepthToDistance &depth_to_distance) {
+Status write_image(const Frame &frame, const OutputConfig &out, const std::string &path,
+                   const DepthToDistance &depth_to_distance) {
   try {
-    const std::string bad_frame = check_frame(frame);
-    if (!bad_frame.empty()) return "cannot write '" + path + "': " + bad_frame;
+    if (Status s = check_frame(frame); !s.ok())
+      return with_context("cannot write '" + path + "': ", std::move(s));
     // PNG: zlib in row bands (png_across_ranks.h), ~2.6x faster than libpng's single stream.
     if (out.format == ImageFormat::kPng) return write_png(frame, out.compression_level, path, 1);
     const Prepared prepared = prepare(frame, out, depth_to_distance);
@@ -172,9 +174,9 @@ std::string write_image(const Frame &frame, const OutputConfig &out, const std::
       return write_with_oiio(prepared, temp);
     });
   } catch (const std::exception &e) {
-    return "cannot write '" + path + "': " + e.what();
+    return {StatusCode::kIo, "cannot write '" + path + "': " + e.what()};
   } catch (...) {
-    return "cannot write '" + path + "': unknown error";
+    return {StatusCode::kIo, "cannot write '" + path + "': unknown error"};
   }
 }
 

@@ -11,6 +11,7 @@
 #include <functional>
 #include <string>
 
+#include "core/common/status.h"
 #include "core/config/config.h"
 #include "core/view/frame.h"
 
@@ -21,11 +22,12 @@ namespace lantern {
 using DepthToDistance = std::function<float(float)>;
 
 // Writes `frame` to `path` in `out.format` (the file name's extension does not matter; the
-// format is set explicitly). Creates parent directories. Returns "" or a message naming the path
-// and the reason; on failure no file exists at `path` (an older file there stays untouched).
-// `depth_to_distance` is only used for EXR; if empty, `Z` holds the raw window depth.
-std::string write_image(const Frame &frame, const OutputConfig &out, const std::string &path,
-                        const DepthToDistance &depth_to_distance);
+// format is set explicitly). Creates parent directories. Returns OK, or a message naming the path
+// and the reason: kIo when the file cannot be written, kInvalidArgument for a frame whose buffers
+// do not match its size. On failure no file exists at `path` (an older file there stays
+// untouched). `depth_to_distance` is only used for EXR; if empty, `Z` holds the raw window depth.
+Status write_image(const Frame &frame, const OutputConfig &out, const std::string &path,
+                   const DepthToDistance &depth_to_distance);
 
 // The usual file extension of a format, with the dot: ".png", ".jpg", ".tif", ".exr".
 const char *image_format_extension(ImageFormat format);

@@ -14,19 +14,19 @@ StatsWriter::~StatsWriter() {
   if (fd_ >= 0) ::close(fd_);
 }
 
-std::string StatsWriter::append(const nlohmann::json &record) {
+Status StatsWriter::append(const nlohmann::json &record) {
   std::string line;
   try {
     // Replace invalid UTF-8 rather than throw: a stats line must never stop a run.
     line = record.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace) + "\n";
   } catch (const std::exception &e) {
-    return "cannot format a stats line for '" + path_ + "': " + e.what();
+    return {StatusCode::kInternal, "cannot format a stats line for '" + path_ + "': " + e.what()};
   }
   if (fd_ < 0) {
-    const std::string error = create_parent_directories(path_);
-    if (!error.empty()) return error;
+    if (Status s = create_parent_directories(path_); !s.ok()) return s;
     fd_ = ::open(path_.c_str(), O_WRONLY | O_CREAT | O_APPEND | O_CLOEXEC, 0644);
-    if (fd_ < 0) return "cannot open stats file '" + path_ + "': " + std::strerror(errno);
+    if (fd_ < 0)
+      return {StatusCode::kIo, "cannot open stats file '" + path_ + "': " + std::strerror(errno)};
   }
   const char *data = line.data();
   size_t left = line.size();
@@ -37,15 +37,15 @@ std::string StatsWriter::append(const nlohmann::json &record) {
       const int reason = errno;
       ::close(fd_);
       fd_ = -1;
-      return "cannot write stats file '" + path_ + "': " + std::strerror(reason);
+      return {StatusCode::kIo, "cannot write stats file '" + path_ + "': " + std::strerror(reason)};
     }
     data += n;
     left -= static_cast<size_t>(n);
   }
-  return "";
+  return {};
 }
 
-std::string append_json_line(const std::string &path, const nlohmann::json &record) {
+Status append_json_line(const std::string &path, const nlohmann::json &record) {
   StatsWriter writer(path);
   return writer.append(record);
 }

@@ -10,6 +10,8 @@
 
 #include <string>
 
+#include "core/common/status.h"
+
 namespace lantern {
 
 class StatsWriter {
@@ -21,9 +23,10 @@ class StatsWriter {
   StatsWriter(const StatsWriter &) = delete;
   StatsWriter &operator=(const StatsWriter &) = delete;
 
-  // Appends `record` as one line and flushes it to the OS. "" on success, else a message naming
-  // the file and the OS reason; after a failure the next call tries to open the file again.
-  std::string append(const nlohmann::json &record);
+  // Appends `record` as one line and flushes it to the OS. OK, or kIo with a message naming the
+  // file and the OS reason (kInternal if the record cannot be formatted); after a failure the
+  // next call tries to open the file again.
+  Status append(const nlohmann::json &record);
 
   const std::string &path() const { return path_; }
 
@@ -33,6 +36,6 @@ class StatsWriter {
 };
 
 // One-shot form: opens, appends one line, closes.
-std::string append_json_line(const std::string &path, const nlohmann::json &record);
+Status append_json_line(const std::string &path, const nlohmann::json &record);
 
 }  // namespace lantern

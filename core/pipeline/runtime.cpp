@@ -77,8 +77,8 @@ Status Runtime::publish(const ParticleDescription &particles) {
 Status Runtime::finish() {
   Status local;
   for (size_t s = 0; s < buffers_.size(); ++s)
-    if (auto e = buffers_[s].writer.wait(); !e.empty() && local.ok())
-      local = {StatusCode::kIo, "scenes '" + config_.scenes[s].name + "': " + e};
+    if (Status st = buffers_[s].writer.wait(); !st.ok() && local.ok())
+      local = with_context("scenes '" + config_.scenes[s].name + "': ", std::move(st));
   return broadcast_status(comm_, local, 0);
 }
 
@@ -148,8 +148,8 @@ void Runtime::write_stats(int64_t step, double time, const Extent &global, doubl
       {"ms", {{"total", total_ms}}},
       {"scenes", nlohmann::json::array()}};
   for (const auto &s : scenes) line["scenes"].push_back(s.to_json());
-  if (auto e = append_json_line(config_.stats_file, line); !e.empty())
-    std::fprintf(stderr, "lantern: warning: stats not written: %s\n", e.c_str());
+  if (Status s = append_json_line(config_.stats_file, line); !s.ok())
+    std::fprintf(stderr, "lantern: warning: stats not written: %s\n", s.message.c_str());
 }
 
 }  // namespace lantern

@@ -157,10 +157,9 @@ Status run_scene_pass(const ScenePassInputs &in, const SceneConfig &scene, Scene
     // Every rank compresses a share of the PNG: the root's encoder is off the critical path.
     t0 = Clock::now();
     stats->file = expand_pattern(scene.output.pattern, in.step, scene.name);
-    const std::string e =
-        write_png_across_ranks(in.comm, 0, buffers->frame, scene.width, scene.height,
-                               scene.output.compression_level, stats->file);
-    if (!e.empty()) written = {StatusCode::kIo, "scenes '" + scene.name + "': " + e};
+    written = with_context(
+        where, write_png_across_ranks(in.comm, 0, buffers->frame, scene.width, scene.height,
+                                      scene.output.compression_level, stats->file));
     stats->write_ms = ms_since(t0);
     stats->total_ms = ms_since(t_start);
     return agree_on_status(in.comm, written);
@@ -171,11 +170,11 @@ Status run_scene_pass(const ScenePassInputs &in, const SceneConfig &scene, Scene
     const auto to_distance = [camera](float d) {  // a copy: it may outlive this call
       return float(camera.window_depth_to_distance(d));
     };
-    const std::string e = scene.output.asynchronous
-                              ? buffers->writer.submit(std::move(buffers->frame), scene.output,
-                                                       stats->file, to_distance)
-                              : write_image(buffers->frame, scene.output, stats->file, to_distance);
-    if (!e.empty()) written = {StatusCode::kIo, "scenes '" + scene.name + "': " + e};
+    written = with_context(
+        where, scene.output.asynchronous
+                   ? buffers->writer.submit(std::move(buffers->frame), scene.output, stats->file,
+                                            to_distance)
+                   : write_image(buffers->frame, scene.output, stats->file, to_distance));
     stats->write_ms = ms_since(t0);
   }
   stats->total_ms = ms_since(t_start);

@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include "tests/output/scratch_dir.h"
+#include "tests/support/status_expect.h"
 
 namespace lantern {
 namespace {
@@ -29,7 +30,7 @@ TEST(AtomicFile, WritesAndCreatesDirectories) {
   const ScratchDir dir;
   const std::string path = dir.file("a/b/c/out.bin");
   const std::string data = "hello, lantern";
-  ASSERT_EQ(write_bytes_atomically(path, data.data(), data.size()), "");
+  ASSERT_OK(write_bytes_atomically(path, data.data(), data.size()));
   EXPECT_EQ(read_all(path), data);
   EXPECT_EQ(dir.entry_count(), 4u);  // a, a/b, a/b/c, out.bin: no temporary left
 }
@@ -37,8 +38,8 @@ TEST(AtomicFile, WritesAndCreatesDirectories) {
 TEST(AtomicFile, ReplacesExistingFile) {
   const ScratchDir dir;
   const std::string path = dir.file("out.txt");
-  ASSERT_EQ(write_bytes_atomically(path, "old", 3), "");
-  ASSERT_EQ(write_bytes_atomically(path, "newer", 5), "");
+  ASSERT_OK(write_bytes_atomically(path, "old", 3));
+  ASSERT_OK(write_bytes_atomically(path, "newer", 5));
   EXPECT_EQ(read_all(path), "newer");
   EXPECT_EQ(dir.entry_count(), 1u);
 }
@@ -54,13 +55,15 @@ TEST(AtomicFile, TemporaryNameIsHiddenInSameDirectoryWithExtension) {
 TEST(AtomicFile, FailedWriteLeavesOldFileAndNoTemporary) {
   const ScratchDir dir;
   const std::string path = dir.file("keep.txt");
-  ASSERT_EQ(write_bytes_atomically(path, "old", 3), "");
+  ASSERT_OK(write_bytes_atomically(path, "old", 3));
   std::string seen_temp;
-  const std::string error = write_atomically(path, ".txt", [&](const std::string &temp) {
+  const Status status = write_atomically(path, ".txt", [&](const std::string &temp) {
     seen_temp = temp;
     std::ofstream(temp) << "partial";
-    return std::string("disk on fire");
+    return Status(StatusCode::kIo, "disk on fire");
   });
+  const std::string &error = status.message;
+  EXPECT_EQ(status.code, StatusCode::kIo) << error;
   EXPECT_TRUE(contains(error, path)) << error;
   EXPECT_TRUE(contains(error, "disk on fire")) << error;
   EXPECT_FALSE(fs::exists(seen_temp));
@@ -71,8 +74,10 @@ TEST(AtomicFile, FailedWriteLeavesOldFileAndNoTemporary) {
 TEST(AtomicFile, ThrowingWriterIsReportedAndCleanedUp) {
   const ScratchDir dir;
   const std::string path = dir.file("new.txt");
-  const std::string error = write_atomically(
-      path, ".txt", [](const std::string &) -> std::string { throw std::runtime_error("boom"); });
+  const Status status = write_atomically(
+      path, ".txt", [](const std::string &) -> Status { throw std::runtime_error("boom"); });
+  const std::string &error = status.message;
+  EXPECT_EQ(status.code, StatusCode::kIo) << error;
   EXPECT_TRUE(contains(error, "boom")) << error;
   EXPECT_FALSE(fs::exists(path));
   EXPECT_EQ(dir.entry_count(), 0u);
@@ -80,7 +85,9 @@ TEST(AtomicFile, ThrowingWriterIsReportedAndCleanedUp) {
 
 TEST(AtomicFile, UnwritableDirectoryNamesPathAndReason) {
   const std::string path = "/proc/lantern_x/a.png";
-  const std::string error = write_bytes_atomically(path, "x", 1);
+  const Status status = write_bytes_atomically(path, "x", 1);
+  const std::string &error = status.message;
+  EXPECT_EQ(status.code, StatusCode::kIo) << error;
   EXPECT_TRUE(contains(error, "/proc/lantern_x")) << error;
   EXPECT_FALSE(fs::exists(path));
 }
@@ -88,9 +95,11 @@ TEST(AtomicFile, UnwritableDirectoryNamesPathAndReason) {
 TEST(AtomicFile, PathUnderRegularFileNamesPathAndReason) {
   const ScratchDir dir;
   const std::string blocker = dir.file("plain_file");
-  ASSERT_EQ(write_bytes_atomically(blocker, "x", 1), "");
+  ASSERT_OK(write_bytes_atomically(blocker, "x", 1));
   const std::string path = blocker + "/sub/a.png";
-  const std::string error = write_bytes_atomically(path, "x", 1);
+  const Status status = write_bytes_atomically(path, "x", 1);
+  const std::string &error = status.message;
+  EXPECT_EQ(status.code, StatusCode::kIo) << error;
   EXPECT_TRUE(contains(error, blocker)) << error;
   EXPECT_TRUE(contains(error, "Not a directory")) << error;
   EXPECT_EQ(dir.entry_count(), 1u);

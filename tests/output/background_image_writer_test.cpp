@@ -11,6 +11,7 @@
 
 #include "core/output/background_image_writer.h"
 #include "tests/output/scratch_dir.h"
+#include "tests/support/status_expect.h"
 
 namespace lantern {
 namespace {
@@ -43,10 +44,9 @@ TEST(BackgroundImageWriter, EveryImageLandsWholeAfterWait) {
   BackgroundImageWriter writer;
   const OutputConfig png;
   for (int i = 0; i < 4; ++i)
-    ASSERT_EQ(writer.submit(gradient(64, 48, uint8_t(i)), png, dir.file(std::to_string(i) + ".png"),
-                            nullptr),
-              "");
-  ASSERT_EQ(writer.wait(), "");
+    ASSERT_OK(writer.submit(gradient(64, 48, uint8_t(i)), png, dir.file(std::to_string(i) + ".png"),
+                            nullptr));
+  ASSERT_OK(writer.wait());
   for (int i = 0; i < 4; ++i)
     EXPECT_EQ(read_rgba(dir.file(std::to_string(i) + ".png")), gradient(64, 48, uint8_t(i)).rgba);
   EXPECT_EQ(dir.entry_count(), 4u);  // no temporary left behind
@@ -56,21 +56,25 @@ TEST(BackgroundImageWriter, UnwritableDirectoryFailsTheStepThatAsked) {
   ScratchDir dir;
   std::ofstream(dir.file("blocker")) << "a file, not a directory";
   BackgroundImageWriter writer;
-  const std::string error =
+  const Status status =
       writer.submit(gradient(8, 8, 0), OutputConfig{}, dir.file("blocker/a.png"), nullptr);
+  const std::string &error = status.message;
+  EXPECT_EQ(status.code, StatusCode::kIo) << error;
   EXPECT_NE(error.find("blocker"), std::string::npos) << error;
-  EXPECT_EQ(writer.wait(), "");  // nothing was in flight
+  EXPECT_OK(writer.wait());  // nothing was in flight
 }
 
 TEST(BackgroundImageWriter, AFailedWriteSurfacesAtTheNextCall) {
   ScratchDir dir;
   std::filesystem::create_directories(dir.file("taken.png"));  // rename onto a directory fails
   BackgroundImageWriter writer;
-  ASSERT_EQ(writer.submit(gradient(8, 8, 0), OutputConfig{}, dir.file("taken.png"), nullptr), "");
-  const std::string error =
+  ASSERT_OK(writer.submit(gradient(8, 8, 0), OutputConfig{}, dir.file("taken.png"), nullptr));
+  const Status status =
       writer.submit(gradient(8, 8, 1), OutputConfig{}, dir.file("next.png"), nullptr);
+  const std::string &error = status.message;
+  EXPECT_EQ(status.code, StatusCode::kIo) << error;
   EXPECT_NE(error.find("taken.png"), std::string::npos) << error;
-  EXPECT_EQ(writer.wait(), "");
+  EXPECT_OK(writer.wait());
   EXPECT_TRUE(std::filesystem::is_regular_file(dir.file("next.png")));
 }
 

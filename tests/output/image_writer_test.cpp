@@ -11,6 +11,7 @@
 #include <thread>
 
 #include "tests/output/scratch_dir.h"
+#include "tests/support/status_expect.h"
 
 namespace lantern {
 namespace {
@@ -82,7 +83,7 @@ TEST(ImageWriter, PngIsLosslessRgba8) {
   const ScratchDir dir;
   const Frame frame = test_frame();
   const std::string path = dir.file("sub/frame.png");
-  ASSERT_EQ(write_image(frame, output_as(ImageFormat::kPng), path, to_distance), "");
+  ASSERT_OK(write_image(frame, output_as(ImageFormat::kPng), path, to_distance));
   const ReadBack r = read_back(path);
   EXPECT_EQ(r.spec.width, frame.width);
   EXPECT_EQ(r.spec.height, frame.height);
@@ -94,7 +95,7 @@ TEST(ImageWriter, TiffIsLosslessRgba8) {
   const ScratchDir dir;
   const Frame frame = test_frame();
   const std::string path = dir.file("frame.tif");
-  ASSERT_EQ(write_image(frame, output_as(ImageFormat::kTiff), path, to_distance), "");
+  ASSERT_OK(write_image(frame, output_as(ImageFormat::kTiff), path, to_distance));
   const ReadBack r = read_back(path);
   EXPECT_EQ(r.spec.nchannels, 4);
   EXPECT_EQ(r.bytes, frame.rgba);
@@ -108,7 +109,7 @@ TEST(ImageWriter, JpegIsRgbWithinTolerance) {
   OutputConfig out = output_as(ImageFormat::kJpeg);
   out.jpeg_quality = 100;
   const std::string path = dir.file("frame.jpg");
-  ASSERT_EQ(write_image(frame, out, path, to_distance), "");
+  ASSERT_OK(write_image(frame, out, path, to_distance));
   const ReadBack r = read_back(path);
   ASSERT_EQ(r.spec.nchannels, 3);
   ASSERT_EQ(r.bytes.size(), frame.pixel_count() * 3);
@@ -123,7 +124,7 @@ TEST(ImageWriter, ExrCarriesZAsCameraDistance) {
     OutputConfig out = output_as(ImageFormat::kExr);
     out.exr_half = half;
     const std::string path = dir.file("frame.exr");
-    ASSERT_EQ(write_image(frame, out, path, to_distance), "");
+    ASSERT_OK(write_image(frame, out, path, to_distance));
     const ReadBack r = read_back(path);
     ASSERT_EQ(r.spec.nchannels, 5);
     const std::vector<std::string> expected_names = {"R", "G", "B", "A", "Z"};
@@ -149,7 +150,7 @@ TEST(ImageWriter, ExrWithoutDistanceFunctionStoresWindowDepth) {
   const ScratchDir dir;
   const Frame frame = test_frame();
   const std::string path = dir.file("raw.exr");
-  ASSERT_EQ(write_image(frame, output_as(ImageFormat::kExr), path, nullptr), "");
+  ASSERT_OK(write_image(frame, output_as(ImageFormat::kExr), path, nullptr));
   const ReadBack r = read_back(path);
   const size_t i = frame.index(5, 5);
   EXPECT_EQ(r.pixels[5 * i + 4], frame.depth[i]);
@@ -163,7 +164,7 @@ TEST(ImageWriter, IdenticalFramesGiveIdenticalFiles) {
   const auto write_all = [&](const std::string &prefix) {
     for (const ImageFormat format : formats) {
       const std::string path = dir.file(prefix + image_format_extension(format));
-      ASSERT_EQ(write_image(frame, output_as(format), path, to_distance), "");
+      ASSERT_OK(write_image(frame, output_as(format), path, to_distance));
     }
   };
   write_all("first");
@@ -184,7 +185,7 @@ TEST(ImageWriter, IdenticalFramesGiveIdenticalFiles) {
 TEST(ImageWriter, FormatComesFromConfigNotFileName) {
   const ScratchDir dir;
   const std::string path = dir.file("frame.data");
-  ASSERT_EQ(write_image(test_frame(), output_as(ImageFormat::kPng), path, to_distance), "");
+  ASSERT_OK(write_image(test_frame(), output_as(ImageFormat::kPng), path, to_distance));
   const std::string bytes = file_bytes(path);
   ASSERT_GE(bytes.size(), 8u);
   EXPECT_EQ(bytes.substr(1, 3), "PNG");
@@ -192,7 +193,9 @@ TEST(ImageWriter, FormatComesFromConfigNotFileName) {
 
 TEST(ImageWriter, UnwritableDirectoryNamesPathAndLeavesNoFile) {
   const std::string path = "/proc/lantern_x/a.png";
-  const std::string error = write_image(test_frame(), output_as(ImageFormat::kPng), path, nullptr);
+  const Status status = write_image(test_frame(), output_as(ImageFormat::kPng), path, nullptr);
+  const std::string &error = status.message;
+  EXPECT_EQ(status.code, StatusCode::kIo) << error;
   EXPECT_NE(error.find("/proc/lantern_x"), std::string::npos) << error;
   EXPECT_FALSE(fs::exists(path));
 }
@@ -201,7 +204,9 @@ TEST(ImageWriter, PathUnderRegularFileNamesPathAndLeavesNoFile) {
   const ScratchDir dir;
   std::ofstream(dir.file("plain")) << "x";
   const std::string path = dir.file("plain/a.exr");
-  const std::string error = write_image(test_frame(), output_as(ImageFormat::kExr), path, nullptr);
+  const Status status = write_image(test_frame(), output_as(ImageFormat::kExr), path, nullptr);
+  const std::string &error = status.message;
+  EXPECT_EQ(status.code, StatusCode::kIo) << error;
   EXPECT_NE(error.find(dir.file("plain")), std::string::npos) << error;
   EXPECT_EQ(dir.entry_count(), 1u);
 }
@@ -211,7 +216,7 @@ TEST(ImageWriter, MismatchedFrameIsAnErrorNotACrash) {
   Frame frame(4, 4);
   frame.depth.clear();
   const std::string path = dir.file("bad.png");
-  EXPECT_NE(write_image(frame, output_as(ImageFormat::kPng), path, nullptr), "");
+  EXPECT_FALSE(write_image(frame, output_as(ImageFormat::kPng), path, nullptr).ok());
   EXPECT_FALSE(fs::exists(path));
 }
 

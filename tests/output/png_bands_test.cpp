@@ -14,6 +14,7 @@
 #include "core/output/atomic_file.h"
 #include "tests/output/scratch_dir.h"
 #include "tests/support/hash_noise.h"
+#include "tests/support/status_expect.h"
 
 namespace lantern {
 namespace {
@@ -80,7 +81,7 @@ struct Decoded {
 Decoded decode(const ScratchDir &dir, const std::vector<uint8_t> &png) {
   Decoded d;
   const std::string path = dir.file("decode.png");
-  d.error = write_bytes_atomically(path, png.data(), png.size());
+  d.error = write_bytes_atomically(path, png.data(), png.size()).message;
   if (!d.error.empty()) return d;
   OIIO::ImageSpec config;
   config.attribute("oiio:UnassociatedAlpha", 1);
@@ -111,6 +112,14 @@ void expect_decodes_to(const ScratchDir &dir, const std::vector<uint8_t> &png, c
   EXPECT_TRUE(d.pixels == expected(img, channels)) << "decoded pixels differ";
 }
 
+// encode_png's file; a failure fails the test (and gives an empty file).
+std::vector<uint8_t> encoded(const uint8_t *rgba, int width, int height, int channels, int level,
+                             int threads) {
+  std::vector<uint8_t> png;
+  EXPECT_OK(encode_png(rgba, width, height, channels, level, threads, &png));
+  return png;
+}
+
 std::string describe(const Image &img, int channels, int bands) {
   return std::to_string(img.width) + "x" + std::to_string(img.height) + " " +
          (channels == 3 ? "RGB" : "RGBA") + ", " + std::to_string(bands) + " bands";
@@ -123,10 +132,8 @@ TEST(PngBands, RoundTripsAtEverySizeAndBandCount) {
     for (const Image &img : {noise_image(w, h, 1), rendered_image(w, h, 2)}) {
       for (int channels : {3, 4}) {
         for (int bands : {1, 2, 3, 4, 7}) {
-          std::string error;
-          const std::vector<uint8_t> png =
-              encode_png(img.rgba.data(), w, h, channels, 1, bands, &error);
-          EXPECT_EQ(error, "");
+          std::vector<uint8_t> png;
+          EXPECT_OK(encode_png(img.rgba.data(), w, h, channels, 1, bands, &png));
           expect_decodes_to(dir, png, img, channels, describe(img, channels, bands));
         }
       }
@@ -141,7 +148,7 @@ TEST(PngBands, FullFrameRoundTripsAndBandCountsDecodeIdentically) {
       std::vector<uint8_t> first;
       for (int bands : {1, 2, 3, 4, 7}) {
         const std::vector<uint8_t> png =
-            encode_png(img.rgba.data(), img.width, img.height, channels, 1, bands);
+            encoded(img.rgba.data(), img.width, img.height, channels, 1, bands);
         expect_decodes_to(dir, png, img, channels, describe(img, channels, bands));
         const Decoded d = decode(dir, png);
         if (first.empty()) first = d.pixels;
@@ -155,12 +162,12 @@ TEST(PngBands, MoreBandsThanRowsGiveOneRowBands) {
   const ScratchDir dir;
   const Image img = rendered_image(29, 5, 5);
   for (int bands : {5, 6, 64, 1000}) {
-    const std::vector<uint8_t> png = encode_png(img.rgba.data(), 29, 5, 4, 1, bands);
+    const std::vector<uint8_t> png = encoded(img.rgba.data(), 29, 5, 4, 1, bands);
     expect_decodes_to(dir, png, img, 4, describe(img, 4, bands));
   }
   // Zero or negative counts run on the calling thread as one band.
   for (int bands : {0, -3})
-    expect_decodes_to(dir, encode_png(img.rgba.data(), 29, 5, 4, 1, bands), img, 4, "bands <= 0");
+    expect_decodes_to(dir, encoded(img.rgba.data(), 29, 5, 4, 1, bands), img, 4, "bands <= 0");
 }
 
 // As MPI ranks would: every band compressed on its own, without the row above it, in uneven
@@ -190,8 +197,7 @@ TEST(PngBands, IndependentBandsWithEveryFilterAndStrategy) {
             y += split[b];
           }
           std::vector<uint8_t> png;
-          std::string error;
-          ASSERT_TRUE(assemble_png(bands, img.width, img.height, channels, &png, &error)) << error;
+          ASSERT_OK(assemble_png(bands, img.width, img.height, channels, &png));
           expect_decodes_to(dir, png, img, channels,
                             "filter " + std::to_string(int(filter)) + " strategy " +
                                 std::to_string(int(strategy)) +
@@ -207,7 +213,7 @@ TEST(PngBands, EveryLevelRoundTrips) {
   const ScratchDir dir;
   const Image img = rendered_image(64, 48, 7);
   for (int level = 0; level <= 9; ++level)
-    expect_decodes_to(dir, encode_png(img.rgba.data(), 64, 48, 4, level, 3), img, 4,
+    expect_decodes_to(dir, encoded(img.rgba.data(), 64, 48, 4, level, 3), img, 4,
                       "level " + std::to_string(level));
 }
 
@@ -219,7 +225,7 @@ uint32_t be32(const uint8_t *p) {
 // IDAT payload inflates (zlib checks the adler32) to the filtered scanlines' length.
 TEST(PngBands, ContainerIsWellFormedWithMebibyteIdatChunks) {
   const Image img = noise_image(1024, 700, 8);  // ~2.8 MB that does not compress
-  const std::vector<uint8_t> png = encode_png(img.rgba.data(), 1024, 700, 4, 1, 3);
+  const std::vector<uint8_t> png = encoded(img.rgba.data(), 1024, 700, 4, 1, 3);
   ASSERT_GT(png.size(), 8u);
   const uint8_t signature[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
   ASSERT_TRUE(std::equal(signature, signature + 8, png.begin()));
@@ -264,28 +270,30 @@ TEST(PngBands, MismatchedBandsAreRejectedWithAMessage) {
     return deflate_png_band(img.rgba.data() + size_t(y0) * 16 * 4, width, rows, channels, last, 1);
   };
   std::vector<uint8_t> png = {1, 2, 3};
-  std::string error;
+  const auto rejected = [](const Status &s) {
+    return s.code == StatusCode::kInvalidArgument && !s.message.empty();
+  };
   // Too few rows.
-  EXPECT_FALSE(assemble_png({band(0, 4, false), band(4, 3, true)}, 16, 8, 4, &png, &error));
-  EXPECT_NE(error.find("7 rows"), std::string::npos) << error;
+  Status s = assemble_png({band(0, 4, false), band(4, 3, true)}, 16, 8, 4, &png);
+  EXPECT_TRUE(rejected(s)) << s.message;
+  EXPECT_NE(s.message.find("7 rows"), std::string::npos) << s.message;
   // The stream finishes before the last band, or never.
-  error.clear();
-  EXPECT_FALSE(assemble_png({band(0, 4, true), band(4, 4, true)}, 16, 8, 4, &png, &error));
-  EXPECT_NE(error.find("last band"), std::string::npos) << error;
-  EXPECT_FALSE(assemble_png({band(0, 4, false), band(4, 4, false)}, 16, 8, 4, &png, &error));
+  s = assemble_png({band(0, 4, true), band(4, 4, true)}, 16, 8, 4, &png);
+  EXPECT_TRUE(rejected(s)) << s.message;
+  EXPECT_NE(s.message.find("last band"), std::string::npos) << s.message;
+  EXPECT_TRUE(rejected(assemble_png({band(0, 4, false), band(4, 4, false)}, 16, 8, 4, &png)));
   // Compressed for another channel count or width.
-  error.clear();
-  EXPECT_FALSE(assemble_png({band(0, 4, false, 3), band(4, 4, true)}, 16, 8, 4, &png, &error));
-  EXPECT_NE(error.find("band 0"), std::string::npos) << error;
-  EXPECT_FALSE(assemble_png({band(0, 4, false, 4, 15), band(4, 4, true)}, 16, 8, 4, &png, &error));
+  s = assemble_png({band(0, 4, false, 3), band(4, 4, true)}, 16, 8, 4, &png);
+  EXPECT_TRUE(rejected(s)) << s.message;
+  EXPECT_NE(s.message.find("band 0"), std::string::npos) << s.message;
+  EXPECT_TRUE(rejected(assemble_png({band(0, 4, false, 4, 15), band(4, 4, true)}, 16, 8, 4, &png)));
   // No bands, bad sizes, bad channels, no output.
-  EXPECT_FALSE(assemble_png({}, 16, 8, 4, &png, &error));
-  EXPECT_FALSE(assemble_png({band(0, 8, true)}, 0, 8, 4, &png, &error));
-  EXPECT_FALSE(assemble_png({band(0, 8, true)}, 16, 8, 2, &png, &error));
-  EXPECT_FALSE(assemble_png({band(0, 8, true)}, 16, 8, 4, nullptr, &error));
-  EXPECT_FALSE(assemble_png({}, 16, 8, 4, &png, nullptr));  // no message wanted: no crash
+  EXPECT_TRUE(rejected(assemble_png({}, 16, 8, 4, &png)));
+  EXPECT_TRUE(rejected(assemble_png({band(0, 8, true)}, 0, 8, 4, &png)));
+  EXPECT_TRUE(rejected(assemble_png({band(0, 8, true)}, 16, 8, 2, &png)));
+  EXPECT_TRUE(rejected(assemble_png({band(0, 8, true)}, 16, 8, 4, nullptr)));
   // The good case still works after all that.
-  EXPECT_TRUE(assemble_png({band(0, 4, false), band(4, 4, true)}, 16, 8, 4, &png, &error));
+  EXPECT_OK(assemble_png({band(0, 4, false), band(4, 4, true)}, 16, 8, 4, &png));
 }
 
 TEST(PngBands, BadArgumentsAreRejected) {
@@ -297,19 +305,21 @@ TEST(PngBands, BadArgumentsAreRejected) {
   EXPECT_THROW(deflate_png_band(nullptr, 4, 4, 4, true, 1), std::invalid_argument);
   EXPECT_NO_THROW(deflate_png_band(nullptr, 4, 0, 4, true, 1));
 
-  std::string error;
-  EXPECT_TRUE(encode_png(nullptr, 4, 4, 4, 1, 1, &error).empty());
-  EXPECT_FALSE(error.empty());
-  error.clear();
-  EXPECT_TRUE(encode_png(img.rgba.data(), 4, 0, 4, 1, 1, &error).empty());
-  EXPECT_FALSE(error.empty());
-  error.clear();
-  EXPECT_TRUE(encode_png(img.rgba.data(), 4, 4, 1, 1, 1, &error).empty());
-  EXPECT_FALSE(error.empty());
-  error.clear();
-  EXPECT_TRUE(encode_png(img.rgba.data(), 4, 4, 4, -1, 1, &error).empty());
-  EXPECT_FALSE(error.empty());
-  EXPECT_TRUE(encode_png(img.rgba.data(), 4, 4, 4, 1, 1, nullptr, {}).size() > 0);
+  const auto rejected = [](const Status &s, const std::vector<uint8_t> &png) {
+    return s.code == StatusCode::kInvalidArgument && !s.message.empty() && png.empty();
+  };
+  std::vector<uint8_t> png = {1, 2, 3};
+  EXPECT_TRUE(rejected(encode_png(nullptr, 4, 4, 4, 1, 1, &png), png));
+  png = {1, 2, 3};
+  EXPECT_TRUE(rejected(encode_png(img.rgba.data(), 4, 0, 4, 1, 1, &png), png));
+  png = {1, 2, 3};
+  EXPECT_TRUE(rejected(encode_png(img.rgba.data(), 4, 4, 1, 1, 1, &png), png));
+  png = {1, 2, 3};
+  EXPECT_TRUE(rejected(encode_png(img.rgba.data(), 4, 4, 4, -1, 1, &png), png));
+  EXPECT_EQ(encode_png(img.rgba.data(), 4, 4, 4, 1, 1, nullptr).code,
+            StatusCode::kInvalidArgument);  // no output buffer: no crash
+  EXPECT_OK(encode_png(img.rgba.data(), 4, 4, 4, 1, 1, &png, {}));
+  EXPECT_GT(png.size(), 0u);
 }
 
 }  // namespace

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "tests/output/scratch_dir.h"
+#include "tests/support/status_expect.h"
 
 namespace lantern {
 namespace {
@@ -23,8 +24,8 @@ TEST(StatsWriter, AppendsOneParsableLinePerCall) {
   const std::string path = dir.file("run/stats.jsonl");
   {
     StatsWriter writer(path);
-    ASSERT_EQ(writer.append({{"step", 0}, {"render_ms", 1.5}}), "");
-    ASSERT_EQ(writer.append({{"step", 10}, {"render_ms", 2.0}, {"scene", "top"}}), "");
+    ASSERT_OK(writer.append({{"step", 0}, {"render_ms", 1.5}}));
+    ASSERT_OK(writer.append({{"step", 10}, {"render_ms", 2.0}, {"scene", "top"}}));
     // Flushed per call: visible to a reader before the writer closes.
     EXPECT_EQ(lines_of(path).size(), 2u);
   }
@@ -37,21 +38,23 @@ TEST(StatsWriter, AppendsOneParsableLinePerCall) {
 TEST(StatsWriter, ReopeningAppendsInsteadOfTruncating) {
   const ScratchDir dir;
   const std::string path = dir.file("stats.jsonl");
-  ASSERT_EQ(append_json_line(path, {{"step", 1}}), "");
-  ASSERT_EQ(append_json_line(path, {{"step", 2}}), "");
+  ASSERT_OK(append_json_line(path, {{"step", 1}}));
+  ASSERT_OK(append_json_line(path, {{"step", 2}}));
   EXPECT_EQ(lines_of(path).size(), 2u);
 }
 
 TEST(StatsWriter, InvalidUtf8IsReplacedNotThrown) {
   const ScratchDir dir;
   const std::string path = dir.file("stats.jsonl");
-  EXPECT_EQ(append_json_line(path, {{"name", std::string("bad\xff")}}), "");
+  EXPECT_OK(append_json_line(path, {{"name", std::string("bad\xff")}}));
   EXPECT_EQ(lines_of(path).size(), 1u);
 }
 
 TEST(StatsWriter, UnwritablePathIsNamed) {
   StatsWriter writer("/proc/lantern_x/stats.jsonl");
-  const std::string error = writer.append({{"step", 0}});
+  const Status status = writer.append({{"step", 0}});
+  const std::string &error = status.message;
+  EXPECT_EQ(status.code, StatusCode::kIo) << error;
   EXPECT_NE(error.find("/proc/lantern_x"), std::string::npos) << error;
 }
 

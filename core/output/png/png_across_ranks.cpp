@@ -27,9 +27,10 @@ int first_band(int w, int workers, int n) {
   return int(int64_t(n) * w / workers);
 }
 
-// Deflates bands [b0, b1) of n; `rows` points at the first row of band b0. Returns "" or why not.
-std::string deflate_bands(const uint8_t *rows, int width, int height, int n, int b0, int b1,
-                          int level, int channels, std::vector<PngBand> *out) {
+// Deflates bands [b0, b1) of n; `rows` points at the first row of band b0. Returns OK or kIo
+// saying why not (the file cannot be produced).
+Status deflate_bands(const uint8_t *rows, int width, int height, int n, int b0, int b1, int level,
+                     int channels, std::vector<PngBand> *out) {
   try {
     const size_t row_bytes = size_t(width) * kChannels;
     const PngBandOptions options = png_options_for_level(level);
@@ -39,9 +40,9 @@ std::string deflate_bands(const uint8_t *rows, int width, int height, int n, int
       (*out)[size_t(b)] =
           deflate_png_band(p, width, count, channels, b == n - 1, level, nullptr, options);
     }
-    return "";
+    return {};
   } catch (const std::exception &e) {
-    return e.what();
+    return {StatusCode::kIo, e.what()};
   }
 }
 
@@ -52,12 +53,11 @@ int file_channels(const Frame &frame) {
   return 3;
 }
 
-std::string write_file(const std::vector<PngBand> &bands, int width, int height, int channels,
-                       const std::string &path) {
+Status write_file(const std::vector<PngBand> &bands, int width, int height, int channels,
+                  const std::string &path) {
   std::vector<uint8_t> file;
-  std::string error;
-  if (!assemble_png(bands, width, height, channels, &file, &error))
-    return "cannot encode " + path + ": " + error;
+  if (Status s = assemble_png(bands, width, height, channels, &file); !s.ok())
+    return {StatusCode::kIo, "cannot encode " + path + ": " + s.message};
   return write_bytes_atomically(path, file.data(), file.size());
 }
 
@@ -67,12 +67,12 @@ int png_band_count(int height) {
   return std::clamp(height / 32, 1, 8);  // bands of >= 32 rows: flushes cost next to nothing
 }
 
-std::string write_png(const Frame &frame, int level, const std::string &path, int threads) {
+Status write_png(const Frame &frame, int level, const std::string &path, int threads) {
   const int n = png_band_count(frame.height);
   const int workers = std::clamp(threads, 1, n);
   const int channels = file_channels(frame);
   std::vector<PngBand> bands(static_cast<size_t>(n));
-  std::vector<std::string> failure(static_cast<size_t>(workers));
+  std::vector<Status> failure(static_cast<size_t>(workers));
   const auto work = [&](int w) {
     const int b0 = first_band(w, workers, n), b1 = first_band(w + 1, workers, n);
     const size_t offset = size_t(first_row(b0, n, frame.height)) * frame.width * kChannels;
@@ -87,13 +87,13 @@ std::string write_png(const Frame &frame, int level, const std::string &path, in
   }
   work(0);
   for (std::thread &t : helpers) t.join();
-  for (const std::string &f : failure)
-    if (!f.empty()) return "cannot encode " + path + ": " + f;
+  for (const Status &f : failure)
+    if (!f.ok()) return with_context("cannot encode " + path + ": ", f);
   return write_file(bands, frame.width, frame.height, channels, path);
 }
 
-std::string write_png_across_ranks(MPI_Comm comm, int root, const Frame &frame, int width,
-                                   int height, int level, const std::string &path) {
+Status write_png_across_ranks(MPI_Comm comm, int root, const Frame &frame, int width, int height,
+                              int level, const std::string &path) {
   int rank = 0, size = 1;
   MPI_Comm_rank(comm, &rank);
   MPI_Comm_size(comm, &size);
@@ -108,7 +108,7 @@ std::string write_png_across_ranks(MPI_Comm comm, int root, const Frame &frame, 
     const int b0 = first_band(r, size, n), b1 = first_band(r + 1, size, n);
     const int64_t first = first_row(b0, n, height), last = first_row(b1, n, height);
     if ((last - first) * row_bytes > INT_MAX || first * row_bytes > INT_MAX)
-      return rank == root ? write_png(frame, level, path, 2) : "";  // same on every rank
+      return rank == root ? write_png(frame, level, path, 2) : Status();  // same on every rank
     counts[size_t(r)] = int((last - first) * row_bytes);
     offsets[size_t(r)] = int(first * row_bytes);
   }
@@ -120,7 +120,7 @@ std::string write_png_across_ranks(MPI_Comm comm, int root, const Frame &frame, 
 
   const int b0 = first_band(rank, size, n), b1 = first_band(rank + 1, size, n);
   std::vector<PngBand> bands(static_cast<size_t>(n));
-  const std::string failure =
+  const Status failure =
       deflate_bands(mine.data(), width, height, n, b0, b1, level, channels, &bands);
   std::vector<uint8_t>().swap(mine);
 
@@ -134,7 +134,7 @@ std::string write_png_across_ranks(MPI_Comm comm, int root, const Frame &frame, 
     h[0] = int64_t(p.bytes.size()), h[1] = p.adler, h[2] = int64_t(p.raw_len), h[3] = p.rows;
     bytes.insert(bytes.end(), p.bytes.begin(), p.bytes.end());
   }
-  header.back() = failure.empty() ? 0 : 1;
+  header.back() = failure.ok() ? 0 : 1;
   const int words = int(header.size());
   std::vector<int64_t> headers(rank == root ? size_t(size) * words : 0);
   MPI_Gather(header.data(), words, MPI_INT64_T, headers.data(), words, MPI_INT64_T, root, comm);
@@ -155,9 +155,9 @@ std::string write_png_across_ranks(MPI_Comm comm, int root, const Frame &frame, 
   }
   MPI_Gatherv(bytes.data(), int(bytes.size()), MPI_UINT8_T, pieces.data(), piece_counts.data(),
               piece_offsets.data(), MPI_UINT8_T, root, comm);
-  if (rank != root)
-    return failure.empty() ? "" : "cannot encode a band of " + path + ": " + failure;
-  if (failed) return "cannot encode " + path + ": a rank failed to compress its band";
+  if (rank != root) return with_context("cannot encode a band of " + path + ": ", failure);
+  if (failed)
+    return {StatusCode::kIo, "cannot encode " + path + ": a rank failed to compress its band"};
 
   size_t at = 0;
   for (int r = 0; r < size; ++r)

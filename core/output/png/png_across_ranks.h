@@ -14,6 +14,7 @@
 
 #include <string>
 
+#include "core/common/status.h"
 #include "core/view/frame.h"
 
 namespace lantern {
@@ -23,15 +24,16 @@ int png_band_count(int height);
 
 // Writes `frame` to `path` as an 8-bit PNG at zlib `level` (RGB when every pixel is opaque, as
 // Lantern's frames are; RGBA otherwise), compressing on up to `threads`
-// threads of this process. Returns "" or a message naming the path.
-std::string write_png(const Frame &frame, int level, const std::string &path, int threads);
+// threads of this process. Returns OK or kIo with a message naming the path (every failure,
+// encoding included, is a file that cannot be written).
+Status write_png(const Frame &frame, int level, const std::string &path, int threads);
 
 // Collective over `comm` (same width, height and level on every rank), same files as write_png:
 // the root's `frame` is
 // scattered in rows, every rank compresses its share of the bands, and the root writes `path`.
-// `frame` and `path` matter on root only. Returns "" or, on root, the error naming the path (a
-// rank whose compression failed also reports it; the others still finish the call).
-std::string write_png_across_ranks(MPI_Comm comm, int root, const Frame &frame, int width,
-                                   int height, int level, const std::string &path);
+// `frame` and `path` matter on root only. Returns OK or, on root, kIo naming the path (a rank
+// whose compression failed also reports it; the others still finish the call).
+Status write_png_across_ranks(MPI_Comm comm, int root, const Frame &frame, int width, int height,
+                              int level, const std::string &path);
 
 }  // namespace lantern

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <exception>
 #include <limits>
+#include <new>
 #include <optional>
 #include <stdexcept>
 #include <thread>
@@ -159,18 +160,14 @@ PngBand deflate_png_band(const uint8_t *rgba, int width, int rows, int channels_
   return band;
 }
 
-std::vector<uint8_t> encode_png(const uint8_t *rgba, int width, int height, int channels_out,
-                                int level, int threads, std::string *error,
-                                const PngBandOptions &options) {
-  std::vector<uint8_t> file;
-  if (!rgba || width < 1 || height < 1) {
-    png_fail(error, "encode_png: the image is empty");
-    return file;
-  }
-  if ((channels_out != 3 && channels_out != 4) || level < 0 || level > 9) {
-    png_fail(error, "encode_png: channels_out must be 3 or 4 and level 0..9");
-    return file;
-  }
+Status encode_png(const uint8_t *rgba, int width, int height, int channels_out, int level,
+                  int threads, std::vector<uint8_t> *file, const PngBandOptions &options) {
+  if (!file) return {StatusCode::kInvalidArgument, "encode_png: no output buffer"};
+  file->clear();
+  if (!rgba || width < 1 || height < 1)
+    return {StatusCode::kInvalidArgument, "encode_png: the image is empty"};
+  if ((channels_out != 3 && channels_out != 4) || level < 0 || level > 9)
+    return {StatusCode::kInvalidArgument, "encode_png: channels_out must be 3 or 4 and level 0..9"};
   const int n = std::clamp(threads, 1, height);
   std::vector<PngBand> bands(static_cast<size_t>(n));
   std::vector<std::exception_ptr> failures(static_cast<size_t>(n));
@@ -186,32 +183,32 @@ std::vector<uint8_t> encode_png(const uint8_t *rgba, int width, int height, int 
     }
   };
   std::vector<std::thread> workers;
-  std::string start_error;
+  Status started;
   try {
     workers.reserve(size_t(n - 1));
     for (int b = 1; b < n; ++b) workers.emplace_back(compress, b);
-  } catch (const std::exception &e) {  // a thread could not be started
-    start_error = std::string("encode_png: cannot start a thread: ") + e.what();
+  } catch (const std::exception &e) {  // a thread could not be started: out of resources
+    started = {StatusCode::kOutOfMemory,
+               std::string("encode_png: cannot start a thread: ") + e.what()};
   }
-  if (start_error.empty()) compress(0);
+  if (started.ok()) compress(0);
   for (std::thread &t : workers) t.join();
-  if (!start_error.empty()) {
-    png_fail(error, start_error);
-    return file;
-  }
+  if (!started.ok()) return started;
   for (const std::exception_ptr &f : failures) {
     if (!f) continue;
     try {
       std::rethrow_exception(f);
-    } catch (const std::exception &e) {
-      png_fail(error, std::string("encode_png: ") + e.what());
+    } catch (const std::invalid_argument &e) {
+      return {StatusCode::kInvalidArgument, std::string("encode_png: ") + e.what()};
+    } catch (const std::bad_alloc &e) {
+      return {StatusCode::kOutOfMemory, std::string("encode_png: ") + e.what()};
+    } catch (const std::exception &e) {  // zlib failed
+      return {StatusCode::kInternal, std::string("encode_png: ") + e.what()};
     } catch (...) {
-      png_fail(error, "encode_png: unknown error");
+      return {StatusCode::kInternal, "encode_png: unknown error"};
     }
-    return file;
   }
-  if (!assemble_png(bands, width, height, channels_out, &file, error)) file.clear();
-  return file;
+  return assemble_png(bands, width, height, channels_out, file);
 }
 
 }  // namespace lantern

@@ -30,13 +30,14 @@
 // the caller owns. Thread-safety: pure functions without shared state; call them from any
 // thread, concurrently. Errors: deflate_png_band throws std::invalid_argument for bad arguments
 // (and std::bad_alloc / std::runtime_error if zlib runs out of memory); encode_png never throws
-// and reports errors as messages.
+// and returns a Status.
 #pragma once
 
 #include <cstdint>
 #include <string>
 #include <vector>
 
+#include "core/common/status.h"
 #include "core/output/png/png_container.h"
 #include "core/output/png/png_filters.h"
 
@@ -72,10 +73,10 @@ PngBand deflate_png_band(const uint8_t *rgba, int width, int rows, int channels_
 // The whole image in one call: splits `rgba` (width x height RGBA8, top row first) into
 // min(threads, height) bands of near-equal row counts, compresses them on that many threads
 // (the calling thread included; threads <= 1 runs sequentially) and assembles the file. Each
-// band gets its previous row, so every filter is usable. Returns the PNG file's bytes, or an
-// empty vector with a message in *error (if not null).
-std::vector<uint8_t> encode_png(const uint8_t *rgba, int width, int height, int channels_out,
-                                int level, int threads, std::string *error = nullptr,
-                                const PngBandOptions &options = {});
+// band gets its previous row, so every filter is usable. Replaces *file with the PNG file's
+// bytes and returns OK; on failure leaves *file empty and returns kInvalidArgument (bad
+// arguments), kOutOfMemory (no memory or thread) or kInternal (zlib failed).
+Status encode_png(const uint8_t *rgba, int width, int height, int channels_out, int level,
+                  int threads, std::vector<uint8_t> *file, const PngBandOptions &options = {});
 
 }  // namespace lantern

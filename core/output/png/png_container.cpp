@@ -69,34 +69,30 @@ class IdatWriter {
 
 }  // namespace
 
-bool png_fail(std::string *error, const std::string &message) {
-  if (error) *error = message;
-  return false;
-}
-
-bool assemble_png(const std::vector<PngBand> &bands, int width, int height, int channels_out,
-                  std::vector<uint8_t> *file, std::string *error) {
-  if (!file) return png_fail(error, "assemble_png: no output buffer");
-  if (width < 1 || height < 1) return png_fail(error, "assemble_png: the image is empty");
-  if (channels_out != 3 && channels_out != 4)
-    return png_fail(error, "assemble_png: channels_out must be 3 or 4");
-  if (bands.empty()) return png_fail(error, "assemble_png: no bands");
+Status assemble_png(const std::vector<PngBand> &bands, int width, int height, int channels_out,
+                    std::vector<uint8_t> *file) {
+  const auto invalid = [](const std::string &what) {
+    return Status(StatusCode::kInvalidArgument, "assemble_png: " + what);
+  };
+  if (!file) return invalid("no output buffer");
+  if (width < 1 || height < 1) return invalid("the image is empty");
+  if (channels_out != 3 && channels_out != 4) return invalid("channels_out must be 3 or 4");
+  if (bands.empty()) return invalid("no bands");
   const uint64_t line_bytes = uint64_t(width) * uint64_t(channels_out) + 1;
   uint64_t rows = 0;
   for (size_t i = 0; i < bands.size(); ++i) {
     const PngBand &b = bands[i];
     if (b.rows < 0 || b.raw_len != uint64_t(b.rows) * line_bytes)
-      return png_fail(error, "assemble_png: band " + std::to_string(i) +
-                                 " was compressed for a different width or channel count");
+      return invalid("band " + std::to_string(i) +
+                     " was compressed for a different width or channel count");
     if (b.last != (i + 1 == bands.size()))
-      return png_fail(error,
-                      "assemble_png: only the last band may finish the deflate stream (band " +
-                          std::to_string(i) + ")");
+      return invalid("only the last band may finish the deflate stream (band " + std::to_string(i) +
+                     ")");
     rows += uint64_t(b.rows);
   }
   if (rows != uint64_t(height))
-    return png_fail(error, "assemble_png: the bands hold " + std::to_string(rows) + " rows, not " +
-                               std::to_string(height));
+    return invalid("the bands hold " + std::to_string(rows) + " rows, not " +
+                   std::to_string(height));
 
   try {
     size_t compressed = 0;
@@ -129,10 +125,10 @@ bool assemble_png(const std::vector<PngBand> &bands, int width, int height, int 
     idat.write(trailer, 4);
     idat.finish();
     put_chunk(file, "IEND", nullptr, 0);
-    return true;
-  } catch (const std::exception &e) {
+    return {};
+  } catch (const std::exception &e) {  // only allocation can throw here
     file->clear();
-    return png_fail(error, std::string("assemble_png: ") + e.what());
+    return {StatusCode::kOutOfMemory, std::string("assemble_png: ") + e.what()};
   }
 }
 

@@ -9,12 +9,14 @@
 //
 // Ownership: assemble_png reads the caller's bands during the call and writes into the caller's
 // buffer. Thread-safety: no shared state; call it from any thread, concurrently on different
-// buffers. Errors: assemble_png never throws and reports errors as messages.
+// buffers. Errors: assemble_png never throws and returns a Status.
 #pragma once
 
 #include <cstdint>
 #include <string>
 #include <vector>
+
+#include "core/common/status.h"
 
 namespace lantern {
 
@@ -30,13 +32,10 @@ struct PngBand {
 // Lays out a PNG file from the bands of one image, top band first: signature, IHDR (8-bit,
 // color type 2 for channels_out == 3 or 6 for 4, no interlace), IDAT chunks of at most
 // 1 MiB holding the zlib header, the concatenated pieces and the combined adler32, then IEND.
-// Replaces *file. Returns false with a message in *error (if not null) when the bands do not
-// describe a width x height image (row count, raw length, only the last band finishing).
-bool assemble_png(const std::vector<PngBand> &bands, int width, int height, int channels_out,
-                  std::vector<uint8_t> *file, std::string *error);
-
-// Stores `message` in *error (if not null) and returns false. Declared here, rather than
-// file-local, because assemble_png and encode_png (png_bands.cpp) report errors the same way.
-bool png_fail(std::string *error, const std::string &message);
+// Replaces *file. Returns kInvalidArgument when the bands do not describe a width x height image
+// (row count, raw length, only the last band finishing) or `file` is null, kOutOfMemory when the
+// file does not fit in memory.
+Status assemble_png(const std::vector<PngBand> &bands, int width, int height, int channels_out,
+                    std::vector<uint8_t> *file);
 
 }  // namespace lantern

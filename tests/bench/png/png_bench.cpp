@@ -162,7 +162,7 @@ std::string decode_check(const std::string &path, const Frame &f, int channels) 
 }
 
 std::string save(const std::string &path, const std::vector<uint8_t> &bytes) {
-  return write_bytes_atomically(path, bytes.data(), bytes.size());
+  return write_bytes_atomically(path, bytes.data(), bytes.size()).message;
 }
 
 const char *filter_name(PngFilter f) {
@@ -213,7 +213,11 @@ int main(int argc, char **argv) {
     }
   }
   const int width = frame.width, height = frame.height;
-  if (!save_as.empty()) save(save_as, encode_png(frame.rgba.data(), width, height, 4, 6, 1));
+  if (!save_as.empty()) {
+    std::vector<uint8_t> png;
+    encode_png(frame.rgba.data(), width, height, 4, 6, 1, &png);
+    save(save_as, png);
+  }
   const std::string dir =
       (std::filesystem::temp_directory_path() / ("lantern-bench-png-" + std::to_string(getpid())))
           .string();
@@ -259,12 +263,12 @@ int main(int argc, char **argv) {
   bool all_equal = oiio_check.empty();
   const auto row = [&](const char *name, int channels, int threads) {
     std::vector<uint8_t> file;
-    const double enc = time_ms(
-        runs, [&] { file = encode_png(rgba, width, height, channels, level, threads, &error); });
+    const double enc =
+        time_ms(runs, [&] { encode_png(rgba, width, height, channels, level, threads, &file); });
     const std::string path =
         dir + "/bands" + std::to_string(threads) + "_" + std::to_string(channels) + ".png";
     const double total = time_ms(runs, [&] {
-      file = encode_png(rgba, width, height, channels, level, threads, &error);
+      encode_png(rgba, width, height, channels, level, threads, &file);
       save(path, file);
     });
     const std::string check = decode_check(path, frame, channels);
@@ -298,8 +302,8 @@ int main(int argc, char **argv) {
     }
     std::vector<uint8_t> file;
     const double assemble_ms = time_ms(runs, [&] {
-      if (!assemble_png(pieces, width, height, 4, &file, &error))
-        std::fprintf(stderr, "assemble_png: %s\n", error.c_str());
+      if (Status s = assemble_png(pieces, width, height, 4, &file); !s.ok())
+        std::fprintf(stderr, "assemble_png: %s\n", s.message.c_str());
     });
     const std::string path = dir + "/ranks" + std::to_string(bands) + ".png";
     save(path, file);
@@ -330,8 +334,8 @@ int main(int argc, char **argv) {
       options.filter = f;
       options.strategy = s;
       std::vector<uint8_t> file;
-      const double ms = time_ms(
-          runs, [&] { file = encode_png(rgba, width, height, 4, level, 1, &error, options); });
+      const double ms =
+          time_ms(runs, [&] { encode_png(rgba, width, height, 4, level, 1, &file, options); });
       const std::string path = dir + "/grid.png";
       save(path, file);
       all_equal = all_equal && decode_check(path, frame, 4).empty();
