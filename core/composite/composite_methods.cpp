@@ -39,8 +39,8 @@ void prepare_scratch(CompositeMethod method, size_t pixels, int ranks, size_t ch
   }
 }
 
-std::string run_method(CompositeMethod method, MPI_Comm comm, Frame &frame, int root,
-                       size_t /*chunk_pixels*/, MethodScratch &scratch) {
+Status run_method(CompositeMethod method, MPI_Comm comm, Frame &frame, int root,
+                  size_t /*chunk_pixels*/, MethodScratch &scratch) {
   switch (method) {
     case CompositeMethod::kReduce64:
       return composite_reduce64(comm, frame, root, scratch);
@@ -53,15 +53,15 @@ std::string run_method(CompositeMethod method, MPI_Comm comm, Frame &frame, int 
     case CompositeMethod::kAuto:
       break;
   }
-  return "composite: kAuto must be resolved before run_method";
+  return {StatusCode::kInternal, "composite: kAuto must be resolved before run_method"};
 }
 
-std::string mpi_error(int code, const char *what) {
+Status mpi_error(int code, const char *what) {
   if (code == MPI_SUCCESS) return {};
   char text[MPI_MAX_ERROR_STRING];
   int length = 0;
   MPI_Error_string(code, text, &length);
-  return std::string(what) + ": " + std::string(text, size_t(length));
+  return {StatusCode::kMpi, std::string(what) + ": " + std::string(text, size_t(length))};
 }
 
 }  // namespace lantern

@@ -12,6 +12,7 @@
 #include <cstddef>
 #include <string>
 
+#include "core/common/status.h"
 #include "core/composite/depth_compositor.h"
 #include "core/composite/uninitialized_buffer.h"
 #include "core/view/frame.h"
@@ -30,16 +31,17 @@ struct MethodScratch {
 void prepare_scratch(CompositeMethod method, size_t pixels, int ranks, size_t chunk_pixels,
                      MethodScratch &scratch);
 
-// Runs one concrete method (not kAuto). Returns "" or an MPI error message.
-std::string run_method(CompositeMethod method, MPI_Comm comm, Frame &frame, int root,
-                       size_t chunk_pixels, MethodScratch &scratch);
+// Runs one concrete method. Returns OK, kMpi with the MPI error message, or kInternal for kAuto.
+Status run_method(CompositeMethod method, MPI_Comm comm, Frame &frame, int root,
+                  size_t chunk_pixels, MethodScratch &scratch);
 
-std::string composite_reduce64(MPI_Comm comm, Frame &frame, int root, MethodScratch &scratch);
-std::string composite_reduce_scatter(MPI_Comm comm, Frame &frame, int root, MethodScratch &scratch);
-std::string composite_binary_swap(MPI_Comm comm, Frame &frame, int root, MethodScratch &scratch);
-std::string composite_direct_send(MPI_Comm comm, Frame &frame, int root, MethodScratch &scratch);
+// The methods: OK or kMpi with the MPI error message.
+Status composite_reduce64(MPI_Comm comm, Frame &frame, int root, MethodScratch &scratch);
+Status composite_reduce_scatter(MPI_Comm comm, Frame &frame, int root, MethodScratch &scratch);
+Status composite_binary_swap(MPI_Comm comm, Frame &frame, int root, MethodScratch &scratch);
+Status composite_direct_send(MPI_Comm comm, Frame &frame, int root, MethodScratch &scratch);
 
-// "" for MPI_SUCCESS, else "<what>: <MPI error string>".
-std::string mpi_error(int code, const char *what);
+// OK for MPI_SUCCESS, else kMpi with "<what>: <MPI error string>".
+Status mpi_error(int code, const char *what);
 
 }  // namespace lantern

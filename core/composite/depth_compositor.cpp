@@ -19,17 +19,21 @@ struct Agreement {
   enum { kWidth, kHeight, kRoot, kMethod, kChunk, kCount };
   long long value[2 * kCount + 2];  // pairs (x, -x), then local_ok, allocated
 
-  std::string check(int ranks) const {
+  // OK, or kMpi: the ranks cannot run the collective together.
+  Status check(int ranks) const {
     const auto agreed = [&](int k) { return value[2 * k] == -value[2 * k + 1]; };
+    const auto failed = [](std::string what) {
+      return Status(StatusCode::kMpi, "composite: " + what);
+    };
     if (value[2 * kCount] == 0)
-      return "composite: a rank has an inconsistent frame, more than INT_MAX / 4 pixels, or a "
-             "root outside [0, " +
-             std::to_string(ranks) + ")";
-    if (!agreed(kWidth) || !agreed(kHeight)) return "composite: frame sizes differ between ranks";
-    if (!agreed(kRoot)) return "composite: ranks passed different roots";
+      return failed(
+          "a rank has an inconsistent frame, more than INT_MAX / 4 pixels, or a root outside [0, " +
+          std::to_string(ranks) + ")");
+    if (!agreed(kWidth) || !agreed(kHeight)) return failed("frame sizes differ between ranks");
+    if (!agreed(kRoot)) return failed("ranks passed different roots");
     if (!agreed(kMethod) || !agreed(kChunk))
-      return "composite: ranks passed different methods or chunk sizes";
-    if (value[2 * kCount + 1] == 0) return "composite: a rank could not allocate scratch memory";
+      return failed("ranks passed different methods or chunk sizes");
+    if (value[2 * kCount + 1] == 0) return failed("a rank could not allocate scratch memory");
     return {};
   }
 };
@@ -68,13 +72,15 @@ bool parse_composite_method(const std::string &name, CompositeMethod *method) {
   return false;
 }
 
-CompositeStats composite_frames(MPI_Comm comm, Frame &frame, int root, CompositeMethod method,
-                                size_t chunk_pixels) {
+Status composite_frames(MPI_Comm comm, Frame &frame, int root, CompositeMethod method,
+                        size_t chunk_pixels, CompositeStats *stats_out) {
   const double start = MPI_Wtime();
   int rank = 0, ranks = 1;
   MPI_Comm_rank(comm, &rank);
   MPI_Comm_size(comm, &ranks);
-  CompositeStats stats;
+  CompositeStats discarded;
+  CompositeStats &stats = stats_out ? *stats_out : discarded;
+  stats = CompositeStats();
   stats.ranks = ranks;
   stats.pixels = frame.pixel_count();
   const bool local_ok = frame_is_consistent(frame) && stats.pixels <= size_t(INT_MAX / 4) &&
@@ -82,9 +88,9 @@ CompositeStats composite_frames(MPI_Comm comm, Frame &frame, int root, Composite
   if (ranks == 1) {
     // Nothing to merge: the frame already is the image. No copy, no MPI call.
     stats.method = "none";
-    if (!local_ok) stats.error = "composite: inconsistent frame or root != 0";
     stats.milliseconds = elapsed_ms(start);
-    return stats;
+    if (!local_ok) return {StatusCode::kMpi, "composite: inconsistent frame or root != 0"};
+    return {};
   }
 
   const size_t chunk = chunk_pixels == 0 ? kDefaultCompositeChunkPixels : chunk_pixels;
@@ -114,11 +120,11 @@ CompositeStats composite_frames(MPI_Comm comm, Frame &frame, int root, Composite
                 comm);
 
   stats.method = to_string(chosen);
-  stats.error = agreement.check(ranks);
-  if (stats.ok() && stats.pixels > 0)
-    stats.error = run_method(chosen, comm, frame, root, chunk, scratch);
+  Status status = agreement.check(ranks);
+  if (status.ok() && stats.pixels > 0)
+    status = run_method(chosen, comm, frame, root, chunk, scratch);
   stats.milliseconds = elapsed_ms(start);
-  return stats;
+  return status;
 }
 
 }  // namespace lantern

@@ -7,9 +7,10 @@
 //
 // Collective: every rank of comm calls composite_frames with the same width, height, root and
 // method. Problems found before any pixel moves (mismatched sizes, bad root, disagreeing method,
-// out of memory) are agreed in one MPI_Allreduce and returned in CompositeStats::error on every
-// rank, so no rank throws or is left waiting. An MPI failure inside a method follows comm's error
-// handler (fatal by default); under MPI_ERRORS_RETURN it is returned in error on that rank.
+// out of memory) are agreed in one MPI_Allreduce and returned as the same kMpi status on every
+// rank (the collective could not run), so no rank throws or is left waiting. An MPI failure
+// inside a method follows comm's error handler (fatal by default); under MPI_ERRORS_RETURN it is
+// returned (kMpi) on that rank.
 //
 // Memory: besides the Frame itself, a rank holds about two chunks of scratch (16 MiB at the
 // default chunk) whatever the frame size: reductions pack and reduce one chunk at a time (so
@@ -24,6 +25,7 @@
 #include <cstddef>
 #include <string>
 
+#include "core/common/status.h"
 #include "core/view/frame.h"
 
 namespace lantern {
@@ -47,9 +49,6 @@ struct CompositeStats {
   double milliseconds = 0.0;  // wall time of this rank inside composite_frames
   int ranks = 0;
   size_t pixels = 0;
-  std::string error;  // empty on success; identical on every rank otherwise
-
-  bool ok() const { return error.empty(); }
 };
 
 // Reductions move at most this many pixels per MPI call (8 MiB of packed pixels).
@@ -58,8 +57,9 @@ inline constexpr size_t kDefaultCompositeChunkPixels = size_t(1) << 20;
 // Merges every rank's frame into frame on root (see the rule above). On return frame on root
 // holds the merged color and depth; frames on other ranks are unspecified. With one rank this is
 // a no-op. chunk_pixels bounds the pixels per MPI call (0 = kDefaultCompositeChunkPixels).
-CompositeStats composite_frames(MPI_Comm comm, Frame &frame, int root,
-                                CompositeMethod method = CompositeMethod::kAuto,
-                                size_t chunk_pixels = 0);
+// Returns OK or kMpi (see above); fills *stats, if not null, either way.
+Status composite_frames(MPI_Comm comm, Frame &frame, int root,
+                        CompositeMethod method = CompositeMethod::kAuto, size_t chunk_pixels = 0,
+                        CompositeStats *stats = nullptr);
 
 }  // namespace lantern

@@ -11,21 +11,21 @@
 
 namespace lantern {
 
-std::string composite_direct_send(MPI_Comm comm, Frame &frame, int root, MethodScratch &scratch) {
+Status composite_direct_send(MPI_Comm comm, Frame &frame, int root, MethodScratch &scratch) {
   int rank = 0, ranks = 1;
   MPI_Comm_rank(comm, &rank);
   MPI_Comm_size(comm, &ranks);
   const size_t pixels = frame.pixel_count(), p = size_t(ranks);
   std::vector<PixelRange> blocks(p);
   for (size_t i = 0; i < p; ++i) blocks[i] = {pixels * i / p, pixels * (i + 1) / p};
-  std::string error;
-  for (int step = 1; step < ranks && error.empty(); ++step) {
+  Status error;
+  for (int step = 1; step < ranks && error.ok(); ++step) {
     const int to = (rank + step) % ranks, from = (rank - step + ranks) % ranks;
     error = exchange_and_merge(comm, to, blocks[size_t(to)], from, blocks[size_t(rank)], frame,
                                scratch);
   }
-  const std::string gather_error = gather_ranges(comm, root, blocks, frame);
-  return error.empty() ? gather_error : error;
+  Status gather_error = gather_ranges(comm, root, blocks, frame);
+  return error.ok() ? gather_error : error;
 }
 
 }  // namespace lantern

@@ -19,8 +19,8 @@ size_t segments_of(size_t count, size_t segment) {
 
 }  // namespace
 
-std::string exchange_and_merge(MPI_Comm comm, int send_to, PixelRange give, int recv_from,
-                               PixelRange keep, Frame &frame, MethodScratch &scratch) {
+Status exchange_and_merge(MPI_Comm comm, int send_to, PixelRange give, int recv_from,
+                          PixelRange keep, Frame &frame, MethodScratch &scratch) {
   const size_t segment = scratch.depth.size();
   // Segment k of give and segment k of keep travel together. Every rank waits at step k only for
   // partners' step k, which they reach because both sides cut the same range the same way: no
@@ -54,8 +54,7 @@ std::string exchange_and_merge(MPI_Comm comm, int send_to, PixelRange give, int 
   return {};
 }
 
-std::string gather_ranges(MPI_Comm comm, int root, const std::vector<PixelRange> &owned,
-                          Frame &frame) {
+Status gather_ranges(MPI_Comm comm, int root, const std::vector<PixelRange> &owned, Frame &frame) {
   // Point-to-point rather than two MPI_Gatherv (depth, color): root receives every piece of both
   // arrays under one MPI_Waitall, one synchronisation instead of two, which matters when ranks
   // share cores. Open MPI's gatherv is linear at these sizes anyway.

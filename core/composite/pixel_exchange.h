@@ -9,9 +9,9 @@
 #include <mpi.h>
 
 #include <cstddef>
-#include <string>
 #include <vector>
 
+#include "core/common/status.h"
 #include "core/composite/composite_methods.h"
 #include "core/view/frame.h"
 
@@ -28,11 +28,12 @@ struct PixelRange {
 // recv_from's pixels for `keep` (if keep is not empty) and merging them into frame. The matching
 // call on the other side must use the same range: its keep is our give. Ranges are cut into
 // scratch-sized segments that move in lockstep, one segment pair in flight at a time.
-std::string exchange_and_merge(MPI_Comm comm, int send_to, PixelRange give, int recv_from,
-                               PixelRange keep, Frame &frame, MethodScratch &scratch);
+// OK or kMpi.
+Status exchange_and_merge(MPI_Comm comm, int send_to, PixelRange give, int recv_from,
+                          PixelRange keep, Frame &frame, MethodScratch &scratch);
 
 // Gathers owned[i] from every rank i into root's frame; root's own range is already in place.
-std::string gather_ranges(MPI_Comm comm, int root, const std::vector<PixelRange> &owned,
-                          Frame &frame);
+// OK or kMpi.
+Status gather_ranges(MPI_Comm comm, int root, const std::vector<PixelRange> &owned, Frame &frame);
 
 }  // namespace lantern

@@ -9,7 +9,7 @@
 
 namespace lantern {
 
-std::string composite_reduce64(MPI_Comm comm, Frame &frame, int root, MethodScratch &scratch) {
+Status composite_reduce64(MPI_Comm comm, Frame &frame, int root, MethodScratch &scratch) {
   int rank = 0;
   MPI_Comm_rank(comm, &rank);
   const size_t pixels = frame.pixel_count();

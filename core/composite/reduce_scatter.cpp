@@ -10,8 +10,7 @@
 
 namespace lantern {
 
-std::string composite_reduce_scatter(MPI_Comm comm, Frame &frame, int root,
-                                     MethodScratch &scratch) {
+Status composite_reduce_scatter(MPI_Comm comm, Frame &frame, int root, MethodScratch &scratch) {
   int rank = 0, ranks = 1;
   MPI_Comm_rank(comm, &rank);
   MPI_Comm_size(comm, &ranks);

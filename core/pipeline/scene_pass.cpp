@@ -147,8 +147,10 @@ Status run_scene_pass(const ScenePassInputs &in, const SceneConfig &scene, Scene
   sum_counts_over_ranks(in.comm, cull, stats);
   stats->culled = in.global.finite_count - stats->drawn - stats->splatted;
 
-  const CompositeStats cs = composite_frames(in.comm, buffers->frame, 0, CompositeMethod::kAuto);
-  if (!cs.ok()) return {StatusCode::kMpi, "scenes '" + scene.name + "': compositing: " + cs.error};
+  CompositeStats cs;
+  if (Status s = composite_frames(in.comm, buffers->frame, 0, CompositeMethod::kAuto, 0, &cs);
+      !s.ok())
+    return with_context(where + "compositing: ", std::move(s));
   stats->composite_ms = cs.milliseconds;
   stats->composite_method = cs.method;
 

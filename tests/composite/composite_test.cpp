@@ -15,6 +15,7 @@
 #include "core/composite/packed_pixel.h"
 #include "synthetic_frames.h"
 #include "tests/support/mpi_world.h"
+#include "tests/support/status_expect.h"
 
 namespace lantern {
 // Readable parameter names in gtest output (found by ADL).
@@ -66,6 +67,7 @@ Frame expected_image(const Case &c, int ranks) {
 }
 
 struct Outcome {
+  Status status;
   CompositeStats stats;
   std::string difference;  // root only: "" if the composite equals the serial merge
 };
@@ -74,14 +76,14 @@ Outcome composite_case(const Case &c, CompositeMethod method, int root, size_t c
   const int rank = world_rank(), ranks = world_size();
   Frame frame = frame_of_rank(c, rank, ranks);
   Outcome out;
-  out.stats = composite_frames(MPI_COMM_WORLD, frame, root, method, chunk);
-  if (rank == root && out.stats.ok())
+  out.status = composite_frames(MPI_COMM_WORLD, frame, root, method, chunk, &out.stats);
+  if (rank == root && out.status.ok())
     out.difference = describe_difference(frame, expected_image(c, ranks));
   return out;
 }
 
 void expect_matches(const Outcome &o) {
-  EXPECT_TRUE(o.stats.ok()) << o.stats.error;
+  EXPECT_OK(o.status);
   EXPECT_EQ(o.difference, "");
   EXPECT_NE(o.stats.method, "auto");
 }
@@ -158,7 +160,7 @@ TEST(Composite, AllMethodsAreBitIdentical) {
   for (const CompositeMethod m : {CompositeMethod::kReduce64, CompositeMethod::kReduceScatter,
                                   CompositeMethod::kBinarySwap, CompositeMethod::kDirectSend}) {
     Frame frame = frame_of_rank(c, world_rank(), world_size());
-    EXPECT_TRUE(composite_frames(MPI_COMM_WORLD, frame, 0, m).ok());
+    EXPECT_OK(composite_frames(MPI_COMM_WORLD, frame, 0, m));
     results.push_back(std::move(frame));
   }
   if (world_rank() == 0)
@@ -171,8 +173,8 @@ TEST(Composite, OneRankIsANoOp) {
   const Case c;
   const Frame before = frame_of_rank(c, 0, 1);
   Frame frame = before;
-  const CompositeStats stats = composite_frames(MPI_COMM_WORLD, frame, 0);
-  EXPECT_TRUE(stats.ok());
+  CompositeStats stats;
+  EXPECT_OK(composite_frames(MPI_COMM_WORLD, frame, 0, CompositeMethod::kAuto, 0, &stats));
   EXPECT_EQ(stats.method, "none");
   EXPECT_EQ(describe_difference(frame, before), "");
 }
@@ -184,28 +186,27 @@ TEST(Composite, MismatchedFrameSizesFailOnEveryRankWithoutDeadlock) {
   for (const CompositeMethod m :
        {CompositeMethod::kAuto, CompositeMethod::kReduce64, CompositeMethod::kReduceScatter,
         CompositeMethod::kBinarySwap, CompositeMethod::kDirectSend}) {
-    const CompositeStats stats = composite_frames(MPI_COMM_WORLD, frame, 0, m);
-    EXPECT_FALSE(stats.ok());
-    EXPECT_NE(stats.error.find("sizes differ"), std::string::npos) << stats.error;
+    const Status status = composite_frames(MPI_COMM_WORLD, frame, 0, m);
+    EXPECT_EQ(status.code, StatusCode::kMpi) << status.message;
+    EXPECT_NE(status.message.find("sizes differ"), std::string::npos) << status.message;
   }
 }
 
 TEST(Composite, BadRootOrDisagreeingMethodFailsOnEveryRank) {
   if (world_size() < 2) GTEST_SKIP() << "needs two ranks";
   Frame frame = blank_frame(8, 8);
-  EXPECT_FALSE(composite_frames(MPI_COMM_WORLD, frame, world_size()).ok());
+  EXPECT_EQ(composite_frames(MPI_COMM_WORLD, frame, world_size()).code, StatusCode::kMpi);
   const CompositeMethod m =
       world_rank() == 0 ? CompositeMethod::kBinarySwap : CompositeMethod::kReduce64;
-  EXPECT_FALSE(composite_frames(MPI_COMM_WORLD, frame, 0, m).ok());
+  EXPECT_EQ(composite_frames(MPI_COMM_WORLD, frame, 0, m).code, StatusCode::kMpi);
   // And the communicator is still usable afterwards.
-  EXPECT_TRUE(composite_frames(MPI_COMM_WORLD, frame, 0).ok());
+  EXPECT_OK(composite_frames(MPI_COMM_WORLD, frame, 0));
 }
 
 TEST(Composite, StatsNameTheMethodThatRan) {
   Frame frame = blank_frame(64, 64);
-  const CompositeStats stats =
-      composite_frames(MPI_COMM_WORLD, frame, 0, CompositeMethod::kReduceScatter);
-  EXPECT_TRUE(stats.ok());
+  CompositeStats stats;
+  EXPECT_OK(composite_frames(MPI_COMM_WORLD, frame, 0, CompositeMethod::kReduceScatter, 0, &stats));
   EXPECT_EQ(stats.method, world_size() == 1 ? "none" : "reduce_scatter");
   EXPECT_EQ(stats.ranks, world_size());
   EXPECT_EQ(stats.pixels, 64u * 64u);
@@ -215,8 +216,9 @@ TEST(Composite, StatsNameTheMethodThatRan) {
 TEST(Composite, AutoPicksTheMeasuredMethodAndSaysWhich) {
   const bool alone = world_size() == 1;
   Frame small = blank_frame(64, 64), large = blank_frame(640, 480);
-  const CompositeStats s = composite_frames(MPI_COMM_WORLD, small, 0);
-  const CompositeStats l = composite_frames(MPI_COMM_WORLD, large, 0);
+  CompositeStats s, l;
+  EXPECT_OK(composite_frames(MPI_COMM_WORLD, small, 0, CompositeMethod::kAuto, 0, &s));
+  EXPECT_OK(composite_frames(MPI_COMM_WORLD, large, 0, CompositeMethod::kAuto, 0, &l));
   EXPECT_EQ(s.method, alone ? "none" : "reduce64");  // latency-bound: one MPI_Reduce
   EXPECT_EQ(l.method, alone ? "none" : "binary_swap");
 }
@@ -263,8 +265,7 @@ TEST(LargeImage, TiledDisplaySizeMatchesSerialMerge) {
   // share their loops, which the small-chunk tests cover.
   for (const CompositeMethod m : {CompositeMethod::kReduce64, CompositeMethod::kBinarySwap}) {
     Frame frame = frame_of_rank(c, rank, ranks);
-    const CompositeStats stats = composite_frames(MPI_COMM_WORLD, frame, 0, m);
-    EXPECT_TRUE(stats.ok()) << stats.error;
+    EXPECT_OK(composite_frames(MPI_COMM_WORLD, frame, 0, m));
     if (rank == 0) EXPECT_EQ(describe_difference(frame, expected), "") << to_string(m);
   }
 }

@@ -118,10 +118,11 @@ int main(int argc, char **argv) {
       std::string ran;
       for (int run = 0; run < options.warmup + options.reps; ++run) {
         MPI_Barrier(MPI_COMM_WORLD);
-        const lantern::CompositeStats stats =
-            lantern::composite_frames(MPI_COMM_WORLD, frame, 0, method, options.chunk);
-        if (!stats.ok()) {
-          if (rank == 0) std::fprintf(stderr, "%s: %s\n", name.c_str(), stats.error.c_str());
+        lantern::CompositeStats stats;
+        const lantern::Status composited =
+            lantern::composite_frames(MPI_COMM_WORLD, frame, 0, method, options.chunk, &stats);
+        if (!composited.ok()) {
+          if (rank == 0) std::fprintf(stderr, "%s: %s\n", name.c_str(), composited.message.c_str());
           status = 1;
           break;
         }
