@@ -38,11 +38,7 @@ Status Runtime::open(const std::string &config_text, MPI_Comm comm, std::unique_
   MPI_Comm_size(rt->comm_, &rt->size_);
 
   Status local = load_config(config_text, &rt->config_);
-  if (local.ok() && !rt->config_.scenes.empty()) {
-    std::string e;
-    rt->gl_ = GlSession::acquire(&e);
-    if (!rt->gl_) local = {StatusCode::kGl, e};
-  }
+  if (local.ok() && !rt->config_.scenes.empty()) local = GlSession::acquire(&rt->gl_);
   if (Status s = agree_on_status(rt->comm_, local); !s.ok()) return s;
   rt->buffers_.resize(rt->config_.scenes.size());
   if (rt->config_.dump.enabled) rt->dump_ = std::make_unique<DumpStage>(rt->config_.dump);
@@ -117,10 +113,8 @@ Status Runtime::execute(int64_t step, double time) {
   Status first_error;
   std::vector<SceneStats> stats(config_.scenes.size());
   if (!config_.scenes.empty()) {
-    std::string e;
-    SphereRenderer *renderer = gl_->renderer(&e);
-    Status gl_status = agree_on_status(comm_, renderer ? Status() : Status(StatusCode::kGl, e));
-    if (!gl_status.ok()) return gl_status;
+    SphereRenderer *renderer = nullptr;
+    if (Status s = agree_on_status(comm_, gl_->renderer(&renderer)); !s.ok()) return s;
     const ScenePassInputs in{comm_, renderer, &particles_, global, step, time, &scratch_};
     for (size_t s = 0; s < config_.scenes.size(); ++s) {
       const Status st = run_scene_pass(in, config_.scenes[s], &buffers_[s], &stats[s]);

@@ -127,10 +127,9 @@ Status run_scene_pass(const ScenePassInputs &in, const SceneConfig &scene, Scene
       std::vector<uint64_t>().swap(draw.spheres);  // only the instances outlive this point
       stats->instances_ms = ms_since(t0);
       RenderTimings timings;
-      const std::string e =
-          in.renderer->render(camera.render_view(background), buffers->instances.data(),
-                              buffers->instances.size(), &buffers->frame, &timings);
-      if (!e.empty()) local = {StatusCode::kGl, "scenes '" + scene.name + "': " + e};
+      local = with_context(
+          where, in.renderer->render(camera.render_view(background), buffers->instances.data(),
+                                     buffers->instances.size(), &buffers->frame, &timings));
       stats->draw_ms = timings.draw_ms;
       stats->readback_ms = timings.readback_ms;
     }

@@ -9,6 +9,8 @@
 #include <memory>
 #include <string>
 
+#include "core/common/status.h"
+
 namespace lantern {
 
 class GlContext {
@@ -18,14 +20,14 @@ class GlContext {
   GlContext(const GlContext &) = delete;
   GlContext &operator=(const GlContext &) = delete;
 
-  // Makes the context current on the calling thread. Returns "" or an error message.
-  virtual std::string make_current() = 0;
+  // Makes the context current on the calling thread. OK or kGl.
+  virtual Status make_current() = 0;
   // Human-readable back end and driver, e.g. "OSMesa 22.3.6 / llvmpipe (LLVM 15, 256 bits)".
   virtual std::string description() const = 0;
 };
 
-// Creates the process's rendering context (OpenGL >= 3.3 core). On failure returns nullptr and
-// sets *error. The current back end is OSMesa.
-std::unique_ptr<GlContext> create_gl_context(std::string *error);
+// Creates the process's rendering context (OpenGL >= 3.3 core), current on the calling thread,
+// into *out. On failure returns kGl and leaves *out alone. The current back end is OSMesa.
+Status create_gl_context(std::unique_ptr<GlContext> *out);
 
 }  // namespace lantern

@@ -2,24 +2,24 @@
 
 namespace lantern {
 
-std::shared_ptr<GlSession> GlSession::acquire(std::string *error) {
+Status GlSession::acquire(std::shared_ptr<GlSession> *out) {
   static std::weak_ptr<GlSession> live;
-  if (auto s = live.lock()) return s;
+  if (auto s = live.lock()) {
+    *out = std::move(s);
+    return {};
+  }
   std::shared_ptr<GlSession> s(new GlSession());
-  s->context_ = create_gl_context(error);
-  if (!s->context_) return nullptr;
-  s->renderer_ = SphereRenderer::create(error);
-  if (!s->renderer_) return nullptr;
+  if (Status st = create_gl_context(&s->context_); !st.ok()) return st;
+  if (Status st = SphereRenderer::create(&s->renderer_); !st.ok()) return st;
   live = s;
-  return s;
+  *out = std::move(s);
+  return {};
 }
 
-SphereRenderer *GlSession::renderer(std::string *error) {
-  if (auto e = context_->make_current(); !e.empty()) {
-    *error = e;
-    return nullptr;
-  }
-  return renderer_.get();
+Status GlSession::renderer(SphereRenderer **out) {
+  if (Status s = context_->make_current(); !s.ok()) return s;
+  *out = renderer_.get();
+  return {};
 }
 
 }  // namespace lantern

@@ -7,6 +7,7 @@
 #include <memory>
 #include <string>
 
+#include "core/common/status.h"
 #include "core/render/gl_context.h"
 #include "core/render/sphere_renderer.h"
 
@@ -14,12 +15,12 @@ namespace lantern {
 
 class GlSession {
  public:
-  // The live session, or a new one. nullptr and *error on failure.
-  static std::shared_ptr<GlSession> acquire(std::string *error);
+  // The live session, or a new one, into *out. On failure returns kGl and leaves *out alone.
+  static Status acquire(std::shared_ptr<GlSession> *out);
 
-  // Makes the context current (another library may have switched contexts) and returns the
-  // renderer. nullptr and *error on failure.
-  SphereRenderer *renderer(std::string *error);
+  // Makes the context current (another library may have switched contexts) and sets *out to the
+  // renderer. On failure returns kGl and leaves *out alone.
+  Status renderer(SphereRenderer **out);
   std::string description() const { return context_->description(); }
 
  private:

@@ -16,10 +16,10 @@ class OsmesaContext final : public GlContext {
   explicit OsmesaContext(OSMesaContext ctx) : ctx_(ctx) {}
   ~OsmesaContext() override { OSMesaDestroyContext(ctx_); }
 
-  std::string make_current() override {
+  Status make_current() override {
     // OSMesa insists on a color buffer; Lantern draws into its own FBOs, so 1x1 is enough.
     if (!OSMesaMakeCurrent(ctx_, dummy_.data(), GL_UNSIGNED_BYTE, 1, 1))
-      return "OSMesaMakeCurrent failed";
+      return {StatusCode::kGl, "OSMesaMakeCurrent failed"};
     return {};
   }
 
@@ -37,7 +37,7 @@ class OsmesaContext final : public GlContext {
 
 }  // namespace
 
-std::unique_ptr<GlContext> create_gl_context(std::string *error) {
+Status create_gl_context(std::unique_ptr<GlContext> *out) {
   const int attribs[] = {OSMESA_FORMAT,
                          OSMESA_RGBA,
                          OSMESA_DEPTH_BITS,
@@ -52,16 +52,13 @@ std::unique_ptr<GlContext> create_gl_context(std::string *error) {
                          3,
                          0};
   OSMesaContext raw = OSMesaCreateContextAttribs(attribs, nullptr);
-  if (!raw) {
-    *error = "OSMesaCreateContextAttribs failed: no OpenGL 3.3 core context from OSMesa";
-    return nullptr;
-  }
+  if (!raw)
+    return {StatusCode::kGl,
+            "OSMesaCreateContextAttribs failed: no OpenGL 3.3 core context from OSMesa"};
   auto ctx = std::make_unique<OsmesaContext>(raw);
-  if (auto e = ctx->make_current(); !e.empty()) {
-    *error = e;
-    return nullptr;
-  }
-  return ctx;
+  if (Status s = ctx->make_current(); !s.ok()) return s;
+  *out = std::move(ctx);
+  return {};
 }
 
 }  // namespace lantern

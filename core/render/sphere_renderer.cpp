@@ -22,7 +22,7 @@ double ms_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 }
 
-std::string compile(GLenum kind, const char *source, GlShader *out) {
+Status compile(GLenum kind, const char *source, GlShader *out) {
   GlShader shader(glCreateShader(kind));
   glShaderSource(shader.get(), 1, &source, nullptr);
   glCompileShader(shader.get());
@@ -31,17 +31,17 @@ std::string compile(GLenum kind, const char *source, GlShader *out) {
   if (!ok) {
     std::vector<char> log(4096);
     glGetShaderInfoLog(shader.get(), GLsizei(log.size()), nullptr, log.data());
-    return std::string("sphere shader failed to compile: ") + log.data();
+    return {StatusCode::kGl, std::string("sphere shader failed to compile: ") + log.data()};
   }
   *out = std::move(shader);
   return {};
 }
 
-std::string link_program(GlProgram *out) {
+Status link_program(GlProgram *out) {
   GlShader vs, fs;
-  if (auto e = compile(GL_VERTEX_SHADER, shaders::kSphereVertex, &vs); !e.empty()) return e;
+  if (Status s = compile(GL_VERTEX_SHADER, shaders::kSphereVertex, &vs); !s.ok()) return s;
   const std::string fragment = shaders::sphere_fragment_source();
-  if (auto e = compile(GL_FRAGMENT_SHADER, fragment.c_str(), &fs); !e.empty()) return e;
+  if (Status s = compile(GL_FRAGMENT_SHADER, fragment.c_str(), &fs); !s.ok()) return s;
   GlProgram program(glCreateProgram());
   glAttachShader(program.get(), vs.get());
   glAttachShader(program.get(), fs.get());
@@ -51,7 +51,7 @@ std::string link_program(GlProgram *out) {
   if (!ok) {
     std::vector<char> log(4096);
     glGetProgramInfoLog(program.get(), GLsizei(log.size()), nullptr, log.data());
-    return std::string("sphere program failed to link: ") + log.data();
+    return {StatusCode::kGl, std::string("sphere program failed to link: ") + log.data()};
   }
   *out = std::move(program);
   return {};
@@ -84,7 +84,7 @@ struct SphereRenderer::Impl {
     GLint view, tile_proj, ortho, near_plane, proj, inv_proj, image_size, tile_origin;
   } loc{};
 
-  std::string ensure_framebuffer(int w, int h) {
+  Status ensure_framebuffer(int w, int h) {
     if (w == fbo_w && h == fbo_h) return {};
     GLuint name = 0;
     glGenRenderbuffers(1, &name);
@@ -100,7 +100,8 @@ struct SphereRenderer::Impl {
                               color_rb.get());
     glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, depth_rb.get());
     if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
-      return "framebuffer of " + std::to_string(w) + "x" + std::to_string(h) + " is incomplete";
+      return {StatusCode::kGl,
+              "framebuffer of " + std::to_string(w) + "x" + std::to_string(h) + " is incomplete"};
     fbo_w = w;
     fbo_h = h;
     return {};
@@ -148,12 +149,9 @@ void SphereRenderer::set_max_tile_size(int pixels) {
   impl_->tile_limit = std::clamp(pixels, 16, impl_->gl_limit);
 }
 
-std::unique_ptr<SphereRenderer> SphereRenderer::create(std::string *error) {
+Status SphereRenderer::create(std::unique_ptr<SphereRenderer> *out) {
   auto impl = std::make_unique<Impl>();
-  if (auto e = link_program(&impl->program); !e.empty()) {
-    *error = e;
-    return nullptr;
-  }
+  if (Status s = link_program(&impl->program); !s.ok()) return s;
   const GLuint p = impl->program.get();
   impl->loc = {glGetUniformLocation(p, "u_view"),       glGetUniformLocation(p, "u_tile_proj"),
                glGetUniformLocation(p, "u_ortho"),      glGetUniformLocation(p, "u_near"),
@@ -182,21 +180,21 @@ std::unique_ptr<SphereRenderer> SphereRenderer::create(std::string *error) {
   glVertexAttribPointer(1, 4, GL_UNSIGNED_BYTE, GL_TRUE, sizeof(SphereInstance),
                         reinterpret_cast<const void *>(offsetof(SphereInstance, rgba)));
   glVertexAttribDivisor(1, 1);
-  if (const GLenum err = glGetError(); err != GL_NO_ERROR) {
-    *error = "OpenGL error " + std::to_string(err) + " while setting up the sphere renderer";
-    return nullptr;
-  }
-  return std::unique_ptr<SphereRenderer>(new SphereRenderer(std::move(impl)));
+  if (const GLenum err = glGetError(); err != GL_NO_ERROR)
+    return {StatusCode::kGl,
+            "OpenGL error " + std::to_string(err) + " while setting up the sphere renderer"};
+  out->reset(new SphereRenderer(std::move(impl)));  // private constructor: make_unique cannot
+  return {};
 }
 
-std::string SphereRenderer::render(const RenderView &view, const SphereInstance *spheres,
-                                   size_t count, Frame *frame, RenderTimings *timings) {
+Status SphereRenderer::render(const RenderView &view, const SphereInstance *spheres, size_t count,
+                              Frame *frame, RenderTimings *timings) {
   Impl &m = *impl_;
   const auto t0 = std::chrono::steady_clock::now();
   *frame = Frame(view.width, view.height);
   const int tile_w = std::min(view.width, m.tile_limit);
   const int tile_h = std::min(view.height, m.tile_limit);
-  if (auto e = m.ensure_framebuffer(tile_w, tile_h); !e.empty()) return e;
+  if (Status s = m.ensure_framebuffer(tile_w, tile_h); !s.ok()) return s;
 
   glUseProgram(m.program.get());
   glBindVertexArray(m.vao.get());
@@ -240,7 +238,7 @@ std::string SphereRenderer::render(const RenderView &view, const SphereInstance 
     }
   }
   if (const GLenum err = glGetError(); err != GL_NO_ERROR)
-    return "OpenGL error " + std::to_string(err) + " while drawing spheres";
+    return {StatusCode::kGl, "OpenGL error " + std::to_string(err) + " while drawing spheres"};
   t.draw_ms = ms_since(t0) - t.readback_ms;
   if (timings) *timings = t;
   return {};

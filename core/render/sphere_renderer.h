@@ -12,6 +12,7 @@
 #include <string>
 
 #include "core/camera/render_view.h"
+#include "core/common/status.h"
 #include "core/view/frame.h"
 
 namespace lantern {
@@ -32,17 +33,18 @@ struct RenderTimings {
 
 class SphereRenderer {
  public:
-  // Compiles the shaders and allocates buffers. Returns nullptr and sets *error on failure.
-  static std::unique_ptr<SphereRenderer> create(std::string *error);
+  // Compiles the shaders and allocates buffers, into *out. On failure returns kGl and leaves *out
+  // alone.
+  static Status create(std::unique_ptr<SphereRenderer> *out);
   ~SphereRenderer();
   SphereRenderer(const SphereRenderer &) = delete;
   SphereRenderer &operator=(const SphereRenderer &) = delete;
 
   // Clears `frame` to the view's background and size, then draws `count` spheres. Images larger
   // than the GL limit (or than kMaxTileSize) are drawn tile by tile; tiling changes no pixel.
-  // Returns "" or an error message.
-  std::string render(const RenderView &view, const SphereInstance *spheres, size_t count,
-                     Frame *frame, RenderTimings *timings);
+  // Returns OK or kGl.
+  Status render(const RenderView &view, const SphereInstance *spheres, size_t count, Frame *frame,
+                RenderTimings *timings);
 
   // Largest tile side the renderer uses (GL limit, capped to bound the FBO's memory).
   int max_tile_size() const;

@@ -87,7 +87,7 @@ class CullingTest : public testing::GlTest {
     const uint8_t bg[4] = {255, 255, 255, 255};
     Frame f;
     RenderTimings t;
-    EXPECT_EQ(renderer_->render(cam.render_view(bg), inst.data(), inst.size(), &f, &t), "");
+    EXPECT_OK(renderer_->render(cam.render_view(bg), inst.data(), inst.size(), &f, &t));
     return f;
   }
 

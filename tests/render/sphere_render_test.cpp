@@ -33,8 +33,7 @@ class SphereRenderTest : public testing::GlTest {
   Frame render(const Camera &cam, const std::vector<SphereInstance> &spheres) {
     Frame f;
     RenderTimings t;
-    EXPECT_EQ(renderer_->render(cam.render_view(kWhite), spheres.data(), spheres.size(), &f, &t),
-              "");
+    EXPECT_OK(renderer_->render(cam.render_view(kWhite), spheres.data(), spheres.size(), &f, &t));
     return f;
   }
 };

@@ -4,20 +4,19 @@
 #include <gtest/gtest.h>
 
 #include <memory>
-#include <string>
 
 #include "core/render/gl_session.h"
+#include "tests/support/status_expect.h"
 
 namespace lantern::testing {
 
 class GlTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    std::string error;
-    session_ = GlSession::acquire(&error);
-    ASSERT_TRUE(session_) << error;
-    renderer_ = session_->renderer(&error);
-    ASSERT_TRUE(renderer_) << error;
+    ASSERT_OK(GlSession::acquire(&session_));
+    ASSERT_TRUE(session_);
+    ASSERT_OK(session_->renderer(&renderer_));
+    ASSERT_TRUE(renderer_);
   }
 
   std::shared_ptr<GlSession> session_;

@@ -206,10 +206,10 @@ class Bench {
     const Rgb8 bg = to_rgb8(sc.background);
     const uint8_t background[4] = {bg[0], bg[1], bg[2], 255};
     RenderTimings t;
-    if (auto e = renderer_->render(cam.render_view(background), instances_.data(),
-                                   instances_.size(), &f, &t);
-        !e.empty())
-      std::printf("render failed: %s\n", e.c_str());
+    if (Status s = renderer_->render(cam.render_view(background), instances_.data(),
+                                     instances_.size(), &f, &t);
+        !s.ok())
+      std::printf("render failed: %s\n", s.message.c_str());
     if (!mode.brute && !draw_.points.empty())
       splat_points(
           p, recipe.per_particle_radius, recipe.radius, draw_.points, culler_.geometry(),
@@ -324,11 +324,12 @@ bool parse(int argc, char **argv, Options *o) {
 int run(int argc, char **argv) {
   Options opt;
   if (!parse(argc, argv, &opt)) return 2;
-  std::string error;
-  auto session = GlSession::acquire(&error);
-  SphereRenderer *renderer = session ? session->renderer(&error) : nullptr;
-  if (!renderer) {
-    std::fprintf(stderr, "lantern-bench: %s\n", error.c_str());
+  std::shared_ptr<GlSession> session;
+  SphereRenderer *renderer = nullptr;
+  Status gl = GlSession::acquire(&session);
+  if (gl.ok()) gl = session->renderer(&renderer);
+  if (!gl.ok()) {
+    std::fprintf(stderr, "lantern-bench: %s\n", gl.message.c_str());
     return 1;
   }
   const char *threads = std::getenv("LP_NUM_THREADS");
