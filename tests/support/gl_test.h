@@ -13,11 +13,8 @@ namespace lantern::testing {
 class GlTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    std::string error;
-    session_ = GlSession::acquire(&error);
-    ASSERT_TRUE(session_) << error;
-    renderer_ = session_->renderer(&error);
-    ASSERT_TRUE(renderer_) << error;
+    const Status s = acquire_renderer(GlBackend::kAuto, &session_, &renderer_);
+    ASSERT_TRUE(s.ok()) << s.message;
   }
 
   std::shared_ptr<GlSession> session_;

@@ -324,11 +324,10 @@ bool parse(int argc, char **argv, Options *o) {
 int run(int argc, char **argv) {
   Options opt;
   if (!parse(argc, argv, &opt)) return 2;
-  std::string error;
-  auto session = GlSession::acquire(&error);
-  SphereRenderer *renderer = session ? session->renderer(&error) : nullptr;
-  if (!renderer) {
-    std::fprintf(stderr, "lantern-bench: %s\n", error.c_str());
+  std::shared_ptr<GlSession> session;
+  SphereRenderer *renderer = nullptr;
+  if (const Status s = acquire_renderer(GlBackend::kAuto, &session, &renderer); !s.ok()) {
+    std::fprintf(stderr, "lantern-bench: %s\n", s.message.c_str());
     return 1;
   }
   const char *threads = std::getenv("LP_NUM_THREADS");

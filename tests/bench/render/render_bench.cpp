@@ -52,11 +52,10 @@ int main(int argc, char **argv) {
     if (!std::strcmp(argv[i], "--size")) size = std::atoi(argv[i + 1]);
     if (!std::strcmp(argv[i], "--runs")) runs = std::atoi(argv[i + 1]);
   }
-  std::string error;
-  auto session = GlSession::acquire(&error);
-  SphereRenderer *renderer = session ? session->renderer(&error) : nullptr;
-  if (!renderer) {
-    std::fprintf(stderr, "lantern-bench-render: %s\n", error.c_str());
+  std::shared_ptr<GlSession> session;
+  SphereRenderer *renderer = nullptr;
+  if (const Status s = acquire_renderer(GlBackend::kAuto, &session, &renderer); !s.ok()) {
+    std::fprintf(stderr, "lantern-bench-render: %s\n", s.message.c_str());
     return 1;
   }
   CameraConfig cfg;
