@@ -13,27 +13,60 @@
 #include "core/render/gl.h"
 
 // Every GL function the renderer uses; X(name) per function.
-#define LANTERN_GL_FUNCTIONS(X)                                                                    \
-  X(glAttachShader)                                                                                \
-  X(glBindBuffer)                                                                                  \
-  X(glBindFramebuffer) X(glBindRenderbuffer) X(glBindVertexArray) X(glBufferData)                  \
-      X(glCheckFramebufferStatus) X(glClear) X(glClearColor) X(glClearDepth) X(glCompileShader)    \
-          X(glCreateProgram) X(glCreateShader) X(glDeleteBuffers) X(glDeleteFramebuffers)          \
-              X(glDeleteProgram) X(glDeleteRenderbuffers) X(glDeleteShader)                        \
-                  X(glDeleteVertexArrays) X(glDepthFunc) X(glDisable) X(glDrawArraysInstanced)     \
-                      X(glEnable) X(glEnableVertexAttribArray) X(glFinish)                         \
-                          X(glFramebufferRenderbuffer) X(glGenBuffers) X(glGenFramebuffers)        \
-                              X(glGenRenderbuffers) X(glGenVertexArrays) X(glGetError)             \
-                                  X(glGetIntegerv) X(glGetProgramInfoLog) X(glGetProgramiv)        \
-                                      X(glGetShaderInfoLog) X(glGetShaderiv) X(glGetString)        \
-                                          X(glGetUniformLocation) X(glLinkProgram)                 \
-                                              X(glPixelStorei) X(glReadPixels)                     \
-                                                  X(glRenderbufferStorage) X(glShaderSource)       \
-                                                      X(glUniform1f) X(glUniform1i) X(glUniform2f) \
-                                                          X(glUniformMatrix4fv) X(glUseProgram)    \
-                                                              X(glVertexAttribDivisor)             \
-                                                                  X(glVertexAttribPointer)         \
-                                                                      X(glViewport)
+// clang-format off
+#define LANTERN_GL_FUNCTIONS(X) \
+  X(glAttachShader) \
+  X(glBindBuffer) \
+  X(glBindFramebuffer) \
+  X(glBindRenderbuffer) \
+  X(glBindVertexArray) \
+  X(glBufferData) \
+  X(glCheckFramebufferStatus) \
+  X(glClear) \
+  X(glClearColor) \
+  X(glClearDepth) \
+  X(glCompileShader) \
+  X(glCreateProgram) \
+  X(glCreateShader) \
+  X(glDeleteBuffers) \
+  X(glDeleteFramebuffers) \
+  X(glDeleteProgram) \
+  X(glDeleteRenderbuffers) \
+  X(glDeleteShader) \
+  X(glDeleteVertexArrays) \
+  X(glDepthFunc) \
+  X(glDisable) \
+  X(glDrawArraysInstanced) \
+  X(glEnable) \
+  X(glEnableVertexAttribArray) \
+  X(glFinish) \
+  X(glFramebufferRenderbuffer) \
+  X(glGenBuffers) \
+  X(glGenFramebuffers) \
+  X(glGenRenderbuffers) \
+  X(glGenVertexArrays) \
+  X(glGetError) \
+  X(glGetIntegerv) \
+  X(glGetProgramInfoLog) \
+  X(glGetProgramiv) \
+  X(glGetShaderInfoLog) \
+  X(glGetShaderiv) \
+  X(glGetString) \
+  X(glGetUniformLocation) \
+  X(glLinkProgram) \
+  X(glPixelStorei) \
+  X(glReadPixels) \
+  X(glRenderbufferStorage) \
+  X(glShaderSource) \
+  X(glUniform1f) \
+  X(glUniform1i) \
+  X(glUniform2f) \
+  X(glUniformMatrix4fv) \
+  X(glUseProgram) \
+  X(glVertexAttribDivisor) \
+  X(glVertexAttribPointer) \
+  X(glViewport)
+// clang-format on
 
 namespace lantern {
 
