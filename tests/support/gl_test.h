@@ -13,6 +13,8 @@ namespace lantern::testing {
 class GlTest : public ::testing::Test {
  protected:
   void SetUp() override {
+    if (!gl_backend_built(GlBackend::kEgl) && !gl_backend_built(GlBackend::kOsmesa))
+      GTEST_SKIP() << "this Lantern is built without OpenGL (LANTERN_WITH_EGL/OSMESA=OFF)";
     const Status s = acquire_renderer(GlBackend::kAuto, &session_, &renderer_);
     ASSERT_TRUE(s.ok()) << s.message;
   }
