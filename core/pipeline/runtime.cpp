@@ -60,9 +60,13 @@ Status Runtime::open_gl() {
       return {StatusCode::kConfig, "scenes '" + scene.name + "': renderer: opengl, but " + why +
                                        " (use renderer: cpu or auto)"};
   if (rank_ != 0) return {};
-  if (!gl_ && config_.gl != GlBackend::kNone)
-    std::fprintf(stderr, "lantern: warning: %s; every scene is drawn by the CPU raster\n",
-                 why.c_str());
+  std::string not_cpu;  // scenes that may resolve to OpenGL (renderer auto)
+  for (const SceneConfig &scene : config_.scenes)
+    if (scene.renderer != RendererChoice::kCpu)
+      not_cpu += (not_cpu.empty() ? "'" : ", '") + scene.name + "'";
+  if (!gl_ && !not_cpu.empty())
+    std::fprintf(stderr, "lantern: warning: %s; scenes %s are drawn by the CPU raster\n",
+                 why.c_str(), not_cpu.c_str());
   else if (gl_ && !passed_over.empty())
     std::fprintf(stderr, "lantern: warning: OpenGL through %s (passed over: %s)\n", gl_->backend(),
                  passed_over.c_str());
