@@ -121,12 +121,21 @@ struct DumpConfig {
   bool single_precision = false;              // precision: float32 | float64
 };
 
+// gl: the OpenGL back end (core/render/gl_context.h). auto: EGL, then OSMesa, then none; none:
+// no OpenGL, every scene drawn by the CPU raster. The environment variable LANTERN_GL, when set,
+// overrides the key (so a site can switch back ends without editing configurations).
+enum class GlBackend { kAuto, kEgl, kOsmesa, kNone };
+
 struct Config {
   Schedule schedule;                // schedule: {...}
   std::vector<SceneConfig> scenes;  // scenes: [...] (at least one, unless dump is set)
   std::string stats_file;           // stats: path of a JSON-lines file ("" = no stats)
   bool verbose = false;             // verbose: print a line per rendered step on rank 0
   DumpConfig dump;                  // dump: {...}
+  GlBackend gl = GlBackend::kAuto;  // gl: auto | egl | osmesa | none  (env LANTERN_GL wins)
+  // egl_device: auto (-1: hardware devices spread over the node's ranks, else the software
+  // device) or an EGL device number. The environment variable LANTERN_EGL_DEVICE wins.
+  int egl_device = -1;
 };
 
 inline constexpr int kMaxImageSize = 16384;

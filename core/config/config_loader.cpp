@@ -25,7 +25,8 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr int64_t kMaxInt = std::numeric_limits<int64_t>::max();
 
 // The keys of every section: the schema. README.md (config/) documents the same keys.
-const std::vector<std::string> kTopKeys = {"schedule", "scenes", "stats", "verbose", "dump"};
+const std::vector<std::string> kTopKeys = {"schedule", "scenes", "stats",     "verbose",
+                                           "dump",     "gl",     "egl_device"};
 const std::vector<std::string> kScheduleKeys = {"every", "start", "steps"};
 const std::vector<std::string> kSceneKeys = {"name",    "width",  "height",     "background",
                                              "radius",  "camera", "color",      "output",
@@ -98,6 +99,13 @@ class Loader {
     });
     optional_key(root, "", "dump",
                  [&](const YAML::Node &n, const std::string &p) { config.dump = dump(n, p); });
+    optional_key(root, "", "gl", [&](const YAML::Node &n, const std::string &p) {
+      config.gl = read_enum<GlBackend>(n, p);
+    });
+    optional_key(root, "", "egl_device", [&](const YAML::Node &n, const std::string &p) {
+      if (n.IsScalar() && n.Scalar() == "auto") return;
+      config.egl_device = static_cast<int>(r_.read_int(n, p, 0, 1023));
+    });
     optional_key(root, "", "scenes",
                  [&](const YAML::Node &n, const std::string &p) { config.scenes = scenes(n, p); });
     if (config.scenes.empty() && !config.dump.enabled)

@@ -43,6 +43,11 @@ inline constexpr EnumName<ImageFormat> kImageFormatNames[] = {
     {ImageFormat::kPng, "png"},   {ImageFormat::kJpeg, "jpeg"}, {ImageFormat::kJpeg, "jpg"},
     {ImageFormat::kTiff, "tiff"}, {ImageFormat::kTiff, "tif"},  {ImageFormat::kExr, "exr"}};
 
+inline constexpr EnumName<GlBackend> kGlBackendNames[] = {{GlBackend::kAuto, "auto"},
+                                                          {GlBackend::kEgl, "egl"},
+                                                          {GlBackend::kOsmesa, "osmesa"},
+                                                          {GlBackend::kNone, "none"}};
+
 // The table of each enum, so that name_of / value_of / names_of need only the enum type.
 inline constexpr const auto &names_table(OcclusionMode) {
   return kOcclusionModeNames;
@@ -58,6 +63,9 @@ inline constexpr const auto &names_table(ColorBy) {
 }
 inline constexpr const auto &names_table(ImageFormat) {
   return kImageFormatNames;
+}
+inline constexpr const auto &names_table(GlBackend) {
+  return kGlBackendNames;
 }
 
 // The canonical name of `value` ("?" for a value missing from its table: a bug).

@@ -6,6 +6,8 @@
 
 #include "core/common/collective_status.h"
 #include "core/config/config_loader.h"
+#include "core/config/enum_names.h"
+#include "core/config/environment.h"
 #include "core/output/stats_writer.h"
 #include "core/particles/particle_scan.h"
 
@@ -28,7 +30,50 @@ Status check_radii(const ParticleArrays &p) {
   return {};
 }
 
+// This process's rank among the ranks of comm on the same node (spreads ranks over GPUs).
+int node_local_rank(MPI_Comm comm) {
+  MPI_Comm node = MPI_COMM_NULL;
+  int rank = 0;
+  if (MPI_Comm_split_type(comm, MPI_COMM_TYPE_SHARED, 0, MPI_INFO_NULL, &node) != MPI_SUCCESS)
+    return 0;
+  MPI_Comm_rank(node, &rank);
+  MPI_Comm_free(&node);
+  return rank;
+}
+
 }  // namespace
+
+Status Runtime::open_gl() {
+  const EglOptions egl{config_.egl_device, node_local_rank(comm_)};
+  std::string passed_over;
+  const Status local = GlSession::acquire(config_.gl, egl, &gl_, &passed_over);
+  if (Status s = agree_on_status(comm_, local); !s.ok()) return s;
+  // Every rank draws with OpenGL or none does: the two renderers may differ in a pixel's last
+  // bit, and an image must not depend on which rank drew what.
+  int have = gl_ ? 1 : 0, all = 0;
+  MPI_Allreduce(&have, &all, 1, MPI_INT, MPI_MIN, comm_);
+  if (!all) gl_.reset();
+  const std::string why = config_.gl == GlBackend::kNone
+                              ? std::string("gl: none (or LANTERN_GL=none)")
+                          : have ? std::string("a rank has no OpenGL")
+                                 : "no OpenGL back end works here: " + passed_over;
+  for (const SceneConfig &scene : config_.scenes)
+    if (scene.renderer == RendererChoice::kOpenGl && !gl_)
+      return {StatusCode::kConfig, "scenes '" + scene.name + "': renderer: opengl, but " + why +
+                                       " (use renderer: cpu or auto)"};
+  if (rank_ != 0) return {};
+  std::string not_cpu;  // scenes that may resolve to OpenGL (renderer auto)
+  for (const SceneConfig &scene : config_.scenes)
+    if (scene.renderer != RendererChoice::kCpu)
+      not_cpu += (not_cpu.empty() ? "'" : ", '") + scene.name + "'";
+  if (!gl_ && !not_cpu.empty())
+    std::fprintf(stderr, "lantern: warning: %s; scenes %s are drawn by the CPU raster\n",
+                 why.c_str(), not_cpu.c_str());
+  else if (gl_ && !passed_over.empty())
+    std::fprintf(stderr, "lantern: warning: OpenGL through %s (passed over: %s)\n", gl_->backend(),
+                 passed_over.c_str());
+  return {};
+}
 
 Status Runtime::open(const std::string &config_text, MPI_Comm comm, std::unique_ptr<Runtime> *out) {
   std::unique_ptr<Runtime> rt(new Runtime());
@@ -38,8 +83,10 @@ Status Runtime::open(const std::string &config_text, MPI_Comm comm, std::unique_
   MPI_Comm_size(rt->comm_, &rt->size_);
 
   Status local = load_config(config_text, &rt->config_);
-  if (local.ok() && !rt->config_.scenes.empty()) local = GlSession::acquire(&rt->gl_);
+  if (local.ok()) local = apply_environment(&rt->config_);
   if (Status s = agree_on_status(rt->comm_, local); !s.ok()) return s;
+  if (!rt->config_.scenes.empty())
+    if (Status s = rt->open_gl(); !s.ok()) return s;
   rt->buffers_.resize(rt->config_.scenes.size());
   if (rt->config_.dump.enabled) rt->dump_ = std::make_unique<DumpStage>(rt->config_.dump);
   *out = std::move(rt);
@@ -113,8 +160,9 @@ Status Runtime::execute(int64_t step, double time) {
   Status first_error;
   std::vector<SceneStats> stats(config_.scenes.size());
   if (!config_.scenes.empty()) {
-    SphereRenderer *renderer = nullptr;
-    if (Status s = agree_on_status(comm_, gl_->renderer(&renderer)); !s.ok()) return s;
+    SphereRenderer *renderer = nullptr;  // none without OpenGL: the CPU raster draws
+    const Status made_current = gl_ ? gl_->renderer(&renderer) : Status();
+    if (Status s = agree_on_status(comm_, made_current); !s.ok()) return s;
     const ScenePassInputs in{comm_, renderer, &particles_, global, step, time, &scratch_};
     for (size_t s = 0; s < config_.scenes.size(); ++s) {
       const Status st = run_scene_pass(in, config_.scenes[s], &buffers_[s], &stats[s]);
@@ -137,6 +185,7 @@ void Runtime::write_stats(int64_t step, double time, const Extent &global, doubl
       {"step", step},
       {"time", time},
       {"ranks", size_},
+      {"gl", gl_ ? gl_->backend() : "none"},
       {"status", int(status.code)},
       {"particles", {{"finite", global.finite_count}, {"nonfinite", global.nonfinite_count}}},
       {"ms", {{"total", total_ms}}},

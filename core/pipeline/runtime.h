@@ -43,6 +43,9 @@ class Runtime {
 
  private:
   Runtime() = default;
+  // The GL session the configuration and environment ask for, or none (then the CPU raster
+  // draws); collective, with the outcome agreed. Warns once on rank 0 when it falls back.
+  Status open_gl();
   void warn_nonfinite_once(int64_t count, int64_t step);
   void write_stats(int64_t step, double time, const Extent &global, double total_ms,
                    const std::vector<SceneStats> &scenes, const Status &status);
@@ -51,7 +54,7 @@ class Runtime {
   MPI_Comm comm_ = MPI_COMM_NULL;
   int rank_ = 0, size_ = 1;
   ParticleArrays particles_;
-  std::shared_ptr<GlSession> gl_;
+  std::shared_ptr<GlSession> gl_;      // null without OpenGL
   std::vector<SceneBuffers> buffers_;  // one per scene
   PassScratch scratch_;                // bricks and culling buffers, shared by the scenes
   bool warned_nonfinite_ = false;

@@ -109,8 +109,15 @@ Status run_scene_pass(const ScenePassInputs &in, const SceneConfig &scene, Scene
     const Rgb8 bg = to_rgb8(scene.background);
     const uint8_t background[4] = {bg[0], bg[1], bg[2], 255};
     // The renderer, decided here once: from the configuration, the camera and the occlusion mode
-    // the selection resolved, so every rank decides the same.
-    const bool cpu = wants_cpu_raster(scene, camera, max_radius) && cpu_pass_serves(selection.mode);
+    // the selection resolved, so every rank decides the same. Without OpenGL (in.renderer null
+    // on every rank alike) the CPU raster draws, culling exactly (hzb) where nine-spheres was
+    // asked for, which only it could not serve.
+    if (!in.renderer && !cpu_pass_serves(selection.mode)) {
+      selection.stats.occlusion = "hzb (no OpenGL, instead of " + selection.stats.occlusion + ")";
+      selection.mode = OcclusionMode::kHzb;
+    }
+    const bool cpu = !in.renderer || (wants_cpu_raster(scene, camera, max_radius) &&
+                                      cpu_pass_serves(selection.mode));
     stats->renderer = cpu ? "cpu" : "opengl";
     cull = cpu ? in.scratch->cpu_pass.run(*in.particles, bricks, scene, selection, recipe,
                                           background, &buffers->frame, &draw)

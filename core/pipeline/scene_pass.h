@@ -33,7 +33,7 @@ struct PassScratch {
 // What a scene pass reads and reuses between steps (buffers are kept to avoid reallocation).
 struct ScenePassInputs {
   MPI_Comm comm = MPI_COMM_NULL;
-  SphereRenderer *renderer = nullptr;
+  SphereRenderer *renderer = nullptr;  // null without OpenGL: every scene on the CPU raster
   const ParticleArrays *particles = nullptr;
   Extent global;  // reduced over ranks
   int64_t step = 0;

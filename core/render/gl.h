@@ -1,5 +1,6 @@
-// OpenGL declarations. OSMesa exports every core entry point, so Lantern links them directly
-// instead of loading function pointers.
+// OpenGL declarations: types, constants and prototypes. The prototypes are only used for their
+// types (gl_functions.h loads every entry point from the back end at run time); nothing links
+// against a GL library.
 #pragma once
 
 #ifndef GL_GLEXT_PROTOTYPES

@@ -4,7 +4,7 @@
 
 #include <utility>
 
-#include "core/render/gl.h"
+#include "core/render/gl_functions.h"
 
 namespace lantern {
 
@@ -37,22 +37,22 @@ class GlName {
 };
 
 inline void delete_program(GLuint n) {
-  glDeleteProgram(n);
+  gl().glDeleteProgram(n);
 }
 inline void delete_shader(GLuint n) {
-  glDeleteShader(n);
+  gl().glDeleteShader(n);
 }
 inline void delete_buffer(GLuint n) {
-  glDeleteBuffers(1, &n);
+  gl().glDeleteBuffers(1, &n);
 }
 inline void delete_vertex_array(GLuint n) {
-  glDeleteVertexArrays(1, &n);
+  gl().glDeleteVertexArrays(1, &n);
 }
 inline void delete_framebuffer(GLuint n) {
-  glDeleteFramebuffers(1, &n);
+  gl().glDeleteFramebuffers(1, &n);
 }
 inline void delete_renderbuffer(GLuint n) {
-  glDeleteRenderbuffers(1, &n);
+  gl().glDeleteRenderbuffers(1, &n);
 }
 
 using GlProgram = GlName<delete_program>;

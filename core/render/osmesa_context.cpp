@@ -1,43 +1,61 @@
-// GlContext back end: Mesa's off-screen OSMesa (llvmpipe on CPU).
+// GlContext back end: Mesa's off-screen OSMesa (llvmpipe on CPU). Removed from Mesa 25.1; EGL
+// (egl_context.cpp) is the way forward, this stays for systems without a usable EGL.
+// gl.h first: it asks GL/glext.h for the prototypes gl_functions.h takes its types from, and
+// GL/osmesa.h would include GL/gl.h without them.
+#include "core/render/gl.h"
+// clang-format off
 #include <GL/osmesa.h>
+// clang-format on
 
 #include <array>
 #include <string>
-#include <vector>
 
-#include "core/render/gl.h"
 #include "core/render/gl_context.h"
+#include "core/render/gl_functions.h"
 
 namespace lantern {
 namespace {
 
+void *lookup_gl(const char *name) {
+  return reinterpret_cast<void *>(OSMesaGetProcAddress(name));
+}
+
 class OsmesaContext final : public GlContext {
  public:
   explicit OsmesaContext(OSMesaContext ctx) : ctx_(ctx) {}
-  ~OsmesaContext() override { OSMesaDestroyContext(ctx_); }
+  ~OsmesaContext() override {
+    if (&gl() == &functions_) set_current_gl_functions(nullptr);
+    OSMesaDestroyContext(ctx_);
+  }
+
+  Status load() { return load_gl_functions(lookup_gl, &functions_); }
 
   Status make_current() override {
     // OSMesa insists on a color buffer; Lantern draws into its own FBOs, so 1x1 is enough.
     if (!OSMesaMakeCurrent(ctx_, dummy_.data(), GL_UNSIGNED_BYTE, 1, 1))
       return {StatusCode::kGl, "OSMesaMakeCurrent failed"};
+    set_current_gl_functions(&functions_);
     return {};
   }
 
+  const char *backend() const override { return "osmesa"; }
+
   std::string description() const override {
-    const auto *renderer = reinterpret_cast<const char *>(glGetString(GL_RENDERER));
-    const auto *version = reinterpret_cast<const char *>(glGetString(GL_VERSION));
-    return std::string("OSMesa / ") + (renderer ? renderer : "?") + " / GL " +
-           (version ? version : "?");
+    const auto *renderer = functions_.glGetString ? functions_.glGetString(GL_RENDERER) : nullptr;
+    const auto *version = functions_.glGetString ? functions_.glGetString(GL_VERSION) : nullptr;
+    return std::string("OSMesa / ") + (renderer ? reinterpret_cast<const char *>(renderer) : "?") +
+           " / GL " + (version ? reinterpret_cast<const char *>(version) : "?");
   }
 
  private:
   OSMesaContext ctx_;
   std::array<unsigned char, 4> dummy_{};
+  GlFunctions functions_;
 };
 
 }  // namespace
 
-Status create_gl_context(std::unique_ptr<GlContext> *out) {
+Status create_osmesa_context(std::unique_ptr<GlContext> *out) {
   const int attribs[] = {OSMESA_FORMAT,
                          OSMESA_RGBA,
                          OSMESA_DEPTH_BITS,
@@ -56,6 +74,7 @@ Status create_gl_context(std::unique_ptr<GlContext> *out) {
     return {StatusCode::kGl,
             "OSMesaCreateContextAttribs failed: no OpenGL 3.3 core context from OSMesa"};
   auto ctx = std::make_unique<OsmesaContext>(raw);
+  if (Status s = ctx->load(); !s.ok()) return s;
   if (Status s = ctx->make_current(); !s.ok()) return s;
   *out = std::move(ctx);
   return {};

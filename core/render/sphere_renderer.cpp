@@ -8,7 +8,7 @@
 #include <glm/gtc/matrix_inverse.hpp>
 #include <glm/gtc/type_ptr.hpp>
 
-#include "core/render/gl.h"
+#include "core/render/gl_functions.h"
 #include "core/render/gl_objects.h"
 #include "core/render/sphere_shaders.h"
 
@@ -23,14 +23,14 @@ double ms_since(std::chrono::steady_clock::time_point t0) {
 }
 
 Status compile(GLenum kind, const char *source, GlShader *out) {
-  GlShader shader(glCreateShader(kind));
-  glShaderSource(shader.get(), 1, &source, nullptr);
-  glCompileShader(shader.get());
+  GlShader shader(gl().glCreateShader(kind));
+  gl().glShaderSource(shader.get(), 1, &source, nullptr);
+  gl().glCompileShader(shader.get());
   GLint ok = GL_FALSE;
-  glGetShaderiv(shader.get(), GL_COMPILE_STATUS, &ok);
+  gl().glGetShaderiv(shader.get(), GL_COMPILE_STATUS, &ok);
   if (!ok) {
     std::vector<char> log(4096);
-    glGetShaderInfoLog(shader.get(), GLsizei(log.size()), nullptr, log.data());
+    gl().glGetShaderInfoLog(shader.get(), GLsizei(log.size()), nullptr, log.data());
     return {StatusCode::kGl, std::string("sphere shader failed to compile: ") + log.data()};
   }
   *out = std::move(shader);
@@ -42,15 +42,15 @@ Status link_program(GlProgram *out) {
   if (Status s = compile(GL_VERTEX_SHADER, shaders::kSphereVertex, &vs); !s.ok()) return s;
   const std::string fragment = shaders::sphere_fragment_source();
   if (Status s = compile(GL_FRAGMENT_SHADER, fragment.c_str(), &fs); !s.ok()) return s;
-  GlProgram program(glCreateProgram());
-  glAttachShader(program.get(), vs.get());
-  glAttachShader(program.get(), fs.get());
-  glLinkProgram(program.get());
+  GlProgram program(gl().glCreateProgram());
+  gl().glAttachShader(program.get(), vs.get());
+  gl().glAttachShader(program.get(), fs.get());
+  gl().glLinkProgram(program.get());
   GLint ok = GL_FALSE;
-  glGetProgramiv(program.get(), GL_LINK_STATUS, &ok);
+  gl().glGetProgramiv(program.get(), GL_LINK_STATUS, &ok);
   if (!ok) {
     std::vector<char> log(4096);
-    glGetProgramInfoLog(program.get(), GLsizei(log.size()), nullptr, log.data());
+    gl().glGetProgramInfoLog(program.get(), GLsizei(log.size()), nullptr, log.data());
     return {StatusCode::kGl, std::string("sphere program failed to link: ") + log.data()};
   }
   *out = std::move(program);
@@ -87,19 +87,20 @@ struct SphereRenderer::Impl {
   Status ensure_framebuffer(int w, int h) {
     if (w == fbo_w && h == fbo_h) return {};
     GLuint name = 0;
-    glGenRenderbuffers(1, &name);
+    gl().glGenRenderbuffers(1, &name);
     color_rb = GlRenderbuffer(name);
-    glBindRenderbuffer(GL_RENDERBUFFER, color_rb.get());
-    glRenderbufferStorage(GL_RENDERBUFFER, GL_RGBA8, w, h);
-    glGenRenderbuffers(1, &name);
+    gl().glBindRenderbuffer(GL_RENDERBUFFER, color_rb.get());
+    gl().glRenderbufferStorage(GL_RENDERBUFFER, GL_RGBA8, w, h);
+    gl().glGenRenderbuffers(1, &name);
     depth_rb = GlRenderbuffer(name);
-    glBindRenderbuffer(GL_RENDERBUFFER, depth_rb.get());
-    glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT32F, w, h);
-    glBindFramebuffer(GL_FRAMEBUFFER, fbo.get());
-    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER,
-                              color_rb.get());
-    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, depth_rb.get());
-    if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
+    gl().glBindRenderbuffer(GL_RENDERBUFFER, depth_rb.get());
+    gl().glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT32F, w, h);
+    gl().glBindFramebuffer(GL_FRAMEBUFFER, fbo.get());
+    gl().glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER,
+                                   color_rb.get());
+    gl().glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER,
+                                   depth_rb.get());
+    if (gl().glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
       return {StatusCode::kGl,
               "framebuffer of " + std::to_string(w) + "x" + std::to_string(h) + " is incomplete"};
     fbo_w = w;
@@ -108,16 +109,16 @@ struct SphereRenderer::Impl {
   }
 
   void draw_all(const SphereInstance *spheres, size_t count, bool reupload) {
-    glBindBuffer(GL_ARRAY_BUFFER, instances.get());
+    gl().glBindBuffer(GL_ARRAY_BUFFER, instances.get());
     for (size_t first = 0; first < count; first += kChunkInstances) {
       const size_t n = std::min(kChunkInstances, count - first);
       if (reupload) {
         // A new store of exactly this chunk's size, filled in the same call: llvmpipe need not
         // wait for the previous chunk's draw, and nothing larger is allocated or cleared.
-        glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(n * sizeof(SphereInstance)), spheres + first,
-                     GL_STREAM_DRAW);
+        gl().glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(n * sizeof(SphereInstance)), spheres + first,
+                          GL_STREAM_DRAW);
       }
-      glDrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, GLsizei(n));
+      gl().glDrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, GLsizei(n));
     }
   }
 
@@ -126,9 +127,9 @@ struct SphereRenderer::Impl {
   void read_tile(Frame *frame, int tx, int gl_ty, int tw, int th) {
     tile_rgba.resize(size_t(tw) * th * 4);
     tile_depth.resize(size_t(tw) * th);
-    glPixelStorei(GL_PACK_ALIGNMENT, 1);
-    glReadPixels(0, 0, tw, th, GL_RGBA, GL_UNSIGNED_BYTE, tile_rgba.data());
-    glReadPixels(0, 0, tw, th, GL_DEPTH_COMPONENT, GL_FLOAT, tile_depth.data());
+    gl().glPixelStorei(GL_PACK_ALIGNMENT, 1);
+    gl().glReadPixels(0, 0, tw, th, GL_RGBA, GL_UNSIGNED_BYTE, tile_rgba.data());
+    gl().glReadPixels(0, 0, tw, th, GL_DEPTH_COMPONENT, GL_FLOAT, tile_depth.data());
     for (int row = 0; row < th; ++row) {
       const int y = frame->height - 1 - (gl_ty + row);
       const size_t dst = frame->index(tx, y);
@@ -153,34 +154,35 @@ Status SphereRenderer::create(std::unique_ptr<SphereRenderer> *out) {
   auto impl = std::make_unique<Impl>();
   if (Status s = link_program(&impl->program); !s.ok()) return s;
   const GLuint p = impl->program.get();
-  impl->loc = {glGetUniformLocation(p, "u_view"),       glGetUniformLocation(p, "u_tile_proj"),
-               glGetUniformLocation(p, "u_ortho"),      glGetUniformLocation(p, "u_near"),
-               glGetUniformLocation(p, "u_proj"),       glGetUniformLocation(p, "u_inv_proj"),
-               glGetUniformLocation(p, "u_image_size"), glGetUniformLocation(p, "u_tile_origin")};
+  impl->loc = {
+      gl().glGetUniformLocation(p, "u_view"),       gl().glGetUniformLocation(p, "u_tile_proj"),
+      gl().glGetUniformLocation(p, "u_ortho"),      gl().glGetUniformLocation(p, "u_near"),
+      gl().glGetUniformLocation(p, "u_proj"),       gl().glGetUniformLocation(p, "u_inv_proj"),
+      gl().glGetUniformLocation(p, "u_image_size"), gl().glGetUniformLocation(p, "u_tile_origin")};
   GLint rb_limit = 0, viewport_limit[2] = {0, 0};
-  glGetIntegerv(GL_MAX_RENDERBUFFER_SIZE, &rb_limit);
-  glGetIntegerv(GL_MAX_VIEWPORT_DIMS, viewport_limit);
+  gl().glGetIntegerv(GL_MAX_RENDERBUFFER_SIZE, &rb_limit);
+  gl().glGetIntegerv(GL_MAX_VIEWPORT_DIMS, viewport_limit);
   impl->gl_limit = std::min({kMaxTileSize, int(rb_limit), viewport_limit[0], viewport_limit[1]});
   impl->tile_limit = impl->gl_limit;
 
   GLuint name = 0;
-  glGenVertexArrays(1, &name);
+  gl().glGenVertexArrays(1, &name);
   impl->vao = GlVertexArray(name);
-  glGenBuffers(1, &name);
+  gl().glGenBuffers(1, &name);
   impl->instances = GlBuffer(name);
-  glGenFramebuffers(1, &name);
+  gl().glGenFramebuffers(1, &name);
   impl->fbo = GlFramebuffer(name);
 
-  glBindVertexArray(impl->vao.get());
-  glBindBuffer(GL_ARRAY_BUFFER, impl->instances.get());
-  glEnableVertexAttribArray(0);
-  glVertexAttribPointer(0, 4, GL_FLOAT, GL_FALSE, sizeof(SphereInstance), nullptr);
-  glVertexAttribDivisor(0, 1);
-  glEnableVertexAttribArray(1);
-  glVertexAttribPointer(1, 4, GL_UNSIGNED_BYTE, GL_TRUE, sizeof(SphereInstance),
-                        reinterpret_cast<const void *>(offsetof(SphereInstance, rgba)));
-  glVertexAttribDivisor(1, 1);
-  if (const GLenum err = glGetError(); err != GL_NO_ERROR)
+  gl().glBindVertexArray(impl->vao.get());
+  gl().glBindBuffer(GL_ARRAY_BUFFER, impl->instances.get());
+  gl().glEnableVertexAttribArray(0);
+  gl().glVertexAttribPointer(0, 4, GL_FLOAT, GL_FALSE, sizeof(SphereInstance), nullptr);
+  gl().glVertexAttribDivisor(0, 1);
+  gl().glEnableVertexAttribArray(1);
+  gl().glVertexAttribPointer(1, 4, GL_UNSIGNED_BYTE, GL_TRUE, sizeof(SphereInstance),
+                             reinterpret_cast<const void *>(offsetof(SphereInstance, rgba)));
+  gl().glVertexAttribDivisor(1, 1);
+  if (const GLenum err = gl().glGetError(); err != GL_NO_ERROR)
     return {StatusCode::kGl,
             "OpenGL error " + std::to_string(err) + " while setting up the sphere renderer"};
   out->reset(new SphereRenderer(std::move(impl)));  // private constructor: make_unique cannot
@@ -196,22 +198,22 @@ Status SphereRenderer::render(const RenderView &view, const SphereInstance *sphe
   const int tile_h = std::min(view.height, m.tile_limit);
   if (Status s = m.ensure_framebuffer(tile_w, tile_h); !s.ok()) return s;
 
-  glUseProgram(m.program.get());
-  glBindVertexArray(m.vao.get());
-  glUniformMatrix4fv(m.loc.view, 1, GL_FALSE, glm::value_ptr(view.view));
-  glUniformMatrix4fv(m.loc.proj, 1, GL_FALSE, glm::value_ptr(view.projection));
+  gl().glUseProgram(m.program.get());
+  gl().glBindVertexArray(m.vao.get());
+  gl().glUniformMatrix4fv(m.loc.view, 1, GL_FALSE, glm::value_ptr(view.view));
+  gl().glUniformMatrix4fv(m.loc.proj, 1, GL_FALSE, glm::value_ptr(view.projection));
   const glm::mat4 inv = glm::inverse(view.projection);
-  glUniformMatrix4fv(m.loc.inv_proj, 1, GL_FALSE, glm::value_ptr(inv));
-  glUniform1i(m.loc.ortho, view.orthographic ? 1 : 0);
-  glUniform1f(m.loc.near_plane, view.near_plane);
-  glUniform2f(m.loc.image_size, float(view.width), float(view.height));
-  glEnable(GL_DEPTH_TEST);
-  glDepthFunc(GL_LESS);
-  glDisable(GL_BLEND);
-  glDisable(GL_CULL_FACE);
-  glClearColor(view.background[0] / 255.0f, view.background[1] / 255.0f,
-               view.background[2] / 255.0f, view.background[3] / 255.0f);
-  glClearDepth(1.0);
+  gl().glUniformMatrix4fv(m.loc.inv_proj, 1, GL_FALSE, glm::value_ptr(inv));
+  gl().glUniform1i(m.loc.ortho, view.orthographic ? 1 : 0);
+  gl().glUniform1f(m.loc.near_plane, view.near_plane);
+  gl().glUniform2f(m.loc.image_size, float(view.width), float(view.height));
+  gl().glEnable(GL_DEPTH_TEST);
+  gl().glDepthFunc(GL_LESS);
+  gl().glDisable(GL_BLEND);
+  gl().glDisable(GL_CULL_FACE);
+  gl().glClearColor(view.background[0] / 255.0f, view.background[1] / 255.0f,
+                    view.background[2] / 255.0f, view.background[3] / 255.0f);
+  gl().glClearDepth(1.0);
 
   RenderTimings t;
   const bool single_chunk = count <= kChunkInstances;
@@ -222,22 +224,22 @@ Status SphereRenderer::render(const RenderView &view, const SphereInstance *sphe
       const int th = std::min(tile_h, view.height - ty);
       // Tile rows are counted from the bottom of the image, as GL counts them.
       const int gl_ty = view.height - ty - th;
-      glBindFramebuffer(GL_FRAMEBUFFER, m.fbo.get());
-      glViewport(0, 0, tw, th);
-      glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+      gl().glBindFramebuffer(GL_FRAMEBUFFER, m.fbo.get());
+      gl().glViewport(0, 0, tw, th);
+      gl().glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
       const glm::mat4 tp = tile_projection(view, tx, gl_ty, tw, th);
-      glUniformMatrix4fv(m.loc.tile_proj, 1, GL_FALSE, glm::value_ptr(tp));
-      glUniform2f(m.loc.tile_origin, float(tx), float(gl_ty));
+      gl().glUniformMatrix4fv(m.loc.tile_proj, 1, GL_FALSE, glm::value_ptr(tp));
+      gl().glUniform2f(m.loc.tile_origin, float(tx), float(gl_ty));
       if (count > 0) m.draw_all(spheres, count, !(single_chunk && uploaded));
       uploaded = true;
-      glFinish();
+      gl().glFinish();
       const auto r0 = std::chrono::steady_clock::now();
       m.read_tile(frame, tx, gl_ty, tw, th);
       t.readback_ms += ms_since(r0);
       ++t.tiles;
     }
   }
-  if (const GLenum err = glGetError(); err != GL_NO_ERROR)
+  if (const GLenum err = gl().glGetError(); err != GL_NO_ERROR)
     return {StatusCode::kGl, "OpenGL error " + std::to_string(err) + " while drawing spheres"};
   t.draw_ms = ms_since(t0) - t.readback_ms;
   if (timings) *timings = t;

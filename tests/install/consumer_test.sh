@@ -10,6 +10,8 @@ cmake --install "$build_dir" --prefix "$work/prefix" > "$work/install.log"
 test -f "$work/prefix/include/lantern/lantern.h"
 cmake -S "$source_dir" -B "$work/build" -DCMAKE_PREFIX_PATH="$work/prefix" > "$work/configure.log"
 cmake --build "$work/build" > "$work/build.log"
+grep -q "Lantern_GL_BACKENDS=" "$work/configure.log"  # the package reports its GL back ends
+grep "Lantern_GL_BACKENDS=" "$work/configure.log"
 "$work/build/consumer" "$work"
 test -s "$work/consumer.png"
 echo "consumer test passed"

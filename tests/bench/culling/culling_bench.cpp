@@ -326,9 +326,7 @@ int run(int argc, char **argv) {
   if (!parse(argc, argv, &opt)) return 2;
   std::shared_ptr<GlSession> session;
   SphereRenderer *renderer = nullptr;
-  Status gl = GlSession::acquire(&session);
-  if (gl.ok()) gl = session->renderer(&renderer);
-  if (!gl.ok()) {
+  if (const Status gl = acquire_renderer(GlBackend::kAuto, &session, &renderer); !gl.ok()) {
     std::fprintf(stderr, "lantern-bench: %s\n", gl.message.c_str());
     return 1;
   }

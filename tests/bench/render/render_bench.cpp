@@ -54,9 +54,7 @@ int main(int argc, char **argv) {
   }
   std::shared_ptr<GlSession> session;
   SphereRenderer *renderer = nullptr;
-  Status gl = GlSession::acquire(&session);
-  if (gl.ok()) gl = session->renderer(&renderer);
-  if (!gl.ok()) {
+  if (const Status gl = acquire_renderer(GlBackend::kAuto, &session, &renderer); !gl.ok()) {
     std::fprintf(stderr, "lantern-bench-render: %s\n", gl.message.c_str());
     return 1;
   }

@@ -1,0 +1,30 @@
+#include "core/render/gl_functions.h"
+
+namespace lantern {
+namespace {
+
+const GlFunctions kUnloaded{};
+const GlFunctions *current = &kUnloaded;
+
+}  // namespace
+
+Status load_gl_functions(GlProcLookup lookup, GlFunctions *out) {
+  GlFunctions f;
+#define LANTERN_GL_LOAD(name)                                 \
+  f.name = reinterpret_cast<decltype(f.name)>(lookup(#name)); \
+  if (!f.name) return {StatusCode::kGl, "the GL back end has no " #name};
+  LANTERN_GL_FUNCTIONS(LANTERN_GL_LOAD)
+#undef LANTERN_GL_LOAD
+  *out = f;
+  return {};
+}
+
+const GlFunctions &gl() {
+  return *current;
+}
+
+void set_current_gl_functions(const GlFunctions *functions) {
+  current = functions ? functions : &kUnloaded;
+}
+
+}  // namespace lantern
