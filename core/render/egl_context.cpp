@@ -65,10 +65,7 @@ class EglContext final : public GlContext {
   const char *backend() const override { return "egl"; }
 
   std::string description() const override {
-    const auto *renderer = functions_.glGetString ? functions_.glGetString(GL_RENDERER) : nullptr;
-    const auto *version = functions_.glGetString ? functions_.glGetString(GL_VERSION) : nullptr;
-    return "EGL (" + where_ + ") / " + (renderer ? reinterpret_cast<const char *>(renderer) : "?") +
-           " / GL " + (version ? reinterpret_cast<const char *>(version) : "?");
+    return "EGL (" + where_ + ") / " + gl_driver_text(functions_);
   }
 
  private:

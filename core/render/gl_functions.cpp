@@ -19,6 +19,14 @@ Status load_gl_functions(GlProcLookup lookup, GlFunctions *out) {
   return {};
 }
 
+std::string gl_driver_text(const GlFunctions &f) {
+  const auto text = [&f](GLenum name) {
+    const GLubyte *s = f.glGetString ? f.glGetString(name) : nullptr;
+    return s ? std::string(reinterpret_cast<const char *>(s)) : std::string("?");
+  };
+  return text(GL_RENDERER) + " / GL " + text(GL_VERSION);
+}
+
 const GlFunctions &gl() {
   return *current;
 }

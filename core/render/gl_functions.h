@@ -9,6 +9,8 @@
 // current-context model. Thread-safety: like GL itself, one thread (Lantern is called from one).
 #pragma once
 
+#include <string>
+
 #include "core/common/status.h"
 #include "core/render/gl.h"
 
@@ -82,6 +84,10 @@ using GlProcLookup = void *(*)(const char *name);
 
 // Fills *out through `lookup`; a kGl status naming the first entry point it lacks.
 Status load_gl_functions(GlProcLookup lookup, GlFunctions *out);
+
+// "<renderer> / GL <version>" of the context whose functions these are (current), for the
+// back ends' descriptions.
+std::string gl_driver_text(const GlFunctions &functions);
 
 // The table of the context made current last (all null before any).
 const GlFunctions &gl();

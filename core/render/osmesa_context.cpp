@@ -40,12 +40,7 @@ class OsmesaContext final : public GlContext {
 
   const char *backend() const override { return "osmesa"; }
 
-  std::string description() const override {
-    const auto *renderer = functions_.glGetString ? functions_.glGetString(GL_RENDERER) : nullptr;
-    const auto *version = functions_.glGetString ? functions_.glGetString(GL_VERSION) : nullptr;
-    return std::string("OSMesa / ") + (renderer ? reinterpret_cast<const char *>(renderer) : "?") +
-           " / GL " + (version ? reinterpret_cast<const char *>(version) : "?");
-  }
+  std::string description() const override { return "OSMesa / " + gl_driver_text(functions_); }
 
  private:
   OSMesaContext ctx_;
