@@ -126,9 +126,14 @@ std::string scene_yaml(const std::string &name, const std::string &projection,
          "\n    output: {pattern: \"" + pattern + "\"}\n";
 }
 
-std::string config_yaml(const std::string &directory, const std::string &prefix) {
+// `top`: extra top-level keys; `each`: extra keys for every scene (indented by four spaces).
+std::string config_yaml(const std::string &directory, const std::string &prefix,
+                        const std::string &top = "", const std::string &each = "") {
   const std::string pattern = directory + "/" + prefix + "_{scene}_{step:06d}.png";
-  return "scenes:\n" + scene_yaml("persp_type", "perspective", "{by: type}", "0.4", pattern) +
+  const auto scene_yaml = [&each](auto &&...args) {
+    return ::lantern::testing::scene_yaml(args...) + each;
+  };
+  return top + "scenes:\n" + scene_yaml("persp_type", "perspective", "{by: type}", "0.4", pattern) +
          scene_yaml("persp_scalar", "perspective", "{by: scalar, colormap: viridis}",
                     "per_particle", pattern) +
          scene_yaml("persp_solid", "perspective", "{by: solid, solid: [0.9, 0.5, 0.1]}", "0.4",
@@ -203,15 +208,17 @@ Render render_once(MPI_Comm comm, const std::string &config, const Particles &mi
 }
 
 // Renders `all` on rank 0 alone, then under every split on all ranks; compares on rank 0.
-void expect_rank_invariant(const Particles &all, const std::string &label) {
+void expect_rank_invariant(const Particles &all, const std::string &label,
+                           const std::string &top = "", const std::string &each = "") {
   const std::string dir = shared_directory();
   ASSERT_FALSE(dir.empty());
   const int rank = world_rank(), ranks = world_size();
   if (rank == 0) {
-    const Render ref = render_once(MPI_COMM_SELF, config_yaml(dir, label + "_ref"), all, 0);
+    const Render ref =
+        render_once(MPI_COMM_SELF, config_yaml(dir, label + "_ref", top, each), all, 0);
     EXPECT_EQ(ref.status, LANTERN_OK) << ref.error;
   }
-  const std::string config = config_yaml(dir, label);
+  const std::string config = config_yaml(dir, label, top, each);
   for (size_t s = 0; s < std::size(kSplits); ++s) {
     const Render r =
         render_once(MPI_COMM_WORLD, config, owned_by(kSplits[s], all, rank, ranks), int(s));
@@ -237,6 +244,12 @@ void expect_rank_invariant(const Particles &all, const std::string &label) {
 
 TEST(RankInvariance, SameImagesForEveryRankCountAndSplit) {
   expect_rank_invariant(make_particles(1500), "cloud");
+}
+
+// Without OpenGL every scene goes to the CPU raster, nine-spheres culling becoming hzb there.
+TEST(RankInvariance, SameImagesWithoutOpenGl) {
+  expect_rank_invariant(make_particles(1500), "nogl", "gl: none\n",
+                        "    culling: {occlusion: nine_spheres}\n");
 }
 
 TEST(RankInvariance, NoParticlesAnywhereGivesTheBackgroundEverywhere) {
