@@ -38,32 +38,30 @@ inline lantern_array to_c(const BorrowedArray &a) {
   return {a.data, static_cast<lantern_datatype>(a.type), a.stride_bytes};
 }
 
+// Every field of a particle description, each array through `convert`: one list of the fields
+// for both directions.
+template <typename To, typename From, typename Convert>
+To translate_particles(const From &in, Convert convert) {
+  To out{};
+  out.count = in.count;
+  out.position = convert(in.position);
+  out.position_x = convert(in.position_x);
+  out.position_y = convert(in.position_y);
+  out.position_z = convert(in.position_z);
+  out.radius = convert(in.radius);
+  out.scalar = convert(in.scalar);
+  out.type = convert(in.type);
+  out.id = convert(in.id);
+  return out;
+}
+
 inline ParticleDescription from_c(const lantern_particles &p) {
-  ParticleDescription d;
-  d.count = p.count;
-  d.position = from_c(p.position);
-  d.position_x = from_c(p.position_x);
-  d.position_y = from_c(p.position_y);
-  d.position_z = from_c(p.position_z);
-  d.radius = from_c(p.radius);
-  d.scalar = from_c(p.scalar);
-  d.type = from_c(p.type);
-  d.id = from_c(p.id);
-  return d;
+  return translate_particles<ParticleDescription>(p,
+                                                  [](const lantern_array &a) { return from_c(a); });
 }
 
 inline lantern_particles to_c(const ParticleDescription &d) {
-  lantern_particles p{};
-  p.count = d.count;
-  p.position = to_c(d.position);
-  p.position_x = to_c(d.position_x);
-  p.position_y = to_c(d.position_y);
-  p.position_z = to_c(d.position_z);
-  p.radius = to_c(d.radius);
-  p.scalar = to_c(d.scalar);
-  p.type = to_c(d.type);
-  p.id = to_c(d.id);
-  return p;
+  return translate_particles<lantern_particles>(d, [](const BorrowedArray &a) { return to_c(a); });
 }
 
 }  // namespace lantern
