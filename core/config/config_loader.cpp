@@ -13,6 +13,7 @@
 #include <map>
 #include <sstream>
 
+#include "core/common/quoted_text.h"
 #include "core/config/enum_names.h"
 #include "core/config/file_pattern.h"
 #include "core/config/yaml_reader.h"
@@ -23,6 +24,9 @@ namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr int64_t kMaxInt = std::numeric_limits<int64_t>::max();
+// Output patterns are paths, shown whole in messages up to this many bytes (other values are cut
+// after kQuotedTextLimit).
+constexpr size_t kPathShown = 256;
 
 // The keys of every section: the schema. README.md (config/) documents the same keys.
 const std::vector<std::string> kTopKeys = {"schedule", "scenes", "stats",     "verbose",
@@ -145,14 +149,14 @@ class Loader {
       const SceneConfig &s = out.back();
       const auto [named, fresh_name] = by_name.emplace(s.name, i);
       if (!fresh_name)
-        r_.fail(
-            node[i], child_path(scene_path, "name"),
-            "scene name '" + s.name + "' is already used by " + index_path(path, named->second));
+        r_.fail(node[i], child_path(scene_path, "name"),
+                "scene name " + quoted_text(s.name) + " is already used by " +
+                    index_path(path, named->second));
       if (pattern_uses_scene(s.output.pattern)) continue;
       const auto [same, fresh_pattern] = by_pattern.emplace(s.output.pattern, i);
       if (!fresh_pattern)
         r_.fail(node[i], child_path(scene_path, "output.pattern"),
-                "'" + s.output.pattern + "' is also the pattern of " +
+                quoted_text(s.output.pattern, kPathShown) + " is also the pattern of " +
                     index_path(path, same->second) +
                     "; the scenes would overwrite each other's images (add {scene})");
     }
@@ -184,8 +188,8 @@ class Loader {
       if (!n.IsScalar() || !YAML::convert<double>::decode(n, value) || !std::isfinite(value) ||
           value <= 0)
         r_.fail(n, p,
-                "must be a finite number > 0 or 'per_particle', got '" +
-                    (n.IsScalar() ? n.Scalar() : std::string("a collection")) + "'");
+                "must be a finite number > 0 or 'per_particle', got " +
+                    (n.IsScalar() ? quoted_text(n.Scalar()) : std::string("a collection")));
       s.radius = value;
     });
     optional_key(node, path, "camera",
@@ -213,7 +217,8 @@ class Loader {
     const std::string name = r_.read_string(node, path);
     for (const char c : name) {
       if (!std::isalnum(static_cast<unsigned char>(c)) && c != '_' && c != '-' && c != '.')
-        r_.fail(node, path, "'" + name + "' may contain only letters, digits, '_', '-' and '.'");
+        r_.fail(node, path,
+                quoted_text(name) + " may contain only letters, digits, '_', '-' and '.'");
     }
     if (name == "." || name == "..") r_.fail(node, path, "'" + name + "' is not a usable name");
     return name;
@@ -303,23 +308,23 @@ class Loader {
     optional_key(node, path, "pattern", [&](const YAML::Node &n, const std::string &p) {
       o.pattern = r_.read_string(n, p);
       const Status problem = validate_pattern(o.pattern);
-      if (!problem.ok()) r_.fail(n, p, "'" + o.pattern + "': " + problem.message);
+      if (!problem.ok()) r_.fail(n, p, quoted_text(o.pattern, kPathShown) + ": " + problem.message);
     });
     const std::optional<ImageFormat> from_extension = format_of_extension(o.pattern);
     bool format_given = false;
     optional_key(node, path, "format", [&](const YAML::Node &n, const std::string &p) {
       o.format = read_enum<ImageFormat>(n, p);
       if (from_extension && *from_extension != o.format)
-        r_.fail(
-            n, p,
-            "'" + n.Scalar() + "' contradicts the extension of output.pattern '" + o.pattern + "'");
+        r_.fail(n, p,
+                quoted_text(n.Scalar()) + " contradicts the extension of output.pattern " +
+                    quoted_text(o.pattern, kPathShown));
       format_given = true;
     });
     if (!format_given) {
       if (!from_extension)
         r_.fail(node["pattern"], child_path(path, "pattern"),
-                "'" + o.pattern +
-                    "' has no image extension (.png, .jpg, .jpeg, .tif, .tiff, .exr); add one or "
+                quoted_text(o.pattern, kPathShown) +
+                    " has no image extension (.png, .jpg, .jpeg, .tif, .tiff, .exr); add one or "
                     "set output.format");
       o.format = *from_extension;
     }
@@ -452,11 +457,20 @@ Status load_config(const std::string &path_or_document, Config *out) {
   std::string text = path_or_document;
   if (!is_inline)
     if (Status s = read_file(path_or_document, &text); !s.ok()) return s;
-  const auto invalid = [](std::string message) {
-    return Status(StatusCode::kConfig, std::move(message));
+  // Every message may quote the document (yaml-cpp's too): never raw bytes to a terminal.
+  const auto invalid = [](const std::string &message) {
+    return Status(StatusCode::kConfig, escaped_text(message));
   };
   try {
-    const YAML::Node root = YAML::Load(text);
+    // All documents, so that a second one (after '---') is an error instead of silently ignored.
+    const std::vector<YAML::Node> documents = YAML::LoadAll(text);
+    if (documents.size() > 1) {
+      const YAML::Mark mark = documents[1].Mark();
+      return invalid(source + (mark.is_null() ? "" : " line " + std::to_string(mark.line + 1)) +
+                     ": a second YAML document (after '---'); the configuration is one document: "
+                     "merge the two or remove the '---'");
+    }
+    const YAML::Node root = documents.empty() ? YAML::Node() : documents.front();
     *out = Loader(source).load(root);
     return {};
   } catch (const ConfigError &e) {

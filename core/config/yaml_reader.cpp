@@ -4,6 +4,7 @@
 #include <map>
 #include <sstream>
 
+#include "core/common/quoted_text.h"
 #include "core/config/key_suggestion.h"
 
 namespace lantern {
@@ -16,12 +17,19 @@ std::string join(const std::vector<std::string> &items, const char *separator) {
   return out;
 }
 
-// The value as the user wrote it, for "got ..." in messages.
+// The value as the user wrote it, for "got ..." in messages (escaped and cut short: a binary
+// file read as YAML is one long scalar).
 std::string shown(const YAML::Node &node) {
-  if (node.IsScalar()) return "'" + node.Scalar() + "'";
+  if (node.IsScalar()) return quoted_text(node.Scalar());
   if (node.IsSequence()) return "a list";
   if (node.IsMap()) return "a mapping";
   return "nothing";
+}
+
+// A key as it appears in a path: as written when it is a plain name, else quoted_text().
+std::string key_text(const std::string &key) {
+  const bool plain = key.size() <= kQuotedTextLimit && escaped_text(key) == key;
+  return plain ? key : quoted_text(key);
 }
 
 std::string number_text(double v) {
@@ -46,7 +54,8 @@ void YamlReader::fail(const YAML::Node &where, const std::string &path,
   const YAML::Mark mark = where.IsDefined() ? where.Mark() : YAML::Mark::null_mark();
   if (!mark.is_null()) message += " line " + std::to_string(mark.line + 1);
   message += ": " + (path.empty() ? std::string("top level") : path) + ": " + what;
-  throw ConfigError(message);
+  // Values in `what` are quoted with quoted_text(); keys in `path` come from the document too.
+  throw ConfigError(escaped_text(message));
 }
 
 void YamlReader::check_map(const YAML::Node &node, const std::string &path,
@@ -60,7 +69,7 @@ void YamlReader::check_map(const YAML::Node &node, const std::string &path,
     const YAML::Node &key_node = entry.first;
     if (!key_node.IsScalar()) fail(key_node, path, "keys must be plain names");
     const std::string key = key_node.Scalar();
-    const std::string key_path = child_path(path, key);
+    const std::string key_path = child_path(path, key_text(key));
     bool known = false;
     for (const std::string &candidate : allowed) known = known || candidate == key;
     if (!known) fail(key_node, key_path, unknown_key_text(key, allowed));
@@ -68,13 +77,14 @@ void YamlReader::check_map(const YAML::Node &node, const std::string &path,
     const auto [it, inserted] = first_line.emplace(key, line);
     if (!inserted)
       fail(key_node, key_path,
-           "duplicate key '" + key + "' (first given at line " + std::to_string(it->second) + ")");
+           "duplicate key " + quoted_text(key) + " (first given at line " +
+               std::to_string(it->second) + ")");
   }
 }
 
 std::string YamlReader::unknown_key_text(const std::string &key,
                                          const std::vector<std::string> &allowed) const {
-  std::string text = "unknown key '" + key + "'; " + suggestion_text(key, allowed);
+  std::string text = "unknown key " + quoted_text(key) + "; " + suggestion_text(key, allowed);
   const auto home = key_homes_.find(key);
   if (home != key_homes_.end()) text += "; '" + key + "' is a key of " + join(home->second, " / ");
   return text;
@@ -130,7 +140,14 @@ bool YamlReader::read_bool(const YAML::Node &node, const std::string &path) cons
 std::string YamlReader::read_string(const YAML::Node &node, const std::string &path) const {
   if (!node.IsScalar() || node.Scalar().empty())
     fail(node, path, "must be a non-empty string, got " + shown(node));
-  return node.Scalar();
+  // A NUL ("\0" in a double-quoted YAML string) would end the name at the operating system
+  // (every step's file would be the same truncated path): never a usable file name or name.
+  const std::string &value = node.Scalar();
+  if (const size_t nul = value.find('\0'); nul != std::string::npos)
+    fail(node, path,
+         "contains a NUL character (\\0) at byte " + std::to_string(nul) + " of " +
+             quoted_text(value) + "; remove it");
+  return value;
 }
 
 std::string YamlReader::read_choice(const YAML::Node &node, const std::string &path,
@@ -141,7 +158,8 @@ std::string YamlReader::read_choice(const YAML::Node &node, const std::string &p
   for (const std::string &candidate : allowed)
     if (candidate == value) return value;
   fail(node, path,
-       one_of + "; got '" + value + "' (did you mean '" + nearest_key(value, allowed) + "'?)");
+       one_of + "; got " + quoted_text(value) + " (did you mean '" + nearest_key(value, allowed) +
+           "'?)");
 }
 
 std::array<double, 3> YamlReader::read_vec3(const YAML::Node &node, const std::string &path) const {

@@ -5,6 +5,7 @@
 #include <fstream>
 #include <optional>
 
+#include "core/common/quoted_text.h"
 #include "core/dump/h5md_layout.h"
 #include "core/dump/hdf5_handle.h"
 
@@ -268,7 +269,7 @@ Status H5mdReader::open(const std::string &path, MPI_Comm comm, std::unique_ptr<
     impl->radius = impl->open_field(h5md::kRadius);
     impl->open_box();
   } catch (const Hdf5Error &e) {
-    return unreadable(e.what());
+    return unreadable(escaped_text(e.what()));  // may hold names read from the file
   }
   out->reset(new H5mdReader(std::move(impl)));  // private constructor: make_unique cannot
   return {};
@@ -316,7 +317,7 @@ Status H5mdReader::read(size_t index, int64_t begin, int64_t end, ParticleFrame 
       f.box = b;
     }
   } catch (const Hdf5Error &e) {
-    return {StatusCode::kIo, m.path + ": " + e.what()};
+    return {StatusCode::kIo, m.path + ": " + escaped_text(e.what())};
   }
   *out = std::move(f);
   return {};

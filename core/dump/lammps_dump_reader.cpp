@@ -6,6 +6,8 @@
 #include <limits>
 #include <sstream>
 
+#include "core/common/quoted_text.h"
+
 namespace lantern {
 namespace {
 
@@ -134,7 +136,8 @@ void parse_box(const std::vector<std::string> &header, LineReader &in, LammpsDum
     for (size_t k = 0; k < want; ++k) {
       double v = 0;
       if (!parse_number(t[k], &v))
-        throw ParseError{in.line_number(), "ITEM: BOX BOUNDS: '" + t[k] + "' is not a number"};
+        throw ParseError{in.line_number(),
+                         "ITEM: BOX BOUNDS: " + quoted_text(t[k]) + " is not a number"};
       (k == 0 ? lo[a] : k == 1 ? hi[a] : f->tilt[a]) = v;
     }
     const size_t flag = flags_at + a;
@@ -158,8 +161,8 @@ int64_t read_integer_line(LineReader &in, const char *item) {
   const auto t = split(line);
   int64_t v = 0;
   if (t.size() != 1 || !parse_number(t[0], &v))
-    throw ParseError{in.line_number(),
-                     std::string("ITEM: ") + item + ": expected one integer, found '" + line + "'"};
+    throw ParseError{in.line_number(), std::string("ITEM: ") + item +
+                                           ": expected one integer, found " + quoted_text(line)};
   return v;
 }
 
@@ -170,15 +173,15 @@ double read_real_line(LineReader &in, const char *item) {
   const auto t = split(line);
   double v = 0;
   if (t.size() != 1 || !parse_number(t[0], &v))
-    throw ParseError{in.line_number(),
-                     std::string("ITEM: ") + item + ": expected one number, found '" + line + "'"};
+    throw ParseError{in.line_number(), std::string("ITEM: ") + item +
+                                           ": expected one number, found " + quoted_text(line)};
   return v;
 }
 
 // Other ITEM sections (UNITS, ...) hold one value line, which Lantern does not need.
 void skip_value_line(LineReader &in, const std::string &item) {
   std::string value;
-  if (!in.next(&value)) throw ParseError{in.line_number(), "file ends after " + item.substr(0, 60)};
+  if (!in.next(&value)) throw ParseError{in.line_number(), "file ends after " + quoted_text(item)};
 }
 
 // Scans one frame's header after its "ITEM: TIMESTEP" line, up to and over its atom lines.
@@ -219,7 +222,7 @@ LammpsDumpReader::Frame scan_frame(LineReader &in) {
     } else if (starts_with(line, "ITEM:")) {
       skip_value_line(in, line);
     } else {
-      throw ParseError{in.line_number(), "unexpected line '" + line.substr(0, 60) + "'"};
+      throw ParseError{in.line_number(), "unexpected line " + quoted_text(line)};
     }
   }
   throw ParseError{in.line_number(), "file ends before ITEM: ATOMS (truncated?)"};
@@ -272,8 +275,8 @@ Status LammpsDumpReader::open(const std::string &path, std::unique_ptr<LammpsDum
       } else if (starts_with(line, "ITEM:")) {
         skip_value_line(in, line);  // e.g. ITEM: UNITS
       } else {
-        throw ParseError{in.line_number(), "expected 'ITEM: TIMESTEP', found '" +
-                                               line.substr(0, 60) + "' (not a LAMMPS text dump?)"};
+        throw ParseError{in.line_number(), "expected 'ITEM: TIMESTEP', found " + quoted_text(line) +
+                                               " (not a LAMMPS text dump?)"};
       }
     }
   } catch (const ParseError &e) {
@@ -319,17 +322,18 @@ Status LammpsDumpReader::read(size_t index, int64_t begin, int64_t end, Particle
     const int n = tokenize(line, c.needed, &tok, &more);
     if (n < c.needed)
       return bad_line("short line: " + std::to_string(n) + " columns, ITEM: ATOMS needs at least " +
-                      std::to_string(c.needed) + " (" + c.names[n] + " is missing)");
+                      std::to_string(c.needed) + " (" + quoted_text(c.names[n]) + " is missing)");
     auto real = [&](int col, double *v) -> Status {
       const auto [s, e] = token(col);
       if (parse_number(s, e, v)) return {};
-      return bad_line("column '" + c.names[col] + "': '" + std::string(s, e) + "' is not a number");
+      return bad_line("column " + quoted_text(c.names[col]) + ": " +
+                      quoted_text(std::string_view(s, size_t(e - s))) + " is not a number");
     };
     auto integer = [&](int col, int64_t *v) -> Status {
       const auto [s, e] = token(col);
       if (parse_number(s, e, v)) return {};
-      return bad_line("column '" + c.names[col] + "': '" + std::string(s, e) +
-                      "' is not an integer");
+      return bad_line("column " + quoted_text(c.names[col]) + ": " +
+                      quoted_text(std::string_view(s, size_t(e - s))) + " is not an integer");
     };
     double p[3];
     for (int a = 0; a < 3; ++a)

@@ -1,6 +1,9 @@
 // Every configuration error names the key, its line (1-based) and path, and what is allowed.
 #include <gtest/gtest.h>
 
+#include <cstdint>
+#include <filesystem>
+#include <fstream>
 #include <initializer_list>
 
 #include "core/config/config_loader.h"
@@ -192,6 +195,57 @@ TEST(ConfigErrors, TopLevelTypes) {
   expect_error("dump: {precision: float16}\n", {"dump.precision", "float32, float64"});
   expect_error("dump: {fields: [position, velocity]}\n",
                {"dump.fields[1]", "position, type, scalar, radius, id"});
+}
+
+// Issue #17 item 3a: a NUL inside a string ("\0" in a double-quoted YAML string) used to be
+// accepted, and the operating system cut the file name there (every step wrote "o/a").
+TEST(ConfigErrors, NulCharacterInAStringIsRejectedNamingTheKey) {
+  expect_error("scenes:\n  - output: {pattern: \"o/a\\0b{step}.png\"}\n",
+               {"scenes[0].output.pattern", "line 2", "NUL", "byte 3", "'o/a\\0b{step}.png'"});
+  expect_error("stats: \"s\\0.jsonl\"\nscenes: [{}]\n", {"stats", "line 1", "NUL"});
+  expect_error("dump: {file: \"d\\0.h5\"}\n", {"dump.file", "NUL"});
+  expect_error("scenes:\n  - name: \"a\\0b\"\n", {"scenes[0].name", "line 2"});
+}
+
+// Issue #17 item 3b: a second document used to be ignored without a word.
+TEST(ConfigErrors, SecondYamlDocumentIsAnError) {
+  expect_error("scenes: [{}]\n---\nscenes: [{width: 8}]\n",
+               {"second YAML document", "line 3", "one document"});
+  expect_error("scenes: [{}]\n---\n", {"second YAML document"});
+  // One document, with the optional start and end markers, stays valid.
+  Config c;
+  EXPECT_TRUE(load_config("---\nscenes: [{}]\n...\n", &c).ok());
+}
+
+// Issue #17 item 5: a binary file read as configuration gave a message carrying its raw bytes.
+TEST(ConfigErrors, BinaryContentIsEscapedAndCutShort) {
+  std::string bytes;
+  uint32_t x = 12345;
+  for (int i = 0; i < 4096; ++i) {
+    x = x * 1664525u + 1013904223u;  // deterministic "random" bytes
+    bytes += static_cast<char>(x >> 24);
+  }
+  const std::string path =
+      (std::filesystem::temp_directory_path() / "lantern_config_binary.yaml").string();
+  std::ofstream(path, std::ios::binary) << bytes;
+  // The same bytes inline (a newline makes it a document) and as a file.
+  for (const std::string &source : {"\n" + bytes, path}) {
+    Config c;
+    const Status status = load_config(source, &c);
+    EXPECT_EQ(status.code, StatusCode::kConfig);
+    for (const char ch : status.message)
+      ASSERT_TRUE(ch >= 0x20 && ch <= 0x7e) << "unprintable byte in: " << status.message;
+    EXPECT_LT(status.message.size(), 400u) << status.message;
+  }
+  std::filesystem::remove(path);
+  // A long value is cut short with an ellipsis, an unprintable byte escaped (YAML's "\x8f" is
+  // U+008F, the UTF-8 bytes c2 8f).
+  const std::string long_value(500, 'q');
+  const std::string error =
+      expect_error("scenes:\n  - color: {colormap: \"\\x8f" + long_value + "\"}\n",
+                   {"scenes[0].color.colormap", "'\\xc2\\x8fqqq", "qqq'..."});
+  EXPECT_LT(error.size(), 300u) << error;
+  expect_error("\"\\x01\": 1\n", {"unknown key '\\x01'"});
 }
 
 }  // namespace
