@@ -31,10 +31,22 @@ struct Camera {
   double window_depth_to_distance(double window_depth) const;
 };
 
+// Where a scene's largest radius comes from: the configuration (`radius: 0.5`) or the published
+// per-particle radii. Decides whom an unusable radius is blamed on.
+enum class RadiusSource { kConfig, kParticles };
+
+// Positions (and radii) larger than this in magnitude cannot be framed: fitting the camera squares
+// lengths in double precision, which overflows near 1e154. Lengths in the simulation's unit.
+constexpr double kMaxFramedLength = 1e150;
+
 // Builds the camera for `config` and the global particle bounds [lo, hi] (centres), whose
 // spheres reach at most `max_radius` beyond them. Empty bounds (lo > hi) frame the unit cube.
-// Returns OK, or kConfig naming the camera key at fault (e.g. position == look_at).
+// Returns OK, or an error naming the input at fault: kConfig for a camera key (e.g. position ==
+// look_at, a zoom so large that the eye meets its target in double precision) or a configured
+// radius above kMaxFramedLength; kInvalidArgument for particles (positions or per-particle radii
+// above kMaxFramedLength, or a span too small for their coordinates in double precision).
 Status make_camera(const CameraConfig &config, const glm::dvec3 &lo, const glm::dvec3 &hi,
-                   double max_radius, int width, int height, Camera *out);
+                   double max_radius, int width, int height, Camera *out,
+                   RadiusSource radius_source = RadiusSource::kConfig);
 
 }  // namespace lantern

@@ -88,7 +88,10 @@ Status run_scene_pass(const ScenePassInputs &in, const SceneConfig &scene, Scene
   const glm::dvec3 lo{in.global.lo[0], in.global.lo[1], in.global.lo[2]};
   const glm::dvec3 hi{in.global.hi[0], in.global.hi[1], in.global.hi[2]};
   const std::string where = "scenes '" + scene.name + "': ";
-  if (Status s = make_camera(scene.camera, lo, hi, max_radius, scene.width, scene.height, &camera);
+  const RadiusSource radius_source =
+      radius.wanted ? RadiusSource::kParticles : RadiusSource::kConfig;
+  if (Status s = make_camera(scene.camera, lo, hi, max_radius, scene.width, scene.height, &camera,
+                             radius_source);
       !s.ok())
     return with_context(where, std::move(s));
   stats->camera_ms = ms_since(t0);

@@ -120,5 +120,40 @@ TEST_F(BadInput, UnwritableOutputFailsThatStepAndLaterStepsRetry) {
   EXPECT_EQ(files, 1);
 }
 
+// Issue #17 item 2: values too large to frame used to fail as "camera.near/far: need 0 < near <
+// far", a key the user never set. Each now names its source, with the status that fits: data
+// (published positions or radii) is an invalid argument, a configured value a configuration error.
+TEST_F(BadInput, ValuesTooLargeToFrameNameTheirSource) {
+  std::vector<double> x = lattice(2);
+  lantern_particles p = interleaved(x);
+  const auto execute = [&](const std::string &config, lantern_status expected,
+                           const std::string &names) {
+    ASSERT_EQ(open(config), LANTERN_OK) << message();
+    ASSERT_EQ(lantern_publish(ctx_, &p), LANTERN_OK) << message();
+    EXPECT_EQ(lantern_execute(ctx_, 0, 0.0), expected) << config << ": " << message();
+    EXPECT_NE(message().find(names), std::string::npos) << message();
+    EXPECT_EQ(message().find("near"), std::string::npos) << message();
+  };
+  // A finite coordinate of 1e155 among particles near the origin.
+  x[0] = 1e155;
+  execute(scene_config("far"), LANTERN_ERR_INVALID_ARGUMENT, "particles: positions reach 1e+155");
+  x[0] = 0.0;
+  execute(scene_config("big", 96, 64, "    radius: 1e200\n"), LANTERN_ERR_CONFIG,
+          "scenes 'big': radius: 1e+200");
+  execute(scene_config("zoomed", 96, 64, "    camera: {zoom: 1e300}\n"), LANTERN_ERR_CONFIG,
+          "scenes 'zoomed': camera.zoom: 1e+300");
+  // Per-particle radii are data.
+  const double radii[8] = {0.5, 0.5, 0.5, 1e200, 0.5, 0.5, 0.5, 0.5};
+  p.radius = {radii, LANTERN_FLOAT64, 0};
+  execute(scene_config("each", 96, 64, "    radius: per_particle\n"), LANTERN_ERR_INVALID_ARGUMENT,
+          "particles.radius: the largest radius, 1e+200");
+  p.radius = {};
+  // Large but framable: a scene 1e140 across still renders.
+  for (double &v : x) v *= 1e140;
+  ASSERT_EQ(open(scene_config("huge")), LANTERN_OK) << message();
+  ASSERT_EQ(lantern_publish(ctx_, &p), LANTERN_OK) << message();
+  EXPECT_EQ(lantern_execute(ctx_, 0, 0.0), LANTERN_OK) << message();
+}
+
 }  // namespace
 }  // namespace lantern::testing
