@@ -162,37 +162,50 @@ Status Runtime::execute(int64_t step, double time) {
   if (!config_.scenes.empty()) {
     SphereRenderer *renderer = nullptr;  // none without OpenGL: the CPU raster draws
     const Status made_current = gl_ ? gl_->renderer(&renderer) : Status();
-    if (Status s = agree_on_status(comm_, made_current); !s.ok()) return s;
+    first_error = agree_on_status(comm_, made_current);
+    if (!first_error.ok()) stats.clear();  // no scene was drawn
     const ScenePassInputs in{comm_, renderer, &particles_, global, step, time, &scratch_};
-    for (size_t s = 0; s < config_.scenes.size(); ++s) {
+    for (size_t s = 0; s < stats.size(); ++s) {
       const Status st = run_scene_pass(in, config_.scenes[s], &buffers_[s], &stats[s]);
       if (!st.ok() && first_error.ok()) first_error = st;  // later scenes still render
     }
   }
   const double total_ms =
       scan_ms + std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
-  write_stats(step, time, global, total_ms, stats, first_error);
+  // What this call returns, and so what the step's stats line reports: the first scene's error,
+  // else the dump's.
+  const Status result = first_error.ok() ? dumped : first_error;
+  const Status stats_written = write_stats(step, time, global, total_ms, stats, result);
   if (config_.verbose && rank_ == 0)
     std::fprintf(stderr, "lantern: step %lld rendered %zu scene(s) in %.1f ms\n",
                  static_cast<long long>(step), stats.size(), total_ms);
-  return first_error.ok() ? dumped : first_error;
+  if (result.ok()) return stats_written;
+  // The step failed anyway; say that its stats were lost too.
+  if (!stats_written.ok() && rank_ == 0)
+    std::fprintf(stderr, "lantern: warning: step %lld: %s\n", static_cast<long long>(step),
+                 stats_written.message.c_str());
+  return result;
 }
 
-void Runtime::write_stats(int64_t step, double time, const Extent &global, double total_ms,
-                          const std::vector<SceneStats> &scenes, const Status &status) {
-  if (rank_ != 0 || config_.stats_file.empty()) return;
-  nlohmann::json line = {
-      {"step", step},
-      {"time", time},
-      {"ranks", size_},
-      {"gl", gl_ ? gl_->backend() : "none"},
-      {"status", int(status.code)},
-      {"particles", {{"finite", global.finite_count}, {"nonfinite", global.nonfinite_count}}},
-      {"ms", {{"total", total_ms}}},
-      {"scenes", nlohmann::json::array()}};
-  for (const auto &s : scenes) line["scenes"].push_back(s.to_json());
-  if (Status s = append_json_line(config_.stats_file, line); !s.ok())
-    std::fprintf(stderr, "lantern: warning: stats not written: %s\n", s.message.c_str());
+Status Runtime::write_stats(int64_t step, double time, const Extent &global, double total_ms,
+                            const std::vector<SceneStats> &scenes, const Status &status) {
+  if (config_.stats_file.empty()) return {};
+  Status local;
+  if (rank_ == 0) {
+    nlohmann::json line = {
+        {"step", step},
+        {"time", time},
+        {"ranks", size_},
+        {"gl", gl_ ? gl_->backend() : "none"},
+        {"status", int(status.code)},
+        {"particles", {{"finite", global.finite_count}, {"nonfinite", global.nonfinite_count}}},
+        {"ms", {{"total", total_ms}}},
+        {"scenes", nlohmann::json::array()}};
+    for (const auto &s : scenes) line["scenes"].push_back(s.to_json());
+    local = with_context("stats: ", append_json_line(config_.stats_file, line));
+  }
+  // Only rank 0 writes; every rank returns its outcome, so that all return the same status.
+  return broadcast_status(comm_, local, 0);
 }
 
 }  // namespace lantern

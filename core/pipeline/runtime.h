@@ -47,8 +47,11 @@ class Runtime {
   // draws); collective, with the outcome agreed. Warns once on rank 0 when it falls back.
   Status open_gl();
   void warn_nonfinite_once(int64_t count, int64_t step);
-  void write_stats(int64_t step, double time, const Extent &global, double total_ms,
-                   const std::vector<SceneStats> &scenes, const Status &status);
+  // Appends the step's stats line (rank 0) reporting `status`, the status execute() returns.
+  // Collective when a stats file is configured: every rank gets rank 0's outcome (kIo naming the
+  // file when it cannot be written).
+  Status write_stats(int64_t step, double time, const Extent &global, double total_ms,
+                     const std::vector<SceneStats> &scenes, const Status &status);
 
   Config config_;
   MPI_Comm comm_ = MPI_COMM_NULL;

@@ -4,7 +4,11 @@
 #include <gtest/gtest.h>
 #include <mpi.h>
 
+#include <nlohmann/json.hpp>
+
 #include <cmath>
+#include <filesystem>
+#include <fstream>
 #include <memory>
 #include <string>
 #include <vector>
@@ -226,6 +230,76 @@ TEST(DumpErrors, UnwritableFileIsAnIoErrorAndLaterStepsRetry) {
             std::string::npos)
       << lantern_error_message(ctx.get());
   EXPECT_EQ(lantern_execute(ctx.get(), 1, 0.0), LANTERN_ERR_IO);
+}
+
+// The last line of a JSON-lines file, parsed (rank 0 writes the stats).
+nlohmann::json last_json_line(const std::string &path) {
+  std::ifstream in(path);
+  std::string line, last;
+  while (std::getline(in, line))
+    if (!line.empty()) last = line;
+  return last.empty() ? nlohmann::json() : nlohmann::json::parse(last);
+}
+
+// A dump and a 16 x 16 scene on every step, with a stats file.
+Context open_dump_and_scene(const MpiScratchDir &dir, const std::string &stats) {
+  const std::string yaml = "stats: '" + stats + "'\nscenes:\n  - {width: 16, height: 16, " +
+                           "output: {pattern: '" + dir.file("img_{step}.png") + "'}}\n" +
+                           "dump:\n  file: " + dir.file("d.h5") + "\n";
+  lantern_context *raw = nullptr;
+  const lantern_status st = lantern_open(yaml.c_str(), MPI_Comm_c2f(MPI_COMM_WORLD), &raw);
+  Context ctx(raw);
+  EXPECT_EQ(st, LANTERN_OK) << lantern_error_message(ctx.get());
+  return ctx;
+}
+
+// Issue #17 item 4: the dump failed (no particles anywhere) and the call returned 2, but the
+// step's stats line said "status": 0.
+TEST(DumpErrors, StatsLineReportsTheStatusTheStepReturns) {
+  const MpiScratchDir dir;
+  const std::string stats = dir.file("stats.jsonl");
+  const Context ctx = open_dump_and_scene(dir, stats);
+  const lantern_particles none{};
+  ASSERT_EQ(lantern_publish(ctx.get(), &none), LANTERN_OK);
+  EXPECT_EQ(lantern_execute(ctx.get(), 0, 0.0), LANTERN_ERR_INVALID_ARGUMENT);
+  if (world_rank() == 0) {
+    const nlohmann::json line = last_json_line(stats);
+    ASSERT_TRUE(line.is_object()) << "no stats line";
+    EXPECT_EQ(line["step"], 0);
+    EXPECT_EQ(line["status"], int(LANTERN_ERR_INVALID_ARGUMENT)) << line.dump();
+  }
+  // A good step after it reports 0.
+  const RankParticles p(1);
+  const lantern_particles v = p.view();
+  ASSERT_EQ(lantern_publish(ctx.get(), &v), LANTERN_OK);
+  EXPECT_EQ(lantern_execute(ctx.get(), 1, 0.0), LANTERN_OK) << lantern_error_message(ctx.get());
+  if (world_rank() == 0) EXPECT_EQ(last_json_line(stats)["status"], 0);
+}
+
+// Issue #17 item 3c: an unwritable stats file was only a warning on rank 0 and the step returned
+// OK. Now every rank returns LANTERN_ERR_IO naming the file (no rank left waiting), the images
+// are still written, and the next step retries.
+TEST(StatsFile, UnwritableIsAnIoErrorOnEveryRankAndImagesAreStillWritten) {
+  const MpiScratchDir dir;
+  const std::string blocker = dir.file("blocker");  // a file where the stats directory should be
+  if (world_rank() == 0) std::ofstream(blocker) << "not a directory";
+  MPI_Barrier(MPI_COMM_WORLD);
+  const std::string stats = blocker + "/stats.jsonl";
+  const Context ctx = open_dump_and_scene(dir, stats);
+  const RankParticles p(0);
+  const lantern_particles v = p.view();
+  ASSERT_EQ(lantern_publish(ctx.get(), &v), LANTERN_OK);
+  EXPECT_EQ(lantern_execute(ctx.get(), 0, 0.0), LANTERN_ERR_IO);
+  const std::string message = lantern_error_message(ctx.get());
+  EXPECT_NE(message.find("stats"), std::string::npos) << message;
+  EXPECT_NE(message.find(stats), std::string::npos) << message;
+  if (world_rank() == 0) EXPECT_TRUE(std::filesystem::exists(dir.file("img_0.png")));
+  // Fixed: the next step writes its stats line.
+  MPI_Barrier(MPI_COMM_WORLD);
+  if (world_rank() == 0) std::filesystem::remove(blocker);
+  MPI_Barrier(MPI_COMM_WORLD);
+  EXPECT_EQ(lantern_execute(ctx.get(), 1, 0.0), LANTERN_OK) << lantern_error_message(ctx.get());
+  if (world_rank() == 0) EXPECT_EQ(last_json_line(stats)["step"], 1);
 }
 
 TEST(SetBox, RejectsInvertedAndNull) {
