@@ -4,6 +4,9 @@
 // is where the two meet. The enums share numeric values, checked at compile time below.
 #pragma once
 
+#include <cstring>
+#include <type_traits>
+
 #include "core/common/status.h"
 #include "core/particles/particle_description.h"
 #include "lantern/lantern.h"
@@ -30,9 +33,21 @@ inline lantern_status to_c(StatusCode code) {
   return static_cast<lantern_status>(code);
 }
 
-// Unknown datatype values pass through unchanged, so validation can name them.
+// The integer a C caller stored in a.type, read as bytes: a C program may store any int there
+// (e.g. 77), and loading such a value as a lantern_datatype is undefined behaviour in C++ (the
+// enum has no fixed underlying type, so its valid values are only 0..7).
+inline int datatype_value(const lantern_array &a) {
+  std::underlying_type_t<lantern_datatype> raw{};
+  static_assert(sizeof raw == sizeof a.type, "lantern_datatype is stored as its underlying type");
+  std::memcpy(&raw, &a.type, sizeof raw);
+  return static_cast<int>(raw);
+}
+
+// Unknown datatype values pass through unchanged, so validation can name them: DataType has a
+// fixed underlying type (int), so every int is a valid DataType value and this cast is defined.
+// ParticleArrays::validate() rejects values other than those of lantern_datatype.
 inline BorrowedArray from_c(const lantern_array &a) {
-  return {a.data, static_cast<DataType>(a.type), a.stride_bytes};
+  return {a.data, static_cast<DataType>(datatype_value(a)), a.stride_bytes};
 }
 inline lantern_array to_c(const BorrowedArray &a) {
   return {a.data, static_cast<lantern_datatype>(a.type), a.stride_bytes};

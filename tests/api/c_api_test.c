@@ -101,6 +101,19 @@ int main(int argc, char **argv) {
   CHECK(lantern_publish(ctx, &p) == LANTERN_OK);
   CHECK(lantern_execute(ctx, 30, 0.15) == LANTERN_OK);
 
+  /* A datatype that is no lantern_datatype (a C caller can store any int there): rejected with
+   * a message naming the field and the value. Stored as bytes, as a caller's memcpy would. A
+   * UBSan build (-fsanitize=enum) also checks that Lantern never loads it as the enum. */
+  {
+    lantern_particles bad = p;
+    const int not_a_datatype = 77;
+    memcpy(&bad.type.type, &not_a_datatype, sizeof not_a_datatype);
+    CHECK(lantern_publish(ctx, &bad) == LANTERN_ERR_INVALID_ARGUMENT);
+    CHECK(strstr(lantern_error_message(ctx), "particles.type.type") != NULL);
+    CHECK(strstr(lantern_error_message(ctx), "77") != NULL);
+    CHECK(lantern_publish(ctx, &p) == LANTERN_OK);
+  }
+
   CHECK(lantern_close(ctx) == LANTERN_OK);
   CHECK(lantern_close(NULL) == LANTERN_OK);
 
