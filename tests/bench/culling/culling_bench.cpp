@@ -10,11 +10,13 @@
 #include <mpi.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <ctime>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <string>
@@ -162,6 +164,9 @@ class Bench {
     print_and_record(bs, all, &results, csv, plot);
   }
 
+  // False if an image of --images could not be written (each failure was printed).
+  bool images_written() const { return images_written_; }
+
  private:
   void frame(const BenchScene &bs, const ParticleArrays &p, const BrickSet &bricks,
              const Camera &cam, const InstanceRecipe &recipe, const Mode &mode, bool keep,
@@ -273,11 +278,17 @@ class Bench {
     }
   }
 
-  static void write_png(const std::string &path, const Frame &f) {
+  void write_png(const std::string &path, const Frame &f) {
     OIIO::ImageBuf buf(OIIO::ImageSpec(f.width, f.height, 4, OIIO::TypeDesc::UINT8));
     buf.set_pixels(OIIO::ROI::All(), OIIO::TypeDesc::UINT8, f.rgba.data());
-    buf.write(path);
+    if (!buf.write(path)) {
+      std::fprintf(stderr, "lantern-bench: cannot write %s: %s\n", path.c_str(),
+                   buf.geterror().c_str());
+      images_written_ = false;
+    }
   }
+
+  bool images_written_ = true;
 
   SphereRenderer *renderer_;
   const Options &opt_;
@@ -324,6 +335,17 @@ bool parse(int argc, char **argv, Options *o) {
 int run(int argc, char **argv) {
   Options opt;
   if (!parse(argc, argv, &opt)) return 2;
+  // The output directory first (a missing one is created): a run of minutes must not end in a
+  // file that cannot be written.
+  std::error_code ec;
+  std::filesystem::create_directories(opt.out, ec);
+  if (ec) {
+    std::fprintf(stderr, "lantern-bench: --out %s: cannot create the directory: %s\n",
+                 opt.out.c_str(), ec.message().c_str());
+    return 1;
+  }
+  const std::string csv_path = opt.out + "/culling_bench.csv";
+  const std::string svg_path = opt.out + "/culling_bench.svg";
   std::shared_ptr<GlSession> session;
   SphereRenderer *renderer = nullptr;
   if (const Status gl = acquire_renderer(GlBackend::kAuto, &session, &renderer); !gl.ok()) {
@@ -333,7 +355,12 @@ int run(int argc, char **argv) {
   const char *threads = std::getenv("LP_NUM_THREADS");
   std::printf("lantern-bench: %s, LP_NUM_THREADS=%s, %d runs per mode (median)\n",
               session->description().c_str(), threads ? threads : "(default)", opt.runs);
-  std::ofstream csv(opt.out + "/culling_bench.csv");
+  std::ofstream csv(csv_path);
+  if (!csv) {
+    std::fprintf(stderr, "lantern-bench: cannot write %s: %s\n", csv_path.c_str(),
+                 std::strerror(errno));
+    return 1;
+  }
   csv << "scene,mode,ms_per_frame,cull_ms,cull_cpu_ms,render_ms,drawn,splatted,culled_percent,"
          "differing_pixels,differing_depth,psnr_db,ssim,speedup,occlusion\n";
   std::vector<PlotPoint> plot;
@@ -361,11 +388,20 @@ int run(int argc, char **argv) {
     bench.run_scene(s, csv, &plot);
     std::fflush(stdout);
   }
-  if (auto e = write_error_plot(opt.out + "/culling_bench.svg", plot); !e.empty())
+  // Say only what was written; any file that was not makes the exit status 1.
+  csv.close();
+  bool ok = !csv.fail();
+  if (!ok)
+    std::fprintf(stderr, "lantern-bench: cannot write %s\n", csv_path.c_str());
+  else
+    std::printf("\nwrote %s\n", csv_path.c_str());
+  if (auto e = write_error_plot(svg_path, plot); !e.empty()) {
     std::fprintf(stderr, "lantern-bench: %s\n", e.c_str());
-  std::printf("\nwrote %s/culling_bench.csv and %s/culling_bench.svg\n", opt.out.c_str(),
-              opt.out.c_str());
-  return 0;
+    ok = false;
+  } else {
+    std::printf("wrote %s\n", svg_path.c_str());
+  }
+  return ok && bench.images_written() ? 0 : 1;
 }
 
 }  // namespace

@@ -72,6 +72,7 @@ std::string write_error_plot(const std::string &path, const std::vector<PlotPoin
   svg << "</svg>\n";
   std::ofstream out(path);
   out << svg.str();
+  out.close();  // the write reaches the file (or fails) here
   return out ? "" : "cannot write " + path;
 }
 
