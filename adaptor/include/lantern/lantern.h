@@ -158,6 +158,13 @@ LANTERN_API lantern_status lantern_set_box(lantern_context *ctx, const double lo
  * renders every scene, composites across ranks and writes the outputs; collective, and every
  * rank returns the same status. Particles with NaN or infinite coordinates are skipped and
  * counted in the stats (a warning is printed once per context).
+ *
+ * Which status: the first scene's error; else the particle dump's; else, when the stats file
+ * (`stats:`) cannot be written, LANTERN_ERR_IO naming that file (the step's images were written;
+ * the next scheduled step tries the stats file again). The step's stats line reports this same
+ * status. Positions or per-particle radii too large to frame (magnitude above 1e150) give
+ * LANTERN_ERR_INVALID_ARGUMENT; a configured radius above 1e150, or a zoom or fov that puts the
+ * camera where double precision cannot place it, gives LANTERN_ERR_CONFIG naming the key.
  */
 LANTERN_API lantern_status lantern_execute(lantern_context *ctx, int64_t step, double time);
 
