@@ -52,4 +52,9 @@ std::string escaped_text(std::string_view text) {
   return out;
 }
 
+std::string name_text(std::string_view name) {
+  const bool plain = name.size() <= kQuotedTextLimit && escaped_text(name) == name;
+  return plain ? std::string(name) : quoted_text(name);
+}
+
 }  // namespace lantern

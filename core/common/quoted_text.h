@@ -24,4 +24,8 @@ std::string quoted_text(std::string_view text, size_t limit = kQuotedTextLimit);
 // The same escaping without quotes or cutting, for a whole message that may hold such bytes.
 std::string escaped_text(std::string_view text);
 
+// A name read from a file (a YAML key, a dump's column name) as written when it is printable and
+// at most kQuotedTextLimit bytes, else quoted_text(name).
+std::string name_text(std::string_view name);
+
 }  // namespace lantern

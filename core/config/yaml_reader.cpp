@@ -26,12 +26,6 @@ std::string shown(const YAML::Node &node) {
   return "nothing";
 }
 
-// A key as it appears in a path: as written when it is a plain name, else quoted_text().
-std::string key_text(const std::string &key) {
-  const bool plain = key.size() <= kQuotedTextLimit && escaped_text(key) == key;
-  return plain ? key : quoted_text(key);
-}
-
 std::string number_text(double v) {
   std::ostringstream s;
   s << v;
@@ -69,7 +63,7 @@ void YamlReader::check_map(const YAML::Node &node, const std::string &path,
     const YAML::Node &key_node = entry.first;
     if (!key_node.IsScalar()) fail(key_node, path, "keys must be plain names");
     const std::string key = key_node.Scalar();
-    const std::string key_path = child_path(path, key_text(key));
+    const std::string key_path = child_path(path, name_text(key));
     bool known = false;
     for (const std::string &candidate : allowed) known = known || candidate == key;
     if (!known) fail(key_node, key_path, unknown_key_text(key, allowed));

@@ -322,7 +322,7 @@ Status LammpsDumpReader::read(size_t index, int64_t begin, int64_t end, Particle
     const int n = tokenize(line, c.needed, &tok, &more);
     if (n < c.needed)
       return bad_line("short line: " + std::to_string(n) + " columns, ITEM: ATOMS needs at least " +
-                      std::to_string(c.needed) + " (" + quoted_text(c.names[n]) + " is missing)");
+                      std::to_string(c.needed) + " (" + name_text(c.names[n]) + " is missing)");
     auto real = [&](int col, double *v) -> Status {
       const auto [s, e] = token(col);
       if (parse_number(s, e, v)) return {};

@@ -28,5 +28,11 @@ TEST(QuotedText, EscapedTextKeepsPrintableTextAndEscapesTheRest) {
   EXPECT_EQ(escaped_text(std::string("\x8f\0", 2)), "\\x8f\\0");
 }
 
+TEST(QuotedText, NameTextQuotesOnlyUnusualNames) {
+  EXPECT_EQ(name_text("xs"), "xs");
+  EXPECT_EQ(name_text(std::string("x\x8f", 2)), "'x\\x8f'");
+  EXPECT_EQ(name_text(std::string(100, 'n')), "'" + std::string(kQuotedTextLimit, 'n') + "'...");
+}
+
 }  // namespace
 }  // namespace lantern
