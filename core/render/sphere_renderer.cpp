@@ -67,6 +67,14 @@ glm::mat4 tile_projection(const RenderView &v, int tx, int ty, int tw, int th) {
   return m * v.projection;
 }
 
+// The far-plane distance of the view's projection (glm::perspective or glm::ortho, OpenGL
+// conventions): perspective p22 = -(f + n) / (f - n), p32 = -2 f n / (f - n); orthographic
+// p22 = -2 / (f - n), p32 = -(f + n) / (f - n).
+float far_plane(const RenderView &v) {
+  const float p22 = v.projection[2][2], p32 = v.projection[3][2];
+  return v.orthographic ? (p32 - 1.0f) / p22 : p32 / (p22 + 1.0f);
+}
+
 }  // namespace
 
 struct SphereRenderer::Impl {
@@ -81,7 +89,8 @@ struct SphereRenderer::Impl {
   std::vector<uint8_t> tile_rgba;
   std::vector<float> tile_depth;
   struct {
-    GLint view, tile_proj, ortho, near_plane, proj, inv_proj, image_size, tile_origin;
+    GLint view, tile_proj, ortho, near_plane, far_plane, slack, proj, inv_proj, image_size,
+        tile_origin;
   } loc{};
 
   Status ensure_framebuffer(int w, int h) {
@@ -154,11 +163,11 @@ Status SphereRenderer::create(std::unique_ptr<SphereRenderer> *out) {
   auto impl = std::make_unique<Impl>();
   if (Status s = link_program(&impl->program); !s.ok()) return s;
   const GLuint p = impl->program.get();
-  impl->loc = {
-      gl().glGetUniformLocation(p, "u_view"),       gl().glGetUniformLocation(p, "u_tile_proj"),
-      gl().glGetUniformLocation(p, "u_ortho"),      gl().glGetUniformLocation(p, "u_near"),
-      gl().glGetUniformLocation(p, "u_proj"),       gl().glGetUniformLocation(p, "u_inv_proj"),
-      gl().glGetUniformLocation(p, "u_image_size"), gl().glGetUniformLocation(p, "u_tile_origin")};
+  const auto uniform = [p](const char *name) { return gl().glGetUniformLocation(p, name); };
+  impl->loc = {uniform("u_view"),       uniform("u_tile_proj"), uniform("u_ortho"),
+               uniform("u_near"),       uniform("u_far"),       uniform("u_slack"),
+               uniform("u_proj"),       uniform("u_inv_proj"),  uniform("u_image_size"),
+               uniform("u_tile_origin")};
   GLint rb_limit = 0, viewport_limit[2] = {0, 0};
   gl().glGetIntegerv(GL_MAX_RENDERBUFFER_SIZE, &rb_limit);
   gl().glGetIntegerv(GL_MAX_VIEWPORT_DIMS, viewport_limit);
@@ -206,6 +215,11 @@ Status SphereRenderer::render(const RenderView &view, const SphereInstance *sphe
   gl().glUniformMatrix4fv(m.loc.inv_proj, 1, GL_FALSE, glm::value_ptr(inv));
   gl().glUniform1i(m.loc.ortho, view.orthographic ? 1 : 0);
   gl().glUniform1f(m.loc.near_plane, view.near_plane);
+  gl().glUniform1f(m.loc.far_plane, far_plane(view));
+  // A twentieth of a pixel, as a view-space length (ortho) or slope (perspective): x_ndc =
+  // projection[0][0] * x (/ -z) for the symmetric frusta and boxes cameras build.
+  gl().glUniform2f(m.loc.slack, 0.05f * 2.0f / (float(view.width) * view.projection[0][0]),
+                   0.05f * 2.0f / (float(view.height) * view.projection[1][1]));
   gl().glUniform2f(m.loc.image_size, float(view.width), float(view.height));
   gl().glEnable(GL_DEPTH_TEST);
   gl().glDepthFunc(GL_LESS);
