@@ -9,6 +9,11 @@
 // The quad lies parallel to the image plane, between the near and far planes, so clipping never
 // cuts it: a sphere cut by the near plane, or reaching behind the eye, still gets every pixel
 // whose ray meets it beyond the near plane (the CPU raster's rule).
+//
+// Color comes out as a key, R * 65536 + G * 256 + B of the 8-bit shaded color (exact in a float),
+// that the renderer blends with GL_MIN in a second pass over the fragments at the nearest depth:
+// at equal depth the smaller color wins, whatever the drawing order - compositing's rule
+// (core/composite/packed_pixel.h), so ties are settled alike within a rank and across ranks.
 #pragma once
 
 #include <cstdio>
@@ -96,10 +101,11 @@ uniform mat4 u_inv_proj;
 uniform vec2 u_image_size;    // full image, pixels
 uniform vec2 u_tile_origin;   // this tile's lower-left pixel in the full image
 uniform bool u_ortho;
+uniform bool u_depth_only;    // the first pass: depth alone, no color
 flat in vec3 v_center;
 flat in float v_radius;
 flat in vec4 v_color;
-out vec4 o_color;
+out float o_key;              // the color key (see above)
 
 void main() {
   vec2 ndc = (gl_FragCoord.xy + u_tile_origin) / u_image_size * 2.0 - 1.0;
@@ -118,6 +124,7 @@ void main() {
   float z = clip.z / clip.w;
   if (z < -1.0 || z > 1.0) discard;
   gl_FragDepth = z * 0.5 + 0.5;
+  if (u_depth_only) return;
   // Headlight: light along the view ray, Lambert diffuse plus a Blinn-Phong highlight.
   vec3 n = (hit - v_center) / v_radius;
   float lambert = max(dot(n, -dir), 0.0);
@@ -125,7 +132,10 @@ void main() {
   // sphere_fragment_source().
   vec3 rgb = v_color.rgb * (k_ambient + k_diffuse * lambert) +
              vec3(k_specular) * pow(lambert, k_shininess);
-  o_color = vec4(min(rgb, vec3(1.0)), 1.0);
+  // To 8 bits as Mesa's llvmpipe stores a color to an RGBA8 buffer (round half to even), so that
+  // images keep the bytes they had when this shader wrote RGBA8.
+  vec3 level = roundEven(min(rgb, vec3(1.0)) * 255.0);
+  o_key = (level.r * 256.0 + level.g) * 256.0 + level.b;
 }
 )GLSL";
 

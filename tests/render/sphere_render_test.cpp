@@ -139,6 +139,27 @@ TEST_F(SphereRenderTest, RepeatedRendersAreBitIdentical) {
   EXPECT_EQ(a.depth, b.depth);
 }
 
+// Two coincident spheres, red and blue, tie at every pixel they cover: the smaller color (blue, R
+// = 0) must win in either drawing order, in both projections, with many copies of each in between
+// (several draw chunks are not needed: a tie is decided per fragment).
+TEST_F(SphereRenderTest, DepthTiesGoToTheSmallerColorInEitherDrawingOrder) {
+  for (const Projection projection : {Projection::kPerspective, Projection::kOrthographic}) {
+    const Camera cam = camera(projection, 6.0, 160, 120);
+    const SphereInstance red = sphere(0.3f, -0.2f, 0.1f, 1.0f, 255, 0);
+    SphereInstance blue = red;
+    blue.rgba[0] = 0, blue.rgba[2] = 255;
+    const Frame red_first = render(cam, {red, blue, red}), blue_first = render(cam, {blue, red});
+    const Frame blue_alone = render(cam, {blue});
+    int drawn = 0;
+    for (size_t i = 0; i < blue_alone.pixel_count(); ++i) drawn += blue_alone.depth[i] < 1.0f;
+    EXPECT_GT(drawn, 500);
+    EXPECT_EQ(red_first.rgba, blue_alone.rgba);
+    EXPECT_EQ(blue_first.rgba, blue_alone.rgba);
+    EXPECT_EQ(red_first.depth, blue_alone.depth);
+    EXPECT_EQ(blue_first.depth, blue_alone.depth);
+  }
+}
+
 // A sphere cut by the near plane keeps the pixels whose ray meets it beyond the plane (the CPU
 // raster's crescent), in both projections, wherever it lies across the image: the quad the
 // vertex shader builds must not be clipped away with the cut.
