@@ -23,9 +23,8 @@ CullStats CpuSpherePass::run(const ParticleArrays &particles, const BrickSet &br
   const bool occlusion = sel.mode == OcclusionMode::kHzb;
   const bool point_path = scene.lod.point_path;
   const bool two = split_strips(g.width, strips_);
-  CpuSphereRaster::clear_target(g, background, frame, &owner_);
-  for (int k = 0; k < 2; ++k)
-    rasters_[k].begin_strip(g, frame, &owner_, strips_[k].x0, strips_[k].x1);
+  CpuSphereRaster::clear_target(g, background, frame);
+  for (int k = 0; k < 2; ++k) rasters_[k].begin_strip(g, frame, strips_[k].x0, strips_[k].x1);
 
   const Frustum frustum(g);
   const CutPlanes cuts(scene.cuts);
@@ -53,7 +52,7 @@ CullStats CpuSpherePass::run(const ParticleArrays &particles, const BrickSet &br
           r.x0 = std::max(r.x0, s->x0), r.x1 = std::min(r.x1, s->x1);
           if (r.empty() || (occlusion && raster.covered(r, -c.c.z - c.r - g.eps))) return;
           const Rgb8 color = recipe.color(c.index);
-          raster.draw(c.c, c.r, color.data(), c.index, r);
+          raster.draw(c.c, c.r, color.data(), r);
           s->out.spheres.push_back(draw_entry(c.index, c.scale));
         };
         walk_strip(pass, sel.visible, occlusion, covered, visit, &strips_[k]);

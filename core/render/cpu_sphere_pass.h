@@ -8,9 +8,9 @@
 // Exact: the image is bit-identical to ray-casting every particle (cpu_sphere_raster.h explains
 // why a skipped sphere could not have changed a bit). Sub-pixel spheres go to out->points when
 // lod.point_path is on, for point_splats.h to draw afterwards.
-// Ownership: owns its strips' rasters, buffers and the per-pixel owner buffer (reused between
-// frames); borrows the frame, particles and bricks for one call. Thread-safety: one pass per
-// thread; run() starts and joins its own helper thread on images >= kTwoStripsFrom px wide.
+// Ownership: owns its strips' rasters and buffers (reused between frames); borrows the frame,
+// particles and bricks for one call. Thread-safety: one pass per thread; run() starts and joins its
+// own helper thread on images >= kTwoStripsFrom px wide.
 #pragma once
 
 #include <cstdint>
@@ -42,7 +42,6 @@ class CpuSpherePass {
  private:
   StripState strips_[2];
   CpuSphereRaster rasters_[2];
-  std::vector<uint32_t> owner_;  // particle index per pixel: equal depths go to the lower index
   std::vector<uint64_t> scratch_;
 };
 

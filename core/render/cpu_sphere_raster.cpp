@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
 #include <optional>
 
 #include "core/render/shading.h"
@@ -10,7 +9,6 @@
 namespace lantern {
 namespace {
 
-constexpr uint32_t kNoParticle = std::numeric_limits<uint32_t>::max();
 // Query depths are lowered by two float ulps below 1.0 before the strict comparison: the stored
 // depths are double results rounded to float, so this keeps "covered" a guarantee.
 constexpr double kQueryMargin = 2.0 * 5.96e-8;
@@ -25,22 +23,19 @@ constexpr float kMiss = 2.0f;
 
 }  // namespace
 
-void CpuSphereRaster::clear_target(const ViewGeometry &g, const uint8_t background[4], Frame *frame,
-                                   std::vector<uint32_t> *owner) {
+void CpuSphereRaster::clear_target(const ViewGeometry &g, const uint8_t background[4],
+                                   Frame *frame) {
   // Also after a move (asynchronous writing takes the frame): sizes, not just the dimensions.
   const size_t pixels = size_t(g.width) * size_t(g.height);
   if (frame->width != g.width || frame->height != g.height || frame->depth.size() != pixels ||
       frame->rgba.size() != 4 * pixels)
     *frame = Frame(g.width, g.height);
   frame->clear(background);
-  owner->assign(frame->pixel_count(), kNoParticle);
 }
 
-void CpuSphereRaster::begin_strip(const ViewGeometry &g, Frame *frame, std::vector<uint32_t> *owner,
-                                  int x0, int x1) {
+void CpuSphereRaster::begin_strip(const ViewGeometry &g, Frame *frame, int x0, int x1) {
   g_ = g;
   frame_ = frame;
-  owner_ = owner->data();
   x0_ = std::max(x0, 0), x1_ = std::min(x1, g.width - 1);
   pyramid_.reset(frame->depth.data(), g.width, g.height, kBackgroundDepth);
   rays_.reset(g);
@@ -256,10 +251,18 @@ LANTERN_TILE_KERNEL void shade_tile(int n, const float lambert2[kTilePixels], co
     shade_tile_n<kTile>(lambert2, rgb, out);
 }
 
+// A color of shade_pixel as compositing's word R<<24 | G<<16 | B<<8 | A (alpha 255), and the word
+// of 4 bytes of the frame: the smaller word wins a depth tie, here as in compositing.
+LANTERN_INLINE uint32_t shaded_word(uint32_t color) {
+  return (color & 0xFFu) << 24 | (color & 0xFF00u) << 8 | (color & 0xFF0000u) >> 8 | 0xFFu;
+}
+LANTERN_INLINE uint32_t frame_word(const uint8_t *rgba) {
+  return uint32_t(rgba[0]) << 24 | uint32_t(rgba[1]) << 16 | uint32_t(rgba[2]) << 8 | rgba[3];
+}
+
 }  // namespace
 
-bool CpuSphereRaster::draw(const glm::dvec3 &c, double r, const uint8_t rgb[3], uint32_t index,
-                           PixelRect rect) {
+bool CpuSphereRaster::draw(const glm::dvec3 &c, double r, const uint8_t rgb[3], PixelRect rect) {
   rect.x0 = std::max(rect.x0, x0_), rect.x1 = std::min(rect.x1, x1_);
   if (rect.empty() || !(r > 0.0)) return false;
   if (!g_.orthographic && glm::dot(c, c) <= r * r) return false;  // eye inside: nothing drawn
@@ -286,11 +289,11 @@ bool CpuSphereRaster::draw(const glm::dvec3 &c, double r, const uint8_t rgb[3], 
         else
           perspective_pixel(fast, x - fast.ref_x, y - fast.ref_y, true, &wz, &lambert2);
         const size_t p = size_t(y) * width + size_t(x);
-        if (!(wz < depth[p] || (wz == depth[p] && index < owner_[p]))) continue;
-        depth[p] = wz;
-        owner_[p] = index;
+        if (!(wz <= depth[p])) continue;
         const uint32_t color = shade_pixel(lambert2, rgb[0], rgb[1], rgb[2]);
         uint8_t *out = rgba + 4 * p;
+        if (!(wz < depth[p]) && !(shaded_word(color) < frame_word(out))) continue;
+        depth[p] = wz;
         out[0] = uint8_t(color), out[1] = uint8_t(color >> 8), out[2] = uint8_t(color >> 16);
         out[3] = 255;
         written.unite(PixelRect{x, y, x, y});
@@ -309,27 +312,33 @@ bool CpuSphereRaster::draw(const glm::dvec3 &c, double r, const uint8_t rgb[3], 
         cast_centred(*centred, n, x0, y0, w, h, &t);
       else
         general->cast(n, x0, y0, w, h, &t);
-      // Depth test without branches: nearer wins, equal depths go to the lower index.
-      uint64_t won = 0;
+      // Depth test without branches: nearer wins; an equal depth is settled by color below.
+      uint64_t nearer = 0, tied = 0;
       for (int j = 0; j < h; ++j) {
         const size_t row = size_t(y0 + j) * width + size_t(x0);
         for (int k = 0; k < w; ++k) {
           const int i = j * n + k;
           const float dz = depth[row + k];
-          const uint32_t o = owner_[row + k];
-          const bool win = (t.wz[i] < dz) | ((t.wz[i] == dz) & (index < o));
-          depth[row + k] = win ? t.wz[i] : dz;
-          owner_[row + k] = win ? index : o;
-          won |= uint64_t(win) << i;
+          nearer |= uint64_t(t.wz[i] < dz) << i;
+          tied |= uint64_t(t.wz[i] == dz) << i;
         }
       }
-      if (!won) continue;
+      if (!(nearer | tied)) continue;
       uint32_t color[kTilePixels];
       shade_tile(n, t.lambert2, rgb, color);
+      uint64_t won = nearer;
+      for (uint64_t bits = tied; bits; bits &= bits - 1) {  // rare: exactly equal depths
+        const int i = __builtin_ctzll(bits);
+        const uint8_t *out = rgba + 4 * (size_t(y0 + i / n) * width + size_t(x0 + i % n));
+        if (shaded_word(color[i]) < frame_word(out)) won |= uint64_t(1) << i;
+      }
+      if (!won) continue;
       int kmin = n, kmax = -1;
       for (uint64_t bits = won; bits; bits &= bits - 1) {
         const int i = __builtin_ctzll(bits), k = i % n;
-        uint8_t *out = rgba + 4 * (size_t(y0 + i / n) * width + size_t(x0 + k));
+        const size_t p = size_t(y0 + i / n) * width + size_t(x0 + k);
+        depth[p] = t.wz[i];
+        uint8_t *out = rgba + 4 * p;
         out[0] = uint8_t(color[i]), out[1] = uint8_t(color[i] >> 8);
         out[2] = uint8_t(color[i] >> 16), out[3] = 255;
         kmin = std::min(kmin, k), kmax = std::max(kmax, k);

@@ -12,18 +12,18 @@
 // reaching behind the eye plane take a double path. A pixel's result depends only on the pixel
 // and the sphere - not on the rectangle passed, the tile it fell in, or the CPU - so a pixel can
 // differ from OpenGL's float result by one color level or where a silhouette passes within
-// float rounding of a pixel centre. Equal depths resolve to the lower particle index, so the
-// image does not depend on the order spheres are drawn in, and a sphere skipped because
-// `covered` said so would not have changed a bit: skipping is exact.
+// float rounding of a pixel centre. Equal depths resolve to the smaller color (R, then G, B, A;
+// the background counts, at background depth) - compositing's rule - so the image depends neither
+// on the order spheres are drawn in nor on how they are split between ranks, and a sphere skipped
+// because `covered` said so would not have changed a bit: skipping is exact.
 //
 // One raster owns a column strip [x0, x1] of a shared Frame and a max-depth pyramid over it;
 // two rasters on disjoint strips of one Frame may draw from two threads at once.
-// Ownership: borrows the Frame and owner buffer given to begin() until the next begin().
+// Ownership: borrows the Frame given to begin_strip() until the next begin_strip().
 // Units: view space of ViewGeometry (camera looks down -z); depths stored as window depth.
 #pragma once
 
 #include <cstdint>
-#include <vector>
 
 #include <glm/vec3.hpp>
 
@@ -36,29 +36,26 @@ namespace lantern {
 
 class CpuSphereRaster {
  public:
-  // Clears `frame` (width x height of g) to `background` at background depth and `owner` to "no
-  // particle". Call once per frame, before any begin_strip on it, from one thread.
-  static void clear_target(const ViewGeometry &g, const uint8_t background[4], Frame *frame,
-                           std::vector<uint32_t> *owner);
+  // Clears `frame` (width x height of g) to `background` at background depth. Call once per
+  // frame, before any begin_strip on it, from one thread.
+  static void clear_target(const ViewGeometry &g, const uint8_t background[4], Frame *frame);
 
-  // Draw into columns [x0, x1] of the cleared `frame` / `owner`.
-  void begin_strip(const ViewGeometry &g, Frame *frame, std::vector<uint32_t> *owner, int x0,
-                   int x1);
+  // Draw into columns [x0, x1] of the cleared `frame`.
+  void begin_strip(const ViewGeometry &g, Frame *frame, int x0, int x1);
 
   // True if every pixel of `rect` (within the strip) already holds something strictly nearer
   // than view depth z: a sphere whose nearest point is at z would change none of them.
   bool covered(PixelRect rect, double z) const;
 
-  // Ray-casts the sphere (view-space centre c, radius r, color rgb, particle `index`) over the
-  // pixels of `rect` inside the strip; `rect` must hold every pixel the sphere covers
+  // Ray-casts the sphere (view-space centre c, radius r, color rgb) over the pixels of `rect`
+  // inside the strip; `rect` must hold every pixel the sphere covers
   // (ViewGeometry::sphere_rect_tight with a slack of 0.05 px does). Returns true if it won at
   // least one pixel.
-  bool draw(const glm::dvec3 &c, double r, const uint8_t rgb[3], uint32_t index, PixelRect rect);
+  bool draw(const glm::dvec3 &c, double r, const uint8_t rgb[3], PixelRect rect);
 
  private:
   ViewGeometry g_;
   Frame *frame_ = nullptr;
-  uint32_t *owner_ = nullptr;
   int x0_ = 0, x1_ = -1;
   MaxDepthPyramid pyramid_;  // over the frame's depth (level 0), kept between frames
   PixelRays rays_;

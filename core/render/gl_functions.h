@@ -22,11 +22,13 @@
   X(glBindFramebuffer) \
   X(glBindRenderbuffer) \
   X(glBindVertexArray) \
+  X(glBlendEquation) \
   X(glBufferData) \
   X(glCheckFramebufferStatus) \
   X(glClear) \
   X(glClearColor) \
   X(glClearDepth) \
+  X(glColorMask) \
   X(glCompileShader) \
   X(glCreateProgram) \
   X(glCreateShader) \
@@ -37,6 +39,7 @@
   X(glDeleteShader) \
   X(glDeleteVertexArrays) \
   X(glDepthFunc) \
+  X(glDepthMask) \
   X(glDisable) \
   X(glDrawArraysInstanced) \
   X(glEnable) \

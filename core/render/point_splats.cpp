@@ -69,12 +69,18 @@ void splat_points(const ParticleArrays &particles, bool per_particle, double rad
           if (depth < g.near_plane || depth > g.far_plane) continue;
           const auto wd = float(g.window_depth(depth));
           const size_t p = frame->index(x, y);
-          if (!(wd < frame->depth[p])) continue;
-          frame->depth[p] = wd;
+          if (!(wd <= frame->depth[p])) continue;
           const double lambert = std::max(glm::dot((hit - c) / r, -dir), 0.0);
           const Rgb8 rgb = color(int64_t(i));
-          for (int ch = 0; ch < 3; ++ch) frame->rgba[4 * p + ch] = shade(rgb[ch], lambert);
-          frame->rgba[4 * p + 3] = 255;
+          const uint8_t shaded[4] = {shade(rgb[0], lambert), shade(rgb[1], lambert),
+                                     shade(rgb[2], lambert), 255};
+          uint8_t *out = &frame->rgba[4 * p];
+          // An equal depth goes to the smaller color (R, then G, B, A), as in compositing.
+          if (!(wd < frame->depth[p]) &&
+              !std::lexicographical_compare(shaded, shaded + 4, out, out + 4))
+            continue;
+          frame->depth[p] = wd;
+          std::copy(shaded, shaded + 4, out);
         }
       }
     });

@@ -2,9 +2,10 @@
 // across skips OpenGL. Its silhouette can hold at most one pixel centre, so the CPU casts the
 // impostor shader's own ray through the (at most four) candidate centres, in double, and writes
 // that pixel's color (same shading formula) and window depth into the rendered Frame where it is
-// nearer than what OpenGL drew. Nearly exact - the shader works in float, so a silhouette edge
-// or a color can differ by one unit - and far cheaper than an impostor on llvmpipe.
-// Thread-safety: none (writes the frame).
+// nearer than what OpenGL drew (at an equal depth where its color is smaller, R then G, B, A: the
+// renderers' and compositing's rule, so ties do not depend on the order or the split). Nearly exact
+// - the shader works in float, so a silhouette edge or a color can differ by one unit - and far
+// cheaper than an impostor on llvmpipe. Thread-safety: none (writes the frame).
 #pragma once
 
 #include <cstdint>

@@ -67,6 +67,24 @@ glm::mat4 tile_projection(const RenderView &v, int tx, int ty, int tw, int th) {
   return m * v.projection;
 }
 
+// The shader's color key of an RGB8 color is R * 65536 + G * 256 + B, exact in a float and ordered
+// as compositing orders colors (R, then G, then B). The key buffer is cleared to kNoKey, above
+// every key, so that the background competes (below) only at background depth.
+constexpr float kNoKey = 16777216.0f;  // 2^24
+
+// The word R<<24 | G<<16 | B<<8 | A of compositing (packed_pixel.h), from 4 bytes.
+uint32_t color_word(const uint8_t rgba[4]) {
+  return uint32_t(rgba[0]) << 24 | uint32_t(rgba[1]) << 16 | uint32_t(rgba[2]) << 8 | rgba[3];
+}
+
+// The far-plane distance of the view's projection (glm::perspective or glm::ortho, OpenGL
+// conventions): perspective p22 = -(f + n) / (f - n), p32 = -2 f n / (f - n); orthographic
+// p22 = -2 / (f - n), p32 = -(f + n) / (f - n).
+float far_plane(const RenderView &v) {
+  const float p22 = v.projection[2][2], p32 = v.projection[3][2];
+  return v.orthographic ? (p32 - 1.0f) / p22 : p32 / (p22 + 1.0f);
+}
+
 }  // namespace
 
 struct SphereRenderer::Impl {
@@ -74,30 +92,31 @@ struct SphereRenderer::Impl {
   GlVertexArray vao;
   GlBuffer instances;
   GlFramebuffer fbo;
-  GlRenderbuffer color_rb, depth_rb;
+  GlRenderbuffer key_rb, depth_rb;  // color keys (R32F, see sphere_shaders.h), window depth
   int fbo_w = 0, fbo_h = 0;
   int tile_limit = kMaxTileSize;
   int gl_limit = kMaxTileSize;  // min(kMaxTileSize, GL renderbuffer and viewport limits)
-  std::vector<uint8_t> tile_rgba;
+  std::vector<float> tile_key;
   std::vector<float> tile_depth;
   struct {
-    GLint view, tile_proj, ortho, near_plane, proj, inv_proj, image_size, tile_origin;
+    GLint view, tile_proj, ortho, near_plane, far_plane, slack, proj, inv_proj, image_size,
+        tile_origin, depth_only;
   } loc{};
 
   Status ensure_framebuffer(int w, int h) {
     if (w == fbo_w && h == fbo_h) return {};
     GLuint name = 0;
     gl().glGenRenderbuffers(1, &name);
-    color_rb = GlRenderbuffer(name);
-    gl().glBindRenderbuffer(GL_RENDERBUFFER, color_rb.get());
-    gl().glRenderbufferStorage(GL_RENDERBUFFER, GL_RGBA8, w, h);
+    key_rb = GlRenderbuffer(name);
+    gl().glBindRenderbuffer(GL_RENDERBUFFER, key_rb.get());
+    gl().glRenderbufferStorage(GL_RENDERBUFFER, GL_R32F, w, h);
     gl().glGenRenderbuffers(1, &name);
     depth_rb = GlRenderbuffer(name);
     gl().glBindRenderbuffer(GL_RENDERBUFFER, depth_rb.get());
     gl().glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT32F, w, h);
     gl().glBindFramebuffer(GL_FRAMEBUFFER, fbo.get());
     gl().glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER,
-                                   color_rb.get());
+                                   key_rb.get());
     gl().glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER,
                                    depth_rb.get());
     if (gl().glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
@@ -123,18 +142,31 @@ struct SphereRenderer::Impl {
   }
 
   // Copies the tile whose lower-left pixel is (tx, gl_ty), GL rows bottom-up, into the frame
-  // (rows top-down).
-  void read_tile(Frame *frame, int tx, int gl_ty, int tw, int th) {
-    tile_rgba.resize(size_t(tw) * th * 4);
+  // (rows top-down), color keys turned back into opaque RGBA8. At background depth the background
+  // is a contender too, as it is in compositing: the smaller word of the two wins.
+  void read_tile(const uint8_t background[4], Frame *frame, int tx, int gl_ty, int tw, int th) {
+    tile_key.resize(size_t(tw) * th);
     tile_depth.resize(size_t(tw) * th);
     gl().glPixelStorei(GL_PACK_ALIGNMENT, 1);
-    gl().glReadPixels(0, 0, tw, th, GL_RGBA, GL_UNSIGNED_BYTE, tile_rgba.data());
+    gl().glReadPixels(0, 0, tw, th, GL_RED, GL_FLOAT, tile_key.data());
     gl().glReadPixels(0, 0, tw, th, GL_DEPTH_COMPONENT, GL_FLOAT, tile_depth.data());
+    const uint32_t background_word = color_word(background);
     for (int row = 0; row < th; ++row) {
       const int y = frame->height - 1 - (gl_ty + row);
       const size_t dst = frame->index(tx, y);
-      std::memcpy(&frame->rgba[dst * 4], &tile_rgba[size_t(row) * tw * 4], size_t(tw) * 4);
-      std::memcpy(&frame->depth[dst], &tile_depth[size_t(row) * tw], size_t(tw) * sizeof(float));
+      const float *key = &tile_key[size_t(row) * tw];
+      const float *depth = &tile_depth[size_t(row) * tw];
+      uint8_t *rgba = &frame->rgba[dst * 4];
+      for (int k = 0; k < tw; ++k, rgba += 4) {
+        const uint32_t word = key[k] < kNoKey ? uint32_t(key[k]) << 8 | 0xFFu : 0xFFFFFFFFu;
+        if (depth[k] == kBackgroundDepth && background_word <= word) {
+          std::memcpy(rgba, background, 4);
+          continue;
+        }
+        rgba[0] = uint8_t(word >> 24), rgba[1] = uint8_t(word >> 16), rgba[2] = uint8_t(word >> 8);
+        rgba[3] = 255;
+      }
+      std::memcpy(&frame->depth[dst], depth, size_t(tw) * sizeof(float));
     }
   }
 };
@@ -154,11 +186,11 @@ Status SphereRenderer::create(std::unique_ptr<SphereRenderer> *out) {
   auto impl = std::make_unique<Impl>();
   if (Status s = link_program(&impl->program); !s.ok()) return s;
   const GLuint p = impl->program.get();
-  impl->loc = {
-      gl().glGetUniformLocation(p, "u_view"),       gl().glGetUniformLocation(p, "u_tile_proj"),
-      gl().glGetUniformLocation(p, "u_ortho"),      gl().glGetUniformLocation(p, "u_near"),
-      gl().glGetUniformLocation(p, "u_proj"),       gl().glGetUniformLocation(p, "u_inv_proj"),
-      gl().glGetUniformLocation(p, "u_image_size"), gl().glGetUniformLocation(p, "u_tile_origin")};
+  const auto uniform = [p](const char *name) { return gl().glGetUniformLocation(p, name); };
+  impl->loc = {uniform("u_view"),        uniform("u_tile_proj"), uniform("u_ortho"),
+               uniform("u_near"),        uniform("u_far"),       uniform("u_slack"),
+               uniform("u_proj"),        uniform("u_inv_proj"),  uniform("u_image_size"),
+               uniform("u_tile_origin"), uniform("u_depth_only")};
   GLint rb_limit = 0, viewport_limit[2] = {0, 0};
   gl().glGetIntegerv(GL_MAX_RENDERBUFFER_SIZE, &rb_limit);
   gl().glGetIntegerv(GL_MAX_VIEWPORT_DIMS, viewport_limit);
@@ -206,13 +238,16 @@ Status SphereRenderer::render(const RenderView &view, const SphereInstance *sphe
   gl().glUniformMatrix4fv(m.loc.inv_proj, 1, GL_FALSE, glm::value_ptr(inv));
   gl().glUniform1i(m.loc.ortho, view.orthographic ? 1 : 0);
   gl().glUniform1f(m.loc.near_plane, view.near_plane);
+  gl().glUniform1f(m.loc.far_plane, far_plane(view));
+  // A twentieth of a pixel, as a view-space length (ortho) or slope (perspective): x_ndc =
+  // projection[0][0] * x (/ -z) for the symmetric frusta and boxes cameras build.
+  gl().glUniform2f(m.loc.slack, 0.05f * 2.0f / (float(view.width) * view.projection[0][0]),
+                   0.05f * 2.0f / (float(view.height) * view.projection[1][1]));
   gl().glUniform2f(m.loc.image_size, float(view.width), float(view.height));
   gl().glEnable(GL_DEPTH_TEST);
-  gl().glDepthFunc(GL_LESS);
-  gl().glDisable(GL_BLEND);
   gl().glDisable(GL_CULL_FACE);
-  gl().glClearColor(view.background[0] / 255.0f, view.background[1] / 255.0f,
-                    view.background[2] / 255.0f, view.background[3] / 255.0f);
+  gl().glBlendEquation(GL_MIN);  // factors are ignored by GL_MIN
+  gl().glClearColor(kNoKey, 0.0f, 0.0f, 0.0f);
   gl().glClearDepth(1.0);
 
   RenderTimings t;
@@ -230,11 +265,27 @@ Status SphereRenderer::render(const RenderView &view, const SphereInstance *sphe
       const glm::mat4 tp = tile_projection(view, tx, gl_ty, tw, th);
       gl().glUniformMatrix4fv(m.loc.tile_proj, 1, GL_FALSE, glm::value_ptr(tp));
       gl().glUniform2f(m.loc.tile_origin, float(tx), float(gl_ty));
-      if (count > 0) m.draw_all(spheres, count, !(single_chunk && uploaded));
-      uploaded = true;
+      if (count > 0) {
+        // Pass 1: the nearest depth of every pixel. Pass 2: the smallest color key among the
+        // fragments at exactly that depth (read_tile lets the background compete at its depth).
+        gl().glUniform1i(m.loc.depth_only, 1);
+        gl().glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+        gl().glDepthMask(GL_TRUE);
+        gl().glDepthFunc(GL_LESS);
+        gl().glDisable(GL_BLEND);
+        m.draw_all(spheres, count, !(single_chunk && uploaded));
+        uploaded = true;
+        gl().glUniform1i(m.loc.depth_only, 0);
+        gl().glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+        gl().glDepthMask(GL_FALSE);
+        gl().glDepthFunc(GL_EQUAL);
+        gl().glEnable(GL_BLEND);
+        m.draw_all(spheres, count, !single_chunk);
+        gl().glDepthMask(GL_TRUE);  // for the next tile's clear
+      }
       gl().glFinish();
       const auto r0 = std::chrono::steady_clock::now();
-      m.read_tile(frame, tx, gl_ty, tw, th);
+      m.read_tile(view.background, frame, tx, gl_ty, tw, th);
       t.readback_ms += ms_since(r0);
       ++t.tiles;
     }

@@ -26,7 +26,7 @@ struct SphereInstance {
 static_assert(sizeof(SphereInstance) == 20, "SphereInstance is uploaded as raw bytes");
 
 struct RenderTimings {
-  double draw_ms = 0;      // upload + draw (GL finished)
+  double draw_ms = 0;      // upload + both passes (GL finished)
   double readback_ms = 0;  // glReadPixels of color and depth into the Frame
   int tiles = 0;
 };
@@ -40,7 +40,10 @@ class SphereRenderer {
   SphereRenderer(const SphereRenderer &) = delete;
   SphereRenderer &operator=(const SphereRenderer &) = delete;
 
-  // Clears `frame` to the view's background and size, then draws `count` spheres. Images larger
+  // Clears `frame` to the view's background and size, then draws `count` spheres: the nearest
+  // wins a pixel, and at exactly equal depth the smaller color (R, then G, B; the background
+  // competes at background depth), so the order of `spheres` changes no pixel. That takes two
+  // passes over the spheres (depth, then color at that depth; sphere_shaders.h). Images larger
   // than the GL limit (or than kMaxTileSize) are drawn tile by tile; tiling changes no pixel.
   // Returns OK or kGl.
   Status render(const RenderView &view, const SphereInstance *spheres, size_t count, Frame *frame,

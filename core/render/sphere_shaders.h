@@ -5,6 +5,15 @@
 // Rays are built from gl_FragCoord and the FULL image's inverse projection (plus the tile's
 // pixel origin), never from interpolated varyings: a pixel's color and depth then depend only on
 // that pixel and that sphere, so tiles, ranks and draw chunks cannot change a single bit.
+//
+// The quad lies parallel to the image plane, between the near and far planes, so clipping never
+// cuts it: a sphere cut by the near plane, or reaching behind the eye, still gets every pixel
+// whose ray meets it beyond the near plane (the CPU raster's rule).
+//
+// Color comes out as a key, R * 65536 + G * 256 + B of the 8-bit shaded color (exact in a float),
+// that the renderer blends with GL_MIN in a second pass over the fragments at the nearest depth:
+// at equal depth the smaller color wins, whatever the drawing order - compositing's rule
+// (core/composite/packed_pixel.h), so ties are settled alike within a rank and across ranks.
 #pragma once
 
 #include <cstdio>
@@ -21,9 +30,33 @@ uniform mat4 u_view;       // scene-relative world -> view (camera looks down -z
 uniform mat4 u_tile_proj;  // view -> clip of the current tile
 uniform bool u_ortho;
 uniform float u_near;      // near-plane distance (> 0)
+uniform float u_far;       // far-plane distance (> near), to float rounding
+uniform vec2 u_slack;      // 0.05 pixel in x and y: view length (ortho) or slope x/-z (perspective)
 flat out vec3 v_center;    // view space
 flat out float v_radius;
 flat out vec4 v_color;
+
+// The range of slopes a/(-z) over the part of a sphere at or beyond the near plane, along one
+// view axis a (x or y), from its centre (ca, cz) in the (a, z) plane: the tangents from the eye,
+// or, where a tangent point lies nearer than the near plane (or behind the eye), the end of the
+// sphere's chord on the near plane on that side (Mara & McGuire 2013, "2D Polyhedral Bounds of a
+// Clipped, Perspective-Projected 3D Sphere"). Returns (lowest, highest).
+vec2 slope_range(float ca, float cz, float r) {
+  float near_z = -u_near;
+  vec2 c = vec2(ca, cz);
+  float t2 = dot(c, c) - r * r;
+  bool eye_inside = t2 <= 0.0;  // in this plane; the sphere then reaches the near plane
+  // (cos, sin) of the angle between the centre and a tangent, scaled for the tangent point.
+  vec2 v = eye_inside ? vec2(0.0) : vec2(sqrt(t2), r) / length(c);
+  bool cut = cz + r >= near_z;
+  float k = sqrt(max(r * r - (near_z - cz) * (near_z - cz), 0.0));
+  // Rotating c by +angle gives the tangent of the larger slope, by -angle the smaller one.
+  vec2 hi = vec2(c.x * v.x - c.y * v.y, c.x * v.y + c.y * v.x) * v.x;
+  vec2 lo = vec2(c.x * v.x + c.y * v.y, -c.x * v.y + c.y * v.x) * v.x;
+  if (cut && (eye_inside || hi.y > near_z)) hi = vec2(ca + k, near_z);
+  if (cut && (eye_inside || lo.y > near_z)) lo = vec2(ca - k, near_z);
+  return vec2(lo.x / -lo.y, hi.x / -hi.y);
+}
 
 void main() {
   vec2 corner = vec2(float(gl_VertexID & 1), float(gl_VertexID >> 1)) * 2.0 - 1.0;
@@ -32,27 +65,29 @@ void main() {
   v_center = c;
   v_radius = r;
   v_color = a_color;
+  // Nothing to draw when the sphere lies wholly nearer than the near plane or beyond the far
+  // plane (with margins: u_far is only known to float rounding, and the fragment shader's own
+  // depth test decides at the planes), or, in perspective, holds the eye: every ray then meets
+  // its surface behind the eye first, as the CPU raster's rays do.
+  bool hidden = r - c.z < u_near * 0.999 || -c.z - r > u_far * 1.01 ||
+                (!u_ortho && dot(c, c) <= r * r);
+  if (hidden) {
+    gl_Position = vec4(0.0, 0.0, 2.0, 1.0);
+    return;
+  }
+  // A quad parallel to the image plane, halfway between the near and far planes, so that no
+  // clipping plane can cut it, over every pixel whose ray can meet the sphere beyond the near
+  // plane (plus a twentieth of a pixel for the float rounding of this bound): the fragment
+  // shader decides each pixel exactly.
+  float s = 0.5 * (u_near + u_far);
   vec3 p;
   if (u_ortho) {
-    // Square of half-size r in front of the sphere, kept behind the near plane when possible.
-    float z = max(min(c.z + r, -u_near * 1.0001), c.z);
-    p = vec3(c.xy + corner * r, z);
+    p = vec3(c.xy + corner * (r + u_slack), -s);
   } else {
-    float d2 = dot(c, c);
-    float r2 = r * r;
-    if (d2 <= r2) {  // the eye is inside this sphere: draw nothing rather than fill the screen
-      gl_Position = vec4(0.0, 0.0, 2.0, 1.0);
-      return;
-    }
-    float d = sqrt(d2);
-    vec3 w = c / d;
-    vec3 helper = abs(w.y) < 0.9 ? vec3(0.0, 1.0, 0.0) : vec3(1.0, 0.0, 0.0);
-    vec3 u = normalize(cross(helper, w));
-    vec3 v = cross(w, u);
-    // A plane across the eye->centre axis at distance t cuts the tangent cone in a circle of
-    // radius t * r / sqrt(d^2 - r^2); the square around it bounds the projected silhouette.
-    float t = clamp(d - r, min(u_near * 1.0001, d), d);
-    p = w * t + (u * corner.x + v * corner.y) * (t * r / sqrt(d2 - r2));
+    vec2 x = slope_range(c.x, c.z, r) + vec2(-u_slack.x, u_slack.x);
+    vec2 y = slope_range(c.y, c.z, r) + vec2(-u_slack.y, u_slack.y);
+    vec2 slope = vec2(corner.x < 0.0 ? x.x : x.y, corner.y < 0.0 ? y.x : y.y);
+    p = vec3(slope * s, -s);
   }
   gl_Position = u_tile_proj * vec4(p, 1.0);
 }
@@ -66,10 +101,11 @@ uniform mat4 u_inv_proj;
 uniform vec2 u_image_size;    // full image, pixels
 uniform vec2 u_tile_origin;   // this tile's lower-left pixel in the full image
 uniform bool u_ortho;
+uniform bool u_depth_only;    // the first pass: depth alone, no color
 flat in vec3 v_center;
 flat in float v_radius;
 flat in vec4 v_color;
-out vec4 o_color;
+out float o_key;              // the color key (see above)
 
 void main() {
   vec2 ndc = (gl_FragCoord.xy + u_tile_origin) / u_image_size * 2.0 - 1.0;
@@ -88,6 +124,7 @@ void main() {
   float z = clip.z / clip.w;
   if (z < -1.0 || z > 1.0) discard;
   gl_FragDepth = z * 0.5 + 0.5;
+  if (u_depth_only) return;
   // Headlight: light along the view ray, Lambert diffuse plus a Blinn-Phong highlight.
   vec3 n = (hit - v_center) / v_radius;
   float lambert = max(dot(n, -dir), 0.0);
@@ -95,7 +132,10 @@ void main() {
   // sphere_fragment_source().
   vec3 rgb = v_color.rgb * (k_ambient + k_diffuse * lambert) +
              vec3(k_specular) * pow(lambert, k_shininess);
-  o_color = vec4(min(rgb, vec3(1.0)), 1.0);
+  // To 8 bits as Mesa's llvmpipe stores a color to an RGBA8 buffer (round half to even), so that
+  // images keep the bytes they had when this shader wrote RGBA8.
+  vec3 level = roundEven(min(rgb, vec3(1.0)) * 255.0);
+  o_key = (level.r * 256.0 + level.g) * 256.0 + level.b;
 }
 )GLSL";
 

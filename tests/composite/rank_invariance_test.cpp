@@ -12,6 +12,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "lantern/lantern.h"
@@ -26,6 +27,7 @@ namespace {
 struct Particles {
   std::vector<double> x, y, z, radius, scalar;
   std::vector<int32_t> type;
+  std::vector<int64_t> id;
   size_t size() const { return x.size(); }
   void push(const Particles &from, size_t i) {
     x.push_back(from.x[i]);
@@ -34,6 +36,7 @@ struct Particles {
     radius.push_back(from.radius[i]);
     scalar.push_back(from.scalar[i]);
     type.push_back(from.type[i]);
+    id.push_back(from.id[i]);
   }
 };
 
@@ -49,6 +52,7 @@ Particles make_particles(int count) {
     p.radius.push_back(0.15 + 0.35 * unit(hash(h + 4)));
     p.scalar.push_back(std::sin(0.7 * p.x.back()) * p.y.back());
     p.type.push_back(int32_t(hash(h + 5) % 5));
+    p.id.push_back(i);
   }
   return p;
 }
@@ -108,6 +112,7 @@ lantern_particles describe(const Particles &p) {
   d.radius = {p.radius.data(), LANTERN_FLOAT64, 0};
   d.scalar = {p.scalar.data(), LANTERN_FLOAT64, 0};
   d.type = {p.type.data(), LANTERN_INT32, 0};
+  d.id = {p.id.data(), LANTERN_INT64, 0};
   return d;
 }
 
@@ -250,6 +255,97 @@ TEST(RankInvariance, SameImagesForEveryRankCountAndSplit) {
 TEST(RankInvariance, SameImagesWithoutOpenGl) {
   expect_rank_invariant(make_particles(1500), "nogl", "gl: none\n",
                         "    culling: {occlusion: nine_spheres}\n");
+}
+
+// Coincident pairs: two particles at exactly the same position with the same radius, one of type
+// 0 (red) and one of type 1 (blue), with different ids; in every other pair the red one comes
+// first. Every pixel of a pair is a depth tie, settled by the smaller color: blue.
+Particles make_coincident_pairs() {
+  Particles p;
+  int64_t id = 1000;
+  for (int k = 0; k < 36; ++k) {
+    const double x = 1.5 * (k % 6), y = 1.5 * ((k / 6) % 3), z = 2.0 * (k / 18);
+    for (int m = 0; m < 2; ++m) {
+      p.x.push_back(x), p.y.push_back(y), p.z.push_back(z);
+      p.radius.push_back(0.7), p.scalar.push_back(0.0);
+      p.type.push_back(int32_t((m + k) % 2));
+      p.id.push_back(id += 7);
+    }
+  }
+  return p;
+}
+
+Particles of_type(const Particles &all, int32_t type) {
+  Particles some;
+  for (size_t i = 0; i < all.size(); ++i)
+    if (all.type[i] == type) some.push(all, i);
+  return some;
+}
+
+Particles reversed(const Particles &all) {
+  Particles r;
+  for (size_t i = all.size(); i-- > 0;) r.push(all, i);
+  return r;
+}
+
+// Perspective and orthographic, spheres of a few pixels (the CPU raster under `auto`) and of
+// tens of pixels (OpenGL, when the build has it).
+const char *const kPairScenes[] = {"small_persp", "large_persp", "small_ortho", "large_ortho"};
+
+std::string pair_config(const std::string &directory, const std::string &prefix) {
+  const std::string pattern = directory + "/" + prefix + "_{scene}_{step:06d}.png";
+  const std::string color = "{by: type, palette: [[0.9, 0.1, 0.1], [0.1, 0.2, 0.9]]}";
+  // No occlusion culling: auto might pick an approximate mode for the denser pair scenes.
+  const std::string exact = "    culling: {occlusion: none}\n";
+  return "scenes:\n" +
+         scene_yaml("small_persp", "perspective", color, "per_particle", pattern, 1.0) + exact +
+         scene_yaml("large_persp", "perspective", color, "per_particle", pattern, 4.0) + exact +
+         scene_yaml("small_ortho", "orthographic", color, "per_particle", pattern, 1.0) + exact +
+         scene_yaml("large_ortho", "orthographic", color, "per_particle", pattern, 4.0) + exact;
+}
+
+TEST(RankInvariance, CoincidentParticlesShowTheSmallerColorForEveryRankCountSplitAndOrder) {
+  const Particles pairs = make_coincident_pairs(), blue = of_type(pairs, 1);
+  const std::string dir = shared_directory();
+  ASSERT_FALSE(dir.empty());
+  const int rank = world_rank(), ranks = world_size();
+  // References on rank 0 alone: the blue particles only, and the pairs in both published orders.
+  if (rank == 0) {
+    for (const auto &[prefix, particles] : {std::pair<std::string, Particles>{"blue", blue},
+                                            {"pairs", pairs},
+                                            {"pairs_reversed", reversed(pairs)}}) {
+      const Render r = render_once(MPI_COMM_SELF, pair_config(dir, prefix), particles, 0);
+      EXPECT_EQ(r.status, LANTERN_OK) << prefix << ": " << r.error;
+    }
+  }
+  // Every split, plus the two members of each pair on different ranks in both orders (red on the
+  // first rank and blue on the last, then the other way round).
+  const auto split_pairs = [&](int32_t first_type) {
+    Particles mine;
+    for (size_t i = 0; i < pairs.size(); ++i)
+      if ((pairs.type[i] == first_type ? 0 : ranks - 1) == rank) mine.push(pairs, i);
+    return mine;
+  };
+  std::vector<std::string> labels;
+  for (size_t s = 0; s < std::size(kSplits); ++s) labels.push_back(split_name(kSplits[s]));
+  labels.push_back("red_first_rank");
+  labels.push_back("blue_first_rank");
+  for (size_t s = 0; s < labels.size(); ++s) {
+    const Particles mine = s < std::size(kSplits) ? owned_by(kSplits[s], pairs, rank, ranks)
+                                                  : split_pairs(int32_t(s - std::size(kSplits)));
+    const Render r = render_once(MPI_COMM_WORLD, pair_config(dir, "split"), mine, int(s));
+    EXPECT_EQ(r.status, LANTERN_OK) << labels[s] << ": " << r.error;
+  }
+  if (rank != 0) return;
+  for (const char *scene : kPairScenes) {
+    const std::string blue_image = file_of(dir, "blue", scene, 0);
+    EXPECT_EQ(compare_images(blue_image, file_of(dir, "pairs", scene, 0)), "") << scene;
+    EXPECT_EQ(compare_images(blue_image, file_of(dir, "pairs_reversed", scene, 0)), "") << scene;
+    for (size_t s = 0; s < labels.size(); ++s)
+      EXPECT_EQ(compare_images(blue_image, file_of(dir, "split", scene, int(s))), "")
+          << "split " << labels[s] << ", scene " << scene << ", " << ranks << " ranks";
+  }
+  std::system(("rm -rf '" + dir + "'").c_str());
 }
 
 TEST(RankInvariance, NoParticlesAnywhereGivesTheBackgroundEverywhere) {

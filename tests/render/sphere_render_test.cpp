@@ -1,12 +1,14 @@
 // The impostor renderer against analytic spheres: silhouettes, depths, intersections, tiling.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 #include <vector>
 
 #include "core/camera/camera.h"
 #include "core/render/gl_session.h"
+#include "core/view/view_geometry.h"
 #include "tests/support/gl_test.h"
 #include "tests/support/status_expect.h"
 
@@ -135,6 +137,70 @@ TEST_F(SphereRenderTest, RepeatedRendersAreBitIdentical) {
   const Frame a = render(cam, s), b = render(cam, s);
   EXPECT_EQ(a.rgba, b.rgba);
   EXPECT_EQ(a.depth, b.depth);
+}
+
+// Two coincident spheres, red and blue, tie at every pixel they cover: the smaller color (blue, R
+// = 0) must win in either drawing order, in both projections, with many copies of each in between
+// (several draw chunks are not needed: a tie is decided per fragment).
+TEST_F(SphereRenderTest, DepthTiesGoToTheSmallerColorInEitherDrawingOrder) {
+  for (const Projection projection : {Projection::kPerspective, Projection::kOrthographic}) {
+    const Camera cam = camera(projection, 6.0, 160, 120);
+    const SphereInstance red = sphere(0.3f, -0.2f, 0.1f, 1.0f, 255, 0);
+    SphereInstance blue = red;
+    blue.rgba[0] = 0, blue.rgba[2] = 255;
+    const Frame red_first = render(cam, {red, blue, red}), blue_first = render(cam, {blue, red});
+    const Frame blue_alone = render(cam, {blue});
+    int drawn = 0;
+    for (size_t i = 0; i < blue_alone.pixel_count(); ++i) drawn += blue_alone.depth[i] < 1.0f;
+    EXPECT_GT(drawn, 500);
+    EXPECT_EQ(red_first.rgba, blue_alone.rgba);
+    EXPECT_EQ(blue_first.rgba, blue_alone.rgba);
+    EXPECT_EQ(red_first.depth, blue_alone.depth);
+    EXPECT_EQ(blue_first.depth, blue_alone.depth);
+  }
+}
+
+// A sphere cut by the near plane keeps the pixels whose ray meets it beyond the plane (the CPU
+// raster's crescent), in both projections, wherever it lies across the image: the quad the
+// vertex shader builds must not be clipped away with the cut.
+TEST_F(SphereRenderTest, SpheresCutByTheNearPlaneKeepTheirFarSide) {
+  for (const Projection projection : {Projection::kPerspective, Projection::kOrthographic}) {
+    CameraConfig cfg;
+    cfg.projection = projection;
+    cfg.position = std::array<double, 3>{0, -10, 0};
+    cfg.look_at = {0, 0, 0};
+    cfg.fov_y = 60.0;
+    cfg.near_plane = 9.4;
+    cfg.far_plane = 100.0;
+    Camera cam;
+    ASSERT_OK(make_camera(cfg, {-5, -5, -5}, {5, 5, 5}, 1.0, 160, 120, &cam));
+    for (const float x : {0.0f, 2.0f, 4.0f}) {
+      const glm::dvec3 c(x, 0.0, 0.0);
+      const Frame f = render(cam, {sphere(float(c.x - cam.origin.x), float(c.y - cam.origin.y),
+                                          float(c.z - cam.origin.z), 1.0f, 255, 0)});
+      // Every pixel whose ray meets the sphere beyond the near plane, by the same ray in double.
+      const ViewGeometry g = ViewGeometry::from_camera(cam, 20.0);
+      const glm::dvec3 v = g.to_view(c);
+      int expected = 0, drawn = 0, disagree = 0;
+      for (int y = 0; y < f.height; ++y)
+        for (int px = 0; px < f.width; ++px) {
+          glm::dvec3 origin(0.0), dir(0.0, 0.0, -1.0);
+          if (g.orthographic)
+            origin = {g.ray_x(px), g.ray_y(y), 0.0};
+          else
+            dir = glm::normalize(glm::dvec3(g.ray_x(px), g.ray_y(y), -1.0));
+          const glm::dvec3 oc = v - origin;
+          const double b = glm::dot(oc, dir), h2 = 1.0 - glm::dot(oc - b * dir, oc - b * dir);
+          const double t = b - std::sqrt(std::max(h2, 0.0));
+          const bool hit = h2 > 0.0 && -(origin + t * dir).z >= g.near_plane;
+          const bool is_drawn = f.depth[f.index(px, y)] < 1.0f;
+          expected += hit, drawn += is_drawn, disagree += hit != is_drawn;
+        }
+      EXPECT_GT(expected, 20) << "x = " << x;
+      EXPECT_LE(disagree, 2) << "x = " << x << ": " << drawn << " drawn, " << expected
+                             << " expected";
+    }
+  }
 }
 
 }  // namespace

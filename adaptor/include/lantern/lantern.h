@@ -88,11 +88,12 @@ typedef struct lantern_array {
  * Pass only the particles this rank owns, never ghost/halo copies: Lantern draws every published
  * particle once, and a ghost would be drawn twice.
  *
- * Images do not depend on the number of ranks or on how particles are split between them, bit
- * for bit, with one exception: a pixel where two differently colored spheres have exactly the
- * same depth (two particles at the same position with the same radius, or, rarely, a pixel centre
- * exactly on the curve where two spheres meet). One rank keeps the sphere it draws first,
- * compositing across ranks the smaller RGBA value, so such pixels may differ between rank counts.
+ * Images do not depend on the number of ranks, on how particles are split between them or on
+ * the order they are published in, bit for bit, ties included: where two spheres have exactly the
+ * same depth at a pixel (two particles at the same position with the same radius, or a pixel
+ * centre exactly on the curve where two spheres meet), the pixel shows the smaller of their
+ * shaded colors (compared as R, then G, then B) - within a rank, in both renderers, and across
+ * ranks alike. Ids are not needed for this and play no part in it.
  *
  * Lifetime: the arrays are borrowed. Lantern reads them in place during every later
  * lantern_execute() call until the next lantern_publish() (or lantern_close()), so they must stay

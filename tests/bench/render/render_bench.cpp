@@ -71,18 +71,16 @@ int main(int argc, char **argv) {
   // threads as the pipeline runs it.
   const ViewGeometry g = ViewGeometry::from_camera(cam, 20.0);
   Frame cpu_frame;
-  std::vector<uint32_t> owner;
   const auto cpu_render = [&](const std::vector<SphereInstance> &spheres) {
-    CpuSphereRaster::clear_target(g, bg, &cpu_frame, &owner);
+    CpuSphereRaster::clear_target(g, bg, &cpu_frame);
     CpuSphereRaster strips[2];
     const int split = size / 2;
     const auto run = [&](int k) {
-      strips[k].begin_strip(g, &cpu_frame, &owner, k == 0 ? 0 : split,
-                            k == 0 ? split - 1 : size - 1);
+      strips[k].begin_strip(g, &cpu_frame, k == 0 ? 0 : split, k == 0 ? split - 1 : size - 1);
       for (size_t i = 0; i < spheres.size(); ++i) {
         const SphereInstance &s = spheres[i];
         const glm::dvec3 c = g.to_view(cam.origin + glm::dvec3(s.x, s.y, s.z));
-        strips[k].draw(c, s.radius, s.rgba, uint32_t(i), g.sphere_rect_tight(c, s.radius, 0.05));
+        strips[k].draw(c, s.radius, s.rgba, g.sphere_rect_tight(c, s.radius, 0.05));
       }
     };
     std::thread helper(run, 1);
