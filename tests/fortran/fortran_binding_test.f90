@@ -49,9 +49,11 @@ program fortran_binding_test
 
   ! ---- one lattice, five ways ----
   do i = 1, n
-    x(:, i) = real([mod(i - 1, nside), mod((i - 1)/nside, nside), (i - 1)/(nside*nside)], c_double)
+    ! Spacings 1, 2, 3 and types mod 5: swapping two axes would change the image.
+    x(:, i) = real([mod(i - 1, nside), 2*mod((i - 1)/nside, nside), 3*((i - 1)/(nside*nside))], &
+                   c_double)
     xn(i, :) = x(:, i)
-    types(i) = int(mod(i - 1, 3), c_int32_t)
+    types(i) = int(mod(i - 1, 5), c_int32_t)
     atoms(i) = atom(int(i, c_int64_t), x(:, i), types(i))
   end do
   xf = real(x, c_float)

@@ -16,10 +16,11 @@ def scene_config(directory, size=40, extra=""):
 
 
 def lattice(n_side=4, dtype=np.float64):
-    """n_side^3 particles on a unit lattice, (n, 3), C-contiguous; and their types (int32)."""
+    """n_side^3 particles on a lattice of spacings 1, 2, 3, (n, 3), C-contiguous; and their types
+    (int32, i mod 5). Neither is symmetric under swapping axes, so mixed-up components show."""
     i = np.arange(n_side ** 3)
-    x = np.stack([i % n_side, (i // n_side) % n_side, i // (n_side * n_side)], axis=1)
-    return np.ascontiguousarray(x, dtype=dtype), (i % 3).astype(np.int32)
+    x = np.stack([i % n_side, 2 * ((i // n_side) % n_side), 3 * (i // (n_side * n_side))], axis=1)
+    return np.ascontiguousarray(x, dtype=dtype), (i % 5).astype(np.int32)
 
 
 class Renderer:
