@@ -111,6 +111,9 @@ typedef struct lantern_particles {
   lantern_array scalar; /* optional per-particle scalar (color by scalar) */
   lantern_array type;   /* optional per-particle integer type (color by type) */
   lantern_array id;     /* optional global particle id (kept in particle dumps) */
+  lantern_array mask;   /* optional int32/int64 per-particle bit mask */
+  int64_t mask_bits;    /* with mask: draw particle i only if (mask[i] & mask_bits) != 0; mask with
+                           mask_bits == 0 is LANTERN_ERR_ARGUMENT */
 } lantern_particles;
 
 /* Use in place of MPI_Comm_c2f(MPI_COMM_WORLD) when the caller does not include mpi.h. */

@@ -1,0 +1,72 @@
+// The Python module `lantern`: Lantern's C API for Python codes (NumPy, ASE, LAMMPS's Python
+// interface), borrowing their arrays without copying. See README.md, "Python".
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include "lantern/lantern.h"
+#include "python_context.h"
+#include "python_error.h"
+
+namespace py = pybind11;
+using lantern_python::Context;
+using lantern_python::PublishArguments;
+
+PYBIND11_MODULE(lantern, m) {
+  m.doc() =
+      "Lantern: in-situ rendering of particle simulations. Context(config, comm=None) opens a "
+      "context; publish() borrows NumPy arrays (never copied); execute(step, time) renders on "
+      "scheduled steps.";
+  m.attr("__version__") = lantern_version();
+  lantern_python::define_error(m);
+  for (int s = LANTERN_OK; s <= LANTERN_ERR_INTERNAL; ++s) {
+    const std::string name = lantern_python::status_name(static_cast<lantern_status>(s));
+    m.attr(name.substr(std::string("LANTERN_").size()).c_str()) = s;  // OK, ERR_CONFIG, ...
+  }
+  m.attr("COMM_WORLD") = LANTERN_COMM_WORLD;
+
+  py::class_<Context>(m, "Context",
+                      "An open Lantern context (lantern_open). Use as a context manager or call "
+                      "close(); opening, execute() on scheduled steps and close() are collective "
+                      "over the communicator.")
+      .def(py::init<const py::object &, const py::object &>(), py::arg("config"),
+           py::arg("comm") = py::none(),
+           "config: YAML text or the path of a YAML file; comm: an mpi4py communicator, a "
+           "Fortran handle or None for MPI_COMM_WORLD.")
+      .def(
+          "publish",
+          [](Context &self, py::object position, py::object position_x, py::object position_y,
+             py::object position_z, py::object radius, py::object scalar, py::object type,
+             py::object id, py::object mask, int64_t mask_bits) {
+            self.publish(PublishArguments{position, position_x, position_y, position_z, radius,
+                                          scalar, type, id, mask, mask_bits});
+          },
+          py::arg("position") = py::none(), py::kw_only(), py::arg("position_x") = py::none(),
+          py::arg("position_y") = py::none(), py::arg("position_z") = py::none(),
+          py::arg("radius") = py::none(), py::arg("scalar") = py::none(),
+          py::arg("type") = py::none(), py::arg("id") = py::none(), py::arg("mask") = py::none(),
+          py::arg("mask_bits") = 0,
+          "Borrows this rank's particle arrays until the next publish() or close(), never "
+          "copying them: position (n, 3) float32/float64 (any row stride; x, y, z a fixed stride "
+          "apart) or position_x/y/z (n,); radius, scalar (n,) float32/float64; type, id, mask "
+          "(n,) int32/int64; mask_bits: draw particle i only if mask[i] & mask_bits. Any object "
+          "with the buffer protocol or __array_interface__. ValueError names an array that "
+          "cannot be borrowed as it is; lantern.Error reports what Lantern refused.")
+      .def("set_box", &Context::set_box, py::arg("low"), py::arg("high"),
+           py::arg("periodic") = py::none(),
+           "Records the simulation box (corners low, high; periodic: three bools) for dumps.")
+      .def("execute", &Context::execute, py::arg("step"), py::arg("time") = 0.0,
+           "The simulation reached `step` at `time`: renders on the steps the schedule picks.")
+      .def("close", &Context::close, "Flushes outputs and frees the context (collective).")
+      .def_property_readonly("closed", &Context::closed)
+      .def("published_pointers", &Context::published_pointers,
+           "Field name -> address of the memory handed to lantern_publish (for checking that "
+           "Lantern reads the caller's own arrays).")
+      .def(
+          "__enter__", [](Context &self) -> Context & { return self; },
+          py::return_value_policy::reference)
+      .def("__exit__", [](Context &self, const py::args &) { self.close(); });
+
+  // Contexts left open are closed at exit, before mpi4py finalizes MPI (Python's atexit
+  // handlers run before those registered with Py_AtExit).
+  py::module_::import("atexit").attr("register")(py::cpp_function(&Context::close_all));
+}

@@ -1,0 +1,119 @@
+#include "python_context.h"
+
+#include <algorithm>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include "python_error.h"
+
+namespace py = pybind11;
+
+namespace lantern_python {
+namespace {
+
+// Contexts not yet closed, oldest first: closed at interpreter exit in the same order on every
+// rank (lantern_close is collective).
+std::vector<Context *> &open_contexts() {
+  static std::vector<Context *> contexts;
+  return contexts;
+}
+
+int fortran_handle(const py::object &comm) {
+  if (comm.is_none()) return LANTERN_COMM_WORLD;
+  if (py::isinstance<py::int_>(comm)) return comm.cast<int>();
+  if (py::hasattr(comm, "py2f")) return comm.attr("py2f")().cast<int>();
+  throw py::type_error(
+      "comm: expected an mpi4py communicator, a Fortran handle (int) or None, got " +
+      std::string(py::str(comm.get_type().attr("__name__"))));
+}
+
+}  // namespace
+
+Context::Context(const py::object &config, const py::object &comm) {
+  const std::string text = py::module_::import("os").attr("fspath")(config).cast<std::string>();
+  lantern_context *ctx = nullptr;
+  const lantern_status status = lantern_open(text.c_str(), fortran_handle(comm), &ctx);
+  if (status != LANTERN_OK) {
+    const std::string message = lantern_error_message(ctx);
+    lantern_close(ctx);  // the error-only context
+    raise_error(status, message);
+  }
+  ctx_ = ctx;
+  open_contexts().push_back(this);
+}
+
+Context::~Context() {
+  if (closed()) return;
+  try {
+    close();
+  } catch (const py::error_already_set &e) {
+    PyErr_Clear();  // a destructor cannot raise; lantern_close printed what failed
+  }
+}
+
+lantern_context *Context::open_context(const char *function) const {
+  if (closed())
+    raise_error(LANTERN_ERR_INVALID_ARGUMENT,
+                std::string("Context.") + function + ": the context is closed");
+  return ctx_;
+}
+
+void Context::check(lantern_status status) const {
+  if (status != LANTERN_OK) raise_error(status, lantern_error_message(ctx_));
+}
+
+void Context::publish(const PublishArguments &args) {
+  lantern_context *ctx = open_context("publish");
+  ParticlePublication next = ParticlePublication::describe(args);
+  const lantern_status status = lantern_publish(ctx, &next.particles());
+  // The old arrays were borrowed until this call returned; now Lantern holds the new ones (or,
+  // after a failure, none).
+  published_ = std::move(next);
+  check(status);
+}
+
+void Context::set_box(const std::array<double, 3> &low, const std::array<double, 3> &high,
+                      const std::optional<std::array<bool, 3>> &periodic) {
+  lantern_context *ctx = open_context("set_box");
+  int flags[3] = {0, 0, 0};
+  if (periodic)
+    for (int a = 0; a < 3; ++a) flags[a] = (*periodic)[a] ? 1 : 0;
+  check(lantern_set_box(ctx, low.data(), high.data(), flags));
+}
+
+void Context::execute(int64_t step, double time) {
+  check(lantern_execute(open_context("execute"), step, time));
+}
+
+void Context::close() {
+  if (closed()) return;
+  lantern_context *ctx = ctx_;
+  ctx_ = nullptr;
+  auto &open = open_contexts();
+  open.erase(std::remove(open.begin(), open.end(), this), open.end());
+  const lantern_status status = lantern_close(ctx);
+  published_.reset();  // Lantern no longer borrows the arrays
+  if (status != LANTERN_OK)
+    raise_error(status, "Context.close: an image could not be written (see the message above)");
+}
+
+py::dict Context::published_pointers() const {
+  py::dict pointers;
+  if (published_)
+    for (const auto &[name, address] : published_->pointers()) pointers[name.c_str()] = address;
+  return pointers;
+}
+
+void Context::close_all() {
+  const std::vector<Context *> open = open_contexts();  // close() edits the list
+  for (Context *context : open) {
+    try {
+      context->close();
+    } catch (const py::error_already_set &e) {
+      std::fprintf(stderr, "lantern: closing a context at exit: %s\n", e.what());
+    }
+  }
+}
+
+}  // namespace lantern_python
