@@ -157,7 +157,10 @@ LANTERN_API lantern_status lantern_set_box(lantern_context *ctx, const double lo
  * schedule skips this returns LANTERN_OK at once (no communication). On scheduled steps it
  * renders every scene, composites across ranks and writes the outputs; collective, and every
  * rank returns the same status. Particles with NaN or infinite coordinates are skipped and
- * counted in the stats (a warning is printed once per context).
+ * counted in the stats (a warning is printed once per context). On the dump's scheduled steps
+ * it appends a frame to the H5MD file; the particle count may differ from frame to frame. If a
+ * dump fails on any rank, every rank returns LANTERN_ERR_IO naming the file, the file keeps its
+ * earlier frames and dumping stops for the rest of the run; rendering goes on.
  */
 LANTERN_API lantern_status lantern_execute(lantern_context *ctx, int64_t step, double time);
 
