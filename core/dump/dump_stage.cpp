@@ -93,11 +93,11 @@ Box frame_box(MPI_Comm comm, const Extent &global, const std::optional<Box> &box
 }  // namespace
 
 Status DumpStage::open_writer(MPI_Comm comm, const ParticleArrays &particles, const Box &box,
-                              int64_t global_count, int64_t step) {
+                              int64_t first_count, int64_t step) {
   int fields = 0;
   if (Status s = choose_fields(comm, config_, particles, &fields); !s.ok()) return s;
   DumpLayout layout;
-  layout.global_count = global_count;
+  layout.first_count = first_count;
   layout.single_precision = config_.single_precision;
   layout.fields = to_fields(fields);
   int periodic[3] = {box.periodic[0], box.periodic[1], box.periodic[2]};
@@ -138,18 +138,21 @@ Status DumpStage::write(MPI_Comm comm, const ParticleArrays &particles, const Ex
   const Box b = frame_box(comm, global, box);
   if (!writer_)
     if (Status s = open_writer(comm, particles, b, total, step); !s.ok()) return s;
-  if (total != writer_->layout().global_count)
-    return {StatusCode::kInvalidArgument,
-            where + std::to_string(total) + " particles, but the file holds " +
-                std::to_string(writer_->layout().global_count) +
-                " per frame (H5MD frames have a fixed size; use one dump file per particle count)"};
   if (Status s =
           agree_on_status(comm, check_local_fields(writer_->layout().fields, particles, step));
       !s.ok())
     return s;
 
-  return agree_on_status(comm,
-                         with_context(where, writer_->append({&particles, offset, step, time, b})));
+  const Status appended =
+      with_context(where, writer_->append({&particles, offset, total, step, time, b}));
+  if (appended.ok()) return appended;
+  // Agreed by the writer: every rank closes the file here, together, and stops dumping.
+  const int64_t kept = writer_->frames();
+  writer_.reset();
+  stopped_ = true;
+  return {appended.code, appended.message + " (dump stopped for the rest of the run; " +
+                             config_.file + " keeps its " + std::to_string(kept) +
+                             " earlier frame" + (kept == 1 ? "" : "s") + ")"};
 }
 
 }  // namespace lantern

@@ -2,8 +2,14 @@
 // particles to the H5MD file of `dump.file` (h5md_writer.h). Owned by Runtime.
 //
 // Collective over the runtime's communicator; every rank returns the same status. The file is
-// created on the first dump (replacing an existing one) with the fields and the particle count
-// of that step; if creating it fails, the next scheduled dump tries again.
+// created on the first dump (replacing an existing one) with the fields of that step; the
+// particle count may change from dump to dump. If creating the file fails, the next scheduled
+// dump tries again (there is nothing to lose). If appending a frame fails on any rank (disk
+// full, permissions changed, an HDF5 error), every rank returns the same kIo status naming the
+// file, the file is closed on every rank (it keeps every earlier
+// frame) and the dump is off for the rest of the run: later scheduled dumps are skipped and
+// return OK, so rendering continues (reopening could not be made safe after a collective
+// failure, and recreating the file would erase it).
 #pragma once
 
 #include <mpi.h>
@@ -23,7 +29,9 @@ namespace lantern {
 class DumpStage {
  public:
   explicit DumpStage(DumpConfig config) : config_(std::move(config)) {}
-  bool due(int64_t step) const { return config_.enabled && config_.schedule.due(step); }
+  bool due(int64_t step) const {
+    return config_.enabled && !stopped_ && config_.schedule.due(step);
+  }
 
   // Collective. `global` is the step's extent reduced over ranks (the pipeline computes it once
   // per step). `box` is this rank's lantern_set_box() box; without one (on rank 0) the dump
@@ -33,10 +41,11 @@ class DumpStage {
 
  private:
   Status open_writer(MPI_Comm comm, const ParticleArrays &particles, const Box &box,
-                     int64_t global_count, int64_t step);
+                     int64_t first_count, int64_t step);
 
   DumpConfig config_;
   std::unique_ptr<H5mdWriter> writer_;
+  bool stopped_ = false;  // a frame failed: the dump is off for the rest of the run
 };
 
 }  // namespace lantern

@@ -1,6 +1,7 @@
 // Where Lantern's H5MD files keep things: the names shared by the writer and the reader.
 //
-// File layout (H5MD 1.1; N particles per frame, F frames, <real> float32 or float64):
+// File layout (H5MD 1.1; F frames, N = the largest particle count of any frame so far, <real>
+// float32 or float64):
 //   /h5md                      +-- version int32[2] = {1, 1}
 //        /author               +-- name
 //        /creator              +-- name = "Lantern", version
@@ -13,7 +14,14 @@
 //   /particles/all/id          {value int64[F][N], ...}   (optional)
 //   /particles/all/scalar      {value <real>[F][N], ...}  (optional)
 //   /particles/all/radius      {value <real>[F][N], ...}  (optional)
-// Every element is an H5MD time-dependent group; its value's first axis is the frame.
+//   /observables/particle_count {value int64[F], step, time}  particles in each frame
+// Every element is an H5MD time-dependent group; its value's first axis is the frame. The N
+// axis is extensible: a frame of n < N particles holds them in rows [0, n) and the dataset's
+// fill value after them (NaN in real fields, -1 in species and id; an id equal to the fill
+// value is H5MD's "no particle", which lets a particle number vary in time).
+// A frame's datasets are extended in the order above, particle_count last: after a dump that
+// failed mid-frame, the length of particle_count/time is the number of complete frames (other
+// datasets may be one frame longer).
 #pragma once
 
 namespace lantern::h5md {
@@ -26,5 +34,8 @@ inline constexpr const char *kId = "id";
 inline constexpr const char *kScalar = "scalar";
 inline constexpr const char *kRadius = "radius";
 inline constexpr const char *kBox = "box";
+inline constexpr const char *kObservables = "/observables";
+inline constexpr const char *kParticleCountName = "particle_count";
+inline constexpr const char *kParticleCount = "/observables/particle_count";
 
 }  // namespace lantern::h5md

@@ -1,6 +1,7 @@
 #include "core/dump/h5md_reader.h"
 
 #include <array>
+#include <cmath>
 #include <cstring>
 #include <fstream>
 #include <optional>
@@ -56,6 +57,21 @@ std::vector<T> read_all(hid_t dataset, hid_t mem_type, hsize_t n, const std::str
   return out;
 }
 
+// Reads the first n values of a 1-D dataset converted to T.
+template <typename T>
+std::vector<T> read_first(hid_t dataset, hid_t mem_type, hsize_t n, const std::string &what) {
+  std::vector<T> out(n);
+  if (n == 0) return out;
+  const H5Handle file_space = own_space(H5Dget_space(dataset), what + ": dataspace");
+  const hsize_t start = 0;
+  h5_check(H5Sselect_hyperslab(file_space.get(), H5S_SELECT_SET, &start, nullptr, &n, nullptr),
+           what + ": select");
+  const H5Handle mem_space = own_space(H5Screate_simple(1, &n, nullptr), what + ": memspace");
+  h5_check(H5Dread(dataset, mem_type, mem_space.get(), file_space.get(), H5P_DEFAULT, out.data()),
+           what + ": read");
+  return out;
+}
+
 // The first group under /particles, preferring "all" (Lantern's own name).
 std::string particle_group(hid_t file) {
   if (!is_group(file, h5md::kParticles))
@@ -92,11 +108,33 @@ struct H5mdReader::Impl {
   H5Handle edges, offset;  // [frames][3] or [3]; invalid when absent
   bool edges_per_frame = false, offset_per_frame = false;
   std::array<bool, 3> periodic{false, false, false};
-  int64_t n = 0;
+  int64_t n = 0;  // rows of the per-particle datasets (N_max when the count varies)
   std::vector<FrameInfo> frames;
+  // Rows that hold no particle: an `id` equal to its declared fill value (H5MD), or, in a file
+  // without ids, a position that is all NaN where NaN is the declared fill value.
+  // Not used with Lantern's counts (rows below the count are particles, whatever their id).
+  std::optional<int64_t> id_fill;
+  bool nan_position_fill = false;
+  bool has_counts = false;
+  // Lantern's files: the frames that are complete (the length of particle_count/time, the last
+  // dataset a frame extends). A frame whose dump failed may have left other datasets one frame
+  // longer; only the complete frames are read. Unset for other writers' files, whose datasets
+  // must agree exactly.
+  std::optional<hsize_t> complete;
+
+  void find_complete_frames();
+  // Frames of a file (or dataset) whose first axis is `length`.
+  hsize_t frame_axis(hsize_t length) const { return complete ? *complete : length; }
+  // Whether a first axis of `length` holds the frames of one `expected` long.
+  bool frames_fit(hsize_t length, hsize_t expected) const {
+    return complete ? length >= *complete : length == expected;
+  }
 
   void check_h5md() const;
   void open_position();
+  void open_counts();
+  void find_fill_values();
+  void drop_fill_rows(size_t index, int64_t begin, ParticleFrame *f) const;
   std::optional<Field> open_field(const char *name) const;
   void open_box();
   void read_rows(hid_t dataset, bool per_frame, size_t frame, int64_t begin, int64_t end, int cols,
@@ -125,22 +163,79 @@ void H5mdReader::Impl::open_position() {
     throw Hdf5Error("missing dataset " + base + "/step");
   const H5Handle step =
       own_dataset(H5Dopen2(file.get(), (base + "/step").c_str(), H5P_DEFAULT), base + "/step");
+  const hsize_t f = frame_axis(dims[0]);
+  if (dims[0] < f)
+    throw Hdf5Error(base + "/value has " + std::to_string(dims[0]) + " frames but " +
+                    h5md::kParticleCount + " has " + std::to_string(f));
   const auto sdims = shape_of(step.get(), base + "/step");
-  if (sdims.size() != 1 || sdims[0] != dims[0])
+  if (sdims.size() != 1 || !frames_fit(sdims[0], dims[0]))
     throw Hdf5Error(base + "/step has shape " + shape_text(sdims) + " but " + base + "/value has " +
                     std::to_string(dims[0]) + " frames");
-  const auto steps = read_all<int64_t>(step.get(), H5T_NATIVE_INT64, dims[0], base + "/step");
-  std::vector<double> times(dims[0], 0.0);
+  const auto steps = read_first<int64_t>(step.get(), H5T_NATIVE_INT64, f, base + "/step");
+  std::vector<double> times(f, 0.0);
   if (link_exists(file.get(), base + "/time")) {
     const H5Handle time =
         own_dataset(H5Dopen2(file.get(), (base + "/time").c_str(), H5P_DEFAULT), base + "/time");
     const auto tdims = shape_of(time.get(), base + "/time");
-    if (tdims.size() != 1 || tdims[0] != dims[0])
+    if (tdims.size() != 1 || !frames_fit(tdims[0], dims[0]))
       throw Hdf5Error(base + "/time has shape " + shape_text(tdims) + " but " + base +
                       "/value has " + std::to_string(dims[0]) + " frames");
-    times = read_all<double>(time.get(), H5T_NATIVE_DOUBLE, dims[0], base + "/time");
+    times = read_first<double>(time.get(), H5T_NATIVE_DOUBLE, f, base + "/time");
   }
   for (size_t f = 0; f < steps.size(); ++f) frames.push_back({steps[f], times[f], n});
+}
+
+void H5mdReader::Impl::find_complete_frames() {
+  const std::string path = std::string(h5md::kParticleCount) + "/time";
+  if (!link_exists(file.get(), path)) return;
+  const H5Handle time = own_dataset(H5Dopen2(file.get(), path.c_str(), H5P_DEFAULT), path);
+  const auto dims = shape_of(time.get(), path);
+  if (dims.size() != 1)
+    throw Hdf5Error(path + " has shape " + shape_text(dims) + ", expected [frames]");
+  complete = dims[0];
+}
+
+// Lantern's per-frame particle counts (/observables/particle_count): the frame's particles are
+// rows [0, count). Without it every row may hold a particle.
+void H5mdReader::Impl::open_counts() {
+  const std::string path = std::string(h5md::kParticleCount) + "/value";
+  if (!link_exists(file.get(), path)) return;
+  const H5Handle value = own_dataset(H5Dopen2(file.get(), path.c_str(), H5P_DEFAULT), path);
+  const auto dims = shape_of(value.get(), path);
+  if (dims.size() != 1 || !frames_fit(dims[0], frames.size()))
+    throw Hdf5Error(path + " has shape " + shape_text(dims) + " but position/value has " +
+                    std::to_string(frames.size()) + " frames");
+  const auto counts = read_first<int64_t>(value.get(), H5T_NATIVE_INT64, frames.size(), path);
+  for (size_t f = 0; f < counts.size(); ++f) {
+    if (counts[f] < 0 || counts[f] > n)
+      throw Hdf5Error(path + "[" + std::to_string(f) + "] = " + std::to_string(counts[f]) +
+                      " is outside [0, " + std::to_string(n) + "] (the rows of position/value)");
+    frames[f].count = counts[f];
+  }
+  has_counts = true;
+}
+
+// The declared fill value of a dataset as T, if the writer set one.
+template <typename T>
+std::optional<T> user_fill_value(hid_t dataset, hid_t mem_type, const std::string &what) {
+  const H5Handle dcpl = own_plist(H5Dget_create_plist(dataset), what + ": creation list");
+  H5D_fill_value_t defined = H5D_FILL_VALUE_UNDEFINED;
+  h5_check(H5Pfill_value_defined(dcpl.get(), &defined), what + ": fill value");
+  if (defined != H5D_FILL_VALUE_USER_DEFINED) return std::nullopt;
+  T value{};
+  h5_check(H5Pget_fill_value(dcpl.get(), mem_type, &value), what + ": fill value");
+  return value;
+}
+
+void H5mdReader::Impl::find_fill_values() {
+  if (has_counts) return;
+  if (id && id->per_frame)
+    id_fill = user_fill_value<int64_t>(id->value.get(), H5T_NATIVE_INT64, group + "/id/value");
+  if (!id_fill) {
+    const auto fill =
+        user_fill_value<double>(position.get(), H5T_NATIVE_DOUBLE, group + "/position/value");
+    nan_position_fill = fill && std::isnan(*fill);
+  }
 }
 
 std::optional<Field> H5mdReader::Impl::open_field(const char *name) const {
@@ -154,7 +249,10 @@ std::optional<Field> H5mdReader::Impl::open_field(const char *name) const {
   const auto dims = shape_of(f.value.get(), path);
   const std::vector<hsize_t> want = f.per_frame ? std::vector<hsize_t>{frames.size(), hsize_t(n)}
                                                 : std::vector<hsize_t>{hsize_t(n)};
-  if (dims != want)
+  const bool fits = f.per_frame
+                        ? dims.size() == 2 && dims[1] == want[1] && frames_fit(dims[0], want[0])
+                        : dims == want;
+  if (!fits)
     throw Hdf5Error(path + " has shape " + shape_text(dims) + " but position/value is " +
                     shape_text({frames.size(), hsize_t(n), 3}) + " (expected " + shape_text(want) +
                     ")");
@@ -188,7 +286,9 @@ void H5mdReader::Impl::open_box() {
     const auto dims = shape_of(out->get(), path);
     const std::vector<hsize_t> want =
         *per_frame ? std::vector<hsize_t>{frames.size(), 3} : std::vector<hsize_t>{3};
-    if (dims != want)
+    const bool fits = *per_frame ? dims.size() == 2 && dims[1] == 3 && frames_fit(dims[0], want[0])
+                                 : dims == want;
+    if (!fits)
       throw Hdf5Error(path + " has shape " + shape_text(dims) + ", expected " + shape_text(want) +
                       " (cubic/diagonal boxes only)");
   };
@@ -232,6 +332,35 @@ std::optional<std::array<double, 3>> H5mdReader::Impl::read_vec3(hid_t dataset, 
   return v;
 }
 
+// Removes the rows of a frame that hold no particle, keeping the order: with Lantern's counts
+// the rows at or after the frame's count, else those id_fill or nan_position_fill marks.
+void H5mdReader::Impl::drop_fill_rows(size_t index, int64_t begin, ParticleFrame *f) const {
+  const int64_t count = frames[index].count;
+  const auto is_fill = [&](size_t i) {
+    if (has_counts) return begin + int64_t(i) >= count;
+    if (id_fill) return f->id[i] == *id_fill;
+    return std::isnan(f->position[3 * i]) && std::isnan(f->position[3 * i + 1]) &&
+           std::isnan(f->position[3 * i + 2]);
+  };
+  if (!has_counts && !id_fill && !nan_position_fill) return;
+  size_t kept = 0;
+  const size_t rows = static_cast<size_t>(f->count());
+  for (size_t i = 0; i < rows; ++i) {
+    if (is_fill(i)) continue;
+    for (int c = 0; c < 3; ++c) f->position[3 * kept + c] = f->position[3 * i + c];
+    for (auto *v : {&f->type, &f->id})
+      if (!v->empty()) (*v)[kept] = (*v)[i];
+    for (auto *v : {&f->scalar, &f->radius})
+      if (!v->empty()) (*v)[kept] = (*v)[i];
+    ++kept;
+  }
+  f->position.resize(3 * kept);
+  for (auto *v : {&f->type, &f->id})
+    if (!v->empty()) v->resize(kept);
+  for (auto *v : {&f->scalar, &f->radius})
+    if (!v->empty()) v->resize(kept);
+}
+
 H5mdReader::H5mdReader(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
 H5mdReader::~H5mdReader() = default;
 
@@ -262,12 +391,15 @@ Status H5mdReader::open(const std::string &path, MPI_Comm comm, std::unique_ptr<
                           "cannot open as HDF5 (truncated or corrupt?)");
     impl->check_h5md();
     impl->group = particle_group(impl->file.get());
+    impl->find_complete_frames();
     impl->open_position();
     impl->species = impl->open_field(h5md::kSpecies);
     impl->id = impl->open_field(h5md::kId);
     impl->scalar = impl->open_field(h5md::kScalar);
     impl->radius = impl->open_field(h5md::kRadius);
     impl->open_box();
+    impl->open_counts();
+    impl->find_fill_values();
   } catch (const Hdf5Error &e) {
     return unreadable(escaped_text(e.what()));  // may hold names read from the file
   }
@@ -283,7 +415,7 @@ Status H5mdReader::read(size_t index, int64_t begin, int64_t end, ParticleFrame 
   ParticleFrame f;
   f.step = m.frames[index].step;
   f.time = m.frames[index].time;
-  f.global_count = m.n;
+  f.global_count = m.frames[index].count;
   const size_t rows = static_cast<size_t>(end - begin);
   try {
     f.position.resize(rows * 3);
@@ -319,6 +451,7 @@ Status H5mdReader::read(size_t index, int64_t begin, int64_t end, ParticleFrame 
   } catch (const Hdf5Error &e) {
     return {StatusCode::kIo, m.path + ": " + escaped_text(e.what())};
   }
+  m.drop_fill_rows(index, begin, &f);
   *out = std::move(f);
   return {};
 }

@@ -4,8 +4,12 @@
 // Accepted: /h5md with a version attribute; one group under /particles ("all" if present, else
 // the first); position as a time-dependent element with value [frames][N][3] and step[frames]
 // (time[frames] optional); optional species / id / scalar / radius elements with value
-// [frames][N] (or time-independent [N]); an optional box (edges, offset, boundary). Variable
-// particle counts (H5MD fill values) are not supported: N is the same for every frame.
+// [frames][N] (or time-independent [N]); an optional box (edges, offset, boundary).
+// Particle counts that vary in time: N is the number of rows; Lantern's
+// /observables/particle_count gives each frame's count (its particles are rows [0, count)), and
+// rows that hold no particle are skipped: an `id` equal to the id dataset's fill value (the
+// H5MD convention), or, without ids, a position of three NaNs where NaN is the declared fill
+// value (files padded with NaN).
 // Every problem is reported as "<file>: <what is wrong>".
 #pragma once
 
@@ -29,9 +33,11 @@ class H5mdReader {
   H5mdReader(const H5mdReader &) = delete;
   H5mdReader &operator=(const H5mdReader &) = delete;
 
+  // count of each frame: its particles (Lantern's files), or else the rows it may use.
   const std::vector<FrameInfo> &frames() const;
-  // Reads particles [begin, end) of frame `index` into *out (independent I/O). OK, kIo naming the
-  // file, or kInvalidArgument for a frame that does not exist.
+  // Reads rows [begin, end) of frame `index` into *out, without the rows that hold no particle
+  // (independent I/O). OK, kIo naming the file, or kInvalidArgument for a frame that does not
+  // exist.
   Status read(size_t index, int64_t begin, int64_t end, ParticleFrame *out) const;
 
  private:

@@ -1,6 +1,13 @@
 #include "core/dump/h5md_writer.h"
 
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
 #include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <limits>
 #include <vector>
 
 #include "core/dump/h5md_layout.h"
@@ -9,28 +16,47 @@ namespace lantern {
 namespace {
 
 // About 1.5 MB of float64 positions per chunk: large enough for efficient MPI-IO, small enough
-// that a reader of a few particles does not read whole frames.
+// that a reader of a few particles does not read whole frames. Files of few particles get
+// chunks of at least kMinChunkRows, so a count that grows later does not split a frame into
+// many tiny chunks.
 constexpr hsize_t kChunkRows = 65536;
+constexpr hsize_t kMinChunkRows = 1024;
+
+// This rank's rows of one field, in the memory type HDF5 converts from: `n` particles, then
+// `tail` fill rows (the last rank pads the frame up to N_max).
+struct FieldRows {
+  hid_t mem_type = H5T_NATIVE_DOUBLE;
+  std::vector<double> f64;
+  std::vector<float> f32;
+  std::vector<int32_t> i32;
+  std::vector<int64_t> i64;
+  const void *data() const {
+    if (!f32.empty()) return f32.data();
+    if (!i32.empty()) return i32.data();
+    if (!i64.empty()) return i64.data();
+    return f64.data();
+  }
+};
 
 template <typename T, typename Get>
-std::vector<T> gather(int64_t n, int components, Get get) {
-  std::vector<T> out(static_cast<size_t>(n) * components);
+std::vector<T> gather(int64_t n, int64_t tail, int components, T fill, Get get) {
+  std::vector<T> out(static_cast<size_t>((n + tail) * components), fill);
   for (int64_t i = 0; i < n; ++i)
     for (int c = 0; c < components; ++c) out[i * components + c] = static_cast<T>(get(i, c));
   return out;
 }
 
-// Writes one real-valued field in the file's precision.
+// A real-valued field in the file's precision; fill rows are NaN.
 template <typename Get>
-void append_real(TimeSeries &series, bool single, hsize_t frame, const DumpFrame &f, int64_t n,
-                 int components, Get get, hid_t dxpl, bool root) {
+FieldRows real_rows(bool single, int64_t n, int64_t tail, int components, Get get) {
+  FieldRows rows;
   if (single) {
-    const auto buf = gather<float>(n, components, get);
-    series.append(frame, f.offset, n, H5T_NATIVE_FLOAT, buf.data(), dxpl, root, f.step, f.time);
+    rows.mem_type = H5T_NATIVE_FLOAT;
+    rows.f32 = gather<float>(n, tail, components, std::numeric_limits<float>::quiet_NaN(), get);
   } else {
-    const auto buf = gather<double>(n, components, get);
-    series.append(frame, f.offset, n, H5T_NATIVE_DOUBLE, buf.data(), dxpl, root, f.step, f.time);
+    rows.f64 = gather<double>(n, tail, components, std::numeric_limits<double>::quiet_NaN(), get);
   }
+  return rows;
 }
 
 // The version lantern_version() reports: CMake reads it from the public header (the one place
@@ -48,11 +74,11 @@ std::string author_name() {
 
 Status H5mdWriter::create(MPI_Comm comm, const std::string &path, const DumpLayout &layout,
                           std::unique_ptr<H5mdWriter> *out) {
-  std::unique_ptr<H5mdWriter> writer(new H5mdWriter(path, layout));  // private constructor
+  std::unique_ptr<H5mdWriter> writer(new H5mdWriter(comm, path, layout));  // private constructor
   try {
     writer->create_file(comm);
   } catch (const Hdf5Error &e) {
-    return {StatusCode::kIo, e.what()};
+    return {StatusCode::kIo, e.what()};  // the same on every rank: the writer closes collectively
   }
   *out = std::move(writer);
   return {};
@@ -62,6 +88,7 @@ Status H5mdWriter::append(const DumpFrame &frame) {
   try {
     write_frame(frame);
   } catch (const Hdf5Error &e) {
+    H5Eclear2(H5E_DEFAULT);
     return {StatusCode::kIo, e.what()};
   }
   return {};
@@ -70,17 +97,32 @@ Status H5mdWriter::append(const DumpFrame &frame) {
 void H5mdWriter::create_file(MPI_Comm comm) {
   silence_hdf5_errors();
   MPI_Comm_rank(comm, &rank_);
-  const H5Handle fapl = own_plist(H5Pcreate(H5P_FILE_ACCESS), "file access list");
-  h5_check(H5Pset_fapl_mpio(fapl.get(), comm, MPI_INFO_NULL), "MPI-IO driver");
-  // Metadata written collectively by all ranks instead of many small independent writes.
-  h5_check(H5Pset_coll_metadata_write(fapl.get(), true), "collective metadata");
-  file_ = own_file(H5Fcreate(path_.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, fapl.get()),
-                   "cannot create the file");
-  dxpl_ = own_plist(H5Pcreate(H5P_DATASET_XFER), "transfer list");
-  h5_check(H5Pset_dxpl_mpio(dxpl_.get(), H5FD_MPIO_COLLECTIVE), "collective transfers");
-  write_metadata();
+  MPI_Comm_size(comm, &size_);
+  H5Handle fapl;
+  calls_.local("file is writable", [&] {
+    // Checked on every rank before the collective create: a directory this rank cannot write
+    // (another node's view, a permission change) fails here, agreed, instead of inside MPI-IO.
+    const std::string dir = std::filesystem::path(path_).parent_path().string();
+    if (::access(dir.empty() ? "." : dir.c_str(), W_OK | X_OK) != 0)
+      throw Hdf5Error("cannot create the file: directory not writable by this process (" +
+                      std::string(std::strerror(errno)) + ")");
+    dxpl_ = own_plist(H5Pcreate(H5P_DATASET_XFER), "transfer list");
+    h5_check(H5Pset_dxpl_mpio(dxpl_.get(), H5FD_MPIO_COLLECTIVE), "collective transfers");
+  });
+  calls_.collective("file access list", [&] {  // collective: the MPI-IO driver dups comm
+    fapl = own_plist(H5Pcreate(H5P_FILE_ACCESS), "file access list");
+    h5_check(H5Pset_fapl_mpio(fapl.get(), comm, MPI_INFO_NULL), "MPI-IO driver");
+    // Metadata written collectively by all ranks instead of many small independent writes.
+    h5_check(H5Pset_coll_metadata_write(fapl.get(), true), "collective metadata");
+  });
+  calls_.collective("create", [&] {
+    file_ = own_file(H5Fcreate(path_.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, fapl.get()),
+                     "cannot create the file");
+  });
+  calls_.collective("metadata", [&] { write_metadata(); });
   create_elements();
-  h5_check(H5Fflush(file_.get(), H5F_SCOPE_GLOBAL), "flush");
+  calls_.collective("flush", [&] { h5_check(H5Fflush(file_.get(), H5F_SCOPE_GLOBAL), "flush"); });
+  calls_.settle();
 }
 
 void H5mdWriter::write_metadata() {
@@ -97,68 +139,98 @@ void H5mdWriter::write_metadata() {
 }
 
 void H5mdWriter::create_elements() {
-  const H5Handle particles =
-      own_group(H5Gcreate2(file_.get(), h5md::kParticles, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
-                "/particles");
-  particles_ = own_group(
-      H5Gcreate2(particles.get(), h5md::kGroupName, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
-      "/particles/all");
-  const hid_t group = particles_.get();
-  const H5Handle box = own_group(
-      H5Gcreate2(group, h5md::kBox, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), "/particles/all/box");
-  write_int_attribute(box.get(), "dimension", {3}, true);
-  std::vector<std::string> boundary;
-  for (const bool p : layout_.periodic) boundary.push_back(p ? "periodic" : "none");
-  write_string_attribute(box.get(), "boundary", boundary, false);
-  edges_.emplace(box.get(), "edges", std::vector<hsize_t>{3}, H5T_IEEE_F64LE, 3);
-  offset_.emplace(box.get(), "offset", std::vector<hsize_t>{3}, H5T_IEEE_F64LE, 3);
+  H5Handle box, observables;
+  calls_.collective("groups", [&] {
+    const H5Handle particles =
+        own_group(H5Gcreate2(file_.get(), h5md::kParticles, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
+                  "/particles");
+    particles_group_ = own_group(
+        H5Gcreate2(particles.get(), h5md::kGroupName, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
+        "/particles/all");
+    box = own_group(
+        H5Gcreate2(particles_group_.get(), h5md::kBox, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
+        "/particles/all/box");
+    write_int_attribute(box.get(), "dimension", {3}, true);
+    std::vector<std::string> boundary;
+    for (const bool p : layout_.periodic) boundary.push_back(p ? "periodic" : "none");
+    write_string_attribute(box.get(), "boundary", boundary, false);
+    observables = own_group(
+        H5Gcreate2(file_.get(), h5md::kObservables, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
+        "/observables");
+  });
+  const hid_t group = particles_group_.get();
+  edges_.emplace(calls_, box.get(), "edges", std::vector<hsize_t>{3}, H5T_IEEE_F64LE, 3, false);
+  offset_.emplace(calls_, box.get(), "offset", std::vector<hsize_t>{3}, H5T_IEEE_F64LE, 3, false);
+  count_.emplace(calls_, observables.get(), h5md::kParticleCountName, std::vector<hsize_t>{},
+                 H5T_STD_I64LE, 1, false);
 
-  const hsize_t n = static_cast<hsize_t>(layout_.global_count);
+  const hsize_t chunk =
+      std::clamp<hsize_t>(hsize_t(layout_.first_count), kMinChunkRows, kChunkRows);
   const hid_t real = layout_.single_precision ? H5T_IEEE_F32LE : H5T_IEEE_F64LE;
-  position_.emplace(group, h5md::kPosition, std::vector<hsize_t>{n, 3}, real, kChunkRows);
+  position_.emplace(calls_, group, h5md::kPosition, std::vector<hsize_t>{0, 3}, real, chunk, true);
   const DumpFields &f = layout_.fields;
   if (f.species)
-    species_.emplace(group, h5md::kSpecies, std::vector<hsize_t>{n}, H5T_STD_I32LE, kChunkRows);
-  if (f.id) id_.emplace(group, h5md::kId, std::vector<hsize_t>{n}, H5T_STD_I64LE, kChunkRows);
-  if (f.scalar) scalar_.emplace(group, h5md::kScalar, std::vector<hsize_t>{n}, real, kChunkRows);
-  if (f.radius) radius_.emplace(group, h5md::kRadius, std::vector<hsize_t>{n}, real, kChunkRows);
+    species_.emplace(calls_, group, h5md::kSpecies, std::vector<hsize_t>{0}, H5T_STD_I32LE, chunk,
+                     true);
+  if (f.id)
+    id_.emplace(calls_, group, h5md::kId, std::vector<hsize_t>{0}, H5T_STD_I64LE, chunk, true);
+  if (f.scalar)
+    scalar_.emplace(calls_, group, h5md::kScalar, std::vector<hsize_t>{0}, real, chunk, true);
+  if (f.radius)
+    radius_.emplace(calls_, group, h5md::kRadius, std::vector<hsize_t>{0}, real, chunk, true);
 }
 
 void H5mdWriter::write_frame(const DumpFrame &f) {
   const ParticleArrays &p = *f.particles;
   const int64_t n = p.count();
   const bool root = rank_ == 0;
-  const hid_t dxpl = dxpl_.get();
   const bool single = layout_.single_precision;
+  const hsize_t particles = std::max(particles_, hsize_t(f.total));
+  // The last rank's rows end at the frame's count; it pads the frame with fill rows up to N_max.
+  const int64_t tail = rank_ == size_ - 1 ? int64_t(particles) - f.total : 0;
+  const hsize_t rows = hsize_t(n + tail);
 
-  append_real(
-      *position_, single, frames_, f, n, 3, [&](int64_t i, int c) { return p.position(i)[c]; },
-      dxpl, root);
-  if (species_) {
-    const auto t = gather<int32_t>(n, 1, [&](int64_t i, int) { return p.type(i); });
-    species_->append(frames_, f.offset, n, H5T_NATIVE_INT32, t.data(), dxpl, root, f.step, f.time);
-  }
-  if (id_) {
-    const auto ids = gather<int64_t>(n, 1, [&](int64_t i, int) { return p.id(i); });
-    id_->append(frames_, f.offset, n, H5T_NATIVE_INT64, ids.data(), dxpl, root, f.step, f.time);
-  }
-  if (scalar_)
-    append_real(
-        *scalar_, single, frames_, f, n, 1, [&](int64_t i, int) { return p.scalar(i); }, dxpl,
-        root);
-  if (radius_)
-    append_real(
-        *radius_, single, frames_, f, n, 1, [&](int64_t i, int) { return p.radius(i); }, dxpl,
-        root);
+  FieldRows position, species, id, scalar, radius;
+  calls_.local("gather the frame", [&] {  // allocations: a failure here is agreed like HDF5's
+    position = real_rows(single, n, tail, 3, [&](int64_t i, int c) { return p.position(i)[c]; });
+    if (species_) {
+      species.mem_type = H5T_NATIVE_INT32;
+      species.i32 = gather<int32_t>(n, tail, 1, -1, [&](int64_t i, int) { return p.type(i); });
+    }
+    if (id_) {
+      id.mem_type = H5T_NATIVE_INT64;
+      id.i64 = gather<int64_t>(n, tail, 1, -1, [&](int64_t i, int) { return p.id(i); });
+    }
+    if (scalar_)
+      scalar = real_rows(single, n, tail, 1, [&](int64_t i, int) { return p.scalar(i); });
+    if (radius_)
+      radius = real_rows(single, n, tail, 1, [&](int64_t i, int) { return p.radius(i); });
+  });
+  const auto put = [&](std::optional<TimeSeries> &series, const FieldRows &r) {
+    if (series)
+      series->append(calls_, frames_, particles, hsize_t(f.offset), rows, r.mem_type, r.data(),
+                     dxpl_.get(), root, f.step, f.time);
+  };
+  put(position_, position);
+  put(species_, species);
+  put(id_, id);
+  put(scalar_, scalar);
+  put(radius_, radius);
 
-  // The box is one row of 3 values, written by rank 0 alone.
+  // The box and the count are one row each, written by rank 0 alone.
   const auto edges = f.box.edges();
-  edges_->append(frames_, 0, root ? 3 : 0, H5T_NATIVE_DOUBLE, edges.data(), dxpl, root, f.step,
-                 f.time);
-  offset_->append(frames_, 0, root ? 3 : 0, H5T_NATIVE_DOUBLE, f.box.low.data(), dxpl, root, f.step,
-                  f.time);
+  const hid_t dxpl = dxpl_.get();
+  edges_->append(calls_, frames_, 0, 0, root ? 1 : 0, H5T_NATIVE_DOUBLE, edges.data(), dxpl, root,
+                 f.step, f.time);
+  offset_->append(calls_, frames_, 0, 0, root ? 1 : 0, H5T_NATIVE_DOUBLE, f.box.low.data(), dxpl,
+                  root, f.step, f.time);
+  count_->append(calls_, frames_, 0, 0, root ? 1 : 0, H5T_NATIVE_INT64, &f.total, dxpl, root,
+                 f.step, f.time);
+  const std::string flush = "flush after frame " + std::to_string(frames_ + 1);
+  calls_.collective(flush, [&] { h5_check(H5Fflush(file_.get(), H5F_SCOPE_GLOBAL), flush); });
+  calls_.settle();
   ++frames_;
-  h5_check(H5Fflush(file_.get(), H5F_SCOPE_GLOBAL), "flush after frame " + std::to_string(frames_));
+  particles_ = particles;
 }
 
 }  // namespace lantern

@@ -3,10 +3,22 @@
 // Collective: every rank of the communicator constructs the writer, appends every frame and
 // destroys it together. Each rank writes its particles as one hyperslab at its offset (the
 // exclusive prefix sum of the counts), so a frame is one collective MPI-IO write per field.
-// The particle count N is fixed per file (set by the first frame): H5MD stores fixed-size frames
-// and Lantern does not pad. After every frame the file is flushed, so a crash later leaves a
-// valid file with every completed frame. HDF5 failures are returned as kIo with HDF5's message
-// (the Hdf5Error of hdf5_handle.h stays inside the writer).
+//
+// The particle count may change from frame to frame (atoms evaporate, are deposited, leave an
+// open box). Per-particle values are [frames][N_max](...): N_max, the largest count so far,
+// grows with the file; a frame's particles fill rows [0, count) in rank order and the rows
+// after them hold the fill value (NaN for real fields, -1 for `species` and `id`; -1 in `id` is
+// H5MD's "no particle"). /observables/particle_count records each frame's count.
+//
+// Failures: every HDF5 call is sequenced by CollectiveCalls, so a failure on one rank is agreed
+// before the next collective call and every rank returns the same kIo status with HDF5's
+// message (the Hdf5Error of hdf5_handle.h stays inside the writer). After a failed frame the
+// caller should destroy the writer (collective close) and write no more: the file keeps every
+// completed frame, and the failed one may have left some datasets one frame longer than their
+// `step` (H5mdReader ignores such a trailing partial frame; shrinking the datasets back is not
+// done, because shrinking chunked datasets in parallel HDF5 can itself leave ranks in different
+// collective calls). After every frame the file is flushed, so a crash later leaves a valid
+// file with every completed frame.
 #pragma once
 
 #include <mpi.h>
@@ -19,6 +31,7 @@
 
 #include "core/common/status.h"
 #include "core/dump/box.h"
+#include "core/dump/collective_calls.h"
 #include "core/dump/hdf5_handle.h"
 #include "core/dump/time_series.h"
 #include "core/particles/particle_arrays.h"
@@ -35,7 +48,7 @@ struct DumpFields {
 
 // What is fixed when the file is created.
 struct DumpLayout {
-  int64_t global_count = 0;  // N, particles per frame over all ranks
+  int64_t first_count = 0;  // particles of the first frame over all ranks (sizes the chunks)
   bool single_precision = false;
   DumpFields fields;
   std::array<bool, 3> periodic{false, false, false};
@@ -45,6 +58,7 @@ struct DumpLayout {
 struct DumpFrame {
   const ParticleArrays *particles = nullptr;
   int64_t offset = 0;  // global index of this rank's first particle
+  int64_t total = 0;   // particles of the frame over all ranks
   int64_t step = 0;
   double time = 0.0;
   Box box;  // rank 0's box is the one recorded
@@ -59,7 +73,7 @@ class H5mdWriter {
   H5mdWriter(const H5mdWriter &) = delete;
   H5mdWriter &operator=(const H5mdWriter &) = delete;
 
-  // Collective. Appends one frame and flushes the file. OK or kIo.
+  // Collective. Appends one frame and flushes the file. OK or kIo (the same on every rank).
   Status append(const DumpFrame &frame);
 
   const DumpLayout &layout() const { return layout_; }
@@ -67,8 +81,9 @@ class H5mdWriter {
   int64_t frames() const { return static_cast<int64_t>(frames_); }
 
  private:
-  H5mdWriter(const std::string &path, const DumpLayout &layout) : path_(path), layout_(layout) {}
-  // The steps of create() and append(); they throw Hdf5Error.
+  H5mdWriter(MPI_Comm comm, const std::string &path, const DumpLayout &layout)
+      : path_(path), layout_(layout), calls_(comm) {}
+  // The steps of create() and append(); they throw Hdf5Error (the same on every rank).
   void create_file(MPI_Comm comm);
   void write_frame(const DumpFrame &frame);
   void write_metadata();
@@ -76,12 +91,14 @@ class H5mdWriter {
 
   std::string path_;
   DumpLayout layout_;
-  int rank_ = 0;
-  hsize_t frames_ = 0;
-  H5Handle file_;  // declared first: closed after every dataset below
-  H5Handle dxpl_;  // collective transfers
-  H5Handle particles_;
-  std::optional<TimeSeries> position_, species_, id_, scalar_, radius_, edges_, offset_;
+  CollectiveCalls calls_;
+  int rank_ = 0, size_ = 1;
+  hsize_t frames_ = 0;     // complete frames in the file
+  hsize_t particles_ = 0;  // N_max: rows of the per-particle datasets
+  H5Handle file_;          // declared first: closed after every dataset below
+  H5Handle dxpl_;          // collective transfers
+  H5Handle particles_group_;
+  std::optional<TimeSeries> position_, species_, id_, scalar_, radius_, edges_, offset_, count_;
 };
 
 }  // namespace lantern

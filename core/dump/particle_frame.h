@@ -33,7 +33,8 @@ std::pair<int64_t, int64_t> rank_share(int64_t n, int rank, int size);
 struct FrameInfo {
   int64_t step = 0;
   double time = 0.0;
-  int64_t count = 0;
+  int64_t count = 0;  // particles of the frame (rows to split across ranks; for an H5MD file
+                      // without Lantern's counts, the rows, fill rows included)
 };
 
 }  // namespace lantern

@@ -5,12 +5,34 @@
 #            lantern-render renders that dump; the PNGs must be byte-identical. Then the dump is
 #            converted to H5MD (float64) and rendered again: identical too.
 # MODE h5py: lantern-render converts the dump to H5MD (float32); h5py_check.py reads it back.
+# MODE varying: the particle count changes (3000, 2400, 3200): the C API helper renders and dumps
+#            H5MD in situ; lantern-render renders that H5MD and the LAMMPS text dump; all three
+#            sets of PNGs must be byte-identical, and h5py reads the H5MD back (counts, fills).
 set -euo pipefail
 mode=$1 mpiexec=$2 ranks=$3 helper=$4 tool=$5 src=$6 work=$7
 run() { $mpiexec -n "$ranks" "$@"; }
 rm -rf "$work" && mkdir -p "$work/api" "$work/tool" "$work/h5"
-cd "$work/api" && run "$helper" "$src/image_config.yaml" ../particles.lammpstrj
+if [ "$mode" = varying ]; then
+  cd "$work/api" && run "$helper" "$src/varying_config.yaml" ../particles.lammpstrj varying
+else
+  cd "$work/api" && run "$helper" "$src/image_config.yaml" ../particles.lammpstrj
+fi
 case $mode in
+varying)
+  cd "$work/tool" && run "$tool" "$src/image_config.yaml" ../particles.lammpstrj
+  cd "$work/h5" && run "$tool" "$src/image_config.yaml" ../api/insitu.h5
+  cd "$work"
+  n=0
+  for f in api/*.png; do
+    cmp "$f" "tool/$(basename "$f")"
+    cmp "$f" "h5/$(basename "$f")"
+    n=$((n + 1))
+  done
+  [ "$n" -eq 3 ] || { echo "expected 3 images, found $n"; exit 1; }
+  echo "identical: $n images with changing counts (C API, LAMMPS dump, H5MD) at $ranks rank(s)"
+  /usr/bin/python3 "$src/h5py_check.py" api/insitu.h5 particles.lammpstrj \
+    --expect-counts 3000,2400,3200
+  ;;
 png)
   cd "$work/tool" && run "$tool" "$src/image_config.yaml" ../particles.lammpstrj
   cd "$work/h5"

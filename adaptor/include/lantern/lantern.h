@@ -169,6 +169,11 @@ LANTERN_API lantern_status lantern_set_box(lantern_context *ctx, const double lo
  * status. Positions or per-particle radii too large to frame (magnitude above 1e150) give
  * LANTERN_ERR_INVALID_ARGUMENT; a configured radius above 1e150, or a zoom or fov that puts the
  * camera where double precision cannot place it, gives LANTERN_ERR_CONFIG naming the key.
+ *
+ * On the dump's scheduled steps it appends a frame to the H5MD file; the particle count may
+ * differ from frame to frame. If a dump fails on any rank, every rank returns LANTERN_ERR_IO
+ * naming the file, the file keeps its earlier frames and dumping stops for the rest of the run;
+ * rendering goes on.
  */
 LANTERN_API lantern_status lantern_execute(lantern_context *ctx, int64_t step, double time);
 
