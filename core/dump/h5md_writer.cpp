@@ -126,29 +126,30 @@ void H5mdWriter::create_elements() {
 
 void H5mdWriter::write_frame(const DumpFrame &f) {
   const ParticleArrays &p = *f.particles;
-  const int64_t n = p.count();
+  const int64_t n = f.rows ? int64_t(f.rows->size()) : p.count();
+  const auto row = [&f](int64_t k) { return f.rows ? (*f.rows)[size_t(k)] : k; };
   const bool root = rank_ == 0;
   const hid_t dxpl = dxpl_.get();
   const bool single = layout_.single_precision;
 
   append_real(
-      *position_, single, frames_, f, n, 3, [&](int64_t i, int c) { return p.position(i)[c]; },
+      *position_, single, frames_, f, n, 3, [&](int64_t i, int c) { return p.position(row(i))[c]; },
       dxpl, root);
   if (species_) {
-    const auto t = gather<int32_t>(n, 1, [&](int64_t i, int) { return p.type(i); });
+    const auto t = gather<int32_t>(n, 1, [&](int64_t i, int) { return p.type(row(i)); });
     species_->append(frames_, f.offset, n, H5T_NATIVE_INT32, t.data(), dxpl, root, f.step, f.time);
   }
   if (id_) {
-    const auto ids = gather<int64_t>(n, 1, [&](int64_t i, int) { return p.id(i); });
+    const auto ids = gather<int64_t>(n, 1, [&](int64_t i, int) { return p.id(row(i)); });
     id_->append(frames_, f.offset, n, H5T_NATIVE_INT64, ids.data(), dxpl, root, f.step, f.time);
   }
   if (scalar_)
     append_real(
-        *scalar_, single, frames_, f, n, 1, [&](int64_t i, int) { return p.scalar(i); }, dxpl,
+        *scalar_, single, frames_, f, n, 1, [&](int64_t i, int) { return p.scalar(row(i)); }, dxpl,
         root);
   if (radius_)
     append_real(
-        *radius_, single, frames_, f, n, 1, [&](int64_t i, int) { return p.radius(i); }, dxpl,
+        *radius_, single, frames_, f, n, 1, [&](int64_t i, int) { return p.radius(row(i)); }, dxpl,
         root);
 
   // The box is one row of 3 values, written by rank 0 alone.

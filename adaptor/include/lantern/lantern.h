@@ -110,6 +110,17 @@ typedef struct lantern_particles {
   lantern_array scalar; /* optional per-particle scalar (color by scalar) */
   lantern_array type;   /* optional per-particle integer type (color by type) */
   lantern_array id;     /* optional global particle id (kept in particle dumps) */
+  /* Appended after id, so callers built against older headers are unaffected. A group of the
+   * particles, without copying them: with `mask` given, particle i is part of what Lantern draws
+   * and dumps only if (mask[i] & mask_bits) != 0 (LAMMPS: atom->mask and a group's bit). The
+   * others are skipped everywhere - the bounds of automatic cameras, the scalar range of
+   * automatic colormaps, bricks, culling, drawing, particle dumps and the stats' counts - as if
+   * they had not been published. Absent (zero) mask: every particle counts and mask_bits is not
+   * read. A mask with mask_bits == 0 is LANTERN_ERR_INVALID_ARGUMENT naming mask_bits. Both are
+   * read at every lantern_execute(), like the other arrays: a particle may enter or leave the
+   * group between steps. */
+  lantern_array mask; /* optional int32/int64 per-particle bit mask */
+  int64_t mask_bits;  /* with mask: draw particle i only if (mask[i] & mask_bits) != 0 */
 } lantern_particles;
 
 /* Use in place of MPI_Comm_c2f(MPI_COMM_WORLD) when the caller does not include mpi.h. */
