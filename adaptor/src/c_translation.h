@@ -67,6 +67,8 @@ To translate_particles(const From &in, Convert convert) {
   out.scalar = convert(in.scalar);
   out.type = convert(in.type);
   out.id = convert(in.id);
+  out.mask = convert(in.mask);
+  out.mask_bits = in.mask_bits;
   return out;
 }
 

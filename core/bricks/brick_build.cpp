@@ -24,33 +24,38 @@ double ms_since(Clock::time_point t0) {
   return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
 }
 
-// Bounds and non-finite count of the centres in [begin, end).
+// Bounds, finite and non-finite counts of the kept centres in [begin, end) (particles outside the
+// group are in neither count: no brick ever holds them).
 struct RangeBounds {
   glm::dvec3 lo{std::numeric_limits<double>::infinity()};
   glm::dvec3 hi{-std::numeric_limits<double>::infinity()};
+  int64_t finite = 0;
   int64_t nonfinite = 0;
 };
 
-template <typename Positions>
-RangeBounds find_bounds(const Positions &pos, int64_t begin, int64_t end) {
+template <typename Positions, typename Keep>
+RangeBounds find_bounds(const Positions &pos, const Keep &keep, int64_t begin, int64_t end) {
   RangeBounds r;
   for (int64_t i = begin; i < end; ++i) {
+    if (!keep.get(i)) continue;
     const glm::dvec3 p = pos.get(i);
     if (!finite(p)) {
       ++r.nonfinite;
       continue;
     }
+    ++r.finite;
     r.lo = glm::min(r.lo, p);
     r.hi = glm::max(r.hi, p);
   }
   return r;
 }
 
-// Key words of the finite particles of [begin, end), written from `out` on.
-template <typename Positions>
-void fill_words(const Positions &pos, int64_t begin, int64_t end, const MortonQuantiser &q,
-                uint64_t *out) {
+// Key words of the kept finite particles of [begin, end), written from `out` on.
+template <typename Positions, typename Keep>
+void fill_words(const Positions &pos, const Keep &keep, int64_t begin, int64_t end,
+                const MortonQuantiser &q, uint64_t *out) {
   for (int64_t i = begin; i < end; ++i) {
+    if (!keep.get(i)) continue;
     const glm::dvec3 p = pos.get(i);
     if (finite(p)) *out++ = make_word(q.key(p), uint32_t(i));
   }
@@ -97,23 +102,25 @@ BrickSet build_bricks(const ParticleArrays &particles, const BrickOptions &optio
   std::vector<uint64_t> words;
   MortonQuantiser q;
   visit_positions(particles, [&](const auto &pos) {
-    RangeBounds half[2];
-    const bool two = n >= kTwoThreadsFrom;
-    in_two(
-        n, [&](int part, int64_t b, int64_t e) { half[part] = find_bounds(pos, b, e); }, two);
-    set.lo = glm::min(half[0].lo, half[1].lo);
-    set.hi = glm::max(half[0].hi, half[1].hi);
-    set.nonfinite = half[0].nonfinite + half[1].nonfinite;
-    words.resize(size_t(n - set.nonfinite));
-    q = MortonQuantiser::for_bounds(set.lo, set.hi);
-    // The second half's words start after the first half's finite particles.
-    const int64_t first_half_finite = (two ? n / 2 : n) - half[0].nonfinite;
-    in_two(
-        n,
-        [&](int part, int64_t b, int64_t e) {
-          fill_words(pos, b, e, q, words.data() + (part == 0 ? 0 : first_half_finite));
-        },
-        two);
+    visit_kept(particles, [&](const auto &keep) {
+      RangeBounds half[2];
+      const bool two = n >= kTwoThreadsFrom;
+      in_two(
+          n, [&](int part, int64_t b, int64_t e) { half[part] = find_bounds(pos, keep, b, e); },
+          two);
+      set.lo = glm::min(half[0].lo, half[1].lo);
+      set.hi = glm::max(half[0].hi, half[1].hi);
+      set.nonfinite = half[0].nonfinite + half[1].nonfinite;
+      words.resize(size_t(half[0].finite + half[1].finite));
+      q = MortonQuantiser::for_bounds(set.lo, set.hi);
+      // The second half's words start after the first half's kept finite particles.
+      in_two(
+          n,
+          [&](int part, int64_t b, int64_t e) {
+            fill_words(pos, keep, b, e, q, words.data() + (part == 0 ? 0 : half[0].finite));
+          },
+          two);
+    });
   });
   t.keys_ms = ms_since(t0);
 

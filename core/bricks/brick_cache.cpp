@@ -28,6 +28,7 @@ uint64_t sample_fingerprint(const ParticleArrays &p) {
     const glm::dvec3 x = p.position(i);
     mix(x.x), mix(x.y), mix(x.z);
     if (p.has_radius()) mix(p.radius(i));
+    if (p.has_mask()) mix(double(p.kept(i)));
   }
   return h;
 }
@@ -35,6 +36,8 @@ uint64_t sample_fingerprint(const ParticleArrays &p) {
 void BrickCache::remember(const ParticleArrays &p, int64_t step, uint64_t fingerprint) {
   positions_ = p.position_array(0).data();
   radii_ = p.radius_array().data();
+  mask_ = p.mask_array().data();
+  mask_bits_ = p.mask_bits();
   count_ = p.count();
   step_ = step;
   fingerprint_ = fingerprint;
@@ -44,7 +47,8 @@ const BrickSet &BrickCache::for_step(const ParticleArrays &p, int64_t step, doub
                                      std::string *how) {
   const uint64_t fingerprint = sample_fingerprint(p);
   if (count_ == p.count() && step_ == step && positions_ == p.position_array(0).data() &&
-      radii_ == p.radius_array().data() && fingerprint_ == fingerprint) {
+      radii_ == p.radius_array().data() && mask_ == p.mask_array().data() &&
+      mask_bits_ == p.mask_bits() && fingerprint_ == fingerprint) {
     *how = "cached";
     return set_;
   }

@@ -34,13 +34,15 @@ class BrickCache {
   int64_t count_ = -1;  // -1: nothing built yet
   const void *positions_ = nullptr;
   const void *radii_ = nullptr;
+  const void *mask_ = nullptr;  // the group: bricks hold only its members
+  int64_t mask_bits_ = 0;
   uint64_t fingerprint_ = 0;
   int64_t refits_ = 0;
   BrickSet set_;
 };
 
 // A cheap guard against arrays rewritten in place under the same step number: a hash of the raw
-// bytes of up to 4096 evenly spaced positions and radii.
+// bytes of up to 4096 evenly spaced positions and radii (and whether they are in the group).
 uint64_t sample_fingerprint(const ParticleArrays &particles);
 
 }  // namespace lantern

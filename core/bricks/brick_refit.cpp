@@ -29,12 +29,12 @@ double BrickSet::spread() const {
 namespace {
 
 // Keeps, in place and in order at the front of the brick's slice `seg`, the particles of `b`
-// that are still published (index below `count`) and inside the brick's last bounds grown by a
-// quarter of its size, and gives *b their count and bounds; the others go to `outliers`.
-// False if a particle is not finite.
-template <typename Positions, typename Radii>
-bool sort_out(const Positions &pos, const Radii &radius, bool has_radius, int64_t count,
-              uint32_t *seg, Brick *b, std::vector<uint32_t> *outliers) {
+// that are still published (index below `count`, and in the group: `keep`) and inside the brick's
+// last bounds grown by a quarter of its size, and gives *b their count and bounds; the others go to
+// `outliers`. False if a particle is not finite.
+template <typename Positions, typename Radii, typename Keep>
+bool sort_out(const Positions &pos, const Radii &radius, const Keep &keep, bool has_radius,
+              int64_t count, uint32_t *seg, Brick *b, std::vector<uint32_t> *outliers) {
   const glm::dvec3 grow = 0.25 * (b->hi - b->lo) + 1e-9 * (glm::abs(b->lo) + glm::abs(b->hi));
   const glm::dvec3 lo = b->lo - grow, hi = b->hi + grow;
   glm::dvec3 new_lo(std::numeric_limits<double>::infinity()), new_hi(-new_lo);
@@ -42,7 +42,7 @@ bool sort_out(const Positions &pos, const Radii &radius, bool has_radius, int64_
   uint32_t kept = 0;
   for (uint32_t k = 0; k < b->count; ++k) {
     const uint32_t i = seg[k];
-    if (int64_t(i) >= count) continue;  // no longer published
+    if (int64_t(i) >= count || !keep.get(i)) continue;  // no longer published, or left the group
     const glm::dvec3 x = pos.get(i);
     if (!finite(x)) return false;
     if (x.x >= lo.x && x.y >= lo.y && x.z >= lo.z && x.x <= hi.x && x.y <= hi.y && x.z <= hi.z) {
@@ -58,12 +58,12 @@ bool sort_out(const Positions &pos, const Radii &radius, bool has_radius, int64_
 }
 
 // First pass of a refit, read-only and branch-free on the data so loads overlap: each brick's
-// bounds over its particles with index below `count`, and whether the brick still fits - every
-// index below `count` and the new bounds finite and inside the old ones grown by a quarter (the
-// common case between two host re-neighbourings).
-template <typename Positions, typename Radii>
-void fresh_bounds(const Positions &pos, const Radii &radius, int64_t count, const BrickSet &set,
-                  std::vector<Brick> *fresh, std::vector<uint8_t> *fits) {
+// bounds over its particles with index below `count` and in the group, and whether the brick
+// still fits - every index below `count` and in the group, and the new bounds finite and inside the
+// old ones grown by a quarter (the common case between two host re-neighbourings).
+template <typename Positions, typename Radii, typename Keep>
+void fresh_bounds(const Positions &pos, const Radii &radius, const Keep &keep, int64_t count,
+                  const BrickSet &set, std::vector<Brick> *fresh, std::vector<uint8_t> *fits) {
   *fresh = set.bricks;
   fits->assign(set.bricks.size(), 0);
   in_two(
@@ -76,7 +76,7 @@ void fresh_bounds(const Positions &pos, const Radii &radius, int64_t count, cons
           bool all_published = true;
           const uint32_t *idx = set.order.data() + f.first;
           for (uint32_t j = 0; j < f.count; ++j) {
-            if (int64_t(idx[j]) >= count) {
+            if (int64_t(idx[j]) >= count || !keep.get(idx[j])) {
               all_published = false;
               continue;
             }
@@ -107,13 +107,19 @@ bool refit_bricks(const ParticleArrays &particles, double max_growth, BrickSet *
   if (set->nonfinite != 0 || particles.has_radius() != set->has_radius ||
       count >= (int64_t(1) << 32) || count == 0)
     return false;
+  // With a group, the bricks must end up holding exactly its members: a particle that joined the
+  // group under an index the bricks do not hold makes the count differ, and a rebuild follows.
+  const int64_t kept_total = particles.kept_count();
   std::vector<Brick> fresh;
   std::vector<uint8_t> fits;
   visit_positions(particles, [&](const auto &pos) {
-    visit_radii(particles, true, 0.0,
-                [&](const auto &radius) { fresh_bounds(pos, radius, count, *set, &fresh, &fits); });
+    visit_radii(particles, true, 0.0, [&](const auto &radius) {
+      visit_kept(particles, [&](const auto &keep) {
+        fresh_bounds(pos, radius, keep, count, *set, &fresh, &fits);
+      });
+    });
   });
-  if (count == set->particle_count() &&
+  if (kept_total == set->particle_count() &&
       std::all_of(fits.begin(), fits.end(), [](uint8_t f) { return f != 0; })) {
     set->bricks = std::move(fresh);
     glm::dvec3 lo(std::numeric_limits<double>::infinity()), hi(-lo);
@@ -132,81 +138,84 @@ bool refit_bricks(const ParticleArrays &particles, double max_growth, BrickSet *
   size_t kept_bricks = 0;
   visit_positions(particles, [&](const auto &pos) {
     visit_radii(particles, true, 0.0, [&](const auto &radius) {
-      // Particles that left their brick (moved far, wrapped through a periodic boundary, or an
-      // index the host now uses for another particle) and new indices become outliers.
-      in_two(
-          int64_t(set->bricks.size()),
-          [&](int part, int64_t first, int64_t last) {
-            Half &h = half[part];
-            for (int64_t k = first; k < last && h.finite; ++k) {
-              Brick &br = set->bricks[size_t(k)];
-              if (fits[size_t(k)])
-                br = fresh[size_t(k)];  // still fits: the first pass's bounds stand
-              else
-                h.finite = sort_out(pos, radius, set->has_radius, count,
-                                    set->order.data() + br.first, &br, &h.outliers);
-            }
-          },
-          known >= kTwoThreadsFrom);
-      if (!half[0].finite || !half[1].finite) {
-        finite_all = false;
-        return;
-      }
-      // Close the gaps the strays left: kept slices move down, empty bricks go.
-      uint32_t at = 0;
-      size_t out = 0;
-      for (const Brick &br : set->bricks) {
-        if (br.count == 0) continue;
-        Brick moved = br;
-        std::memmove(set->order.data() + at, set->order.data() + br.first,
-                     size_t(br.count) * sizeof(uint32_t));
-        moved.first = at;
-        at += br.count;
-        set->bricks[out++] = moved;
-      }
-      set->bricks.resize(out);
-      set->order.resize(at);
-      kept_bricks = out;
-      outliers = std::move(half[0].outliers);
-      outliers.insert(outliers.end(), half[1].outliers.begin(), half[1].outliers.end());
-      for (int64_t i = known; i < count; ++i) {
-        if (!finite(pos.get(i))) {
+      visit_kept(particles, [&](const auto &keep) {
+        // Particles that left their brick (moved far, wrapped through a periodic boundary, or an
+        // index the host now uses for another particle) and new indices become outliers.
+        in_two(
+            int64_t(set->bricks.size()),
+            [&](int part, int64_t first, int64_t last) {
+              Half &h = half[part];
+              for (int64_t k = first; k < last && h.finite; ++k) {
+                Brick &br = set->bricks[size_t(k)];
+                if (fits[size_t(k)])
+                  br = fresh[size_t(k)];  // still fits: the first pass's bounds stand
+                else
+                  h.finite = sort_out(pos, radius, keep, set->has_radius, count,
+                                      set->order.data() + br.first, &br, &h.outliers);
+              }
+            },
+            known >= kTwoThreadsFrom);
+        if (!half[0].finite || !half[1].finite) {
           finite_all = false;
           return;
         }
-        outliers.push_back(uint32_t(i));
-      }
-      // Too many strays: a fresh build gives tighter bricks for about the same cost.
-      if (outliers.size() * 10 > size_t(count)) {
-        finite_all = false;
-        return;
-      }
-      if (outliers.empty()) return;
-      // The strays in z-order of their own bounds, cut into octree bricks as build_bricks does.
-      glm::dvec3 lo(std::numeric_limits<double>::infinity()), hi(-lo);
-      for (const uint32_t i : outliers)
-        lo = glm::min(lo, pos.get(i)), hi = glm::max(hi, pos.get(i));
-      const MortonQuantiser q = MortonQuantiser::for_bounds(lo, hi);
-      std::vector<uint64_t> words(outliers.size()), scratch;
-      for (size_t k = 0; k < outliers.size(); ++k)
-        words[k] = make_word(q.key(pos.get(outliers[k])), outliers[k]);
-      radix_sort_words(&words, &scratch, 32, 64);
-      break_ties(pos, q, &words);
-      std::vector<Brick> extra;
-      split_cells(words, 0, uint32_t(words.size()), 0, std::max<uint32_t>(1, options.max_particles),
-                  &extra);
-      const auto offset = uint32_t(set->order.size());
-      for (const uint64_t w : words) set->order.push_back(word_index(w));
-      std::vector<uint32_t> layout_scratch;
-      for (Brick e : extra) {
-        e.first += offset;
-        if (options.level_layout)
-          apply_level_layout(set->order.data() + e.first, e.count, &layout_scratch);
-        set->bricks.push_back(e);
-      }
+        // Close the gaps the strays left: kept slices move down, empty bricks go.
+        uint32_t at = 0;
+        size_t out = 0;
+        for (const Brick &br : set->bricks) {
+          if (br.count == 0) continue;
+          Brick moved = br;
+          std::memmove(set->order.data() + at, set->order.data() + br.first,
+                       size_t(br.count) * sizeof(uint32_t));
+          moved.first = at;
+          at += br.count;
+          set->bricks[out++] = moved;
+        }
+        set->bricks.resize(out);
+        set->order.resize(at);
+        kept_bricks = out;
+        outliers = std::move(half[0].outliers);
+        outliers.insert(outliers.end(), half[1].outliers.begin(), half[1].outliers.end());
+        for (int64_t i = known; i < count; ++i) {
+          if (!keep.get(i)) continue;
+          if (!finite(pos.get(i))) {
+            finite_all = false;
+            return;
+          }
+          outliers.push_back(uint32_t(i));
+        }
+        // Too many strays: a fresh build gives tighter bricks for about the same cost.
+        if (outliers.size() * 10 > size_t(kept_total)) {
+          finite_all = false;
+          return;
+        }
+        if (outliers.empty()) return;
+        // The strays in z-order of their own bounds, cut into octree bricks as build_bricks does.
+        glm::dvec3 lo(std::numeric_limits<double>::infinity()), hi(-lo);
+        for (const uint32_t i : outliers)
+          lo = glm::min(lo, pos.get(i)), hi = glm::max(hi, pos.get(i));
+        const MortonQuantiser q = MortonQuantiser::for_bounds(lo, hi);
+        std::vector<uint64_t> words(outliers.size()), scratch;
+        for (size_t k = 0; k < outliers.size(); ++k)
+          words[k] = make_word(q.key(pos.get(outliers[k])), outliers[k]);
+        radix_sort_words(&words, &scratch, 32, 64);
+        break_ties(pos, q, &words);
+        std::vector<Brick> extra;
+        split_cells(words, 0, uint32_t(words.size()), 0,
+                    std::max<uint32_t>(1, options.max_particles), &extra);
+        const auto offset = uint32_t(set->order.size());
+        for (const uint64_t w : words) set->order.push_back(word_index(w));
+        std::vector<uint32_t> layout_scratch;
+        for (Brick e : extra) {
+          e.first += offset;
+          if (options.level_layout)
+            apply_level_layout(set->order.data() + e.first, e.count, &layout_scratch);
+          set->bricks.push_back(e);
+        }
+      });
     });
   });
-  if (!finite_all || set->particle_count() != count) return false;
+  if (!finite_all || set->particle_count() != kept_total) return false;
   // Kept bricks got their bounds while sorting out; the strays' bricks get theirs here.
   visit_positions(particles, [&](const auto &pos) {
     visit_radii(particles, true, 0.0, [&](const auto &radius) {

@@ -43,7 +43,7 @@ struct BrickSet {
   std::vector<uint32_t> order;  // particle indices, brick after brick
   std::vector<Brick> bricks;    // in z-order along the curve
   glm::dvec3 lo{0.0}, hi{0.0};  // bounds of the finite centres (lo > hi when there are none)
-  int64_t nonfinite = 0;        // particles left out for a NaN or infinite coordinate
+  int64_t nonfinite = 0;        // kept particles left out for a NaN or infinite coordinate
   bool has_radius = false;      // bricks carry max_radius from the published radius array
 
   double spread_at_build = 0.0;  // spread() when built: how tight z-order made the bricks
@@ -59,7 +59,9 @@ struct BrickBuildTimings {
 };
 
 // Builds the bricks of `particles` (count must be < 2^32). Particles with a non-finite
-// coordinate are left out.
+// coordinate are left out (counted in `nonfinite`), and so are those outside the published group
+// (mask): bricks hold only the indices of kept particles, so every later stage skips the others
+// at no cost.
 BrickSet build_bricks(const ParticleArrays &particles, const BrickOptions &options,
                       BrickBuildTimings *timings = nullptr);
 
@@ -70,6 +72,8 @@ BrickSet build_bricks(const ParticleArrays &particles, const BrickOptions &optio
 // LAMMPS does when atoms migrate) and indices beyond the old count are sorted in z-order among
 // themselves into extra bricks; indices beyond the new count are dropped. Every bound is then
 // recomputed from the current positions, so culling stays exact whatever the indices now hold.
+// Particles that left the group (mask) are dropped like unpublished indices; one that joined it
+// under an index the bricks do not hold forces a rebuild.
 // Returns false - and leaves *set unusable, to be rebuilt - when the radius array appeared or
 // went, a position is not finite, more than a tenth of the particles strayed, or the summed
 // brick extents grew beyond max_growth times those at build (bricks too loose to cull well).

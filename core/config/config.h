@@ -126,6 +126,15 @@ struct DumpConfig {
 // overrides the key (so a site can switch back ends without editing configurations).
 enum class GlBackend { kAuto, kEgl, kOsmesa, kNone };
 
+// lammps: read by the lantern-lammps program (adaptor/lammps), which drives LAMMPS; Lantern's
+// pipeline ignores it.
+struct LammpsConfig {
+  std::string fix;  // fix: ID of the `fix ... external pf/callback` to attach to ("" = every one)
+  // scalar: per-atom quantity published as the scalar, named as LAMMPS names it: c_ID or c_ID[N]
+  // (a per-atom compute), v_name (an atom-style variable), or a per-atom property (vx, fz, q, ...)
+  std::string scalar;
+};
+
 struct Config {
   Schedule schedule;                // schedule: {...}
   std::vector<SceneConfig> scenes;  // scenes: [...] (at least one, unless dump is set)
@@ -136,6 +145,7 @@ struct Config {
   // egl_device: auto (-1: hardware devices spread over the node's ranks, else the software
   // device) or an EGL device number. The environment variable LANTERN_EGL_DEVICE wins.
   int egl_device = -1;
+  LammpsConfig lammps;  // lammps: {...}
 };
 
 inline constexpr int kMaxImageSize = 16384;

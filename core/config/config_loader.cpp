@@ -29,8 +29,8 @@ constexpr int64_t kMaxInt = std::numeric_limits<int64_t>::max();
 constexpr size_t kPathShown = 256;
 
 // The keys of every section: the schema. README.md (config/) documents the same keys.
-const std::vector<std::string> kTopKeys = {"schedule", "scenes", "stats",     "verbose",
-                                           "dump",     "gl",     "egl_device"};
+const std::vector<std::string> kTopKeys = {"schedule", "scenes", "stats",      "verbose",
+                                           "dump",     "gl",     "egl_device", "lammps"};
 const std::vector<std::string> kScheduleKeys = {"every", "start", "steps"};
 const std::vector<std::string> kSceneKeys = {"name",    "width",  "height",     "background",
                                              "radius",  "camera", "color",      "output",
@@ -46,6 +46,7 @@ const std::vector<std::string> kLodKeys = {"budget", "fraction", "min_pixels", "
 const std::vector<std::string> kCutPlaneKeys = {"normal", "offset"};
 const std::vector<std::string> kDumpKeys = {"enabled", "file", "schedule", "fields", "precision"};
 const std::vector<std::string> kDumpFields = {"position", "type", "scalar", "radius", "id"};
+const std::vector<std::string> kLammpsKeys = {"fix", "scalar"};
 const std::vector<std::string> kColormaps = {"viridis", "plasma", "coolwarm", "grayscale"};
 
 std::string lower(std::string s) {
@@ -74,7 +75,8 @@ std::map<std::string, std::vector<std::string>> key_homes() {
       {"scenes[].culling", &kCullingKeys},
       {"scenes[].lod", &kLodKeys},
       {"scenes[].cut_planes[]", &kCutPlaneKeys},
-      {"dump", &kDumpKeys}};
+      {"dump", &kDumpKeys},
+      {"lammps", &kLammpsKeys}};
   std::map<std::string, std::vector<std::string>> homes;
   for (const auto &[section, keys] : sections)
     for (const std::string &key : *keys) homes[key].push_back(section);
@@ -112,6 +114,8 @@ class Loader {
     });
     optional_key(root, "", "scenes",
                  [&](const YAML::Node &n, const std::string &p) { config.scenes = scenes(n, p); });
+    optional_key(root, "", "lammps",
+                 [&](const YAML::Node &n, const std::string &p) { config.lammps = lammps(n, p); });
     if (config.scenes.empty() && !config.dump.enabled)
       r_.fail(root, "", "nothing to do: add at least one entry under 'scenes:' (or a 'dump:')");
     return config;
@@ -417,6 +421,20 @@ class Loader {
       d.single_precision = r_.read_choice(n, p, {"float32", "float64"}) == "float32";
     });
     return d;
+  }
+
+  LammpsConfig lammps(const YAML::Node &node, const std::string &path) const {
+    r_.check_map(node, path, kLammpsKeys);
+    LammpsConfig l;
+    optional_key(node, path, "fix", [&](const YAML::Node &n, const std::string &p) {
+      l.fix = r_.read_string(n, p);
+      if (l.fix.empty()) r_.fail(n, p, "must name a fix ID (omit the key for every fix external)");
+    });
+    optional_key(node, path, "scalar", [&](const YAML::Node &n, const std::string &p) {
+      l.scalar = r_.read_string(n, p);
+      if (l.scalar.empty()) r_.fail(n, p, "must name a per-atom quantity (c_ID, v_name, vx, ...)");
+    });
+    return l;
   }
 
   YamlReader r_;

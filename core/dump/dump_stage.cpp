@@ -1,6 +1,7 @@
 #include "core/dump/dump_stage.h"
 
 #include <filesystem>
+#include <vector>
 
 #include "core/common/collective_status.h"
 
@@ -125,7 +126,13 @@ Status DumpStage::open_writer(MPI_Comm comm, const ParticleArrays &particles, co
 
 Status DumpStage::write(MPI_Comm comm, const ParticleArrays &particles, const Extent &global,
                         const std::optional<Box> &box, int64_t step, double time) {
-  int64_t count = particles.count(), offset = 0, total = 0;
+  // A group (mask) dumps only its members: their indices, in the published order.
+  std::vector<int64_t> rows;
+  if (particles.has_mask())
+    for (int64_t i = 0; i < particles.count(); ++i)
+      if (particles.kept(i)) rows.push_back(i);
+  int64_t count = particles.has_mask() ? int64_t(rows.size()) : particles.count();
+  int64_t offset = 0, total = 0;
   MPI_Exscan(&count, &offset, 1, MPI_INT64_T, MPI_SUM, comm);
   MPI_Allreduce(&count, &total, 1, MPI_INT64_T, MPI_SUM, comm);
   int rank = 0;
@@ -144,7 +151,8 @@ Status DumpStage::write(MPI_Comm comm, const ParticleArrays &particles, const Ex
     return s;
 
   const Status appended =
-      with_context(where, writer_->append({&particles, offset, total, step, time, b}));
+      with_context(where, writer_->append({&particles, particles.has_mask() ? &rows : nullptr, offset, total,
+                                             step, time, b}));
   if (appended.ok()) return appended;
   // Agreed by the writer: every rank closes the file here, together, and stops dumping.
   const int64_t kept = writer_->frames();

@@ -182,7 +182,8 @@ void H5mdWriter::create_elements() {
 
 void H5mdWriter::write_frame(const DumpFrame &f) {
   const ParticleArrays &p = *f.particles;
-  const int64_t n = p.count();
+  const int64_t n = f.rows ? int64_t(f.rows->size()) : p.count();
+  const auto row = [&f](int64_t k) { return f.rows ? (*f.rows)[size_t(k)] : k; };
   const bool root = rank_ == 0;
   const bool single = layout_.single_precision;
   const hsize_t particles = std::max(particles_, hsize_t(f.total));
@@ -192,19 +193,19 @@ void H5mdWriter::write_frame(const DumpFrame &f) {
 
   FieldRows position, species, id, scalar, radius;
   calls_.local("gather the frame", [&] {  // allocations: a failure here is agreed like HDF5's
-    position = real_rows(single, n, tail, 3, [&](int64_t i, int c) { return p.position(i)[c]; });
+    position = real_rows(single, n, tail, 3, [&](int64_t i, int c) { return p.position(row(i))[c]; });
     if (species_) {
       species.mem_type = H5T_NATIVE_INT32;
-      species.i32 = gather<int32_t>(n, tail, 1, -1, [&](int64_t i, int) { return p.type(i); });
+      species.i32 = gather<int32_t>(n, tail, 1, -1, [&](int64_t i, int) { return p.type(row(i)); });
     }
     if (id_) {
       id.mem_type = H5T_NATIVE_INT64;
-      id.i64 = gather<int64_t>(n, tail, 1, -1, [&](int64_t i, int) { return p.id(i); });
+      id.i64 = gather<int64_t>(n, tail, 1, -1, [&](int64_t i, int) { return p.id(row(i)); });
     }
     if (scalar_)
-      scalar = real_rows(single, n, tail, 1, [&](int64_t i, int) { return p.scalar(i); });
+      scalar = real_rows(single, n, tail, 1, [&](int64_t i, int) { return p.scalar(row(i)); });
     if (radius_)
-      radius = real_rows(single, n, tail, 1, [&](int64_t i, int) { return p.radius(i); });
+      radius = real_rows(single, n, tail, 1, [&](int64_t i, int) { return p.radius(row(i)); });
   });
   const auto put = [&](std::optional<TimeSeries> &series, const FieldRows &r) {
     if (series)

@@ -28,6 +28,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "core/common/status.h"
 #include "core/dump/box.h"
@@ -57,6 +58,8 @@ struct DumpLayout {
 // One rank's part of one frame.
 struct DumpFrame {
   const ParticleArrays *particles = nullptr;
+  // The particles written, by index, in order; null: all of them (with a group, its members).
+  const std::vector<int64_t> *rows = nullptr;
   int64_t offset = 0;  // global index of this rank's first particle
   int64_t total = 0;   // particles of the frame over all ranks
   int64_t step = 0;

@@ -104,8 +104,21 @@ Status ParticleArrays::validate(const ParticleDescription &p, ParticleArrays *ou
   if (Status s = check_array(p.scalar, "scalar", 1, true, p.count, &r.scalar_); !s.ok()) return s;
   if (Status s = check_array(p.type, "type", 1, false, p.count, &r.type_); !s.ok()) return s;
   if (Status s = check_array(p.id, "id", 1, false, p.count, &r.id_); !s.ok()) return s;
+  if (Status s = check_array(p.mask, "mask", 1, false, p.count, &r.mask_); !s.ok()) return s;
+  if (given(p.mask) && p.mask_bits == 0)
+    return invalid(
+        "particles.mask_bits: 0 with a mask given would keep no particle (give the group's bits, "
+        "or no mask to keep every particle)");
+  r.mask_bits_ = p.mask_bits;
   *out = r;
   return {};
+}
+
+int64_t ParticleArrays::kept_count() const {
+  if (!has_mask()) return count_;
+  int64_t kept_particles = 0;
+  for (int64_t i = 0; i < count_; ++i) kept_particles += kept(i) ? 1 : 0;
+  return kept_particles;
 }
 
 }  // namespace lantern

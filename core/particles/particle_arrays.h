@@ -99,6 +99,12 @@ class ParticleArrays {
   int64_t type(int64_t i) const { return type_.integer(i); }
   bool has_id() const { return id_.present(); }
   int64_t id(int64_t i) const { return id_.integer(i); }
+  // The group (ParticleDescription::mask): without a mask every particle is kept.
+  bool has_mask() const { return mask_.present(); }
+  int64_t mask_bits() const { return mask_bits_; }
+  bool kept(int64_t i) const { return !mask_.present() || (mask_.integer(i) & mask_bits_) != 0; }
+  // Particles in the group (count() without a mask): one pass over the mask.
+  int64_t kept_count() const;
 
   bool interleaved() const { return interleaved_; }
   // Component arrays: [0] is the interleaved array when interleaved(), else x, y, z.
@@ -107,12 +113,14 @@ class ParticleArrays {
   const StridedArray &scalar_array() const { return scalar_; }
   const StridedArray &type_array() const { return type_; }
   const StridedArray &id_array() const { return id_; }
+  const StridedArray &mask_array() const { return mask_; }
 
  private:
   int64_t count_ = 0;
   bool interleaved_ = true;
   StridedArray pos_[3];
-  StridedArray radius_, scalar_, type_, id_;
+  StridedArray radius_, scalar_, type_, id_, mask_;
+  int64_t mask_bits_ = 0;
 };
 
 }  // namespace lantern

@@ -29,6 +29,11 @@ struct ParticleDescription {
   BorrowedArray position;
   BorrowedArray position_x, position_y, position_z;
   BorrowedArray radius, scalar, type, id;
+  // A group: with `mask` present, particle i counts only if (mask[i] & mask_bits) != 0; the others
+  // are skipped by every stage (bounds, bricks, drawing, dumps). mask_bits is read only with a
+  // mask.
+  BorrowedArray mask;
+  int64_t mask_bits = 0;
 };
 
 }  // namespace lantern

@@ -10,7 +10,8 @@
 namespace lantern {
 
 // Scans the rank's particles. `radius` is the scene-wide radius used when `per_particle_radius`
-// is false (or no radius array was published).
+// is false (or no radius array was published). Particles outside the published group (mask) are
+// left out entirely: they count neither as finite nor as non-finite.
 Extent scan_particles(const ParticleArrays &particles, bool per_particle_radius, double radius);
 
 // True when particle i has finite coordinates (the same test scan_particles counts with).

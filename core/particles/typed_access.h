@@ -105,4 +105,30 @@ decltype(auto) visit_radii(const ParticleArrays &p, bool per_particle, double ra
   return f(StridedReals<double>{b, a.stride_bytes()});
 }
 
+// Every particle kept (no mask published): get() is a constant the compiler folds away, so the
+// passes cost nothing extra without a group.
+struct KeepAll {
+  bool get(int64_t) const { return true; }
+};
+
+// The group of ParticleDescription::mask: particle i is kept when (mask[i] & bits) != 0.
+template <typename T>
+struct KeepMasked {
+  const unsigned char *base;
+  int64_t stride;
+  int64_t bits;
+  bool get(int64_t i) const { return (int64_t(load_unaligned<T>(base + i * stride)) & bits) != 0; }
+};
+
+// Calls f(reader) with the reader of which particles are kept: KeepAll without a mask.
+template <typename F>
+decltype(auto) visit_kept(const ParticleArrays &p, F &&f) {
+  if (!p.has_mask()) return f(KeepAll{});
+  const StridedArray &a = p.mask_array();
+  const auto *b = static_cast<const unsigned char *>(a.data());
+  if (a.type() == DataType::kInt32)
+    return f(KeepMasked<int32_t>{b, a.stride_bytes(), p.mask_bits()});
+  return f(KeepMasked<int64_t>{b, a.stride_bytes(), p.mask_bits()});
+}
+
 }  // namespace lantern

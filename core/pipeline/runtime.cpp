@@ -17,10 +17,11 @@ namespace {
 using Clock = std::chrono::steady_clock;
 
 // Per-particle radii must be usable: finite and non-negative. OK, or kInvalidArgument naming the
-// first offender.
+// first offender. Particles outside the group (mask) are never drawn, so their radii are not read.
 Status check_radii(const ParticleArrays &p) {
   if (!p.has_radius()) return {};
   for (int64_t i = 0; i < p.count(); ++i) {
+    if (!p.kept(i)) continue;
     const double r = p.radius(i);
     if (!(r >= 0.0) || !std::isfinite(r))
       return {StatusCode::kInvalidArgument, "particles.radius[" + std::to_string(i) +

@@ -70,8 +70,11 @@ void build_all_instances(const InstanceRecipe &recipe, std::vector<SphereInstanc
   out->clear();
   out->reserve(size_t(p.count()));
   with_readers(recipe, [&](const auto &pos, const auto &radius) {
-    for (int64_t i = 0; i < p.count(); ++i)
-      if (finite_position(pos.get(i))) out->push_back(make_instance(recipe, pos, radius, i, 1.0f));
+    visit_kept(p, [&](const auto &keep) {
+      for (int64_t i = 0; i < p.count(); ++i)
+        if (keep.get(i) && finite_position(pos.get(i)))
+          out->push_back(make_instance(recipe, pos, radius, i, 1.0f));
+    });
   });
 }
 

@@ -5,21 +5,25 @@
 #   defaults: build-h5, 63 (4*63^3 = 1,000,188 atoms), 1024, 4, 5, 2
 #   ASYNC=true: Lantern encodes and writes its PNGs on a background thread (output.asynchronous)
 #
-# examples/lammps/lammps_lantern runs LAMMPS through its library interface; at every image step it
-# renders once through Lantern (lantern_execute on LAMMPS's own x/type arrays) and once through
-# LAMMPS's image dump (write_dump all image ... size SIZE SIZE: the same Dump image code as
-# `dump image`, PNG in both cases), timing each between barriers on the slowest rank. The table
-# gives seconds per image for both and the ratio (target: Lantern >= 10x faster at 1 M atoms).
+# lantern-lammps runs examples/lammps/in.lj (the LAMMPS bench melt with `fix viz all external
+# pf/callback EVERY 1`) with one more line, `dump img all image EVERY ... size SIZE SIZE adiam 1.0`:
+# every EVERY steps LAMMPS draws its image dump and calls Lantern, in the same run. Seconds per
+# image: LAMMPS's from its own timing breakdown (the "Output" section, slowest rank, over the
+# images after the set-up step: LAMMPS starts its timers after set-up), Lantern's from its stats
+# (ms.total of every step after the first, and the median of all steps). The target: Lantern
+# >= 10x faster at 1 M atoms.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/../.." && pwd)
 build=${1:-$root/build-h5}
 cells=${2:-63} size=${3:-1024} images=${4:-4} every=${5:-5} ranks=${6:-2}
-exe=$build/examples/lammps/lammps_lantern
-[ -x "$exe" ] || { echo "build lammps_lantern first: cmake --build $build --target lammps_lantern"; exit 1; }
+exe=$build/adaptor/lammps/lantern-lammps
+[ -x "$exe" ] || { echo "build lantern-lammps first: cmake --build $build --target lantern_lammps"; exit 1; }
+[ "$images" -ge 2 ] || { echo "IMAGES must be >= 2 (the set-up step is not timed by LAMMPS)"; exit 1; }
 work=$(mktemp -d /tmp/lantern_lammps_bench.XXXXXX)
 trap '[ -n "${KEEP:-}" ] || rm -rf "$work"' EXIT
 cat > "$work/bench.yaml" <<YAML
-# Lantern's side: one 1024x1024 PNG per image step, spheres of diameter 1 (LAMMPS: adiam 1.0).
+# Lantern's side: one PNG per callback, spheres of diameter 1 (LAMMPS: adiam 1.0).
+lammps: {fix: viz}
 scenes:
   - name: lj
     width: $size
@@ -30,25 +34,30 @@ scenes:
       asynchronous: ${ASYNC:-false}
 stats: "$work/stats.jsonl"
 YAML
+sed "/^run/i dump img all image $every $work/lammps_*.png type type size $size $size adiam 1.0" \
+  "$root/examples/lammps/in.lj" > "$work/in.bench"
 mpiflags=(--oversubscribe)
 [ "$(id -u)" = 0 ] && mpiflags+=(--allow-run-as-root)
 steps=$(( (images - 1) * every ))
-echo "LJ melt, $((4 * cells * cells * cells)) atoms, ${size}x${size}, $images images every $every steps, $ranks MPI ranks"
-OMP_NUM_THREADS=1 mpiexec "${mpiflags[@]}" -n "$ranks" "$exe" "$work/bench.yaml" --cells "$cells" \
-  --steps "$steps" --every "$every" --compare-dump-image "$work" --image-size "$size" | tee "$work/out.txt"
-ls "$work"/lammps_*.png "$work"/lantern_*.png > /dev/null
-summary=$(grep '^images:' "$work/out.txt")
-lantern=$(echo "$summary" | sed -E 's/.*lantern: ([0-9.]+) s.*/\1/')
-lammps=$(echo "$summary" | sed -E 's/.*dump image: ([0-9.]+) s.*/\1/')
-ratio=$(echo "$summary" | sed -E 's/.*ratio: ([0-9.]+)x.*/\1/')
-med=$(grep '^median per image:' "$work/out.txt")
-lantern_med=$(echo "$med" | sed -E 's/.*lantern: ([0-9.]+) s.*/\1/')
-lammps_med=$(echo "$med" | sed -E 's/.*dump image: ([0-9.]+) s.*/\1/')
-ratio_med=$(echo "$med" | sed -E 's/.*ratio: ([0-9.]+)x.*/\1/')
 atoms=$((4 * cells * cells * cells))
-printf '\n| atoms | ranks | image | images | statistic | LAMMPS dump image s/image | Lantern s/image | ratio |\n'
-printf '|---|---|---|---|---|---|---|---|\n'
-printf '| %d | %d | %dx%d | %d | mean | %s | %s | %sx |\n' "$atoms" "$ranks" "$size" "$size" \
-  "$images" "$lammps" "$lantern" "$ratio"
-printf '| %d | %d | %dx%d | %d | median | %s | %s | %sx |\n' "$atoms" "$ranks" "$size" "$size" \
-  "$images" "$lammps_med" "$lantern_med" "$ratio_med"
+echo "LJ melt, $atoms atoms, ${size}x${size}, $images images every $every steps, $ranks MPI ranks"
+OMP_NUM_THREADS=1 mpiexec "${mpiflags[@]}" -n "$ranks" "$exe" -in "$work/in.bench" \
+  -lantern "$work/bench.yaml" -log none -var cells "$cells" -var every "$every" \
+  -var steps "$steps" > "$work/out.txt" 2> "$work/err.txt"
+cat "$work/err.txt"
+grep -E '^(Loop time|Output|Modify)' "$work/out.txt"
+ls "$work"/lammps_*.png "$work"/lantern_*.png > /dev/null
+# LAMMPS: "Output  | min | avg | max | %varavg | %total": the slowest rank's seconds.
+lammps=$(awk -v n="$((images - 1))" '$1 == "Output" { printf "%.3f", $7 / n }' "$work/out.txt")
+read -r lantern lantern_med < <(/usr/bin/python3 - "$work/stats.jsonl" <<'PY'
+import json, statistics, sys
+ms = [json.loads(l)["ms"]["total"] / 1000 for l in open(sys.argv[1])]
+print(f"{statistics.mean(ms[1:]):.3f} {statistics.median(ms):.3f}")
+PY
+)
+ratio=$(awk -v a="$lammps" -v b="$lantern" 'BEGIN { printf "%.1f", a / b }')
+ratio_med=$(awk -v a="$lammps" -v b="$lantern_med" 'BEGIN { printf "%.1f", a / b }')
+printf '\n| atoms | ranks | image | images | LAMMPS dump image s/image | Lantern s/image (mean after the first / median) | ratio |\n'
+printf '|---|---|---|---|---|---|---|\n'
+printf '| %d | %d | %dx%d | %d | %s | %s / %s | %sx / %sx |\n' "$atoms" "$ranks" "$size" "$size" \
+  "$images" "$lammps" "$lantern" "$lantern_med" "$ratio" "$ratio_med"

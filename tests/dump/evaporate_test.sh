@@ -1,8 +1,7 @@
 #!/bin/bash
 # tests/dump: a LAMMPS run that evaporates atoms reaches Lantern two ways, and both H5MD files
 # must hold, frame by frame, exactly LAMMPS's atoms (issue 17 item 11):
-#   in situ:  examples/lammps's lammps_lantern hands LAMMPS's own arrays to Lantern every 10
-#             steps (images + evap_insitu.h5, count changing as atoms evaporate);
+#   in situ:  lantern-lammps hands LAMMPS's own arrays to Lantern every 10 steps (images + evap_insitu.h5, count changing as atoms evaporate);
 #   offline:  lantern-render converts LAMMPS's text dump of the same steps to H5MD and renders it.
 # h5py_check.py compares each file's per-frame counts with LAMMPS's own `$(atoms)` at those steps
 # and its particles (by id) with the text dump.
@@ -11,7 +10,7 @@ set -euo pipefail
 mpiexec=$1 ranks=$2 driver=$3 tool=$4 src=$5 work=$6
 run() { $mpiexec -n "$ranks" "$@"; }
 rm -rf "$work" && mkdir -p "$work" && cd "$work"
-run "$driver" "$src/evaporate.yaml" --input "$src/in.evaporate" --steps 40 --every 10
+run "$driver" -in "$src/in.evaporate" -lantern "$src/evaporate.yaml" -log none
 ls evap_000040.png >/dev/null
 run "$tool" "$src/convert_config.yaml" evap.lammpstrj
 check() {

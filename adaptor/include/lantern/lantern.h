@@ -88,12 +88,11 @@ typedef struct lantern_array {
  * Pass only the particles this rank owns, never ghost/halo copies: Lantern draws every published
  * particle once, and a ghost would be drawn twice.
  *
- * Images do not depend on the number of ranks, on how particles are split between them or on
- * the order they are published in, bit for bit, ties included: where two spheres have exactly the
- * same depth at a pixel (two particles at the same position with the same radius, or a pixel
- * centre exactly on the curve where two spheres meet), the pixel shows the smaller of their
- * shaded colors (compared as R, then G, then B) - within a rank, in both renderers, and across
- * ranks alike. Ids are not needed for this and play no part in it.
+ * Images do not depend on the number of ranks or on how particles are split between them, bit
+ * for bit, with one exception: a pixel where two differently colored spheres have exactly the
+ * same depth (two particles at the same position with the same radius, or, rarely, a pixel centre
+ * exactly on the curve where two spheres meet). One rank keeps the sphere it draws first,
+ * compositing across ranks the smaller RGBA value, so such pixels may differ between rank counts.
  *
  * Lifetime: the arrays are borrowed. Lantern reads them in place during every later
  * lantern_execute() call until the next lantern_publish() (or lantern_close()), so they must stay
@@ -111,9 +110,17 @@ typedef struct lantern_particles {
   lantern_array scalar; /* optional per-particle scalar (color by scalar) */
   lantern_array type;   /* optional per-particle integer type (color by type) */
   lantern_array id;     /* optional global particle id (kept in particle dumps) */
-  lantern_array mask;   /* optional int32/int64 per-particle bit mask */
-  int64_t mask_bits;    /* with mask: draw particle i only if (mask[i] & mask_bits) != 0; mask with
-                           mask_bits == 0 is LANTERN_ERR_ARGUMENT */
+  /* Appended after id, so callers built against older headers are unaffected. A group of the
+   * particles, without copying them: with `mask` given, particle i is part of what Lantern draws
+   * and dumps only if (mask[i] & mask_bits) != 0 (LAMMPS: atom->mask and a group's bit). The
+   * others are skipped everywhere - the bounds of automatic cameras, the scalar range of
+   * automatic colormaps, bricks, culling, drawing, particle dumps and the stats' counts - as if
+   * they had not been published. Absent (zero) mask: every particle counts and mask_bits is not
+   * read. A mask with mask_bits == 0 is LANTERN_ERR_INVALID_ARGUMENT naming mask_bits. Both are
+   * read at every lantern_execute(), like the other arrays: a particle may enter or leave the
+   * group between steps. */
+  lantern_array mask; /* optional int32/int64 per-particle bit mask */
+  int64_t mask_bits;  /* with mask: draw particle i only if (mask[i] & mask_bits) != 0 */
 } lantern_particles;
 
 /* Use in place of MPI_Comm_c2f(MPI_COMM_WORLD) when the caller does not include mpi.h. */
@@ -162,18 +169,6 @@ LANTERN_API lantern_status lantern_set_box(lantern_context *ctx, const double lo
  * renders every scene, composites across ranks and writes the outputs; collective, and every
  * rank returns the same status. Particles with NaN or infinite coordinates are skipped and
  * counted in the stats (a warning is printed once per context).
- *
- * Which status: the first scene's error; else the particle dump's; else, when the stats file
- * (`stats:`) cannot be written, LANTERN_ERR_IO naming that file (the step's images were written;
- * the next scheduled step tries the stats file again). The step's stats line reports this same
- * status. Positions or per-particle radii too large to frame (magnitude above 1e150) give
- * LANTERN_ERR_INVALID_ARGUMENT; a configured radius above 1e150, or a zoom or fov that puts the
- * camera where double precision cannot place it, gives LANTERN_ERR_CONFIG naming the key.
- *
- * On the dump's scheduled steps it appends a frame to the H5MD file; the particle count may
- * differ from frame to frame. If a dump fails on any rank, every rank returns LANTERN_ERR_IO
- * naming the file, the file keeps its earlier frames and dumping stops for the rest of the run;
- * rendering goes on.
  */
 LANTERN_API lantern_status lantern_execute(lantern_context *ctx, int64_t step, double time);
 

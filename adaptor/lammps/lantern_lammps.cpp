@@ -1,0 +1,142 @@
+// lantern-lammps: runs a LAMMPS input script and renders it in situ with Lantern.
+//
+//   mpiexec -n 4 lantern-lammps -in in.melt -lantern viz.yaml [LAMMPS options...]
+//
+// The script is LAMMPS's own, with one line added: `fix viz all external pf/callback 100 1` (any
+// fix ID and group). Every `pf/callback` fix external the script defines renders its group each
+// time LAMMPS calls it (every 100 steps here; the YAML's `schedule:` can thin that further), or
+// only the one named by the YAML's `lammps: {fix: ID}`. `lammps: {scalar: c_ke}` publishes a
+// per-atom quantity as Lantern's scalar. Every other option goes to LAMMPS unchanged (-var,
+// -log, -screen, -echo, -suffix, ...). Exit code: 0, 1 on any error (the message names the file
+// and line, the fix, or the key at fault), 2 on a usage error.
+#include <mpi.h>
+
+#define LAMMPS_LIB_MPI 1
+#include <lammps/library.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "core/config/config_loader.h"
+#include "lammps_session.h"
+#include "lantern/lantern.h"
+
+namespace {
+
+struct Arguments {
+  std::string input, config;
+  std::vector<std::string> lammps{"lantern-lammps"};  // argv for lammps_open
+  std::string error;                                  // a usage error, if any
+};
+
+Arguments parse(int argc, char **argv) {
+  Arguments a;
+  for (int i = 1; i < argc; ++i) {
+    const std::string arg = argv[i];
+    const bool ours = arg == "-in" || arg == "-i" || arg == "-lantern";
+    if (!ours) {
+      a.lammps.push_back(arg);
+      continue;
+    }
+    if (i + 1 >= argc) {
+      a.error = arg + " needs a file name";
+      return a;
+    }
+    (arg == "-lantern" ? a.config : a.input) = argv[++i];
+  }
+  if (a.error.empty() && (a.input.empty() || a.config.empty()))
+    a.error = "give the LAMMPS input script (-in FILE) and Lantern's configuration (-lantern FILE)";
+  return a;
+}
+
+struct LammpsCloser {
+  void operator()(void *lmp) const { lammps_close(lmp); }
+};
+
+// Seconds per lantern_execute() on the slowest rank (what LAMMPS waited): mean and median, on
+// rank 0. Collective (the session made the same calls on every rank).
+void print_timing(const std::vector<double> &local, int rank) {
+  std::vector<double> slowest(local.size());
+  MPI_Allreduce(local.data(), slowest.data(), int(local.size()), MPI_DOUBLE, MPI_MAX,
+                MPI_COMM_WORLD);
+  if (rank != 0) return;
+  if (slowest.empty()) {
+    std::fprintf(stderr, "lantern-lammps: 0 rendered steps\n");
+    return;
+  }
+  double sum = 0;
+  for (const double t : slowest) sum += t;
+  std::sort(slowest.begin(), slowest.end());
+  const size_t n = slowest.size();
+  const double median = n % 2 ? slowest[n / 2] : 0.5 * (slowest[n / 2 - 1] + slowest[n / 2]);
+  std::fprintf(stderr,
+               "lantern-lammps: %zu rendered steps, seconds per step: mean %.4f median %.4f\n", n,
+               sum / double(n), median);
+}
+
+int report(int rank, const std::string &message, int code) {
+  if (rank == 0) std::fprintf(stderr, "lantern-lammps: error: %s\n", message.c_str());
+  return code;
+}
+
+// Opens Lantern and LAMMPS, runs the script, closes both. Returns the exit code.
+int run(const Arguments &args, int rank) {
+  // The `lammps:` section of the configuration (Lantern validates the whole file as it opens).
+  lantern_context *ctx = nullptr;
+  if (lantern_open(args.config.c_str(), MPI_Comm_c2f(MPI_COMM_WORLD), &ctx) != LANTERN_OK) {
+    const std::string message = lantern_error_message(ctx);
+    lantern_close(ctx);
+    return report(rank, args.config + ": " + message, 1);
+  }
+  lantern::Config config;
+  static_cast<void>(lantern::load_config(args.config, &config));  // valid: lantern_open read it
+  const lantern_lammps::SessionOptions options{config.lammps.fix, config.lammps.scalar};
+
+  std::vector<char *> argv;
+  std::vector<std::string> strings = args.lammps;
+  for (std::string &s : strings) argv.push_back(s.data());
+  std::unique_ptr<void, LammpsCloser> lmp(
+      lammps_open(int(argv.size()), argv.data(), MPI_COMM_WORLD, nullptr));
+  if (!lmp) {
+    lantern_close(ctx);
+    return report(rank, "lammps_open failed", 1);
+  }
+  int code = 0;
+  try {
+    lantern_lammps::Session session(lmp.get(), ctx, MPI_COMM_WORLD, options);
+    try {
+      session.run_script(args.input);
+    } catch (const lantern_lammps::Failure &) {
+      // Thrown out of a LAMMPS command: LAMMPS is mid-command and cannot be closed safely.
+      if (session.inside_lammps()) static_cast<void>(lmp.release());
+      throw;
+    }
+    print_timing(session.execute_seconds(), rank);
+  } catch (const lantern_lammps::Failure &e) {
+    code = report(rank, e.what(), 1);
+  }
+  if (lantern_close(ctx) != LANTERN_OK && code == 0)
+    code = report(rank, "closing Lantern's outputs failed", 1);
+  return code;
+}
+
+}  // namespace
+
+int main(int argc, char **argv) {
+  MPI_Init(&argc, &argv);
+  int rank = 0;
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  const Arguments args = parse(argc, argv);
+  const int code = args.error.empty()
+                       ? run(args, rank)
+                       : report(rank,
+                                args.error +
+                                    "\nusage: lantern-lammps -in SCRIPT -lantern CONFIG.yaml "
+                                    "[LAMMPS options]",
+                                2);
+  MPI_Finalize();
+  return code;
+}
