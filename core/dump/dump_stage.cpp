@@ -151,8 +151,8 @@ Status DumpStage::write(MPI_Comm comm, const ParticleArrays &particles, const Ex
     return s;
 
   const Status appended =
-      with_context(where, writer_->append({&particles, particles.has_mask() ? &rows : nullptr, offset, total,
-                                             step, time, b}));
+      with_context(where, writer_->append({&particles, particles.has_mask() ? &rows : nullptr,
+                                           offset, total, step, time, b}));
   if (appended.ok()) return appended;
   // Agreed by the writer: every rank closes the file here, together, and stops dumping.
   const int64_t kept = writer_->frames();

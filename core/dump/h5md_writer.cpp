@@ -193,7 +193,8 @@ void H5mdWriter::write_frame(const DumpFrame &f) {
 
   FieldRows position, species, id, scalar, radius;
   calls_.local("gather the frame", [&] {  // allocations: a failure here is agreed like HDF5's
-    position = real_rows(single, n, tail, 3, [&](int64_t i, int c) { return p.position(row(i))[c]; });
+    position =
+        real_rows(single, n, tail, 3, [&](int64_t i, int c) { return p.position(row(i))[c]; });
     if (species_) {
       species.mem_type = H5T_NATIVE_INT32;
       species.i32 = gather<int32_t>(n, tail, 1, -1, [&](int64_t i, int) { return p.type(row(i)); });
