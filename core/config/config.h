@@ -94,6 +94,7 @@ struct LodConfig {
 struct CutPlane {
   std::array<double, 3> normal{0, 0, 1};  // normal: [nx, ny, nz]
   double offset = 0.0;                    // offset: plane is dot(normal, x) = offset
+  bool enabled = true;  // enabled: false keeps the plane in the list but cuts nothing (toggle)
 };
 
 struct SceneConfig {

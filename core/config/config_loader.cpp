@@ -39,7 +39,7 @@ const std::vector<std::string> kOutputKeys = {"pattern",           "format",    
                                               "compression_level", "asynchronous", "exr_color"};
 const std::vector<std::string> kCullingKeys = {"frustum", "occlusion"};
 const std::vector<std::string> kLodKeys = {"budget", "fraction", "min_pixels", "point_path"};
-const std::vector<std::string> kCutPlaneKeys = {"normal", "offset"};
+const std::vector<std::string> kCutPlaneKeys = {"normal", "offset", "enabled"};
 const std::vector<std::string> kDumpKeys = {"enabled", "file", "schedule", "fields", "precision"};
 const std::vector<std::string> kDumpFields = {"position", "type", "scalar", "radius", "id"};
 const std::vector<std::string> kColormaps = {"viridis", "plasma", "coolwarm", "grayscale"};
@@ -384,6 +384,9 @@ class Loader {
     });
     optional_key(node, path, "offset", [&](const YAML::Node &n, const std::string &p) {
       c.offset = r_.read_finite(n, p);
+    });
+    optional_key(node, path, "enabled", [&](const YAML::Node &n, const std::string &p) {
+      c.enabled = r_.read_bool(n, p);
     });
     return c;
   }
