@@ -137,6 +137,9 @@ struct Config {
   // egl_device: auto (-1: hardware devices spread over the node's ranks, else the software
   // device) or an EGL device number. The environment variable LANTERN_EGL_DEVICE wins.
   int egl_device = -1;
+  // watch: re-read the configuration file when it changes (checked on rank 0 at scheduled steps,
+  // applied on every rank at the same step; needs the configuration to come from a file).
+  bool watch = false;
 };
 
 inline constexpr int kMaxImageSize = 16384;

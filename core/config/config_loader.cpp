@@ -25,8 +25,8 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr int64_t kMaxInt = std::numeric_limits<int64_t>::max();
 
 // The keys of every section: the schema. README.md (config/) documents the same keys.
-const std::vector<std::string> kTopKeys = {"schedule", "scenes", "stats",     "verbose",
-                                           "dump",     "gl",     "egl_device"};
+const std::vector<std::string> kTopKeys = {"schedule", "scenes", "stats",      "verbose",
+                                           "dump",     "gl",     "egl_device", "watch"};
 const std::vector<std::string> kScheduleKeys = {"every", "start", "steps"};
 const std::vector<std::string> kSceneKeys = {"name",    "width",  "height",     "background",
                                              "radius",  "camera", "color",      "output",
@@ -108,6 +108,9 @@ class Loader {
     });
     optional_key(root, "", "scenes",
                  [&](const YAML::Node &n, const std::string &p) { config.scenes = scenes(n, p); });
+    optional_key(root, "", "watch", [&](const YAML::Node &n, const std::string &p) {
+      config.watch = r_.read_bool(n, p);
+    });
     if (config.scenes.empty() && !config.dump.enabled)
       r_.fail(root, "", "nothing to do: add at least one entry under 'scenes:' (or a 'dump:')");
     return config;
@@ -445,16 +448,23 @@ Status read_file(const std::string &path, std::string *text) {
 
 }  // namespace
 
-Status load_config(const std::string &path_or_document, Config *out) {
+Status read_config_text(const std::string &path_or_document, std::string *text, std::string *path) {
+  if (text == nullptr || path == nullptr)
+    return {StatusCode::kNullArgument, "read_config_text: an output pointer is null"};
+  if (is_inline_document(path_or_document)) {
+    *text = path_or_document;
+    path->clear();
+    return {};
+  }
+  if (path_or_document.empty()) return {StatusCode::kConfig, "the configuration path is empty"};
+  if (Status s = read_file(path_or_document, text); !s.ok()) return s;
+  *path = path_or_document;
+  return {};
+}
+
+Status load_config_text(const std::string &text, const std::string &source, Config *out) {
   if (out == nullptr)
     return {StatusCode::kNullArgument, "load_config: the output Config pointer is null"};
-  const bool is_inline = is_inline_document(path_or_document);
-  const std::string source = is_inline ? "inline config" : path_or_document;
-  if (!is_inline && path_or_document.empty())
-    return {StatusCode::kConfig, "the configuration path is empty"};
-  std::string text = path_or_document;
-  if (!is_inline)
-    if (Status s = read_file(path_or_document, &text); !s.ok()) return s;
   const auto invalid = [](std::string message) {
     return Status(StatusCode::kConfig, std::move(message));
   };
@@ -474,6 +484,14 @@ Status load_config(const std::string &path_or_document, Config *out) {
   } catch (...) {
     return invalid(source + ": unexpected error while loading the configuration");
   }
+}
+
+Status load_config(const std::string &path_or_document, Config *out) {
+  if (out == nullptr)
+    return {StatusCode::kNullArgument, "load_config: the output Config pointer is null"};
+  std::string text, path;
+  if (Status s = read_config_text(path_or_document, &text, &path); !s.ok()) return s;
+  return load_config_text(text, path.empty() ? "inline config" : path, out);
 }
 
 }  // namespace lantern

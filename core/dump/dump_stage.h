@@ -24,6 +24,8 @@ class DumpStage {
  public:
   explicit DumpStage(DumpConfig config) : config_(std::move(config)) {}
   bool due(int64_t step) const { return config_.enabled && config_.schedule.due(step); }
+  // A new dump.schedule from a live reconfiguration (the file and its fields stay).
+  void set_schedule(const Schedule &schedule) { config_.schedule = schedule; }
 
   // Collective. `global` is the step's extent reduced over ranks (the pipeline computes it once
   // per step). `box` is this rank's lantern_set_box() box; without one (on rank 0) the dump
