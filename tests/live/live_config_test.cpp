@@ -86,7 +86,13 @@ class LiveConfig : public ::testing::Test {
 };
 
 const std::string kCut = "    cut_planes: [{normal: [1, 0, 0], offset: 6.5}]\n";
-const std::string kCutOff = "    cut_planes: [{normal: [1, 0, 0], offset: 6.5, enabled: false}]\n";
+// A plane that stays, and a second one added, removed or toggled next to it.
+const std::string kOne = "    cut_planes: [{normal: [0, 0, 1], offset: 9.5}]\n";
+const std::string kTwo =
+    "    cut_planes: [{normal: [0, 0, 1], offset: 9.5}, {normal: [1, 0, 0], offset: 6.5}]\n";
+const std::string kTwoOff =
+    "    cut_planes: [{normal: [0, 0, 1], offset: 9.5},\n"
+    "                 {normal: [1, 0, 0], offset: 6.5, enabled: false}]\n";
 
 TEST_F(LiveConfig, ReconfigureChangesTheNextImageAndNothingEarlier) {
   open(config(""));
@@ -105,26 +111,34 @@ TEST_F(LiveConfig, ReconfigureChangesTheNextImageAndNothingEarlier) {
 }
 
 TEST_F(LiveConfig, AddingThenRemovingACuttingPlaneGivesBackTheOriginalImage) {
-  // The image of the plane drawn from scratch, by a context opened with it.
-  open(config(kCut));
+  // The image of both planes drawn from scratch, by a context opened with them.
+  open(config(kTwo));
   ASSERT_OK(rt_->execute(9, 0.0));
-  const std::vector<char> cut_from_scratch = read_bytes(png(9));
+  const std::vector<char> two_from_scratch = read_bytes(png(9));
   ASSERT_OK(rt_->finish());
 
-  open(config(""));
+  open(config(kOne));
   ASSERT_OK(rt_->execute(0, 0.0));
   const std::vector<char> original = read_bytes(png(0));
-  ASSERT_NE(original, cut_from_scratch);
-  ASSERT_OK(rt_->reconfigure(config(kCut)));  // add
+  ASSERT_NE(original, two_from_scratch);
+  ASSERT_OK(rt_->reconfigure(config(kTwo)));  // add
   ASSERT_OK(rt_->execute(0, 0.0));            // same step and particles: the bricks are cached
-  EXPECT_EQ(read_bytes(png(0)), cut_from_scratch);
-  ASSERT_OK(rt_->reconfigure(config("")));  // remove
+  EXPECT_EQ(read_bytes(png(0)), two_from_scratch);
+  ASSERT_OK(rt_->reconfigure(config(kOne)));  // remove
   ASSERT_OK(rt_->execute(0, 0.0));
   EXPECT_EQ(read_bytes(png(0)), original);
-  ASSERT_OK(rt_->reconfigure(config(kCut)));  // add again, then toggle off
+  ASSERT_OK(rt_->reconfigure(config(kTwo)));  // add again, then toggle off and on
+  ASSERT_OK(rt_->execute(0, 0.0));
+  EXPECT_EQ(read_bytes(png(0)), two_from_scratch);
+  ASSERT_OK(rt_->reconfigure(config(kTwoOff)));
+  ASSERT_OK(rt_->execute(0, 0.0));
+  EXPECT_EQ(read_bytes(png(0)), original);
+  ASSERT_OK(rt_->reconfigure(config(kTwo)));
+  ASSERT_OK(rt_->execute(0, 0.0));
+  EXPECT_EQ(read_bytes(png(0)), two_from_scratch);
+  ASSERT_OK(rt_->reconfigure(config("")));  // no plane at all: the scene as first drawn
   ASSERT_OK(rt_->execute(1, 0.0));
-  EXPECT_EQ(read_bytes(png(1)), cut_from_scratch);
-  ASSERT_OK(rt_->reconfigure(config(kCutOff)));
+  ASSERT_OK(rt_->reconfigure(config(kOne)));  // new step: bricks refit, counts start over
   ASSERT_OK(rt_->execute(2, 0.0));
   EXPECT_EQ(read_bytes(png(2)), original);
 }
@@ -171,6 +185,17 @@ TEST_F(LiveConfig, RanksPassingDifferentConfigurationsFailOnEveryRank) {
   EXPECT_EQ(rt_->configuration_changes(), 0);
   ASSERT_OK(rt_->execute(1, 0.0));
   EXPECT_EQ(read_bytes(png(1)), before);
+}
+
+TEST_F(LiveConfig, RanksOpeningWithDifferentConfigurationsFailOnEveryRank) {
+  if (world_size() < 2) GTEST_SKIP() << "needs two ranks";
+  // Were it allowed, the last rank would watch a file the others do not look at.
+  const bool odd_one = world_rank() == world_size() - 1;
+  const Status s =
+      Runtime::open(config(odd_one ? "    background: [0, 0, 0]\n" : ""), MPI_COMM_WORLD, &rt_);
+  EXPECT_EQ(s.code, StatusCode::kInvalidArgument);
+  EXPECT_NE(s.message.find("lantern_open"), std::string::npos) << s.message;
+  EXPECT_EQ(rt_, nullptr);
 }
 
 TEST_F(LiveConfig, NoOpReconfigurationIsFree) {

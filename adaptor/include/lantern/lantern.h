@@ -133,7 +133,9 @@ LANTERN_API int lantern_version_number(void);
  * handle of the communicator (MPI_Comm_c2f(comm)) or LANTERN_COMM_WORLD; Lantern duplicates it.
  * On success *out owns a new context, freed by lantern_close(). On failure *out is set to a
  * context that holds only the error message (read it with lantern_error_message(), then close
- * it), or to NULL when even that could not be allocated or `out` is NULL. Collective.
+ * it), or to NULL when even that could not be allocated or `out` is NULL. Collective: every rank
+ * must give the same configuration text (the documents, or the files' contents, are compared by
+ * hash; LANTERN_ERR_INVALID_ARGUMENT naming the first rank that differs).
  */
 LANTERN_API lantern_status lantern_open(const char *config, int mpi_comm_f, lantern_context **out);
 
