@@ -3,6 +3,7 @@
 #include <cstdio>
 #include <memory>
 #include <new>
+#include <optional>
 #include <string>
 
 #include "c_translation.h"
@@ -106,6 +107,18 @@ lantern_status lantern_execute(lantern_context *ctx, int64_t step, double time) 
     if (!ctx->runtime)
       return fail(ctx, LANTERN_ERR_INVALID_ARGUMENT, "ctx: this context failed to open");
     return report(ctx, ctx->runtime->execute(step, time));
+  });
+}
+
+lantern_status lantern_reconfigure(lantern_context *ctx, const char *config) {
+  if (!ctx) return LANTERN_ERR_NULL_ARGUMENT;
+  return guarded(ctx, "lantern_reconfigure", [&]() -> lantern_status {
+    if (!ctx->runtime)
+      return fail(ctx, LANTERN_ERR_INVALID_ARGUMENT, "ctx: this context failed to open");
+    // NULL still enters the collective (as "no text"), so ranks that passed a text are not left
+    // waiting: every rank then returns LANTERN_ERR_NULL_ARGUMENT.
+    return report(
+        ctx, ctx->runtime->reconfigure(config ? std::optional<std::string>(config) : std::nullopt));
   });
 }
 

@@ -1,6 +1,7 @@
 #include "core/bricks/brick_set.h"
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <limits>
 #include <vector>
@@ -170,8 +171,14 @@ BrickSet build_bricks(const ParticleArrays &particles, const BrickOptions &optio
   });
   t.bounds_ms = ms_since(t0);
   set.spread_at_build = set.spread();
+  set.generation = next_brick_generation();
   if (timings) *timings = t;
   return set;
+}
+
+uint64_t next_brick_generation() {
+  static std::atomic<uint64_t> last{0};
+  return ++last;
 }
 
 }  // namespace lantern

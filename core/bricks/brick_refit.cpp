@@ -103,6 +103,7 @@ void fresh_bounds(const Positions &pos, const Radii &radius, const Keep &keep, i
 
 bool refit_bricks(const ParticleArrays &particles, double max_growth, BrickSet *set,
                   const BrickOptions &options) {
+  set->generation = next_brick_generation();  // the bounds change below, whatever the outcome
   const int64_t count = particles.count();
   if (set->nonfinite != 0 || particles.has_radius() != set->has_radius ||
       count >= (int64_t(1) << 32) || count == 0)

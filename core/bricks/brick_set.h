@@ -47,11 +47,17 @@ struct BrickSet {
   bool has_radius = false;      // bricks carry max_radius from the published radius array
 
   double spread_at_build = 0.0;  // spread() when built: how tight z-order made the bricks
+  // A process-unique stamp of the build or refit that made these bounds (0: made by hand). State
+  // derived from the bounds (culling's per-brick cut counts) is valid while the stamp is the same.
+  uint64_t generation = 0;
 
   int64_t particle_count() const { return int64_t(order.size()); }
   // Sum of the bricks' bound extents (x + y + z): grows as particles drift out of their cells.
   double spread() const;
 };
+
+// A fresh BrickSet::generation, never 0 and never the same twice in a process; thread-safe.
+uint64_t next_brick_generation();
 
 // Timings of one build, milliseconds.
 struct BrickBuildTimings {
@@ -77,6 +83,7 @@ BrickSet build_bricks(const ParticleArrays &particles, const BrickOptions &optio
 // Returns false - and leaves *set unusable, to be rebuilt - when the radius array appeared or
 // went, a position is not finite, more than a tenth of the particles strayed, or the summed
 // brick extents grew beyond max_growth times those at build (bricks too loose to cull well).
+// Either way the set gets a new generation.
 bool refit_bricks(const ParticleArrays &particles, double max_growth, BrickSet *set,
                   const BrickOptions &options = {});
 }  // namespace lantern

@@ -94,6 +94,7 @@ struct LodConfig {
 struct CutPlane {
   std::array<double, 3> normal{0, 0, 1};  // normal: [nx, ny, nz]
   double offset = 0.0;                    // offset: plane is dot(normal, x) = offset
+  bool enabled = true;  // enabled: false keeps the plane in the list but cuts nothing (toggle)
 };
 
 struct SceneConfig {
@@ -146,6 +147,9 @@ struct Config {
   // device) or an EGL device number. The environment variable LANTERN_EGL_DEVICE wins.
   int egl_device = -1;
   LammpsConfig lammps;  // lammps: {...}
+  // watch: re-read the configuration file when it changes (checked on rank 0 at scheduled steps,
+  // applied on every rank at the same step; needs the configuration to come from a file).
+  bool watch = false;
 };
 
 inline constexpr int kMaxImageSize = 16384;

@@ -29,8 +29,8 @@ constexpr int64_t kMaxInt = std::numeric_limits<int64_t>::max();
 constexpr size_t kPathShown = 256;
 
 // The keys of every section: the schema. README.md (config/) documents the same keys.
-const std::vector<std::string> kTopKeys = {"schedule", "scenes", "stats",      "verbose",
-                                           "dump",     "gl",     "egl_device", "lammps"};
+const std::vector<std::string> kTopKeys = {"schedule", "scenes",     "stats",  "verbose", "dump",
+                                           "gl",       "egl_device", "lammps", "watch"};
 const std::vector<std::string> kScheduleKeys = {"every", "start", "steps"};
 const std::vector<std::string> kSceneKeys = {"name",    "width",  "height",     "background",
                                              "radius",  "camera", "color",      "output",
@@ -43,7 +43,7 @@ const std::vector<std::string> kOutputKeys = {"pattern",           "format",    
                                               "compression_level", "asynchronous", "exr_color"};
 const std::vector<std::string> kCullingKeys = {"frustum", "occlusion"};
 const std::vector<std::string> kLodKeys = {"budget", "fraction", "min_pixels", "point_path"};
-const std::vector<std::string> kCutPlaneKeys = {"normal", "offset"};
+const std::vector<std::string> kCutPlaneKeys = {"normal", "offset", "enabled"};
 const std::vector<std::string> kDumpKeys = {"enabled", "file", "schedule", "fields", "precision"};
 const std::vector<std::string> kDumpFields = {"position", "type", "scalar", "radius", "id"};
 const std::vector<std::string> kLammpsKeys = {"fix", "scalar"};
@@ -116,6 +116,9 @@ class Loader {
                  [&](const YAML::Node &n, const std::string &p) { config.scenes = scenes(n, p); });
     optional_key(root, "", "lammps",
                  [&](const YAML::Node &n, const std::string &p) { config.lammps = lammps(n, p); });
+    optional_key(root, "", "watch", [&](const YAML::Node &n, const std::string &p) {
+      config.watch = r_.read_bool(n, p);
+    });
     if (config.scenes.empty() && !config.dump.enabled)
       r_.fail(root, "", "nothing to do: add at least one entry under 'scenes:' (or a 'dump:')");
     return config;
@@ -394,6 +397,9 @@ class Loader {
     optional_key(node, path, "offset", [&](const YAML::Node &n, const std::string &p) {
       c.offset = r_.read_finite(n, p);
     });
+    optional_key(node, path, "enabled", [&](const YAML::Node &n, const std::string &p) {
+      c.enabled = r_.read_bool(n, p);
+    });
     return c;
   }
 
@@ -465,16 +471,23 @@ Status read_file(const std::string &path, std::string *text) {
 
 }  // namespace
 
-Status load_config(const std::string &path_or_document, Config *out) {
+Status read_config_text(const std::string &path_or_document, std::string *text, std::string *path) {
+  if (text == nullptr || path == nullptr)
+    return {StatusCode::kNullArgument, "read_config_text: an output pointer is null"};
+  if (is_inline_document(path_or_document)) {
+    *text = path_or_document;
+    path->clear();
+    return {};
+  }
+  if (path_or_document.empty()) return {StatusCode::kConfig, "the configuration path is empty"};
+  if (Status s = read_file(path_or_document, text); !s.ok()) return s;
+  *path = path_or_document;
+  return {};
+}
+
+Status load_config_text(const std::string &text, const std::string &source, Config *out) {
   if (out == nullptr)
     return {StatusCode::kNullArgument, "load_config: the output Config pointer is null"};
-  const bool is_inline = is_inline_document(path_or_document);
-  const std::string source = is_inline ? "inline config" : path_or_document;
-  if (!is_inline && path_or_document.empty())
-    return {StatusCode::kConfig, "the configuration path is empty"};
-  std::string text = path_or_document;
-  if (!is_inline)
-    if (Status s = read_file(path_or_document, &text); !s.ok()) return s;
   // Every message may quote the document (yaml-cpp's too): never raw bytes to a terminal.
   const auto invalid = [](const std::string &message) {
     return Status(StatusCode::kConfig, escaped_text(message));
@@ -503,6 +516,14 @@ Status load_config(const std::string &path_or_document, Config *out) {
   } catch (...) {
     return invalid(source + ": unexpected error while loading the configuration");
   }
+}
+
+Status load_config(const std::string &path_or_document, Config *out) {
+  if (out == nullptr)
+    return {StatusCode::kNullArgument, "load_config: the output Config pointer is null"};
+  std::string text, path;
+  if (Status s = read_config_text(path_or_document, &text, &path); !s.ok()) return s;
+  return load_config_text(text, path.empty() ? "inline config" : path, out);
 }
 
 }  // namespace lantern

@@ -17,4 +17,12 @@ namespace lantern {
 // `*out` untouched. `out` must not be null (kNullArgument).
 Status load_config(const std::string &path_or_document, Config *out);
 
+// The two halves of load_config, for a caller that needs the text itself (to compare it across
+// ranks or with an earlier version: live configuration). read_config_text: the document, or the
+// file's contents, into *text, and the file's path into *path ("" for an inline document);
+// kConfig when the file cannot be read. load_config_text: parses and validates `text`; `source`
+// names it in messages (a path, or "inline config").
+Status read_config_text(const std::string &path_or_document, std::string *text, std::string *path);
+Status load_config_text(const std::string &text, const std::string &source, Config *out);
+
 }  // namespace lantern

@@ -36,11 +36,14 @@ void footprint(const ViewGeometry &g, const Brick &b, double r, VisibleBrick *v)
   v->rect = g.box_rect(grown);
 }
 
-// Frustum and cutting planes, brick by brick: the survivors with their footprints.
-void classify(const BrickSet &bricks, const SceneConfig &scene, BrickSelection *sel) {
+// Frustum and cutting planes, brick by brick: the survivors with their footprints. The planes'
+// verdicts come from `cut_counts` when given (already updated), else from the planes.
+void classify(const BrickSet &bricks, const SceneConfig &scene, const BrickCutCounts *cut_counts,
+              BrickSelection *sel) {
   const ViewGeometry &g = sel->g;
   const Frustum frustum(g);
   const CutPlanes cuts(scene.cuts);
+  const bool any_cut = cut_counts ? cut_counts->any_plane() : !cuts.empty();
   CullStats &st = sel->stats;
   for (uint32_t i = 0; i < bricks.bricks.size(); ++i) {
     const Brick &b = bricks.bricks[i];
@@ -59,8 +62,8 @@ void classify(const BrickSet &bricks, const SceneConfig &scene, BrickSelection *
         continue;
       }
     }
-    if (!cuts.empty()) {
-      const CutPlanes::Side side = cuts.classify_box(b.lo, b.hi);
+    if (any_cut) {
+      const CutPlanes::Side side = cut_counts ? cut_counts->side(i) : cuts.classify_box(b.lo, b.hi);
       if (side == CutPlanes::Side::kDropped) {
         st.cut_culled += b.count;
         continue;
@@ -99,6 +102,12 @@ void resolve_occlusion(const SceneConfig &scene, BrickSelection *sel) {
 
 void select_bricks(const BrickSet &bricks, const Camera &camera, const SceneConfig &scene,
                    const RadiusRule &radius, BrickSelection *out) {
+  select_bricks(bricks, camera, scene, radius, out, nullptr);
+}
+
+void select_bricks(const BrickSet &bricks, const Camera &camera, const SceneConfig &scene,
+                   const RadiusRule &radius, BrickSelection *out, BrickCutCounts *cut_counts) {
+  if (cut_counts) cut_counts->update(bricks, scene.cuts);
   out->visible.clear();
   out->stats = CullStats();
   out->stats.candidates = bricks.particle_count();
@@ -108,7 +117,7 @@ void select_bricks(const BrickSet &bricks, const Camera &camera, const SceneConf
   if (radius.per_particle)
     for (const Brick &b : bricks.bricks) max_r = std::max(max_r, b.max_radius);
   out->g = ViewGeometry::from_camera(camera, scene_scale(bricks, camera, max_r));
-  classify(bricks, scene, out);
+  classify(bricks, scene, cut_counts, out);
 
   // Level of detail, then footprints of the bricks whose spheres grew.
   const LodConfig &lod = scene.lod;

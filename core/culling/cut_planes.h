@@ -1,6 +1,7 @@
 // Cutting planes (SceneConfig::cuts): a particle whose CENTRE has dot(n, x) > offset is dropped.
 // Bricks wholly on the dropped side are skipped; bricks wholly on the kept side need no
-// per-particle test. World space, double precision. Thread-safety: immutable value type.
+// per-particle test. Planes with `enabled: false` are left out. World space, double precision.
+// Thread-safety: immutable value type.
 #pragma once
 
 #include <vector>
@@ -16,7 +17,7 @@ class CutPlanes {
  public:
   explicit CutPlanes(const std::vector<CutPlane> &cuts) {
     for (const CutPlane &c : cuts)
-      planes_.push_back({{c.normal[0], c.normal[1], c.normal[2]}, c.offset});
+      if (c.enabled) planes_.push_back(plane_of(c));
   }
   bool empty() const { return planes_.empty(); }
 
@@ -27,25 +28,39 @@ class CutPlanes {
   }
 
   enum class Side { kDropped, kKept, kBoth };
-  // The centres' box [lo, hi].
+  struct Plane {
+    glm::dvec3 n;
+    double offset;
+  };
+  static Plane plane_of(const CutPlane &c) {
+    return {{c.normal[0], c.normal[1], c.normal[2]}, c.offset};
+  }
+
+  // One plane against the centres' box [lo, hi]. The one computation of a brick's side: the
+  // incremental counts (brick_cut_counts.h) use it too, so both agree bit for bit. Monotone in
+  // the box: a box inside [lo, hi] is dropped (kept) whenever [lo, hi] is.
+  static Side classify_box(const Plane &pl, const glm::dvec3 &lo, const glm::dvec3 &hi) {
+    // Extremes of a linear function over a box: pick each coordinate by the normal's sign.
+    const glm::dvec3 near_pt{pl.n.x >= 0 ? lo.x : hi.x, pl.n.y >= 0 ? lo.y : hi.y,
+                             pl.n.z >= 0 ? lo.z : hi.z};
+    const glm::dvec3 far_pt = lo + hi - near_pt;
+    if (glm::dot(pl.n, near_pt) > pl.offset) return Side::kDropped;
+    return glm::dot(pl.n, far_pt) > pl.offset ? Side::kBoth : Side::kKept;
+  }
+
+  // Every plane against the centres' box [lo, hi]: dropped if any plane drops it all, else
+  // kBoth if any plane passes through it.
   Side classify_box(const glm::dvec3 &lo, const glm::dvec3 &hi) const {
     bool all_kept = true;
     for (const Plane &pl : planes_) {
-      // Extremes of a linear function over a box: pick each coordinate by the normal's sign.
-      const glm::dvec3 near_pt{pl.n.x >= 0 ? lo.x : hi.x, pl.n.y >= 0 ? lo.y : hi.y,
-                               pl.n.z >= 0 ? lo.z : hi.z};
-      const glm::dvec3 far_pt = lo + hi - near_pt;
-      if (glm::dot(pl.n, near_pt) > pl.offset) return Side::kDropped;
-      if (glm::dot(pl.n, far_pt) > pl.offset) all_kept = false;
+      const Side side = classify_box(pl, lo, hi);
+      if (side == Side::kDropped) return Side::kDropped;
+      if (side == Side::kBoth) all_kept = false;
     }
     return all_kept ? Side::kKept : Side::kBoth;
   }
 
  private:
-  struct Plane {
-    glm::dvec3 n;
-    double offset;
-  };
   std::vector<Plane> planes_;
 };
 

@@ -32,6 +32,8 @@ class DumpStage {
   bool due(int64_t step) const {
     return config_.enabled && !stopped_ && config_.schedule.due(step);
   }
+  // A new dump.schedule from a live reconfiguration (the file and its fields stay).
+  void set_schedule(const Schedule &schedule) { config_.schedule = schedule; }
 
   // Collective. `global` is the step's extent reduced over ranks (the pipeline computes it once
   // per step). `box` is this rank's lantern_set_box() box; without one (on rank 0) the dump

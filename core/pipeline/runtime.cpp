@@ -3,6 +3,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <utility>
 
 #include "core/common/collective_status.h"
 #include "core/config/config_loader.h"
@@ -45,6 +46,7 @@ int node_local_rank(MPI_Comm comm) {
 }  // namespace
 
 Status Runtime::open_gl() {
+  gl_tried_ = true;
   const EglOptions egl{config_.egl_device, node_local_rank(comm_)};
   std::string passed_over;
   const Status local = GlSession::acquire(config_.gl, egl, &gl_, &passed_over);
@@ -83,9 +85,9 @@ Status Runtime::open(const std::string &config_text, MPI_Comm comm, std::unique_
   MPI_Comm_rank(rt->comm_, &rt->rank_);
   MPI_Comm_size(rt->comm_, &rt->size_);
 
-  Status local = load_config(config_text, &rt->config_);
-  if (local.ok()) local = apply_environment(&rt->config_);
+  const Status local = rt->load_first_config(config_text);
   if (Status s = agree_on_status(rt->comm_, local); !s.ok()) return s;
+  if (Status s = rt->agree_on_first_config(); !s.ok()) return s;
   if (!rt->config_.scenes.empty())
     if (Status s = rt->open_gl(); !s.ok()) return s;
   rt->buffers_.resize(rt->config_.scenes.size());
@@ -143,9 +145,14 @@ Status Runtime::set_box(const Box &box) {
 }
 
 Status Runtime::execute(int64_t step, double time) {
-  const bool dump_due = dump_ && dump_->due(step);
-  const bool render_due = config_.schedule.due(step);
+  bool dump_due = dump_ && dump_->due(step);
+  bool render_due = config_.schedule.due(step);
   if (!dump_due && !render_due) return {};
+  if (watch_.active() && follow_config_file(step)) {  // the edited file rules from this step on
+    dump_due = dump_ && dump_->due(step);
+    render_due = config_.schedule.due(step);
+    if (!dump_due && !render_due) return {};
+  }
   // One scan and one reduction per step, for the dump and every scene.
   const auto t_scan = Clock::now();
   const Extent global =
@@ -203,6 +210,7 @@ Status Runtime::write_stats(int64_t step, double time, const Extent &global, dou
         {"ms", {{"total", total_ms}}},
         {"scenes", nlohmann::json::array()}};
     for (const auto &s : scenes) line["scenes"].push_back(s.to_json());
+    if (!config_event_.empty()) line["config"] = std::exchange(config_event_, std::string());
     local = with_context("stats: ", append_json_line(config_.stats_file, line));
   }
   // Only rank 0 writes; every rank returns its outcome, so that all return the same status.

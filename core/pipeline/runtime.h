@@ -18,6 +18,7 @@
 #include "core/dump/box.h"
 #include "core/dump/dump_stage.h"
 #include "core/particles/particle_arrays.h"
+#include "core/pipeline/config_watch.h"
 #include "core/pipeline/scene_pass.h"
 #include "core/render/gl_session.h"
 
@@ -37,6 +38,12 @@ class Runtime {
   // rank. Called by lantern_close before the Runtime is destroyed.
   Status finish();
   Status set_box(const Box &box);  // local; recorded with particle dumps
+  // Replaces the configuration (lantern_reconfigure; runtime_reconfigure.cpp). Collective; every
+  // rank returns the same status, and on failure the running configuration stays. nullopt (a
+  // NULL from the C API) fails on every rank with kNullArgument.
+  Status reconfigure(const std::optional<std::string> &config);
+  // How many times a new configuration took effect since open (a no-op edit does not count).
+  int64_t configuration_changes() const { return config_changes_; }
 
   const Config &config() const { return config_; }
   MPI_Comm communicator() const { return comm_; }
@@ -47,6 +54,13 @@ class Runtime {
   // draws); collective, with the outcome agreed. Warns once on rank 0 when it falls back.
   Status open_gl();
   void warn_nonfinite_once(int64_t count, int64_t step);
+  // Live configuration (runtime_reconfigure.cpp). load_first_config: lantern_open's config into
+  // config_ (local). switch_config: collective, `text` the same on every rank. follow_config_file:
+  // collective, on scheduled steps while watching; true when a new configuration took effect.
+  Status load_first_config(const std::string &path_or_document);
+  Status agree_on_first_config();  // collective: every rank loaded the same text
+  Status switch_config(const std::string &text, const std::string &path, uint64_t hash);
+  bool follow_config_file(int64_t step);
   // Appends the step's stats line (rank 0) reporting `status`, the status execute() returns.
   // Collective when a stats file is configured: every rank gets rank 0's outcome (kIo naming the
   // file when it cannot be written).
@@ -63,6 +77,14 @@ class Runtime {
   bool warned_nonfinite_ = false;
   std::optional<Box> box_;           // lantern_set_box(); dumps use particle bounds without it
   std::unique_ptr<DumpStage> dump_;  // null unless config_.dump.enabled
+  // Live configuration: where the running configuration came from, for no-op detection and
+  // `watch: true`; what the next stats line says about a reload (rank 0).
+  std::string config_path_;   // "" for an inline document
+  uint64_t config_hash_ = 0;  // content_hash of its text
+  int64_t config_changes_ = 0;
+  bool gl_tried_ = false;  // open_gl ran (it runs once, when the first scene appears)
+  ConfigWatch watch_;
+  std::string config_event_;  // "" or the stats line's config note (reloaded / error), rank 0
 };
 
 }  // namespace lantern

@@ -107,7 +107,7 @@ Status run_scene_pass(const ScenePassInputs &in, const SceneConfig &scene, Scene
     stats->bricks_ms = build_ms;
     DrawList &draw = in.scratch->draw;
     BrickSelection &selection = in.scratch->selection;
-    select_bricks(bricks, camera, scene, radius, &selection);
+    select_bricks(bricks, camera, scene, radius, &selection, &buffers->cut_counts);
     const InstanceRecipe recipe = make_recipe(*in.particles, scene, radius, camera, in.global);
     const Rgb8 bg = to_rgb8(scene.background);
     const uint8_t background[4] = {bg[0], bg[1], bg[2], 255};

@@ -9,6 +9,7 @@
 #include "core/bricks/brick_cache.h"
 #include "core/common/status.h"
 #include "core/config/config.h"
+#include "core/culling/brick_cut_counts.h"
 #include "core/culling/brick_selection.h"
 #include "core/culling/cull_stage.h"
 #include "core/output/background_image_writer.h"
@@ -45,6 +46,7 @@ struct SceneBuffers {
   std::vector<SphereInstance> instances;
   Frame frame;
   BackgroundImageWriter writer;  // rank 0, with output.asynchronous
+  BrickCutCounts cut_counts;     // this scene's cutting planes per brick (edits are incremental)
 };
 
 // Renders `scene` and writes its image. Every rank returns the same status.

@@ -144,9 +144,33 @@ LANTERN_API int lantern_version_number(void);
  * handle of the communicator (MPI_Comm_c2f(comm)) or LANTERN_COMM_WORLD; Lantern duplicates it.
  * On success *out owns a new context, freed by lantern_close(). On failure *out is set to a
  * context that holds only the error message (read it with lantern_error_message(), then close
- * it), or to NULL when even that could not be allocated or `out` is NULL. Collective.
+ * it), or to NULL when even that could not be allocated or `out` is NULL. Collective: every rank
+ * must give the same configuration text (the documents, or the files' contents, are compared by
+ * hash; LANTERN_ERR_INVALID_ARGUMENT naming the first rank that differs).
  */
 LANTERN_API lantern_status lantern_open(const char *config, int mpi_comm_f, lantern_context **out);
+
+/*
+ * Replaces the configuration of an open context: `config` takes the same forms as lantern_open's
+ * (a YAML file path, or an inline document). The new scenes, schedule and stats apply from the
+ * next lantern_execute() on; images already written are untouched. What carries over is kept:
+ * bricks, the OpenGL session, the dump file, and each scene's buffers, asynchronous writer and
+ * per-brick cutting-plane state, matched by scene name (a scene whose cut_planes changed
+ * reclassifies only the bricks those planes touch). A text identical to the running one, from the
+ * same place, costs one hash and two small collectives: nothing is parsed or rebuilt.
+ *
+ * May not change while running (LANTERN_ERR_CONFIG naming the key): gl, egl_device, and the dump
+ * section's enabled, file, fields and precision (dump.schedule may change).
+ *
+ * On any error the running configuration stays in effect and every rank returns the same status:
+ * LANTERN_ERR_CONFIG for a file that cannot be read, malformed YAML, an unknown key or a bad
+ * value (the message names it, as for lantern_open); LANTERN_ERR_INVALID_ARGUMENT when the ranks
+ * passed different texts (compared by hash; the message names the first rank that differs).
+ * With `watch: true` in the new file, Lantern follows that file from then on (see README.md).
+ * Collective: every rank calls it, between the same two lantern_execute() calls, with the same
+ * text. Not thread-safe with other calls on the same context.
+ */
+LANTERN_API lantern_status lantern_reconfigure(lantern_context *ctx, const char *config);
 
 /* Records (borrows) this rank's particles; see lantern_particles for lifetimes. Local. A failed
  * publish leaves this rank with no particles until the next successful one. */

@@ -1,0 +1,48 @@
+#include "core/config/live_change.h"
+
+#include <string>
+
+#include "core/config/enum_names.h"
+
+namespace lantern {
+namespace {
+
+Status fixed(const std::string &key, const std::string &running, const std::string &next,
+             const std::string &why) {
+  return {StatusCode::kConfig, key + ": cannot change while running (" + why + "; running '" +
+                                   running + "', new '" + next +
+                                   "'): close the context and open a new one to change it"};
+}
+
+std::string joined(const std::vector<std::string> &words) {
+  std::string out;
+  for (const std::string &w : words) out += (out.empty() ? "" : ", ") + w;
+  return "[" + out + "]";
+}
+
+}  // namespace
+
+Status check_live_change(const Config &running, const Config &next) {
+  if (running.gl != next.gl)
+    return fixed("gl", name_of(running.gl), name_of(next.gl),
+                 "the OpenGL back end is chosen at lantern_open");
+  if (running.egl_device != next.egl_device)
+    return fixed("egl_device", std::to_string(running.egl_device), std::to_string(next.egl_device),
+                 "the EGL device is chosen at lantern_open");
+  const DumpConfig &a = running.dump, &b = next.dump;
+  const char *open_file = "the H5MD file stays open until lantern_close";
+  if (a.enabled != b.enabled)
+    return fixed("dump", a.enabled ? "on" : "off", b.enabled ? "on" : "off", open_file);
+  if (!a.enabled) return {};
+  if (a.file != b.file) return fixed("dump.file", a.file, b.file, open_file);
+  if (a.fields != b.fields)
+    return fixed("dump.fields", joined(a.fields), joined(b.fields),
+                 "the file's datasets are made at the first dump");
+  if (a.single_precision != b.single_precision)
+    return fixed("dump.precision", a.single_precision ? "float32" : "float64",
+                 b.single_precision ? "float32" : "float64",
+                 "the file's datasets are made at the first dump");
+  return {};
+}
+
+}  // namespace lantern
