@@ -163,7 +163,8 @@ Status Runtime::execute(int64_t step, double time) {
     SphereRenderer *renderer = nullptr;  // none without OpenGL: the CPU raster draws
     const Status made_current = gl_ ? gl_->renderer(&renderer) : Status();
     if (Status s = agree_on_status(comm_, made_current); !s.ok()) return s;
-    const ScenePassInputs in{comm_, renderer, &particles_, global, step, time, &scratch_};
+    ScenePassInputs in{comm_, renderer, &particles_, global, step, time, &scratch_};
+    in.per_rank_stats = !config_.stats_file.empty();  // the same configuration on every rank
     for (size_t s = 0; s < config_.scenes.size(); ++s) {
       const Status st = run_scene_pass(in, config_.scenes[s], &buffers_[s], &stats[s]);
       if (!st.ok() && first_error.ok()) first_error = st;  // later scenes still render
@@ -191,6 +192,9 @@ void Runtime::write_stats(int64_t step, double time, const Extent &global, doubl
       {"ms", {{"total", total_ms}}},
       {"scenes", nlohmann::json::array()}};
   for (const auto &s : scenes) line["scenes"].push_back(s.to_json());
+  load_summary_ = "step " + std::to_string(step) + ", " + std::to_string(size_) + " ranks:\n";
+  for (const auto &s : scenes)
+    if (s.per_rank) load_summary_ += "  " + s.per_rank_line() + "\n";
   if (Status s = append_json_line(config_.stats_file, line); !s.ok())
     std::fprintf(stderr, "lantern: warning: stats not written: %s\n", s.message.c_str());
 }

@@ -39,6 +39,9 @@ class Runtime {
   Status set_box(const Box &box);  // local; recorded with particle dumps
 
   const Config &config() const { return config_; }
+  // Rank 0, with stats on: the per-rank spread of the last rendered step, a header line and one
+  // line per scene (SceneStats::per_rank_line); "" elsewhere or before the first rendered step.
+  const std::string &load_summary() const { return load_summary_; }
   MPI_Comm communicator() const { return comm_; }
 
  private:
@@ -60,6 +63,7 @@ class Runtime {
   bool warned_nonfinite_ = false;
   std::optional<Box> box_;           // lantern_set_box(); dumps use particle bounds without it
   std::unique_ptr<DumpStage> dump_;  // null unless config_.dump.enabled
+  std::string load_summary_;         // rank 0: see load_summary()
 };
 
 }  // namespace lantern
