@@ -135,6 +135,9 @@ int run(const Options &opt, int rank, int size) {
                    static_cast<long long>(source->frames()[selected[k]].count), seconds_since(t0),
                    seconds_since(start));
   }
+  // Rank 0, when the configuration writes stats: how the last frame's work spread over the ranks.
+  if (const std::string load = lantern_load_summary(ctx.get()); !load.empty())
+    std::fprintf(stderr, "lantern-render: per-rank load, %s", load.c_str());
   return 0;
 }
 

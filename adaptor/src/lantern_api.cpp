@@ -127,6 +127,11 @@ const char *lantern_error_message(const lantern_context *ctx) {
   return ctx->error.c_str();
 }
 
+const char *lantern_load_summary(const lantern_context *ctx) {
+  if (!ctx || !ctx->runtime) return "";
+  return ctx->runtime->load_summary().c_str();
+}
+
 lantern_status lantern_close(lantern_context *ctx) {
   if (!ctx) return LANTERN_OK;
   const std::unique_ptr<lantern_context> owned(ctx);

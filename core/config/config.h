@@ -74,11 +74,20 @@ enum class RendererChoice { kAuto, kOpenGl, kCpu };
 
 enum class OcclusionMode { kAuto, kNone, kNineSpheres, kNineSpheresSorted, kHzb };
 
+// The radius the nine-spheres rule compares (a sphere is hidden only by nearer spheres that are
+// not smaller). world: the drawn radius, as seed 000 states the rule. equivalent: seed 003's
+// equivalent radius, the radius of the sphere moved towards the eye onto the near plane and
+// scaled to keep its projected size (r * near / depth in perspective, r in orthographic), so a
+// near small sphere can hide a far large one that looks smaller on screen.
+enum class NineSpheresRadius { kWorld, kEquivalent };
+
 // culling: (issue 5 fills the algorithms; the keys exist from the start)
 struct CullingConfig {
   bool frustum = true;  // frustum: true|false
   OcclusionMode occlusion =
       OcclusionMode::kAuto;  // occlusion: auto|none|nine_spheres|nine_spheres_sorted|hzb
+  NineSpheresRadius nine_spheres_radius =
+      NineSpheresRadius::kWorld;  // nine_spheres_radius: world|equivalent
 };
 
 // lod: level of detail served from z-order brick prefixes.

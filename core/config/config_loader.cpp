@@ -41,7 +41,7 @@ const std::vector<std::string> kCameraKeys = {"projection", "fov",      "azimuth
 const std::vector<std::string> kColorKeys = {"by", "solid", "palette", "colormap", "range"};
 const std::vector<std::string> kOutputKeys = {"pattern",           "format",       "jpeg_quality",
                                               "compression_level", "asynchronous", "exr_color"};
-const std::vector<std::string> kCullingKeys = {"frustum", "occlusion"};
+const std::vector<std::string> kCullingKeys = {"frustum", "occlusion", "nine_spheres_radius"};
 const std::vector<std::string> kLodKeys = {"budget", "fraction", "min_pixels", "point_path"};
 const std::vector<std::string> kCutPlaneKeys = {"normal", "offset", "enabled"};
 const std::vector<std::string> kDumpKeys = {"enabled", "file", "schedule", "fields", "precision"};
@@ -364,6 +364,9 @@ class Loader {
     });
     optional_key(node, path, "occlusion", [&](const YAML::Node &n, const std::string &p) {
       c.occlusion = read_enum<OcclusionMode>(n, p);
+    });
+    optional_key(node, path, "nine_spheres_radius", [&](const YAML::Node &n, const std::string &p) {
+      c.nine_spheres_radius = read_enum<NineSpheresRadius>(n, p);
     });
     return c;
   }

@@ -28,6 +28,9 @@ inline constexpr EnumName<OcclusionMode> kOcclusionModeNames[] = {
     {OcclusionMode::kNineSpheresSorted, "nine_spheres_sorted"},
     {OcclusionMode::kHzb, "hzb"}};
 
+inline constexpr EnumName<NineSpheresRadius> kNineSpheresRadiusNames[] = {
+    {NineSpheresRadius::kWorld, "world"}, {NineSpheresRadius::kEquivalent, "equivalent"}};
+
 inline constexpr EnumName<RendererChoice> kRendererChoiceNames[] = {
     {RendererChoice::kAuto, "auto"},
     {RendererChoice::kOpenGl, "opengl"},
@@ -51,6 +54,9 @@ inline constexpr EnumName<GlBackend> kGlBackendNames[] = {{GlBackend::kAuto, "au
 // The table of each enum, so that name_of / value_of / names_of need only the enum type.
 inline constexpr const auto &names_table(OcclusionMode) {
   return kOcclusionModeNames;
+}
+inline constexpr const auto &names_table(NineSpheresRadius) {
+  return kNineSpheresRadiusNames;
 }
 inline constexpr const auto &names_table(RendererChoice) {
   return kRendererChoiceNames;

@@ -60,6 +60,7 @@ class Culler {
   StripState strips_[2];      // hzb: one per column strip (one strip outside process_strips)
   Hzb hzb_[2];                // the strips' pyramids
   NineSpheresGrid nine_;
+  bool nine_equivalent_ = false;  // nine-spheres compares equivalent radii (seed 003), not world
   std::vector<uint64_t> scratch_;
 };
 

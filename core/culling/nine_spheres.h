@@ -11,12 +11,28 @@
 // while the GPU samples pixel centres, so the rule can drop a sphere that would have shown at a
 // few pixels; lantern-bench measures that error. (R is our addition: the paper's rule says "not
 // smaller" but stores no radius.) Thread-safety: none (one culling thread owns it).
+//
+// Which radius R and r are is the caller's choice (culling.nine_spheres_radius): the drawn
+// radius, or seed 003's equivalent radius (equivalent_radius below). With equal equivalent radii
+// the spheres project to equal circles, the setting of the paper's nine-circles covering theorem.
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 #include <vector>
 
+#include "core/view/view_geometry.h"
+
 namespace lantern {
+
+// Seed 003's equivalent radius of a sphere of radius r at view depth d: the radius of the sphere
+// moved along the line of sight onto the near plane and scaled so that its projected size stays
+// the same, r * near / d under perspective (the projected radius in pixels divided by the near
+// plane's pixels per unit); r under an orthographic projection, where depth does not scale.
+// Units: the simulation's length unit.
+inline double equivalent_radius(const ViewGeometry &g, double d, double r) {
+  return g.orthographic ? r : r * g.near_plane / std::max(d, g.near_plane);
+}
 
 class NineSpheresGrid {
  public:

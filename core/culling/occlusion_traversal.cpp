@@ -59,6 +59,10 @@ CullStats Culler::cull(const ParticleArrays &particles, const BrickSet &bricks,
   if (mode == OcclusionMode::kHzb) hzb_[0].reset(sel.g);
   if (mode == OcclusionMode::kNineSpheres || mode == OcclusionMode::kNineSpheresSorted)
     nine_.reset(sel.g.width, sel.g.height);
+  nine_equivalent_ = scene.culling.nine_spheres_radius == NineSpheresRadius::kEquivalent;
+  if (nine_equivalent_ &&
+      (mode == OcclusionMode::kNineSpheres || mode == OcclusionMode::kNineSpheresSorted))
+    st.occlusion += " (equivalent radius)";
   if (trivial(scene, sel)) {
     out->everything = true;  // nothing to cull: brute force order, no per-particle pass
     st.drawn = st.candidates;
@@ -97,7 +101,9 @@ bool Culler::occluded(OcclusionMode mode, const ViewGeometry &g, const Candidate
   }
   int x, y;
   if (!reference_pixel(g, cand.c, &x, &y)) return false;
-  return nine_.test_and_record(x, y, float(-cand.c.z), float(cand.r));
+  const double d = -cand.c.z;
+  const double r = nine_equivalent_ ? equivalent_radius(g, d, cand.r) : cand.r;
+  return nine_.test_and_record(x, y, float(d), float(r));
 }
 
 // One thread, bricks front to back: none (with per-particle work), hzb on narrow images, and

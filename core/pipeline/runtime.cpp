@@ -172,7 +172,8 @@ Status Runtime::execute(int64_t step, double time) {
     const Status made_current = gl_ ? gl_->renderer(&renderer) : Status();
     first_error = agree_on_status(comm_, made_current);
     if (!first_error.ok()) stats.clear();  // no scene was drawn
-    const ScenePassInputs in{comm_, renderer, &particles_, global, step, time, &scratch_};
+    ScenePassInputs in{comm_, renderer, &particles_, global, step, time, &scratch_};
+    in.per_rank_stats = !config_.stats_file.empty();  // the same configuration on every rank
     for (size_t s = 0; s < stats.size(); ++s) {
       const Status st = run_scene_pass(in, config_.scenes[s], &buffers_[s], &stats[s]);
       if (!st.ok() && first_error.ok()) first_error = st;  // later scenes still render
@@ -211,6 +212,9 @@ Status Runtime::write_stats(int64_t step, double time, const Extent &global, dou
         {"scenes", nlohmann::json::array()}};
     for (const auto &s : scenes) line["scenes"].push_back(s.to_json());
     if (!config_event_.empty()) line["config"] = std::exchange(config_event_, std::string());
+    load_summary_ = "step " + std::to_string(step) + ", " + std::to_string(size_) + " ranks:\n";
+    for (const auto &s : scenes)
+      if (s.per_rank) load_summary_ += "  " + s.per_rank_line() + "\n";
     local = with_context("stats: ", append_json_line(config_.stats_file, line));
   }
   // Only rank 0 writes; every rank returns its outcome, so that all return the same status.

@@ -46,6 +46,9 @@ class Runtime {
   int64_t configuration_changes() const { return config_changes_; }
 
   const Config &config() const { return config_; }
+  // Rank 0, with stats on: the per-rank spread of the last rendered step, a header line and one
+  // line per scene (SceneStats::per_rank_line); "" elsewhere or before the first rendered step.
+  const std::string &load_summary() const { return load_summary_; }
   MPI_Comm communicator() const { return comm_; }
 
  private:
@@ -85,6 +88,7 @@ class Runtime {
   bool gl_tried_ = false;  // open_gl ran (it runs once, when the first scene appears)
   ConfigWatch watch_;
   std::string config_event_;  // "" or the stats line's config note (reloaded / error), rank 0
+  std::string load_summary_;  // rank 0: see load_summary()
 };
 
 }  // namespace lantern

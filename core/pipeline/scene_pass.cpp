@@ -152,9 +152,14 @@ Status run_scene_pass(const ScenePassInputs &in, const SceneConfig &scene, Scene
       stats->draw_ms += ms_since(t0);
     }
   }
+  const double own_ms = ms_since(t_start);  // this rank's work, before waiting on the others
   if (Status s = agree_on_status(in.comm, local); !s.ok()) return s;
   sum_counts_over_ranks(in.comm, cull, stats);
   stats->culled = in.global.finite_count - stats->drawn - stats->splatted;
+  if (in.per_rank_stats)
+    stats->per_rank =
+        reduce_per_rank_stats(in.comm, 0, double(cull.drawn),
+                              double(cull.candidates - cull.drawn - cull.splatted), own_ms);
 
   CompositeStats cs;
   if (Status s = composite_frames(in.comm, buffers->frame, 0, CompositeMethod::kAuto, 0, &cs);

@@ -40,6 +40,9 @@ struct ScenePassInputs {
   int64_t step = 0;
   double time = 0.0;
   PassScratch *scratch = nullptr;
+  // Gather the per-rank spread of drawn, culled and milliseconds (SceneStats::per_rank): one
+  // small reduction per scene, run only when the stats line is written. Same on every rank.
+  bool per_rank_stats = false;
 };
 
 struct SceneBuffers {

@@ -1,8 +1,35 @@
 #include "core/pipeline/scene_stats.h"
 
+#include <cstdio>
+
 namespace lantern {
+namespace {
+
+std::string spread_text(const char *what, const RankSpread &s, const char *format) {
+  char lo[32], hi[32], line[160];
+  std::snprintf(lo, sizeof lo, format, s.min);
+  std::snprintf(hi, sizeof hi, format, s.max);
+  std::snprintf(line, sizeof line, "%s %s..%s (imbalance %.2f, max on rank %d)", what, lo, hi,
+                s.imbalance(), s.max_rank);
+  return line;
+}
+
+}  // namespace
+
+std::string SceneStats::per_rank_line() const {
+  if (!per_rank) return "";
+  return "scene '" + name + "' per rank: " + spread_text("drawn", per_rank->drawn, "%.0f") + ", " +
+         spread_text("culled", per_rank->culled, "%.0f") + ", " +
+         spread_text("ms", per_rank->ms, "%.1f");
+}
 
 nlohmann::json SceneStats::to_json() const {
+  nlohmann::json j = counts_json();
+  if (per_rank) j["per_rank"] = per_rank->to_json();
+  return j;
+}
+
+nlohmann::json SceneStats::counts_json() const {
   return {{"scene", name},
           {"file", file},
           {"ms",

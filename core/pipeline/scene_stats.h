@@ -3,9 +3,12 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
 
 #include <nlohmann/json.hpp>
+
+#include "core/pipeline/rank_spread.h"
 
 namespace lantern {
 
@@ -28,8 +31,17 @@ struct SceneStats {
   std::string renderer;   // "cpu" (CPU raster) or "opengl"
   std::string occlusion;  // occlusion mode run (and why, for auto), as rank 0 decided it
   std::string file;       // the image written
+  // How drawn, culled and the ranks' own milliseconds spread over the ranks (rank 0; with stats
+  // on): JSON "per_rank".
+  std::optional<PerRankStats> per_rank;
 
   nlohmann::json to_json() const;
+  // One line for a log: the per-rank spread, e.g. "scene 'a' per rank: drawn 10..30 (imbalance
+  // 1.50, max on rank 2), culled ..., ms ..."; "" without per-rank statistics.
+  std::string per_rank_line() const;
+
+ private:
+  nlohmann::json counts_json() const;  // everything but per_rank
 };
 
 }  // namespace lantern

@@ -24,6 +24,9 @@ class LanternBridge : public StepObserver {
   void on_publish(const Atoms &atoms) override;
   void on_step(int64_t step, double time) override;
   int failures() const { return failures_; }
+  // Lantern's per-rank load of the last rendered step (lantern_load_summary): rank 0, with stats
+  // on; "" otherwise.
+  std::string load_summary() const { return ctx_ ? lantern_load_summary(ctx_) : ""; }
 
  private:
   void report(const char *call, lantern_status status);

@@ -55,6 +55,8 @@ int run_simulation(const CommandLine &cl, MPI_Comm comm, int rank, int size) {
     print_perf(sim.natoms(), size, cl.run.steps,
                {c.loop_seconds, c.force_seconds, c.neighbor_seconds, c.comm_seconds,
                 c.insitu_seconds, c.other_seconds()});
+    if (const std::string load = bridge ? bridge->load_summary() : ""; !load.empty())
+      std::printf("mini_md: Lantern's per-rank load, %s", load.c_str());
   }
   return 0;
 }

@@ -48,6 +48,7 @@ TEST(ConfigDefaults, MinimalSceneGetsEveryDefault) {
   EXPECT_TRUE(s.output.exr_half);
   EXPECT_TRUE(s.culling.frustum);
   EXPECT_EQ(s.culling.occlusion, OcclusionMode::kAuto);
+  EXPECT_EQ(s.culling.nine_spheres_radius, NineSpheresRadius::kWorld);  // images unchanged
   EXPECT_EQ(s.lod.budget, 0);
   EXPECT_EQ(s.lod.fraction, 1.0);
   EXPECT_TRUE(s.cuts.empty());
@@ -92,7 +93,7 @@ scenes:
       colormap: coolwarm
       range: [-1, 2]
     output: {pattern: "img/{scene}_{step:04d}.exr", jpeg_quality: 50, exr_color: float}
-    culling: {frustum: false, occlusion: nine_spheres_sorted}
+    culling: {frustum: false, occlusion: nine_spheres_sorted, nine_spheres_radius: equivalent}
     lod: {budget: 1000, fraction: 0.25, min_pixels: 1.5, point_path: yes}
     cut_planes:
       - {normal: [1, 0, 0], offset: 2}
@@ -138,6 +139,7 @@ scenes:
   EXPECT_FALSE(s.output.exr_half);
   EXPECT_FALSE(s.culling.frustum);
   EXPECT_EQ(s.culling.occlusion, OcclusionMode::kNineSpheresSorted);
+  EXPECT_EQ(s.culling.nine_spheres_radius, NineSpheresRadius::kEquivalent);
   EXPECT_EQ(s.lod.budget, 1000);
   EXPECT_EQ(s.lod.fraction, 0.25);
   EXPECT_EQ(s.lod.min_pixels, 1.5);

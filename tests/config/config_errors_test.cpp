@@ -171,6 +171,9 @@ TEST(ConfigErrors, CullingAndLod) {
   expect_error("scenes:\n  - culling: {occlusion: nine_sphere}\n",
                {"scenes[0].culling.occlusion", "auto, none, nine_spheres, nine_spheres_sorted, hzb",
                 "did you mean 'nine_spheres'?"});
+  expect_error(
+      "scenes:\n  - culling: {nine_spheres_radius: equivalnt}\n",
+      {"scenes[0].culling.nine_spheres_radius", "world, equivalent", "did you mean 'equivalent'?"});
   expect_error("scenes:\n  - culling: {frustum: maybe}\n",
                {"scenes[0].culling.frustum", "true or false"});
   expect_error("scenes:\n  - lod: {fraction: 0}\n", {"scenes[0].lod.fraction", "(0, 1]"});

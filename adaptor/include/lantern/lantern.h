@@ -201,6 +201,18 @@ LANTERN_API lantern_status lantern_execute(lantern_context *ctx, int64_t step, d
 LANTERN_API const char *lantern_error_message(const lantern_context *ctx);
 
 /*
+ * How the last rendered step's work spread over the ranks, for a log at the end of a run: a
+ * header line ("step N, R ranks:") and one line per scene with the particles drawn and culled
+ * and the milliseconds of each rank's own work (before compositing) as min..max per rank, the
+ * imbalance (max over mean) and the rank holding the max. The same numbers are in the stats
+ * line's "per_rank" object. Needs `stats:` in the configuration (the small reduction behind it
+ * runs only then). On rank 0 of the context's communicator; "" on other ranks, before the first
+ * rendered step, without stats, or for a NULL context. Owned by the context; valid until the
+ * next lantern_execute() or lantern_close(). Local: no communication.
+ */
+LANTERN_API const char *lantern_load_summary(const lantern_context *ctx);
+
+/*
  * The name and a one-line English description of a status, such as
  * "LANTERN_ERR_IO: a file could not be read or written", for logs. A value that is not a
  * lantern_status gives "unknown lantern_status"; never NULL. The string is static: never free

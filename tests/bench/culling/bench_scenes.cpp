@@ -1,6 +1,7 @@
 #include "bench_scenes.h"
 
 #include <cmath>
+#include <random>
 
 #ifdef LANTERN_BENCH_HAS_MINI_MD
 #include <mpi.h>
@@ -42,6 +43,7 @@ ParticleArrays BenchScene::arrays() const {
   p.count = int64_t(type.size());
   p.position = {xyz.data(), DataType::kFloat64, 0};
   p.type = {type.data(), DataType::kInt32, 0};
+  if (!radius.empty()) p.radius = {radius.data(), DataType::kFloat64, 0};
   ParticleArrays a;
   ParticleArrays::validate(p, &a);
   return a;
@@ -111,6 +113,26 @@ bool mini_md_scene(const std::string &kind, int cells, int size, BenchScene *out
   *why = "mini_md is not built (LANTERN_BUILD_MINI_MD=OFF)";
   return false;
 #endif
+}
+
+bool assign_radii(const std::string &mix, BenchScene *s) {
+  const double r = s->config.radius;
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  if (mix == "uniform") {
+    s->radius.resize(s->type.size());
+    for (double &v : s->radius) v = r * (0.3 + 0.9 * u(rng));
+    s->note += ", radii uniform in [0.3, 1.2] r";
+  } else if (mix == "bimodal") {
+    s->radius.resize(s->type.size());
+    for (double &v : s->radius) v = r * (u(rng) < 0.5 ? 0.5 : 1.2);
+    s->note += ", radii bimodal: half 0.5 r, half 1.2 r";
+  } else {
+    return false;
+  }
+  s->name += "_" + mix;
+  s->config.per_particle_radius = true;
+  return true;
 }
 
 }  // namespace lantern::bench

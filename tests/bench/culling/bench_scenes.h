@@ -16,7 +16,8 @@ struct BenchScene {
   std::string note;         // one line: what it is
   std::vector<double> xyz;  // interleaved positions, owned here (the "simulation's" arrays)
   std::vector<int32_t> type;
-  SceneConfig config;  // size, radius, camera, colors, cuts
+  std::vector<double> radius;  // per-particle radii (config.per_particle_radius); empty: none
+  SceneConfig config;          // size, radius, camera, colors, cuts
 
   ParticleArrays arrays() const;
 };
@@ -28,5 +29,10 @@ BenchScene fcc_outside(int n, int size);
 BenchScene fcc_inside(int n, int size);
 // mini_md's scenes at `cells` (false if mini_md is not built; *why says so).
 bool mini_md_scene(const std::string &kind, int cells, int size, BenchScene *out, std::string *why);
+
+// Gives every particle of `s` its own radius, a multiple of the scene's radius r (fixed seed):
+// "uniform": uniform in [0.3, 1.2] r; "bimodal": half 0.5 r, half 1.2 r, mixed at random. False
+// (and `s` unchanged) for any other name.
+bool assign_radii(const std::string &mix, BenchScene *s);
 
 }  // namespace lantern::bench

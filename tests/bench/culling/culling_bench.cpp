@@ -2,6 +2,13 @@
 //
 //   lantern-bench [--scenes fcc1m,fcc10m,inside,void_impact,droplet] [--size 1024] [--runs 5]
 //                 [--md-cells 64] [--out DIR] [--images] [--modes hzb,cpu_raster+hzb]
+//                 [--azimuths K]
+//
+// A scene name may end in :uniform or :bimodal to give the particles mixed radii (assign_radii
+// in bench_scenes.h), e.g. --scenes fcc1m:uniform,inside:bimodal. --azimuths K renders every
+// scene from K azimuths evenly spaced about its vertical axis (same elevation and distance; seed
+// 003's viewpoint-stability experiment, its Fig. 7) and ends each scene with min / median / max
+// over the views of every mode's time and culled share.
 //
 // Per scene: the bricks are built once (as once per step in Lantern) and timed apart; then every
 // mode runs `runs` times, modes interleaved run by run so that the machine's noise hits all of
@@ -10,6 +17,7 @@
 #include <mpi.h>
 
 #include <algorithm>
+#include <array>
 #include <cerrno>
 #include <chrono>
 #include <cmath>
@@ -23,10 +31,12 @@
 #include <vector>
 
 #include <OpenImageIO/imagebuf.h>
+#include <glm/geometric.hpp>
 
 #include "bench_scenes.h"
 #include "core/bricks/brick_set.h"
 #include "core/camera/camera.h"
+#include "core/config/enum_names.h"
 #include "core/culling/cull_stage.h"
 #include "core/culling/cut_planes.h"
 #include "core/particles/particle_scan.h"
@@ -61,6 +71,7 @@ struct Options {
   std::string out = ".";
   bool images = false;
   std::vector<std::string> modes;  // --modes a,b: only these (brute_force always runs: reference)
+  int azimuths = 1;                // --azimuths K: views per scene, evenly spaced about its up axis
 };
 
 struct Mode {
@@ -70,6 +81,7 @@ struct Mode {
   bool frustum = true;
   LodConfig lod;
   bool cpu = false;  // drawn by the CPU raster (renderer: cpu) instead of OpenGL
+  NineSpheresRadius nine_radius = NineSpheresRadius::kWorld;  // culling.nine_spheres_radius
 };
 
 std::vector<Mode> modes() {
@@ -78,6 +90,12 @@ std::vector<Mode> modes() {
   m.push_back({"frustum", false, OcclusionMode::kNone, true, {}});
   m.push_back({"nine_spheres", false, OcclusionMode::kNineSpheres, true, {}});
   m.push_back({"nine_spheres_sorted", false, OcclusionMode::kNineSpheresSorted, true, {}});
+  for (const OcclusionMode nine :
+       {OcclusionMode::kNineSpheres, OcclusionMode::kNineSpheresSorted}) {
+    Mode eq{std::string(name_of(nine)) + "+equivalent", false, nine, true, {}};
+    eq.nine_radius = NineSpheresRadius::kEquivalent;  // seed 003's equivalent radius
+    m.push_back(eq);
+  }
   m.push_back({"hzb", false, OcclusionMode::kHzb, true, {}});
   m.push_back({"auto", false, OcclusionMode::kAuto, true, {}});
   m.push_back({"cpu_raster", false, OcclusionMode::kNone, true, {}, true});
@@ -106,6 +124,27 @@ double median(std::vector<double> v) {
   return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
+// `camera` turned by `degrees` about the vertical axis through what it looks at: the automatic
+// camera through its azimuth (its distance does not depend on it), an explicit one by rotating
+// its position about the up vector through look_at.
+CameraConfig turned_about_up(const CameraConfig &camera, double degrees) {
+  CameraConfig c = camera;
+  if (!c.position) {
+    c.azimuth += degrees;
+    return c;
+  }
+  const glm::dvec3 target{c.look_at[0], c.look_at[1], c.look_at[2]};
+  const glm::dvec3 axis = glm::normalize(glm::dvec3{c.up[0], c.up[1], c.up[2]});
+  const glm::dvec3 v = glm::dvec3{(*c.position)[0], (*c.position)[1], (*c.position)[2]} - target;
+  const double a = degrees * M_PI / 180.0;
+  // Rodrigues' rotation of v about the unit axis.
+  const glm::dvec3 turned = v * std::cos(a) + glm::cross(axis, v) * std::sin(a) +
+                            axis * glm::dot(axis, v) * (1.0 - std::cos(a));
+  const glm::dvec3 eye = target + turned;
+  c.position = std::array<double, 3>{eye.x, eye.y, eye.z};
+  return c;
+}
+
 struct Result {
   std::vector<double> total, cull, cull_cpu, render;
   CullStats stats;
@@ -121,15 +160,8 @@ class Bench {
   // Runs every mode on one scene; appends CSV rows and plot points.
   void run_scene(const BenchScene &bs, std::ostream &csv, std::vector<PlotPoint> *plot) {
     const ParticleArrays p = bs.arrays();
-    const Extent ext = scan_particles(p, false, bs.config.radius);
-    Camera cam;
-    const glm::dvec3 lo{ext.lo[0], ext.lo[1], ext.lo[2]}, hi{ext.hi[0], ext.hi[1], ext.hi[2]};
-    if (Status s = make_camera(bs.config.camera, lo, hi, bs.config.radius, bs.config.width,
-                               bs.config.height, &cam);
-        !s.ok()) {
-      std::printf("%s: camera: %s\n", bs.name.c_str(), s.message.c_str());
-      return;
-    }
+    const Extent ext = scan_particles(p, bs.config.per_particle_radius, bs.config.radius);
+    const double max_radius = RadiusRule::of(bs.config, p).max_radius(ext);
     // Bricks: once per step in Lantern; timed apart (median of 3 builds).
     std::vector<double> build;
     BrickSet bricks;
@@ -148,7 +180,6 @@ class Bench {
         "shared by all scenes, not in the times below\n",
         bricks.bricks.size(), median(build), bt.keys_ms, bt.sort_ms, bt.split_ms, bt.layout_ms,
         bt.bounds_ms);
-    const InstanceRecipe recipe = make_recipe(p, bs.config, RadiusRule::of(bs.config, p), cam, ext);
     std::vector<Mode> all = modes();
     if (!opt_.modes.empty())
       all.erase(std::remove_if(all.begin() + 1, all.end(),
@@ -157,11 +188,35 @@ class Bench {
                                         opt_.modes.end();
                                }),
                 all.end());
-    std::vector<Result> results(all.size());
-    for (int run = 0; run < opt_.runs; ++run)
-      for (size_t m = 0; m < all.size(); ++m)
-        frame(bs, p, bricks, cam, recipe, all[m], run == 0, &results[m]);
-    print_and_record(bs, all, &results, csv, plot);
+    const int views = std::max(1, opt_.azimuths);
+    std::vector<std::vector<Result>> per_view(size_t(views), std::vector<Result>(all.size()));
+    for (int k = 0; k < views; ++k) {
+      BenchScene view;  // the scene's settings seen from azimuth k; particles stay in bs
+      view.name = bs.name;
+      view.config = bs.config;
+      if (views > 1) {
+        const double turn = 360.0 * k / views;
+        view.config.camera = turned_about_up(bs.config.camera, turn);
+        view.name += "@az+" + std::to_string(int(std::lround(turn)));
+        std::printf("   -- view %d of %d: azimuth +%.1f degrees\n", k + 1, views, turn);
+      }
+      Camera cam;
+      const glm::dvec3 lo{ext.lo[0], ext.lo[1], ext.lo[2]}, hi{ext.hi[0], ext.hi[1], ext.hi[2]};
+      if (Status s = make_camera(view.config.camera, lo, hi, max_radius, view.config.width,
+                                 view.config.height, &cam);
+          !s.ok()) {
+        std::printf("%s: camera: %s\n", view.name.c_str(), s.message.c_str());
+        return;
+      }
+      const InstanceRecipe recipe =
+          make_recipe(p, view.config, RadiusRule::of(view.config, p), cam, ext);
+      std::vector<Result> &results = per_view[size_t(k)];
+      for (int run = 0; run < opt_.runs; ++run)
+        for (size_t m = 0; m < all.size(); ++m)
+          frame(view, p, bricks, cam, recipe, all[m], run == 0, &results[m]);
+      print_and_record(view, int64_t(bs.type.size()), all, &results, csv, plot);
+    }
+    if (views > 1) print_stability(all, per_view, int64_t(bs.type.size()));
   }
 
   // False if an image of --images could not be written (each failure was printed).
@@ -174,6 +229,7 @@ class Bench {
     SceneConfig sc = bs.config;
     sc.culling.occlusion = mode.occlusion;
     sc.culling.frustum = mode.frustum;
+    sc.culling.nine_spheres_radius = mode.nine_radius;
     sc.lod = mode.lod;
     sc.renderer = mode.cpu ? RendererChoice::kCpu : RendererChoice::kOpenGl;
     Frame &f = keep ? r->frame : scratch_frame_;
@@ -240,21 +296,53 @@ class Bench {
     }
   }
 
-  void print_and_record(const BenchScene &bs, const std::vector<Mode> &all,
+  // Seed 003's Fig. 7: per mode, min / median / max over the views of the frame time and the
+  // culled share, and the worst error of any view.
+  static void print_stability(const std::vector<Mode> &all,
+                              const std::vector<std::vector<Result>> &per_view, int64_t n) {
+    std::printf(
+        "   viewpoint stability over %zu azimuths (ms per frame and culled %%: min / "
+        "median / max over the views; worst view's error)\n",
+        per_view.size());
+    std::printf("   %-30s %26s %26s %10s %8s\n", "mode", "ms/frame min/med/max",
+                "culled % min/med/max", "max diff", "min PSNR");
+    for (size_t m = 0; m < all.size(); ++m) {
+      std::vector<double> ms, culled;
+      int64_t worst_diff = 0;
+      double worst_psnr = INFINITY;
+      for (const std::vector<Result> &view : per_view) {
+        const Result &r = view[m];
+        ms.push_back(median(r.total));
+        culled.push_back(culled_percent(r, n));
+        worst_diff = std::max(worst_diff, r.error.differing_pixels);
+        worst_psnr = std::min(worst_psnr, r.error.psnr);
+      }
+      const auto [ms_lo, ms_hi] = std::minmax_element(ms.begin(), ms.end());
+      const auto [c_lo, c_hi] = std::minmax_element(culled.begin(), culled.end());
+      std::printf("   %-30s %8.1f %8.1f %8.1f %7.1f%% %7.1f%% %7.1f%% %10lld %8.2f\n",
+                  all[m].name.c_str(), *ms_lo, median(ms), *ms_hi, *c_lo, median(culled), *c_hi,
+                  static_cast<long long>(worst_diff), worst_psnr);
+    }
+  }
+
+  static double culled_percent(const Result &r, int64_t n) {
+    return 100.0 * double(n - r.drawn - r.splatted) / double(std::max<int64_t>(n, 1));
+  }
+
+  // `bs` names the view (bs.config its settings); n: the scene's particle count.
+  void print_and_record(const BenchScene &bs, int64_t n, const std::vector<Mode> &all,
                         std::vector<Result> *results, std::ostream &csv,
                         std::vector<PlotPoint> *plot) {
     const Result &brute = (*results)[0];
     const double brute_ms = median(brute.total);
-    const int64_t n = int64_t(bs.type.size());
-    std::printf("   %-20s %9s %8s %8s %9s %10s %8s %10s %8s %7s %8s  %s\n", "mode", "ms/frame",
+    std::printf("   %-30s %9s %8s %8s %9s %10s %8s %10s %8s %7s %8s  %s\n", "mode", "ms/frame",
                 "cull ms", "cull cpu", "render ms", "drawn", "culled", "diff px", "PSNR dB", "SSIM",
                 "speed-up", "occlusion");
     for (size_t m = 0; m < all.size(); ++m) {
       Result &r = (*results)[m];
       r.error = m == 0 ? ImageError{0, 0, INFINITY, 1.0} : compare_frames(brute.frame, r.frame);
       const double ms = median(r.total);
-      const double culled =
-          100.0 * double(n - r.drawn - r.splatted) / double(std::max<int64_t>(n, 1));
+      const double culled = culled_percent(r, n);
       char psnr[32];
       if (std::isinf(r.error.psnr))
         std::snprintf(psnr, sizeof psnr, "inf");
@@ -263,7 +351,7 @@ class Bench {
       const std::string occ = all[m].brute ? "-" : r.stats.occlusion;
       std::string drawn = std::to_string(r.drawn);
       if (r.splatted) drawn += "+" + std::to_string(r.splatted) + "pt";
-      std::printf("   %-20s %9.1f %8.1f %8.1f %9.1f %10s %7.1f%% %10lld %8s %7.4f %7.1fx  %s\n",
+      std::printf("   %-30s %9.1f %8.1f %8.1f %9.1f %10s %7.1f%% %10lld %8s %7.4f %7.1fx  %s\n",
                   all[m].name.c_str(), ms, median(r.cull), median(r.cull_cpu), median(r.render),
                   drawn.c_str(), culled, static_cast<long long>(r.error.differing_pixels), psnr,
                   r.error.ssim, brute_ms / ms, occ.c_str());
@@ -273,7 +361,8 @@ class Bench {
           << ',' << psnr << ',' << r.error.ssim << ',' << brute_ms / ms << ",\"" << occ << "\"\n";
       plot->push_back({bs.name, all[m].name, ms, r.error.psnr});
       if (opt_.images && (m == 0 || all[m].name == "hzb" || all[m].name == "nine_spheres" ||
-                          all[m].name == "lod_25%" || all[m].name == "auto+point_path"))
+                          all[m].name == "nine_spheres+equivalent" || all[m].name == "lod_25%" ||
+                          all[m].name == "auto+point_path"))
         write_png(opt_.out + "/" + bs.name + "_" + all[m].name + ".png", r.frame);
     }
   }
@@ -321,11 +410,14 @@ bool parse(int argc, char **argv, Options *o) {
     } else if (a == "--modes") {
       std::stringstream ss(value());
       for (std::string s; std::getline(ss, s, ',');) o->modes.push_back(s);
+    } else if (a == "--azimuths") {
+      o->azimuths = std::max(1, std::stoi(value()));
     } else {
       std::fprintf(stderr,
                    "usage: lantern-bench [--scenes fcc1m,fcc10m,inside,void_impact,droplet] "
                    "[--size 1024] [--runs 5] [--md-cells 64] [--out DIR] [--images] "
-                   "[--modes hzb,cpu_raster+hzb,...]\n");
+                   "[--modes hzb,cpu_raster+hzb,...] [--azimuths K]\n"
+                   "  a scene name may end in :uniform or :bimodal (mixed radii)\n");
       return false;
     }
   }
@@ -365,9 +457,12 @@ int run(int argc, char **argv) {
          "differing_pixels,differing_depth,psnr_db,ssim,speedup,occlusion\n";
   std::vector<PlotPoint> plot;
   Bench bench(renderer, opt);
-  for (const std::string &name : opt.scenes) {
+  for (const std::string &requested : opt.scenes) {
     BenchScene s;
     std::string why;
+    const size_t colon = requested.find(':');  // name:uniform / name:bimodal: mixed radii
+    const std::string name = requested.substr(0, colon);
+    const std::string radii = colon == std::string::npos ? "" : requested.substr(colon + 1);
     if (name == "fcc1m") {
       s = fcc_outside(63, opt.size);
     } else if (name == "fcc10m") {
@@ -383,6 +478,11 @@ int run(int argc, char **argv) {
       }
     } else {
       std::printf("\n== %s: unknown scene\n", name.c_str());
+      continue;
+    }
+    if (!radii.empty() && !assign_radii(radii, &s)) {
+      std::printf("\n== %s: unknown radius mix '%s' (uniform or bimodal)\n", name.c_str(),
+                  radii.c_str());
       continue;
     }
     bench.run_scene(s, csv, &plot);
