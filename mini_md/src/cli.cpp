@@ -1,6 +1,9 @@
 #include "cli.h"
 
+#include <cerrno>
+#include <cmath>
 #include <cstdlib>
+#include <limits>
 #include <sstream>
 
 #include "md_error.h"
@@ -9,18 +12,42 @@ namespace mini_md {
 
 namespace {
 
-double to_double(const std::string &opt, const std::string &text) {
+// A value outside the option's range, or not a number at all: the message names the option, the
+// text given and the range, so every numeric option fails the same way.
+[[noreturn]] void reject(const NumericOption &o, const std::string &text) {
+  throw MdError(o.name + " must be " + (o.integer() ? "an integer" : "a number") + " in " +
+                range_text(o) + ", got '" + text + "'");
+}
+
+int64_t parse_integer(const NumericOption &o, const std::string &text) {
   char *end = nullptr;
-  const double value = std::strtod(text.c_str(), &end);
-  if (text.empty() || *end != '\0') throw MdError(opt + " expects a number, got '" + text + "'");
+  errno = 0;
+  const long long value = std::strtoll(text.c_str(), &end, 10);
+  if (text.empty() || *end != '\0' || errno == ERANGE) reject(o, text);
+  // Compared as integers: as doubles, 1e18 + 1 would pass a limit of 1e18. Integer limits in the
+  // table are exact in a double.
+  if (value < static_cast<long long>(o.min) || value > static_cast<long long>(o.max)) {
+    reject(o, text);
+  }
   return value;
 }
 
-long long to_int(const std::string &opt, const std::string &text) {
+double parse_real(const NumericOption &o, const std::string &text) {
   char *end = nullptr;
-  const long long value = std::strtoll(text.c_str(), &end, 10);
-  if (text.empty() || *end != '\0') throw MdError(opt + " expects an integer, got '" + text + "'");
+  const double value = std::strtod(text.c_str(), &end);
+  if (text.empty() || *end != '\0') reject(o, text);
+  // Written so that NaN fails every comparison and lands in reject(); inf is never allowed.
+  const bool above_min = o.min_exclusive ? value > o.min : value >= o.min;
+  const bool below_max = std::isinf(o.max) ? std::isfinite(value) : value <= o.max;
+  if (!(above_min && below_max)) reject(o, text);
   return value;
+}
+
+const NumericOption *find_numeric(const std::string &name) {
+  for (const NumericOption &o : numeric_options()) {
+    if (o.name == name) return &o;
+  }
+  return nullptr;
 }
 
 bool to_bool(const std::string &opt, const std::string &text) {
@@ -37,7 +64,63 @@ SceneKind to_scene(const std::string &text) {
   throw MdError("--scene must be lattice, void_impact, droplet or random, got '" + text + "'");
 }
 
+std::string number_text(double v) {
+  if (std::isinf(v)) return "inf";
+  std::ostringstream s;
+  s << v;
+  return s.str();
+}
+
 }  // namespace
+
+const std::vector<NumericOption> &numeric_options() {
+  constexpr double kAnyFinite = std::numeric_limits<double>::infinity();
+  // Ranges: what the physics or the program can mean, in LJ units. Upper limits sit orders of
+  // magnitude beyond any useful run and exist to catch typos and overflow (an int option never
+  // wraps), not to police experiments.
+  static const std::vector<NumericOption> table = {
+      // 4 * 10000^3 = 4e12 atoms is beyond any machine; keeps 4 N^3 far from int64 overflow.
+      {"--cells", 1, false, 1e4,
+       [](CommandLine &c, int64_t v) { c.run.cells = static_cast<int>(v); }},
+      {"--steps", 0, false, 1e15, [](CommandLine &c, int64_t v) { c.run.steps = v; }},
+      // The stable LJ step is ~0.005; 1 is already 200 times that.
+      {"--dt", 0, true, 1, nullptr, [](CommandLine &c, double v) { c.run.dt = v; }},
+      // T = 1e4 is ~1e4 times the LJ melting temperature.
+      {"--temp", 0, false, 1e4, nullptr, [](CommandLine &c, double v) { c.run.temperature = v; }},
+      // Density 10 puts neighbours at 0.5 sigma (pair energy ~1e4); 0 has no lattice.
+      {"--density", 0, true, 10, nullptr, [](CommandLine &c, double v) { c.run.density = v; }},
+      {"--seed", 0, false, 1e18,
+       [](CommandLine &c, int64_t v) { c.run.seed = static_cast<uint64_t>(v); }},
+      {"--cutoff", 0, true, 100, nullptr, [](CommandLine &c, double v) { c.run.cutoff = v; }},
+      {"--skin", 0, false, 100, nullptr, [](CommandLine &c, double v) { c.run.skin = v; }},
+      {"--neigh-every", 1, false, 1e9,
+       [](CommandLine &c, int64_t v) { c.run.neigh_every = static_cast<int>(v); }},
+      {"--sort-every", 0, false, 1e9,
+       [](CommandLine &c, int64_t v) { c.run.sort_every = static_cast<int>(v); }},
+      {"--thermo", 0, false, 1e15, [](CommandLine &c, int64_t v) { c.run.thermo_every = v; }},
+      // Speed 1000 is ~100 times the LJ sound speed; negative would fly away from the target.
+      {"--impact-speed", 0, false, 1e3, nullptr,
+       [](CommandLine &c, double v) { c.run.impact_speed = v; }},
+      {"--relax-steps", 0, false, 1e9,
+       [](CommandLine &c, int64_t v) { c.run.relax_steps = static_cast<int>(v); }},
+      {"--relax-fmax", 0, true, kAnyFinite, nullptr,
+       [](CommandLine &c, double v) { c.run.relax_fmax = v; }},
+      {"--langevin", 0, false, 1e4, nullptr,
+       [](CommandLine &c, double v) { c.run.langevin_temp = v; }},
+      {"--langevin-damp", 0, true, kAnyFinite, nullptr,
+       [](CommandLine &c, double v) { c.run.langevin_damp = v; }},
+      // Any finite limit: a huge one switches the check off (the runaway warning stays).
+      {"--blowup-energy", 0, true, kAnyFinite, nullptr,
+       [](CommandLine &c, double v) { c.run.blowup_energy = v; }},
+      {"--sweep-time", 0, true, 1e6, nullptr, [](CommandLine &c, double v) { c.sweep_time = v; }},
+  };
+  return table;
+}
+
+std::string range_text(const NumericOption &o) {
+  return (o.min_exclusive ? "(" : "[") + number_text(o.min) + ", " + number_text(o.max) +
+         (std::isinf(o.max) ? ")" : "]");
+}
 
 std::string usage_text() {
   return R"(usage: mini_md [options]
@@ -80,68 +163,38 @@ CommandLine parse_command_line(int argc, const char *const *argv) {
       if (k + 1 >= argc) throw MdError(opt + " needs a value");
       return argv[++k];
     };
+    if (const NumericOption *numeric = find_numeric(opt)) {
+      const std::string text = value();
+      if (numeric->integer()) {
+        numeric->store_integer(cl, parse_integer(*numeric, text));
+      } else {
+        numeric->store_real(cl, parse_real(*numeric, text));
+      }
+      continue;
+    }
     if (opt == "--help" || opt == "-h")
       cl.help = true;
     else if (opt == "--scene")
       r.scene = to_scene(value());
-    else if (opt == "--cells")
-      r.cells = static_cast<int>(to_int(opt, value()));
-    else if (opt == "--steps")
-      r.steps = to_int(opt, value());
-    else if (opt == "--dt")
-      r.dt = to_double(opt, value());
-    else if (opt == "--temp")
-      r.temperature = to_double(opt, value());
-    else if (opt == "--density")
-      r.density = to_double(opt, value());
-    else if (opt == "--seed")
-      r.seed = static_cast<uint64_t>(to_int(opt, value()));
-    else if (opt == "--cutoff")
-      r.cutoff = to_double(opt, value());
     else if (opt == "--shift")
       r.shift_energy = to_bool(opt, value());
-    else if (opt == "--skin")
-      r.skin = to_double(opt, value());
-    else if (opt == "--neigh-every")
-      r.neigh_every = static_cast<int>(to_int(opt, value()));
     else if (opt == "--neigh-check")
       r.neigh_check = to_bool(opt, value());
-    else if (opt == "--sort-every")
-      r.sort_every = static_cast<int>(to_int(opt, value()));
-    else if (opt == "--thermo")
-      r.thermo_every = to_int(opt, value());
     else if (opt == "--boundary")
       r.boundary = value();
-    else if (opt == "--impact-speed")
-      r.impact_speed = to_double(opt, value());
     else if (opt == "--random-start")
       r.random_start = true;
     else if (opt == "--relax")
       r.relax = true;
-    else if (opt == "--relax-steps")
-      r.relax_steps = static_cast<int>(to_int(opt, value()));
-    else if (opt == "--relax-fmax")
-      r.relax_fmax = to_double(opt, value());
-    else if (opt == "--langevin")
-      r.langevin_temp = to_double(opt, value());
-    else if (opt == "--langevin-damp")
-      r.langevin_damp = to_double(opt, value());
-    else if (opt == "--blowup-energy")
-      r.blowup_energy = to_double(opt, value());
     else if (opt == "--render")
       r.render_config = value();
     else if (opt == "--dt-sweep")
       cl.dt_sweep = true;
-    else if (opt == "--sweep-time")
-      cl.sweep_time = to_double(opt, value());
     else if (opt == "--csv")
       cl.csv_path = value();
     else
       throw MdError("unknown option '" + opt + "' (see --help)");
   }
-  if (r.steps < 0) throw MdError("--steps must be >= 0");
-  if (r.thermo_every < 0) throw MdError("--thermo must be >= 0");
-  if (r.langevin_temp && !(r.langevin_damp > 0)) throw MdError("--langevin-damp must be > 0");
   return cl;
 }
 

@@ -145,12 +145,27 @@ void Simulation::record_thermo(const PairTally &pairs) {
   }
   thermo_.push_back(t);
   if (is_root_ && cfg_.print_thermo) std::printf("%s\n", format_thermo(t).c_str());
-  if (thermo_.size() == 1) return;  // step 0 defines the reference
+  if (thermo_.size() == 1) {  // step 0 defines the references
+    runaway_.emplace(t, std::max(scene_.temperature, cfg_.langevin_temp.value_or(0.0)));
+    return;
+  }
   if (cfg_.langevin_temp) {
     const double limit = 100.0 * std::max({*cfg_.langevin_temp, scene_.temperature, 1.0});
     check_temperature_blowup(atoms_, dd_->comm(), t, limit, cfg_.dt);
   } else {
     check_energy_blowup(atoms_, dd_->comm(), t, e0_atom_, cfg_.blowup_energy, cfg_.dt);
+  }
+  warn_if_runaway(t);
+}
+
+void Simulation::warn_if_runaway(const ThermoState &t) {
+  // The thermo is reduced over ranks, so every rank finds the same warnings; rank 0 prints.
+  for (const std::string &warning : runaway_->check(t)) {
+    warnings_.push_back(warning);
+    if (is_root_) {
+      std::fflush(stdout);
+      std::fprintf(stderr, "mini_md: warning: %s\n", warning.c_str());
+    }
   }
 }
 

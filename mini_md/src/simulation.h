@@ -11,6 +11,8 @@
 #include <algorithm>
 #include <cstdint>
 #include <memory>
+#include <optional>
+#include <string>
 #include <vector>
 
 #include "atoms.h"
@@ -19,6 +21,7 @@
 #include "lj_force.h"
 #include "neighbor_list.h"
 #include "run_config.h"
+#include "runaway_watch.h"
 #include "scenes.h"
 #include "step_observer.h"
 #include "thermo.h"
@@ -75,12 +78,15 @@ class Simulation {
   double ghost_cut() const { return cfg_.cutoff + cfg_.skin; }
   const std::vector<ThermoState> &thermo_log() const { return thermo_; }
   const RunCounters &counters() const { return counters_; }
+  // Warnings of a runaway run (runaway_watch.h), in order; rank 0 also printed them to stderr.
+  const std::vector<std::string> &warnings() const { return warnings_; }
   int64_t ghost_count() const { return ghosts_.ghost_count(); }
   size_t pair_count() const { return list_.pair_count(); }
 
  private:
   void step_once(bool last);
   void record_thermo(const PairTally &pairs);
+  void warn_if_runaway(const ThermoState &t);
   void notify_publish();
   void notify_step();
   // Adds the time since t0 to *phase while run() steps; returns the current time.
@@ -94,6 +100,8 @@ class Simulation {
   NeighborList list_;
   StepObserver *observer_ = nullptr;
   std::vector<ThermoState> thermo_;
+  std::optional<RunawayWatch> runaway_;  // set from the step-0 thermo
+  std::vector<std::string> warnings_;
   RunCounters counters_;
   int64_t natoms_ = 0;
   int64_t step_ = 0;
