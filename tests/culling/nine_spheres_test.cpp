@@ -145,21 +145,24 @@ class NineSpheresEquivalentRadius : public ::testing::Test {
     return out;
   }
 
-  // Which particles own at least one pixel when every sphere is drawn.
+  // Which particles own at least one pixel when every sphere is drawn: sphere i is shown if,
+  // drawn last over all the others, it wins a pixel (the raster keeps no per-pixel owner).
   std::vector<bool> shown_by_brute_force() const {
     const uint8_t bg[4] = {0, 0, 0, 255}, rgb[3] = {200, 200, 200};
-    Frame frame;
-    std::vector<uint32_t> owner;
-    CpuSphereRaster::clear_target(g_, bg, &frame, &owner);
-    CpuSphereRaster raster;
-    raster.begin_strip(g_, &frame, &owner, 0, kSize - 1);
-    for (size_t i = 0; i < type_.size(); ++i) {
-      const glm::dvec3 c{xyz_[3 * i], xyz_[3 * i + 1], xyz_[3 * i + 2]};
-      raster.draw(c, radius_[i], rgb, uint32_t(i), g_.sphere_rect_tight(c, radius_[i], 0.05));
-    }
+    const auto centre = [&](size_t i) {
+      return glm::dvec3{xyz_[3 * i], xyz_[3 * i + 1], xyz_[3 * i + 2]};
+    };
+    const auto rect = [&](size_t i) { return g_.sphere_rect_tight(centre(i), radius_[i], 0.05); };
     std::vector<bool> shown(type_.size(), false);
-    for (const uint32_t o : owner)
-      if (o != UINT32_MAX) shown[o] = true;
+    Frame frame;
+    CpuSphereRaster raster;
+    for (size_t last = 0; last < type_.size(); ++last) {
+      CpuSphereRaster::clear_target(g_, bg, &frame);
+      raster.begin_strip(g_, &frame, 0, kSize - 1);
+      for (size_t i = 0; i < type_.size(); ++i)
+        if (i != last) raster.draw(centre(i), radius_[i], rgb, rect(i));
+      shown[last] = raster.draw(centre(last), radius_[last], rgb, rect(last));
+    }
     return shown;
   }
 
