@@ -19,10 +19,30 @@ struct SrgbTables {
   std::array<uint32_t, 256> linear{};  // decode: byte -> fixed-point linear
   // threshold[c]: the fixed-point linear value halfway (in the encoded domain) between bytes c and
   // c + 1; a mean at or above it encodes to c + 1 or more.
-  std::array<uint32_t, 255> threshold{};
+  // threshold[255] is a sentinel no sum reaches (2^25 << 6 > 64 * 2^24), ending the scan below.
+  std::array<uint32_t, 256> threshold{};
+  // first_code[b]: the thresholds at or below b << kBucketShift, i.e. the encoded byte of the
+  // bucket's lowest linear value. Thresholds lie more than a bucket apart, so the byte of any
+  // value in the bucket is this or the next one: one or two comparisons instead of a search.
+  static constexpr int kBucketShift = 12;
+  std::array<uint8_t, (kLinearOne >> kBucketShift) + 1> first_code{};
   SrgbTables() {
     for (int c = 0; c < 256; ++c) linear[size_t(c)] = to_fixed(srgb_decode(c / 255.0));
     for (int c = 0; c < 255; ++c) threshold[size_t(c)] = to_fixed(srgb_decode((c + 0.5) / 255.0));
+    threshold[255] = kLinearOne * 2;
+    int code = 0;
+    for (size_t b = 0; b < first_code.size(); ++b) {
+      while (code < 255 && threshold[size_t(code)] <= (uint32_t(b) << kBucketShift)) ++code;
+      first_code[b] = uint8_t(code);
+    }
+  }
+  // The number of thresholds t with sum >= t * 2^shift (mean >= t, compared without division:
+  // 64 * 2^24 fits 32 bits) for the sum of 2^shift values: the nearest sRGB byte to the mean.
+  uint8_t encode(uint32_t linear_sum, int shift) const {
+    int code =
+        first_code[std::min<size_t>(linear_sum >> (shift + kBucketShift), first_code.size() - 1)];
+    while (linear_sum >= threshold[size_t(code)] << shift) ++code;
+    return uint8_t(code);
   }
 };
 
@@ -31,10 +51,13 @@ const SrgbTables &tables() {
   return t;
 }
 
-// One output row: s sample rows of the sample frame starting at sample row `sy`.
-void downsample_row(const Frame &samples, int s, int sy, int out_y, Frame *image) {
+// One output row: S sample rows of the sample frame starting at sample row `sy` (S a compile-time
+// constant so the sample loops unroll).
+template <int S>
+void downsample_row(const Frame &samples, int sy, int out_y, Frame *image) {
+  constexpr int s = S, shift = S == 8 ? 6 : S == 4 ? 4 : S == 2 ? 2 : 0;  // log2(S * S)
+  constexpr uint32_t count = uint32_t(S) * uint32_t(S);
   const SrgbTables &t = tables();
-  const uint32_t count = uint32_t(s) * uint32_t(s);
   for (int x = 0; x < image->width; ++x) {
     uint32_t sum[3] = {0, 0, 0}, alpha = 0;
     float depth = kBackgroundDepth;
@@ -50,9 +73,28 @@ void downsample_row(const Frame &samples, int s, int sy, int out_y, Frame *image
     }
     const size_t out = image->index(x, out_y);
     uint8_t *o = image->rgba.data() + 4 * out;
-    for (int c = 0; c < 3; ++c) o[c] = linear_sum_to_srgb(sum[c], count);
-    o[3] = uint8_t((alpha + count / 2) / count);
+    for (int c = 0; c < 3; ++c) o[c] = t.encode(sum[c], shift);
+    o[3] = uint8_t((alpha + count / 2) >> shift);
     image->depth[out] = depth;
+  }
+}
+
+// Output rows [y0, y1).
+void downsample_rows(const Frame &samples, int s, int y0, int y1, Frame *image) {
+  for (int y = y0; y < y1; ++y) {
+    switch (s) {
+      case 2:
+        downsample_row<2>(samples, s * y, y, image);
+        break;
+      case 4:
+        downsample_row<4>(samples, s * y, y, image);
+        break;
+      case 8:
+        downsample_row<8>(samples, s * y, y, image);
+        break;
+      default:
+        downsample_row<1>(samples, s * y, y, image);
+    }
   }
 }
 
@@ -68,18 +110,9 @@ uint32_t srgb_to_linear(uint8_t encoded) {
 }
 
 uint8_t linear_sum_to_srgb(uint32_t linear_sum, uint32_t count) {
-  // The number of thresholds the mean reaches, compared as sums (no division): mean >= t  <=>
-  // sum >= t * count. 64 * 2^24 fits 32 bits.
-  const std::array<uint32_t, 255> &th = tables().threshold;
-  int lo = 0, hi = 255;  // answer in [lo, hi]
-  while (lo < hi) {
-    const int mid = (lo + hi) / 2;
-    if (linear_sum >= th[size_t(mid)] * count)
-      lo = mid + 1;
-    else
-      hi = mid;
-  }
-  return uint8_t(lo);
+  int shift = 0;
+  while ((uint32_t(1) << shift) < count) ++shift;
+  return tables().encode(linear_sum, shift);
 }
 
 void downsample_frame(const Frame &samples, int samples_per_axis, Frame *image) {
@@ -89,7 +122,7 @@ void downsample_frame(const Frame &samples, int samples_per_axis, Frame *image) 
       image->rgba.size() != size_t(width) * size_t(height) * 4 ||
       image->depth.size() != size_t(width) * size_t(height))
     *image = Frame(width, height);
-  for (int y = 0; y < height; ++y) downsample_row(samples, s, s * y, y, image);
+  downsample_rows(samples, s, 0, height, image);
 }
 
 }  // namespace lantern

@@ -12,11 +12,11 @@
 // Colour is averaged in linear light: the RGB bytes are taken as sRGB-encoded, decoded through a
 // 256-entry fixed-point table, summed as integers (so the result depends on the samples only,
 // never on an order or a floating-point mode), and the mean is encoded back to the sRGB byte
-// nearest to it in the encoded domain (threshold table, binary search). N equal samples give
-// back exactly their byte. Alpha is averaged as is (round to nearest).
-// Depth: the output pixel holds the NEAREST sample's window depth (the minimum), so an EXR `Z`
-// channel holds the distance of the nearest surface any sample of the pixel saw (background
-// depth only where every sample saw background).
+// nearest to it in the encoded domain (a table of thresholds, looked up by the mean's bucket). N
+// equal samples give back exactly their byte. Alpha is averaged as is (round to nearest). Depth:
+// the output pixel holds the NEAREST sample's window depth (the minimum), so an EXR `Z` channel
+// holds the distance of the nearest surface any sample of the pixel saw (background depth only
+// where every sample saw background).
 #pragma once
 
 #include <cstdint>
@@ -36,11 +36,12 @@ SampleOffset sample_offset(int samples_per_axis, int i, int j);
 inline constexpr uint32_t kLinearOne = uint32_t(1) << 24;
 uint32_t srgb_to_linear(uint8_t encoded);
 // The sRGB byte nearest (in the encoded domain) to the mean of `count` linear values summing to
-// `linear_sum` (each in [0, kLinearOne]); count in [1, 64].
+// `linear_sum` (each in [0, kLinearOne]); count a power of two in [1, 64].
 uint8_t linear_sum_to_srgb(uint32_t linear_sum, uint32_t count);
 
-// Down-samples `samples` (width and height multiples of s) by s along each axis into *image
-// (resized to width / s x height / s). Thread-compatible: no shared state beyond constant tables.
+// Down-samples `samples` (width and height multiples of s; s = samples_per_axis, one of 1, 2, 4,
+// 8) by s along each axis into *image
+// (resized to width / s x height / s). Thread-compatible: constant tables only.
 void downsample_frame(const Frame &samples, int samples_per_axis, Frame *image);
 
 }  // namespace lantern
