@@ -55,6 +55,7 @@ const SrgbTables &tables() {
 // constant so the sample loops unroll).
 template <int S>
 void downsample_row(const Frame &samples, int sy, int out_y, Frame *image) {
+  // sy: the sample row of the pixel row; out_y: its row in *image.
   constexpr int s = S, shift = S == 8 ? 6 : S == 4 ? 4 : S == 2 ? 2 : 0;  // log2(S * S)
   constexpr uint32_t count = uint32_t(S) * uint32_t(S);
   const SrgbTables &t = tables();
@@ -79,21 +80,22 @@ void downsample_row(const Frame &samples, int sy, int out_y, Frame *image) {
   }
 }
 
-// Output rows [y0, y1).
-void downsample_rows(const Frame &samples, int s, int y0, int y1, Frame *image) {
-  for (int y = y0; y < y1; ++y) {
+// Image rows [first, first + out->height) into rows [0, out->height) of *out.
+void downsample_rows(const Frame &samples, int s, int first, Frame *out) {
+  for (int y = 0; y < out->height; ++y) {
+    const int sy = s * (first + y);
     switch (s) {
       case 2:
-        downsample_row<2>(samples, s * y, y, image);
+        downsample_row<2>(samples, sy, y, out);
         break;
       case 4:
-        downsample_row<4>(samples, s * y, y, image);
+        downsample_row<4>(samples, sy, y, out);
         break;
       case 8:
-        downsample_row<8>(samples, s * y, y, image);
+        downsample_row<8>(samples, sy, y, out);
         break;
       default:
-        downsample_row<1>(samples, s * y, y, image);
+        downsample_row<1>(samples, sy, y, out);
     }
   }
 }
@@ -115,14 +117,20 @@ uint8_t linear_sum_to_srgb(uint32_t linear_sum, uint32_t count) {
   return tables().encode(linear_sum, shift);
 }
 
+void downsample_band(const Frame &samples, int samples_per_axis, int first_row, int rows,
+                     Frame *band) {
+  const int s = std::max(samples_per_axis, 1);
+  const int width = samples.width / s;
+  if (band->width != width || band->height != rows ||
+      band->rgba.size() != size_t(width) * size_t(rows) * 4 ||
+      band->depth.size() != size_t(width) * size_t(rows))
+    *band = Frame(width, rows);
+  downsample_rows(samples, s, first_row, band);
+}
+
 void downsample_frame(const Frame &samples, int samples_per_axis, Frame *image) {
   const int s = std::max(samples_per_axis, 1);
-  const int width = samples.width / s, height = samples.height / s;
-  if (image->width != width || image->height != height ||
-      image->rgba.size() != size_t(width) * size_t(height) * 4 ||
-      image->depth.size() != size_t(width) * size_t(height))
-    *image = Frame(width, height);
-  downsample_rows(samples, s, 0, height, image);
+  downsample_band(samples, s, 0, samples.height / s, image);
 }
 
 }  // namespace lantern

@@ -44,4 +44,10 @@ uint8_t linear_sum_to_srgb(uint32_t linear_sum, uint32_t count);
 // (resized to width / s x height / s). Thread-compatible: constant tables only.
 void downsample_frame(const Frame &samples, int samples_per_axis, Frame *image);
 
+// The same for image rows [first_row, first_row + rows) only, into *band (resized to
+// width / s x rows): what one rank does with its row band. `samples` must hold sample rows
+// [s * first_row, s * (first_row + rows)); its other rows are not read.
+void downsample_band(const Frame &samples, int samples_per_axis, int first_row, int rows,
+                     Frame *band);
+
 }  // namespace lantern

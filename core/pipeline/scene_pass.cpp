@@ -8,6 +8,7 @@
 #include "core/camera/camera.h"
 #include "core/color/colormap.h"
 #include "core/common/collective_status.h"
+#include "core/composite/band_compositing.h"
 #include "core/composite/depth_compositor.h"
 #include "core/composite/row_bands.h"
 #include "core/composite/sample_downsampling.h"
@@ -74,26 +75,26 @@ void sum_counts_over_ranks(MPI_Comm comm, const CullStats &local, SceneStats *st
   stats->occlusion_culled = out[5];
 }
 
-// Super-sampling's step after compositing: root's composited sample frame is handed out in row
-// bands (each a multiple of s sample rows), every rank down-samples its band, and the image's
-// bands are gathered on root into *image. Collective. The bands depend only on (height, ranks),
-// and each output pixel only on its own samples, so the bytes never depend on the rank count.
-Status downsample_across_ranks(MPI_Comm comm, const Frame &samples, int s, int width, int height,
-                               Frame *image) {
+// Super-sampling's steps from the ranks' sample frames to the image on root: the sample frames
+// are composited so that every rank ends with its own row band of the merged frame (bands of
+// whole pixels, i.e. multiples of s sample rows), every rank down-samples its band, and the
+// image's bands are gathered on root into *image. Collective. The bands depend only on (height,
+// ranks) and each output pixel only on its own samples, so the bytes never depend on the rank
+// count. The compositing half fills *composite (its time and method).
+Status composite_and_downsample(MPI_Comm comm, Frame &samples, int s, int width, int height,
+                                Frame *image, CompositeStats *composite) {
+  RowBand rows;
+  if (Status st = composite_to_row_bands(comm, samples, s, &rows, composite); !st.ok()) return st;
+  BandFrame band;
+  band.first = rows.y0 / s;
+  band.owned = {rows.y0 / s, rows.y1 / s};
   int ranks = 1;
   MPI_Comm_size(comm, &ranks);
-  if (ranks == 1) {  // one band, the whole frame: no copy (same bytes, pixel by pixel)
+  if (ranks == 1) {  // the band is the image: no gather, no copy
     downsample_frame(samples, s, image);
     return {};
   }
-  BandFrame sample_band;
-  if (Status st = scatter_row_bands(comm, 0, samples, width * s, height * s, s, 0, &sample_band);
-      !st.ok())
-    return st;
-  BandFrame band;
-  band.first = sample_band.first / s;
-  band.owned = {sample_band.owned.y0 / s, sample_band.owned.y1 / s};
-  downsample_frame(sample_band.frame, s, &band.frame);
+  downsample_band(samples, s, band.first, band.owned.rows(), &band.frame);
   return gather_row_bands(comm, 0, band, width, height, image);
 }
 
@@ -195,18 +196,19 @@ Status run_scene_pass(const ScenePassInputs &in, const SceneConfig &scene, Scene
                               double(cull.candidates - cull.drawn - cull.splatted), own_ms);
 
   CompositeStats cs;
-  if (Status s = composite_frames(in.comm, frame, 0, CompositeMethod::kAuto, 0, &cs); !s.ok())
-    return with_context(where + "compositing: ", std::move(s));
+  if (s_axis == 1) {
+    if (Status s = composite_frames(in.comm, frame, 0, CompositeMethod::kAuto, 0, &cs); !s.ok())
+      return with_context(where + "compositing: ", std::move(s));
+  } else {
+    t0 = Clock::now();
+    if (Status s = composite_and_downsample(in.comm, frame, s_axis, scene.width, scene.height,
+                                            &buffers->frame, &cs);
+        !s.ok())
+      return with_context(where + "compositing and down-sampling: ", std::move(s));
+    stats->downsample_ms = ms_since(t0) - cs.milliseconds;
+  }
   stats->composite_ms = cs.milliseconds;
   stats->composite_method = cs.method;
-  if (s_axis > 1) {
-    t0 = Clock::now();
-    if (Status s = downsample_across_ranks(in.comm, frame, s_axis, scene.width, scene.height,
-                                           &buffers->frame);
-        !s.ok())
-      return with_context(where + "down-sampling: ", std::move(s));
-    stats->downsample_ms = ms_since(t0);
-  }
 
   Status written;
   if (scene.output.format == ImageFormat::kPng && !scene.output.asynchronous) {

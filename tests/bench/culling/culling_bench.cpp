@@ -75,7 +75,7 @@ struct Options {
   int azimuths = 1;                // --azimuths K: views per scene, evenly spaced about its up axis
   std::vector<int>
       samples;  // --samples 1,4,16: the super-sampling table instead (supersampling_bench.h)
-  bool pipeline = false;  // --pipeline: with --samples, whole frames through the pipeline too
+  bool pipeline = false;  // --pipeline: with --samples, whole frames through the pipeline instead
 };
 
 struct Mode {
@@ -502,8 +502,10 @@ int run(int argc, char **argv) {
     if (opt.samples.empty()) {
       bench.run_scene(s, csv, &plot);
     } else {
-      if (opt.pipeline) run_supersampling_pipeline(s, opt.samples, opt.runs, opt.out);
-      run_supersampling_scene(s, opt.samples, opt.runs, csv, &plot);
+      if (opt.pipeline)  // instead of the table: MPI-parallel, every rank renders its share
+        run_supersampling_pipeline(s, opt.samples, opt.runs, opt.out);
+      else
+        run_supersampling_scene(s, opt.samples, opt.runs, csv, &plot);
     }
     std::fflush(stdout);
   }

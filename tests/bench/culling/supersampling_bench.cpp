@@ -191,7 +191,8 @@ void run_supersampling_pipeline(const BenchScene &bs, const std::vector<int> &sa
     std::printf("   %7s %9s %10s %12s %14s\n", "samples", "ms/frame", "cost/first", "frame MiB",
                 "peak RSS MiB");
   for (const int samples : samples) {
-    const std::string yaml = "scenes:\n  - name: ssaa" + std::to_string(samples) +
+    const std::string yaml = "stats: '" + out + "/pipeline_stats.jsonl'\nscenes:\n  - name: ssaa" +
+                             std::to_string(samples) +
                              "\n    width: " + std::to_string(bs.config.width) +
                              "\n    height: " + std::to_string(bs.config.height) +
                              "\n    radius: " + std::to_string(bs.config.radius) +

@@ -1,7 +1,7 @@
 // lantern-bench --samples 1,4,16: super-sampled anti-aliasing (scene key `samples`) on the CPU
 // raster, brute force and hzb, against a 64-sample brute-force reference; and, with --pipeline,
 // whole frames through Lantern's pipeline (Runtime: culling, drawing, compositing, distributed
-// down-sampling, PNG) with the peak memory of the process.
+// down-sampling, PNG) with the peak memory of the process, instead of the table (under mpiexec).
 #pragma once
 
 #include <ostream>
