@@ -120,6 +120,12 @@ struct SceneConfig {
   RendererChoice renderer = RendererChoice::kAuto;  // renderer: auto | opengl | cpu
   LodConfig lod;                                    // lod: {...}
   std::vector<CutPlane> cuts;  // cut_planes: [{normal: [...], offset: ...}, ...]
+  // samples: super-sampled anti-aliasing, 1 | 4 | 16 | 64 rays per pixel on an s x s ordered
+  // grid (s = sqrt(samples)); 1 (default) renders exactly as without the key.
+  int samples = 1;
+  int samples_per_axis() const {
+    return samples >= 64 ? 8 : samples >= 16 ? 4 : samples >= 4 ? 2 : 1;
+  }
 };
 
 // dump: (HDF5 / H5MD particle dumps; issue 6)
@@ -162,5 +168,10 @@ struct Config {
 };
 
 inline constexpr int kMaxImageSize = 16384;
+// The largest super-sampled frame a scene may render (width * height * samples pixels, 8 bytes
+// each: RGBA8 + float depth): 2^28 pixels, 2 GiB per rank. It is below compositing's INT_MAX / 4
+// pixel limit, and fixed (not a share of this machine's memory) so every rank and every machine
+// accepts the same configurations. samples: 1 keeps kMaxImageSize's limit.
+inline constexpr int64_t kMaxSampleFramePixels = int64_t(1) << 28;
 
 }  // namespace lantern

@@ -32,9 +32,9 @@ constexpr size_t kPathShown = 256;
 const std::vector<std::string> kTopKeys = {"schedule", "scenes",     "stats",  "verbose", "dump",
                                            "gl",       "egl_device", "lammps", "watch"};
 const std::vector<std::string> kScheduleKeys = {"every", "start", "steps"};
-const std::vector<std::string> kSceneKeys = {"name",    "width",  "height",     "background",
-                                             "radius",  "camera", "color",      "output",
-                                             "culling", "lod",    "cut_planes", "renderer"};
+const std::vector<std::string> kSceneKeys = {
+    "name",   "width",   "height", "background", "radius",   "camera", "color",
+    "output", "culling", "lod",    "cut_planes", "renderer", "samples"};
 const std::vector<std::string> kCameraKeys = {"projection", "fov",      "azimuth", "elevation",
                                               "zoom",       "position", "look_at", "up",
                                               "near",       "far"};
@@ -216,7 +216,27 @@ class Loader {
       r_.check_sequence(n, p);
       for (size_t i = 0; i < n.size(); ++i) s.cuts.push_back(cut_plane(n[i], index_path(p, i)));
     });
+    optional_key(node, path, "samples", [&](const YAML::Node &n, const std::string &p) {
+      s.samples = std::stoi(r_.read_choice(n, p, {"1", "4", "16", "64"}));
+      check_sample_frame(s, n, p);
+    });
     return s;
+  }
+
+  // A super-sampled frame must fit the documented limit: refused here, at lantern_open, rather
+  // than failing an allocation mid-run.
+  void check_sample_frame(const SceneConfig &s, const YAML::Node &node,
+                          const std::string &path) const {
+    const int64_t pixels = int64_t(s.width) * s.height * s.samples;
+    if (s.samples == 1 || pixels <= kMaxSampleFramePixels) return;
+    r_.fail(
+        node, path,
+        "scene " + quoted_text(s.name) + ": " + std::to_string(s.width) + " x " +
+            std::to_string(s.height) + " at " + std::to_string(s.samples) +
+            " samples needs a sample frame of " + std::to_string(pixels) + " pixels, " +
+            std::to_string(pixels * 8) + " bytes (RGBA8 + float depth) per rank; the limit is " +
+            std::to_string(kMaxSampleFramePixels) + " pixels (" +
+            std::to_string(kMaxSampleFramePixels * 8) + " bytes): lower samples, width or height");
   }
 
   // Names end up in file names ({scene}) and stats: keep them to portable file-name characters.

@@ -8,7 +8,10 @@
 #include "core/camera/camera.h"
 #include "core/color/colormap.h"
 #include "core/common/collective_status.h"
+#include "core/composite/band_compositing.h"
 #include "core/composite/depth_compositor.h"
+#include "core/composite/row_bands.h"
+#include "core/composite/sample_downsampling.h"
 #include "core/config/file_pattern.h"
 #include "core/culling/brick_selection.h"
 #include "core/culling/cull_stage.h"
@@ -48,11 +51,12 @@ Status check_scene_needs(const SceneConfig &scene, const RadiusRule &radius,
 constexpr double kCpuRasterMaxPixels = 16.0;
 
 // The renderer a scene uses, decided from the configuration and the camera only, so every rank
-// decides the same (the two renderers may differ in the last bit of a pixel).
+// decides the same (the two renderers may differ in the last bit of a pixel). Measured in the
+// final image's pixels (scene.height), not the sample frame's, so `samples` never switches it.
 bool wants_cpu_raster(const SceneConfig &scene, const Camera &camera, double radius) {
   if (scene.renderer != RendererChoice::kAuto) return scene.renderer == RendererChoice::kCpu;
   const double distance = glm::length(camera.target - camera.eye);
-  const double pixels_per_unit = 0.5 * camera.height * camera.projection[1][1] /
+  const double pixels_per_unit = 0.5 * scene.height * camera.projection[1][1] /
                                  (camera.orthographic ? 1.0 : std::max(distance, 1e-300));
   return radius * pixels_per_unit <= kCpuRasterMaxPixels;
 }
@@ -69,6 +73,29 @@ void sum_counts_over_ranks(MPI_Comm comm, const CullStats &local, SceneStats *st
   stats->cut_culled = out[3];
   stats->lod_dropped = out[4];
   stats->occlusion_culled = out[5];
+}
+
+// Super-sampling's steps from the ranks' sample frames to the image on root: the sample frames
+// are composited so that every rank ends with its own row band of the merged frame (bands of
+// whole pixels, i.e. multiples of s sample rows), every rank down-samples its band, and the
+// image's bands are gathered on root into *image. Collective. The bands depend only on (height,
+// ranks) and each output pixel only on its own samples, so the bytes never depend on the rank
+// count. The compositing half fills *composite (its time and method).
+Status composite_and_downsample(MPI_Comm comm, Frame &samples, int s, int width, int height,
+                                Frame *image, CompositeStats *composite) {
+  RowBand rows;
+  if (Status st = composite_to_row_bands(comm, samples, s, &rows, composite); !st.ok()) return st;
+  BandFrame band;
+  band.first = rows.y0 / s;
+  band.owned = {rows.y0 / s, rows.y1 / s};
+  int ranks = 1;
+  MPI_Comm_size(comm, &ranks);
+  if (ranks == 1) {  // the band is the image: no gather, no copy
+    downsample_frame(samples, s, image);
+    return {};
+  }
+  downsample_band(samples, s, band.first, band.owned.rows(), &band.frame);
+  return gather_row_bands(comm, 0, band, width, height, image);
 }
 
 }  // namespace
@@ -90,8 +117,15 @@ Status run_scene_pass(const ScenePassInputs &in, const SceneConfig &scene, Scene
   const std::string where = "scenes '" + scene.name + "': ";
   const RadiusSource radius_source =
       radius.wanted ? RadiusSource::kParticles : RadiusSource::kConfig;
-  if (Status s = make_camera(scene.camera, lo, hi, max_radius, scene.width, scene.height, &camera,
-                             radius_source);
+  // Super-sampling renders the same frustum at s times the width and height (an s x s grid of
+  // samples per pixel, sample_downsampling.h); every stage up to compositing sees sample pixels.
+  const int s_axis = scene.samples_per_axis();
+  Frame &frame = s_axis > 1 ? buffers->samples : buffers->frame;
+  stats->samples = scene.samples;
+  stats->sample_width = scene.width * s_axis;
+  stats->sample_height = scene.height * s_axis;
+  if (Status s = make_camera(scene.camera, lo, hi, max_radius, scene.width * s_axis,
+                             scene.height * s_axis, &camera, radius_source);
       !s.ok())
     return with_context(where, std::move(s));
   stats->camera_ms = ms_since(t0);
@@ -123,7 +157,7 @@ Status run_scene_pass(const ScenePassInputs &in, const SceneConfig &scene, Scene
                                       cpu_pass_serves(selection.mode));
     stats->renderer = cpu ? "cpu" : "opengl";
     cull = cpu ? in.scratch->cpu_pass.run(*in.particles, bricks, scene, selection, recipe,
-                                          background, &buffers->frame, &draw)
+                                          background, &frame, &draw)
                : in.scratch->culler.cull(*in.particles, bricks, scene, selection, &draw);
     stats->cull_ms = ms_since(t0);
     stats->occlusion = cull.occlusion;
@@ -139,7 +173,7 @@ Status run_scene_pass(const ScenePassInputs &in, const SceneConfig &scene, Scene
       RenderTimings timings;
       local = with_context(
           where, in.renderer->render(camera.render_view(background), buffers->instances.data(),
-                                     buffers->instances.size(), &buffers->frame, &timings));
+                                     buffers->instances.size(), &frame, &timings));
       stats->draw_ms = timings.draw_ms;
       stats->readback_ms = timings.readback_ms;
     }
@@ -147,7 +181,7 @@ Status run_scene_pass(const ScenePassInputs &in, const SceneConfig &scene, Scene
       t0 = Clock::now();
       splat_points(
           *in.particles, recipe.per_particle_radius, recipe.radius, draw.points, selection.g,
-          [&recipe](int64_t i) { return recipe.color(i); }, &buffers->frame);
+          [&recipe](int64_t i) { return recipe.color(i); }, &frame);
       std::vector<uint64_t>().swap(draw.points);
       stats->draw_ms += ms_since(t0);
     }
@@ -162,9 +196,17 @@ Status run_scene_pass(const ScenePassInputs &in, const SceneConfig &scene, Scene
                               double(cull.candidates - cull.drawn - cull.splatted), own_ms);
 
   CompositeStats cs;
-  if (Status s = composite_frames(in.comm, buffers->frame, 0, CompositeMethod::kAuto, 0, &cs);
-      !s.ok())
-    return with_context(where + "compositing: ", std::move(s));
+  if (s_axis == 1) {
+    if (Status s = composite_frames(in.comm, frame, 0, CompositeMethod::kAuto, 0, &cs); !s.ok())
+      return with_context(where + "compositing: ", std::move(s));
+  } else {
+    t0 = Clock::now();
+    if (Status s = composite_and_downsample(in.comm, frame, s_axis, scene.width, scene.height,
+                                            &buffers->frame, &cs);
+        !s.ok())
+      return with_context(where + "compositing and down-sampling: ", std::move(s));
+    stats->downsample_ms = ms_since(t0) - cs.milliseconds;
+  }
   stats->composite_ms = cs.milliseconds;
   stats->composite_method = cs.method;
 

@@ -47,7 +47,8 @@ struct ScenePassInputs {
 
 struct SceneBuffers {
   std::vector<SphereInstance> instances;
-  Frame frame;
+  Frame frame;    // the image (on root after compositing)
+  Frame samples;  // samples > 1: the sample-resolution frame, kept between steps like `frame`
   BackgroundImageWriter writer;  // rank 0, with output.asynchronous
   BrickCutCounts cut_counts;     // this scene's cutting planes per brick (edits are incremental)
 };

@@ -40,6 +40,7 @@ nlohmann::json SceneStats::counts_json() const {
             {"draw", draw_ms},
             {"readback", readback_ms},
             {"composite", composite_ms},
+            {"downsample", downsample_ms},
             {"write", write_ms},
             {"total", total_ms}}},
           {"particles",
@@ -53,6 +54,8 @@ nlohmann::json SceneStats::counts_json() const {
           {"composite_method", composite_method},
           {"occlusion", occlusion},
           {"renderer", renderer},
+          {"samples", samples},
+          {"sample_frame", {sample_width, sample_height}},
           {"bricks", bricks}};
 }
 

@@ -31,6 +31,11 @@ struct SceneStats {
   std::string renderer;   // "cpu" (CPU raster) or "opengl"
   std::string occlusion;  // occlusion mode run (and why, for auto), as rank 0 decided it
   std::string file;       // the image written
+  // samples: rays per pixel, and the frame every stage before down-sampling drew (sample pixels);
+  // downsample_ms: the distributed down-sampling after compositing (0 with samples 1).
+  int samples = 1;
+  int sample_width = 0, sample_height = 0;
+  double downsample_ms = 0;
   // How drawn, culled and the ranks' own milliseconds spread over the ranks (rank 0; with stats
   // on): JSON "per_rank".
   std::optional<PerRankStats> per_rank;

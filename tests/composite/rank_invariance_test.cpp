@@ -257,6 +257,16 @@ TEST(RankInvariance, SameImagesWithoutOpenGl) {
                         "    culling: {occlusion: nine_spheres}\n");
 }
 
+// Super-sampling: compositing at sample resolution and down-sampling each rank's band of rows give
+// the same bytes at any rank count and split (bands of 90 rows need not divide evenly).
+TEST(RankInvariance, SameImagesWithFourSamples) {
+  expect_rank_invariant(make_particles(1500), "ssaa4", "", "    samples: 4\n");
+}
+
+TEST(RankInvariance, SameImagesWithSixteenSamples) {
+  expect_rank_invariant(make_particles(1500), "ssaa16", "", "    samples: 16\n");
+}
+
 // Coincident pairs: two particles at exactly the same position with the same radius, one of type
 // 0 (red) and one of type 1 (blue), with different ids; in every other pair the red one comes
 // first. Every pixel of a pair is a depth tie, settled by the smaller color: blue.

@@ -46,6 +46,7 @@
 #include "core/render/sphere_instances.h"
 #include "error_plot.h"
 #include "image_metrics.h"
+#include "supersampling_bench.h"
 
 namespace lantern::bench {
 namespace {
@@ -72,6 +73,9 @@ struct Options {
   bool images = false;
   std::vector<std::string> modes;  // --modes a,b: only these (brute_force always runs: reference)
   int azimuths = 1;                // --azimuths K: views per scene, evenly spaced about its up axis
+  std::vector<int>
+      samples;  // --samples 1,4,16: the super-sampling table instead (supersampling_bench.h)
+  bool pipeline = false;  // --pipeline: with --samples, whole frames through the pipeline instead
 };
 
 struct Mode {
@@ -412,12 +416,18 @@ bool parse(int argc, char **argv, Options *o) {
       for (std::string s; std::getline(ss, s, ',');) o->modes.push_back(s);
     } else if (a == "--azimuths") {
       o->azimuths = std::max(1, std::stoi(value()));
+    } else if (a == "--samples") {
+      std::stringstream ss(value());
+      for (std::string s; std::getline(ss, s, ',');) o->samples.push_back(std::stoi(s));
+    } else if (a == "--pipeline") {
+      o->pipeline = true;
     } else {
-      std::fprintf(stderr,
-                   "usage: lantern-bench [--scenes fcc1m,fcc10m,inside,void_impact,droplet] "
-                   "[--size 1024] [--runs 5] [--md-cells 64] [--out DIR] [--images] "
-                   "[--modes hzb,cpu_raster+hzb,...] [--azimuths K]\n"
-                   "  a scene name may end in :uniform or :bimodal (mixed radii)\n");
+      std::fprintf(
+          stderr,
+          "usage: lantern-bench [--scenes fcc1m,fcc10m,inside,void_impact,droplet] "
+          "[--size 1024] [--runs 5] [--md-cells 64] [--out DIR] [--images] "
+          "[--modes hzb,cpu_raster+hzb,...] [--azimuths K] [--samples 1,4,16 [--pipeline]]\n"
+          "  a scene name may end in :uniform or :bimodal (mixed radii)\n");
       return false;
     }
   }
@@ -436,8 +446,9 @@ int run(int argc, char **argv) {
                  opt.out.c_str(), ec.message().c_str());
     return 1;
   }
-  const std::string csv_path = opt.out + "/culling_bench.csv";
-  const std::string svg_path = opt.out + "/culling_bench.svg";
+  const std::string table = opt.samples.empty() ? "culling_bench" : "supersampling_bench";
+  const std::string csv_path = opt.out + "/" + table + ".csv";
+  const std::string svg_path = opt.out + "/" + table + ".svg";
   std::shared_ptr<GlSession> session;
   SphereRenderer *renderer = nullptr;
   if (const Status gl = acquire_renderer(GlBackend::kAuto, &session, &renderer); !gl.ok()) {
@@ -453,8 +464,11 @@ int run(int argc, char **argv) {
                  std::strerror(errno));
     return 1;
   }
-  csv << "scene,mode,ms_per_frame,cull_ms,cull_cpu_ms,render_ms,drawn,splatted,culled_percent,"
-         "differing_pixels,differing_depth,psnr_db,ssim,speedup,occlusion\n";
+  if (opt.samples.empty())
+    csv << "scene,mode,ms_per_frame,cull_ms,cull_cpu_ms,render_ms,drawn,splatted,culled_percent,"
+           "differing_pixels,differing_depth,psnr_db,ssim,speedup,occlusion\n";
+  else
+    csv << supersampling_csv_header();
   std::vector<PlotPoint> plot;
   Bench bench(renderer, opt);
   for (const std::string &requested : opt.scenes) {
@@ -485,7 +499,14 @@ int run(int argc, char **argv) {
                   radii.c_str());
       continue;
     }
-    bench.run_scene(s, csv, &plot);
+    if (opt.samples.empty()) {
+      bench.run_scene(s, csv, &plot);
+    } else {
+      if (opt.pipeline)  // instead of the table: MPI-parallel, every rank renders its share
+        run_supersampling_pipeline(s, opt.samples, opt.runs, opt.out);
+      else
+        run_supersampling_scene(s, opt.samples, opt.runs, csv, &plot);
+    }
     std::fflush(stdout);
   }
   // Say only what was written; any file that was not makes the exit status 1.
