@@ -9,12 +9,14 @@
 #include "core/color/colormap.h"
 #include "core/common/collective_status.h"
 #include "core/composite/depth_compositor.h"
+#include "core/composite/screen_cues.h"
 #include "core/config/file_pattern.h"
 #include "core/culling/brick_selection.h"
 #include "core/culling/cull_stage.h"
 #include "core/output/image_writer.h"
 #include "core/output/png/png_across_ranks.h"
 #include "core/render/cpu_sphere_pass.h"
+#include "core/render/object_occlusion.h"
 #include "core/render/point_splats.h"
 #include "core/render/sphere_instances.h"
 
@@ -96,6 +98,19 @@ Status run_scene_pass(const ScenePassInputs &in, const SceneConfig &scene, Scene
     return with_context(where, std::move(s));
   stats->camera_ms = ms_since(t0);
 
+  // Object-space ambient occlusion: per-particle colour factors from a density volume reduced
+  // over every rank (collective, so before anything a rank may skip).
+  std::vector<float> occlusion;
+  if (scene.ambient_occlusion.enabled &&
+      scene.ambient_occlusion.method == AmbientOcclusionMethod::kObject) {
+    const double cell =
+        scene.ambient_occlusion.radius.value_or(kDefaultAoRadiusInSphereRadii * max_radius);
+    if (Status s = object_occlusion(in.comm, *in.particles, in.global, scene.cuts, cell,
+                                    scene.ambient_occlusion.strength, &occlusion);
+        !s.ok())
+      return with_context(where, std::move(s));
+  }
+
   Status local = check_scene_needs(scene, radius, *in.particles);
   CullStats cull;
   if (local.ok()) {
@@ -108,7 +123,8 @@ Status run_scene_pass(const ScenePassInputs &in, const SceneConfig &scene, Scene
     DrawList &draw = in.scratch->draw;
     BrickSelection &selection = in.scratch->selection;
     select_bricks(bricks, camera, scene, radius, &selection, &buffers->cut_counts);
-    const InstanceRecipe recipe = make_recipe(*in.particles, scene, radius, camera, in.global);
+    InstanceRecipe recipe = make_recipe(*in.particles, scene, radius, camera, in.global);
+    if (!occlusion.empty()) recipe.occlusion = occlusion.data();
     const Rgb8 bg = to_rgb8(scene.background);
     const uint8_t background[4] = {bg[0], bg[1], bg[2], 255};
     // The renderer, decided here once: from the configuration, the camera and the occlusion mode
@@ -167,6 +183,13 @@ Status run_scene_pass(const ScenePassInputs &in, const SceneConfig &scene, Scene
     return with_context(where + "compositing: ", std::move(s));
   stats->composite_ms = cs.milliseconds;
   stats->composite_method = cs.method;
+
+  // Screen-space cues on the composited, final-resolution frame (each rank a band of rows).
+  if (wants_screen_cues(scene)) {
+    if (Status s = apply_screen_cues(in.comm, 0, scene, camera, max_radius, &buffers->frame);
+        !s.ok())
+      return with_context(where + "screen cues: ", std::move(s));
+  }
 
   Status written;
   if (scene.output.format == ImageFormat::kPng && !scene.output.asynchronous) {
