@@ -2,6 +2,7 @@
 // color. The only per-particle conversion Lantern makes, streamed for the particles drawn.
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
@@ -33,6 +34,9 @@ struct InstanceRecipe {
   bool per_particle_radius = false;
   float radius = 0.5f;
   Coloring coloring;
+  // Per-particle colour factors of object-space ambient occlusion (object_occlusion.h), indexed
+  // like the particles; null (the default) leaves colours as they are. Borrowed.
+  const float *occlusion = nullptr;
 
   SphereInstance make(int64_t i) const {
     const glm::dvec3 p = particles->position(i) - origin;
@@ -50,6 +54,14 @@ struct InstanceRecipe {
   }
 
   Rgb8 color(int64_t i) const {
+    const Rgb8 c = base_color(i);
+    if (!occlusion) return c;
+    const float f = occlusion[i];
+    return {uint8_t(std::lround(c[0] * f)), uint8_t(std::lround(c[1] * f)),
+            uint8_t(std::lround(c[2] * f))};
+  }
+
+  Rgb8 base_color(int64_t i) const {
     switch (coloring.by) {
       case ColorBy::kType:
         return coloring.palette.at(particles->has_type() ? particles->type(i) : 0);

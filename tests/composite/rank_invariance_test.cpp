@@ -266,6 +266,12 @@ TEST(RankInvariance, SameImagesWithEveryDepthCue) {
                         "    depth_cue: {color: [0.5, 0.5, 0.5]}\n");
 }
 
+// Object-space ambient occlusion: a density volume summed over ranks, per-particle colours.
+TEST(RankInvariance, SameImagesWithObjectAmbientOcclusion) {
+  expect_rank_invariant(make_particles(1500), "object_ao", "",
+                        "    ambient_occlusion: {method: object, radius: 1.5, strength: 0.8}\n");
+}
+
 // Coincident pairs: two particles at exactly the same position with the same radius, one of type
 // 0 (red) and one of type 1 (blue), with different ids; in every other pair the red one comes
 // first. Every pixel of a pair is a depth tie, settled by the smaller color: blue.
