@@ -24,7 +24,8 @@ void apply_depth_cue(const ViewPositions &positions, const DepthCueStyle &style,
       const float f = fade_fraction(style, z);
       for (int c = 0; c < 3; ++c) {
         const float from = rgba[4 * x + c];
-        rgba[4 * x + c] = uint8_t(std::lround(from + f * (float(style.color[c]) - from)));
+        // Rounded to nearest: the blend lies in [0, 255].
+        rgba[4 * x + c] = uint8_t(from + f * (float(style.color[c]) - from) + 0.5f);
       }
     }
   }

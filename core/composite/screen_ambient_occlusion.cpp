@@ -12,6 +12,8 @@ namespace lantern {
 namespace {
 
 constexpr float kGoldenAngle = 2.39996323f;  // radians: pi (3 - sqrt 5)
+// Added before truncating a sample offset (|offset| <= kMaxAoPixels) to round it to nearest.
+constexpr float kRoundShift = float(kMaxAoPixels + 1) + 0.5f;
 
 glm::vec3 position(const ViewPositions &v, int x, int y, float z) {
   return {v.view_x(x, z), v.view_y(y, z), -z};
@@ -84,8 +86,9 @@ void apply_screen_ambient_occlusion(const ViewPositions &v, const AmbientOcclusi
       const float *k = &kernel[size_t(kTurnOf[(y & 3) * 4 + (x & 3)]) * size_t(n) * 2];
       float occlusion = 0.0f;
       for (int s = 0; s < n; ++s) {
-        const int sx = x + int(std::lround(pixels * k[2 * s]));
-        const int sy = y + int(std::lround(pixels * k[2 * s + 1]));
+        // Offsets rounded to nearest (half up) by truncating a positive value: no libm call.
+        const int sx = x + int(pixels * k[2 * s] + kRoundShift) - kMaxAoPixels - 1;
+        const int sy = y + int(pixels * k[2 * s + 1] + kRoundShift) - kMaxAoPixels - 1;
         if (sx < 0 || sx >= w || sy < 0 || sy >= h) continue;
         const float sz = v.z(sx, sy);
         if (sz == ViewPositions::kBackground) continue;
@@ -96,8 +99,7 @@ void apply_screen_ambient_occlusion(const ViewPositions &v, const AmbientOcclusi
         occlusion += std::max(0.0f, cosine - kAoBias) * (1.0f - d2 / r2);
       }
       const float keep = 1.0f - std::min(style.strength, gain * occlusion);
-      for (int c = 0; c < 3; ++c)
-        rgba[4 * x + c] = uint8_t(std::lround(float(rgba[4 * x + c]) * keep));
+      for (int c = 0; c < 3; ++c) rgba[4 * x + c] = uint8_t(float(rgba[4 * x + c]) * keep + 0.5f);
     }
   }
 }

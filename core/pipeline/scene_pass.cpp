@@ -98,17 +98,20 @@ Status run_scene_pass(const ScenePassInputs &in, const SceneConfig &scene, Scene
     return with_context(where, std::move(s));
   stats->camera_ms = ms_since(t0);
 
-  // Object-space ambient occlusion: per-particle colour factors from a density volume reduced
-  // over every rank (collective, so before anything a rank may skip).
-  std::vector<float> occlusion;
-  if (scene.ambient_occlusion.enabled &&
-      scene.ambient_occlusion.method == AmbientOcclusionMethod::kObject) {
+  // Object-space ambient occlusion: a density volume reduced over every rank (collective, so
+  // before anything a rank may skip); colours are scaled as particles are drawn.
+  const bool object_ao = scene.ambient_occlusion.enabled &&
+                         scene.ambient_occlusion.method == AmbientOcclusionMethod::kObject;
+  OcclusionVolume occlusion;
+  if (object_ao) {
+    t0 = Clock::now();
     const double cell =
         scene.ambient_occlusion.radius.value_or(kDefaultAoRadiusInSphereRadii * max_radius);
-    if (Status s = object_occlusion(in.comm, *in.particles, in.global, scene.cuts, cell,
-                                    scene.ambient_occlusion.strength, &occlusion);
+    if (Status s = occlusion.build(in.comm, *in.particles, in.global, scene.cuts, cell,
+                                   scene.ambient_occlusion.strength);
         !s.ok())
       return with_context(where, std::move(s));
+    stats->cues_ms = ms_since(t0);
   }
 
   Status local = check_scene_needs(scene, radius, *in.particles);
@@ -124,7 +127,7 @@ Status run_scene_pass(const ScenePassInputs &in, const SceneConfig &scene, Scene
     BrickSelection &selection = in.scratch->selection;
     select_bricks(bricks, camera, scene, radius, &selection, &buffers->cut_counts);
     InstanceRecipe recipe = make_recipe(*in.particles, scene, radius, camera, in.global);
-    if (!occlusion.empty()) recipe.occlusion = occlusion.data();
+    if (object_ao) recipe.occlusion = &occlusion;
     const Rgb8 bg = to_rgb8(scene.background);
     const uint8_t background[4] = {bg[0], bg[1], bg[2], 255};
     // The renderer, decided here once: from the configuration, the camera and the occlusion mode
@@ -186,9 +189,11 @@ Status run_scene_pass(const ScenePassInputs &in, const SceneConfig &scene, Scene
 
   // Screen-space cues on the composited, final-resolution frame (each rank a band of rows).
   if (wants_screen_cues(scene)) {
+    t0 = Clock::now();
     if (Status s = apply_screen_cues(in.comm, 0, scene, camera, max_radius, &buffers->frame);
         !s.ok())
       return with_context(where + "screen cues: ", std::move(s));
+    stats->cues_ms += ms_since(t0);
   }
 
   Status written;

@@ -41,6 +41,7 @@ nlohmann::json SceneStats::counts_json() const {
             {"readback", readback_ms},
             {"composite", composite_ms},
             {"write", write_ms},
+            {"cues", cues_ms},
             {"total", total_ms}}},
           {"particles",
            {{"drawn", drawn},

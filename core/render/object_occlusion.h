@@ -10,16 +10,21 @@
 // for any split of the particles. A particle's occupancy o is the mean count of the 3 x 3 x 3
 // cells around it (interpolated trilinearly between cell centres, so it varies smoothly from
 // particle to particle) divided by the largest count of any cell (1 deep inside a solid, about
-// 1/2 on a flat surface, less on edges and corners, more in creases and pits); its colour is
-// scaled by 1 - strength x clamp(2 o - 1, 0, 1): open surfaces keep their colour, concave and
-// buried ones darken.
+// 2/3 on a flat face, less on edges and corners, more in creases and pits); its colour is scaled
+// by 1 - strength x clamp(2 o - 1, 0, 1): open corners and edges keep their colour, faces dim a
+// little, concave and buried particles darken most. Factors are computed on demand, for the
+// particles actually drawn.
 //
-// Collective over comm. Units: simulation lengths. Returns OK or kMpi (the same on every rank).
+// Units: simulation lengths. Ownership: a value. Thread-safety: factor() is const and may run
+// on several threads at once.
 #pragma once
 
 #include <mpi.h>
 
+#include <array>
 #include <vector>
+
+#include <glm/vec3.hpp>
 
 #include "core/common/status.h"
 #include "core/config/config.h"
@@ -30,9 +35,27 @@ namespace lantern {
 
 inline constexpr int kMaxOcclusionCells = 64;
 
-// Fills (*factor)[i] in (0, 1] for each of this rank's particles (1 for those not drawn).
-Status object_occlusion(MPI_Comm comm, const ParticleArrays &particles, const Extent &global,
-                        const std::vector<CutPlane> &cuts, double cell, double strength,
-                        std::vector<float> *factor);
+class OcclusionVolume {
+ public:
+  // Collective over comm: counts this rank's drawn particles and sums the counts over ranks.
+  // Returns OK or kMpi (the same on every rank).
+  Status build(MPI_Comm comm, const ParticleArrays &particles, const Extent &global,
+               const std::vector<CutPlane> &cuts, double cell, double strength);
+
+  // The colour factor in [1 - strength, 1] of a particle at x (a drawn one: inside the bounds).
+  float factor(const glm::dvec3 &x) const;
+
+ private:
+  size_t index(int x, int y, int z) const {
+    return (size_t(z) * size_t(n_[1]) + size_t(y)) * size_t(n_[0]) + size_t(x);
+  }
+  void set_grid(const Extent &global, double cell);
+  void sum_neighbourhoods(const std::vector<int32_t> &counts);
+
+  glm::dvec3 lo_{0.0};
+  double cell_ = 1.0, strength_ = 0.0, full_ = 1.0;  // full_: 27 x the fullest cell's count
+  std::array<int, 3> n_{1, 1, 1};
+  std::vector<float> sums_;  // 3 x 3 x 3 neighbourhood counts per cell
+};
 
 }  // namespace lantern

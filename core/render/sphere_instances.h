@@ -2,7 +2,6 @@
 // color. The only per-particle conversion Lantern makes, streamed for the particles drawn.
 #pragma once
 
-#include <cmath>
 #include <cstdint>
 #include <vector>
 
@@ -12,6 +11,7 @@
 #include "core/particles/global_extent.h"
 #include "core/particles/particle_arrays.h"
 #include "core/particles/radius_rule.h"
+#include "core/render/object_occlusion.h"
 #include "core/render/sphere_renderer.h"
 
 namespace lantern {
@@ -34,9 +34,9 @@ struct InstanceRecipe {
   bool per_particle_radius = false;
   float radius = 0.5f;
   Coloring coloring;
-  // Per-particle colour factors of object-space ambient occlusion (object_occlusion.h), indexed
-  // like the particles; null (the default) leaves colours as they are. Borrowed.
-  const float *occlusion = nullptr;
+  // Object-space ambient occlusion (object_occlusion.h): scales each particle's colour; null
+  // (the default) leaves colours as they are. Borrowed.
+  const OcclusionVolume *occlusion = nullptr;
 
   SphereInstance make(int64_t i) const {
     const glm::dvec3 p = particles->position(i) - origin;
@@ -56,9 +56,10 @@ struct InstanceRecipe {
   Rgb8 color(int64_t i) const {
     const Rgb8 c = base_color(i);
     if (!occlusion) return c;
-    const float f = occlusion[i];
-    return {uint8_t(std::lround(c[0] * f)), uint8_t(std::lround(c[1] * f)),
-            uint8_t(std::lround(c[2] * f))};
+    const float f = occlusion->factor(particles->position(i));
+    // Rounded to nearest (the values are >= 0, f <= 1).
+    return {uint8_t(float(c[0]) * f + 0.5f), uint8_t(float(c[1]) * f + 0.5f),
+            uint8_t(float(c[2]) * f + 0.5f)};
   }
 
   Rgb8 base_color(int64_t i) const {

@@ -47,12 +47,17 @@ Extent extent_of(MPI_Comm comm, const Lattice &l) {
   return reduce_extent(comm, local);
 }
 
-// Factors by lattice site (1 where this rank holds none).
+// Factors by lattice site of the particles this rank holds (1 elsewhere and where cut away).
 std::vector<float> factors(MPI_Comm comm, const Lattice &l, const std::vector<CutPlane> &cuts) {
-  std::vector<float> f;
-  EXPECT_OK(object_occlusion(comm, l.arrays, extent_of(comm, l), cuts, 2.0, kStrength, &f));
+  OcclusionVolume volume;
+  EXPECT_OK(volume.build(comm, l.arrays, extent_of(comm, l), cuts, 2.0, kStrength));
   std::vector<float> by_site(kSide * kSide * kSide, 1.0f);
-  for (size_t i = 0; i < l.site.size(); ++i) by_site[size_t(l.site[i])] = f[i];
+  for (size_t i = 0; i < l.site.size(); ++i) {
+    const glm::dvec3 x(l.xyz[3 * i], l.xyz[3 * i + 1], l.xyz[3 * i + 2]);
+    bool cut = false;
+    for (const CutPlane &c : cuts) cut = cut || x[2] * c.normal[2] > c.offset;
+    if (!cut) by_site[size_t(l.site[i])] = volume.factor(x);
+  }
   return by_site;
 }
 
