@@ -106,6 +106,40 @@ struct CutPlane {
   bool enabled = true;  // enabled: false keeps the plane in the list but cuts nothing (toggle)
 };
 
+// Depth cues (issue 13), each off unless its section is present. The screen-space ones (screen
+// ambient occlusion, outline, depth cue) run on the final-resolution composited frame, after
+// any down-sampling and before the image is written (core/composite/screen_cues.h).
+enum class AmbientOcclusionMethod { kScreen, kObject };
+
+// The default ambient_occlusion.radius, in sphere radii (the scene's largest): about the first
+// neighbour shell of a dense packing.
+inline constexpr double kDefaultAoRadiusInSphereRadii = 4.0;
+
+// ambient_occlusion: {method, radius, samples, strength}
+struct AmbientOcclusionConfig {
+  bool enabled = false;                                             // the section is present
+  AmbientOcclusionMethod method = AmbientOcclusionMethod::kScreen;  // method: screen | object
+  std::optional<double> radius;  // radius: > 0, simulation units; absent = 4 x sphere radius
+  int samples = 16;              // samples: 1..64 (screen: samples per pixel)
+  double strength = 0.6;         // strength: [0, 1], 0 = no darkening
+};
+
+// outline: {width, color, depth_threshold}
+struct OutlineConfig {
+  bool enabled = false;                  // the section is present
+  int width = 1;                         // width: pixels, 1..16
+  std::array<double, 3> color{0, 0, 0};  // color: [r, g, b]
+  double depth_threshold = 1.0;          // depth_threshold: >= 0, in sphere radii
+};
+
+// depth_cue: {start, end, color}
+struct DepthCueConfig {
+  bool enabled = false;                        // the section is present
+  std::optional<double> start;                 // start: view depth where fading begins; auto
+  std::optional<double> end;                   // end: view depth of full fade; auto
+  std::optional<std::array<double, 3>> color;  // color: [r, g, b]; absent = background
+};
+
 struct SceneConfig {
   std::string name = "scene";  // name: used in stats and in {scene} of the pattern
   int width = 1024;            // width: pixels, 1..kMaxImageSize
@@ -126,6 +160,9 @@ struct SceneConfig {
   int samples_per_axis() const {
     return samples >= 64 ? 8 : samples >= 16 ? 4 : samples >= 4 ? 2 : 1;
   }
+  AmbientOcclusionConfig ambient_occlusion;  // ambient_occlusion: {...}
+  OutlineConfig outline;                     // outline: {...}
+  DepthCueConfig depth_cue;                  // depth_cue: {...}
 };
 
 // dump: (HDF5 / H5MD particle dumps; issue 6)

@@ -33,8 +33,9 @@ const std::vector<std::string> kTopKeys = {"schedule", "scenes",     "stats",  "
                                            "gl",       "egl_device", "lammps", "watch"};
 const std::vector<std::string> kScheduleKeys = {"every", "start", "steps"};
 const std::vector<std::string> kSceneKeys = {
-    "name",   "width",   "height", "background", "radius",   "camera", "color",
-    "output", "culling", "lod",    "cut_planes", "renderer", "samples"};
+    "name",    "width",    "height", "background", "radius",   "camera",  "color",
+    "output",  "culling",  "lod",    "cut_planes", "renderer", "samples", "ambient_occlusion",
+    "outline", "depth_cue"};
 const std::vector<std::string> kCameraKeys = {"projection", "fov",      "azimuth", "elevation",
                                               "zoom",       "position", "look_at", "up",
                                               "near",       "far"};
@@ -43,6 +44,9 @@ const std::vector<std::string> kOutputKeys = {"pattern",           "format",    
                                               "compression_level", "asynchronous", "exr_color"};
 const std::vector<std::string> kCullingKeys = {"frustum", "occlusion", "nine_spheres_radius"};
 const std::vector<std::string> kLodKeys = {"budget", "fraction", "min_pixels", "point_path"};
+const std::vector<std::string> kAmbientOcclusionKeys = {"method", "radius", "samples", "strength"};
+const std::vector<std::string> kOutlineKeys = {"width", "color", "depth_threshold"};
+const std::vector<std::string> kDepthCueKeys = {"start", "end", "color"};
 const std::vector<std::string> kCutPlaneKeys = {"normal", "offset", "enabled"};
 const std::vector<std::string> kDumpKeys = {"enabled", "file", "schedule", "fields", "precision"};
 const std::vector<std::string> kDumpFields = {"position", "type", "scalar", "radius", "id"};
@@ -75,6 +79,9 @@ std::map<std::string, std::vector<std::string>> key_homes() {
       {"scenes[].culling", &kCullingKeys},
       {"scenes[].lod", &kLodKeys},
       {"scenes[].cut_planes[]", &kCutPlaneKeys},
+      {"scenes[].ambient_occlusion", &kAmbientOcclusionKeys},
+      {"scenes[].outline", &kOutlineKeys},
+      {"scenes[].depth_cue", &kDepthCueKeys},
       {"dump", &kDumpKeys},
       {"lammps", &kLammpsKeys}};
   std::map<std::string, std::vector<std::string>> homes;
@@ -220,6 +227,7 @@ class Loader {
       s.samples = std::stoi(r_.read_choice(n, p, {"1", "4", "16", "64"}));
       check_sample_frame(s, n, p);
     });
+    read_depth_cues(node, path, &s);
     return s;
   }
 
@@ -237,6 +245,78 @@ class Loader {
             std::to_string(pixels * 8) + " bytes (RGBA8 + float depth) per rank; the limit is " +
             std::to_string(kMaxSampleFramePixels) + " pixels (" +
             std::to_string(kMaxSampleFramePixels * 8) + " bytes): lower samples, width or height");
+  }
+
+  // The depth cues (issue 13): a section that is present turns its cue on, `{}` with defaults.
+  void read_depth_cues(const YAML::Node &node, const std::string &path, SceneConfig *s) const {
+    const auto present = [&](const std::string &key) {
+      const YAML::Node n = node[key];
+      return n.IsDefined() && (n.IsNull() || n.IsMap());
+    };
+    for (const char *key : {"ambient_occlusion", "outline", "depth_cue"}) {
+      const YAML::Node n = node[key];
+      if (n.IsDefined() && !n.IsNull() && !n.IsMap())
+        r_.fail(n, child_path(path, key), "must be a mapping ({} for the defaults)");
+    }
+    if (present("ambient_occlusion"))
+      s->ambient_occlusion =
+          ambient_occlusion(node["ambient_occlusion"], child_path(path, "ambient_occlusion"));
+    if (present("outline")) s->outline = outline(node["outline"], child_path(path, "outline"));
+    if (present("depth_cue"))
+      s->depth_cue = depth_cue(node["depth_cue"], child_path(path, "depth_cue"));
+  }
+
+  AmbientOcclusionConfig ambient_occlusion(const YAML::Node &node, const std::string &path) const {
+    r_.check_map(node, path, kAmbientOcclusionKeys);
+    AmbientOcclusionConfig a;
+    a.enabled = true;
+    optional_key(node, path, "method", [&](const YAML::Node &n, const std::string &p) {
+      a.method = r_.read_choice(n, p, {"screen", "object"}) == "screen"
+                     ? AmbientOcclusionMethod::kScreen
+                     : AmbientOcclusionMethod::kObject;
+    });
+    optional_key(node, path, "radius", [&](const YAML::Node &n, const std::string &p) {
+      a.radius = r_.read_in_range(n, p, 0.0, false, kInf, false);
+    });
+    optional_key(node, path, "samples", [&](const YAML::Node &n, const std::string &p) {
+      a.samples = static_cast<int>(r_.read_int(n, p, 1, 64));
+    });
+    optional_key(node, path, "strength", [&](const YAML::Node &n, const std::string &p) {
+      a.strength = r_.read_in_range(n, p, 0.0, true, 1.0, true);
+    });
+    return a;
+  }
+
+  OutlineConfig outline(const YAML::Node &node, const std::string &path) const {
+    r_.check_map(node, path, kOutlineKeys);
+    OutlineConfig o;
+    o.enabled = true;
+    optional_key(node, path, "width", [&](const YAML::Node &n, const std::string &p) {
+      o.width = static_cast<int>(r_.read_int(n, p, 1, 16));
+    });
+    optional_key(node, path, "color",
+                 [&](const YAML::Node &n, const std::string &p) { o.color = r_.read_rgb(n, p); });
+    optional_key(node, path, "depth_threshold", [&](const YAML::Node &n, const std::string &p) {
+      o.depth_threshold = r_.read_in_range(n, p, 0.0, true, kInf, false);
+    });
+    return o;
+  }
+
+  DepthCueConfig depth_cue(const YAML::Node &node, const std::string &path) const {
+    r_.check_map(node, path, kDepthCueKeys);
+    DepthCueConfig d;
+    d.enabled = true;
+    optional_key(node, path, "start", [&](const YAML::Node &n, const std::string &p) {
+      if (n.IsScalar() && n.Scalar() == "auto") return;
+      d.start = r_.read_in_range(n, p, 0.0, true, kInf, false);
+    });
+    optional_key(node, path, "end", [&](const YAML::Node &n, const std::string &p) {
+      if (n.IsScalar() && n.Scalar() == "auto") return;
+      d.end = r_.read_in_range(n, p, d.start.value_or(0.0), false, kInf, false);
+    });
+    optional_key(node, path, "color",
+                 [&](const YAML::Node &n, const std::string &p) { d.color = r_.read_rgb(n, p); });
+    return d;
   }
 
   // Names end up in file names ({scene}) and stats: keep them to portable file-name characters.

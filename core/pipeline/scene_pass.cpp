@@ -12,12 +12,14 @@
 #include "core/composite/depth_compositor.h"
 #include "core/composite/row_bands.h"
 #include "core/composite/sample_downsampling.h"
+#include "core/composite/screen_cues.h"
 #include "core/config/file_pattern.h"
 #include "core/culling/brick_selection.h"
 #include "core/culling/cull_stage.h"
 #include "core/output/image_writer.h"
 #include "core/output/png/png_across_ranks.h"
 #include "core/render/cpu_sphere_pass.h"
+#include "core/render/object_occlusion.h"
 #include "core/render/point_splats.h"
 #include "core/render/sphere_instances.h"
 
@@ -130,6 +132,22 @@ Status run_scene_pass(const ScenePassInputs &in, const SceneConfig &scene, Scene
     return with_context(where, std::move(s));
   stats->camera_ms = ms_since(t0);
 
+  // Object-space ambient occlusion: a density volume reduced over every rank (collective, so
+  // before anything a rank may skip); colours are scaled as particles are drawn.
+  const bool object_ao = scene.ambient_occlusion.enabled &&
+                         scene.ambient_occlusion.method == AmbientOcclusionMethod::kObject;
+  OcclusionVolume occlusion;
+  if (object_ao) {
+    t0 = Clock::now();
+    const double cell =
+        scene.ambient_occlusion.radius.value_or(kDefaultAoRadiusInSphereRadii * max_radius);
+    if (Status s = occlusion.build(in.comm, *in.particles, in.global, scene.cuts, cell,
+                                   scene.ambient_occlusion.strength);
+        !s.ok())
+      return with_context(where, std::move(s));
+    stats->cues_ms = ms_since(t0);
+  }
+
   Status local = check_scene_needs(scene, radius, *in.particles);
   CullStats cull;
   if (local.ok()) {
@@ -142,7 +160,8 @@ Status run_scene_pass(const ScenePassInputs &in, const SceneConfig &scene, Scene
     DrawList &draw = in.scratch->draw;
     BrickSelection &selection = in.scratch->selection;
     select_bricks(bricks, camera, scene, radius, &selection, &buffers->cut_counts);
-    const InstanceRecipe recipe = make_recipe(*in.particles, scene, radius, camera, in.global);
+    InstanceRecipe recipe = make_recipe(*in.particles, scene, radius, camera, in.global);
+    if (object_ao) recipe.occlusion = &occlusion;
     const Rgb8 bg = to_rgb8(scene.background);
     const uint8_t background[4] = {bg[0], bg[1], bg[2], 255};
     // The renderer, decided here once: from the configuration, the camera and the occlusion mode
@@ -209,6 +228,21 @@ Status run_scene_pass(const ScenePassInputs &in, const SceneConfig &scene, Scene
   }
   stats->composite_ms = cs.milliseconds;
   stats->composite_method = cs.method;
+
+  // Screen-space cues on the composited, final-resolution frame (each rank a band of rows).
+  if (wants_screen_cues(scene)) {
+    t0 = Clock::now();
+    // The cues work on the final image, so with super-sampling they need its camera (the
+    // sample frame's has s times the pixels); the same frustum, so the same depths.
+    Camera image_camera = camera;
+    if (s_axis > 1)
+      (void)make_camera(scene.camera, lo, hi, max_radius, scene.width, scene.height, &image_camera,
+                        radius_source);  // succeeded above at s times the size
+    if (Status s = apply_screen_cues(in.comm, 0, scene, image_camera, max_radius, &buffers->frame);
+        !s.ok())
+      return with_context(where + "screen cues: ", std::move(s));
+    stats->cues_ms += ms_since(t0);
+  }
 
   Status written;
   if (scene.output.format == ImageFormat::kPng && !scene.output.asynchronous) {

@@ -42,6 +42,7 @@ nlohmann::json SceneStats::counts_json() const {
             {"composite", composite_ms},
             {"downsample", downsample_ms},
             {"write", write_ms},
+            {"cues", cues_ms},
             {"total", total_ms}}},
           {"particles",
            {{"drawn", drawn},

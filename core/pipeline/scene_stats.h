@@ -20,6 +20,9 @@ struct SceneStats {
   std::string bricks;    // "built", "refit" (kept z-order, new bounds) or "cached" (same step)
   double camera_ms = 0, cull_ms = 0, instances_ms = 0, draw_ms = 0, readback_ms = 0,
          composite_ms = 0, write_ms = 0, total_ms = 0;
+  // Depth cues (issue 13): object AO's density volume plus the screen-space cues after
+  // compositing (0 when none is on).
+  double cues_ms = 0;
   // Particle counts summed over ranks.
   int64_t drawn = 0;     // spheres sent to the renderer
   int64_t splatted = 0;  // sub-pixel spheres written by the CPU point path (lod.point_path)

@@ -11,6 +11,7 @@
 #include "core/particles/global_extent.h"
 #include "core/particles/particle_arrays.h"
 #include "core/particles/radius_rule.h"
+#include "core/render/object_occlusion.h"
 #include "core/render/sphere_renderer.h"
 
 namespace lantern {
@@ -33,6 +34,9 @@ struct InstanceRecipe {
   bool per_particle_radius = false;
   float radius = 0.5f;
   Coloring coloring;
+  // Object-space ambient occlusion (object_occlusion.h): scales each particle's colour; null
+  // (the default) leaves colours as they are. Borrowed.
+  const OcclusionVolume *occlusion = nullptr;
 
   SphereInstance make(int64_t i) const {
     const glm::dvec3 p = particles->position(i) - origin;
@@ -50,6 +54,15 @@ struct InstanceRecipe {
   }
 
   Rgb8 color(int64_t i) const {
+    const Rgb8 c = base_color(i);
+    if (!occlusion) return c;
+    const float f = occlusion->factor(particles->position(i));
+    // Rounded to nearest (the values are >= 0, f <= 1).
+    return {uint8_t(float(c[0]) * f + 0.5f), uint8_t(float(c[1]) * f + 0.5f),
+            uint8_t(float(c[2]) * f + 0.5f)};
+  }
+
+  Rgb8 base_color(int64_t i) const {
     switch (coloring.by) {
       case ColorBy::kType:
         return coloring.palette.at(particles->has_type() ? particles->type(i) : 0);

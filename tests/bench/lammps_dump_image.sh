@@ -4,6 +4,9 @@
 #   tests/bench/lammps_dump_image.sh [BUILD_DIR] [CELLS] [SIZE] [IMAGES] [EVERY] [RANKS]
 #   defaults: build-h5, 63 (4*63^3 = 1,000,188 atoms), 1024, 4, 5, 2
 #   ASYNC=true: Lantern encodes and writes its PNGs on a background thread (output.asynchronous)
+#   SSAO=yes: ambient occlusion on both sides (LAMMPS `ssao yes 4567 0.6`, Lantern
+#     `ambient_occlusion: {method: screen}`); run once with and once without to get each side's
+#     cost of it
 #
 # lantern-lammps runs examples/lammps/in.lj (the LAMMPS bench melt with `fix viz all external
 # pf/callback EVERY 1`) with one more line, `dump img all image EVERY ... size SIZE SIZE adiam 1.0`:
@@ -32,15 +35,17 @@ scenes:
     output:
       pattern: "$work/lantern_{step:06d}.png"
       asynchronous: ${ASYNC:-false}
+$([ "${SSAO:-no}" = yes ] && echo "    ambient_occlusion: {method: screen}")
 stats: "$work/stats.jsonl"
 YAML
-sed "/^run/i dump img all image $every $work/lammps_*.png type type size $size $size adiam 1.0" \
+ssao=$([ "${SSAO:-no}" = yes ] && echo " ssao yes 4567 0.6" || true)
+sed "/^run/i dump img all image $every $work/lammps_*.png type type size $size $size adiam 1.0$ssao" \
   "$root/examples/lammps/in.lj" > "$work/in.bench"
 mpiflags=(--oversubscribe)
 [ "$(id -u)" = 0 ] && mpiflags+=(--allow-run-as-root)
 steps=$(( (images - 1) * every ))
 atoms=$((4 * cells * cells * cells))
-echo "LJ melt, $atoms atoms, ${size}x${size}, $images images every $every steps, $ranks MPI ranks"
+echo "LJ melt, $atoms atoms, ${size}x${size}, $images images every $every steps, $ranks MPI ranks, ssao ${SSAO:-no}"
 OMP_NUM_THREADS=1 mpiexec "${mpiflags[@]}" -n "$ranks" "$exe" -in "$work/in.bench" \
   -lantern "$work/bench.yaml" -log none -var cells "$cells" -var every "$every" \
   -var steps "$steps" > "$work/out.txt" 2> "$work/err.txt"

@@ -267,6 +267,21 @@ TEST(RankInvariance, SameImagesWithSixteenSamples) {
   expect_rank_invariant(make_particles(1500), "ssaa16", "", "    samples: 16\n");
 }
 
+// Every depth cue at once (issue 13): screen ambient occlusion, outlines and depth cueing run on
+// row bands of the composited frame, which must not show in the image.
+TEST(RankInvariance, SameImagesWithEveryDepthCue) {
+  expect_rank_invariant(make_particles(1500), "cues", "",
+                        "    ambient_occlusion: {method: screen, samples: 12}\n"
+                        "    outline: {width: 2, color: [0.1, 0, 0]}\n"
+                        "    depth_cue: {color: [0.5, 0.5, 0.5]}\n");
+}
+
+// Object-space ambient occlusion: a density volume summed over ranks, per-particle colours.
+TEST(RankInvariance, SameImagesWithObjectAmbientOcclusion) {
+  expect_rank_invariant(make_particles(1500), "object_ao", "",
+                        "    ambient_occlusion: {method: object, radius: 1.5, strength: 0.8}\n");
+}
+
 // Coincident pairs: two particles at exactly the same position with the same radius, one of type
 // 0 (red) and one of type 1 (blue), with different ids; in every other pair the red one comes
 // first. Every pixel of a pair is a depth tie, settled by the smaller color: blue.

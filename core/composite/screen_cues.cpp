@@ -1,0 +1,95 @@
+#include "core/composite/screen_cues.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "core/color/colormap.h"
+#include "core/composite/depth_cue.h"
+#include "core/composite/outline.h"
+#include "core/composite/row_bands.h"
+#include "core/composite/screen_ambient_occlusion.h"
+#include "core/composite/view_positions.h"
+
+namespace lantern {
+
+namespace {
+
+bool screen_ao(const SceneConfig &scene) {
+  return scene.ambient_occlusion.enabled &&
+         scene.ambient_occlusion.method == AmbientOcclusionMethod::kScreen;
+}
+
+void copy_rgb(const std::array<double, 3> &rgb, uint8_t out[3]) {
+  const Rgb8 c = to_rgb8(rgb);
+  std::copy(c.begin(), c.end(), out);
+}
+
+// The nearest and farthest drawn distance of the whole image (owned rows of every rank): the
+// automatic range of depth_cue. Min and max are exact, so any banding gives the same two values.
+Status drawn_depth_range(MPI_Comm comm, const ViewPositions &v, const RowBand &owned,
+                         float *nearest, float *farthest) {
+  float local[2] = {ViewPositions::kBackground, ViewPositions::kBackground};  // -max, min
+  for (int y = owned.y0; y < owned.y1; ++y)
+    for (int x = 0; x < v.width(); ++x) {
+      const float z = v.z(x, y);
+      if (z == ViewPositions::kBackground) continue;
+      local[0] = std::min(local[0], z);
+      local[1] = std::min(local[1], -z);
+    }
+  float global[2];
+  if (MPI_Allreduce(local, global, 2, MPI_FLOAT, MPI_MIN, comm) != MPI_SUCCESS)
+    return {StatusCode::kMpi, "depth_cue: MPI_Allreduce of the drawn depth range failed"};
+  *nearest = global[0];
+  *farthest = -global[1];
+  return {};
+}
+
+}  // namespace
+
+bool wants_screen_cues(const SceneConfig &scene) {
+  return screen_ao(scene) || scene.outline.enabled || scene.depth_cue.enabled;
+}
+
+Status apply_screen_cues(MPI_Comm comm, int root, const SceneConfig &scene, const Camera &camera,
+                         double sphere_radius, Frame *frame) {
+  if (!wants_screen_cues(scene)) return {};
+  int halo = 0;
+  if (screen_ao(scene)) halo = kMaxAoPixels;
+  if (scene.outline.enabled) halo = std::max(halo, scene.outline.width);
+  BandFrame band;
+  if (Status s = scatter_row_bands(comm, root, *frame, scene.width, scene.height, 1, halo, &band);
+      !s.ok())
+    return s;
+  ViewPositions positions;
+  positions.build(band, camera);
+
+  if (screen_ao(scene)) {
+    AmbientOcclusionStyle style;
+    style.radius = float(
+        scene.ambient_occlusion.radius.value_or(kDefaultAoRadiusInSphereRadii * sphere_radius));
+    style.samples = scene.ambient_occlusion.samples;
+    style.strength = float(scene.ambient_occlusion.strength);
+    apply_screen_ambient_occlusion(positions, style, &band);
+  }
+  if (scene.outline.enabled) {
+    OutlineStyle style;
+    style.width = scene.outline.width;
+    style.jump = float(scene.outline.depth_threshold * sphere_radius);
+    copy_rgb(scene.outline.color, style.color);
+    draw_outlines(positions, style, &band);
+  }
+  if (scene.depth_cue.enabled) {
+    DepthCueStyle style;
+    float nearest = 0, farthest = 0;
+    if (!scene.depth_cue.start || !scene.depth_cue.end)
+      if (Status s = drawn_depth_range(comm, positions, band.owned, &nearest, &farthest); !s.ok())
+        return s;
+    style.start = float(scene.depth_cue.start.value_or(nearest));
+    style.end = float(scene.depth_cue.end.value_or(farthest));
+    copy_rgb(scene.depth_cue.color.value_or(scene.background), style.color);
+    apply_depth_cue(positions, style, &band);
+  }
+  return gather_row_bands(comm, root, band, scene.width, scene.height, frame);
+}
+
+}  // namespace lantern

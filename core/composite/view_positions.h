@@ -1,0 +1,50 @@
+// View-space positions of a composited band's pixels, reconstructed from window depth through the
+// camera: what the screen-space cues (screen_cues.h) measure distances and normals with.
+//
+// Only the composited frame and the camera go in, so the positions, and every cue computed from
+// them, are the same whichever rank holds the row and however the particles were split.
+// Units: the simulation's length unit, view space (eye at the origin looking down -z); `z` is
+// the positive distance along the view axis, +infinity where nothing was drawn.
+// Ownership: a value; build() reads the band and keeps nothing of it.
+#pragma once
+
+#include <limits>
+#include <vector>
+
+#include "core/camera/camera.h"
+#include "core/composite/row_bands.h"
+
+namespace lantern {
+
+class ViewPositions {
+ public:
+  static constexpr float kBackground = std::numeric_limits<float>::infinity();
+
+  // Distances of every pixel of band.frame (owned rows and halo); `image_width/height` are the
+  // whole image's.
+  void build(const BandFrame &band, const Camera &camera);
+
+  // Distance along the view axis at image pixel (x, y), y an image row held by the band.
+  float z(int x, int y) const { return z_[size_t(y - first_) * size_t(width_) + size_t(x)]; }
+  // View-space x and y of image pixel (x, y)'s centre at distance z.
+  float view_x(int x, float z) const { return (x_scale_ * (float(x) + 0.5f) + x_offset_) * at(z); }
+  float view_y(int y, float z) const { return (y_scale_ * (float(y) + 0.5f) + y_offset_) * at(z); }
+  // Pixels per simulation unit at distance z (the same horizontally and vertically).
+  float pixels_per_unit(float z) const { return orthographic_ ? ppu_ : ppu_ / z; }
+
+  int width() const { return width_; }
+  int height() const { return height_; }
+  int first_row() const { return first_; }
+  int last_row() const { return first_ + rows_; }  // one past the last held row
+
+ private:
+  // The factor by which a pixel's normalised offset grows with distance: z in perspective.
+  float at(float z) const { return orthographic_ ? 1.0f : z; }
+
+  std::vector<float> z_;
+  int width_ = 0, height_ = 0, first_ = 0, rows_ = 0;
+  bool orthographic_ = false;
+  float x_scale_ = 0, x_offset_ = 0, y_scale_ = 0, y_offset_ = 0, ppu_ = 0;
+};
+
+}  // namespace lantern

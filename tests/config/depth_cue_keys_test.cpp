@@ -1,0 +1,93 @@
+// The depth-cue keys (issue 13): off by default, bare sections on with defaults, and bad values
+// rejected naming key, line and the allowed range.
+#include <gtest/gtest.h>
+
+#include <initializer_list>
+#include <string>
+
+#include "core/config/config_loader.h"
+#include "tests/support/status_expect.h"
+
+namespace lantern {
+namespace {
+
+void expect_error(const std::string &document, std::initializer_list<const char *> fragments) {
+  Config c;
+  const Status status = load_config(document, &c);
+  EXPECT_EQ(status.code, StatusCode::kConfig) << document;
+  for (const char *fragment : fragments)
+    EXPECT_NE(status.message.find(fragment), std::string::npos)
+        << "missing '" << fragment << "' in: " << status.message;
+}
+
+TEST(DepthCueKeys, EveryCueIsOffByDefault) {
+  Config c;
+  ASSERT_OK(load_config("scenes:\n  - name: a\n", &c));
+  EXPECT_FALSE(c.scenes[0].ambient_occlusion.enabled);
+  EXPECT_FALSE(c.scenes[0].outline.enabled);
+  EXPECT_FALSE(c.scenes[0].depth_cue.enabled);
+}
+
+TEST(DepthCueKeys, BareSectionsTurnTheCuesOnWithDefaults) {
+  Config c;
+  ASSERT_OK(load_config(
+      "scenes:\n  - ambient_occlusion: {method: screen}\n    outline: {}\n    depth_cue:\n", &c));
+  const SceneConfig &s = c.scenes[0];
+  EXPECT_TRUE(s.ambient_occlusion.enabled);
+  EXPECT_EQ(s.ambient_occlusion.method, AmbientOcclusionMethod::kScreen);
+  EXPECT_FALSE(s.ambient_occlusion.radius.has_value());
+  EXPECT_EQ(s.ambient_occlusion.samples, 16);
+  EXPECT_TRUE(s.outline.enabled);
+  EXPECT_EQ(s.outline.width, 1);
+  EXPECT_EQ(s.outline.depth_threshold, 1.0);
+  EXPECT_TRUE(s.depth_cue.enabled);
+  EXPECT_FALSE(s.depth_cue.start || s.depth_cue.end || s.depth_cue.color);
+}
+
+TEST(DepthCueKeys, GivenValuesAreRead) {
+  Config c;
+  ASSERT_OK(
+      load_config("scenes:\n"
+                  "  - ambient_occlusion: {method: screen, radius: 2.5, samples: 32, "
+                  "strength: 0.25}\n"
+                  "    outline: {width: 3, color: [1, 0, 0], depth_threshold: 0.5}\n"
+                  "    depth_cue: {start: 5, end: 9, color: [0, 0, 1]}\n",
+                  &c));
+  const SceneConfig &s = c.scenes[0];
+  EXPECT_EQ(*s.ambient_occlusion.radius, 2.5);
+  EXPECT_EQ(s.ambient_occlusion.samples, 32);
+  EXPECT_EQ(s.ambient_occlusion.strength, 0.25);
+  EXPECT_EQ(s.outline.width, 3);
+  EXPECT_EQ(s.outline.color, (std::array<double, 3>{1, 0, 0}));
+  EXPECT_EQ(s.outline.depth_threshold, 0.5);
+  EXPECT_EQ(*s.depth_cue.start, 5.0);
+  EXPECT_EQ(*s.depth_cue.end, 9.0);
+  EXPECT_EQ(*s.depth_cue.color, (std::array<double, 3>{0, 0, 1}));
+}
+
+TEST(DepthCueKeys, BadValuesNameKeyLineAndRange) {
+  expect_error("scenes:\n  - ambient_occlusion: {radius: -1}\n",
+               {"scenes[0].ambient_occlusion.radius", "line 2", "> 0"});
+  expect_error("scenes:\n  - name: a\n    ambient_occlusion: {strength: 1.5}\n",
+               {"scenes[0].ambient_occlusion.strength", "line 3", "in [0, 1]"});
+  expect_error("scenes:\n  - ambient_occlusion: {strength: -0.1}\n",
+               {"ambient_occlusion.strength", "in [0, 1]"});
+  expect_error("scenes:\n  - ambient_occlusion: {samples: 0}\n",
+               {"scenes[0].ambient_occlusion.samples", "line 2", "64"});
+  expect_error("scenes:\n  - ambient_occlusion: {samples: 65}\n",
+               {"ambient_occlusion.samples", "64"});
+  expect_error("scenes:\n  - ambient_occlusion: {method: volume}\n",
+               {"scenes[0].ambient_occlusion.method", "line 2", "screen", "object"});
+  expect_error("scenes:\n  - outline: {width: 0}\n", {"scenes[0].outline.width", "line 2", "16"});
+  expect_error("scenes:\n  - outline: {depth_threshold: -1}\n",
+               {"scenes[0].outline.depth_threshold", ">= 0"});
+  expect_error("scenes:\n  - outline: {color: [2, 0, 0]}\n", {"scenes[0].outline.color"});
+  expect_error("scenes:\n  - depth_cue: {start: 5, end: 3}\n",
+               {"scenes[0].depth_cue.end", "line 2", "> 5"});
+  expect_error("scenes:\n  - depth_cue: {start: -1}\n", {"scenes[0].depth_cue.start", ">= 0"});
+  expect_error("scenes:\n  - outline: 3\n", {"scenes[0].outline", "line 2", "mapping"});
+  expect_error("scenes:\n  - outline: {widht: 3}\n", {"outline.widht", "did you mean 'width'?"});
+}
+
+}  // namespace
+}  // namespace lantern
