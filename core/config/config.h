@@ -72,7 +72,9 @@ struct OutputConfig {
 // on screen (where it measured faster), opengl elsewhere.
 enum class RendererChoice { kAuto, kOpenGl, kCpu };
 
-enum class OcclusionMode { kAuto, kNone, kNineSpheres, kNineSpheresSorted, kHzb };
+// probabilistic: seed 004's confidence-map culling (core/culling/probabilistic_culler.h); an
+// approximate mode served by the CPU raster only, never chosen by auto.
+enum class OcclusionMode { kAuto, kNone, kNineSpheres, kNineSpheresSorted, kHzb, kProbabilistic };
 
 // The radius the nine-spheres rule compares (a sphere is hidden only by nearer spheres that are
 // not smaller). world: the drawn radius, as seed 000 states the rule. equivalent: seed 003's
@@ -81,13 +83,25 @@ enum class OcclusionMode { kAuto, kNone, kNineSpheres, kNineSpheresSorted, kHzb 
 // near small sphere can hide a far large one that looks smaller on screen.
 enum class NineSpheresRadius { kWorld, kEquivalent };
 
+// Seed 004's probabilistic occlusion culling (occlusion: probabilistic), culling.* keys.
+struct ProbabilisticConfig {
+  double confidence = 0.95;  // confidence: C_occ in (0, 1), occluded-class threshold
+  int budget = 2;            // probabilistic_budget: occluder meshlets sampled per node per pass
+  int patience = 3;          // probabilistic_patience: converged when no class changed this long
+  // No YAML key (lantern-bench only): accept samples by a fair coin instead of eq. 21, the
+  // paper's "random 50%" baseline of Table 4.
+  bool random_acceptance = false;
+};
+
 // culling: (issue 5 fills the algorithms; the keys exist from the start)
 struct CullingConfig {
   bool frustum = true;  // frustum: true|false
   OcclusionMode occlusion =
-      OcclusionMode::kAuto;  // occlusion: auto|none|nine_spheres|nine_spheres_sorted|hzb
+      OcclusionMode::kAuto;  // occlusion:
+                             // auto|none|nine_spheres|nine_spheres_sorted|hzb|probabilistic
   NineSpheresRadius nine_spheres_radius =
-      NineSpheresRadius::kWorld;  // nine_spheres_radius: world|equivalent
+      NineSpheresRadius::kWorld;      // nine_spheres_radius: world|equivalent
+  ProbabilisticConfig probabilistic;  // confidence, probabilistic_budget, probabilistic_patience
 };
 
 // lod: level of detail served from z-order brick prefixes.

@@ -42,7 +42,12 @@ const std::vector<std::string> kCameraKeys = {"projection", "fov",      "azimuth
 const std::vector<std::string> kColorKeys = {"by", "solid", "palette", "colormap", "range"};
 const std::vector<std::string> kOutputKeys = {"pattern",           "format",       "jpeg_quality",
                                               "compression_level", "asynchronous", "exr_color"};
-const std::vector<std::string> kCullingKeys = {"frustum", "occlusion", "nine_spheres_radius"};
+const std::vector<std::string> kCullingKeys = {"frustum",
+                                               "occlusion",
+                                               "nine_spheres_radius",
+                                               "confidence",
+                                               "probabilistic_budget",
+                                               "probabilistic_patience"};
 const std::vector<std::string> kLodKeys = {"budget", "fraction", "min_pixels", "point_path"};
 const std::vector<std::string> kAmbientOcclusionKeys = {"method", "radius", "samples", "strength"};
 const std::vector<std::string> kOutlineKeys = {"width", "color", "depth_threshold"};
@@ -228,6 +233,12 @@ class Loader {
       check_sample_frame(s, n, p);
     });
     read_depth_cues(node, path, &s);
+    // Seed 004's culling runs inside the CPU raster's pass only.
+    if (s.culling.occlusion == OcclusionMode::kProbabilistic &&
+        s.renderer == RendererChoice::kOpenGl)
+      r_.fail(node["renderer"], child_path(path, "renderer"),
+              "'opengl' cannot serve culling.occlusion 'probabilistic' (a renderer that cannot "
+              "serve it); allowed with probabilistic: auto, cpu");
     return s;
   }
 
@@ -468,6 +479,18 @@ class Loader {
     optional_key(node, path, "nine_spheres_radius", [&](const YAML::Node &n, const std::string &p) {
       c.nine_spheres_radius = read_enum<NineSpheresRadius>(n, p);
     });
+    ProbabilisticConfig &prob = c.probabilistic;
+    optional_key(node, path, "confidence", [&](const YAML::Node &n, const std::string &p) {
+      prob.confidence = r_.read_in_range(n, p, 0.0, false, 1.0, false);
+    });
+    optional_key(node, path, "probabilistic_budget",
+                 [&](const YAML::Node &n, const std::string &p) {
+                   prob.budget = static_cast<int>(r_.read_int(n, p, 1, 64));
+                 });
+    optional_key(node, path, "probabilistic_patience",
+                 [&](const YAML::Node &n, const std::string &p) {
+                   prob.patience = static_cast<int>(r_.read_int(n, p, 1, 64));
+                 });
     return c;
   }
 

@@ -26,7 +26,8 @@ inline constexpr EnumName<OcclusionMode> kOcclusionModeNames[] = {
     {OcclusionMode::kNone, "none"},
     {OcclusionMode::kNineSpheres, "nine_spheres"},
     {OcclusionMode::kNineSpheresSorted, "nine_spheres_sorted"},
-    {OcclusionMode::kHzb, "hzb"}};
+    {OcclusionMode::kHzb, "hzb"},
+    {OcclusionMode::kProbabilistic, "probabilistic"}};
 
 inline constexpr EnumName<NineSpheresRadius> kNineSpheresRadiusNames[] = {
     {NineSpheresRadius::kWorld, "world"}, {NineSpheresRadius::kEquivalent, "equivalent"}};

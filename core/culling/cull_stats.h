@@ -7,6 +7,15 @@
 
 namespace lantern {
 
+// Seed 004's probabilistic culling on one rank (occlusion: probabilistic). Meshlet classes after
+// convergence, indexed by OcclusionClass.
+struct ProbabilisticStats {
+  int64_t iterations = 0;  // until no class changed for `patience` iterations (or the cap)
+  int64_t samples = 0;     // depth samples per pixel taken until then (passes)
+  int64_t meshlets[4] = {0, 0, 0, 0};  // in classes P, L, M, O (occluded: culled)
+  int64_t particles_culled = 0;        // particles of the occluded meshlets
+};
+
 struct CullStats {
   std::string occlusion;         // the mode run; for auto also why, e.g. "hzb (auto: dense, ...)"
   int64_t candidates = 0;        // finite particles of the rank
@@ -18,6 +27,7 @@ struct CullStats {
   int64_t splatted = 0;          // CPU point path
   int64_t bricks = 0, bricks_outside = 0, bricks_inside = 0, bricks_occluded = 0;
   bool per_particle_frustum = false;  // some brick straddled the frustum
+  ProbabilisticStats probabilistic;   // occlusion: probabilistic only
 };
 
 }  // namespace lantern

@@ -100,6 +100,20 @@ Status composite_and_downsample(MPI_Comm comm, Frame &samples, int s, int width,
   return gather_row_bands(comm, 0, band, width, height, image);
 }
 
+// Seed 004's counts over ranks: the slowest rank's iterations and samples, summed classes.
+ProbabilisticStats reduce_probabilistic_stats(MPI_Comm comm, const ProbabilisticStats &local) {
+  int64_t most[2] = {local.iterations, local.samples};
+  int64_t sum[5] = {local.meshlets[0], local.meshlets[1], local.meshlets[2], local.meshlets[3],
+                    local.particles_culled};
+  MPI_Allreduce(MPI_IN_PLACE, most, 2, MPI_INT64_T, MPI_MAX, comm);
+  MPI_Allreduce(MPI_IN_PLACE, sum, 5, MPI_INT64_T, MPI_SUM, comm);
+  ProbabilisticStats all;
+  all.iterations = most[0], all.samples = most[1];
+  for (int k = 0; k < 4; ++k) all.meshlets[k] = sum[k];
+  all.particles_culled = sum[4];
+  return all;
+}
+
 }  // namespace
 
 Status run_scene_pass(const ScenePassInputs &in, const SceneConfig &scene, SceneBuffers *buffers,
@@ -172,11 +186,12 @@ Status run_scene_pass(const ScenePassInputs &in, const SceneConfig &scene, Scene
       selection.stats.occlusion = "hzb (no OpenGL, instead of " + selection.stats.occlusion + ")";
       selection.mode = OcclusionMode::kHzb;
     }
-    const bool cpu = !in.renderer || (wants_cpu_raster(scene, camera, max_radius) &&
-                                      cpu_pass_serves(selection.mode));
+    const bool cpu =
+        !in.renderer || selection.mode == OcclusionMode::kProbabilistic ||
+        (wants_cpu_raster(scene, camera, max_radius) && cpu_pass_serves(selection.mode));
     stats->renderer = cpu ? "cpu" : "opengl";
     cull = cpu ? in.scratch->cpu_pass.run(*in.particles, bricks, scene, selection, recipe,
-                                          background, &frame, &draw)
+                                          background, &frame, &draw, in.step)
                : in.scratch->culler.cull(*in.particles, bricks, scene, selection, &draw);
     stats->cull_ms = ms_since(t0);
     stats->occlusion = cull.occlusion;
@@ -208,6 +223,8 @@ Status run_scene_pass(const ScenePassInputs &in, const SceneConfig &scene, Scene
   const double own_ms = ms_since(t_start);  // this rank's work, before waiting on the others
   if (Status s = agree_on_status(in.comm, local); !s.ok()) return s;
   sum_counts_over_ranks(in.comm, cull, stats);
+  if (scene.culling.occlusion == OcclusionMode::kProbabilistic)  // the same on every rank
+    stats->probabilistic = reduce_probabilistic_stats(in.comm, cull.probabilistic);
   stats->culled = in.global.finite_count - stats->drawn - stats->splatted;
   if (in.per_rank_stats)
     stats->per_rank =

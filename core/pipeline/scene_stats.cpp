@@ -26,6 +26,17 @@ std::string SceneStats::per_rank_line() const {
 nlohmann::json SceneStats::to_json() const {
   nlohmann::json j = counts_json();
   if (per_rank) j["per_rank"] = per_rank->to_json();
+  if (probabilistic) {
+    const ProbabilisticStats &p = *probabilistic;
+    j["probabilistic"] = {{"iterations", p.iterations},
+                          {"samples", p.samples},
+                          {"meshlets",
+                           {{"potentially_visible", p.meshlets[0]},
+                            {"low", p.meshlets[1]},
+                            {"medium", p.meshlets[2]},
+                            {"occluded", p.meshlets[3]}}},
+                          {"particles_culled", p.particles_culled}};
+  }
   return j;
 }
 

@@ -8,6 +8,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "core/culling/cull_stats.h"
 #include "core/pipeline/rank_spread.h"
 
 namespace lantern {
@@ -42,6 +43,9 @@ struct SceneStats {
   // How drawn, culled and the ranks' own milliseconds spread over the ranks (rank 0; with stats
   // on): JSON "per_rank".
   std::optional<PerRankStats> per_rank;
+  // occlusion: probabilistic: iterations and samples (the slowest rank), meshlets per class and
+  // particles culled (summed over ranks). JSON "probabilistic".
+  std::optional<ProbabilisticStats> probabilistic;
 
   nlohmann::json to_json() const;
   // One line for a log: the per-rank spread, e.g. "scene 'a' per rank: drawn 10..30 (imbalance

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "core/bricks/radix_sort.h"
 #include "core/particles/typed_access.h"
 
 namespace lantern {
@@ -16,7 +17,9 @@ constexpr double kRasterSlack = 0.05;
 CullStats CpuSpherePass::run(const ParticleArrays &particles, const BrickSet &bricks,
                              const SceneConfig &scene, const BrickSelection &sel,
                              const InstanceRecipe &recipe, const uint8_t background[4],
-                             Frame *frame, DrawList *out) {
+                             Frame *frame, DrawList *out, int64_t step) {
+  if (sel.mode == OcclusionMode::kProbabilistic)
+    return run_probabilistic(particles, bricks, scene, sel, recipe, background, frame, out, step);
   CullStats st = sel.stats;
   out->clear();
   const ViewGeometry &g = sel.g;
@@ -63,6 +66,81 @@ CullStats CpuSpherePass::run(const ParticleArrays &particles, const BrickSet &br
   // The merged lists are already in published order (draw_list.h).
   merge_strips(sel.visible, bricks, strips_, &scratch_, &st, out);
   std::vector<uint64_t>().swap(scratch_);  // per-frame scratch: keep nothing between frames
+  st.drawn = int64_t(out->spheres.size());
+  st.splatted = int64_t(out->points.size());
+  return st;
+}
+
+CullStats CpuSpherePass::run_probabilistic(const ParticleArrays &particles, const BrickSet &bricks,
+                                           const SceneConfig &scene, const BrickSelection &sel,
+                                           const InstanceRecipe &recipe,
+                                           const uint8_t background[4], Frame *frame, DrawList *out,
+                                           int64_t step) {
+  CullStats st = sel.stats;
+  out->clear();
+  st.probabilistic = probabilistic_.run(particles, bricks, scene, sel, step);
+  st.occlusion_culled = st.probabilistic.particles_culled;
+  const ViewGeometry &g = sel.g;
+  const bool point_path = scene.lod.point_path;
+  const bool two = split_strips(g.width, strips_);
+  CpuSphereRaster::clear_target(g, background, frame);
+  for (int k = 0; k < 2; ++k) rasters_[k].begin_strip(g, frame, strips_[k].x0, strips_[k].x1);
+  const MeshletSet &ml = probabilistic_.meshlets();
+  const Frustum frustum(g);
+  const CutPlanes cuts(scene.cuts);
+  for (const VisibleBrick &v : sel.visible) st.lod_dropped += bricks.bricks[v.brick].count - v.keep;
+  visit_positions(particles, [&](const auto &pos) {
+    visit_radii(particles, sel.radius.per_particle, sel.radius.radius, [&](const auto &radius) {
+      // Both strips walk the same particles; strip 0 alone records them and their counts.
+      const auto strip = [&](int k) {
+        StripState &s = strips_[k];
+        s.out.clear();
+        CullStats counts;
+        for (const VisibleBrick &v : sel.visible) {
+          const Brick &b = bricks.bricks[v.brick];
+          const bool straddle = v.containment == Containment::kStraddling;
+          for (uint32_t m = ml.first_of_brick[v.brick]; m < ml.first_of_brick[v.brick + 1]; ++m) {
+            if (probabilistic_.class_of(m) == OcclusionClass::kOccluded) continue;
+            const Meshlet &mesh = ml.meshlets[m];
+            for (uint32_t j = 0; j < mesh.count; ++j) {
+              const uint32_t slot = ml.slots[mesh.first + j];
+              if (slot >= v.keep) continue;
+              const uint32_t i = bricks.order[b.first + slot];
+              const glm::dvec3 p = pos.get(i);
+              if (v.cut_each && cuts.drops(p)) {
+                ++counts.cut_culled;
+                continue;
+              }
+              const double r = radius.get(i) * v.radius_scale;
+              const glm::dvec3 c = g.to_view(p);
+              if (straddle && frustum.classify_sphere(c, r) == Containment::kOutside) {
+                ++counts.frustum_culled;
+                continue;
+              }
+              if (point_path && splat_sized(g, c, r)) {
+                if (k == 0) s.out.points.push_back(draw_entry(i, v.radius_scale));
+                continue;
+              }
+              PixelRect rect = g.sphere_rect_tight(c, r, kRasterSlack);
+              if (k == 0) s.out.spheres.push_back(draw_entry(i, v.radius_scale));
+              rect.x0 = std::max(rect.x0, s.x0), rect.x1 = std::min(rect.x1, s.x1);
+              if (rect.empty()) continue;
+              const Rgb8 color = recipe.color(i);
+              rasters_[k].draw(c, r, color.data(), rect);
+            }
+          }
+        }
+        if (k == 0) st.cut_culled += counts.cut_culled, st.frustum_culled += counts.frustum_culled;
+      };
+      run_strips(two, sel.visible, strip, strips_);
+    });
+  });
+  // Published order (draw_list.h).
+  out->spheres = std::move(strips_[0].out.spheres);
+  out->points = std::move(strips_[0].out.points);
+  radix_sort_words(&out->spheres, &scratch_, 32, 64);
+  radix_sort_words(&out->points, &scratch_, 32, 64);
+  std::vector<uint64_t>().swap(scratch_);
   st.drawn = int64_t(out->spheres.size());
   st.splatted = int64_t(out->points.size());
   return st;

@@ -22,6 +22,7 @@
 #include "core/culling/column_strips.h"
 #include "core/culling/cull_stats.h"
 #include "core/culling/draw_list.h"
+#include "core/culling/probabilistic_culler.h"
 #include "core/particles/particle_arrays.h"
 #include "core/render/cpu_sphere_raster.h"
 #include "core/render/sphere_instances.h"
@@ -32,22 +33,36 @@ namespace lantern {
 class CpuSpherePass {
  public:
   // Clears `frame` to `background` (RGBA8) and draws into it the particles of `selection`
-  // (select_bricks for these particles, bricks and scene; its mode must be hzb or none), colored
-  // by `recipe`. `out` lists the spheres drawn (for the counts) and the points left to splat.
-  // Returns the selection's counts completed by this pass.
+  // (select_bricks for these particles, bricks and scene; its mode must be hzb, none or
+  // probabilistic), colored by `recipe`. `out` lists the spheres drawn (for the counts) and the
+  // points left to splat. `step` keys probabilistic culling's random numbers. Returns the
+  // selection's counts completed by this pass.
   CullStats run(const ParticleArrays &particles, const BrickSet &bricks, const SceneConfig &scene,
                 const BrickSelection &selection, const InstanceRecipe &recipe,
-                const uint8_t background[4], Frame *frame, DrawList *out);
+                const uint8_t background[4], Frame *frame, DrawList *out, int64_t step = 0);
+
+  // The meshlet classes of the last probabilistic run (tests).
+  const ProbabilisticCuller &probabilistic() const { return probabilistic_; }
 
  private:
+  // occlusion: probabilistic: seed 004's culling, then every particle of the potentially
+  // visible set ray-cast exactly (no further occlusion test, so the culled share is the
+  // method's own).
+  CullStats run_probabilistic(const ParticleArrays &particles, const BrickSet &bricks,
+                              const SceneConfig &scene, const BrickSelection &selection,
+                              const InstanceRecipe &recipe, const uint8_t background[4],
+                              Frame *frame, DrawList *out, int64_t step);
+
+  ProbabilisticCuller probabilistic_;
   StripState strips_[2];
   CpuSphereRaster rasters_[2];
   std::vector<uint64_t> scratch_;
 };
 
-// True when the CPU pass can render a selection in `mode`: it culls with hzb or not at all.
+// True when the CPU pass can render a selection in `mode`: hzb, probabilistic, or no culling.
 inline bool cpu_pass_serves(OcclusionMode mode) {
-  return mode == OcclusionMode::kHzb || mode == OcclusionMode::kNone;
+  return mode == OcclusionMode::kHzb || mode == OcclusionMode::kNone ||
+         mode == OcclusionMode::kProbabilistic;
 }
 
 }  // namespace lantern

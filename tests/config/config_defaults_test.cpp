@@ -93,7 +93,8 @@ scenes:
       colormap: coolwarm
       range: [-1, 2]
     output: {pattern: "img/{scene}_{step:04d}.exr", jpeg_quality: 50, exr_color: float}
-    culling: {frustum: false, occlusion: nine_spheres_sorted, nine_spheres_radius: equivalent}
+    culling: {frustum: false, occlusion: nine_spheres_sorted, nine_spheres_radius: equivalent,
+              confidence: 0.9, probabilistic_budget: 3, probabilistic_patience: 5}
     lod: {budget: 1000, fraction: 0.25, min_pixels: 1.5, point_path: yes}
     cut_planes:
       - {normal: [1, 0, 0], offset: 2}
@@ -140,6 +141,9 @@ scenes:
   EXPECT_FALSE(s.culling.frustum);
   EXPECT_EQ(s.culling.occlusion, OcclusionMode::kNineSpheresSorted);
   EXPECT_EQ(s.culling.nine_spheres_radius, NineSpheresRadius::kEquivalent);
+  EXPECT_EQ(s.culling.probabilistic.confidence, 0.9);
+  EXPECT_EQ(s.culling.probabilistic.budget, 3);
+  EXPECT_EQ(s.culling.probabilistic.patience, 5);
   EXPECT_EQ(s.lod.budget, 1000);
   EXPECT_EQ(s.lod.fraction, 0.25);
   EXPECT_EQ(s.lod.min_pixels, 1.5);

@@ -7,6 +7,7 @@
 #include <initializer_list>
 
 #include "core/config/config_loader.h"
+#include "tests/support/status_expect.h"
 
 namespace lantern {
 namespace {
@@ -169,7 +170,8 @@ TEST(ConfigErrors, ScenesMustNotOverwriteEachOther) {
 
 TEST(ConfigErrors, CullingAndLod) {
   expect_error("scenes:\n  - culling: {occlusion: nine_sphere}\n",
-               {"scenes[0].culling.occlusion", "auto, none, nine_spheres, nine_spheres_sorted, hzb",
+               {"scenes[0].culling.occlusion",
+                "auto, none, nine_spheres, nine_spheres_sorted, hzb, probabilistic",
                 "did you mean 'nine_spheres'?"});
   expect_error(
       "scenes:\n  - culling: {nine_spheres_radius: equivalnt}\n",
@@ -249,6 +251,38 @@ TEST(ConfigErrors, BinaryContentIsEscapedAndCutShort) {
                    {"scenes[0].color.colormap", "'\\xc2\\x8fqqq", "qqq'..."});
   EXPECT_LT(error.size(), 300u) << error;
   expect_error("\"\\x01\": 1\n", {"unknown key '\\x01'"});
+}
+
+// Seed 004's keys: C_occ strictly inside (0, 1), the budget and patience whole numbers in range,
+// and a renderer that can serve probabilistic culling (only the CPU raster can).
+TEST(ConfigErrors, ProbabilisticCulling) {
+  for (const char *bad : {"0", "1", "1.5", "x"})
+    expect_error(
+        std::string("scenes:\n  - culling: {occlusion: probabilistic, confidence: ") + bad + "}\n",
+        {"line 2", "scenes[0].culling.confidence", "(0, 1)"});
+  expect_error("scenes:\n  - culling: {occlusion: probabilistic, probabilistic_budget: 0}\n",
+               {"line 2", "scenes[0].culling.probabilistic_budget", "1", "64"});
+  expect_error("scenes:\n  - culling: {probabilistic_budget: two}\n",
+               {"scenes[0].culling.probabilistic_budget"});
+  expect_error("scenes:\n  - culling: {probabilistic_patience: 100}\n",
+               {"scenes[0].culling.probabilistic_patience", "64"});
+  expect_error(
+      "scenes:\n  - width: 8\n    culling: {occlusion: probabilistic}\n    renderer: opengl\n",
+      {"line 4", "scenes[0].renderer", "'opengl'", "probabilistic",
+       "a renderer that cannot serve it", "auto, cpu"});
+  // Accepted: the CPU raster, or auto (which picks it).
+  for (const char *renderer : {"cpu", "auto"}) {
+    Config c;
+    EXPECT_OK(
+        load_config(std::string("scenes:\n  - culling: {occlusion: probabilistic, "
+                                "confidence: 0.99, probabilistic_budget: 4}\n    renderer: ") +
+                        renderer + "\n",
+                    &c));
+    ASSERT_EQ(c.scenes.size(), 1u);
+    EXPECT_EQ(c.scenes[0].culling.occlusion, OcclusionMode::kProbabilistic);
+    EXPECT_EQ(c.scenes[0].culling.probabilistic.confidence, 0.99);
+    EXPECT_EQ(c.scenes[0].culling.probabilistic.budget, 4);
+  }
 }
 
 }  // namespace

@@ -74,6 +74,26 @@ BenchScene fcc_inside(int n, int size) {
   return s;
 }
 
+BenchScene heterogeneous(int n, int size) {
+  BenchScene s = fcc(n);
+  const size_t solid = s.type.size();
+  // A gas of the solid's atom count / 8 spread over a box twice the solid's width beside it
+  // (seed 004 Fig. 2: the sparse crown next to the dense block): density about 1/64 the solid's.
+  const double side = n * kLattice;
+  std::mt19937_64 rng(20240521);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  for (size_t k = 0; k < solid / 8; ++k) {
+    s.xyz.insert(s.xyz.end(), {-2.0 * side * u(rng) - 1.0, side * u(rng), side * u(rng)});
+    s.type.push_back(4);
+  }
+  s.name = "heterogeneous_" + std::to_string(s.type.size() / 1000) + "k";
+  s.note = "fcc " + std::to_string(n) + "^3 cells (" + std::to_string(solid) +
+           " atoms) beside a gas of " + std::to_string(s.type.size() - solid) +
+           " atoms in twice its volume (seed 004 Fig. 2)";
+  s.config.width = s.config.height = size;
+  return s;
+}
+
 bool mini_md_scene(const std::string &kind, int cells, int size, BenchScene *out,
                    std::string *why) {
 #ifdef LANTERN_BENCH_HAS_MINI_MD

@@ -27,6 +27,8 @@ struct BenchScene {
 BenchScene fcc_outside(int n, int size);
 // The same crystal seen by a wide-angle camera inside it.
 BenchScene fcc_inside(int n, int size);
+// A dense fcc crystal of n^3 cells beside a sparse gas (seed 004 Fig. 2's heterogeneous data).
+BenchScene heterogeneous(int n, int size);
 // mini_md's scenes at `cells` (false if mini_md is not built; *why says so).
 bool mini_md_scene(const std::string &kind, int cells, int size, BenchScene *out, std::string *why);
 

@@ -46,6 +46,7 @@
 #include "core/render/sphere_instances.h"
 #include "error_plot.h"
 #include "image_metrics.h"
+#include "probabilistic_modes.h"
 #include "supersampling_bench.h"
 
 namespace lantern::bench {
@@ -86,6 +87,7 @@ struct Mode {
   LodConfig lod;
   bool cpu = false;  // drawn by the CPU raster (renderer: cpu) instead of OpenGL
   NineSpheresRadius nine_radius = NineSpheresRadius::kWorld;  // culling.nine_spheres_radius
+  ProbabilisticConfig probabilistic;  // culling.confidence etc. (probabilistic_modes.h)
 };
 
 std::vector<Mode> modes() {
@@ -118,6 +120,11 @@ std::vector<Mode> modes() {
   Mode points{"auto+point_path", false, OcclusionMode::kAuto, true, {}};
   points.lod.point_path = true;
   m.push_back(points);
+  for (const ProbabilisticMode &p : probabilistic_modes()) {  // seed 004 (CPU raster)
+    Mode prob{p.name, false, OcclusionMode::kProbabilistic, true, {}, true};
+    prob.probabilistic = p.config;
+    m.push_back(prob);
+  }
   return m;
 }
 
@@ -234,6 +241,7 @@ class Bench {
     sc.culling.occlusion = mode.occlusion;
     sc.culling.frustum = mode.frustum;
     sc.culling.nine_spheres_radius = mode.nine_radius;
+    sc.culling.probabilistic = mode.probabilistic;
     sc.lod = mode.lod;
     sc.renderer = mode.cpu ? RendererChoice::kCpu : RendererChoice::kOpenGl;
     Frame &f = keep ? r->frame : scratch_frame_;
@@ -329,6 +337,16 @@ class Bench {
     }
   }
 
+  // The exact CPU image (cpu_raster+hzb, else cpu_raster) when it ran, for probabilistic's
+  // level differences; nullptr otherwise.
+  static const Frame *exact_cpu_frame(const std::vector<Mode> &all,
+                                      const std::vector<Result> &results) {
+    for (const char *name : {"cpu_raster+hzb", "cpu_raster"})
+      for (size_t m = 0; m < all.size(); ++m)
+        if (all[m].name == name) return &results[m].frame;
+    return nullptr;
+  }
+
   static double culled_percent(const Result &r, int64_t n) {
     return 100.0 * double(n - r.drawn - r.splatted) / double(std::max<int64_t>(n, 1));
   }
@@ -352,7 +370,9 @@ class Bench {
         std::snprintf(psnr, sizeof psnr, "inf");
       else
         std::snprintf(psnr, sizeof psnr, "%.2f", r.error.psnr);
-      const std::string occ = all[m].brute ? "-" : r.stats.occlusion;
+      std::string occ = all[m].brute ? "-" : r.stats.occlusion;
+      if (all[m].occlusion == OcclusionMode::kProbabilistic)
+        occ += probabilistic_note(r.stats.probabilistic, r.frame, exact_cpu_frame(all, *results));
       std::string drawn = std::to_string(r.drawn);
       if (r.splatted) drawn += "+" + std::to_string(r.splatted) + "pt";
       std::printf("   %-30s %9.1f %8.1f %8.1f %9.1f %10s %7.1f%% %10lld %8s %7.4f %7.1fx  %s\n",
@@ -483,6 +503,8 @@ int run(int argc, char **argv) {
       s = fcc_outside(136, opt.size);
     } else if (name == "inside") {
       s = fcc_inside(63, opt.size);
+    } else if (name == "heterogeneous") {
+      s = heterogeneous(63, opt.size);
     } else if (name == "fcc_small") {
       s = fcc_outside(24, opt.size);
     } else if (name == "void_impact" || name == "droplet") {

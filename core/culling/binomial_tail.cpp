@@ -1,0 +1,34 @@
+#include "core/culling/binomial_tail.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace lantern {
+
+double binomial_tail_exact(int n, double p, int k) {
+  if (k <= 0) return 1.0;
+  if (k > n) return 0.0;
+  if (p <= 0.0) return 0.0;
+  if (p >= 1.0) return 1.0;
+  const double lp = std::log(p), lq = std::log1p(-p), lgn = std::lgamma(n + 1.0);
+  double sum = 0.0;
+  for (int j = k; j <= n; ++j)
+    sum += std::exp(lgn - std::lgamma(j + 1.0) - std::lgamma(n - j + 1.0) + j * lp + (n - j) * lq);
+  return std::min(sum, 1.0);
+}
+
+double binomial_tail_normal(int n, double p, int k) {
+  if (k <= 0) return 1.0;
+  if (k > n) return 0.0;
+  const double mean = n * p, sd = std::sqrt(n * p * (1.0 - p));
+  if (!(sd > 0.0)) return mean >= k ? 1.0 : 0.0;
+  const double z = (k - 0.5 - mean) / sd;
+  return 0.5 * std::erfc(z / std::sqrt(2.0));  // 1 - Phi(z)
+}
+
+double binomial_tail(int n, double p, int k) {
+  return n * p * (1.0 - p) >= kNormalMinVariance ? binomial_tail_normal(n, p, k)
+                                                 : binomial_tail_exact(n, p, k);
+}
+
+}  // namespace lantern
