@@ -50,7 +50,7 @@ Status scatter_row_bands(MPI_Comm comm, int root, const Frame &full, int width, 
   int rank = 0, ranks = 1;
   MPI_Comm_rank(comm, &rank);
   MPI_Comm_size(comm, &ranks);
-  std::vector<RowBand> held(size_t(ranks));
+  std::vector<RowBand> held(static_cast<size_t>(ranks));
   for (int k = 0; k < ranks; ++k)
     held[size_t(k)] = with_halo(row_band(height, ranks, k, multiple), height, halo);
   std::vector<int> counts, offsets;
@@ -88,7 +88,7 @@ Status gather_row_bands(MPI_Comm comm, int root, const BandFrame &band, int widt
   int rank = 0, ranks = 1;
   MPI_Comm_rank(comm, &rank);
   MPI_Comm_size(comm, &ranks);
-  std::vector<RowBand> owned(size_t(ranks));
+  std::vector<RowBand> owned(static_cast<size_t>(ranks));
   for (int k = 0; k < ranks; ++k) owned[size_t(k)] = row_band(height, ranks, k, 1);
   std::vector<int> counts, offsets;
   Status fits;
