@@ -32,9 +32,9 @@ constexpr size_t kPathShown = 256;
 const std::vector<std::string> kTopKeys = {"schedule", "scenes",     "stats",  "verbose", "dump",
                                            "gl",       "egl_device", "lammps", "watch"};
 const std::vector<std::string> kScheduleKeys = {"every", "start", "steps"};
-const std::vector<std::string> kSceneKeys = {"name",    "width",  "height",     "background",
-                                             "radius",  "camera", "color",      "output",
-                                             "culling", "lod",    "cut_planes", "renderer"};
+const std::vector<std::string> kSceneKeys = {
+    "name",   "width",   "height", "background", "radius",   "camera", "color",
+    "output", "culling", "lod",    "cut_planes", "renderer", "style",  "density"};
 const std::vector<std::string> kCameraKeys = {"projection", "fov",      "azimuth", "elevation",
                                               "zoom",       "position", "look_at", "up",
                                               "near",       "far"};
@@ -43,6 +43,7 @@ const std::vector<std::string> kOutputKeys = {"pattern",           "format",    
                                               "compression_level", "asynchronous", "exr_color"};
 const std::vector<std::string> kCullingKeys = {"frustum", "occlusion", "nine_spheres_radius"};
 const std::vector<std::string> kLodKeys = {"budget", "fraction", "min_pixels", "point_path"};
+const std::vector<std::string> kDensityKeys = {"transfer", "range", "colormap"};
 const std::vector<std::string> kCutPlaneKeys = {"normal", "offset", "enabled"};
 const std::vector<std::string> kDumpKeys = {"enabled", "file", "schedule", "fields", "precision"};
 const std::vector<std::string> kDumpFields = {"position", "type", "scalar", "radius", "id"};
@@ -75,6 +76,7 @@ std::map<std::string, std::vector<std::string>> key_homes() {
       {"scenes[].culling", &kCullingKeys},
       {"scenes[].lod", &kLodKeys},
       {"scenes[].cut_planes[]", &kCutPlaneKeys},
+      {"scenes[].density", &kDensityKeys},
       {"dump", &kDumpKeys},
       {"lammps", &kLammpsKeys}};
   std::map<std::string, std::vector<std::string>> homes;
@@ -216,6 +218,11 @@ class Loader {
       r_.check_sequence(n, p);
       for (size_t i = 0; i < n.size(); ++i) s.cuts.push_back(cut_plane(n[i], index_path(p, i)));
     });
+    optional_key(node, path, "style", [&](const YAML::Node &n, const std::string &p) {
+      s.style = read_enum<SceneStyle>(n, p);
+    });
+    optional_key(node, path, "density",
+                 [&](const YAML::Node &n, const std::string &p) { s.density = density(n, p); });
     return s;
   }
 
@@ -387,6 +394,33 @@ class Loader {
       l.point_path = r_.read_bool(n, p);
     });
     return l;
+  }
+
+  // density: (style: density). A fixed range under the log transfer must be positive: log(0)
+  // has no picture.
+  DensityConfig density(const YAML::Node &node, const std::string &path) const {
+    r_.check_map(node, path, kDensityKeys);
+    DensityConfig d;
+    optional_key(node, path, "transfer", [&](const YAML::Node &n, const std::string &p) {
+      d.transfer = read_enum<DensityTransfer>(n, p);
+    });
+    optional_key(node, path, "colormap", [&](const YAML::Node &n, const std::string &p) {
+      d.colormap = r_.read_choice(n, p, kColormaps);
+    });
+    optional_key(node, path, "range", [&](const YAML::Node &n, const std::string &p) {
+      if (n.IsScalar() && n.Scalar() == "auto") return;
+      if (!n.IsSequence() || n.size() != 2)
+        r_.fail(n, p, "must be 'auto' or [lo, hi] with lo < hi");
+      const double lo = r_.read_finite(n[0], index_path(p, 0));
+      const double hi = r_.read_finite(n[1], index_path(p, 1));
+      if (!(lo < hi)) r_.fail(n, p, "must be 'auto' or [lo, hi] with lo < hi");
+      d.range = std::array<double, 2>{lo, hi};
+    });
+    if (d.transfer == DensityTransfer::kLog && d.range && (*d.range)[0] <= 0.0)
+      r_.fail(node["range"], child_path(path, "range"),
+              "transfer: log needs a range with lo > 0 (or 'auto'), got lo = " +
+                  std::to_string((*d.range)[0]));
+    return d;
   }
 
   CutPlane cut_plane(const YAML::Node &node, const std::string &path) const {
