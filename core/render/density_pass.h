@@ -34,9 +34,11 @@ int density_channels(ColorBy by);
 // Resets `image` to the selection's size and `density_channels(recipe.coloring.by)` channels,
 // then splats the kept particles, colored by `recipe`. Counts: drawn = particles splatted onto
 // the image, lod_dropped, cut_culled (by particle), frustum_culled = centre behind the near
-// plane or footprint wholly off the image.
+// plane or footprint wholly off the image. `pixels_written`, when given, receives the number of
+// pixel updates (the benchmark's memory traffic).
 CullStats render_density(const ParticleArrays &particles, const BrickSet &bricks,
                          const SceneConfig &scene, const BrickSelection &selection,
-                         const InstanceRecipe &recipe, DensityImage *image);
+                         const InstanceRecipe &recipe, DensityImage *image,
+                         int64_t *pixels_written = nullptr);
 
 }  // namespace lantern

@@ -69,6 +69,9 @@ class DensitySplatter {
   // detail), color used when the image has 4 channels. Returns whether it touched any pixel.
   bool splat(const glm::dvec3 &c, double r, double weight, const Rgb8 &color);
 
+  // Pixels written so far (for the benchmark's bytes per particle).
+  int64_t pixels_written() const { return pixels_written_; }
+
  private:
   // The normalised 1D kernel of centre `centre` (pixel units) and `sigma` over pixel indices
   // [*first, *last] clipped to [0, size); false when nothing of it lies on the image.
@@ -78,6 +81,7 @@ class DensitySplatter {
   const ViewGeometry &g_;
   DensityImage *image_;
   std::vector<double> gx_, gy_;
+  int64_t pixels_written_ = 0;
 };
 
 }  // namespace lantern

@@ -2,8 +2,10 @@
 //
 //   lantern-bench [--scenes fcc1m,fcc10m,inside,void_impact,droplet] [--size 1024] [--runs 5]
 //                 [--md-cells 64] [--out DIR] [--images] [--modes hzb,cpu_raster+hzb]
-//                 [--azimuths K]
+//                 [--azimuths K] [--density]
 //
+// --density: style: density at LOD 100/50/25/10/1 % against random samples instead of the sphere
+// modes (density_bench.h; DIR/density_bench.csv and .svg). Scene `clustered`: clustered_cloud.
 // A scene name may end in :uniform or :bimodal to give the particles mixed radii (assign_radii
 // in bench_scenes.h), e.g. --scenes fcc1m:uniform,inside:bimodal. --azimuths K renders every
 // scene from K azimuths evenly spaced about its vertical axis (same elevation and distance; seed
@@ -44,6 +46,7 @@
 #include "core/render/gl_session.h"
 #include "core/render/point_splats.h"
 #include "core/render/sphere_instances.h"
+#include "density_bench.h"
 #include "error_plot.h"
 #include "image_metrics.h"
 
@@ -72,6 +75,7 @@ struct Options {
   bool images = false;
   std::vector<std::string> modes;  // --modes a,b: only these (brute_force always runs: reference)
   int azimuths = 1;                // --azimuths K: views per scene, evenly spaced about its up axis
+  bool density = false;  // --density: style: density LOD against random samples (density_bench.h)
 };
 
 struct Mode {
@@ -412,11 +416,13 @@ bool parse(int argc, char **argv, Options *o) {
       for (std::string s; std::getline(ss, s, ',');) o->modes.push_back(s);
     } else if (a == "--azimuths") {
       o->azimuths = std::max(1, std::stoi(value()));
+    } else if (a == "--density") {
+      o->density = true;
     } else {
       std::fprintf(stderr,
                    "usage: lantern-bench [--scenes fcc1m,fcc10m,inside,void_impact,droplet] "
                    "[--size 1024] [--runs 5] [--md-cells 64] [--out DIR] [--images] "
-                   "[--modes hzb,cpu_raster+hzb,...] [--azimuths K]\n"
+                   "[--modes hzb,cpu_raster+hzb,...] [--azimuths K] [--density]\n"
                    "  a scene name may end in :uniform or :bimodal (mixed radii)\n");
       return false;
     }
@@ -436,8 +442,9 @@ int run(int argc, char **argv) {
                  opt.out.c_str(), ec.message().c_str());
     return 1;
   }
-  const std::string csv_path = opt.out + "/culling_bench.csv";
-  const std::string svg_path = opt.out + "/culling_bench.svg";
+  const std::string prefix = opt.out + (opt.density ? "/density_bench" : "/culling_bench");
+  const std::string csv_path = prefix + ".csv";
+  const std::string svg_path = prefix + ".svg";
   std::shared_ptr<GlSession> session;
   SphereRenderer *renderer = nullptr;
   if (const Status gl = acquire_renderer(GlBackend::kAuto, &session, &renderer); !gl.ok()) {
@@ -453,10 +460,14 @@ int run(int argc, char **argv) {
                  std::strerror(errno));
     return 1;
   }
-  csv << "scene,mode,ms_per_frame,cull_ms,cull_cpu_ms,render_ms,drawn,splatted,culled_percent,"
-         "differing_pixels,differing_depth,psnr_db,ssim,speedup,occlusion\n";
+  if (opt.density)
+    csv << density_csv_header();
+  else
+    csv << "scene,mode,ms_per_frame,cull_ms,cull_cpu_ms,render_ms,drawn,splatted,culled_percent,"
+           "differing_pixels,differing_depth,psnr_db,ssim,speedup,occlusion\n";
   std::vector<PlotPoint> plot;
   Bench bench(renderer, opt);
+  bool density_images_ok = true;
   for (const std::string &requested : opt.scenes) {
     BenchScene s;
     std::string why;
@@ -471,6 +482,8 @@ int run(int argc, char **argv) {
       s = fcc_inside(63, opt.size);
     } else if (name == "fcc_small") {
       s = fcc_outside(24, opt.size);
+    } else if (name == "clustered") {
+      s = clustered_cloud(4000000, opt.size);
     } else if (name == "void_impact" || name == "droplet") {
       if (!mini_md_scene(name, opt.md_cells, opt.size, &s, &why)) {
         std::printf("\n== %s: skipped: %s\n", name.c_str(), why.c_str());
@@ -485,7 +498,10 @@ int run(int argc, char **argv) {
                   radii.c_str());
       continue;
     }
-    bench.run_scene(s, csv, &plot);
+    if (opt.density)
+      density_images_ok &= run_density_bench(s, opt.runs, opt.images ? opt.out : "", csv, &plot);
+    else
+      bench.run_scene(s, csv, &plot);
     std::fflush(stdout);
   }
   // Say only what was written; any file that was not makes the exit status 1.
@@ -501,7 +517,7 @@ int run(int argc, char **argv) {
   } else {
     std::printf("wrote %s\n", svg_path.c_str());
   }
-  return ok && bench.images_written() ? 0 : 1;
+  return ok && bench.images_written() && density_images_ok ? 0 : 1;
 }
 
 }  // namespace
