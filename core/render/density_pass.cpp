@@ -58,7 +58,7 @@ CullStats render_density(const ParticleArrays &particles, const BrickSet &bricks
             ++st.cut_culled;
             continue;
           }
-          if (splatter.splat(g.to_view(p.x), p.r, weight, p.color))
+          if (splatter.splat(g.to_view(p.x), p.r * v.radius_scale, weight, p.color))
             ++st.drawn;
           else
             ++st.frustum_culled;

@@ -93,7 +93,7 @@ int64_t render_random(const ParticleArrays &p, const BrickSet &bricks, const Vie
   visit_positions(p, [&](const auto &pos) {
     for (const uint32_t i : bricks.order)
       if (index_hash(i) <= limit)
-        drawn += splatter.splat(g.to_view(pos.get(i)), radius, weight,
+        drawn += splatter.splat(g.to_view(pos.get(i)), radius * std::cbrt(1.0 / fraction), weight,
                                 image->channels > 1 ? recipe.color(i) : none);
   });
   *pixels = splatter.pixels_written();
