@@ -3,8 +3,9 @@
 // counter-based hash of the particle index), against the full density image: ms per frame,
 // particles drawn, PSNR, SSIM, and PSNR after an 8x8 box filter (structure at a coarser scale).
 // The transfer is asinh over a fixed range, the full image's auto range, so that every sample is
-// mapped alike. Also reports the splat's throughput (particles per second on one core) and the
-// bytes it reads per particle.
+// mapped alike. Every scene runs twice: footprints of the scene's sphere radius r, and of 3 r
+// (sigma = r: a smoothed density field rather than distinct particles). Also reports the splat's
+// throughput (particles per second on one core) and the bytes it reads per particle.
 #pragma once
 
 #include <ostream>
