@@ -154,6 +154,19 @@ struct DepthCueConfig {
   std::optional<std::array<double, 3>> color;  // color: [r, g, b]; absent = background
 };
 
+// style: what a particle is in the picture. spheres: opaque shaded spheres (depth-composited).
+// density: a screen-aligned Gaussian footprint, summed over particles (seed 001 §3.4;
+// core/render/density_splat.h), then mapped to colors by `density:`.
+enum class SceneStyle { kSpheres, kDensity };
+enum class DensityTransfer { kLinear, kLog, kAsinh };
+
+// density: how the summed footprints become an image (style: density only).
+struct DensityConfig {
+  DensityTransfer transfer = DensityTransfer::kLinear;  // transfer: linear | log | asinh
+  std::optional<std::array<double, 2>> range;  // range: auto | [lo, hi] (summed particle weight)
+  std::string colormap = "grayscale";          // colormap: of the intensity (color.by: solid)
+};
+
 struct SceneConfig {
   std::string name = "scene";  // name: used in stats and in {scene} of the pattern
   int width = 1024;            // width: pixels, 1..kMaxImageSize
@@ -177,6 +190,8 @@ struct SceneConfig {
   AmbientOcclusionConfig ambient_occlusion;  // ambient_occlusion: {...}
   OutlineConfig outline;                     // outline: {...}
   DepthCueConfig depth_cue;                  // depth_cue: {...}
+  SceneStyle style = SceneStyle::kSpheres;   // style: spheres | density
+  DensityConfig density;                     // density: {...}
 };
 
 // dump: (HDF5 / H5MD particle dumps; issue 6)

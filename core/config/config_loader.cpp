@@ -33,9 +33,9 @@ const std::vector<std::string> kTopKeys = {"schedule", "scenes",     "stats",  "
                                            "gl",       "egl_device", "lammps", "watch"};
 const std::vector<std::string> kScheduleKeys = {"every", "start", "steps"};
 const std::vector<std::string> kSceneKeys = {
-    "name",    "width",    "height", "background", "radius",   "camera",  "color",
-    "output",  "culling",  "lod",    "cut_planes", "renderer", "samples", "ambient_occlusion",
-    "outline", "depth_cue"};
+    "name",    "width",     "height", "background", "radius",   "camera",  "color",
+    "output",  "culling",   "lod",    "cut_planes", "renderer", "samples", "ambient_occlusion",
+    "outline", "depth_cue", "style",  "density"};
 const std::vector<std::string> kCameraKeys = {"projection", "fov",      "azimuth", "elevation",
                                               "zoom",       "position", "look_at", "up",
                                               "near",       "far"};
@@ -52,6 +52,7 @@ const std::vector<std::string> kLodKeys = {"budget", "fraction", "min_pixels", "
 const std::vector<std::string> kAmbientOcclusionKeys = {"method", "radius", "samples", "strength"};
 const std::vector<std::string> kOutlineKeys = {"width", "color", "depth_threshold"};
 const std::vector<std::string> kDepthCueKeys = {"start", "end", "color"};
+const std::vector<std::string> kDensityKeys = {"transfer", "range", "colormap"};
 const std::vector<std::string> kCutPlaneKeys = {"normal", "offset", "enabled"};
 const std::vector<std::string> kDumpKeys = {"enabled", "file", "schedule", "fields", "precision"};
 const std::vector<std::string> kDumpFields = {"position", "type", "scalar", "radius", "id"};
@@ -87,6 +88,7 @@ std::map<std::string, std::vector<std::string>> key_homes() {
       {"scenes[].ambient_occlusion", &kAmbientOcclusionKeys},
       {"scenes[].outline", &kOutlineKeys},
       {"scenes[].depth_cue", &kDepthCueKeys},
+      {"scenes[].density", &kDensityKeys},
       {"dump", &kDumpKeys},
       {"lammps", &kLammpsKeys}};
   std::map<std::string, std::vector<std::string>> homes;
@@ -239,6 +241,11 @@ class Loader {
       r_.fail(node["renderer"], child_path(path, "renderer"),
               "'opengl' cannot serve culling.occlusion 'probabilistic' (a renderer that cannot "
               "serve it); allowed with probabilistic: auto, cpu");
+    optional_key(node, path, "style", [&](const YAML::Node &n, const std::string &p) {
+      s.style = read_enum<SceneStyle>(n, p);
+    });
+    optional_key(node, path, "density",
+                 [&](const YAML::Node &n, const std::string &p) { s.density = density(n, p); });
     return s;
   }
 
@@ -510,6 +517,33 @@ class Loader {
       l.point_path = r_.read_bool(n, p);
     });
     return l;
+  }
+
+  // density: (style: density). A fixed range under the log transfer must be positive: log(0)
+  // has no picture.
+  DensityConfig density(const YAML::Node &node, const std::string &path) const {
+    r_.check_map(node, path, kDensityKeys);
+    DensityConfig d;
+    optional_key(node, path, "transfer", [&](const YAML::Node &n, const std::string &p) {
+      d.transfer = read_enum<DensityTransfer>(n, p);
+    });
+    optional_key(node, path, "colormap", [&](const YAML::Node &n, const std::string &p) {
+      d.colormap = r_.read_choice(n, p, kColormaps);
+    });
+    optional_key(node, path, "range", [&](const YAML::Node &n, const std::string &p) {
+      if (n.IsScalar() && n.Scalar() == "auto") return;
+      if (!n.IsSequence() || n.size() != 2)
+        r_.fail(n, p, "must be 'auto' or [lo, hi] with lo < hi");
+      const double lo = r_.read_finite(n[0], index_path(p, 0));
+      const double hi = r_.read_finite(n[1], index_path(p, 1));
+      if (!(lo < hi)) r_.fail(n, p, "must be 'auto' or [lo, hi] with lo < hi");
+      d.range = std::array<double, 2>{lo, hi};
+    });
+    if (d.transfer == DensityTransfer::kLog && d.range && (*d.range)[0] <= 0.0)
+      r_.fail(node["range"], child_path(path, "range"),
+              "transfer: log needs a range with lo > 0 (or 'auto'), got lo = " +
+                  std::to_string((*d.range)[0]));
+    return d;
   }
 
   CutPlane cut_plane(const YAML::Node &node, const std::string &path) const {

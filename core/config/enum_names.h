@@ -52,6 +52,14 @@ inline constexpr EnumName<GlBackend> kGlBackendNames[] = {{GlBackend::kAuto, "au
                                                           {GlBackend::kOsmesa, "osmesa"},
                                                           {GlBackend::kNone, "none"}};
 
+inline constexpr EnumName<SceneStyle> kSceneStyleNames[] = {{SceneStyle::kSpheres, "spheres"},
+                                                            {SceneStyle::kDensity, "density"}};
+
+inline constexpr EnumName<DensityTransfer> kDensityTransferNames[] = {
+    {DensityTransfer::kLinear, "linear"},
+    {DensityTransfer::kLog, "log"},
+    {DensityTransfer::kAsinh, "asinh"}};
+
 // The table of each enum, so that name_of / value_of / names_of need only the enum type.
 inline constexpr const auto &names_table(OcclusionMode) {
   return kOcclusionModeNames;
@@ -73,6 +81,12 @@ inline constexpr const auto &names_table(ImageFormat) {
 }
 inline constexpr const auto &names_table(GlBackend) {
   return kGlBackendNames;
+}
+inline constexpr const auto &names_table(SceneStyle) {
+  return kSceneStyleNames;
+}
+inline constexpr const auto &names_table(DensityTransfer) {
+  return kDensityTransferNames;
 }
 
 // The canonical name of `value` ("?" for a value missing from its table: a bug).

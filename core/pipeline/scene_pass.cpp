@@ -18,6 +18,7 @@
 #include "core/culling/cull_stage.h"
 #include "core/output/image_writer.h"
 #include "core/output/png/png_across_ranks.h"
+#include "core/pipeline/density_scene_pass.h"
 #include "core/render/cpu_sphere_pass.h"
 #include "core/render/object_occlusion.h"
 #include "core/render/point_splats.h"
@@ -114,13 +115,47 @@ ProbabilisticStats reduce_probabilistic_stats(MPI_Comm comm, const Probabilistic
   return all;
 }
 
+// The composited image (rank 0's frame) to the scene's file. Collective; same status everywhere.
+Status write_scene_image(const ScenePassInputs &in, const SceneConfig &scene, const Camera &camera,
+                         Clock::time_point t_start, SceneBuffers *buffers, SceneStats *stats) {
+  int rank = 0;
+  MPI_Comm_rank(in.comm, &rank);
+  const std::string where = "scenes '" + scene.name + "': ";
+  Clock::time_point t0;
+  Status written;
+  if (scene.output.format == ImageFormat::kPng && !scene.output.asynchronous) {
+    // Every rank compresses a share of the PNG: the root's encoder is off the critical path.
+    t0 = Clock::now();
+    stats->file = expand_pattern(scene.output.pattern, in.step, scene.name);
+    written = with_context(
+        where, write_png_across_ranks(in.comm, 0, buffers->frame, scene.width, scene.height,
+                                      scene.output.compression_level, stats->file));
+    stats->write_ms = ms_since(t0);
+    stats->total_ms = ms_since(t_start);
+    return agree_on_status(in.comm, written);
+  }
+  if (rank == 0) {
+    t0 = Clock::now();
+    stats->file = expand_pattern(scene.output.pattern, in.step, scene.name);
+    const auto to_distance = [camera](float d) {  // a copy: it may outlive this call
+      return float(camera.window_depth_to_distance(d));
+    };
+    written = with_context(
+        where, scene.output.asynchronous
+                   ? buffers->writer.submit(std::move(buffers->frame), scene.output, stats->file,
+                                            to_distance)
+                   : write_image(buffers->frame, scene.output, stats->file, to_distance));
+    stats->write_ms = ms_since(t0);
+  }
+  stats->total_ms = ms_since(t_start);
+  return broadcast_status(in.comm, written, 0);
+}
+
 }  // namespace
 
 Status run_scene_pass(const ScenePassInputs &in, const SceneConfig &scene, SceneBuffers *buffers,
                       SceneStats *stats) {
   const auto t_start = Clock::now();
-  int rank = 0;
-  MPI_Comm_rank(in.comm, &rank);
   stats->name = scene.name;
 
   // Every rank has the same inputs here, so these outcomes agree without communication.
@@ -163,6 +198,12 @@ Status run_scene_pass(const ScenePassInputs &in, const SceneConfig &scene, Scene
   }
 
   Status local = check_scene_needs(scene, radius, *in.particles);
+  if (scene.style == SceneStyle::kDensity) {
+    if (Status s = run_density_scene(in, scene, camera, radius, std::move(local), buffers, stats);
+        !s.ok())
+      return s;
+    return write_scene_image(in, scene, camera, t_start, buffers, stats);
+  }
   CullStats cull;
   if (local.ok()) {
     // Bricks, culling and level of detail: what to draw.
@@ -261,33 +302,7 @@ Status run_scene_pass(const ScenePassInputs &in, const SceneConfig &scene, Scene
     stats->cues_ms += ms_since(t0);
   }
 
-  Status written;
-  if (scene.output.format == ImageFormat::kPng && !scene.output.asynchronous) {
-    // Every rank compresses a share of the PNG: the root's encoder is off the critical path.
-    t0 = Clock::now();
-    stats->file = expand_pattern(scene.output.pattern, in.step, scene.name);
-    written = with_context(
-        where, write_png_across_ranks(in.comm, 0, buffers->frame, scene.width, scene.height,
-                                      scene.output.compression_level, stats->file));
-    stats->write_ms = ms_since(t0);
-    stats->total_ms = ms_since(t_start);
-    return agree_on_status(in.comm, written);
-  }
-  if (rank == 0) {
-    t0 = Clock::now();
-    stats->file = expand_pattern(scene.output.pattern, in.step, scene.name);
-    const auto to_distance = [camera](float d) {  // a copy: it may outlive this call
-      return float(camera.window_depth_to_distance(d));
-    };
-    written = with_context(
-        where, scene.output.asynchronous
-                   ? buffers->writer.submit(std::move(buffers->frame), scene.output, stats->file,
-                                            to_distance)
-                   : write_image(buffers->frame, scene.output, stats->file, to_distance));
-    stats->write_ms = ms_since(t0);
-  }
-  stats->total_ms = ms_since(t_start);
-  return broadcast_status(in.comm, written, 0);
+  return write_scene_image(in, scene, camera, t_start, buffers, stats);
 }
 
 }  // namespace lantern

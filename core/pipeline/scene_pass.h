@@ -17,6 +17,7 @@
 #include "core/particles/particle_arrays.h"
 #include "core/pipeline/scene_stats.h"
 #include "core/render/cpu_sphere_pass.h"
+#include "core/render/density_splat.h"
 #include "core/render/sphere_renderer.h"
 #include "core/view/frame.h"
 
@@ -51,6 +52,7 @@ struct SceneBuffers {
   Frame samples;  // samples > 1: the sample-resolution frame, kept between steps like `frame`
   BackgroundImageWriter writer;  // rank 0, with output.asynchronous
   BrickCutCounts cut_counts;     // this scene's cutting planes per brick (edits are incremental)
+  DensityImage density;          // style: density - this rank's sums, then (rank 0) all ranks'
 };
 
 // Renders `scene` and writes its image. Every rank returns the same status.

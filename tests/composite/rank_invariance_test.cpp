@@ -282,6 +282,15 @@ TEST(RankInvariance, SameImagesWithObjectAmbientOcclusion) {
                         "    ambient_occlusion: {method: object, radius: 1.5, strength: 0.8}\n");
 }
 
+// style: density sums fixed-point footprints over the ranks: every coloring, both projections,
+// each transfer, and level of detail off (a LOD prefix depends on the bricks, so on the split).
+TEST(RankInvariance, SameDensityImagesForEveryRankCountAndSplit) {
+  expect_rank_invariant(make_particles(1500), "density_asinh", "",
+                        "    style: density\n    density: {transfer: asinh}\n");
+  expect_rank_invariant(make_particles(1500), "density_log", "",
+                        "    style: density\n    density: {transfer: log, colormap: plasma}\n");
+}
+
 // Coincident pairs: two particles at exactly the same position with the same radius, one of type
 // 0 (red) and one of type 1 (blue), with different ids; in every other pair the red one comes
 // first. Every pixel of a pair is a depth tie, settled by the smaller color: blue.

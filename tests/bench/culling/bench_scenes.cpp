@@ -1,5 +1,6 @@
 #include "bench_scenes.h"
 
+#include <array>
 #include <cmath>
 #include <random>
 
@@ -90,6 +91,35 @@ BenchScene heterogeneous(int n, int size) {
   s.note = "fcc " + std::to_string(n) + "^3 cells (" + std::to_string(solid) +
            " atoms) beside a gas of " + std::to_string(s.type.size() - solid) +
            " atoms in twice its volume (seed 004 Fig. 2)";
+}
+
+BenchScene clustered_cloud(int64_t n, int size) {
+  BenchScene s;
+  std::mt19937_64 rng(2024);
+  std::uniform_real_distribution<double> u(0.0, 200.0);
+  std::normal_distribution<double> gauss(0.0, 1.0);
+  std::array<std::array<double, 4>, 8> blobs;  // centre and sigma
+  for (auto &b : blobs)
+    b = {30.0 + 0.7 * u(rng), 30.0 + 0.7 * u(rng), 30.0 + 0.7 * u(rng), 2.0 + 0.06 * u(rng)};
+  s.xyz.reserve(size_t(3 * n));
+  s.type.reserve(size_t(n));
+  for (int64_t i = 0; i < n; ++i) {
+    if (i % 5 == 4) {  // the sparse background
+      s.xyz.insert(s.xyz.end(), {u(rng), u(rng), u(rng)});
+      s.type.push_back(0);
+      continue;
+    }
+    const auto &b = blobs[size_t(i % 8)];
+    s.xyz.insert(s.xyz.end(),
+                 {b[0] + b[3] * gauss(rng), b[1] + b[3] * gauss(rng), b[2] + b[3] * gauss(rng)});
+    s.type.push_back(int32_t(1 + i % 3));
+  }
+  s.name = "clustered_" + std::to_string(n / 1000000) + "M";
+  s.note = std::to_string(n) +
+           " particles: 80 % in 8 Gaussian blobs (sigma 2-14), 20 % uniform "
+           "in a 200^3 cube, r 0.5";
+  s.config.radius = 0.5;
+  s.config.color.by = ColorBy::kType;
   s.config.width = s.config.height = size;
   return s;
 }

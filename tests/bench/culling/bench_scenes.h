@@ -29,6 +29,9 @@ BenchScene fcc_outside(int n, int size);
 BenchScene fcc_inside(int n, int size);
 // A dense fcc crystal of n^3 cells beside a sparse gas (seed 004 Fig. 2's heterogeneous data).
 BenchScene heterogeneous(int n, int size);
+// A cosmology-like clustered cloud: `n` particles, 80 % in eight dense Gaussian blobs of
+// different sizes and 20 % uniform in a cube of side 200, radius 0.5, typed by blob (fixed seed).
+BenchScene clustered_cloud(int64_t n, int size);
 // mini_md's scenes at `cells` (false if mini_md is not built; *why says so).
 bool mini_md_scene(const std::string &kind, int cells, int size, BenchScene *out, std::string *why);
 

@@ -2,8 +2,10 @@
 //
 //   lantern-bench [--scenes fcc1m,fcc10m,inside,void_impact,droplet] [--size 1024] [--runs 5]
 //                 [--md-cells 64] [--out DIR] [--images] [--modes hzb,cpu_raster+hzb]
-//                 [--azimuths K]
+//                 [--azimuths K] [--density]
 //
+// --density: style: density at LOD 100/50/25/10/1 % against random samples instead of the sphere
+// modes (density_bench.h; DIR/density_bench.csv and .svg). Scene `clustered`: clustered_cloud.
 // A scene name may end in :uniform or :bimodal to give the particles mixed radii (assign_radii
 // in bench_scenes.h), e.g. --scenes fcc1m:uniform,inside:bimodal. --azimuths K renders every
 // scene from K azimuths evenly spaced about its vertical axis (same elevation and distance; seed
@@ -44,6 +46,7 @@
 #include "core/render/gl_session.h"
 #include "core/render/point_splats.h"
 #include "core/render/sphere_instances.h"
+#include "density_bench.h"
 #include "error_plot.h"
 #include "image_metrics.h"
 #include "probabilistic_modes.h"
@@ -77,6 +80,7 @@ struct Options {
   std::vector<int>
       samples;  // --samples 1,4,16: the super-sampling table instead (supersampling_bench.h)
   bool pipeline = false;  // --pipeline: with --samples, whole frames through the pipeline instead
+  bool density = false;   // --density: style: density LOD against random samples (density_bench.h)
 };
 
 struct Mode {
@@ -441,13 +445,15 @@ bool parse(int argc, char **argv, Options *o) {
       for (std::string s; std::getline(ss, s, ',');) o->samples.push_back(std::stoi(s));
     } else if (a == "--pipeline") {
       o->pipeline = true;
+    } else if (a == "--density") {
+      o->density = true;
     } else {
-      std::fprintf(
-          stderr,
-          "usage: lantern-bench [--scenes fcc1m,fcc10m,inside,void_impact,droplet] "
-          "[--size 1024] [--runs 5] [--md-cells 64] [--out DIR] [--images] "
-          "[--modes hzb,cpu_raster+hzb,...] [--azimuths K] [--samples 1,4,16 [--pipeline]]\n"
-          "  a scene name may end in :uniform or :bimodal (mixed radii)\n");
+      std::fprintf(stderr,
+                   "usage: lantern-bench [--scenes fcc1m,fcc10m,inside,void_impact,droplet] "
+                   "[--size 1024] [--runs 5] [--md-cells 64] [--out DIR] [--images] "
+                   "[--modes hzb,cpu_raster+hzb,...] [--azimuths K] [--samples 1,4,16 "
+                   "[--pipeline]] [--density]\n"
+                   "  a scene name may end in :uniform or :bimodal (mixed radii)\n");
       return false;
     }
   }
@@ -466,7 +472,9 @@ int run(int argc, char **argv) {
                  opt.out.c_str(), ec.message().c_str());
     return 1;
   }
-  const std::string table = opt.samples.empty() ? "culling_bench" : "supersampling_bench";
+  const std::string table = opt.density           ? "density_bench"
+                            : opt.samples.empty() ? "culling_bench"
+                                                  : "supersampling_bench";
   const std::string csv_path = opt.out + "/" + table + ".csv";
   const std::string svg_path = opt.out + "/" + table + ".svg";
   std::shared_ptr<GlSession> session;
@@ -484,13 +492,16 @@ int run(int argc, char **argv) {
                  std::strerror(errno));
     return 1;
   }
-  if (opt.samples.empty())
+  if (opt.density)
+    csv << density_csv_header();
+  else if (opt.samples.empty())
     csv << "scene,mode,ms_per_frame,cull_ms,cull_cpu_ms,render_ms,drawn,splatted,culled_percent,"
            "differing_pixels,differing_depth,psnr_db,ssim,speedup,occlusion\n";
   else
     csv << supersampling_csv_header();
   std::vector<PlotPoint> plot;
   Bench bench(renderer, opt);
+  bool density_images_ok = true;
   for (const std::string &requested : opt.scenes) {
     BenchScene s;
     std::string why;
@@ -507,6 +518,8 @@ int run(int argc, char **argv) {
       s = heterogeneous(63, opt.size);
     } else if (name == "fcc_small") {
       s = fcc_outside(24, opt.size);
+    } else if (name == "clustered") {
+      s = clustered_cloud(4000000, opt.size);
     } else if (name == "void_impact" || name == "droplet") {
       if (!mini_md_scene(name, opt.md_cells, opt.size, &s, &why)) {
         std::printf("\n== %s: skipped: %s\n", name.c_str(), why.c_str());
@@ -521,7 +534,9 @@ int run(int argc, char **argv) {
                   radii.c_str());
       continue;
     }
-    if (opt.samples.empty()) {
+    if (opt.density) {
+      density_images_ok &= run_density_bench(s, opt.runs, opt.images ? opt.out : "", csv, &plot);
+    } else if (opt.samples.empty()) {
       bench.run_scene(s, csv, &plot);
     } else {
       if (opt.pipeline)  // instead of the table: MPI-parallel, every rank renders its share
@@ -544,7 +559,7 @@ int run(int argc, char **argv) {
   } else {
     std::printf("wrote %s\n", svg_path.c_str());
   }
-  return ok && bench.images_written() ? 0 : 1;
+  return ok && bench.images_written() && density_images_ok ? 0 : 1;
 }
 
 }  // namespace

@@ -1,0 +1,44 @@
+// The particles of a density scene (`style: density`) splatted into this rank's DensityImage:
+// the visible bricks of a selection, each brick's level-of-detail prefix (the first `keep`
+// particles of its z-order level layout, core/bricks/level_layout.h), every kept particle
+// weighted by count / keep so that the brick's total weight - its brightness - is preserved
+// (seed 001 §3.5, §4.2). Cutting planes drop particles by centre, as for spheres.
+//
+// The selection must come from select_density_bricks(): no frustum culling of bricks (a
+// footprint reaches up to 1.5 px beyond its sphere, and only per-particle clipping is exact
+// whatever the bricks, so the image cannot depend on the split), no occlusion (a sum has none).
+// Ownership: borrows everything for the call. Thread-safety: none (writes the image).
+#pragma once
+
+#include "core/bricks/brick_set.h"
+#include "core/camera/camera.h"
+#include "core/config/config.h"
+#include "core/culling/brick_selection.h"
+#include "core/culling/cull_stats.h"
+#include "core/particles/particle_arrays.h"
+#include "core/particles/radius_rule.h"
+#include "core/render/density_splat.h"
+#include "core/render/sphere_instances.h"
+
+namespace lantern {
+
+// select_bricks for a density scene: the scene's cutting planes and level of detail, every brick
+// otherwise (frustum off, occlusion none).
+void select_density_bricks(const BrickSet &bricks, const Camera &camera, const SceneConfig &scene,
+                           const RadiusRule &radius, BrickSelection *out,
+                           BrickCutCounts *cut_counts);
+
+// The channels a density image of `coloring` needs: 1 (solid: one intensity) or 4.
+int density_channels(ColorBy by);
+
+// Resets `image` to the selection's size and `density_channels(recipe.coloring.by)` channels,
+// then splats the kept particles, colored by `recipe`. Counts: drawn = particles splatted onto
+// the image, lod_dropped, cut_culled (by particle), frustum_culled = centre behind the near
+// plane or footprint wholly off the image. `pixels_written`, when given, receives the number of
+// pixel updates (the benchmark's memory traffic).
+CullStats render_density(const ParticleArrays &particles, const BrickSet &bricks,
+                         const SceneConfig &scene, const BrickSelection &selection,
+                         const InstanceRecipe &recipe, DensityImage *image,
+                         int64_t *pixels_written = nullptr);
+
+}  // namespace lantern

@@ -1,0 +1,72 @@
+// style: density and its density: section - defaults, accepted values, and the errors (key, line,
+// path and the allowed values).
+#include <gtest/gtest.h>
+
+#include <initializer_list>
+#include <string>
+
+#include "core/config/config_loader.h"
+
+namespace lantern {
+namespace {
+
+void expect_density_error(const std::string &document,
+                          std::initializer_list<const char *> fragments) {
+  Config c;
+  const Status status = load_config(document, &c);
+  EXPECT_EQ(status.code, StatusCode::kConfig) << document;
+  for (const char *fragment : fragments)
+    EXPECT_NE(status.message.find(fragment), std::string::npos)
+        << "missing '" << fragment << "' in: " << status.message;
+}
+
+TEST(DensityConfig, DefaultsLeaveSpheres) {
+  Config c;
+  ASSERT_TRUE(load_config("scenes:\n  - name: a\n", &c).ok());
+  EXPECT_EQ(c.scenes[0].style, SceneStyle::kSpheres);
+  EXPECT_EQ(c.scenes[0].density.transfer, DensityTransfer::kLinear);
+  EXPECT_FALSE(c.scenes[0].density.range.has_value());
+  EXPECT_EQ(c.scenes[0].density.colormap, "grayscale");
+}
+
+TEST(DensityConfig, ReadsEveryKey) {
+  Config c;
+  const Status s = load_config(
+      "scenes:\n  - style: density\n    density: {transfer: log, range: [0.5, 20], colormap: "
+      "plasma}\n",
+      &c);
+  ASSERT_TRUE(s.ok()) << s.message;
+  EXPECT_EQ(c.scenes[0].style, SceneStyle::kDensity);
+  EXPECT_EQ(c.scenes[0].density.transfer, DensityTransfer::kLog);
+  ASSERT_TRUE(c.scenes[0].density.range.has_value());
+  EXPECT_EQ((*c.scenes[0].density.range)[0], 0.5);
+  EXPECT_EQ((*c.scenes[0].density.range)[1], 20.0);
+  EXPECT_EQ(c.scenes[0].density.colormap, "plasma");
+  ASSERT_TRUE(load_config("scenes:\n  - density: {transfer: asinh, range: auto}\n", &c).ok());
+  EXPECT_EQ(c.scenes[0].density.transfer, DensityTransfer::kAsinh);
+  EXPECT_FALSE(c.scenes[0].density.range.has_value());
+}
+
+TEST(DensityConfig, BadValuesNameKeyLineAndChoices) {
+  expect_density_error(
+      "scenes:\n  - name: a\n    style: densty\n",
+      {"scenes[0].style", "line 3", "spheres, density", "did you mean 'density'?"});
+  expect_density_error("scenes:\n  - density: {transfer: sqrt}\n",
+                       {"scenes[0].density.transfer", "line 2", "linear, log, asinh"});
+  expect_density_error("scenes:\n  - density: {colormap: jet}\n",
+                       {"scenes[0].density.colormap", "line 2", "viridis, plasma, coolwarm"});
+  expect_density_error("scenes:\n  - density: {range: [3, 1]}\n",
+                       {"scenes[0].density.range", "lo < hi"});
+  expect_density_error("scenes:\n  - density: {transfer: log, range: [0, 10]}\n",
+                       {"scenes[0].density.range", "line 2", "lo > 0"});
+  expect_density_error("scenes:\n  - density: {transfer: log, range: [-2, 10]}\n",
+                       {"scenes[0].density.range", "lo > 0"});
+  expect_density_error("scenes:\n  - density: {gain: 2}\n", {"scenes[0].density", "gain"});
+  expect_density_error("scenes:\n  - style: density\n    lod: {fraction: 0}\n",
+                       {"scenes[0].lod.fraction", "line 3", "(0, 1]"});
+  expect_density_error("scenes:\n  - style: density\n    lod: {fraction: 1.01}\n",
+                       {"scenes[0].lod.fraction", "(0, 1]"});
+}
+
+}  // namespace
+}  // namespace lantern

@@ -1,0 +1,185 @@
+// style: density on one rank: a single footprint integrates to its weight, level of detail keeps
+// the total brightness, the transfer functions and the color blend.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdint>
+#include <vector>
+
+#include "core/bricks/brick_set.h"
+#include "core/camera/camera.h"
+#include "core/composite/density_transfer.h"
+#include "core/culling/brick_selection.h"
+#include "core/render/density_pass.h"
+#include "core/render/density_splat.h"
+#include "core/view/view_geometry.h"
+
+namespace lantern {
+namespace {
+
+// An orthographic camera framing [0, 10]^3 from +z, at 200 x 200 px (20 px per unit).
+ViewGeometry ortho_geometry(Camera *camera) {
+  CameraConfig cc;
+  cc.projection = Projection::kOrthographic;
+  cc.position = std::array<double, 3>{5, 5, 50};
+  cc.look_at = {5, 5, 5};
+  cc.up = {0, 1, 0};
+  EXPECT_TRUE(make_camera(cc, {0, 0, 0}, {10, 10, 10}, 0.5, 200, 200, camera).ok());
+  return ViewGeometry::from_camera(*camera, 100.0);
+}
+
+double total_weight(const DensityImage &image) {
+  double sum = 0.0;
+  for (size_t p = 0; p < image.pixel_count(); ++p)
+    sum += double(image.sum[p * size_t(image.channels)]);
+  return sum / kDensityUnit;
+}
+
+TEST(DensitySplat, OneFootprintIntegratesToItsWeight) {
+  Camera camera;
+  const ViewGeometry g = ortho_geometry(&camera);
+  // Sub-pixel, a few pixels, and ~25 px sigma (the analytic normalisation), off pixel centres.
+  for (const double r : {0.005, 0.1, 0.37, 4.0})
+    for (const double weight : {1.0, 7.25}) {
+      DensityImage image;
+      image.reset(g.width, g.height, 1);
+      DensitySplatter splat(g, &image);
+      ASSERT_TRUE(splat.splat(g.to_view({5.013, 4.971, 5.0}), r, weight, {0, 0, 0}));
+      EXPECT_NEAR(total_weight(image), weight, 0.01 * weight) << "r " << r;
+      int64_t nonzero = 0;
+      for (const int64_t v : image.sum) nonzero += v != 0;
+      EXPECT_GT(nonzero, 1) << "r " << r;  // a footprint, not a point
+    }
+}
+
+TEST(DensitySplat, ColorChannelsHoldTheWeightTimesTheColor) {
+  Camera camera;
+  const ViewGeometry g = ortho_geometry(&camera);
+  DensityImage image;
+  image.reset(g.width, g.height, 4);
+  DensitySplatter splat(g, &image);
+  ASSERT_TRUE(splat.splat(g.to_view({3.3, 6.1, 5.0}), 0.3, 2.0, {255, 51, 0}));
+  int64_t w = 0, r = 0, gr = 0, b = 0;
+  for (size_t p = 0; p < image.pixel_count(); ++p)
+    w += image.sum[4 * p], r += image.sum[4 * p + 1], gr += image.sum[4 * p + 2],
+        b += image.sum[4 * p + 3];
+  EXPECT_NEAR(double(r) / double(w), 1.0, 1e-6);
+  EXPECT_NEAR(double(gr) / double(w), 0.2, 1e-6);
+  EXPECT_EQ(b, 0);
+}
+
+TEST(DensitySplat, ParticlesBehindTheNearPlaneOrOffTheImageDepositNothing) {
+  Camera camera;
+  const ViewGeometry g = ortho_geometry(&camera);
+  DensityImage image;
+  image.reset(g.width, g.height, 1);
+  DensitySplatter splat(g, &image);
+  EXPECT_FALSE(splat.splat({0.0, 0.0, 1.0}, 0.5, 1.0, {0, 0, 0}));        // behind the eye
+  EXPECT_FALSE(splat.splat(g.to_view({30, 5, 5}), 0.5, 1.0, {0, 0, 0}));  // far to the right
+  EXPECT_EQ(total_weight(image), 0.0);
+}
+
+// A cloud of 60,000 particles in [1, 9]^3 in bricks with the z-order level layout.
+struct Cloud {
+  std::vector<double> xyz;
+  std::vector<int32_t> type;
+  ParticleArrays arrays;
+  BrickSet bricks;
+  Cloud() {
+    uint32_t h = 12345;
+    const auto next = [&h] {
+      h ^= h << 13, h ^= h >> 17, h ^= h << 5;
+      return double(h) / 4294967296.0;
+    };
+    for (int i = 0; i < 60000; ++i) {
+      // Half uniform, half in a dense blob: uneven brick sizes.
+      const bool blob = i % 2 == 0;
+      for (int k = 0; k < 3; ++k) xyz.push_back(blob ? 4.0 + 1.5 * next() : 1.0 + 8.0 * next());
+      type.push_back(i % 3);
+    }
+    ParticleDescription d{};
+    d.count = int64_t(type.size());
+    d.position = {xyz.data(), DataType::kFloat64, 0};
+    d.type = {type.data(), DataType::kInt32, 0};
+    EXPECT_TRUE(ParticleArrays::validate(d, &arrays).ok());
+    bricks = build_bricks(arrays, BrickOptions{});
+  }
+};
+
+double rendered_weight(const Cloud &cloud, const SceneConfig &scene, const Camera &camera,
+                       int64_t *drawn) {
+  BrickSelection sel;
+  const RadiusRule radius = RadiusRule::of(scene, cloud.arrays);
+  select_density_bricks(cloud.bricks, camera, scene, radius, &sel, nullptr);
+  Extent ext;
+  ext.lo = {1, 1, 1}, ext.hi = {9, 9, 9};
+  const InstanceRecipe recipe = make_recipe(cloud.arrays, scene, radius, camera, ext);
+  DensityImage image;
+  const CullStats st = render_density(cloud.arrays, cloud.bricks, scene, sel, recipe, &image);
+  *drawn = st.drawn;
+  EXPECT_EQ(st.drawn + st.lod_dropped, 60000);
+  return total_weight(image);
+}
+
+TEST(DensityLevelOfDetail, WeightsKeepTheTotalIntensityAtTenPercent) {
+  const Cloud cloud;
+  Camera camera;
+  ortho_geometry(&camera);
+  SceneConfig scene;
+  scene.style = SceneStyle::kDensity;
+  scene.radius = 0.1;
+  scene.color.by = ColorBy::kSolid;
+  int64_t all_drawn = 0, some_drawn = 0;
+  const double full = rendered_weight(cloud, scene, camera, &all_drawn);
+  EXPECT_EQ(all_drawn, 60000);
+  EXPECT_NEAR(full, 60000.0, 0.01 * 60000.0);
+  scene.lod.fraction = 0.1;
+  const double tenth = rendered_weight(cloud, scene, camera, &some_drawn);
+  EXPECT_LE(some_drawn, 6000 + int64_t(cloud.bricks.bricks.size()));
+  EXPECT_GE(some_drawn, 6000);
+  EXPECT_NEAR(tenth, full, 0.01 * full);
+}
+
+TEST(DensityTransfer, LinearLogAsinhAndAutoRange) {
+  DensityImage image;
+  image.reset(3, 1, 1);
+  image.sum = {0, int64_t(2 * kDensityUnit), int64_t(8 * kDensityUnit)};
+  DensityConfig linear;
+  const DensityRange r = density_range(image, linear);
+  EXPECT_EQ(r.lo, 0.0);
+  EXPECT_EQ(r.hi, 8.0);
+  EXPECT_DOUBLE_EQ(density_transfer(2.0, DensityTransfer::kLinear, r), 0.25);
+  DensityConfig log;
+  log.transfer = DensityTransfer::kLog;
+  const DensityRange lr = density_range(image, log);
+  EXPECT_DOUBLE_EQ(lr.lo, 8e-4);
+  EXPECT_NEAR(density_transfer(0.08, DensityTransfer::kLog, lr), 0.5, 1e-12);
+  EXPECT_EQ(density_transfer(1e-5, DensityTransfer::kLog, lr), 0.0);
+  EXPECT_NEAR(density_transfer(8.0, DensityTransfer::kAsinh, r), 1.0, 1e-12);
+  EXPECT_NEAR(density_transfer(0.04, DensityTransfer::kAsinh, r),
+              std::asinh(0.5) / std::asinh(100.0), 1e-12);
+  DensityConfig fixed;
+  fixed.range = std::array<double, 2>{1.0, 3.0};
+  EXPECT_EQ(density_range(image, fixed).hi, 3.0);
+  EXPECT_EQ(density_transfer(5.0, DensityTransfer::kLinear, density_range(image, fixed)), 1.0);
+}
+
+TEST(DensityTransfer, ColorsBlendTheMeanColorOverTheBackground) {
+  DensityImage image;
+  image.reset(2, 1, 4);
+  const int64_t u = int64_t(kDensityUnit);
+  image.sum = {0, 0, 0, 0, 4 * u, 4 * u, 2 * u, 0};  // pixel 1: mean color (255, 127.5, 0)
+  const uint8_t background[4] = {0, 0, 255, 255};
+  Frame frame;
+  map_density(image, DensityConfig{}, *Colormap::named("grayscale"), background, &frame);
+  ASSERT_EQ(frame.width, 2);
+  EXPECT_EQ(frame.rgba[0], 0);  // no footprint: background
+  EXPECT_EQ(frame.rgba[2], 255);
+  EXPECT_EQ(frame.rgba[4], 255);  // t = 1 (the auto range's top): the mean color itself
+  EXPECT_EQ(frame.rgba[5], 128);
+  EXPECT_EQ(frame.rgba[6], 0);
+  EXPECT_EQ(frame.depth[1], kBackgroundDepth);
+}
+
+}  // namespace
+}  // namespace lantern
