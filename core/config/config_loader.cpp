@@ -246,7 +246,21 @@ class Loader {
     });
     optional_key(node, path, "density",
                  [&](const YAML::Node &n, const std::string &p) { s.density = density(n, p); });
+    if (s.style == SceneStyle::kDensity) check_density_scene(node, path, s);
     return s;
+  }
+
+  // A density image is a sum of smooth footprints with no surface: nothing to super-sample and
+  // no depth for the screen-space cues to read, so those keys are refused rather than ignored.
+  void check_density_scene(const YAML::Node &node, const std::string &path,
+                           const SceneConfig &s) const {
+    if (s.samples != 1)
+      r_.fail(node["samples"], child_path(path, "samples"),
+              "must be 1 with style: density (footprints are already smooth); allowed: 1");
+    for (const char *cue : {"ambient_occlusion", "outline", "depth_cue"})
+      if (node[cue].IsDefined())
+        r_.fail(node[cue], child_path(path, cue),
+                "needs style: spheres (a density image has no depth to cue)");
   }
 
   // A super-sampled frame must fit the documented limit: refused here, at lantern_open, rather

@@ -68,5 +68,16 @@ TEST(DensityConfig, BadValuesNameKeyLineAndChoices) {
                        {"scenes[0].lod.fraction", "(0, 1]"});
 }
 
+// Keys that need depth or sharp edges are refused with style: density, not silently ignored.
+TEST(DensityConfig, SuperSamplingAndDepthCuesAreRefusedWithDensity) {
+  expect_density_error("scenes:\n  - style: density\n    samples: 4\n",
+                       {"scenes[0].samples", "line 3", "allowed: 1"});
+  for (const char *cue : {"ambient_occlusion", "outline", "depth_cue"})
+    expect_density_error(std::string("scenes:\n  - style: density\n    ") + cue + ": {}\n",
+                         {"line 3", cue, "needs style: spheres"});
+  Config c;
+  EXPECT_TRUE(load_config("scenes:\n  - style: density\n    samples: 1\n", &c).ok());
+}
+
 }  // namespace
 }  // namespace lantern
