@@ -32,21 +32,13 @@ constexpr size_t kPathShown = 256;
 const std::vector<std::string> kTopKeys = {"schedule", "scenes",     "stats",  "verbose", "dump",
                                            "gl",       "egl_device", "lammps", "watch"};
 const std::vector<std::string> kScheduleKeys = {"every", "start", "steps"};
-const std::vector<std::string> kSceneKeys = {"name",
-                                             "width",
-                                             "height",
-                                             "background",
-                                             "radius",
-                                             "camera",
-                                             "color",
-                                             "output",
-                                             "culling",
-                                             "lod",
-                                             "cut_planes",
-                                             "renderer",
-                                             "ambient_occlusion",
-                                             "outline",
-                                             "depth_cue"};
+// The depth-cue keys (issue 13) on a line of their own, for merging.
+// clang-format off
+const std::vector<std::string> kSceneKeys = {"name",    "width",  "height",     "background",
+                                             "radius",  "camera", "color",      "output",
+                                             "culling", "lod",    "cut_planes", "renderer",
+                                             "ambient_occlusion", "outline", "depth_cue", "opacity"};
+// clang-format on
 const std::vector<std::string> kCameraKeys = {"projection", "fov",      "azimuth", "elevation",
                                               "zoom",       "position", "look_at", "up",
                                               "near",       "far"};
@@ -235,6 +227,12 @@ class Loader {
       for (size_t i = 0; i < n.size(); ++i) s.cuts.push_back(cut_plane(n[i], index_path(p, i)));
     });
     read_depth_cues(node, path, &s);
+    optional_key(node, path, "opacity", [&](const YAML::Node &n, const std::string &p) {
+      r_.check_sequence(n, p);
+      if (n.size() == 0) r_.fail(n, p, "must list at least one opacity (omit it for opaque)");
+      for (size_t i = 0; i < n.size(); ++i)
+        s.opacity.push_back(r_.read_in_range(n[i], index_path(p, i), 0.0, true, 1.0, true));
+    });
     return s;
   }
 

@@ -140,6 +140,13 @@ Status run_scene_pass(const ScenePassInputs &in, const SceneConfig &scene, Scene
     }
     const bool cpu = !in.renderer || (wants_cpu_raster(scene, camera, max_radius) &&
                                       cpu_pass_serves(selection.mode));
+    // See-through types (opacity) hide nothing for sure: OpenGL's occlusion culling assumes
+    // opaque occluders, so it is off there (the CPU pass culls against the depth it drew: exact).
+    if (!cpu && !recipe.alpha_by_type.empty() && selection.mode != OcclusionMode::kNone) {
+      selection.stats.occlusion =
+          "none (opacity < 1, instead of " + selection.stats.occlusion + ")";
+      selection.mode = OcclusionMode::kNone;
+    }
     stats->renderer = cpu ? "cpu" : "opengl";
     cull = cpu ? in.scratch->cpu_pass.run(*in.particles, bricks, scene, selection, recipe,
                                           background, &buffers->frame, &draw)
@@ -166,7 +173,9 @@ Status run_scene_pass(const ScenePassInputs &in, const SceneConfig &scene, Scene
       t0 = Clock::now();
       splat_points(
           *in.particles, recipe.per_particle_radius, recipe.radius, draw.points, selection.g,
-          [&recipe](int64_t i) { return recipe.color(i); }, &buffers->frame);
+          [&recipe](int64_t i) { return recipe.color(i); }, &buffers->frame,
+          recipe.alpha_by_type.empty() ? AlphaOf()
+                                       : AlphaOf([&recipe](int64_t i) { return recipe.alpha(i); }));
       std::vector<uint64_t>().swap(draw.points);
       stats->draw_ms += ms_since(t0);
     }
