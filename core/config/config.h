@@ -192,6 +192,9 @@ struct SceneConfig {
   DepthCueConfig depth_cue;                  // depth_cue: {...}
   SceneStyle style = SceneStyle::kSpheres;   // style: spheres | density
   DensityConfig density;                     // density: {...}
+  // opacity: [a0, a1, ...] per type, each in [0, 1] (screen-door transparency, issue 13); types
+  // beyond the list, and every type when it is empty (the default), are opaque.
+  std::vector<double> opacity;
 };
 
 // dump: (HDF5 / H5MD particle dumps; issue 6)

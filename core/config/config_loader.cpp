@@ -35,7 +35,7 @@ const std::vector<std::string> kScheduleKeys = {"every", "start", "steps"};
 const std::vector<std::string> kSceneKeys = {
     "name",    "width",     "height", "background", "radius",   "camera",  "color",
     "output",  "culling",   "lod",    "cut_planes", "renderer", "samples", "ambient_occlusion",
-    "outline", "depth_cue", "style",  "density"};
+    "outline", "depth_cue", "style",  "density",    "opacity"};
 const std::vector<std::string> kCameraKeys = {"projection", "fov",      "azimuth", "elevation",
                                               "zoom",       "position", "look_at", "up",
                                               "near",       "far"};
@@ -235,6 +235,12 @@ class Loader {
       check_sample_frame(s, n, p);
     });
     read_depth_cues(node, path, &s);
+    optional_key(node, path, "opacity", [&](const YAML::Node &n, const std::string &p) {
+      r_.check_sequence(n, p);
+      if (n.size() == 0) r_.fail(n, p, "must list at least one opacity (omit it for opaque)");
+      for (size_t i = 0; i < n.size(); ++i)
+        s.opacity.push_back(r_.read_in_range(n[i], index_path(p, i), 0.0, true, 1.0, true));
+    });
     // Seed 004's culling runs inside the CPU raster's pass only.
     if (s.culling.occlusion == OcclusionMode::kProbabilistic &&
         s.renderer == RendererChoice::kOpenGl)

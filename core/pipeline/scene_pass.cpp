@@ -230,6 +230,19 @@ Status run_scene_pass(const ScenePassInputs &in, const SceneConfig &scene, Scene
     const bool cpu =
         !in.renderer || selection.mode == OcclusionMode::kProbabilistic ||
         (wants_cpu_raster(scene, camera, max_radius) && cpu_pass_serves(selection.mode));
+    // See-through types (opacity) hide nothing for sure: OpenGL's occlusion culling and the
+    // probabilistic mode's confidence maps assume opaque occluders, so OpenGL culls none and
+    // probabilistic becomes hzb (the CPU pass culls against the depth it drew: exact).
+    if (!recipe.alpha_by_type.empty()) {
+      if (!cpu && selection.mode != OcclusionMode::kNone) {
+        selection.stats.occlusion =
+            "none (opacity < 1, instead of " + selection.stats.occlusion + ")";
+        selection.mode = OcclusionMode::kNone;
+      } else if (cpu && selection.mode == OcclusionMode::kProbabilistic) {
+        selection.stats.occlusion = "hzb (opacity < 1, instead of probabilistic)";
+        selection.mode = OcclusionMode::kHzb;
+      }
+    }
     stats->renderer = cpu ? "cpu" : "opengl";
     cull = cpu ? in.scratch->cpu_pass.run(*in.particles, bricks, scene, selection, recipe,
                                           background, &frame, &draw, in.step)
@@ -256,7 +269,9 @@ Status run_scene_pass(const ScenePassInputs &in, const SceneConfig &scene, Scene
       t0 = Clock::now();
       splat_points(
           *in.particles, recipe.per_particle_radius, recipe.radius, draw.points, selection.g,
-          [&recipe](int64_t i) { return recipe.color(i); }, &frame);
+          [&recipe](int64_t i) { return recipe.color(i); }, &frame,
+          recipe.alpha_by_type.empty() ? AlphaOf()
+                                       : AlphaOf([&recipe](int64_t i) { return recipe.alpha(i); }));
       std::vector<uint64_t>().swap(draw.points);
       stats->draw_ms += ms_since(t0);
     }

@@ -55,7 +55,7 @@ CullStats CpuSpherePass::run(const ParticleArrays &particles, const BrickSet &br
           r.x0 = std::max(r.x0, s->x0), r.x1 = std::min(r.x1, s->x1);
           if (r.empty() || (occlusion && raster.covered(r, -c.c.z - c.r - g.eps))) return;
           const Rgb8 color = recipe.color(c.index);
-          raster.draw(c.c, c.r, color.data(), r);
+          raster.draw(c.c, c.r, color.data(), r, recipe.alpha(c.index));
           s->out.spheres.push_back(draw_entry(c.index, c.scale));
         };
         walk_strip(pass, sel.visible, occlusion, covered, visit, &strips_[k]);

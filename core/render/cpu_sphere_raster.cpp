@@ -4,6 +4,7 @@
 #include <cmath>
 #include <optional>
 
+#include "core/render/screen_door.h"
 #include "core/render/shading.h"
 
 namespace lantern {
@@ -260,9 +261,20 @@ LANTERN_INLINE uint32_t frame_word(const uint8_t *rgba) {
   return uint32_t(rgba[0]) << 24 | uint32_t(rgba[1]) << 16 | uint32_t(rgba[2]) << 8 | rgba[3];
 }
 
+// The pixels of a tile of side n at (x0, y0), w x h of them, that a see-through sphere keeps
+// (bit j * n + k for pixel (x0 + k, y0 + j)).
+uint64_t screen_door_mask(int n, int x0, int y0, int w, int h, uint8_t alpha8) {
+  uint64_t keep = 0;
+  for (int j = 0; j < h; ++j)
+    for (int k = 0; k < w; ++k)
+      keep |= uint64_t(screen_door_keeps(x0 + k, y0 + j, alpha8)) << (j * n + k);
+  return keep;
+}
+
 }  // namespace
 
-bool CpuSphereRaster::draw(const glm::dvec3 &c, double r, const uint8_t rgb[3], PixelRect rect) {
+bool CpuSphereRaster::draw(const glm::dvec3 &c, double r, const uint8_t rgb[3], PixelRect rect,
+                           uint8_t alpha8) {
   rect.x0 = std::max(rect.x0, x0_), rect.x1 = std::min(rect.x1, x1_);
   if (rect.empty() || !(r > 0.0)) return false;
   if (!g_.orthographic && glm::dot(c, c) <= r * r) return false;  // eye inside: nothing drawn
@@ -289,7 +301,7 @@ bool CpuSphereRaster::draw(const glm::dvec3 &c, double r, const uint8_t rgb[3], 
         else
           perspective_pixel(fast, x - fast.ref_x, y - fast.ref_y, true, &wz, &lambert2);
         const size_t p = size_t(y) * width + size_t(x);
-        if (!(wz <= depth[p])) continue;
+        if (!(wz <= depth[p]) || (alpha8 < 255 && !screen_door_keeps(x, y, alpha8))) continue;
         const uint32_t color = shade_pixel(lambert2, rgb[0], rgb[1], rgb[2]);
         uint8_t *out = rgba + 4 * p;
         if (!(wz < depth[p]) && !(shaded_word(color) < frame_word(out))) continue;
@@ -322,6 +334,10 @@ bool CpuSphereRaster::draw(const glm::dvec3 &c, double r, const uint8_t rgb[3], 
           nearer |= uint64_t(t.wz[i] < dz) << i;
           tied |= uint64_t(t.wz[i] == dz) << i;
         }
+      }
+      if (alpha8 < 255) {
+        const uint64_t keep = screen_door_mask(n, x0, y0, w, h, alpha8);
+        nearer &= keep, tied &= keep;
       }
       if (!(nearer | tied)) continue;
       uint32_t color[kTilePixels];

@@ -49,9 +49,11 @@ class CpuSphereRaster {
 
   // Ray-casts the sphere (view-space centre c, radius r, color rgb) over the pixels of `rect`
   // inside the strip; `rect` must hold every pixel the sphere covers
-  // (ViewGeometry::sphere_rect_tight with a slack of 0.05 px does). Returns true if it won at
-  // least one pixel.
-  bool draw(const glm::dvec3 &c, double r, const uint8_t rgb[3], PixelRect rect);
+  // (ViewGeometry::sphere_rect_tight with a slack of 0.05 px does). `alpha8` below 255 makes
+  // the sphere see-through: only the pixels screen_door_keeps() accepts are drawn. Returns true
+  // if it won at least one pixel.
+  bool draw(const glm::dvec3 &c, double r, const uint8_t rgb[3], PixelRect rect,
+            uint8_t alpha8 = 255);
 
  private:
   ViewGeometry g_;

@@ -5,6 +5,7 @@
 
 #include "core/culling/draw_list.h"
 #include "core/particles/typed_access.h"
+#include "core/render/screen_door.h"
 #include "core/render/shading.h"
 
 namespace lantern {
@@ -42,7 +43,7 @@ bool cast(const ViewGeometry &g, int x, int y, const glm::dvec3 &c, double r, gl
 
 void splat_points(const ParticleArrays &particles, bool per_particle, double radius,
                   const std::vector<uint64_t> &entries, const ViewGeometry &g, const ColorOf &color,
-                  Frame *frame) {
+                  Frame *frame, const AlphaOf &alpha) {
   visit_positions(particles, [&](const auto &pos) {
     visit_radii(particles, per_particle, radius, [&](const auto &rad) {
       for (const uint64_t e : entries) {
@@ -63,6 +64,7 @@ void splat_points(const ParticleArrays &particles, bool per_particle, double rad
         for (int k = 0; k < 4; ++k) {
           const int x = x0 + (k & 1), y = y0 + (k >> 1);
           if (x < 0 || y < 0 || x >= g.width || y >= g.height) continue;
+          if (alpha && !screen_door_keeps(x, y, alpha(int64_t(i)))) continue;
           glm::dvec3 hit, dir;
           if (!cast(g, x, y, c, r, &hit, &dir)) continue;
           const double depth = -hit.z;

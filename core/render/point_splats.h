@@ -20,10 +20,12 @@
 namespace lantern {
 
 using ColorOf = std::function<Rgb8(int64_t)>;
+using AlphaOf = std::function<uint8_t(int64_t)>;
 
 // `entries` as in DrawList::points. Radius: the published array when per_particle, else radius.
+// `alpha` (empty: all opaque) gives each particle's 8-bit opacity for screen_door.h's test.
 void splat_points(const ParticleArrays &particles, bool per_particle, double radius,
                   const std::vector<uint64_t> &entries, const ViewGeometry &g, const ColorOf &color,
-                  Frame *frame);
+                  Frame *frame, const AlphaOf &alpha = AlphaOf());
 
 }  // namespace lantern

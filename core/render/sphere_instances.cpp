@@ -1,8 +1,11 @@
 #include "core/render/sphere_instances.h"
 
+#include <algorithm>
+
 #include "core/culling/draw_list.h"
 #include "core/particles/particle_scan.h"
 #include "core/particles/typed_access.h"
+#include "core/render/screen_door.h"
 
 namespace lantern {
 
@@ -30,6 +33,11 @@ InstanceRecipe make_recipe(const ParticleArrays &particles, const SceneConfig &s
   r.per_particle_radius = radius.per_particle;
   r.radius = float(radius.radius);
   r.coloring = make_coloring(scene.color, global);
+  // All opaque: no table, so alpha() costs one test (images without `opacity` are unchanged).
+  const bool see_through = std::any_of(scene.opacity.begin(), scene.opacity.end(),
+                                       [](double a) { return opacity_alpha8(a) < 255; });
+  if (see_through)
+    for (const double a : scene.opacity) r.alpha_by_type.push_back(opacity_alpha8(a));
   return r;
 }
 
@@ -50,7 +58,7 @@ SphereInstance make_instance(const InstanceRecipe &recipe, const Positions &pos,
   s.rgba[0] = c[0];
   s.rgba[1] = c[1];
   s.rgba[2] = c[2];
-  s.rgba[3] = 255;
+  s.rgba[3] = recipe.alpha(i);
   return s;
 }
 

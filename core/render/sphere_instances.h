@@ -37,6 +37,8 @@ struct InstanceRecipe {
   // Object-space ambient occlusion (object_occlusion.h): scales each particle's colour; null
   // (the default) leaves colours as they are. Borrowed.
   const OcclusionVolume *occlusion = nullptr;
+  // 8-bit opacity by type (screen_door.h); empty (the default): every particle opaque.
+  std::vector<uint8_t> alpha_by_type;
 
   SphereInstance make(int64_t i) const {
     const glm::dvec3 p = particles->position(i) - origin;
@@ -49,8 +51,15 @@ struct InstanceRecipe {
     s.rgba[0] = c[0];
     s.rgba[1] = c[1];
     s.rgba[2] = c[2];
-    s.rgba[3] = 255;
+    s.rgba[3] = alpha(i);
     return s;
+  }
+
+  // The particle's 8-bit opacity: 255 unless `opacity` lists its type.
+  uint8_t alpha(int64_t i) const {
+    if (alpha_by_type.empty()) return 255;
+    const int64_t type = particles->has_type() ? particles->type(i) : 0;
+    return type >= 0 && type < int64_t(alpha_by_type.size()) ? alpha_by_type[size_t(type)] : 255;
   }
 
   Rgb8 color(int64_t i) const {

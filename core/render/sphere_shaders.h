@@ -19,6 +19,7 @@
 #include <cstdio>
 #include <string>
 
+#include "core/render/screen_door.h"
 #include "core/render/shading.h"
 
 namespace lantern::shaders {
@@ -93,7 +94,7 @@ void main() {
 }
 )GLSL";
 
-// The fragment shader without its #version line and lighting constants, which
+// The fragment shader without its #version line, lighting constants and dither matrix, which
 // sphere_fragment_source() puts in front.
 inline constexpr const char *kSphereFragmentBody = R"GLSL(
 uniform mat4 u_proj;          // full-image view -> clip
@@ -108,6 +109,14 @@ flat in vec4 v_color;
 out float o_key;              // the color key (see above)
 
 void main() {
+  // Screen-door transparency (screen_door.h): a see-through sphere keeps only the pixels whose
+  // dither threshold is below its opacity; rows counted from the top, as the CPU raster does.
+  if (v_color.a < 1.0) {
+    ivec2 pixel = ivec2(gl_FragCoord.xy + u_tile_origin);
+    int row = int(u_image_size.y) - 1 - pixel.y;
+    int index = k_bayer[(row & 3) * 4 + (pixel.x & 3)];
+    if (float(2 * index + 1) * 255.0 >= 32.0 * round(v_color.a * 255.0)) discard;
+  }
   vec2 ndc = (gl_FragCoord.xy + u_tile_origin) / u_image_size * 2.0 - 1.0;
   vec4 on_near = u_inv_proj * vec4(ndc, -1.0, 1.0);
   vec3 origin = u_ortho ? on_near.xyz / on_near.w : vec3(0.0);
@@ -149,6 +158,13 @@ inline std::string glsl_float(float v) {
   return literal;
 }
 
+// screen_door.h's dither matrix as a GLSL constant array: one definition for both renderers.
+inline std::string bayer_glsl() {
+  std::string s = "const int k_bayer[16] = int[16](";
+  for (int i = 0; i < 16; ++i) s += std::to_string(kBayer4[i]) + (i < 15 ? ", " : ");\n");
+  return s;
+}
+
 // The impostor fragment shader, with the headlight constants of shading.h injected as GLSL
 // constants: one change there changes the OpenGL and the CPU images alike.
 inline std::string sphere_fragment_source() {
@@ -157,7 +173,7 @@ inline std::string sphere_fragment_source() {
          "const float k_diffuse = " + glsl_float(shading::kDiffuse<float>) + ";\n" +
          "const float k_specular = " + glsl_float(shading::kSpecular<float>) + ";\n" +
          "const float k_shininess = " + glsl_float(float(shading::kShininess)) + ";\n" +
-         kSphereFragmentBody;
+         bayer_glsl() + kSphereFragmentBody;
 }
 
 }  // namespace lantern::shaders

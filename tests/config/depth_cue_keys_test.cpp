@@ -26,6 +26,13 @@ TEST(DepthCueKeys, EveryCueIsOffByDefault) {
   EXPECT_FALSE(c.scenes[0].ambient_occlusion.enabled);
   EXPECT_FALSE(c.scenes[0].outline.enabled);
   EXPECT_FALSE(c.scenes[0].depth_cue.enabled);
+  EXPECT_TRUE(c.scenes[0].opacity.empty());
+}
+
+TEST(DepthCueKeys, OpacityIsAListPerType) {
+  Config c;
+  ASSERT_OK(load_config("scenes:\n  - opacity: [0.5, 1, 0]\n", &c));
+  EXPECT_EQ(c.scenes[0].opacity, (std::vector<double>{0.5, 1.0, 0.0}));
 }
 
 TEST(DepthCueKeys, BareSectionsTurnTheCuesOnWithDefaults) {
@@ -87,6 +94,10 @@ TEST(DepthCueKeys, BadValuesNameKeyLineAndRange) {
   expect_error("scenes:\n  - depth_cue: {start: -1}\n", {"scenes[0].depth_cue.start", ">= 0"});
   expect_error("scenes:\n  - outline: 3\n", {"scenes[0].outline", "line 2", "mapping"});
   expect_error("scenes:\n  - outline: {widht: 3}\n", {"outline.widht", "did you mean 'width'?"});
+  expect_error("scenes:\n  - opacity: [1, 1.5]\n",
+               {"scenes[0].opacity[1]", "line 2", "in [0, 1]", "1.5"});
+  expect_error("scenes:\n  - opacity: [-0.5]\n", {"scenes[0].opacity[0]", "in [0, 1]"});
+  expect_error("scenes:\n  - opacity: []\n", {"scenes[0].opacity", "at least one"});
 }
 
 }  // namespace
