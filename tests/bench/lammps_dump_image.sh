@@ -4,6 +4,7 @@
 #   tests/bench/lammps_dump_image.sh [BUILD_DIR] [CELLS] [SIZE] [IMAGES] [EVERY] [RANKS]
 #   defaults: build-h5, 63 (4*63^3 = 1,000,188 atoms), 1024, 4, 5, 2
 #   ASYNC=true: Lantern encodes and writes its PNGs on a background thread (output.asynchronous)
+#   SAMPLES=4: Lantern super-samples its images (scene key samples: 1, 4, 16 or 64; default 1)
 #
 # lantern-lammps runs examples/lammps/in.lj (the LAMMPS bench melt with `fix viz all external
 # pf/callback EVERY 1`) with one more line, `dump img all image EVERY ... size SIZE SIZE adiam 1.0`:
@@ -29,6 +30,7 @@ scenes:
     width: $size
     height: $size
     radius: 0.5
+    samples: ${SAMPLES:-1}
     output:
       pattern: "$work/lantern_{step:06d}.png"
       asynchronous: ${ASYNC:-false}
@@ -40,7 +42,7 @@ mpiflags=(--oversubscribe)
 [ "$(id -u)" = 0 ] && mpiflags+=(--allow-run-as-root)
 steps=$(( (images - 1) * every ))
 atoms=$((4 * cells * cells * cells))
-echo "LJ melt, $atoms atoms, ${size}x${size}, $images images every $every steps, $ranks MPI ranks"
+echo "LJ melt, $atoms atoms, ${size}x${size}, $images images every $every steps, $ranks MPI ranks, Lantern samples ${SAMPLES:-1}"
 OMP_NUM_THREADS=1 mpiexec "${mpiflags[@]}" -n "$ranks" "$exe" -in "$work/in.bench" \
   -lantern "$work/bench.yaml" -log none -var cells "$cells" -var every "$every" \
   -var steps "$steps" > "$work/out.txt" 2> "$work/err.txt"
