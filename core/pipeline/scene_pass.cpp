@@ -172,6 +172,8 @@ Status run_scene_pass(const ScenePassInputs &in, const SceneConfig &scene, Scene
   // samples per pixel, sample_downsampling.h); every stage up to compositing sees sample pixels.
   const int s_axis = scene.samples_per_axis();
   Frame &frame = s_axis > 1 ? buffers->samples : buffers->frame;
+  if (s_axis == 1 && !buffers->samples.rgba.empty())
+    buffers->samples = Frame();  // a live change back to 1 sample frees the sample frame
   stats->samples = scene.samples;
   stats->sample_width = scene.width * s_axis;
   stats->sample_height = scene.height * s_axis;

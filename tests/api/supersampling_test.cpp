@@ -102,6 +102,26 @@ TEST_F(Supersampling, OneSampleIsTodaysPathAndTheStatsSayTheSampleFrame) {
   EXPECT_NE(four.pixels, plain.pixels);  // anti-aliased edges
 }
 
+// A live change of samples (4 -> 1 -> 16) renders each step as a fresh context would.
+TEST_F(Supersampling, ReconfiguringSamplesGivesTheSameImagesAsAFreshContext) {
+  const std::vector<double> x = random_scene(4);
+  const auto config = [&](int samples) {
+    return scene_config("live", 96, 64, "    samples: " + std::to_string(samples) + "\n");
+  };
+  for (const int samples : {4, 1, 16}) {
+    render(config(samples), x, 10 + samples);  // fresh: live_00NN.png
+  }
+  ASSERT_EQ(open(config(4)), LANTERN_OK) << message();
+  const lantern_particles p = interleaved(x);
+  ASSERT_EQ(lantern_publish(ctx_, &p), LANTERN_OK) << message();
+  for (const int samples : {4, 1, 16}) {
+    const std::vector<char> fresh = read_bytes(png("live", 10 + samples));
+    ASSERT_EQ(lantern_reconfigure(ctx_, config(samples).c_str()), LANTERN_OK) << message();
+    ASSERT_EQ(lantern_execute(ctx_, 20 + samples, 0.0), LANTERN_OK) << message();
+    EXPECT_EQ(read_bytes(png("live", 20 + samples)), fresh) << samples << " samples";
+  }
+}
+
 // hzb culls against the sample-resolution depth: bit-identical to drawing everything, on random
 // scenes, 4 and 16 samples, both projections, CPU raster (and OpenGL where the build has it).
 TEST_F(Supersampling, HzbAtSampleLevelIsBitIdenticalToBruteForce) {

@@ -7,6 +7,7 @@
 #   SSAO=yes: ambient occlusion on both sides (LAMMPS `ssao yes 4567 0.6`, Lantern
 #     `ambient_occlusion: {method: screen}`); run once with and once without to get each side's
 #     cost of it
+#   SAMPLES=4: Lantern super-samples its images (scene key samples: 1, 4, 16 or 64; default 1)
 #
 # lantern-lammps runs examples/lammps/in.lj (the LAMMPS bench melt with `fix viz all external
 # pf/callback EVERY 1`) with one more line, `dump img all image EVERY ... size SIZE SIZE adiam 1.0`:
@@ -32,6 +33,7 @@ scenes:
     width: $size
     height: $size
     radius: 0.5
+    samples: ${SAMPLES:-1}
     output:
       pattern: "$work/lantern_{step:06d}.png"
       asynchronous: ${ASYNC:-false}
@@ -45,7 +47,7 @@ mpiflags=(--oversubscribe)
 [ "$(id -u)" = 0 ] && mpiflags+=(--allow-run-as-root)
 steps=$(( (images - 1) * every ))
 atoms=$((4 * cells * cells * cells))
-echo "LJ melt, $atoms atoms, ${size}x${size}, $images images every $every steps, $ranks MPI ranks, ssao ${SSAO:-no}"
+echo "LJ melt, $atoms atoms, ${size}x${size}, $images images every $every steps, $ranks MPI ranks, ssao ${SSAO:-no}, Lantern samples ${SAMPLES:-1}"
 OMP_NUM_THREADS=1 mpiexec "${mpiflags[@]}" -n "$ranks" "$exe" -in "$work/in.bench" \
   -lantern "$work/bench.yaml" -log none -var cells "$cells" -var every "$every" \
   -var steps "$steps" > "$work/out.txt" 2> "$work/err.txt"
