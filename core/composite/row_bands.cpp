@@ -4,6 +4,7 @@
 #include <climits>
 #include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "core/common/collective_status.h"
@@ -118,6 +119,60 @@ Status gather_row_bands(MPI_Comm comm, int root, const BandFrame &band, int widt
     rc = MPI_Gatherv(band.frame.depth.data() + skip, counts[size_t(rank)], MPI_FLOAT, depth_out,
                      counts.data(), offsets.data(), MPI_FLOAT, root, comm);
   return agree_on_status(comm, mpi_error(rc, "MPI_Gatherv"));
+}
+
+Status exchange_halo_rows(MPI_Comm comm, int width, int height, int halo, BandFrame *band) {
+  int rank = 0, ranks = 1;
+  MPI_Comm_rank(comm, &rank);
+  MPI_Comm_size(comm, &ranks);
+  const RowBand owned = row_band(height, ranks, rank, 1);
+  const RowBand want = with_halo(owned, height, halo);
+  Status fits;
+  if (band->first != owned.y0 || band->frame.width != width || band->frame.height != owned.rows())
+    fits = {StatusCode::kMpi, "exchange_halo_rows: rank " + std::to_string(rank) +
+                                  "'s band is not exactly its rows " + std::to_string(owned.y0) +
+                                  ".." + std::to_string(owned.y1)};
+  if (fits.ok() && int64_t(want.rows()) * width > INT_MAX)
+    fits = {StatusCode::kMpi, "exchange_halo_rows: a band exceeds INT_MAX pixels"};
+  if (Status s = agree_on_status(comm, fits); !s.ok()) return s;
+
+  // Rows move in pixel counts: to rank k the rows of mine inside k's halo, from rank k the rows
+  // of k's inside mine. Bands are in rank order, so the received rows land in order.
+  const auto overlap = [](RowBand a, RowBand b) {
+    const int y0 = std::max(a.y0, b.y0), y1 = std::min(a.y1, b.y1);
+    return y1 > y0 ? RowBand{y0, y1} : RowBand{0, 0};
+  };
+  std::vector<int> send_counts(size_t(ranks), 0), send_offsets(size_t(ranks), 0);
+  std::vector<int> recv_counts(size_t(ranks), 0), recv_offsets(size_t(ranks), 0);
+  for (int k = 0; k < ranks; ++k) {
+    if (k == rank) continue;
+    const RowBand theirs = row_band(height, ranks, k, 1);
+    const RowBand out = overlap(owned, with_halo(theirs, height, halo));
+    const RowBand in = overlap(theirs, want);
+    send_counts[size_t(k)] = out.rows() * width;
+    send_offsets[size_t(k)] = (out.y0 - owned.y0) * width * (out.rows() > 0);
+    recv_counts[size_t(k)] = in.rows() * width;
+    recv_offsets[size_t(k)] = (in.y0 - want.y0) * width * (in.rows() > 0);
+  }
+  Frame wide;
+  wide.width = width;
+  wide.height = want.rows();
+  wide.rgba.resize(size_t(want.rows()) * size_t(width) * 4);
+  wide.depth.resize(size_t(want.rows()) * size_t(width));
+  const size_t at = size_t(owned.y0 - want.y0) * size_t(width);  // my own rows, in place
+  std::copy(band->frame.rgba.begin(), band->frame.rgba.end(), wide.rgba.begin() + 4 * at);
+  std::copy(band->frame.depth.begin(), band->frame.depth.end(), wide.depth.begin() + at);
+  int rc =
+      MPI_Alltoallv(band->frame.rgba.data(), send_counts.data(), send_offsets.data(), MPI_UINT32_T,
+                    wide.rgba.data(), recv_counts.data(), recv_offsets.data(), MPI_UINT32_T, comm);
+  if (rc == MPI_SUCCESS)
+    rc = MPI_Alltoallv(band->frame.depth.data(), send_counts.data(), send_offsets.data(), MPI_FLOAT,
+                       wide.depth.data(), recv_counts.data(), recv_offsets.data(), MPI_FLOAT, comm);
+  if (Status s = agree_on_status(comm, mpi_error(rc, "MPI_Alltoallv")); !s.ok()) return s;
+  band->frame = std::move(wide);
+  band->first = want.y0;
+  band->owned = owned;
+  return {};
 }
 
 }  // namespace lantern

@@ -50,16 +50,28 @@ bool wants_screen_cues(const SceneConfig &scene) {
   return screen_ao(scene) || scene.outline.enabled || scene.depth_cue.enabled;
 }
 
-Status apply_screen_cues(MPI_Comm comm, int root, const SceneConfig &scene, const Camera &camera,
-                         double sphere_radius, Frame *frame) {
-  if (!wants_screen_cues(scene)) return {};
+int screen_cue_halo(const SceneConfig &scene) {
   int halo = 0;
   if (screen_ao(scene)) halo = kMaxAoPixels;
   if (scene.outline.enabled) halo = std::max(halo, scene.outline.width);
+  return halo;
+}
+
+Status apply_screen_cues(MPI_Comm comm, int root, const SceneConfig &scene, const Camera &camera,
+                         double sphere_radius, Frame *frame) {
+  if (!wants_screen_cues(scene)) return {};
   BandFrame band;
-  if (Status s = scatter_row_bands(comm, root, *frame, scene.width, scene.height, 1, halo, &band);
+  if (Status s = scatter_row_bands(comm, root, *frame, scene.width, scene.height, 1,
+                                   screen_cue_halo(scene), &band);
       !s.ok())
     return s;
+  if (Status s = cue_band(comm, scene, camera, sphere_radius, &band); !s.ok()) return s;
+  return gather_row_bands(comm, root, band, scene.width, scene.height, frame);
+}
+
+Status cue_band(MPI_Comm comm, const SceneConfig &scene, const Camera &camera, double sphere_radius,
+                BandFrame *band_in) {
+  BandFrame &band = *band_in;
   ViewPositions positions;
   positions.build(band, camera);
 
@@ -89,7 +101,7 @@ Status apply_screen_cues(MPI_Comm comm, int root, const SceneConfig &scene, cons
     copy_rgb(scene.depth_cue.color.value_or(scene.background), style.color);
     apply_depth_cue(positions, style, &band);
   }
-  return gather_row_bands(comm, root, band, scene.width, scene.height, frame);
+  return {};
 }
 
 }  // namespace lantern

@@ -15,6 +15,7 @@
 
 #include "core/camera/camera.h"
 #include "core/common/status.h"
+#include "core/composite/row_bands.h"
 #include "core/config/config.h"
 #include "core/view/frame.h"
 
@@ -27,5 +28,15 @@ bool wants_screen_cues(const SceneConfig &scene);
 // the unit of outline.depth_threshold and of the default ambient_occlusion.radius.
 Status apply_screen_cues(MPI_Comm comm, int root, const SceneConfig &scene, const Camera &camera,
                          double sphere_radius, Frame *frame);
+
+// The rows of halo the cues of `scene` read above and below a band (0 without a screen cue).
+int screen_cue_halo(const SceneConfig &scene);
+
+// The cues on one rank's band, for a pipeline whose bands are already spread over the ranks:
+// `band` must hold its owned rows plus screen_cue_halo(scene) rows each side (clamped), e.g.
+// from exchange_halo_rows; its owned rows are rewritten. Collective (the automatic depth-cue
+// range is reduced over comm). OK or kMpi, the same on every rank.
+Status cue_band(MPI_Comm comm, const SceneConfig &scene, const Camera &camera, double sphere_radius,
+                BandFrame *band);
 
 }  // namespace lantern

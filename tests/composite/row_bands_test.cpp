@@ -80,5 +80,31 @@ TEST(RowBands, AWrongRootFrameFailsOnEveryRankWithoutDeadlock) {
   EXPECT_NE(s.message.find("expected 12 x 10"), std::string::npos) << s.message;
 }
 
+// Halos fetched from the neighbours (no root) hold the same rows as halos handed out by the root,
+// also when a halo reaches past the next rank's band (small bands at many ranks).
+TEST(RowBands, HaloExchangeMatchesTheRootsRows) {
+  const int width = 29, height = 23;
+  Frame full = blank_frame(width, height);
+  for (int i = 0; i < 4; ++i) draw_sphere(sphere_for_rank(i, 7, width, height, false), full);
+  for (int halo : {0, 1, 4, 30}) {
+    BandFrame expected, mine;
+    ASSERT_TRUE(scatter_row_bands(MPI_COMM_WORLD, 0, full, width, height, 1, halo, &expected).ok());
+    ASSERT_TRUE(scatter_row_bands(MPI_COMM_WORLD, 0, full, width, height, 1, 0, &mine).ok());
+    ASSERT_TRUE(exchange_halo_rows(MPI_COMM_WORLD, width, height, halo, &mine).ok());
+    EXPECT_EQ(mine.first, expected.first) << "halo " << halo;
+    EXPECT_EQ(mine.owned.y0, expected.owned.y0);
+    EXPECT_EQ(mine.owned.y1, expected.owned.y1);
+    EXPECT_EQ(describe_difference(mine.frame, expected.frame), "") << "halo " << halo;
+  }
+}
+
+TEST(RowBands, HaloExchangeRefusesABandThatIsNotExactlyTheOwnedRows) {
+  BandFrame band;
+  band.frame = blank_frame(5, 3);  // whatever the rank owns, 3 rows at row 0 is wrong somewhere
+  const Status s = exchange_halo_rows(MPI_COMM_WORLD, 5, 1000, 2, &band);
+  EXPECT_EQ(s.code, StatusCode::kMpi);
+  EXPECT_NE(s.message.find("is not exactly its rows"), std::string::npos) << s.message;
+}
+
 }  // namespace
 }  // namespace lantern::testing
