@@ -128,7 +128,7 @@ bool run_at(const BenchScene &bs, const ParticleArrays &p, const BrickSet &brick
   sc.cuts.clear();  // density sums through the whole sample: no cross-section
   sc.radius *= smoothing;
   char label_text[64];
-  std::snprintf(label_text, sizeof label_text, "%s@r%g", bs.name.c_str(), sc.radius);
+  std::snprintf(label_text, sizeof label_text, "%s_%d@r%g", bs.name.c_str(), sc.width, sc.radius);
   const std::string name = label_text;
   const Extent ext = scan_particles(p, sc.per_particle_radius, sc.radius);
   const RadiusRule radius = RadiusRule::of(sc, p);
