@@ -2,10 +2,12 @@
 //
 //   lantern-bench [--scenes fcc1m,fcc10m,inside,void_impact,droplet] [--size 1024] [--runs 5]
 //                 [--md-cells 64] [--out DIR] [--images] [--modes hzb,cpu_raster+hzb]
-//                 [--azimuths K] [--density]
+//                 [--azimuths K] [--density] [--opaque-lod]
 //
 // --density: style: density at LOD 100/50/25/10/1 % against random samples instead of the sphere
 // modes (density_bench.h; DIR/density_bench.csv and .svg). Scene `clustered`: clustered_cloud.
+// --opaque-lod: sphere LOD at 100/50/25/10/1 % against random samples, cpu raster + hzb in every
+// mode (opaque_lod_bench.h; DIR/opaque_lod_bench.csv and .svg).
 // A scene name may end in :uniform or :bimodal to give the particles mixed radii (assign_radii
 // in bench_scenes.h), e.g. --scenes fcc1m:uniform,inside:bimodal. --azimuths K renders every
 // scene from K azimuths evenly spaced about its vertical axis (same elevation and distance; seed
@@ -49,6 +51,7 @@
 #include "density_bench.h"
 #include "error_plot.h"
 #include "image_metrics.h"
+#include "opaque_lod_bench.h"
 
 namespace lantern::bench {
 namespace {
@@ -76,6 +79,7 @@ struct Options {
   std::vector<std::string> modes;  // --modes a,b: only these (brute_force always runs: reference)
   int azimuths = 1;                // --azimuths K: views per scene, evenly spaced about its up axis
   bool density = false;  // --density: style: density LOD against random samples (density_bench.h)
+  bool opaque_lod = false;  // --opaque-lod: sphere LOD against random samples (opaque_lod_bench.h)
 };
 
 struct Mode {
@@ -418,11 +422,13 @@ bool parse(int argc, char **argv, Options *o) {
       o->azimuths = std::max(1, std::stoi(value()));
     } else if (a == "--density") {
       o->density = true;
+    } else if (a == "--opaque-lod") {
+      o->opaque_lod = true;
     } else {
       std::fprintf(stderr,
                    "usage: lantern-bench [--scenes fcc1m,fcc10m,inside,void_impact,droplet] "
                    "[--size 1024] [--runs 5] [--md-cells 64] [--out DIR] [--images] "
-                   "[--modes hzb,cpu_raster+hzb,...] [--azimuths K] [--density]\n"
+                   "[--modes hzb,cpu_raster+hzb,...] [--azimuths K] [--density] [--opaque-lod]\n"
                    "  a scene name may end in :uniform or :bimodal (mixed radii)\n");
       return false;
     }
@@ -442,7 +448,9 @@ int run(int argc, char **argv) {
                  opt.out.c_str(), ec.message().c_str());
     return 1;
   }
-  const std::string prefix = opt.out + (opt.density ? "/density_bench" : "/culling_bench");
+  const std::string prefix = opt.out + (opt.density      ? "/density_bench"
+                                        : opt.opaque_lod ? "/opaque_lod_bench"
+                                                         : "/culling_bench");
   const std::string csv_path = prefix + ".csv";
   const std::string svg_path = prefix + ".svg";
   std::shared_ptr<GlSession> session;
@@ -462,6 +470,8 @@ int run(int argc, char **argv) {
   }
   if (opt.density)
     csv << density_csv_header();
+  else if (opt.opaque_lod)
+    csv << opaque_lod_csv_header();
   else
     csv << "scene,mode,ms_per_frame,cull_ms,cull_cpu_ms,render_ms,drawn,splatted,culled_percent,"
            "differing_pixels,differing_depth,psnr_db,ssim,speedup,occlusion\n";
@@ -500,6 +510,8 @@ int run(int argc, char **argv) {
     }
     if (opt.density)
       density_images_ok &= run_density_bench(s, opt.runs, opt.images ? opt.out : "", csv, &plot);
+    else if (opt.opaque_lod)
+      run_opaque_lod_bench(s, opt.runs, csv, &plot);
     else
       bench.run_scene(s, csv, &plot);
     std::fflush(stdout);
