@@ -10,6 +10,7 @@
 #include "core/bricks/brick_set.h"
 #include "core/camera/camera.h"
 #include "core/culling/brick_selection.h"
+#include "core/culling/level_of_detail.h"
 #include "core/particles/particle_scan.h"
 #include "core/particles/radius_rule.h"
 #include "core/render/cpu_sphere_pass.h"
@@ -32,20 +33,25 @@ double median(std::vector<double> v) {
   return n == 0 ? 0.0 : (n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]));
 }
 
-// The particles of the uniform random sample of `fraction`, radii grown by (1 / fraction)^(1/3)
-// as level of detail grows its kept spheres; the same settings otherwise.
-BenchScene random_sample(const BenchScene &bs, double fraction) {
+// The particles of the uniform random sample of `fraction`, each grown as level of detail grows
+// the spheres it keeps (level_of_detail.h, LodGrowth::kCoverage): by (1 / fraction)^(1/2) where
+// its sphere projects under kCoveragePixels in radius (seen through `g`), else by the cube root.
+BenchScene random_sample(const BenchScene &bs, const ViewGeometry &g, double fraction) {
   BenchScene s;
   s.name = bs.name;
   s.config = bs.config;
-  const double grow = std::cbrt(1.0 / fraction);
-  s.config.radius *= grow;
+  s.config.per_particle_radius = true;  // the growth depends on the particle's depth
   const uint64_t limit = sample_limit(fraction);
   for (size_t i = 0; i < bs.type.size(); ++i) {
     if (index_hash(i) > limit) continue;
+    const glm::dvec3 x{bs.xyz[3 * i], bs.xyz[3 * i + 1], bs.xyz[3 * i + 2]};
+    const double r = bs.radius.empty() ? bs.config.radius : bs.radius[i];
+    const double px = r * g.pixels_per_unit(std::max(-g.to_view(x).z, g.near_plane));
+    const double grow =
+        px < kCoveragePixels ? std::sqrt(1.0 / fraction) : std::cbrt(1.0 / fraction);
     s.xyz.insert(s.xyz.end(), bs.xyz.begin() + 3 * i, bs.xyz.begin() + 3 * i + 3);
     s.type.push_back(bs.type[i]);
-    if (!bs.radius.empty()) s.radius.push_back(bs.radius[i] * grow);
+    s.radius.push_back(r * grow);
   }
   return s;
 }
@@ -70,8 +76,9 @@ struct Sample {
 
 class Renderer {
  public:
-  // Draws `d` with `lod` through the CPU raster under hzb (and splats its points).
-  void draw(const Drawable &d, const Camera &cam, const LodConfig &lod, Sample *s) {
+  // Draws `d` with `lod` through the CPU raster under hzb (and splats its points). Returns the
+  // view geometry it drew with.
+  ViewGeometry draw(const Drawable &d, const Camera &cam, const LodConfig &lod, Sample *s) {
     SceneConfig sc = d.scene.config;
     sc.culling.occlusion = OcclusionMode::kHzb;
     sc.culling.frustum = true;
@@ -88,6 +95,7 @@ class Renderer {
           [&d](int64_t i) { return d.recipe.color(i); }, &s->frame);
     s->drawn = st.drawn;
     s->splatted = st.splatted;
+    return selection_.g;
   }
 
  private:
@@ -134,6 +142,9 @@ void run_opaque_lod_bench(const BenchScene &bs, int runs, std::ostream &csv,
   const double fractions[] = {1.0, 0.5, 0.25, 0.1, 0.01};
   std::vector<std::unique_ptr<Drawable>> sets;
   sets.push_back(drawable(bs));
+  Renderer renderer;
+  Sample probe;  // the full scene's view geometry, for the random samples' growth rule
+  const ViewGeometry g = renderer.draw(*sets[0], cam, LodConfig{}, &probe);
   std::vector<Sample> samples;
   samples.push_back({"no_lod", 1.0, sets[0].get(), {}, {}, 0, 0, {}});
   for (const double f : fractions) {
@@ -145,10 +156,9 @@ void run_opaque_lod_bench(const BenchScene &bs, int runs, std::ostream &csv,
       samples.push_back({"lod_budget_all", f, sets[0].get(), lod, {}, 0, 0, {}});
       continue;
     }
-    sets.push_back(drawable(random_sample(bs, f)));
+    sets.push_back(drawable(random_sample(bs, g, f)));
     samples.push_back({"random_" + percent(f), f, sets.back().get(), {}, {}, 0, 0, {}});
   }
-  Renderer renderer;
   // Run 0 warms up (first touch of every frame's pages) and is not timed.
   for (int run = 0; run <= runs; ++run)
     for (Sample &s : samples) {

@@ -1,8 +1,8 @@
 // lantern-bench --opaque-lod: level of detail on opaque spheres (style: spheres) at fractions
 // 100/50/25/10/1 %, each next to a uniform random sample of the same size drawn with the same
-// radius rule (kept spheres grown by (1 / fraction)^(1/3); sample_hash.h), against the full
-// render. Every image - the no-LOD reference too - is drawn by the CPU raster with hzb occlusion
-// culling, so the speed-up is LOD's own. Per mode: ms per frame (selection + raster + CPU
+// radius rule (each grown as level of detail grows the spheres it keeps; sample_hash.h), against
+// the full render. Every image - the no-LOD reference too - is drawn by the CPU raster with hzb
+// occlusion culling, so the speed-up is LOD's own. Per mode: ms per frame (selection + raster + CPU
 // splats), spheres ray-cast and points splatted, PSNR, SSIM and PSNR after an 8x8 box filter.
 #pragma once
 
