@@ -151,6 +151,9 @@ void run_opaque_lod_bench(const BenchScene &bs, int runs, std::ostream &csv,
     LodConfig lod;
     lod.fraction = f;
     samples.push_back({"lod_" + percent(f), f, sets[0].get(), lod, {}, 0, 0, {}});
+    LodConfig points = lod;  // the same with sub-pixel spheres splatted (lod.point_path)
+    points.point_path = true;
+    samples.push_back({"lod+points_" + percent(f), f, sets[0].get(), points, {}, 0, 0, {}});
     if (f == 1.0) {  // a budget of every particle runs the LOD code keeping all of them
       lod.budget = int64_t(bs.type.size());
       samples.push_back({"lod_budget_all", f, sets[0].get(), lod, {}, 0, 0, {}});
@@ -173,13 +176,13 @@ void run_opaque_lod_bench(const BenchScene &bs, int runs, std::ostream &csv,
       "particles\n",
       label, bs.note.c_str(), bs.config.width, bs.config.height,
       static_cast<long long>(bs.type.size()));
-  std::printf("   %-16s %9s %10s %9s %8s %7s %10s %9s\n", "mode", "ms/frame", "ray-cast",
+  std::printf("   %-18s %9s %10s %9s %8s %7s %10s %9s\n", "mode", "ms/frame", "ray-cast",
               "splatted", "PSNR dB", "SSIM", "PSNR box8", "speed-up");
   for (const Sample &s : samples) {
     const double ms = median(s.ms);
     const ImageError e = compare_frames(samples[0].frame, s.frame);
     const ImageError eb = compare_frames(ref_box, box_filtered8(s.frame));
-    std::printf("   %-16s %9.1f %10lld %9lld %8.2f %7.4f %10.2f %8.2fx\n", s.mode.c_str(), ms,
+    std::printf("   %-18s %9.1f %10lld %9lld %8.2f %7.4f %10.2f %8.2fx\n", s.mode.c_str(), ms,
                 static_cast<long long>(s.drawn), static_cast<long long>(s.splatted), e.psnr, e.ssim,
                 eb.psnr, ref_ms / ms);
     csv << label << ',' << s.mode << ',' << s.fraction << ',' << ms << ',' << s.drawn << ','

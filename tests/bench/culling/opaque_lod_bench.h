@@ -4,6 +4,7 @@
 // the full render. Every image - the no-LOD reference too - is drawn by the CPU raster with hzb
 // occlusion culling, so the speed-up is LOD's own. Per mode: ms per frame (selection + raster + CPU
 // splats), spheres ray-cast and points splatted, PSNR, SSIM and PSNR after an 8x8 box filter.
+// `lod+points_X%` is lod with lod.point_path (spheres under half a pixel splatted on the CPU).
 #pragma once
 
 #include <ostream>
