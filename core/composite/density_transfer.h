@@ -16,7 +16,7 @@
 // color m of the particles at the pixel, blended over the background: background + t (m -
 // background).
 // Depth: a density image has no surface, so every pixel keeps the background depth (1.0; the
-// EXR Z channel is the far distance everywhere).
+// EXR Z channel, like every background pixel, is +infinity everywhere).
 // Thread-safety: pure functions.
 #pragma once
 

@@ -122,7 +122,9 @@ void select_bricks(const BrickSet &bricks, const Camera &camera, const SceneConf
   // Level of detail, then footprints of the bricks whose spheres grew.
   const LodConfig &lod = scene.lod;
   const bool lod_on = lod.budget > 0 || lod.fraction < 1.0 || lod.min_pixels > 0.0;
-  out->reduced = lod_on && apply_level_of_detail(lod, bricks, out->g, &out->visible);
+  const LodGrowth growth =
+      scene.style == SceneStyle::kDensity ? LodGrowth::kVolume : LodGrowth::kCoverage;
+  out->reduced = lod_on && apply_level_of_detail(lod, bricks, out->g, growth, &out->visible);
   for (VisibleBrick &v : out->visible)
     if (v.radius_scale != 1.0f)
       footprint(out->g, bricks.bricks[v.brick], v.radius * v.radius_scale, &v);

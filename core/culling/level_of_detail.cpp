@@ -16,10 +16,17 @@ double spacing(const Brick &b) {
   return b.count > 1 ? std::cbrt(v / b.count) : 0.0;
 }
 
+// How much a kept sphere grows when it stands for `ratio` (= n / keep) spheres of brick `v`.
+float growth_of(LodGrowth growth, const ViewGeometry &g, const VisibleBrick &v, double ratio) {
+  const double px = v.radius * g.pixels_per_unit(std::max(v.near_depth, g.near_plane));
+  if (growth == LodGrowth::kCoverage && px < kCoveragePixels) return float(std::sqrt(ratio));
+  return float(std::cbrt(ratio));
+}
+
 }  // namespace
 
 bool apply_level_of_detail(const LodConfig &lod, const BrickSet &set, const ViewGeometry &g,
-                           std::vector<VisibleBrick> *visible) {
+                           LodGrowth growth, std::vector<VisibleBrick> *visible) {
   int64_t total = 0;
   for (const VisibleBrick &v : *visible) total += set.bricks[v.brick].count;
   double share = std::min(1.0, lod.fraction);
@@ -35,7 +42,7 @@ bool apply_level_of_detail(const LodConfig &lod, const BrickSet &set, const View
     }
     const auto k = uint32_t(std::clamp(std::ceil(keep - 1e-9), 1.0, double(b.count)));
     v.keep = k;
-    v.radius_scale = k < b.count ? float(std::cbrt(double(b.count) / double(k))) : 1.0f;
+    v.radius_scale = k < b.count ? growth_of(growth, g, v, double(b.count) / double(k)) : 1.0f;
     reduced |= k < b.count;
   }
   return reduced;

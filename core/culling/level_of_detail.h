@@ -4,9 +4,8 @@
 //   - a budget (particles per frame) or a fraction, shared out in proportion to brick size;
 //   - the screen-space rule: when the brick's particle spacing projects below `min_pixels`,
 //     keep m = n (spacing_px / min_pixels)^3, so that the kept ones are min_pixels apart.
-// Kept spheres grow by (n / m)^(1/3), which keeps the sample's covered volume (and so its look
-// from afar) close to the full brick's. Approximate by design: never used by the exact modes
-// unless configured.
+// Kept spheres grow so that the sample looks like the whole (LodGrowth). Approximate by design:
+// never used by the exact modes unless configured.
 #pragma once
 
 #include <vector>
@@ -18,9 +17,23 @@
 
 namespace lantern {
 
+// How kept spheres grow when a brick keeps m of its n particles.
+enum class LodGrowth {
+  // By (n / m)^(1/3): the sample's volume stays the brick's (style: density, whose weights carry
+  // the brightness and whose footprints only need to stay smooth).
+  kVolume,
+  // Opaque spheres. A brick whose spheres project under kCoveragePixels in radius grows them by
+  // (n / m)^(1/2): m discs of the grown radius cover the projected area of the n, so a sparse
+  // sub-pixel brick (gas, a cloud's outskirts) keeps the number of pixels it covers instead of
+  // losing 1 - (m / n)^(1/3) of them (37 % at 25 %); a dense one covers its footprint either way.
+  // Larger spheres grow by the cube root as before: their silhouettes are what one sees.
+  kCoverage,
+};
+inline constexpr double kCoveragePixels = 1.0;
+
 // Fills keep and radius_scale of every visible brick (keep = count when LOD is off). Returns
 // whether any brick keeps less than all of its particles.
 bool apply_level_of_detail(const LodConfig &lod, const BrickSet &set, const ViewGeometry &g,
-                           std::vector<VisibleBrick> *visible);
+                           LodGrowth growth, std::vector<VisibleBrick> *visible);
 
 }  // namespace lantern

@@ -2,10 +2,12 @@
 //
 //   lantern-bench [--scenes fcc1m,fcc10m,inside,void_impact,droplet] [--size 1024] [--runs 5]
 //                 [--md-cells 64] [--out DIR] [--images] [--modes hzb,cpu_raster+hzb]
-//                 [--azimuths K] [--density]
+//                 [--azimuths K] [--density] [--opaque-lod]
 //
 // --density: style: density at LOD 100/50/25/10/1 % against random samples instead of the sphere
 // modes (density_bench.h; DIR/density_bench.csv and .svg). Scene `clustered`: clustered_cloud.
+// --opaque-lod: sphere LOD at 100/50/25/10/1 % against random samples, cpu raster + hzb in every
+// mode (opaque_lod_bench.h; DIR/opaque_lod_bench.csv and .svg).
 // A scene name may end in :uniform or :bimodal to give the particles mixed radii (assign_radii
 // in bench_scenes.h), e.g. --scenes fcc1m:uniform,inside:bimodal. --azimuths K renders every
 // scene from K azimuths evenly spaced about its vertical axis (same elevation and distance; seed
@@ -49,6 +51,7 @@
 #include "density_bench.h"
 #include "error_plot.h"
 #include "image_metrics.h"
+#include "opaque_lod_bench.h"
 #include "probabilistic_modes.h"
 #include "supersampling_bench.h"
 
@@ -81,6 +84,7 @@ struct Options {
       samples;  // --samples 1,4,16: the super-sampling table instead (supersampling_bench.h)
   bool pipeline = false;  // --pipeline: with --samples, whole frames through the pipeline instead
   bool density = false;   // --density: style: density LOD against random samples (density_bench.h)
+  bool opaque_lod = false;  // --opaque-lod: sphere LOD against random samples (opaque_lod_bench.h)
 };
 
 struct Mode {
@@ -447,12 +451,14 @@ bool parse(int argc, char **argv, Options *o) {
       o->pipeline = true;
     } else if (a == "--density") {
       o->density = true;
+    } else if (a == "--opaque-lod") {
+      o->opaque_lod = true;
     } else {
       std::fprintf(stderr,
                    "usage: lantern-bench [--scenes fcc1m,fcc10m,inside,void_impact,droplet] "
                    "[--size 1024] [--runs 5] [--md-cells 64] [--out DIR] [--images] "
                    "[--modes hzb,cpu_raster+hzb,...] [--azimuths K] [--samples 1,4,16 "
-                   "[--pipeline]] [--density]\n"
+                   "[--pipeline]] [--density] [--opaque-lod]\n"
                    "  a scene name may end in :uniform or :bimodal (mixed radii)\n");
       return false;
     }
@@ -473,6 +479,7 @@ int run(int argc, char **argv) {
     return 1;
   }
   const std::string table = opt.density           ? "density_bench"
+                            : opt.opaque_lod      ? "opaque_lod_bench"
                             : opt.samples.empty() ? "culling_bench"
                                                   : "supersampling_bench";
   const std::string csv_path = opt.out + "/" + table + ".csv";
@@ -494,6 +501,8 @@ int run(int argc, char **argv) {
   }
   if (opt.density)
     csv << density_csv_header();
+  else if (opt.opaque_lod)
+    csv << opaque_lod_csv_header();
   else if (opt.samples.empty())
     csv << "scene,mode,ms_per_frame,cull_ms,cull_cpu_ms,render_ms,drawn,splatted,culled_percent,"
            "differing_pixels,differing_depth,psnr_db,ssim,speedup,occlusion\n";
@@ -536,6 +545,8 @@ int run(int argc, char **argv) {
     }
     if (opt.density) {
       density_images_ok &= run_density_bench(s, opt.runs, opt.images ? opt.out : "", csv, &plot);
+    } else if (opt.opaque_lod) {
+      run_opaque_lod_bench(s, opt.runs, csv, &plot);
     } else if (opt.samples.empty()) {
       bench.run_scene(s, csv, &plot);
     } else {

@@ -17,6 +17,7 @@
 #include "core/render/density_splat.h"
 #include "core/render/sphere_instances.h"
 #include "image_metrics.h"
+#include "sample_hash.h"
 
 namespace lantern::bench {
 namespace {
@@ -40,33 +41,6 @@ double median(std::vector<double> v) {
   return n == 0 ? 0.0 : (n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]));
 }
 
-// A counter-based hash of the particle index (splitmix64's finaliser): the random sample keeps
-// particle i when hash(i) < fraction 2^64, the same set on every run.
-uint64_t index_hash(uint64_t i) {
-  uint64_t z = i + 0x9E3779B97F4A7C15ULL;
-  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ULL;
-  z = (z ^ (z >> 27)) * 0x94D049BB133111EBULL;
-  return z ^ (z >> 31);
-}
-
-// The 8x8 box-filtered (mean) image, for the coarse-scale PSNR.
-Frame box8(const Frame &f) {
-  Frame out(std::max(1, f.width / 8), std::max(1, f.height / 8));
-  for (int y = 0; y < out.height; ++y)
-    for (int x = 0; x < out.width; ++x)
-      for (int c = 0; c < 4; ++c) {
-        int sum = 0;
-        for (int j = 0; j < 8; ++j)
-          for (int i = 0; i < 8; ++i)
-            sum += f.rgba[4 * f.index(std::min(f.width - 1, 8 * x + i),
-                                      std::min(f.height - 1, 8 * y + j)) +
-                          size_t(c)];
-        out.rgba[4 * out.index(x, y) + size_t(c)] = uint8_t((sum + 32) / 64);
-      }
-  std::fill(out.depth.begin(), out.depth.end(), kBackgroundDepth);
-  return out;
-}
-
 struct Sample {
   std::string mode;
   double fraction = 1.0;
@@ -82,7 +56,7 @@ struct Sample {
 int64_t render_random(const ParticleArrays &p, const BrickSet &bricks, const ViewGeometry &g,
                       const InstanceRecipe &recipe, double radius, double fraction,
                       DensityImage *image, int64_t *pixels) {
-  const auto limit = uint64_t(std::ldexp(fraction, 64) - 1.0);
+  const uint64_t limit = sample_limit(fraction);
   int64_t kept = 0;
   for (const uint32_t i : bricks.order) kept += index_hash(i) <= limit;
   const double weight = double(bricks.order.size()) / double(std::max<int64_t>(kept, 1));
@@ -128,7 +102,7 @@ bool run_at(const BenchScene &bs, const ParticleArrays &p, const BrickSet &brick
   sc.cuts.clear();  // density sums through the whole sample: no cross-section
   sc.radius *= smoothing;
   char label_text[64];
-  std::snprintf(label_text, sizeof label_text, "%s@r%g", bs.name.c_str(), sc.radius);
+  std::snprintf(label_text, sizeof label_text, "%s_%d@r%g", bs.name.c_str(), sc.width, sc.radius);
   const std::string name = label_text;
   const Extent ext = scan_particles(p, sc.per_particle_radius, sc.radius);
   const RadiusRule radius = RadiusRule::of(sc, p);
@@ -175,7 +149,7 @@ bool run_at(const BenchScene &bs, const ParticleArrays &p, const BrickSet &brick
   const uint8_t background[4] = {bg[0], bg[1], bg[2], 255};
   const Colormap map = *Colormap::named(sc.density.colormap);
   for (Sample &s : samples) map_density(s.image, sc.density, map, background, &s.frame);
-  const Frame ref_box = box8(samples[0].frame);
+  const Frame ref_box = box_filtered8(samples[0].frame);
 
   const int channels = samples[0].image.channels;
   std::printf("\n== %s (density, footprint radius %g): %s, %dx%d, %s, asinh over [0, %.3g]\n",
@@ -187,7 +161,7 @@ bool run_at(const BenchScene &bs, const ParticleArrays &p, const BrickSet &brick
   for (const Sample &s : samples) {
     const double ms = median(s.ms);
     const ImageError e = compare_frames(samples[0].frame, s.frame);
-    const ImageError eb = compare_frames(ref_box, box8(s.frame));
+    const ImageError eb = compare_frames(ref_box, box_filtered8(s.frame));
     // Bytes read per particle: its index (4), position (3 x 4 or 8), type when colored (4), and
     // every pixel of its footprint read once (channels x 8; written back as well).
     const double pos_bytes = 3.0 * double(p.position_array(0).type() == DataType::kFloat32 ? 4 : 8);

@@ -1,5 +1,6 @@
 #include "image_metrics.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -71,6 +72,23 @@ ImageError compare_frames(const Frame &reference, const Frame &test) {
   e.psnr = r.PSNR;
   e.ssim = ssim(reference, test);
   return e;
+}
+
+Frame box_filtered8(const Frame &f) {
+  Frame out(std::max(1, f.width / 8), std::max(1, f.height / 8));
+  for (int y = 0; y < out.height; ++y)
+    for (int x = 0; x < out.width; ++x)
+      for (int c = 0; c < 4; ++c) {
+        int sum = 0;
+        for (int j = 0; j < 8; ++j)
+          for (int i = 0; i < 8; ++i)
+            sum += f.rgba[4 * f.index(std::min(f.width - 1, 8 * x + i),
+                                      std::min(f.height - 1, 8 * y + j)) +
+                          size_t(c)];
+        out.rgba[4 * out.index(x, y) + size_t(c)] = uint8_t((sum + 32) / 64);
+      }
+  std::fill(out.depth.begin(), out.depth.end(), kBackgroundDepth);
+  return out;
 }
 
 }  // namespace lantern::bench

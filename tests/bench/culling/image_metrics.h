@@ -18,4 +18,7 @@ struct ImageError {
 
 ImageError compare_frames(const Frame &reference, const Frame &test);
 
+// The 8x8 box-filtered (mean) image, for the coarse-scale PSNR (structure at a coarser scale).
+Frame box_filtered8(const Frame &f);
+
 }  // namespace lantern::bench
