@@ -41,27 +41,29 @@ int world_rank() {
 }
 
 // One sphere of radius 3 at the origin, color `rgb` (YAML), on black, seen orthographically from
-// +z (camera x = image right, y = image up), with `lighting` (YAML lines, may be empty).
+// +z (camera x = image right, y = image up), with `lighting` (YAML lines, may be empty); `xyz`
+// replaces the one sphere by others (the camera fits them), `stats_line` receives the stats.
 ImagePixels render(const std::string &renderer, const std::string &lighting,
                    const std::string &name, const std::string &rgb = "[1, 0.6, 0.2]",
-                   const std::string &projection = "orthographic") {
+                   const std::string &projection = "orthographic", const std::string &radius = "3",
+                   std::string *stats_line = nullptr, std::vector<double> xyz = {0, 0, 0}) {
   char dir[64] = "/tmp/lantern_lighting_XXXXXX";
   const int rank = world_rank();
   if (rank == 0 && !mkdtemp(dir)) dir[0] = '\0';
   MPI_Bcast(dir, sizeof dir, MPI_CHAR, 0, MPI_COMM_WORLD);
   const std::string file = std::string(dir) + "/" + name + ".png";
-  const std::string yaml =
-      "stats: " + std::string(dir) + "/stats.jsonl\nscenes:\n  - width: " + std::to_string(kSize) +
-      "\n    height: " + std::to_string(kSize) + "\n    radius: 3\n    renderer: " + renderer +
-      "\n    background: [0, 0, 0]\n    culling: {occlusion: none}\n"
-      "    camera: {projection: " +
-      projection +
-      ", position: [0, 0, 20], look_at: [0, 0, 0], up: [0, 1, 0], zoom: 1}\n"
-      "    color: {by: solid, solid: " +
-      rgb + "}\n" + lighting + "    output: {pattern: '" + file + "'}\n";
-  std::vector<double> xyz = {0, 0, 0};
+  const std::string yaml = "stats: " + std::string(dir) +
+                           "/stats.jsonl\nscenes:\n  - width: " + std::to_string(kSize) +
+                           "\n    height: " + std::to_string(kSize) + "\n    radius: " + radius +
+                           "\n    lod: {point_path: true}\n    renderer: " + renderer +
+                           "\n    background: [0, 0, 0]\n    culling: {occlusion: none}\n"
+                           "    camera: {projection: " +
+                           projection +
+                           ", position: [0, 0, 20], look_at: [0, 0, 0], up: [0, 1, 0], zoom: 1}\n"
+                           "    color: {by: solid, solid: " +
+                           rgb + "}\n" + lighting + "    output: {pattern: '" + file + "'}\n";
   ParticleDescription d;
-  d.count = rank == 0 ? 1 : 0;
+  d.count = rank == 0 ? int64_t(xyz.size() / 3) : 0;
   d.position = {xyz.data(), DataType::kFloat64, 0};
   std::unique_ptr<Runtime> rt;
   EXPECT_OK(Runtime::open(yaml, MPI_COMM_WORLD, &rt));
@@ -75,6 +77,7 @@ ImagePixels render(const std::string &renderer, const std::string &lighting,
   std::ifstream stats(std::string(dir) + "/stats.jsonl");
   const std::string line((std::istreambuf_iterator<char>(stats)), std::istreambuf_iterator<char>());
   EXPECT_NE(line.find("\"renderer\":\"" + renderer + "\""), std::string::npos) << line;
+  if (stats_line) *stats_line = line;
   std::system(("rm -rf '" + std::string(dir) + "'").c_str());
   return image;
 }
@@ -213,47 +216,83 @@ TEST(Lighting, AmbientOnlyIsAFlatDiscOfAmbientTimesColor) {
     }
 }
 
+// A sphere under a pixel across goes to the CPU point splats (lod.point_path): ambient light alone
+// gives it exactly ambient x color there too.
+TEST(Lighting, PointSplatsTakeTheLightToo) {
+  // 20 x 20 spheres one unit apart fill the image (about 4.5 pixels a unit): radius 0.08 is under
+  // half a pixel, so every one is splatted, and drawn where a pixel centre falls on it.
+  std::vector<double> xyz;
+  for (int j = 0; j < 20; ++j)
+    for (int i = 0; i < 20; ++i) xyz.insert(xyz.end(), {i - 9.5, j - 9.5, 0.0});
+  for (const char *renderer : renderers()) {
+    std::string stats;
+    const ImagePixels im = render(renderer,
+                                  "    lighting: {direction: [0.3, -0.5, 1], ambient: 0.25, "
+                                  "diffuse: 0, specular: 0}\n",
+                                  std::string(renderer) + "_splat", "[1, 0.6, 0.2]", "orthographic",
+                                  "0.08", &stats, xyz);
+    if (world_rank() != 0) continue;
+    ASSERT_EQ(im.width, kSize) << im.error;
+    EXPECT_NE(stats.find("\"splatted\":400"), std::string::npos) << stats;
+    int drawn = 0;
+    for (int y = 0; y < kSize; ++y)
+      for (int x = 0; x < kSize; ++x) {
+        if (!on_sphere(im, x, y)) continue;
+        const uint8_t *p = pixel(im, x, y);
+        EXPECT_TRUE(p[0] == 64 && p[1] == 38 && p[2] == 13)
+            << renderer << " " << x << "," << y << ": " << int(p[0]) << " " << int(p[1]) << " "
+            << int(p[2]);
+        ++drawn;
+      }
+    EXPECT_GT(drawn, 40) << renderer;
+  }
+}
+
 // The CPU raster and OpenGL under the same custom light, with a highlight: the same tolerance as
 // the renderers' comparison without it (culling_test: channels within 1 but for a few pixels).
 TEST(Lighting, CpuRasterAndOpenGlAgreeUnderACustomLight) {
   if (!have_gl()) GTEST_SKIP() << "no OpenGL backend built";
-  for (const char *projection : {"orthographic", "perspective"}) {
-    const std::string light =
-        "    lighting: {direction: [-0.4, 0.6, 0.7], ambient: 0.1, diffuse: 0.7, specular: 0.6, "
-        "shininess: 25}\n";
-    const ImagePixels cpu = render("cpu", light, "agree_cpu", "[0.2, 0.5, 0.9]", projection);
-    const ImagePixels gl = render("opengl", light, "agree_gl", "[0.2, 0.5, 0.9]", projection);
-    const ImagePixels headlight = render("opengl", "", "agree_head", "[0.2, 0.5, 0.9]", projection);
-    if (world_rank() != 0) continue;
-    ASSERT_EQ(cpu.width, kSize) << cpu.error;
-    ASSERT_EQ(gl.width, kSize) << gl.error;
-    int coverage = 0, off_by_more = 0, max_channel = 0, both = 0;
-    for (int y = 0; y < kSize; ++y)
-      for (int x = 0; x < kSize; ++x) {
-        const bool a = on_sphere(cpu, x, y), b = on_sphere(gl, x, y);
-        if (a != b) ++coverage;
-        if (!(a && b)) continue;
-        ++both;
-        int worst = 0;
-        for (int c = 0; c < 3; ++c)
-          worst = std::max(worst, std::abs(int(pixel(cpu, x, y)[c]) - int(pixel(gl, x, y)[c])));
-        max_channel = std::max(max_channel, worst);
-        off_by_more += worst > 1;
-      }
-    EXPECT_GT(both, 1000) << projection;
-    // ... and the light is not the headlight: most pixels differ from the default image.
-    int changed = 0;
-    for (size_t i = 0; i < gl.pixels.size(); ++i) changed += gl.pixels[i] != headlight.pixels[i];
-    EXPECT_GT(changed, both) << projection;
-    EXPECT_LE(coverage, 5) << projection;
-    EXPECT_LE(off_by_more, 5) << projection << ", max channel difference " << max_channel;
-    // The highlight is there, where h = normalize(l + v) meets the normal: some pixel is brighter
-    // than diffuse alone could make it (0.8 x 0.9 x 255 = 184 in blue).
-    int peak = 0;
-    for (size_t i = 2; i < cpu.pixels.size(); i += cpu.channels)
-      peak = std::max(peak, int(cpu.pixels[i]));
-    EXPECT_GT(peak, 200) << projection;
-  }
+  for (const char *projection : {"orthographic", "perspective"})
+    for (const char *light : {"    lighting: {direction: [-0.4, 0.6, 0.7], ambient: 0.1, "
+                              "diffuse: 0.7, specular: 0.6, shininess: 25}\n",
+                              // the headlight (l = v per pixel) with other terms
+                              "    lighting: {ambient: 0.1, diffuse: 0.7, specular: 0.6, "
+                              "shininess: 12}\n"}) {
+      const ImagePixels cpu = render("cpu", light, "agree_cpu", "[0.2, 0.5, 0.9]", projection);
+      const ImagePixels gl = render("opengl", light, "agree_gl", "[0.2, 0.5, 0.9]", projection);
+      const ImagePixels headlight =
+          render("opengl", "", "agree_head", "[0.2, 0.5, 0.9]", projection);
+      if (world_rank() != 0) continue;
+      ASSERT_EQ(cpu.width, kSize) << cpu.error;
+      ASSERT_EQ(gl.width, kSize) << gl.error;
+      int coverage = 0, off_by_more = 0, max_channel = 0, both = 0;
+      for (int y = 0; y < kSize; ++y)
+        for (int x = 0; x < kSize; ++x) {
+          const bool a = on_sphere(cpu, x, y), b = on_sphere(gl, x, y);
+          if (a != b) ++coverage;
+          if (!(a && b)) continue;
+          ++both;
+          int worst = 0;
+          for (int c = 0; c < 3; ++c)
+            worst = std::max(worst, std::abs(int(pixel(cpu, x, y)[c]) - int(pixel(gl, x, y)[c])));
+          max_channel = std::max(max_channel, worst);
+          off_by_more += worst > 1;
+        }
+      EXPECT_GT(both, 1000) << projection;
+      // ... and the light is not the default one: most pixels differ from the default image.
+      int changed = 0;
+      for (size_t i = 0; i < gl.pixels.size(); ++i) changed += gl.pixels[i] != headlight.pixels[i];
+      EXPECT_GT(changed, both) << projection;
+      EXPECT_LE(coverage, 5) << projection;
+      EXPECT_LE(off_by_more, 5) << projection << light << ", max channel difference "
+                                << max_channel;
+      // The highlight is there, where h = normalize(l + v) meets the normal: some pixel is brighter
+      // than diffuse alone could make it (0.8 x 0.9 x 255 = 184 in blue).
+      int peak = 0;
+      for (size_t i = 2; i < cpu.pixels.size(); i += cpu.channels)
+        peak = std::max(peak, int(cpu.pixels[i]));
+      EXPECT_GT(peak, 200) << projection;
+    }
 }
 
 }  // namespace
