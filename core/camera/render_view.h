@@ -7,6 +7,8 @@
 
 #include <glm/mat4x4.hpp>
 
+#include "core/config/lighting.h"
+
 namespace lantern {
 
 // What the renderer needs of the camera, already in float and scene-relative.
@@ -18,6 +20,7 @@ struct RenderView {
   int width = 1;
   int height = 1;
   uint8_t background[4] = {255, 255, 255, 255};
+  Lighting lighting;  // the spheres' light (default: the headlight, the original shader)
 };
 
 }  // namespace lantern

@@ -11,6 +11,8 @@
 #include <string>
 #include <vector>
 
+#include "core/config/lighting.h"
+
 namespace lantern {
 
 // Which steps render (`schedule:`). A step renders if it is in `steps`, or if every > 0 and
@@ -195,6 +197,7 @@ struct SceneConfig {
   // opacity: [a0, a1, ...] per type, each in [0, 1] (screen-door transparency, issue 13); types
   // beyond the list, and every type when it is empty (the default), are opaque.
   std::vector<double> opacity;
+  Lighting lighting;  // lighting: {direction, ambient, diffuse, specular, shininess} (lighting.h)
 };
 
 // dump: (HDF5 / H5MD particle dumps; issue 6)

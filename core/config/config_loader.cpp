@@ -35,7 +35,7 @@ const std::vector<std::string> kScheduleKeys = {"every", "start", "steps"};
 const std::vector<std::string> kSceneKeys = {
     "name",    "width",     "height", "background", "radius",   "camera",  "color",
     "output",  "culling",   "lod",    "cut_planes", "renderer", "samples", "ambient_occlusion",
-    "outline", "depth_cue", "style",  "density",    "opacity"};
+    "outline", "depth_cue", "style",  "density",    "opacity",  "lighting"};
 const std::vector<std::string> kCameraKeys = {"projection", "fov",      "azimuth", "elevation",
                                               "zoom",       "position", "look_at", "up",
                                               "near",       "far"};
@@ -53,6 +53,8 @@ const std::vector<std::string> kAmbientOcclusionKeys = {"method", "radius", "sam
 const std::vector<std::string> kOutlineKeys = {"width", "color", "depth_threshold"};
 const std::vector<std::string> kDepthCueKeys = {"start", "end", "color"};
 const std::vector<std::string> kDensityKeys = {"transfer", "range", "colormap"};
+const std::vector<std::string> kLightingKeys = {"direction", "ambient", "diffuse", "specular",
+                                                "shininess"};
 const std::vector<std::string> kCutPlaneKeys = {"normal", "offset", "enabled"};
 const std::vector<std::string> kDumpKeys = {"enabled", "file", "schedule", "fields", "precision"};
 const std::vector<std::string> kDumpFields = {"position", "type", "scalar", "radius", "id"};
@@ -89,6 +91,7 @@ std::map<std::string, std::vector<std::string>> key_homes() {
       {"scenes[].outline", &kOutlineKeys},
       {"scenes[].depth_cue", &kDepthCueKeys},
       {"scenes[].density", &kDensityKeys},
+      {"scenes[].lighting", &kLightingKeys},
       {"dump", &kDumpKeys},
       {"lammps", &kLammpsKeys}};
   std::map<std::string, std::vector<std::string>> homes;
@@ -235,6 +238,8 @@ class Loader {
       check_sample_frame(s, n, p);
     });
     read_depth_cues(node, path, &s);
+    optional_key(node, path, "lighting",
+                 [&](const YAML::Node &n, const std::string &p) { s.lighting = lighting(n, p); });
     optional_key(node, path, "opacity", [&](const YAML::Node &n, const std::string &p) {
       r_.check_sequence(n, p);
       if (n.size() == 0) r_.fail(n, p, "must list at least one opacity (omit it for opaque)");
@@ -355,6 +360,36 @@ class Loader {
     optional_key(node, path, "color",
                  [&](const YAML::Node &n, const std::string &p) { d.color = r_.read_rgb(n, p); });
     return d;
+  }
+
+  // lighting: {...} (lighting.h); every key optional, absent = the default headlight's value.
+  Lighting lighting(const YAML::Node &node, const std::string &path) const {
+    if (!node.IsMap()) r_.fail(node, path, "must be a mapping ({} for the defaults)");
+    r_.check_map(node, path, kLightingKeys);
+    Lighting l;
+    optional_key(node, path, "direction", [&](const YAML::Node &n, const std::string &p) {
+      const std::array<double, 3> d = r_.read_vec3(n, p);
+      const double length = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+      if (!(length > 0.0) || !std::isfinite(length))
+        r_.fail(n, p,
+                "must be a non-zero, finite vector [x, y, z] (camera-relative: x right, y up, "
+                "z towards the viewer)");
+      // [0, 0, 1] in any length is the headlight exactly, not a rounded neighbour of it.
+      l.direction = {d[0] / length, d[1] / length, d[2] / length};
+    });
+    optional_key(node, path, "ambient", [&](const YAML::Node &n, const std::string &p) {
+      l.ambient = r_.read_in_range(n, p, 0.0, true, 1.0, true);
+    });
+    optional_key(node, path, "diffuse", [&](const YAML::Node &n, const std::string &p) {
+      l.diffuse = r_.read_in_range(n, p, 0.0, true, 1.0, true);
+    });
+    optional_key(node, path, "specular", [&](const YAML::Node &n, const std::string &p) {
+      l.specular = r_.read_in_range(n, p, 0.0, true, 1.0, true);
+    });
+    optional_key(node, path, "shininess", [&](const YAML::Node &n, const std::string &p) {
+      l.shininess = r_.read_in_range(n, p, kMinShininess, true, kMaxShininess, true);
+    });
+    return l;
   }
 
   // Names end up in file names ({scene}) and stats: keep them to portable file-name characters.

@@ -279,9 +279,10 @@ Status run_scene_pass(const ScenePassInputs &in, const SceneConfig &scene, Scene
       std::vector<uint64_t>().swap(draw.spheres);  // only the instances outlive this point
       stats->instances_ms = ms_since(t0);
       RenderTimings timings;
-      local = with_context(
-          where, in.renderer->render(camera.render_view(background), buffers->instances.data(),
-                                     buffers->instances.size(), &frame, &timings));
+      RenderView view = camera.render_view(background);
+      view.lighting = scene.lighting;
+      local = with_context(where, in.renderer->render(view, buffers->instances.data(),
+                                                      buffers->instances.size(), &frame, &timings));
       stats->draw_ms = timings.draw_ms;
       stats->readback_ms = timings.readback_ms;
     }
@@ -291,7 +292,8 @@ Status run_scene_pass(const ScenePassInputs &in, const SceneConfig &scene, Scene
           *in.particles, recipe.per_particle_radius, recipe.radius, draw.points, selection.g,
           [&recipe](int64_t i) { return recipe.color(i); }, &frame,
           recipe.alpha_by_type.empty() ? AlphaOf()
-                                       : AlphaOf([&recipe](int64_t i) { return recipe.alpha(i); }));
+                                       : AlphaOf([&recipe](int64_t i) { return recipe.alpha(i); }),
+          scene.lighting);
       std::vector<uint64_t>().swap(draw.points);
       stats->draw_ms += ms_since(t0);
     }

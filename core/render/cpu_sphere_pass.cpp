@@ -27,7 +27,10 @@ CullStats CpuSpherePass::run(const ParticleArrays &particles, const BrickSet &br
   const bool point_path = scene.lod.point_path;
   const bool two = split_strips(g.width, strips_);
   CpuSphereRaster::clear_target(g, background, frame);
-  for (int k = 0; k < 2; ++k) rasters_[k].begin_strip(g, frame, strips_[k].x0, strips_[k].x1);
+  for (int k = 0; k < 2; ++k) {
+    rasters_[k].begin_strip(g, frame, strips_[k].x0, strips_[k].x1);
+    rasters_[k].set_lighting(scene.lighting);
+  }
 
   const Frustum frustum(g);
   const CutPlanes cuts(scene.cuts);

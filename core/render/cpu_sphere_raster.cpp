@@ -42,6 +42,13 @@ void CpuSphereRaster::begin_strip(const ViewGeometry &g, Frame *frame, int x0, i
   rays_.reset(g);
 }
 
+void CpuSphereRaster::set_lighting(const Lighting &lighting) {
+  if (lighting.is_default())
+    light_.reset();
+  else
+    light_.emplace(lighting);
+}
+
 bool CpuSphereRaster::covered(PixelRect rect, double z) const {
   rect.x0 = std::max(rect.x0, x0_), rect.x1 = std::min(rect.x1, x1_);
   if (rect.empty()) return true;
@@ -202,6 +209,17 @@ class GeneralCast {
         wa_(0.5 - 0.5 * g.p22),
         wb_(0.5 * g.p32) {}
 
+  // The unit normal and the unit vector towards the eye at pixel (x, y)'s hit (custom lighting).
+  void surface(int x, int y, float n[3], float v[3]) const {
+    const double rx = rays_.x_data()[x], ry = rays_.y_data()[y];
+    const double l2 = rx * rx + ry * ry + 1.0, cd = c_.x * rx + c_.y * ry - c_.z;
+    const double tt = (cd - std::sqrt(std::max(r2_ * l2 - (c2_ * l2 - cd * cd), 0.0))) / l2;
+    const glm::dvec3 normal = glm::normalize(tt * glm::dvec3(rx, ry, -1.0) - c_);
+    const double inv_l = 1.0 / std::sqrt(l2);
+    n[0] = float(normal.x), n[1] = float(normal.y), n[2] = float(normal.z);
+    v[0] = float(-rx * inv_l), v[1] = float(-ry * inv_l), v[2] = float(inv_l);
+  }
+
   void cast(int n, int x0, int y0, int w, int h, Tile *t) const {
     const double *ray_x = rays_.x_data() + x0, *ray_y = rays_.y_data() + y0;  // padded tables
     for (int i = 0; i < n * n; ++i) {
@@ -222,6 +240,44 @@ class GeneralCast {
   glm::dvec3 c_;
   double r2_, c2_, near_, far_, wa_, wb_;
 };
+
+// The unit normal and unit vector towards the eye at the hit of pixel (x, y) of a sphere wholly in
+// front of the eye, for custom lighting: perspective with t = view depth / (d L^2 / L^2) = den/L^2
+// the hit is d t (rx, ry, -1), so the normal is along (t dx - (1 - t) u0, t dy - (1 - t) v0,
+// 1 - t) with 1 - t = (e + dx^2 + dy^2 + s) / L^2 (no cancellation); orthographic (dx, dy, s).
+void centred_surface(const CentredCast &p, int x, int y, float n[3], float v[3]) {
+  const float dx = p.off_x + float(x - p.ref_x) * p.step_x;
+  const float dy = p.off_y + float(y - p.ref_y) * p.step_y;
+  const float dd = dx * dx + dy * dy;
+  float m[3];
+  if (p.orthographic) {
+    m[0] = dx, m[1] = dy, m[2] = std::sqrt(std::max(p.r2 - dd, 0.0f));
+    v[0] = 0.0f, v[1] = 0.0f, v[2] = 1.0f;
+  } else {
+    const float e = p.u0 * dx + p.v0 * dy, cross = p.u0 * dy - p.v0 * dx;
+    const float l2 = p.l0sq + 2.0f * e + dd;
+    const float s = std::sqrt(std::max(p.rho2 * l2 - (dd + cross * cross), 0.0f));
+    const float one_minus_t = (e + dd + s) / l2, t = 1.0f - one_minus_t;
+    m[0] = t * dx - one_minus_t * p.u0, m[1] = t * dy - one_minus_t * p.v0, m[2] = one_minus_t;
+    const float inv_l = 1.0f / std::sqrt(l2);
+    v[0] = -(p.u0 + dx) * inv_l, v[1] = -(p.v0 + dy) * inv_l, v[2] = inv_l;
+  }
+  const float length = std::sqrt(m[0] * m[0] + m[1] * m[1] + m[2] * m[2]);
+  const float inv = length > 0.0f ? 1.0f / length : 0.0f;
+  n[0] = m[0] * inv, n[1] = m[1] * inv, n[2] = m[2] * inv;
+}
+
+// A custom lighting's color (shading.h's LightModel), rounded as shade_pixel rounds.
+uint32_t shade_lit(const shading::LightModel<float> &light, const float n[3], const float v[3],
+                   const uint8_t rgb[3]) {
+  const auto unorm8 = [](float x) { return uint32_t(int32_t(std::min(x, 1.0f) * 255.0f + 0.5f)); };
+  float factor, highlight;
+  light.terms(n, v, &factor, &highlight);
+  factor *= 1.0f / 255.0f;
+  return unorm8(float(rgb[0]) * factor + highlight) |
+         unorm8(float(rgb[1]) * factor + highlight) << 8 |
+         unorm8(float(rgb[2]) * factor + highlight) << 16;
+}
 
 // The impostor shader's headlight (shading.h): Lambert (light along the view ray) plus a
 // Blinn-Phong highlight, clamped, to 8 bits; packed as R | G << 8 | B << 16.
@@ -302,7 +358,14 @@ bool CpuSphereRaster::draw(const glm::dvec3 &c, double r, const uint8_t rgb[3], 
           perspective_pixel(fast, x - fast.ref_x, y - fast.ref_y, true, &wz, &lambert2);
         const size_t p = size_t(y) * width + size_t(x);
         if (!(wz <= depth[p]) || (alpha8 < 255 && !screen_door_keeps(x, y, alpha8))) continue;
-        const uint32_t color = shade_pixel(lambert2, rgb[0], rgb[1], rgb[2]);
+        uint32_t color;
+        if (light_) {
+          float n[3], v[3];
+          centred_surface(fast, x, y, n, v);
+          color = shade_lit(*light_, n, v, rgb);
+        } else {
+          color = shade_pixel(lambert2, rgb[0], rgb[1], rgb[2]);
+        }
         uint8_t *out = rgba + 4 * p;
         if (!(wz < depth[p]) && !(shaded_word(color) < frame_word(out))) continue;
         depth[p] = wz;
@@ -341,7 +404,19 @@ bool CpuSphereRaster::draw(const glm::dvec3 &c, double r, const uint8_t rgb[3], 
       }
       if (!(nearer | tied)) continue;
       uint32_t color[kTilePixels];
-      shade_tile(n, t.lambert2, rgb, color);
+      if (light_) {
+        for (uint64_t bits = nearer | tied; bits; bits &= bits - 1) {  // the pixels that may win
+          const int i = __builtin_ctzll(bits), x = x0 + i % n, y = y0 + i / n;
+          float nv[3], v[3];
+          if (centred)
+            centred_surface(*centred, x, y, nv, v);
+          else
+            general->surface(x, y, nv, v);
+          color[i] = shade_lit(*light_, nv, v, rgb);
+        }
+      } else {
+        shade_tile(n, t.lambert2, rgb, color);
+      }
       uint64_t won = nearer;
       for (uint64_t bits = tied; bits; bits &= bits - 1) {  // rare: exactly equal depths
         const int i = __builtin_ctzll(bits);

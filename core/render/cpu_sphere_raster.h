@@ -24,9 +24,12 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 
 #include <glm/vec3.hpp>
 
+#include "core/config/lighting.h"
+#include "core/render/shading.h"
 #include "core/view/frame.h"
 #include "core/view/max_depth_pyramid.h"
 #include "core/view/pixel_rays.h"
@@ -47,6 +50,10 @@ class CpuSphereRaster {
   // than view depth z: a sphere whose nearest point is at z would change none of them.
   bool covered(PixelRect rect, double z) const;
 
+  // The light of the spheres drawn from now on (lighting.h); the default (also before any call)
+  // draws through the original headlight code, bit for bit.
+  void set_lighting(const Lighting &lighting);
+
   // Ray-casts the sphere (view-space centre c, radius r, color rgb) over the pixels of `rect`
   // inside the strip; `rect` must hold every pixel the sphere covers
   // (ViewGeometry::sphere_rect_tight with a slack of 0.05 px does). `alpha8` below 255 makes
@@ -61,6 +68,7 @@ class CpuSphereRaster {
   int x0_ = 0, x1_ = -1;
   MaxDepthPyramid pyramid_;  // over the frame's depth (level 0), kept between frames
   PixelRays rays_;
+  std::optional<shading::LightModel<float>> light_;  // set for a lighting other than the default
 };
 
 }  // namespace lantern

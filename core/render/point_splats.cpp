@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 
 #include "core/culling/draw_list.h"
 #include "core/particles/typed_access.h"
@@ -18,6 +19,11 @@ uint8_t shade(uint8_t c, double lambert) {
   const double v = c / 255.0 * (kAmbient<double> + kDiffuse<double> * lambert) +
                    kSpecular<double> * std::pow(lambert, double(kShininess));
   return uint8_t(std::lround(std::min(v, 1.0) * 255.0));
+}
+
+// The same for a lighting other than the default (shading.h's LightModel), rounded as shade().
+uint8_t shade_lit(uint8_t c, double factor, double highlight) {
+  return uint8_t(std::lround(std::min(c / 255.0 * factor + highlight, 1.0) * 255.0));
 }
 
 // Casts the shader's ray through the centre of pixel (x, y) at the sphere (view-space centre c,
@@ -43,7 +49,10 @@ bool cast(const ViewGeometry &g, int x, int y, const glm::dvec3 &c, double r, gl
 
 void splat_points(const ParticleArrays &particles, bool per_particle, double radius,
                   const std::vector<uint64_t> &entries, const ViewGeometry &g, const ColorOf &color,
-                  Frame *frame, const AlphaOf &alpha) {
+                  Frame *frame, const AlphaOf &alpha, const Lighting &lighting) {
+  // Default lighting: the original headlight code below, bit for bit.
+  std::optional<shading::LightModel<double>> light;
+  if (!lighting.is_default()) light.emplace(lighting);
   visit_positions(particles, [&](const auto &pos) {
     visit_radii(particles, per_particle, radius, [&](const auto &rad) {
       for (const uint64_t e : entries) {
@@ -72,10 +81,18 @@ void splat_points(const ParticleArrays &particles, bool per_particle, double rad
           const auto wd = float(g.window_depth(depth));
           const size_t p = frame->index(x, y);
           if (!(wd <= frame->depth[p])) continue;
-          const double lambert = std::max(glm::dot((hit - c) / r, -dir), 0.0);
           const Rgb8 rgb = color(int64_t(i));
-          const uint8_t shaded[4] = {shade(rgb[0], lambert), shade(rgb[1], lambert),
-                                     shade(rgb[2], lambert), 255};
+          uint8_t shaded[4] = {0, 0, 0, 255};
+          if (light) {
+            const glm::dvec3 normal = glm::normalize(hit - c);
+            const double n[3] = {normal.x, normal.y, normal.z}, v[3] = {-dir.x, -dir.y, -dir.z};
+            double factor, highlight;
+            light->terms(n, v, &factor, &highlight);
+            for (int ch = 0; ch < 3; ++ch) shaded[ch] = shade_lit(rgb[ch], factor, highlight);
+          } else {
+            const double lambert = std::max(glm::dot((hit - c) / r, -dir), 0.0);
+            for (int ch = 0; ch < 3; ++ch) shaded[ch] = shade(rgb[ch], lambert);
+          }
           uint8_t *out = &frame->rgba[4 * p];
           // An equal depth goes to the smaller color (R, then G, B, A), as in compositing.
           if (!(wd < frame->depth[p]) &&

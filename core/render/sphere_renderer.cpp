@@ -37,10 +37,10 @@ Status compile(GLenum kind, const char *source, GlShader *out) {
   return {};
 }
 
-Status link_program(GlProgram *out) {
+Status link_program(const Lighting &lighting, GlProgram *out) {
   GlShader vs, fs;
   if (Status s = compile(GL_VERTEX_SHADER, shaders::kSphereVertex, &vs); !s.ok()) return s;
-  const std::string fragment = shaders::sphere_fragment_source();
+  const std::string fragment = shaders::sphere_fragment_source(lighting);
   if (Status s = compile(GL_FRAGMENT_SHADER, fragment.c_str(), &fs); !s.ok()) return s;
   GlProgram program(gl().glCreateProgram());
   gl().glAttachShader(program.get(), vs.get());
@@ -87,8 +87,41 @@ float far_plane(const RenderView &v) {
 
 }  // namespace
 
-struct SphereRenderer::Impl {
+namespace {
+
+// Uniform locations of one linked program.
+struct UniformLocations {
+  GLint view, tile_proj, ortho, near_plane, far_plane, slack, proj, inv_proj, image_size,
+      tile_origin, depth_only;
+};
+
+// A program for one lighting: the default one, or a variant with that lighting's constants.
+struct LitProgram {
+  Lighting lighting;
   GlProgram program;
+  UniformLocations loc{};
+};
+
+Status make_lit_program(const Lighting &lighting, LitProgram *out) {
+  if (Status s = link_program(lighting, &out->program); !s.ok()) return s;
+  const GLuint p = out->program.get();
+  const auto uniform = [p](const char *name) { return gl().glGetUniformLocation(p, name); };
+  out->lighting = lighting;
+  out->loc = {uniform("u_view"),        uniform("u_tile_proj"), uniform("u_ortho"),
+              uniform("u_near"),        uniform("u_far"),       uniform("u_slack"),
+              uniform("u_proj"),        uniform("u_inv_proj"),  uniform("u_image_size"),
+              uniform("u_tile_origin"), uniform("u_depth_only")};
+  return {};
+}
+
+// Variant programs kept besides the default one; beyond that the oldest is dropped (a scene's
+// lighting rarely changes, and a few scenes may each have their own).
+constexpr size_t kMaxLightingVariants = 8;
+
+}  // namespace
+
+struct SphereRenderer::Impl {
+  std::vector<LitProgram> programs;  // [0]: the default lighting; then variants, oldest first
   GlVertexArray vao;
   GlBuffer instances;
   GlFramebuffer fbo;
@@ -98,10 +131,18 @@ struct SphereRenderer::Impl {
   int gl_limit = kMaxTileSize;  // min(kMaxTileSize, GL renderbuffer and viewport limits)
   std::vector<float> tile_key;
   std::vector<float> tile_depth;
-  struct {
-    GLint view, tile_proj, ortho, near_plane, far_plane, slack, proj, inv_proj, image_size,
-        tile_origin, depth_only;
-  } loc{};
+
+  // The program for `lighting`, linked on first use.
+  Status program_for(const Lighting &lighting, const LitProgram **out) {
+    for (const LitProgram &p : programs)
+      if (p.lighting == lighting) return *out = &p, Status();
+    LitProgram p;
+    if (Status s = make_lit_program(lighting, &p); !s.ok()) return s;
+    if (programs.size() > kMaxLightingVariants) programs.erase(programs.begin() + 1);
+    programs.push_back(std::move(p));
+    *out = &programs.back();
+    return {};
+  }
 
   Status ensure_framebuffer(int w, int h) {
     if (w == fbo_w && h == fbo_h) return {};
@@ -184,13 +225,8 @@ void SphereRenderer::set_max_tile_size(int pixels) {
 
 Status SphereRenderer::create(std::unique_ptr<SphereRenderer> *out) {
   auto impl = std::make_unique<Impl>();
-  if (Status s = link_program(&impl->program); !s.ok()) return s;
-  const GLuint p = impl->program.get();
-  const auto uniform = [p](const char *name) { return gl().glGetUniformLocation(p, name); };
-  impl->loc = {uniform("u_view"),        uniform("u_tile_proj"), uniform("u_ortho"),
-               uniform("u_near"),        uniform("u_far"),       uniform("u_slack"),
-               uniform("u_proj"),        uniform("u_inv_proj"),  uniform("u_image_size"),
-               uniform("u_tile_origin"), uniform("u_depth_only")};
+  impl->programs.emplace_back();
+  if (Status s = make_lit_program(Lighting(), &impl->programs.back()); !s.ok()) return s;
   GLint rb_limit = 0, viewport_limit[2] = {0, 0};
   gl().glGetIntegerv(GL_MAX_RENDERBUFFER_SIZE, &rb_limit);
   gl().glGetIntegerv(GL_MAX_VIEWPORT_DIMS, viewport_limit);
@@ -230,20 +266,23 @@ Status SphereRenderer::render(const RenderView &view, const SphereInstance *sphe
   const int tile_h = std::min(view.height, m.tile_limit);
   if (Status s = m.ensure_framebuffer(tile_w, tile_h); !s.ok()) return s;
 
-  gl().glUseProgram(m.program.get());
+  const LitProgram *program = nullptr;
+  if (Status s = m.program_for(view.lighting, &program); !s.ok()) return s;
+  const UniformLocations &loc = program->loc;
+  gl().glUseProgram(program->program.get());
   gl().glBindVertexArray(m.vao.get());
-  gl().glUniformMatrix4fv(m.loc.view, 1, GL_FALSE, glm::value_ptr(view.view));
-  gl().glUniformMatrix4fv(m.loc.proj, 1, GL_FALSE, glm::value_ptr(view.projection));
+  gl().glUniformMatrix4fv(loc.view, 1, GL_FALSE, glm::value_ptr(view.view));
+  gl().glUniformMatrix4fv(loc.proj, 1, GL_FALSE, glm::value_ptr(view.projection));
   const glm::mat4 inv = glm::inverse(view.projection);
-  gl().glUniformMatrix4fv(m.loc.inv_proj, 1, GL_FALSE, glm::value_ptr(inv));
-  gl().glUniform1i(m.loc.ortho, view.orthographic ? 1 : 0);
-  gl().glUniform1f(m.loc.near_plane, view.near_plane);
-  gl().glUniform1f(m.loc.far_plane, far_plane(view));
+  gl().glUniformMatrix4fv(loc.inv_proj, 1, GL_FALSE, glm::value_ptr(inv));
+  gl().glUniform1i(loc.ortho, view.orthographic ? 1 : 0);
+  gl().glUniform1f(loc.near_plane, view.near_plane);
+  gl().glUniform1f(loc.far_plane, far_plane(view));
   // A twentieth of a pixel, as a view-space length (ortho) or slope (perspective): x_ndc =
   // projection[0][0] * x (/ -z) for the symmetric frusta and boxes cameras build.
-  gl().glUniform2f(m.loc.slack, 0.05f * 2.0f / (float(view.width) * view.projection[0][0]),
+  gl().glUniform2f(loc.slack, 0.05f * 2.0f / (float(view.width) * view.projection[0][0]),
                    0.05f * 2.0f / (float(view.height) * view.projection[1][1]));
-  gl().glUniform2f(m.loc.image_size, float(view.width), float(view.height));
+  gl().glUniform2f(loc.image_size, float(view.width), float(view.height));
   gl().glEnable(GL_DEPTH_TEST);
   gl().glDisable(GL_CULL_FACE);
   gl().glBlendEquation(GL_MIN);  // factors are ignored by GL_MIN
@@ -263,19 +302,19 @@ Status SphereRenderer::render(const RenderView &view, const SphereInstance *sphe
       gl().glViewport(0, 0, tw, th);
       gl().glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
       const glm::mat4 tp = tile_projection(view, tx, gl_ty, tw, th);
-      gl().glUniformMatrix4fv(m.loc.tile_proj, 1, GL_FALSE, glm::value_ptr(tp));
-      gl().glUniform2f(m.loc.tile_origin, float(tx), float(gl_ty));
+      gl().glUniformMatrix4fv(loc.tile_proj, 1, GL_FALSE, glm::value_ptr(tp));
+      gl().glUniform2f(loc.tile_origin, float(tx), float(gl_ty));
       if (count > 0) {
         // Pass 1: the nearest depth of every pixel. Pass 2: the smallest color key among the
         // fragments at exactly that depth (read_tile lets the background compete at its depth).
-        gl().glUniform1i(m.loc.depth_only, 1);
+        gl().glUniform1i(loc.depth_only, 1);
         gl().glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
         gl().glDepthMask(GL_TRUE);
         gl().glDepthFunc(GL_LESS);
         gl().glDisable(GL_BLEND);
         m.draw_all(spheres, count, !(single_chunk && uploaded));
         uploaded = true;
-        gl().glUniform1i(m.loc.depth_only, 0);
+        gl().glUniform1i(loc.depth_only, 0);
         gl().glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
         gl().glDepthMask(GL_FALSE);
         gl().glDepthFunc(GL_EQUAL);

@@ -19,6 +19,7 @@
 #include <cstdio>
 #include <string>
 
+#include "core/config/lighting.h"
 #include "core/render/screen_door.h"
 #include "core/render/shading.h"
 
@@ -165,15 +166,48 @@ inline std::string bayer_glsl() {
   return s;
 }
 
+// The lighting block of kSphereFragmentBody for a lighting other than the default
+// (core/config/lighting.h; the steps of shading.h's LightModel): it replaces the headlight block
+// in a variant program, so the default program's source stays exactly what it was.
+inline constexpr const char *kCustomLightBlock = R"GLSL(  // Custom lighting: k_light (unit,
+  // camera space, towards the light) or the view ray when k_along_view; Blinn-Phong highlight.
+  vec3 n = normalize(hit - v_center);
+  vec3 v = -dir;
+  vec3 l = k_along_view ? v : k_light;
+  float n_l = dot(n, l);
+  vec3 h = l + v;
+  float h_len2 = dot(h, h);
+  float highlight = 0.0;
+  if (n_l > 0.0 && h_len2 > 0.0) {
+    float n_h = dot(n, h) / sqrt(h_len2);
+    if (n_h > 0.0) highlight = k_specular * pow(n_h, k_shininess);
+  }
+  vec3 rgb = v_color.rgb * (k_ambient + k_diffuse * max(n_l, 0.0)) + vec3(highlight);
+)GLSL";
+
 // The impostor fragment shader, with the headlight constants of shading.h injected as GLSL
-// constants: one change there changes the OpenGL and the CPU images alike.
-inline std::string sphere_fragment_source() {
-  return std::string("#version 330 core\n") +
-         "const float k_ambient = " + glsl_float(shading::kAmbient<float>) + ";\n" +
-         "const float k_diffuse = " + glsl_float(shading::kDiffuse<float>) + ";\n" +
-         "const float k_specular = " + glsl_float(shading::kSpecular<float>) + ";\n" +
-         "const float k_shininess = " + glsl_float(float(shading::kShininess)) + ";\n" +
-         bayer_glsl() + kSphereFragmentBody;
+// constants: one change there changes the OpenGL and the CPU images alike. A lighting other than
+// the default gets a variant: its own values as constants (constants, not uniforms, as in the
+// default program) and kCustomLightBlock in place of the headlight block.
+inline std::string sphere_fragment_source(const Lighting &lighting = Lighting()) {
+  if (lighting.is_default())
+    return std::string("#version 330 core\n") +
+           "const float k_ambient = " + glsl_float(shading::kAmbient<float>) + ";\n" +
+           "const float k_diffuse = " + glsl_float(shading::kDiffuse<float>) + ";\n" +
+           "const float k_specular = " + glsl_float(shading::kSpecular<float>) + ";\n" +
+           "const float k_shininess = " + glsl_float(float(shading::kShininess)) + ";\n" +
+           bayer_glsl() + kSphereFragmentBody;
+  std::string body = kSphereFragmentBody;
+  const size_t begin = body.find("  // Headlight:"), end = body.find("  // To 8 bits");
+  body.replace(begin, end - begin, kCustomLightBlock);
+  const auto f = [](double v) { return glsl_float(float(v)); };
+  return std::string("#version 330 core\n") + "const float k_ambient = " + f(lighting.ambient) +
+         ";\n" + "const float k_diffuse = " + f(lighting.diffuse) + ";\n" +
+         "const float k_specular = " + f(lighting.specular) + ";\n" +
+         "const float k_shininess = " + f(lighting.shininess) + ";\n" +
+         "const bool k_along_view = " + (lighting.headlight() ? "true" : "false") + ";\n" +
+         "const vec3 k_light = vec3(" + f(lighting.direction[0]) + ", " + f(lighting.direction[1]) +
+         ", " + f(lighting.direction[2]) + ");\n" + bayer_glsl() + body;
 }
 
 }  // namespace lantern::shaders

@@ -275,7 +275,9 @@ TEST(RankInvariance, SameImagesWithEveryDepthCue) {
                         "    ambient_occlusion: {method: screen, samples: 12}\n"
                         "    outline: {width: 2, color: [0.1, 0, 0]}\n"
                         "    depth_cue: {color: [0.5, 0.5, 0.5]}\n"
-                        "    opacity: [0.5, 1, 0.25]\n");
+                        "    opacity: [0.5, 1, 0.25]\n"
+                        "    lighting: {direction: [-0.5, 0.7, 0.5], ambient: 0.3, "
+                        "specular: 0.5, shininess: 30}\n");
 }
 
 // Object-space ambient occlusion: a density volume summed over ranks, per-particle colours.
