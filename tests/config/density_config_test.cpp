@@ -2,23 +2,15 @@
 // path and the allowed values).
 #include <gtest/gtest.h>
 
-#include <initializer_list>
 #include <string>
 
 #include "core/config/config_loader.h"
+#include "tests/support/config_error_expect.h"
 
 namespace lantern {
 namespace {
 
-void expect_density_error(const std::string &document,
-                          std::initializer_list<const char *> fragments) {
-  Config c;
-  const Status status = load_config(document, &c);
-  EXPECT_EQ(status.code, StatusCode::kConfig) << document;
-  for (const char *fragment : fragments)
-    EXPECT_NE(status.message.find(fragment), std::string::npos)
-        << "missing '" << fragment << "' in: " << status.message;
-}
+using testing::expect_config_error;
 
 TEST(DensityConfig, DefaultsLeaveSpheres) {
   Config c;
@@ -48,33 +40,32 @@ TEST(DensityConfig, ReadsEveryKey) {
 }
 
 TEST(DensityConfig, BadValuesNameKeyLineAndChoices) {
-  expect_density_error(
-      "scenes:\n  - name: a\n    style: densty\n",
-      {"scenes[0].style", "line 3", "spheres, density", "did you mean 'density'?"});
-  expect_density_error("scenes:\n  - density: {transfer: sqrt}\n",
-                       {"scenes[0].density.transfer", "line 2", "linear, log, asinh"});
-  expect_density_error("scenes:\n  - density: {colormap: jet}\n",
-                       {"scenes[0].density.colormap", "line 2", "viridis, plasma, coolwarm"});
-  expect_density_error("scenes:\n  - density: {range: [3, 1]}\n",
-                       {"scenes[0].density.range", "lo < hi"});
-  expect_density_error("scenes:\n  - density: {transfer: log, range: [0, 10]}\n",
-                       {"scenes[0].density.range", "line 2", "lo > 0"});
-  expect_density_error("scenes:\n  - density: {transfer: log, range: [-2, 10]}\n",
-                       {"scenes[0].density.range", "lo > 0"});
-  expect_density_error("scenes:\n  - density: {gain: 2}\n", {"scenes[0].density", "gain"});
-  expect_density_error("scenes:\n  - style: density\n    lod: {fraction: 0}\n",
-                       {"scenes[0].lod.fraction", "line 3", "(0, 1]"});
-  expect_density_error("scenes:\n  - style: density\n    lod: {fraction: 1.01}\n",
-                       {"scenes[0].lod.fraction", "(0, 1]"});
+  expect_config_error("scenes:\n  - name: a\n    style: densty\n",
+                      {"scenes[0].style", "line 3", "spheres, density", "did you mean 'density'?"});
+  expect_config_error("scenes:\n  - density: {transfer: sqrt}\n",
+                      {"scenes[0].density.transfer", "line 2", "linear, log, asinh"});
+  expect_config_error("scenes:\n  - density: {colormap: jet}\n",
+                      {"scenes[0].density.colormap", "line 2", "viridis, plasma, coolwarm"});
+  expect_config_error("scenes:\n  - density: {range: [3, 1]}\n",
+                      {"scenes[0].density.range", "lo < hi"});
+  expect_config_error("scenes:\n  - density: {transfer: log, range: [0, 10]}\n",
+                      {"scenes[0].density.range", "line 2", "lo > 0"});
+  expect_config_error("scenes:\n  - density: {transfer: log, range: [-2, 10]}\n",
+                      {"scenes[0].density.range", "lo > 0"});
+  expect_config_error("scenes:\n  - density: {gain: 2}\n", {"scenes[0].density", "gain"});
+  expect_config_error("scenes:\n  - style: density\n    lod: {fraction: 0}\n",
+                      {"scenes[0].lod.fraction", "line 3", "(0, 1]"});
+  expect_config_error("scenes:\n  - style: density\n    lod: {fraction: 1.01}\n",
+                      {"scenes[0].lod.fraction", "(0, 1]"});
 }
 
 // Keys that need depth or sharp edges are refused with style: density, not silently ignored.
 TEST(DensityConfig, SuperSamplingAndDepthCuesAreRefusedWithDensity) {
-  expect_density_error("scenes:\n  - style: density\n    samples: 4\n",
-                       {"scenes[0].samples", "line 3", "allowed: 1"});
+  expect_config_error("scenes:\n  - style: density\n    samples: 4\n",
+                      {"scenes[0].samples", "line 3", "allowed: 1"});
   for (const char *cue : {"ambient_occlusion", "outline", "depth_cue"})
-    expect_density_error(std::string("scenes:\n  - style: density\n    ") + cue + ": {}\n",
-                         {"line 3", cue, "needs style: spheres"});
+    expect_config_error(std::string("scenes:\n  - style: density\n    ") + cue + ": {}\n",
+                        {"line 3", cue, "needs style: spheres"});
   Config c;
   EXPECT_TRUE(load_config("scenes:\n  - style: density\n    samples: 1\n", &c).ok());
 }

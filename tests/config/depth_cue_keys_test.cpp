@@ -2,23 +2,16 @@
 // rejected naming key, line and the allowed range.
 #include <gtest/gtest.h>
 
-#include <initializer_list>
 #include <string>
 
 #include "core/config/config_loader.h"
+#include "tests/support/config_error_expect.h"
 #include "tests/support/status_expect.h"
 
 namespace lantern {
 namespace {
 
-void expect_error(const std::string &document, std::initializer_list<const char *> fragments) {
-  Config c;
-  const Status status = load_config(document, &c);
-  EXPECT_EQ(status.code, StatusCode::kConfig) << document;
-  for (const char *fragment : fragments)
-    EXPECT_NE(status.message.find(fragment), std::string::npos)
-        << "missing '" << fragment << "' in: " << status.message;
-}
+using testing::expect_config_error;
 
 TEST(DepthCueKeys, EveryCueIsOffByDefault) {
   Config c;
@@ -73,31 +66,34 @@ TEST(DepthCueKeys, GivenValuesAreRead) {
 }
 
 TEST(DepthCueKeys, BadValuesNameKeyLineAndRange) {
-  expect_error("scenes:\n  - ambient_occlusion: {radius: -1}\n",
-               {"scenes[0].ambient_occlusion.radius", "line 2", "> 0"});
-  expect_error("scenes:\n  - name: a\n    ambient_occlusion: {strength: 1.5}\n",
-               {"scenes[0].ambient_occlusion.strength", "line 3", "in [0, 1]"});
-  expect_error("scenes:\n  - ambient_occlusion: {strength: -0.1}\n",
-               {"ambient_occlusion.strength", "in [0, 1]"});
-  expect_error("scenes:\n  - ambient_occlusion: {samples: 0}\n",
-               {"scenes[0].ambient_occlusion.samples", "line 2", "64"});
-  expect_error("scenes:\n  - ambient_occlusion: {samples: 65}\n",
-               {"ambient_occlusion.samples", "64"});
-  expect_error("scenes:\n  - ambient_occlusion: {method: volume}\n",
-               {"scenes[0].ambient_occlusion.method", "line 2", "screen", "object"});
-  expect_error("scenes:\n  - outline: {width: 0}\n", {"scenes[0].outline.width", "line 2", "16"});
-  expect_error("scenes:\n  - outline: {depth_threshold: -1}\n",
-               {"scenes[0].outline.depth_threshold", ">= 0"});
-  expect_error("scenes:\n  - outline: {color: [2, 0, 0]}\n", {"scenes[0].outline.color"});
-  expect_error("scenes:\n  - depth_cue: {start: 5, end: 3}\n",
-               {"scenes[0].depth_cue.end", "line 2", "> 5"});
-  expect_error("scenes:\n  - depth_cue: {start: -1}\n", {"scenes[0].depth_cue.start", ">= 0"});
-  expect_error("scenes:\n  - outline: 3\n", {"scenes[0].outline", "line 2", "mapping"});
-  expect_error("scenes:\n  - outline: {widht: 3}\n", {"outline.widht", "did you mean 'width'?"});
-  expect_error("scenes:\n  - opacity: [1, 1.5]\n",
-               {"scenes[0].opacity[1]", "line 2", "in [0, 1]", "1.5"});
-  expect_error("scenes:\n  - opacity: [-0.5]\n", {"scenes[0].opacity[0]", "in [0, 1]"});
-  expect_error("scenes:\n  - opacity: []\n", {"scenes[0].opacity", "at least one"});
+  expect_config_error("scenes:\n  - ambient_occlusion: {radius: -1}\n",
+                      {"scenes[0].ambient_occlusion.radius", "line 2", "> 0"});
+  expect_config_error("scenes:\n  - name: a\n    ambient_occlusion: {strength: 1.5}\n",
+                      {"scenes[0].ambient_occlusion.strength", "line 3", "in [0, 1]"});
+  expect_config_error("scenes:\n  - ambient_occlusion: {strength: -0.1}\n",
+                      {"ambient_occlusion.strength", "in [0, 1]"});
+  expect_config_error("scenes:\n  - ambient_occlusion: {samples: 0}\n",
+                      {"scenes[0].ambient_occlusion.samples", "line 2", "64"});
+  expect_config_error("scenes:\n  - ambient_occlusion: {samples: 65}\n",
+                      {"ambient_occlusion.samples", "64"});
+  expect_config_error("scenes:\n  - ambient_occlusion: {method: volume}\n",
+                      {"scenes[0].ambient_occlusion.method", "line 2", "screen", "object"});
+  expect_config_error("scenes:\n  - outline: {width: 0}\n",
+                      {"scenes[0].outline.width", "line 2", "16"});
+  expect_config_error("scenes:\n  - outline: {depth_threshold: -1}\n",
+                      {"scenes[0].outline.depth_threshold", ">= 0"});
+  expect_config_error("scenes:\n  - outline: {color: [2, 0, 0]}\n", {"scenes[0].outline.color"});
+  expect_config_error("scenes:\n  - depth_cue: {start: 5, end: 3}\n",
+                      {"scenes[0].depth_cue.end", "line 2", "> 5"});
+  expect_config_error("scenes:\n  - depth_cue: {start: -1}\n",
+                      {"scenes[0].depth_cue.start", ">= 0"});
+  expect_config_error("scenes:\n  - outline: 3\n", {"scenes[0].outline", "line 2", "mapping"});
+  expect_config_error("scenes:\n  - outline: {widht: 3}\n",
+                      {"outline.widht", "did you mean 'width'?"});
+  expect_config_error("scenes:\n  - opacity: [1, 1.5]\n",
+                      {"scenes[0].opacity[1]", "line 2", "in [0, 1]", "1.5"});
+  expect_config_error("scenes:\n  - opacity: [-0.5]\n", {"scenes[0].opacity[0]", "in [0, 1]"});
+  expect_config_error("scenes:\n  - opacity: []\n", {"scenes[0].opacity", "at least one"});
 }
 
 }  // namespace

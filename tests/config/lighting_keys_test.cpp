@@ -3,23 +3,16 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <initializer_list>
 #include <string>
 
 #include "core/config/config_loader.h"
+#include "tests/support/config_error_expect.h"
 #include "tests/support/status_expect.h"
 
 namespace lantern {
 namespace {
 
-void expect_error(const std::string &document, std::initializer_list<const char *> fragments) {
-  Config c;
-  const Status status = load_config(document, &c);
-  EXPECT_EQ(status.code, StatusCode::kConfig) << document;
-  for (const char *fragment : fragments)
-    EXPECT_NE(status.message.find(fragment), std::string::npos)
-        << "missing '" << fragment << "' in: " << status.message;
-}
+using testing::expect_config_error;
 
 TEST(LightingKeys, AbsentOrEmptyIsTheDefaultHeadlight) {
   for (const char *doc :
@@ -58,22 +51,23 @@ TEST(LightingKeys, GivenValuesAreReadAndTheDirectionNormalised) {
 }
 
 TEST(LightingKeys, BadValuesNameKeyLineAndRange) {
-  expect_error("scenes:\n  - lighting: {direction: [0, 0, 0]}\n",
-               {"scenes[0].lighting.direction", "line 2", "non-zero"});
-  expect_error("scenes:\n  - lighting: {direction: [1, 0]}\n", {"scenes[0].lighting.direction"});
-  expect_error("scenes:\n  - name: a\n    lighting: {ambient: 1.5}\n",
-               {"scenes[0].lighting.ambient", "line 3", "in [0, 1]", "1.5"});
-  expect_error("scenes:\n  - lighting: {diffuse: -0.1}\n",
-               {"scenes[0].lighting.diffuse", "line 2", "in [0, 1]"});
-  expect_error("scenes:\n  - lighting: {specular: 2}\n",
-               {"scenes[0].lighting.specular", "in [0, 1]"});
-  expect_error("scenes:\n  - lighting: {shininess: 0.5}\n",
-               {"scenes[0].lighting.shininess", "line 2", "in [1, 1024]"});
-  expect_error("scenes:\n  - lighting: {shininess: 2000}\n",
-               {"scenes[0].lighting.shininess", "in [1, 1024]"});
-  expect_error("scenes:\n  - lighting: 3\n", {"scenes[0].lighting", "line 2", "mapping"});
-  expect_error("scenes:\n  - lighting: {diffuze: 0.5}\n",
-               {"lighting.diffuze", "did you mean 'diffuse'?"});
+  expect_config_error("scenes:\n  - lighting: {direction: [0, 0, 0]}\n",
+                      {"scenes[0].lighting.direction", "line 2", "non-zero"});
+  expect_config_error("scenes:\n  - lighting: {direction: [1, 0]}\n",
+                      {"scenes[0].lighting.direction"});
+  expect_config_error("scenes:\n  - name: a\n    lighting: {ambient: 1.5}\n",
+                      {"scenes[0].lighting.ambient", "line 3", "in [0, 1]", "1.5"});
+  expect_config_error("scenes:\n  - lighting: {diffuse: -0.1}\n",
+                      {"scenes[0].lighting.diffuse", "line 2", "in [0, 1]"});
+  expect_config_error("scenes:\n  - lighting: {specular: 2}\n",
+                      {"scenes[0].lighting.specular", "in [0, 1]"});
+  expect_config_error("scenes:\n  - lighting: {shininess: 0.5}\n",
+                      {"scenes[0].lighting.shininess", "line 2", "in [1, 1024]"});
+  expect_config_error("scenes:\n  - lighting: {shininess: 2000}\n",
+                      {"scenes[0].lighting.shininess", "in [1, 1024]"});
+  expect_config_error("scenes:\n  - lighting: 3\n", {"scenes[0].lighting", "line 2", "mapping"});
+  expect_config_error("scenes:\n  - lighting: {diffuze: 0.5}\n",
+                      {"lighting.diffuze", "did you mean 'diffuse'?"});
 }
 
 }  // namespace

@@ -6,20 +6,17 @@
 
 #include <mpi.h>
 
-#include <unistd.h>
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
-#include <fstream>
-#include <iterator>
-#include <memory>
 #include <string>
 #include <vector>
 
 #include "core/pipeline/runtime.h"
 #include "core/render/gl_session.h"
 #include "tests/support/image_file.h"
+#include "tests/support/one_step_render.h"
 #include "tests/support/status_expect.h"
 
 namespace lantern::testing {
@@ -47,12 +44,11 @@ ImagePixels render(const std::string &renderer, const std::string &lighting,
                    const std::string &name, const std::string &rgb = "[1, 0.6, 0.2]",
                    const std::string &projection = "orthographic", const std::string &radius = "3",
                    std::string *stats_line = nullptr, std::vector<double> xyz = {0, 0, 0}) {
-  char dir[64] = "/tmp/lantern_lighting_XXXXXX";
+  const SharedScratchDir scratch("/tmp/lantern_lighting_XXXXXX");
+  const std::string &dir = scratch.path();
   const int rank = world_rank();
-  if (rank == 0 && !mkdtemp(dir)) dir[0] = '\0';
-  MPI_Bcast(dir, sizeof dir, MPI_CHAR, 0, MPI_COMM_WORLD);
-  const std::string file = std::string(dir) + "/" + name + ".png";
-  const std::string yaml = "stats: " + std::string(dir) +
+  const std::string file = dir + "/" + name + ".png";
+  const std::string yaml = "stats: " + dir +
                            "/stats.jsonl\nscenes:\n  - width: " + std::to_string(kSize) +
                            "\n    height: " + std::to_string(kSize) + "\n    radius: " + radius +
                            "\n    lod: {point_path: true}\n    renderer: " + renderer +
@@ -65,20 +61,12 @@ ImagePixels render(const std::string &renderer, const std::string &lighting,
   ParticleDescription d;
   d.count = rank == 0 ? int64_t(xyz.size() / 3) : 0;
   d.position = {xyz.data(), DataType::kFloat64, 0};
-  std::unique_ptr<Runtime> rt;
-  EXPECT_OK(Runtime::open(yaml, MPI_COMM_WORLD, &rt));
-  if (!rt) return {};
-  EXPECT_OK(rt->publish(d));
-  EXPECT_OK(rt->execute(0, 0.0));
-  EXPECT_OK(rt->finish());
-  rt.reset();
+  render_one_step(yaml, d);
   if (rank != 0) return {};
   ImagePixels image = read_image(file);
-  std::ifstream stats(std::string(dir) + "/stats.jsonl");
-  const std::string line((std::istreambuf_iterator<char>(stats)), std::istreambuf_iterator<char>());
+  const std::string line = read_text(dir + "/stats.jsonl");
   EXPECT_NE(line.find("\"renderer\":\"" + renderer + "\""), std::string::npos) << line;
   if (stats_line) *stats_line = line;
-  std::system(("rm -rf '" + std::string(dir) + "'").c_str());
   return image;
 }
 

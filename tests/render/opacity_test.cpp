@@ -5,12 +5,7 @@
 
 #include <mpi.h>
 
-#include <unistd.h>
 #include <cstdint>
-#include <cstdlib>
-#include <fstream>
-#include <iterator>
-#include <memory>
 #include <string>
 #include <vector>
 
@@ -18,6 +13,7 @@
 #include "core/render/gl_session.h"
 #include "core/render/screen_door.h"
 #include "tests/support/image_file.h"
+#include "tests/support/one_step_render.h"
 #include "tests/support/status_expect.h"
 
 namespace lantern::testing {
@@ -29,15 +25,13 @@ constexpr int kSize = 64;
 // orthographically from +z; `opacity` (YAML, may be empty) and the renderer as given.
 ImagePixels render(const std::string &renderer, const std::string &opacity,
                    const std::string &name) {
-  // A scratch directory made by rank 0, named the same on every rank (one configuration text).
-  char dir[64] = "/tmp/lantern_opacity_XXXXXX";
+  const SharedScratchDir scratch("/tmp/lantern_opacity_XXXXXX");
+  const std::string &dir = scratch.path();
   int rank = 0;
   MPI_Comm_rank(MPI_COMM_WORLD, &rank);
-  if (rank == 0 && !mkdtemp(dir)) dir[0] = '\0';
-  MPI_Bcast(dir, sizeof dir, MPI_CHAR, 0, MPI_COMM_WORLD);
-  const std::string file = std::string(dir) + "/" + name + ".png";
+  const std::string file = dir + "/" + name + ".png";
   const std::string yaml =
-      "stats: " + std::string(dir) + "/stats.jsonl\nscenes:\n  - width: " + std::to_string(kSize) +
+      "stats: " + dir + "/stats.jsonl\nscenes:\n  - width: " + std::to_string(kSize) +
       "\n    height: " + std::to_string(kSize) + "\n    radius: 3\n    renderer: " + renderer +
       "\n    culling: {occlusion: none}\n"
       "    camera: {projection: orthographic, position: [0, 0, 20], look_at: [0, 0, 0], "
@@ -50,22 +44,14 @@ ImagePixels render(const std::string &renderer, const std::string &opacity,
   d.count = rank == 0 ? 2 : 0;  // all on rank 0: the others composite an empty frame
   d.position = {xyz.data(), DataType::kFloat64, 0};
   d.type = {type.data(), DataType::kInt32, 0};
-  std::unique_ptr<Runtime> rt;
-  EXPECT_OK(Runtime::open(yaml, MPI_COMM_WORLD, &rt));
-  if (!rt) return {};
-  EXPECT_OK(rt->publish(d));
-  EXPECT_OK(rt->execute(0, 0.0));
-  EXPECT_OK(rt->finish());
-  rt.reset();
+  render_one_step(yaml, d);
   if (rank != 0) return {};
   ImagePixels image = read_image(file);
   // The renderer asked for is the one that drew (OpenGL would fall back to the CPU without GL).
-  std::ifstream stats(std::string(dir) + "/stats.jsonl");
-  const std::string line((std::istreambuf_iterator<char>(stats)), std::istreambuf_iterator<char>());
+  const std::string line = read_text(dir + "/stats.jsonl");
   const std::string drawn_by =
       renderer == "opengl" ? "\"renderer\":\"opengl\"" : "\"renderer\":\"cpu\"";
   EXPECT_NE(line.find(drawn_by), std::string::npos) << line;
-  std::system(("rm -rf '" + std::string(dir) + "'").c_str());
   return image;
 }
 
