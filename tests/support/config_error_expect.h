@@ -1,6 +1,7 @@
 // Test support: loads a configuration document that must be refused and checks the error. Every
 // configuration error names the key, its line and what is allowed, so tests pass the fragments
-// they expect in the message: expect_config_error("scenes:\n  - widht: 3\n", {"'widht'", "line 2"}).
+// they expect in the message: expect_config_error("scenes:\n  - widht: 3\n", {"'widht'", "line
+// 2"}).
 #pragma once
 
 #include <gtest/gtest.h>
