@@ -106,6 +106,12 @@ struct CullingConfig {
   ProbabilisticConfig probabilistic;  // confidence, probabilistic_budget, probabilistic_patience
 };
 
+// lod.select: which particles a brick keeps. uniform: the prefix of its z-order layout (a
+// spatially uniform sample), grown to stand for the rest. nearest: in a brick whose kept spheres
+// still cover its footprint several times over, the ones nearest the camera at their own radius
+// (the dropped ones are behind them); sparse bricks keep the uniform prefix.
+enum class LodSelect { kUniform, kNearest };
+
 // lod: level of detail served from z-order brick prefixes.
 struct LodConfig {
   int64_t budget = 0;       // budget: max particles drawn per frame (0 = unlimited)
@@ -113,6 +119,7 @@ struct LodConfig {
   double min_pixels = 0.0;  // min_pixels: screen-space rule; draw a brick prefix so that its
                             // particles' spacing is at least this many pixels (0 = off)
   bool point_path = false;  // point_path: sub-pixel spheres as CPU splats (approximate)
+  LodSelect select = LodSelect::kUniform;  // select: uniform | nearest (style: spheres)
 };
 
 // A cutting plane (issue: cross-sections): particles with dot(n, x) > offset are dropped.

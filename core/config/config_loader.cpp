@@ -48,7 +48,8 @@ const std::vector<std::string> kCullingKeys = {"frustum",
                                                "confidence",
                                                "probabilistic_budget",
                                                "probabilistic_patience"};
-const std::vector<std::string> kLodKeys = {"budget", "fraction", "min_pixels", "point_path"};
+const std::vector<std::string> kLodKeys = {"budget", "fraction", "min_pixels", "point_path",
+                                           "select"};
 const std::vector<std::string> kAmbientOcclusionKeys = {"method", "radius", "samples", "strength"};
 const std::vector<std::string> kOutlineKeys = {"width", "color", "depth_threshold"};
 const std::vector<std::string> kDepthCueKeys = {"start", "end", "color"};
@@ -570,6 +571,9 @@ class Loader {
     });
     optional_key(node, path, "point_path", [&](const YAML::Node &n, const std::string &p) {
       l.point_path = r_.read_bool(n, p);
+    });
+    optional_key(node, path, "select", [&](const YAML::Node &n, const std::string &p) {
+      l.select = read_enum<LodSelect>(n, p);
     });
     return l;
   }

@@ -60,6 +60,9 @@ inline constexpr EnumName<DensityTransfer> kDensityTransferNames[] = {
     {DensityTransfer::kLog, "log"},
     {DensityTransfer::kAsinh, "asinh"}};
 
+inline constexpr EnumName<LodSelect> kLodSelectNames[] = {{LodSelect::kUniform, "uniform"},
+                                                          {LodSelect::kNearest, "nearest"}};
+
 // The table of each enum, so that name_of / value_of / names_of need only the enum type.
 inline constexpr const auto &names_table(OcclusionMode) {
   return kOcclusionModeNames;
@@ -87,6 +90,9 @@ inline constexpr const auto &names_table(SceneStyle) {
 }
 inline constexpr const auto &names_table(DensityTransfer) {
   return kDensityTransferNames;
+}
+inline constexpr const auto &names_table(LodSelect) {
+  return kLodSelectNames;
 }
 
 // The canonical name of `value` ("?" for a value missing from its table: a bug).

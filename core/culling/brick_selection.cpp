@@ -124,7 +124,11 @@ void select_bricks(const BrickSet &bricks, const Camera &camera, const SceneConf
   const bool lod_on = lod.budget > 0 || lod.fraction < 1.0 || lod.min_pixels > 0.0;
   const LodGrowth growth =
       scene.style == SceneStyle::kDensity ? LodGrowth::kVolume : LodGrowth::kCoverage;
-  out->reduced = lod_on && apply_level_of_detail(lod, bricks, out->g, growth, &out->visible);
+  // The probabilistic culler draws meshlet slots of the uniform prefix; it keeps that.
+  const bool nearest = lod.select == LodSelect::kNearest && scene.style == SceneStyle::kSpheres &&
+                       scene.culling.occlusion != OcclusionMode::kProbabilistic;
+  out->reduced =
+      lod_on && apply_level_of_detail(lod, bricks, out->g, growth, nearest, &out->visible);
   for (VisibleBrick &v : out->visible)
     if (v.radius_scale != 1.0f)
       footprint(out->g, bricks.bricks[v.brick], v.radius * v.radius_scale, &v);

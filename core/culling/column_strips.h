@@ -61,7 +61,14 @@ void walk_strip(const CullPass<Positions, Radii> &pass, const std::vector<Visibl
     if (bricks_first && covered(rect, v.near_depth)) continue;
     CullStats brick;
     s->buffers.gathered.clear();
-    gather(pass, v, true, &s->buffers, &brick, &s->out);
+    // lod.select: nearest asks what the strip's pyramid already hides (conservative rectangle).
+    const auto hidden = [&](const glm::dvec3 &c, double r) {
+      if (!bricks_first) return false;
+      PixelRect pr = pass.g.sphere_rect(c, r);
+      pr.x0 = std::max(pr.x0, s->x0), pr.x1 = std::min(pr.x1, s->x1);
+      return pr.empty() || covered(pr, -c.z - r - pass.g.eps);
+    };
+    gather(pass, v, true, hidden, &s->buffers, &brick, &s->out);
     s->frustum_pp[k] = brick.frustum_culled;
     s->cut_pp[k] = brick.cut_culled;
     order_front_to_back(&s->buffers);

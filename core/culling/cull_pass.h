@@ -18,6 +18,7 @@
 #include "core/culling/cull_stats.h"
 #include "core/culling/cut_planes.h"
 #include "core/culling/draw_list.h"
+#include "core/culling/front_selection.h"
 #include "core/culling/frustum.h"
 #include "core/culling/visible_brick.h"
 #include "core/view/view_geometry.h"
@@ -48,6 +49,7 @@ struct Candidate {
 struct CandidateBuffers {
   std::vector<Candidate> gathered, sorted;
   std::vector<uint32_t> bucket_counts;
+  FrontScratch front;  // lod.select: nearest (front_selection.h)
 };
 
 // Spheres whose projected radius is below this many pixels take the CPU point path (when on):
@@ -65,17 +67,23 @@ inline void accept(const ViewGeometry &g, const Candidate &c, bool point_path, D
       .push_back(draw_entry(c.index, c.scale));
 }
 
-// The kept prefix of brick `v` after cuts, per-particle frustum and the point path: straight
-// into `out` (keep_candidates false), or into b->gathered when occlusion still has to judge them.
-// Counts per-particle cut and frustum drops in *counts.
-template <typename Positions, typename Radii>
+// The kept particles of brick `v` (the prefix, or its front: front_selection.h) after cuts,
+// per-particle frustum and the point path: straight into `out` (keep_candidates false), or into
+// b->gathered when occlusion still has to judge them. Counts per-particle cut and frustum drops
+// in *counts. hidden(view centre, radius): the caller's depth pyramid proves the sphere hidden
+// (only asked under lod.select: nearest).
+template <typename Positions, typename Radii, typename Hidden>
 void gather(const CullPass<Positions, Radii> &pass, const VisibleBrick &v, bool keep_candidates,
-            CandidateBuffers *b, CullStats *counts, DrawList *out) {
+            const Hidden &hidden, CandidateBuffers *b, CullStats *counts, DrawList *out) {
   const Brick &brick = pass.bricks.bricks[v.brick];
   const uint32_t *idx = pass.bricks.order.data() + brick.first;
+  float scale = v.radius_scale;
+  if (v.nearest && select_front(pass.pos, pass.radius, pass.g, pass.bricks, v, hidden, &b->front)) {
+    idx = b->front.kept.data();
+    scale = 1.0f;  // they stand for nothing: what they hide is dropped
+  }
   const bool straddle = v.containment == Containment::kStraddling;
   const bool point_path = pass.scene.lod.point_path;
-  const float scale = v.radius_scale;
   if (!keep_candidates && !straddle && !v.cut_each && !point_path) {
     for (uint32_t k = 0; k < v.keep; ++k) out->spheres.push_back(draw_entry(idx[k], scale));
     return;
@@ -100,6 +108,14 @@ void gather(const CullPass<Positions, Radii> &pass, const VisibleBrick &v, bool 
     }
     b->gathered.push_back({c, r, i, scale});
   }
+}
+
+// The same without a depth pyramid: nothing is proven hidden.
+template <typename Positions, typename Radii>
+void gather(const CullPass<Positions, Radii> &pass, const VisibleBrick &v, bool keep_candidates,
+            CandidateBuffers *b, CullStats *counts, DrawList *out) {
+  gather(
+      pass, v, keep_candidates, [](const glm::dvec3 &, double) { return false; }, b, counts, out);
 }
 
 // b->gathered -> b->sorted, nearest first by depth bucket (inside a brick a bucket sort suffices:

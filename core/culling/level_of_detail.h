@@ -6,6 +6,13 @@
 //     keep m = n (spacing_px / min_pixels)^3, so that the kept ones are min_pixels apart.
 // Kept spheres grow so that the sample looks like the whole (LodGrowth). Approximate by design:
 // never used by the exact modes unless configured.
+//
+// lod.select: nearest (opaque spheres) shares the frame's budget out by the particles each brick
+// is expected to show (occlusion_estimate.h's coarse transmittance) instead of in proportion to
+// size, and marks the bricks (VisibleBrick::nearest) whose `keep` particles gather() then picks
+// from the brick's front (front_selection.h) at their own radius: in an opaque brick the dropped
+// ones are behind them. A brick that is not opaque at that budget keeps the uniform prefix and
+// the growth set here; one given under half its uniform share (expected hidden) does not grow.
 #pragma once
 
 #include <vector>
@@ -31,9 +38,10 @@ enum class LodGrowth {
 };
 inline constexpr double kCoveragePixels = 1.0;
 
-// Fills keep and radius_scale of every visible brick (keep = count when LOD is off). Returns
-// whether any brick keeps less than all of its particles.
+// Fills keep, radius_scale and nearest of every visible brick (keep = count when LOD is off).
+// `nearest` allows lod.select: nearest (opaque spheres whose pass honours VisibleBrick::nearest).
+// Returns whether any brick keeps less than all of its particles.
 bool apply_level_of_detail(const LodConfig &lod, const BrickSet &set, const ViewGeometry &g,
-                           LodGrowth growth, std::vector<VisibleBrick> *visible);
+                           LodGrowth growth, bool nearest, std::vector<VisibleBrick> *visible);
 
 }  // namespace lantern

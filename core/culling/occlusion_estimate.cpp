@@ -19,6 +19,31 @@ std::string percent(double f) {
 
 }  // namespace
 
+CoarseTransmittance::CoarseTransmittance(const ViewGeometry &g)
+    : transmittance_(size_t(kGrid) * kGrid, 1.0),
+      cell_w_(double(g.width) / kGrid),
+      cell_h_(double(g.height) / kGrid) {}
+
+double CoarseTransmittance::splat(const VisibleBrick &v, const ViewGeometry &g) {
+  if (v.rect.empty()) return 0.0;
+  const double r_px =
+      v.radius * v.radius_scale * g.pixels_per_unit(std::max(v.near_depth, g.near_plane));
+  const double area = double(v.rect.area());
+  const double a = double(v.keep) * 3.14159265 * r_px * r_px / area;  // optical depth
+  const int cx0 = int(v.rect.x0 / cell_w_), cx1 = std::min(kGrid - 1, int(v.rect.x1 / cell_w_));
+  const int cy0 = int(v.rect.y0 / cell_h_), cy1 = std::min(kGrid - 1, int(v.rect.y1 / cell_h_));
+  double t_sum = 0.0;
+  for (int y = cy0; y <= cy1; ++y)
+    for (int x = cx0; x <= cx1; ++x) t_sum += transmittance_[size_t(y) * kGrid + x];
+  const double t_mean = t_sum / double((cx1 - cx0 + 1) * (cy1 - cy0 + 1));
+  // Inside a slab of optical depth a, a share (1 - e^-a) / a of the spheres shows.
+  const double self = a > 1e-6 ? (1.0 - std::exp(-a)) / a : 1.0;
+  const double pass = std::exp(-a);
+  for (int y = cy0; y <= cy1; ++y)
+    for (int x = cx0; x <= cx1; ++x) transmittance_[size_t(y) * kGrid + x] *= pass;
+  return double(v.keep) * t_mean * self;
+}
+
 OcclusionChoice choose_occlusion(const std::vector<VisibleBrick> &visible, const ViewGeometry &g) {
   OcclusionChoice c;
   int64_t candidates = 0;
@@ -34,28 +59,9 @@ OcclusionChoice choose_occlusion(const std::vector<VisibleBrick> &visible, const
   }
   c.sphere_pixels = weighted_px / double(candidates);
 
-  std::vector<double> transmittance(size_t(kGrid) * kGrid, 1.0);
-  const double cell_w = double(g.width) / kGrid, cell_h = double(g.height) / kGrid;
+  CoarseTransmittance grid(g);
   double expected_visible = 0.0;
-  for (const VisibleBrick &v : visible) {
-    if (v.rect.empty()) continue;
-    const double r_px =
-        v.radius * v.radius_scale * g.pixels_per_unit(std::max(v.near_depth, g.near_plane));
-    const double area = double(v.rect.area());
-    const double a = double(v.keep) * 3.14159265 * r_px * r_px / area;  // optical depth
-    const int cx0 = int(v.rect.x0 / cell_w), cx1 = std::min(kGrid - 1, int(v.rect.x1 / cell_w));
-    const int cy0 = int(v.rect.y0 / cell_h), cy1 = std::min(kGrid - 1, int(v.rect.y1 / cell_h));
-    double t_sum = 0.0;
-    for (int y = cy0; y <= cy1; ++y)
-      for (int x = cx0; x <= cx1; ++x) t_sum += transmittance[size_t(y) * kGrid + x];
-    const double t_mean = t_sum / double((cx1 - cx0 + 1) * (cy1 - cy0 + 1));
-    // Inside a slab of optical depth a, a share (1 - e^-a) / a of the spheres shows.
-    const double self = a > 1e-6 ? (1.0 - std::exp(-a)) / a : 1.0;
-    expected_visible += double(v.keep) * t_mean * self;
-    const double pass = std::exp(-a);
-    for (int y = cy0; y <= cy1; ++y)
-      for (int x = cx0; x <= cx1; ++x) transmittance[size_t(y) * kGrid + x] *= pass;
-  }
+  for (const VisibleBrick &v : visible) expected_visible += grid.splat(v, g);
   c.hidden_estimate = std::clamp(1.0 - expected_visible / double(candidates), 0.0, 1.0);
   char px[32];
   std::snprintf(px, sizeof px, "%.2f", c.sphere_pixels);

@@ -15,6 +15,19 @@
 
 namespace lantern {
 
+// The coarse grid of transmittances behind that estimate. splat(v) returns how many of brick v's
+// `keep` spheres are expected to show given the bricks splatted before it, then lets v's spheres
+// absorb. Splat bricks front to back.
+class CoarseTransmittance {
+ public:
+  explicit CoarseTransmittance(const ViewGeometry &g);
+  double splat(const VisibleBrick &v, const ViewGeometry &g);
+
+ private:
+  std::vector<double> transmittance_;
+  double cell_w_, cell_h_;
+};
+
 struct OcclusionChoice {
   OcclusionMode mode = OcclusionMode::kNone;
   double hidden_estimate = 0.0;  // estimated share of the candidates that is hidden

@@ -123,7 +123,11 @@ void Culler::process(const CullPass<Positions, Radii> &pass, const BrickSelectio
       continue;
     }
     s.buffers.gathered.clear();
-    gather(pass, v, occlusion, &s.buffers, st, out);
+    const auto hidden = [&](const glm::dvec3 &c, double r) {
+      return sel.mode == OcclusionMode::kHzb &&
+             hzb_[0].covered(sel.g.sphere_rect(c, r), -c.z - r - sel.g.eps);
+    };
+    gather(pass, v, occlusion, hidden, &s.buffers, st, out);
     if (!occlusion) continue;
     order_front_to_back(&s.buffers);
     for (const Candidate &c : s.buffers.sorted) {

@@ -18,7 +18,9 @@ struct VisibleBrick {
   double radius = 0.0;        // largest (unscaled) radius of its particles
   PixelRect rect;             // pixels its spheres can touch
   uint32_t keep = 0;          // level of detail: draw the first `keep` particles of the brick
+  bool nearest = false;       // level of detail: keep the brick's front if opaque (lod.select)
   float radius_scale = 1.0f;  // level of detail: radius growth that keeps the covered area
+                              // (of the prefix; a brick drawn from its front keeps 1)
 };
 
 }  // namespace lantern

@@ -154,6 +154,9 @@ void run_opaque_lod_bench(const BenchScene &bs, int runs, std::ostream &csv,
     LodConfig points = lod;  // the same with sub-pixel spheres splatted (lod.point_path)
     points.point_path = true;
     samples.push_back({"lod+points_" + percent(f), f, sets[0].get(), points, {}, 0, 0, {}});
+    LodConfig nearest = lod;  // lod.select: nearest: opaque bricks keep their front
+    nearest.select = LodSelect::kNearest;
+    samples.push_back({"lod_nearest_" + percent(f), f, sets[0].get(), nearest, {}, 0, 0, {}});
     if (f == 1.0) {  // a budget of every particle runs the LOD code keeping all of them
       lod.budget = int64_t(bs.type.size());
       samples.push_back({"lod_budget_all", f, sets[0].get(), lod, {}, 0, 0, {}});
