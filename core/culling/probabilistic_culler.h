@@ -25,6 +25,7 @@
 #pragma once
 
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 #include "core/bricks/brick_set.h"
@@ -58,16 +59,31 @@ class ProbabilisticCuller {
   const std::vector<ConfidencePixel> &pixels() const { return pixels_; }
 
  private:
-  // Casts one occluder sphere (view-space centre c, radius r) at this pass's jittered positions
-  // into the pass buffers (nearest hit per pixel).
+  // This pass's ray per pixel through its jittered sub-pixel position (keys kx, ky), worked out
+  // once per pass rather than once per sphere covering the pixel.
+  void jitter_rays(const ViewGeometry &g, uint64_t kx, uint64_t ky);
+  // Casts one occluder sphere (view-space centre c, radius r) along this pass's rays into the
+  // pass buffers (nearest hit per pixel).
   void sample_sphere(const ViewGeometry &g, const glm::dvec3 &c, double r);
 
   MeshletSet meshlets_;
   std::vector<uint8_t> classes_;
   std::vector<ConfidencePixel> pixels_;
-  std::vector<float> pass_depth_, pass_alpha_, jitter_x_, jitter_y_;
+  std::vector<float> pass_depth_, pass_alpha_;
+  // Per pixel, this pass's ray: perspective (x, y, -1) and its squared length; orthographic the
+  // view-space (x, y) it starts from.
+  std::vector<double> ray_x_, ray_y_, ray_l2_;
   std::vector<PixelRect> rects_;  // per meshlet of a visible brick
   std::vector<double> nears_;
+  std::vector<uint32_t> open_p_, open_l_;  // per visible brick: its meshlets in P and in L
+  struct ViewSphere {
+    glm::dvec3 c;  // view-space centre
+    double r;      // radius, level-of-detail growth included
+  };
+  // The kept particles of the visible bricks in meshlet order, during run() only; meshlet m's
+  // are [sphere_span_[m].first, sphere_span_[m].second).
+  std::vector<ViewSphere> spheres_;
+  std::vector<std::pair<uint32_t, uint32_t>> sphere_span_;
   DensityVolume volume_;
   ConfidencePyramid pyramid_;
 };
