@@ -75,7 +75,7 @@ class ConfidencePyramid {
 
   struct Verdict {
     bool failed = false;      // every texel over the rectangle is nearer than the depth
-    double confidence = 0.0;  // mean confidence of those texels
+    double confidence = 0.0;  // mean confidence of those texels (0 for a box that passed)
   };
   // The depth test of a box with nearest depth `near` whose pixels are `rect` (clamped to the
   // image), at the finest level where the rectangle spans at most 8 x 8 texels (9 x 9 when it
