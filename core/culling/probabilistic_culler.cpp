@@ -11,7 +11,6 @@ namespace lantern {
 namespace {
 
 constexpr float kNoHit = std::numeric_limits<float>::infinity();
-constexpr double kQuietShare = 0.01;
 
 glm::dvec3 corner(const glm::dvec3 &lo, const glm::dvec3 &hi, int k) {
   return {k & 1 ? hi.x : lo.x, k & 2 ? hi.y : lo.y, k & 4 ? hi.z : lo.z};
@@ -273,10 +272,10 @@ ProbabilisticStats ProbabilisticCuller::run(const ParticleArrays &particles, con
             open_l_[vi] += classes_[m] == uint8_t(OcclusionClass::kLow);
           }
         }
-        // §5.3's "no class changed", with a tolerance of kQuietShare of the meshlets still open:
-        // on 10^5 meshlets hundreds creeping from M to O every iteration would otherwise keep it
-        // sampling until the cap for little gain (exactly "none" below 1 / kQuietShare).
-        quiet = double(changed) <= kQuietShare * double(active) ? quiet + 1 : 0;
+        // §5.3's "no class changed", with a tolerance of cfg.quiet_share of the meshlets still
+        // open: on 10^5 meshlets hundreds creeping from M to O every iteration would otherwise
+        // keep it sampling until the cap (exactly "none" below 1 / quiet_share meshlets).
+        quiet = double(changed) <= cfg.quiet_share * double(active) ? quiet + 1 : 0;
         if (quiet >= cfg.patience) break;
       }
     });

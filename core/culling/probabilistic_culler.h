@@ -11,8 +11,9 @@
 // confidence pyramid (eq. 23) tests each node, then each of its meshlets not yet occluded: a box
 // that passes the depth test is P; one that fails is O above C_occ, M above C_occ / 2, L below
 // (§5.1); classes only move up. Meshlets reaching O leave the density volume. Iterations stop
-// when no class changed for `patience` iterations (§5.3; "no" meaning at most 1% of the
-// meshlets not yet occluded, so exactly none below 100 of them), at most kMaxIterations.
+// when no class changed for `patience` iterations (§5.3; "no" meaning at most quiet_share, 1%,
+// of the meshlets not yet occluded, so exactly none below 100 of them; lantern-bench's +strict
+// modes take 0, the paper's letter), at most kMaxIterations.
 //
 // Approximate: a meshlet in O may hold visible particles (with probability about 1 - C_occ per
 // decision); a meshlet that passed the depth test is never culled. Every random number is a hash
