@@ -73,8 +73,8 @@ void update_pixel(ConfidencePixel *px, double d_s, double alpha, const RayDensit
     ++px->k_cull;
   }
   if (d_s <= px->d) {  // lines 12-14: updateAccumulationBuffer
-    const double p = coin ? 0.5 : acceptance_probability(d_s, alpha, px->d, px->c, ray);
-    if (d_s < px->d && u <= p) {
+    // Line 3 needs P(d_s) only for a nearer sample (eqs. 13-22 are the costly part of a sample).
+    if (d_s < px->d && u <= (coin ? 0.5 : acceptance_probability(d_s, alpha, px->d, px->c, ray))) {
       px->d = float(d_s), px->c = float(std::clamp(alpha, 0.0, 1.0)), px->k = 1;
     } else {
       px->c = float(accumulate_confidence(px->c, alpha, px->k + 1, ray.closer(px->d)));

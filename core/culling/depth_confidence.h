@@ -62,8 +62,9 @@ struct ConfidencePixel {
 };
 
 // Algorithm 1's UpdateDepthAndConfidenceForSample for a sample at depth d_s of size alpha; `u`
-// is the sample's uniform draw; `coin` replaces eq. 21 by a probability of 1/2 (the paper's
-// random-acceptance baseline).
+// is the sample's uniform draw, read only when d_s < px->d (a caller may skip drawing it
+// otherwise); `coin` replaces eq. 21 by a probability of 1/2 (the paper's random-acceptance
+// baseline).
 void update_pixel(ConfidencePixel *px, double d_s, double alpha, const RayDensity &ray, double u,
                   bool coin);
 

@@ -230,8 +230,12 @@ ProbabilisticStats ProbabilisticCuller::run(const ParticleArrays &particles, con
             for (int x = 0; x < W; ++x) {
               const size_t p = size_t(y) * W + x;
               if (pass_depth_[p] == kNoHit) continue;
-              const double u =
-                  unit_interval(counter_hash(run.step, p, sample, it, RandomStream::kAcceptance));
+              // The acceptance draw matters only for a sample nearer than the accumulated depth
+              // (update_pixel reads it there alone): the hash is skipped for the rest.
+              const double u = pass_depth_[p] < pixels_[p].d
+                                   ? unit_interval(counter_hash(run.step, p, sample, it,
+                                                                RandomStream::kAcceptance))
+                                   : 1.0;
               update_pixel(&pixels_[p], pass_depth_[p], pass_alpha_[p], volume_.ray(x, y), u,
                            cfg.random_acceptance);
             }
