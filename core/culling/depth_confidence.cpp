@@ -73,8 +73,8 @@ void update_pixel(ConfidencePixel *px, double d_s, double alpha, const RayDensit
     ++px->k_cull;
   }
   if (d_s <= px->d) {  // lines 12-14: updateAccumulationBuffer
-    const double p = coin ? 0.5 : acceptance_probability(d_s, alpha, px->d, px->c, ray);
-    if (d_s < px->d && u <= p) {
+    // Line 3 needs P(d_s) only for a nearer sample (eqs. 13-22 are the costly part of a sample).
+    if (d_s < px->d && u <= (coin ? 0.5 : acceptance_probability(d_s, alpha, px->d, px->c, ray))) {
       px->d = float(d_s), px->c = float(std::clamp(alpha, 0.0, 1.0)), px->k = 1;
     } else {
       px->c = float(accumulate_confidence(px->c, alpha, px->k + 1, ray.closer(px->d)));
@@ -121,16 +121,18 @@ ConfidencePyramid::Verdict ConfidencePyramid::test(const PixelRect &rect, double
          std::max(rect.x1 - rect.x0, rect.y1 - rect.y0) >> level >= 8)
     ++level;
   const Level &l = levels_[size_t(level)];
+  const int x0 = rect.x0 >> level, x1 = rect.x1 >> level, y0 = rect.y0 >> level,
+            y1 = rect.y1 >> level;
+  // The depth test first, stopping at the first texel as far as the box: a box that passes is
+  // class P whatever its confidence, so most visible boxes cost a texel or two.
+  for (int y = y0; y <= y1; ++y)
+    for (int x = x0; x <= x1; ++x)
+      if (!(double(l.d[size_t(y) * l.w + x]) < near)) return v;
   double csum = 0.0;
   int count = 0;
-  bool failed = true;
-  for (int y = rect.y0 >> level; y <= rect.y1 >> level; ++y)
-    for (int x = rect.x0 >> level; x <= rect.x1 >> level; ++x) {
-      const size_t i = size_t(y) * l.w + x;
-      failed = failed && double(l.d[i]) < near;
-      csum += l.c[i], ++count;
-    }
-  v.failed = failed;
+  for (int y = y0; y <= y1; ++y)
+    for (int x = x0; x <= x1; ++x) csum += l.c[size_t(y) * l.w + x], ++count;
+  v.failed = true;
   v.confidence = csum / count;
   return v;
 }

@@ -62,8 +62,9 @@ struct ConfidencePixel {
 };
 
 // Algorithm 1's UpdateDepthAndConfidenceForSample for a sample at depth d_s of size alpha; `u`
-// is the sample's uniform draw; `coin` replaces eq. 21 by a probability of 1/2 (the paper's
-// random-acceptance baseline).
+// is the sample's uniform draw, read only when d_s < px->d (a caller may skip drawing it
+// otherwise); `coin` replaces eq. 21 by a probability of 1/2 (the paper's random-acceptance
+// baseline).
 void update_pixel(ConfidencePixel *px, double d_s, double alpha, const RayDensity &ray, double u,
                   bool coin);
 
@@ -75,7 +76,7 @@ class ConfidencePyramid {
 
   struct Verdict {
     bool failed = false;      // every texel over the rectangle is nearer than the depth
-    double confidence = 0.0;  // mean confidence of those texels
+    double confidence = 0.0;  // mean confidence of those texels (0 for a box that passed)
   };
   // The depth test of a box with nearest depth `near` whose pixels are `rect` (clamped to the
   // image), at the finest level where the rectangle spans at most 8 x 8 texels (9 x 9 when it

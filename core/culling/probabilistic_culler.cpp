@@ -11,7 +11,6 @@ namespace lantern {
 namespace {
 
 constexpr float kNoHit = std::numeric_limits<float>::infinity();
-constexpr double kQuietShare = 0.01;
 
 glm::dvec3 corner(const glm::dvec3 &lo, const glm::dvec3 &hi, int k) {
   return {k & 1 ? hi.x : lo.x, k & 2 ? hi.y : lo.y, k & 4 ? hi.z : lo.z};
@@ -58,6 +57,27 @@ struct Run {
 
 }  // namespace
 
+void ProbabilisticCuller::jitter_rays(const ViewGeometry &g, uint64_t kx, uint64_t ky) {
+  const size_t n = size_t(g.width) * g.height;
+  ray_x_.resize(n), ray_y_.resize(n), ray_l2_.resize(n);
+  for (int y = 0; y < g.height; ++y)
+    for (int x = 0; x < g.width; ++x) {
+      const size_t p = size_t(y) * g.width + x;
+      // The jitter is a float and (x + jitter) / width is evaluated in float, as it always was:
+      // the rays, and so the samples, stay bit-identical to those of earlier releases.
+      const float jx = float(unit_interval(splitmix64(kx ^ p)));
+      const float jy = float(unit_interval(splitmix64(ky ^ p)));
+      const double ndx = (x + jx) / g.width * 2.0 - 1.0;
+      const double ndy = 1.0 - (y + jy) / g.height * 2.0;
+      if (g.orthographic) {
+        ray_x_[p] = (ndx - g.tx) / g.sx, ray_y_[p] = (ndy - g.ty) / g.sy;
+      } else {
+        const double rx = ndx / g.sx, ry = ndy / g.sy;
+        ray_x_[p] = rx, ray_y_[p] = ry, ray_l2_[p] = rx * rx + ry * ry + 1.0;
+      }
+    }
+}
+
 void ProbabilisticCuller::sample_sphere(const ViewGeometry &g, const glm::dvec3 &c, double r) {
   const double d = -c.z;
   if (!(r > 0.0) || d - r <= g.near_plane) return;  // reaching the near plane: no occluder
@@ -78,22 +98,23 @@ void ProbabilisticCuller::sample_sphere(const ViewGeometry &g, const glm::dvec3 
   for (int y = rect.y0; y <= rect.y1; ++y)
     for (int x = rect.x0; x <= rect.x1; ++x) {
       const size_t p = size_t(y) * g.width + x;
-      const double ndx = (x + jitter_x_[p]) / g.width * 2.0 - 1.0;
-      const double ndy = 1.0 - (y + jitter_y_[p]) / g.height * 2.0;
       double depth;
       if (g.orthographic) {
-        const double dx = c.x - (ndx - g.tx) / g.sx, dy = c.y - (ndy - g.ty) / g.sy;
+        const double dx = c.x - ray_x_[p], dy = c.y - ray_y_[p];
         const double q2 = dx * dx + dy * dy;
         if (q2 >= r2) continue;
         depth = d - std::sqrt(r2 - q2);
       } else {
         // Ray t (rx, ry, -1), whose view depth is t: a hit when its distance to c is below r.
-        const double rx = ndx / g.sx, ry = ndy / g.sy;
-        const double l2 = rx * rx + ry * ry + 1.0, cd = c.x * rx + c.y * ry - c.z;
+        const double rx = ray_x_[p], ry = ray_y_[p], l2 = ray_l2_[p];
+        const double cd = c.x * rx + c.y * ry - c.z;
         const double disc = r2 * l2 - (c2 * l2 - cd * cd);
         if (disc <= 0.0) continue;
         depth = (cd - std::sqrt(disc)) / l2;
       }
+      // Only a nearer hit replaces the pixel's sample, so the size (a square root) is worked out
+      // for those alone.
+      if (!(depth < pass_depth_[p])) continue;
       // Seed 004's alpha, the expected share of the pixel the particle covers: its projected
       // area for sub-pixel spheres; for larger ones the disc clipped to the pixel, approximated
       // by the distance of the pixel centre to the outline across the pixel's diagonal.
@@ -102,7 +123,7 @@ void ProbabilisticCuller::sample_sphere(const ViewGeometry &g, const glm::dvec3 
       const float alpha = float(
           std::min({1.0, area_px, std::max(0.0, (r_px + M_SQRT1_2 - dist) / (2.0 * M_SQRT1_2))}));
       if (!(alpha > 0.0f)) continue;
-      if (depth < pass_depth_[p]) pass_depth_[p] = float(depth), pass_alpha_[p] = alpha;
+      pass_depth_[p] = float(depth), pass_alpha_[p] = alpha;
     }
 }
 
@@ -116,7 +137,6 @@ ProbabilisticStats ProbabilisticCuller::run(const ParticleArrays &particles, con
   classes_.assign(meshlets_.meshlets.size(), uint8_t(OcclusionClass::kPotentiallyVisible));
   pixels_.assign(size_t(W) * H, ConfidencePixel::empty());
   pass_depth_.resize(size_t(W) * H), pass_alpha_.resize(size_t(W) * H);
-  jitter_x_.resize(size_t(W) * H), jitter_y_.resize(size_t(W) * H);
   rects_.assign(meshlets_.meshlets.size(), PixelRect{});
   nears_.assign(meshlets_.meshlets.size(), 0.0);
   ProbabilisticStats st;
@@ -147,11 +167,28 @@ ProbabilisticStats ProbabilisticCuller::run(const ParticleArrays &particles, con
       double typical_radius = sel.radius.radius;  // the scene's, or the first brick's largest
       if (sel.radius.per_particle) typical_radius = bricks.bricks[sel.visible[0].brick].max_radius;
       volume_.reset(lo, hi, kept);
+      // The occluder spheres, gathered once in meshlet order: a pass then reads each sampled
+      // meshlet's spheres from one contiguous run instead of chasing slot, brick order and
+      // position through memory for every particle (those cache misses were most of a pass).
+      spheres_.clear(), spheres_.reserve(size_t(kept));
+      sphere_span_.resize(meshlets_.meshlets.size());
       for (const VisibleBrick &v : sel.visible)
         for (uint32_t m = meshlets_.first_of_brick[v.brick];
-             m < meshlets_.first_of_brick[v.brick + 1]; ++m)
-          run.for_kept(v, meshlets_.meshlets[m], [&](uint32_t i) { volume_.add(pos.get(i)); });
+             m < meshlets_.first_of_brick[v.brick + 1]; ++m) {
+          sphere_span_[m].first = uint32_t(spheres_.size());
+          run.for_kept(v, meshlets_.meshlets[m], [&](uint32_t i) {
+            const glm::dvec3 p = pos.get(i);
+            volume_.add(p);
+            spheres_.push_back({g.to_view(p), radius.get(i) * v.radius_scale});
+          });
+          sphere_span_[m].second = uint32_t(spheres_.size());
+        }
 
+      // Every meshlet starts in P.
+      open_p_.resize(sel.visible.size()), open_l_.assign(sel.visible.size(), 0);
+      for (size_t vi = 0; vi < sel.visible.size(); ++vi)
+        open_p_[vi] = meshlets_.first_of_brick[sel.visible[vi].brick + 1] -
+                      meshlets_.first_of_brick[sel.visible[vi].brick];
       bool dirty = true;
       int quiet = 0;
       std::vector<uint32_t> pool;
@@ -160,31 +197,32 @@ ProbabilisticStats ProbabilisticCuller::run(const ParticleArrays &particles, con
         for (int s = 0; s < kPassesPerIteration; ++s) {
           const uint64_t sample = uint64_t(st.samples);
           // One jittered sample position per pixel, keyed by (step, pixel, sample, iteration).
-          const uint64_t kx = counter_hash(run.step, 0, sample, it, RandomStream::kJitterX);
-          const uint64_t ky = counter_hash(run.step, 0, sample, it, RandomStream::kJitterY);
-          for (size_t p = 0; p < jitter_x_.size(); ++p) {
-            jitter_x_[p] = float(unit_interval(splitmix64(kx ^ p)));
-            jitter_y_[p] = float(unit_interval(splitmix64(ky ^ p)));
-          }
+          jitter_rays(g, counter_hash(run.step, 0, sample, it, RandomStream::kJitterX),
+                      counter_hash(run.step, 0, sample, it, RandomStream::kJitterY));
           std::fill(pass_depth_.begin(), pass_depth_.end(), kNoHit);
-          for (const VisibleBrick &v : sel.visible) {
+          for (size_t vi = 0; vi < sel.visible.size(); ++vi) {
+            const VisibleBrick &v = sel.visible[vi];
             // Occluder selection (§5.2): `budget` of the node's P meshlets, then of its L ones,
-            // in a keyed random order.
+            // in a keyed random order. Most nodes soon hold neither (all M or O): their counts
+            // skip them without a look at their meshlets.
+            const uint32_t want_count[2] = {open_p_[vi], open_l_[vi]};
+            if (want_count[0] + want_count[1] == 0) continue;
             const uint32_t m0 = meshlets_.first_of_brick[v.brick],
                            m1 = meshlets_.first_of_brick[v.brick + 1];
             uint64_t h = counter_hash(run.step, v.brick, sample, it, RandomStream::kShuffle);
             int chosen = 0;
             for (const OcclusionClass want :
                  {OcclusionClass::kPotentiallyVisible, OcclusionClass::kLow}) {
+              if (chosen >= cfg.budget || want_count[int(want)] == 0) continue;  // nothing drawn
               pool.clear();
               for (uint32_t m = m0; m < m1; ++m)
                 if (classes_[m] == uint8_t(want)) pool.push_back(m);
               for (size_t k = 0; k < pool.size() && chosen < cfg.budget; ++k, ++chosen) {
                 h = splitmix64(h);
                 std::swap(pool[k], pool[k + h % (pool.size() - k)]);
-                run.for_kept(v, meshlets_.meshlets[pool[k]], [&](uint32_t i) {
-                  sample_sphere(g, g.to_view(pos.get(i)), radius.get(i) * v.radius_scale);
-                });
+                for (uint32_t j = sphere_span_[pool[k]].first; j < sphere_span_[pool[k]].second;
+                     ++j)
+                  sample_sphere(g, spheres_[j].c, spheres_[j].r);
               }
             }
           }
@@ -192,8 +230,12 @@ ProbabilisticStats ProbabilisticCuller::run(const ParticleArrays &particles, con
             for (int x = 0; x < W; ++x) {
               const size_t p = size_t(y) * W + x;
               if (pass_depth_[p] == kNoHit) continue;
-              const double u =
-                  unit_interval(counter_hash(run.step, p, sample, it, RandomStream::kAcceptance));
+              // The acceptance draw matters only for a sample nearer than the accumulated depth
+              // (update_pixel reads it there alone): the hash is skipped for the rest.
+              const double u = pass_depth_[p] < pixels_[p].d
+                                   ? unit_interval(counter_hash(run.step, p, sample, it,
+                                                                RandomStream::kAcceptance))
+                                   : 1.0;
               update_pixel(&pixels_[p], pass_depth_[p], pass_alpha_[p], volume_.ray(x, y), u,
                            cfg.random_acceptance);
             }
@@ -207,11 +249,13 @@ ProbabilisticStats ProbabilisticCuller::run(const ParticleArrays &particles, con
           classes_[m] = uint8_t(c), ++changed;
           dirty = dirty || c == OcclusionClass::kOccluded;
         };
-        for (const VisibleBrick &v : sel.visible) {
+        for (size_t vi = 0; vi < sel.visible.size(); ++vi) {
+          const VisibleBrick &v = sel.visible[vi];
           const uint32_t m0 = meshlets_.first_of_brick[v.brick],
                          m1 = meshlets_.first_of_brick[v.brick + 1];
           const ConfidencePyramid::Verdict node = pyramid_.test(v.rect, v.near_depth);
           const bool node_occluded = node.failed && node.confidence > cfg.confidence;
+          open_p_[vi] = open_l_[vi] = 0;
           for (uint32_t m = m0; m < m1; ++m) {
             if (classes_[m] == uint8_t(OcclusionClass::kOccluded)) continue;
             ++active;
@@ -228,16 +272,19 @@ ProbabilisticStats ProbabilisticCuller::run(const ParticleArrays &particles, con
             if (to_occluded && classes_[m] == uint8_t(OcclusionClass::kOccluded))
               run.for_kept(v, meshlets_.meshlets[m],
                            [&](uint32_t i) { volume_.remove(pos.get(i)); });
+            open_p_[vi] += classes_[m] == uint8_t(OcclusionClass::kPotentiallyVisible);
+            open_l_[vi] += classes_[m] == uint8_t(OcclusionClass::kLow);
           }
         }
-        // §5.3's "no class changed", with a tolerance of kQuietShare of the meshlets still open:
-        // on 10^5 meshlets hundreds creeping from M to O every iteration would otherwise keep it
-        // sampling until the cap for little gain (exactly "none" below 1 / kQuietShare).
-        quiet = double(changed) <= kQuietShare * double(active) ? quiet + 1 : 0;
+        // §5.3's "no class changed", with a tolerance of cfg.quiet_share of the meshlets still
+        // open: on 10^5 meshlets hundreds creeping from M to O every iteration would otherwise
+        // keep it sampling until the cap (exactly "none" below 1 / quiet_share meshlets).
+        quiet = double(changed) <= cfg.quiet_share * double(active) ? quiet + 1 : 0;
         if (quiet >= cfg.patience) break;
       }
     });
   });
+  std::vector<ViewSphere>().swap(spheres_);  // 32 bytes per particle: not kept between frames
   for (const VisibleBrick &v : sel.visible)
     for (uint32_t m = meshlets_.first_of_brick[v.brick]; m < meshlets_.first_of_brick[v.brick + 1];
          ++m) {

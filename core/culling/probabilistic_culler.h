@@ -11,8 +11,9 @@
 // confidence pyramid (eq. 23) tests each node, then each of its meshlets not yet occluded: a box
 // that passes the depth test is P; one that fails is O above C_occ, M above C_occ / 2, L below
 // (§5.1); classes only move up. Meshlets reaching O leave the density volume. Iterations stop
-// when no class changed for `patience` iterations (§5.3; "no" meaning at most 1% of the
-// meshlets not yet occluded, so exactly none below 100 of them), at most kMaxIterations.
+// when no class changed for `patience` iterations (§5.3; "no" meaning at most quiet_share, 1%,
+// of the meshlets not yet occluded, so exactly none below 100 of them; lantern-bench's +strict
+// modes take 0, the paper's letter), at most kMaxIterations.
 //
 // Approximate: a meshlet in O may hold visible particles (with probability about 1 - C_occ per
 // decision); a meshlet that passed the depth test is never culled. Every random number is a hash
@@ -25,6 +26,7 @@
 #pragma once
 
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 #include "core/bricks/brick_set.h"
@@ -58,16 +60,31 @@ class ProbabilisticCuller {
   const std::vector<ConfidencePixel> &pixels() const { return pixels_; }
 
  private:
-  // Casts one occluder sphere (view-space centre c, radius r) at this pass's jittered positions
-  // into the pass buffers (nearest hit per pixel).
+  // This pass's ray per pixel through its jittered sub-pixel position (keys kx, ky), worked out
+  // once per pass rather than once per sphere covering the pixel.
+  void jitter_rays(const ViewGeometry &g, uint64_t kx, uint64_t ky);
+  // Casts one occluder sphere (view-space centre c, radius r) along this pass's rays into the
+  // pass buffers (nearest hit per pixel).
   void sample_sphere(const ViewGeometry &g, const glm::dvec3 &c, double r);
 
   MeshletSet meshlets_;
   std::vector<uint8_t> classes_;
   std::vector<ConfidencePixel> pixels_;
-  std::vector<float> pass_depth_, pass_alpha_, jitter_x_, jitter_y_;
+  std::vector<float> pass_depth_, pass_alpha_;
+  // Per pixel, this pass's ray: perspective (x, y, -1) and its squared length; orthographic the
+  // view-space (x, y) it starts from.
+  std::vector<double> ray_x_, ray_y_, ray_l2_;
   std::vector<PixelRect> rects_;  // per meshlet of a visible brick
   std::vector<double> nears_;
+  std::vector<uint32_t> open_p_, open_l_;  // per visible brick: its meshlets in P and in L
+  struct ViewSphere {
+    glm::dvec3 c;  // view-space centre
+    double r;      // radius, level-of-detail growth included
+  };
+  // The kept particles of the visible bricks in meshlet order, during run() only; meshlet m's
+  // are [sphere_span_[m].first, sphere_span_[m].second).
+  std::vector<ViewSphere> spheres_;
+  std::vector<std::pair<uint32_t, uint32_t>> sphere_span_;
   DensityVolume volume_;
   ConfidencePyramid pyramid_;
 };

@@ -7,6 +7,7 @@
 #include <array>
 #include <cmath>
 #include <cstring>
+#include <limits>
 #include <random>
 #include <set>
 #include <vector>
@@ -47,6 +48,48 @@ TEST(BinomialTail, NormalApproximationMatchesExactSums) {
   EXPECT_NEAR(binomial_tail_exact(32, 0.5, 16), 0.5 + 601080390.0 / 8589934592.0, 1e-12);
   // Small variance: the exact sum.
   EXPECT_DOUBLE_EQ(binomial_tail(32, 0.05, 3), binomial_tail_exact(32, 0.05, 3));
+}
+
+// The exact tail reads log(j!) from a table up to j = 64 and from std::lgamma beyond: both must
+// give the very sum written out with std::lgamma, bit for bit, on either side of the table's end
+// (an off-by-one in the table shifts every term and fails here).
+TEST(BinomialTail, FactorialTableGivesTheSameBitsAsLgamma) {
+  const auto direct = [](int n, double p, int k) {
+    const double lp = std::log(p), lq = std::log1p(-p), lgn = std::lgamma(n + 1.0);
+    double sum = 0.0;
+    for (int j = k; j <= n; ++j)
+      sum +=
+          std::exp(lgn - std::lgamma(j + 1.0) - std::lgamma(n - j + 1.0) + j * lp + (n - j) * lq);
+    return std::min(sum, 1.0);
+  };
+  for (const int n : {1, 7, 32, 63, 64, 65, 90})
+    for (const double p : {0.01, 0.2, 0.5, 0.93})
+      for (const int k : {1, 2, n / 3 + 1, n / 2 + 1, n})
+        EXPECT_EQ(binomial_tail_exact(n, p, k), direct(n, p, k)) << n << " " << p << " " << k;
+}
+
+// The cull buffer's pyramid test: a box fails only where every texel over it is nearer than the
+// box, and then reports the mean confidence of those texels; one texel as far as the box passes.
+TEST(DepthConfidence, PyramidFailsOnlyWhenEveryTexelIsNearer) {
+  const int w = 8, h = 4;
+  std::vector<ConfidencePixel> px(size_t(w) * h, ConfidencePixel::empty());
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      ConfidencePixel &p = px[size_t(y) * w + x];
+      p.d_cull = 2.0f + 0.125f * float(x), p.c_cull = 0.25f * float(y + 1);
+    }
+  ConfidencePyramid pyramid;
+  pyramid.build(px, w, h);
+  const PixelRect box{1, 0, 3, 3};  // depths 2.125 .. 2.375, confidences 0.25 .. 1 per row
+  const ConfidencePyramid::Verdict behind = pyramid.test(box, 2.5);
+  EXPECT_TRUE(behind.failed);
+  EXPECT_DOUBLE_EQ(behind.confidence, (0.25 + 0.5 + 0.75 + 1.0) / 4.0);
+  EXPECT_FALSE(pyramid.test(box, 2.375).failed);  // texel x = 3 is as far as the box
+  EXPECT_FALSE(pyramid.test(box, 2.0).failed);
+  // Unknown depth (nothing sampled) is never nearer than a box.
+  px[size_t(2) * w + 2].d_cull = std::numeric_limits<float>::infinity();
+  pyramid.build(px, w, h);
+  EXPECT_FALSE(pyramid.test(box, 2.5).failed);
 }
 
 // A ray with `per_bin` particles in each of 10 unit bins from depth 0.
@@ -257,6 +300,23 @@ TEST_F(Probabilistic, NeverCullsClassPAndTendsToBruteForceAsConfidenceRises) {
     else
       EXPECT_LE(diff, int64_t(brute.frame.pixel_count() / 1000)) << "C_occ " << confidence;
   }
+}
+
+// Seed 004's §5.3 to the letter (quiet_share 0: no meshlet may change class) runs the default's
+// iterations and then goes on while any class still moves: with random numbers keyed by
+// (step, pixel, sample, iteration) it repeats the default run and continues, so it samples at
+// least as long and culls at least as much, and on this crystal measurably more of both.
+TEST_F(Probabilistic, StrictConvergenceGoesOnWhereTheDefaultToleranceStops) {
+  const Crystal c(24);  // 55,296 atoms at 96^2: hundreds of meshlets creep from M to O
+  SceneConfig s = scene(96, OcclusionMode::kProbabilistic);
+  const Rendered loose = render(c, s);
+  s.culling.probabilistic.quiet_share = 0.0;
+  const Rendered strict = render(c, s);
+  const ProbabilisticStats &a = loose.stats.probabilistic, &b = strict.stats.probabilistic;
+  EXPECT_GT(b.iterations, a.iterations);
+  EXPECT_GE(b.particles_culled, a.particles_culled);
+  EXPECT_GT(b.meshlets[int(OcclusionClass::kOccluded)], a.meshlets[int(OcclusionClass::kOccluded)]);
+  EXPECT_LE(b.iterations, kMaxIterations);
 }
 
 }  // namespace

@@ -91,6 +91,8 @@ BenchScene heterogeneous(int n, int size) {
   s.note = "fcc " + std::to_string(n) + "^3 cells (" + std::to_string(solid) +
            " atoms) beside a gas of " + std::to_string(s.type.size() - solid) +
            " atoms in twice its volume (seed 004 Fig. 2)";
+  s.config.width = s.config.height = size;
+  return s;
 }
 
 BenchScene clustered_cloud(int64_t n, int size) {

@@ -14,14 +14,17 @@
 namespace lantern::bench {
 
 struct ProbabilisticMode {
-  std::string name;  // probabilistic@0.99, probabilistic@0.95, probabilistic@0.90, random50
+  // probabilistic@0.99, @0.95, @0.90, random50, and probabilistic@0.95+strict, random50+strict
+  // (convergence when no meshlet changed class at all, seed 004 §5.3 to the letter)
+  std::string name;
   ProbabilisticConfig config;
 };
 
 std::vector<ProbabilisticMode> probabilistic_modes();
 
-// " (iterations I, samples S, meshlets P/L/M/O a/b/c/d, >2 levels vs exact: N px)"; the last
-// part only when `exact` is given.
+// " (iterations I, samples S, meshlets P/L/M/O a/b/c/d, O meshlets x%, >2 levels vs exact: N
+// px)"; the last part only when `exact` is given. "O meshlets" is seed 004 Table 4's culled
+// share: meshlets, not particles, and of the frustum's bricks only.
 std::string probabilistic_note(const ProbabilisticStats &st, const Frame &image,
                                const Frame *exact);
 
