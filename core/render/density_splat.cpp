@@ -105,11 +105,13 @@ bool DensitySplatter::splat(const glm::dvec3 &c, double r, double weight, const 
   const double d = -c.z;
   if (!(d > g_.near_plane)) return false;
   if (!(weight >= kDensityMinWeight && weight < kDensityMaxWeight)) return false;
-  const double x_ndc = g_.orthographic ? g_.sx * c.x + g_.tx : g_.sx * c.x / d;
-  const double y_ndc = g_.orthographic ? g_.sy * c.y + g_.ty : g_.sy * c.y / d;
+  // One division per particle (perspective), not three.
+  const double inv_d = g_.orthographic ? 1.0 : 1.0 / d;
+  const double x_ndc = g_.orthographic ? g_.sx * c.x + g_.tx : g_.sx * c.x * inv_d;
+  const double y_ndc = g_.orthographic ? g_.sy * c.y + g_.ty : g_.sy * c.y * inv_d;
   const double px = 0.5 * (x_ndc + 1.0) * g_.width;
   const double py = 0.5 * (1.0 - y_ndc) * g_.height;
-  const double s = r / kCutoffSigmas * g_.pixels_per_unit(d);
+  const double s = r / kCutoffSigmas * (0.5 * g_.height * g_.sy) * inv_d;  // pixels_per_unit(d)
   const double sigma = std::sqrt(s * s + kPixelFilterSigma * kPixelFilterSigma);
   // Nothing within reach of the image (also a non-finite centre): keeps int conversions in range.
   const double reach = kCutoffSigmas * sigma + 1.0;
