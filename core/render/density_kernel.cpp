@@ -55,9 +55,11 @@ DensityKernelTable::DensityKernelTable() {
       entries_.push_back(e);
     }
   }
-  std::vector<double> bounds;  // within one octave [1, 2), then the next octave's first
-  for (int i = 1; i <= kDensitySigmaSteps + 1; ++i)
-    bounds.push_back(std::exp2((i - 0.5) / kDensitySigmaSteps));
+  // Boundaries of 4 sigma^2 within one octave [1, 2), then the next octave's first: sigma's
+  // 32 steps per octave are 16 per octave of its square.
+  constexpr int kSteps = kDensitySigmaSteps / 2;
+  std::vector<double> bounds;
+  for (int i = 1; i <= kSteps + 1; ++i) bounds.push_back(std::exp2((i - 0.5) / kSteps));
   for (int bin = 0; bin < 1024; ++bin) {
     const double start = 1.0 + bin / 1024.0;
     const auto n = std::upper_bound(bounds.begin(), bounds.end(), start) - bounds.begin();
@@ -71,8 +73,8 @@ const DensityKernelTable &DensityKernelTable::get() {
   return t;
 }
 
-int DensityKernelTable::sigma_index(double sigma) const {
-  const double x = 2.0 * sigma;
+int DensityKernelTable::index_of_variance(double sigma2) const {
+  const double x = 4.0 * sigma2;
   if (!(x >= 1.0)) return 0;
   if (!(x < 65536.0)) return kDensitySigmaCount;
   uint64_t bits = 0;
@@ -82,7 +84,7 @@ int DensityKernelTable::sigma_index(double sigma) const {
   bits = (bits & ((uint64_t(1) << 52) - 1)) | (uint64_t(1023) << 52);  // the mantissa in [1, 2)
   double m = 0.0;
   std::memcpy(&m, &bits, sizeof m);
-  return kDensitySigmaSteps * octave + below_[bin] + (m >= next_[bin]);
+  return kDensitySigmaSteps / 2 * octave + below_[bin] + (m >= next_[bin]);
 }
 
 bool density_computed_taps(double centre, double sigma, int size, std::vector<uint16_t> *scratch,

@@ -52,10 +52,11 @@ class DensityKernelTable {
   // The process's table (built on first use; thread-safe).
   static const DensityKernelTable &get();
 
-  // k of the header for `sigma` (px): the number of boundaries 2^((i - 0.5) / 32), i >= 1, at or
-  // below 2 sigma (round(32 log2(2 sigma)), found from the bits of 2 sigma instead of a log), 0
-  // below sigma 0.5; kDensitySigmaCount or more: beyond the table.
-  int sigma_index(double sigma) const;
+  // k of the header for a width of variance `sigma2` = sigma^2 (px^2): the number of
+  // boundaries 2^((i - 0.5) / 16), i >= 1, at or below 4 sigma^2, which is round(32 log2(2 sigma))
+  // found from the bits of 4 sigma^2, without a square root or a log; 0 below sigma 0.5;
+  // kDensitySigmaCount or more: beyond the table.
+  int index_of_variance(double sigma2) const;
 
   // The taps of entry (k, phase of `centre`) on [0, size); false when none lies there. `centre`
   // must be finite and within 2^30 px of the image.
@@ -81,9 +82,9 @@ class DensityKernelTable {
   };
   std::vector<uint16_t> taps_;
   std::vector<Entry> entries_;  // k * kDensityPhases + phase
-  // Per 1/1024 of an octave of 2 sigma's mantissa: the boundaries below the bin, and the one
+  // Per 1/1024 of an octave of 4 sigma^2's mantissa: the boundaries below the bin, and the one
   // boundary that may fall inside it (at most one: bins are 1/710 of an octave wide at most,
-  // boundaries 1/32).
+  // boundaries 1/16).
   std::vector<uint8_t> below_;
   std::vector<double> next_;
 };

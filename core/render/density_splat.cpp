@@ -112,18 +112,23 @@ bool DensitySplatter::splat(const glm::dvec3 &c, double r, double weight, const 
   const double px = 0.5 * (x_ndc + 1.0) * g_.width;
   const double py = 0.5 * (1.0 - y_ndc) * g_.height;
   const double s = r / kCutoffSigmas * (0.5 * g_.height * g_.sy) * inv_d;  // pixels_per_unit(d)
-  const double sigma = std::sqrt(s * s + kPixelFilterSigma * kPixelFilterSigma);
-  // Nothing within reach of the image (also a non-finite centre): keeps int conversions in range.
-  const double reach = kCutoffSigmas * sigma + 1.0;
-  if (!(px > -reach && px < g_.width + reach && py > -reach && py < g_.height + reach))
-    return false;
+  // The table is indexed by sigma^2: no square root on the common path (its latency was 14 % of
+  // the splat's own samples on fcc 1 M).
+  const double sigma2 = s * s + kPixelFilterSigma * kPixelFilterSigma;
   AxisTaps ax, ay;
-  const int k = table_.sigma_index(sigma);
+  const int k = table_.index_of_variance(sigma2);
   if (k < kDensitySigmaCount) {
+    // Table footprints reach 25 px at most: a centre 2^30 px away touches nothing (and this keeps
+    // the int conversions in range; also false for a non-finite centre).
+    constexpr double kFar = double(1 << 30);
+    if (!(std::abs(px) < kFar && std::abs(py) < kFar)) return false;
     if (!table_.taps(px, k, g_.width, &ax) || !table_.taps(py, k, g_.height, &ay)) return false;
-  } else if (!density_computed_taps(px, sigma, g_.width, &scratch_x_, &ax) ||
-             !density_computed_taps(py, sigma, g_.height, &scratch_y_, &ay)) {
-    return false;
+  } else {
+    const double sigma = std::sqrt(sigma2);
+    if (!(std::isfinite(px) && std::isfinite(py))) return false;
+    if (!density_computed_taps(px, sigma, g_.width, &scratch_x_, &ax) ||
+        !density_computed_taps(py, sigma, g_.height, &scratch_y_, &ay))
+      return false;
   }
   pixels_written_ += int64_t(ax.count) * ay.count;
   // W = weight 2^F in [2^23, 2^24): F = 23 - floor(log2 weight). Weights repeat (1, or n / keep

@@ -32,7 +32,7 @@ TEST(DensityKernel, EveryTableEntrySumsToExactlyTwoToTheSixteen) {
     }
 }
 
-TEST(DensityKernel, SigmaIndexIsTheRoundedLogOfTwoSigma) {
+TEST(DensityKernel, IndexOfVarianceIsTheRoundedLogOfTwoSigma) {
   const DensityKernelTable &table = DensityKernelTable::get();
   uint32_t h = 99;
   for (int n = 0; n < 100000; ++n) {
@@ -40,12 +40,12 @@ TEST(DensityKernel, SigmaIndexIsTheRoundedLogOfTwoSigma) {
     const double sigma = 0.5 * std::exp2(5.0 * double(h) / 4294967296.0);  // 0.5 .. 16 px
     const double exact = 32.0 * std::log2(2.0 * sigma);
     if (std::abs(exact - std::floor(exact) - 0.5) < 1e-9) continue;  // a tie: either is fine
-    ASSERT_EQ(table.sigma_index(sigma), int(std::lround(exact))) << "sigma " << sigma;
+    ASSERT_EQ(table.index_of_variance(sigma * sigma), int(std::lround(exact))) << "sigma " << sigma;
   }
-  EXPECT_EQ(table.sigma_index(0.5), 0);
-  EXPECT_EQ(table.sigma_index(0.3), 0);  // below the pixel filter: the narrowest entry
-  EXPECT_EQ(table.sigma_index(1.0), 32);
-  EXPECT_GE(table.sigma_index(8.0), kDensitySigmaCount);
+  EXPECT_EQ(table.index_of_variance(0.5 * 0.5), 0);
+  EXPECT_EQ(table.index_of_variance(0.3 * 0.3), 0);  // below the pixel filter: the narrowest entry
+  EXPECT_EQ(table.index_of_variance(1.0 * 1.0), 32);
+  EXPECT_GE(table.index_of_variance(8.0 * 8.0), kDensitySigmaCount);
 }
 
 // The taps against the Gaussian of the unquantised sigma and centre, cut at 3 sigma and
@@ -58,7 +58,7 @@ TEST(DensityKernel, TapsFollowTheGaussianOfTheirSigmaAndCentre) {
   for (const double sigma : {0.5, 0.56, 0.9, 1.7, 3.3, 7.5})
     for (const double centre : {500.0, 500.013, 500.31, 500.5, 500.77, 500.99}) {
       AxisTaps t;
-      ASSERT_TRUE(table.taps(centre, table.sigma_index(sigma), kWide, &t));
+      ASSERT_TRUE(table.taps(centre, table.index_of_variance(sigma * sigma), kWide, &t));
       double norm = 0.0, peak = 0.0;
       std::vector<double> g;
       for (int x = int(centre - 5 * sigma) - 2; x <= int(centre + 5 * sigma) + 2; ++x) {
@@ -88,12 +88,13 @@ TEST(DensityKernel, TapsFollowTheGaussianOfTheirSigmaAndCentre) {
 TEST(DensityKernel, TapsAreClippedToTheAxis) {
   const DensityKernelTable &table = DensityKernelTable::get();
   AxisTaps t;
-  ASSERT_TRUE(table.taps(0.2, table.sigma_index(2.0), 100, &t));  // centre near the left end
+  ASSERT_TRUE(
+      table.taps(0.2, table.index_of_variance(2.0 * 2.0), 100, &t));  // centre near the left end
   EXPECT_EQ(t.first, 0);
   EXPECT_LT(sum_of(t), 65536 * 3 / 4);  // the left part is off the axis
   EXPECT_GT(sum_of(t), 65536 / 2);
-  EXPECT_FALSE(table.taps(-10.0, table.sigma_index(2.0), 100, &t));  // beyond 3 sigma
-  EXPECT_FALSE(table.taps(110.0, table.sigma_index(2.0), 100, &t));
+  EXPECT_FALSE(table.taps(-10.0, table.index_of_variance(2.0 * 2.0), 100, &t));  // beyond 3 sigma
+  EXPECT_FALSE(table.taps(110.0, table.index_of_variance(2.0 * 2.0), 100, &t));
 }
 
 TEST(DensityKernel, ComputedTapsBeyondTheTableAreNormalised) {
