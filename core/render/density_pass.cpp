@@ -64,10 +64,15 @@ CullStats render_density(const ParticleArrays &particles, const BrickSet &bricks
   // A brick's kept particles are gathered first (positions, radii, colors: loads that do not
   // depend on each other, so the cache misses of a scattered published order overlap), then
   // splatted. Measured 3x faster than splatting as it reads on a randomly ordered cloud.
+  // Then the whole brick is projected before any footprint is deposited: the projections do not
+  // depend on each other, so their divisions overlap instead of waiting behind each particle's
+  // pixel loop.
   struct Kept {
     glm::dvec3 x;
     double r;
     Rgb8 color;
+    uint8_t state;  // 0: deposit `f`; 1: cut; 2: behind the near plane
+    DensityFootprint f;
   };
   std::vector<Kept> kept;
   visit_positions(particles, [&](const auto &pos) {
@@ -81,14 +86,16 @@ CullStats render_density(const ParticleArrays &particles, const BrickSet &bricks
         kept.resize(v.keep);
         for (uint32_t k = 0; k < v.keep; ++k) {
           const uint32_t i = index[k];
-          kept[k] = {pos.get(i), radius.get(i), colors(i)};
+          kept[k] = {pos.get(i), radius.get(i), colors(i), 0, {}};
         }
+        for (Kept &p : kept)
+          p.state = v.cut_each && cuts.drops(p.x)                                  ? 1
+                    : splatter.project(g.to_view(p.x), p.r * v.radius_scale, &p.f) ? 0
+                                                                                   : 2;
         for (const Kept &p : kept) {
-          if (v.cut_each && cuts.drops(p.x)) {
+          if (p.state == 1)
             ++st.cut_culled;
-            continue;
-          }
-          if (splatter.splat(g.to_view(p.x), p.r * v.radius_scale, weight, p.color))
+          else if (p.state == 0 && splatter.deposit(p.f, weight, p.color))
             ++st.drawn;
           else
             ++st.frustum_culled;

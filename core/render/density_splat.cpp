@@ -101,20 +101,30 @@ void add_footprint(int64_t *image, int width, int channels, const AxisTaps &ax, 
 DensitySplatter::DensitySplatter(const ViewGeometry &g, DensityImage *image)
     : g_(g), image_(image), table_(DensityKernelTable::get()) {}
 
-bool DensitySplatter::splat(const glm::dvec3 &c, double r, double weight, const Rgb8 &color) {
+bool DensitySplatter::project(const glm::dvec3 &c, double r, DensityFootprint *out) const {
   const double d = -c.z;
   if (!(d > g_.near_plane)) return false;
-  if (!(weight >= kDensityMinWeight && weight < kDensityMaxWeight)) return false;
   // One division per particle (perspective), not three.
   const double inv_d = g_.orthographic ? 1.0 : 1.0 / d;
   const double x_ndc = g_.orthographic ? g_.sx * c.x + g_.tx : g_.sx * c.x * inv_d;
   const double y_ndc = g_.orthographic ? g_.sy * c.y + g_.ty : g_.sy * c.y * inv_d;
-  const double px = 0.5 * (x_ndc + 1.0) * g_.width;
-  const double py = 0.5 * (1.0 - y_ndc) * g_.height;
+  out->px = 0.5 * (x_ndc + 1.0) * g_.width;
+  out->py = 0.5 * (1.0 - y_ndc) * g_.height;
   const double s = r / kCutoffSigmas * (0.5 * g_.height * g_.sy) * inv_d;  // pixels_per_unit(d)
   // The table is indexed by sigma^2: no square root on the common path (its latency was 14 % of
   // the splat's own samples on fcc 1 M).
-  const double sigma2 = s * s + kPixelFilterSigma * kPixelFilterSigma;
+  out->sigma2 = s * s + kPixelFilterSigma * kPixelFilterSigma;
+  return true;
+}
+
+bool DensitySplatter::splat(const glm::dvec3 &c, double r, double weight, const Rgb8 &color) {
+  DensityFootprint f;
+  return project(c, r, &f) && deposit(f, weight, color);
+}
+
+bool DensitySplatter::deposit(const DensityFootprint &fp, double weight, const Rgb8 &color) {
+  if (!(weight >= kDensityMinWeight && weight < kDensityMaxWeight)) return false;
+  const double px = fp.px, py = fp.py, sigma2 = fp.sigma2;
   AxisTaps ax, ay;
   const int k = table_.index_of_variance(sigma2);
   if (k < kDensitySigmaCount) {

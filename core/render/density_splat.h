@@ -70,6 +70,12 @@ struct DensityImage {
   size_t pixel_count() const { return size_t(width) * size_t(height); }
 };
 
+// A particle's footprint on the image: centre (pixel units, x from the left, y from the top) and
+// sigma_eff^2 (px^2).
+struct DensityFootprint {
+  double px = 0.0, py = 0.0, sigma2 = 0.0;
+};
+
 class DensitySplatter {
  public:
   // Splats into `image` (already reset to the geometry's size) as seen through `g`.
@@ -80,6 +86,12 @@ class DensitySplatter {
   // the image has 4 channels.
   // Returns whether it touched any pixel.
   bool splat(const glm::dvec3 &c, double r, double weight, const Rgb8 &color);
+
+  // splat() in two steps, for a caller that projects a batch of particles before depositing
+  // them (independent projections overlap in the processor; same results bit for bit):
+  // project() is false when the centre is not in front of the near plane.
+  bool project(const glm::dvec3 &c, double r, DensityFootprint *out) const;
+  bool deposit(const DensityFootprint &f, double weight, const Rgb8 &color);
 
   // Pixels written so far (for the benchmark's bytes per particle).
   int64_t pixels_written() const { return pixels_written_; }
