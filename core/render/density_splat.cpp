@@ -27,7 +27,9 @@ struct Factors {
 
 // The pixel loops: per pixel p = tx ty (a 32-bit product), then per channel (M p + half) >>
 // shift, added into the int64 sums. The four channels of a pixel are one 256-bit vector (AVX2)
-// or two 128-bit ones (SSE2); integer arithmetic, so every path gives the same bits.
+// or two 128-bit ones (SSE2); integer arithmetic, so every path gives the same bits. With the
+// kernel table this replaced double products, float->int conversions and an exact rounded / 255
+// per colour channel: fcc 1 M at 1024^2, r 0.5, 175 -> 128 ms CPU for the two together.
 void add_scalar(int64_t *image, int width, int channels, const AxisTaps &ax, const AxisTaps &ay,
                 const Factors &f) {
   const uint64_t half = uint64_t(1) << (f.shift - 1);
@@ -87,11 +89,12 @@ bool has_avx2() {
 }
 #endif
 
-void add_footprint(int64_t *image, int width, int channels, const AxisTaps &ax, const AxisTaps &ay,
-                   const Factors &f) {
+void add_footprint(DensityPixelLoop loop, int64_t *image, int width, int channels,
+                   const AxisTaps &ax, const AxisTaps &ay, const Factors &f) {
 #ifdef LANTERN_DENSITY_X86
-  if (channels == 4)
-    return has_avx2() ? add4_avx2(image, width, ax, ay, f) : add4_sse2(image, width, ax, ay, f);
+  if (channels == 4 && loop != DensityPixelLoop::kScalar)
+    return loop == DensityPixelLoop::kAuto && has_avx2() ? add4_avx2(image, width, ax, ay, f)
+                                                         : add4_sse2(image, width, ax, ay, f);
 #endif
   add_scalar(image, width, channels, ax, ay, f);
 }
@@ -153,7 +156,7 @@ bool DensitySplatter::deposit(const DensityFootprint &fp, double weight, const R
     last_weight_ = weight, last_color_ = color;
   }
   const Factors fac{{factors_m_[0], factors_m_[1], factors_m_[2], factors_m_[3]}, factors_shift_};
-  add_footprint(image_->sum.data(), g_.width, image_->channels, ax, ay, fac);
+  add_footprint(loop_, image_->sum.data(), g_.width, image_->channels, ax, ay, fac);
   return true;
 }
 

@@ -76,6 +76,11 @@ struct DensityFootprint {
   double px = 0.0, py = 0.0, sigma2 = 0.0;
 };
 
+// The pixel loop of a four-channel image. kAuto: AVX2 where the processor has it, else SSE2 on
+// x86-64, else scalar; the others force one (SSE2 falls back to scalar off x86-64), for tests.
+// All give the same bits: the arithmetic is integer.
+enum class DensityPixelLoop { kAuto, kScalar, kSse2 };
+
 class DensitySplatter {
  public:
   // Splats into `image` (already reset to the geometry's size) as seen through `g`.
@@ -93,6 +98,8 @@ class DensitySplatter {
   bool project(const glm::dvec3 &c, double r, DensityFootprint *out) const;
   bool deposit(const DensityFootprint &f, double weight, const Rgb8 &color);
 
+  void set_pixel_loop(DensityPixelLoop loop) { loop_ = loop; }
+
   // Pixels written so far (for the benchmark's bytes per particle).
   int64_t pixels_written() const { return pixels_written_; }
 
@@ -106,6 +113,7 @@ class DensitySplatter {
   Rgb8 last_color_{0, 0, 0};
   uint64_t factors_m_[4] = {0, 0, 0, 0};
   int factors_shift_ = 1;
+  DensityPixelLoop loop_ = DensityPixelLoop::kAuto;
   int64_t pixels_written_ = 0;
 };
 
