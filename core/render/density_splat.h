@@ -22,9 +22,10 @@
 // vector multiply per channel and pixel. Colour channels hold round(W c tx ty / 2^(F + 16)), the
 // weight share times c / 256 (the mapping multiplies the mean back by 256), so every channel's
 // contribution is at most the weight channel's. A weight of 1 is exact up to the final rounding.
-// Weights outside [2^-24, 2^38) deposit nothing. Per particle and pixel q <= weight 2^24 + 2
-// (the rounding of W and of q), and weights are >= 1 and sum to at most the particle count N
-// (level of detail's n / m sum to the brick's n), so one pixel holds at most N (2^24 + 2) < 2^63
+// Weights outside [2^-24, 2^38) deposit nothing. Per particle and pixel q <= weight (2^24 + 2)
+// for weight >= 1 (W <= weight 2^F (1 + 2^-24), p < 2^32, plus q's rounding), and the density
+// pass's weights are >= 1 and sum to at most the particle count N (level of detail's n / m sum
+// to the brick's n), so one pixel holds at most N (2^24 + 2) < 2^63
 // while N <= 2^38 (2.7e11 particles): the pipeline refuses a density scene with more (a clear
 // error, never a wrapped sum). Resolution 2^-24 = 6e-8 of one particle per pixel; the taps' 2^-16
 // per axis keep a footprint's 3-sigma tail above zero up to about sigma_px = 100 px.
