@@ -60,7 +60,8 @@ void map_density(const DensityImage &image, const DensityConfig &config, const C
       continue;
     }
     for (int k = 0; k < 3; ++k) {
-      const double mean = 255.0 * double(s[1 + k]) / double(s[0]);
+      // Colour channels hold weight x colour / 256 (core/render/density_splat.h).
+      const double mean = 256.0 * double(s[1 + k]) / double(s[0]);
       out[k] = to_byte(background[k] + t * (mean - background[k]));
     }
   }

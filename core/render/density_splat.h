@@ -8,21 +8,27 @@
 //     r / 3 (so its 3-sigma cut-off is the sphere's own outline) blurred by a Gaussian pixel
 //     filter of 0.5 px (so a sub-pixel particle still spreads over a few pixels instead of
 //     aliasing onto the pixel grid);
-//   - cut off at 3 sigma_px on each axis (a square of side 6 sigma_px around the projected
-//     centre), separable: g(x, y) = gx(x) gy(y), each axis normalised so that its samples at the
-//     pixel centres sum to 1 (for sigma_px >= 8 the analytic integral is used instead; they agree
-//     to better than 0.1 %). A particle wholly inside the image therefore deposits exactly its
+//   - separable: the share of pixel (x, y) is weight * tx(x) * ty(y) with tx, ty the integer
+//     taps of core/render/density_kernel.h (each axis 2^16 in all: a Gaussian of that sigma cut
+//     off at 3 sigma, quantised to 2.2 % steps of sigma and 1/32 px of position up to
+//     sigma 7.9 px, computed beyond). A particle wholly inside the image therefore deposits its
 //     weight, up to the rounding of each pixel's share; pixels off the image are lost;
 //   - only a particle whose centre lies in front of the near plane contributes.
 //
-// Fixed point: each pixel's share is rounded to a multiple of 2^-24 of a particle's unit weight
-// (kDensityFractionBits) and summed in int64. Colour channels hold the share times the particle's
-// colour / 255, rounded the same way, so every channel's contribution is at most the weight
-// channel's. One pixel then holds at most N (2^24 + 1) for N particles of weight <= 1 each (level
-// of detail's weights n/m sum to the brick's n), which fits in int64 (< 2^63) while
-// N <= 2^38 (2.7e11 particles): the pipeline refuses a density scene with more (a clear error,
-// never a wrapped sum). Resolution 2^-24 = 6e-8 of one particle per pixel: a footprint of up to
-// about sigma_px = 100 px keeps its 3-sigma tail above it.
+// Fixed point: a pixel's weight share is q = round(W tx ty / 2^(F + 8)) in units of 2^-24 of a
+// particle's unit weight (kDensityFractionBits), with W = round(weight 2^F) and
+// F = 23 - floor(log2 weight), so W in [2^23, 2^24) (clamped to 2^24 - 1) holds 24 significant
+// bits of any weight, and W 256 and W c (c an 8-bit colour) fit 32 bits: a 32 x 32 -> 64-bit
+// vector multiply per channel and pixel. Colour channels hold round(W c tx ty / 2^(F + 16)), the
+// weight share times c / 256 (the mapping multiplies the mean back by 256), so every channel's
+// contribution is at most the weight channel's. A weight of 1 is exact up to the final rounding.
+// Weights outside [2^-24, 2^38) deposit nothing. Per particle and pixel q <= weight (2^24 + 2)
+// for weight >= 1 (W <= weight 2^F (1 + 2^-24), p < 2^32, plus q's rounding), and the density
+// pass's weights are >= 1 and sum to at most the particle count N (level of detail's n / m sum
+// to the brick's n), so one pixel holds at most N (2^24 + 2) < 2^63
+// while N <= 2^38 (2.7e11 particles): the pipeline refuses a density scene with more (a clear
+// error, never a wrapped sum). Resolution 2^-24 = 6e-8 of one particle per pixel; the taps' 2^-16
+// per axis keep a footprint's 3-sigma tail above zero up to about sigma_px = 100 px.
 //
 // Ownership: DensityImage owns its sums; DensitySplatter borrows the image and the geometry for
 // its lifetime. Thread-safety: none (one splatter per thread and image). Units: pixels, and
@@ -35,6 +41,7 @@
 #include <glm/vec3.hpp>
 
 #include "core/color/colormap.h"
+#include "core/render/density_kernel.h"
 #include "core/view/view_geometry.h"
 
 namespace lantern {
@@ -43,9 +50,13 @@ inline constexpr int kDensityFractionBits = 24;
 inline constexpr double kDensityUnit = double(int64_t(1) << kDensityFractionBits);
 // The most particles (over all ranks) a density scene accepts: see the header comment.
 inline constexpr int64_t kDensityMaxParticles = int64_t(1) << 38;
+// The weights a particle may carry (see the header comment).
+inline constexpr double kDensityMinWeight = 1.0 / double(1 << 24);
+inline constexpr double kDensityMaxWeight = double(kDensityMaxParticles);
 
 // The summed footprints of one frame. channels 1: the weight; 4: the weight, then weight times
-// red, green and blue (each / 255). Row-major, row 0 at the TOP, channels interleaved per pixel.
+// red, green and blue (each / 256, see above). Row-major, row 0 at the TOP, channels interleaved
+// per pixel.
 struct DensityImage {
   int width = 0;
   int height = 0;
@@ -60,27 +71,50 @@ struct DensityImage {
   size_t pixel_count() const { return size_t(width) * size_t(height); }
 };
 
+// A particle's footprint on the image: centre (pixel units, x from the left, y from the top) and
+// sigma_eff^2 (px^2).
+struct DensityFootprint {
+  double px = 0.0, py = 0.0, sigma2 = 0.0;
+};
+
+// The pixel loop of a four-channel image. kAuto: AVX2 where the processor has it, else SSE2 on
+// x86-64, else scalar; the others force one (SSE2 falls back to scalar off x86-64), for tests.
+// All give the same bits: the arithmetic is integer.
+enum class DensityPixelLoop { kAuto, kScalar, kSse2 };
+
 class DensitySplatter {
  public:
   // Splats into `image` (already reset to the geometry's size) as seen through `g`.
   DensitySplatter(const ViewGeometry &g, DensityImage *image);
 
   // One particle: view-space centre `c`, world radius `r`, `weight` (1, or n / m under level of
-  // detail), color used when the image has 4 channels. Returns whether it touched any pixel.
+  // detail; one outside [kDensityMinWeight, kDensityMaxWeight) deposits nothing), color used when
+  // the image has 4 channels.
+  // Returns whether it touched any pixel.
   bool splat(const glm::dvec3 &c, double r, double weight, const Rgb8 &color);
+
+  // splat() in two steps, for a caller that projects a batch of particles before depositing
+  // them (independent projections overlap in the processor; same results bit for bit):
+  // project() is false when the centre is not in front of the near plane.
+  bool project(const glm::dvec3 &c, double r, DensityFootprint *out) const;
+  bool deposit(const DensityFootprint &f, double weight, const Rgb8 &color);
+
+  void set_pixel_loop(DensityPixelLoop loop) { loop_ = loop; }
 
   // Pixels written so far (for the benchmark's bytes per particle).
   int64_t pixels_written() const { return pixels_written_; }
 
  private:
-  // The normalised 1D kernel of centre `centre` (pixel units) and `sigma` over pixel indices
-  // [*first, *last] clipped to [0, size); false when nothing of it lies on the image.
-  bool axis(double centre, double sigma, int size, std::vector<double> *taps, int *first,
-            int *last) const;
-
   const ViewGeometry &g_;
   DensityImage *image_;
-  std::vector<double> gx_, gy_;
+  const DensityKernelTable &table_;
+  std::vector<uint16_t> scratch_x_, scratch_y_;  // taps of footprints beyond the kernel table
+  // The previous particle's weight and colour, and the factors made of them (see the .cpp).
+  double last_weight_ = -1.0;
+  Rgb8 last_color_{0, 0, 0};
+  uint64_t factors_m_[4] = {0, 0, 0, 0};
+  int factors_shift_ = 1;
+  DensityPixelLoop loop_ = DensityPixelLoop::kAuto;
   int64_t pixels_written_ = 0;
 };
 

@@ -2,6 +2,7 @@
 // the total brightness, the transfer functions and the color blend.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <vector>
@@ -55,6 +56,134 @@ TEST(DensitySplat, OneFootprintIntegratesToItsWeight) {
     }
 }
 
+// W keeps 24 significant bits of any weight (F follows the weight's octave): weights far from 1
+// integrate as exactly as 1 does, and nothing outside [kDensityMinWeight, kDensityMaxWeight).
+TEST(DensitySplat, WeightsOfEveryOctaveIntegrateToThemselves) {
+  Camera camera;
+  const ViewGeometry g = ortho_geometry(&camera);
+  for (const double weight : {1.0 / 3.0, 1.0, 1.37, 255.5, 65536.0 + 0.25, 3.1e9, 2.0e11})
+    for (const int channels : {1, 4}) {
+      DensityImage image;
+      image.reset(g.width, g.height, channels);
+      DensitySplatter splat(g, &image);
+      ASSERT_TRUE(splat.splat(g.to_view({5.013, 4.971, 5.0}), 0.1, weight, {255, 255, 255}));
+      EXPECT_NEAR(total_weight(image), weight, 2e-6 * weight) << weight << " ch " << channels;
+    }
+  DensityImage image;
+  image.reset(g.width, g.height, 1);
+  DensitySplatter splat(g, &image);
+  EXPECT_FALSE(splat.splat(g.to_view({5, 5, 5}), 0.1, kDensityMaxWeight, {0, 0, 0}));
+  EXPECT_FALSE(splat.splat(g.to_view({5, 5, 5}), 0.1, 0.0, {0, 0, 0}));
+  EXPECT_FALSE(splat.splat(g.to_view({5, 5, 5}), 0.1, std::nan(""), {0, 0, 0}));
+  EXPECT_EQ(total_weight(image), 0.0);
+}
+
+// The four-channel image's weight channel (the vector pixel loop) is the one-channel image (the
+// scalar loop) bit for bit, and each colour channel is the weight times c / 256 up to rounding.
+TEST(DensitySplat, FourChannelWeightIsTheOneChannelImage) {
+  Camera camera;
+  const ViewGeometry g = ortho_geometry(&camera);
+  DensityImage one, four;
+  one.reset(g.width, g.height, 1);
+  four.reset(g.width, g.height, 4);
+  DensitySplatter s1(g, &one), s4(g, &four);
+  uint32_t h = 7;
+  const auto next = [&h] {
+    h ^= h << 13, h ^= h >> 17, h ^= h << 5;
+    return double(h) / 4294967296.0;
+  };
+  for (int n = 0; n < 3000; ++n) {
+    const glm::dvec3 c = g.to_view({10.4 * next() - 0.2, 10.4 * next() - 0.2, 5.0});
+    const double r = 0.02 + 0.5 * next(), w = 1.0 + 20.0 * next();
+    const Rgb8 color{uint8_t(n % 256), uint8_t(255 - n % 256), uint8_t(n % 7)};
+    ASSERT_EQ(s1.splat(c, r, w, color), s4.splat(c, r, w, color));
+  }
+  int64_t worst = 0;
+  for (size_t p = 0; p < one.pixel_count(); ++p) {
+    ASSERT_EQ(one.sum[p], four.sum[4 * p]) << "pixel " << p;
+    for (int k = 1; k < 4; ++k) {
+      ASSERT_LE(four.sum[4 * p + size_t(k)], four.sum[4 * p]);
+      ASSERT_GE(four.sum[4 * p + size_t(k)], 0);
+    }
+    worst = std::max(worst, four.sum[4 * p]);
+  }
+  EXPECT_GT(worst, int64_t(kDensityUnit));  // footprints overlap: sums of many particles
+}
+
+// The three pixel loops of a four-channel image (AVX2 where the processor has it, SSE2, scalar)
+// give the same sums, bit for bit, on overlapping footprints of many widths and weights.
+TEST(DensitySplat, EveryPixelLoopGivesTheSameSums) {
+  Camera camera;
+  const ViewGeometry g = ortho_geometry(&camera);
+  std::vector<int64_t> sums[3];
+  const DensityPixelLoop loops[3] = {DensityPixelLoop::kAuto, DensityPixelLoop::kSse2,
+                                     DensityPixelLoop::kScalar};
+  for (int l = 0; l < 3; ++l) {
+    DensityImage image;
+    image.reset(g.width, g.height, 4);
+    DensitySplatter splat(g, &image);
+    splat.set_pixel_loop(loops[l]);
+    uint32_t h = 3;
+    const auto next = [&h] {
+      h ^= h << 13, h ^= h >> 17, h ^= h << 5;
+      return double(h) / 4294967296.0;
+    };
+    for (int n = 0; n < 2000; ++n) {
+      const glm::dvec3 c = g.to_view({10.4 * next() - 0.2, 10.4 * next() - 0.2, 5.0});
+      const double r = n % 50 == 0 ? 3.0 * next() : 0.02 + 0.4 * next();  // some beyond the table
+      const double w = n % 3 == 0 ? 1.0 : 1.0 + 300.0 * next();
+      splat.splat(c, r, w, {uint8_t(n % 256), uint8_t(255 - n % 256), uint8_t(n % 7)});
+    }
+    sums[l] = image.sum;
+  }
+  EXPECT_TRUE(sums[0] == sums[1]);
+  EXPECT_TRUE(sums[0] == sums[2]);
+  int64_t nonzero = 0;
+  for (const int64_t v : sums[0]) nonzero += v != 0;
+  EXPECT_GT(nonzero, 10000);
+}
+
+// Perspective: the footprint's centroid is the projected centre (within 0.05 px, see
+// density_kernel_test) and it integrates to its weight; farther away, the same sphere is narrower.
+TEST(DensitySplat, PerspectiveFootprintsSitAtTheProjectedCentre) {
+  CameraConfig cc;
+  cc.projection = Projection::kPerspective;
+  cc.position = std::array<double, 3>{5, 5, 30};
+  cc.look_at = {5, 5, 5};
+  cc.up = {0, 1, 0};
+  Camera camera;
+  ASSERT_TRUE(make_camera(cc, {0, 0, 0}, {10, 10, 10}, 0.5, 300, 200, &camera).ok());
+  const ViewGeometry g = ViewGeometry::from_camera(camera, 100.0);
+  double widths[2] = {0, 0};
+  int n = 0;
+  for (const glm::dvec3 x : {glm::dvec3{3.3, 6.2, 8.0}, glm::dvec3{3.3, 6.2, 0.0}}) {
+    DensityImage image;
+    image.reset(g.width, g.height, 1);
+    DensitySplatter splat(g, &image);
+    const glm::dvec3 v = g.to_view(x);
+    ASSERT_TRUE(splat.splat(v, 0.3, 1.0, {0, 0, 0}));
+    EXPECT_NEAR(total_weight(image), 1.0, 1e-5);
+    const double d = -v.z;
+    const double px = 0.5 * (g.sx * v.x / d + 1.0) * g.width;
+    const double py = 0.5 * (1.0 - g.sy * v.y / d) * g.height;
+    double cx = 0, cy = 0, w = 0, xx = 0;
+    for (int y = 0; y < g.height; ++y)
+      for (int xi = 0; xi < g.width; ++xi) {
+        const double s = double(image.sum[size_t(y) * size_t(g.width) + size_t(xi)]);
+        cx += s * (xi + 0.5), cy += s * (y + 0.5), w += s;
+      }
+    cx /= w, cy /= w;
+    for (int y = 0; y < g.height; ++y)
+      for (int xi = 0; xi < g.width; ++xi)
+        xx += double(image.sum[size_t(y) * size_t(g.width) + size_t(xi)]) * (xi + 0.5 - cx) *
+              (xi + 0.5 - cx);
+    EXPECT_NEAR(cx, px, 0.05);  // 1/64 px phase step, plus the cut-off's and sampling's bias
+    EXPECT_NEAR(cy, py, 0.05);
+    widths[n++] = std::sqrt(xx / w);
+  }
+  EXPECT_GT(widths[0], 1.2 * widths[1]);  // the nearer one (z = 8, depth 22 vs 30) is wider
+}
+
 TEST(DensitySplat, ColorChannelsHoldTheWeightTimesTheColor) {
   Camera camera;
   const ViewGeometry g = ortho_geometry(&camera);
@@ -66,8 +195,9 @@ TEST(DensitySplat, ColorChannelsHoldTheWeightTimesTheColor) {
   for (size_t p = 0; p < image.pixel_count(); ++p)
     w += image.sum[4 * p], r += image.sum[4 * p + 1], gr += image.sum[4 * p + 2],
         b += image.sum[4 * p + 3];
-  EXPECT_NEAR(double(r) / double(w), 1.0, 1e-6);
-  EXPECT_NEAR(double(gr) / double(w), 0.2, 1e-6);
+  // Colour channels hold the weight times c / 256 (density_splat.h), each pixel rounded.
+  EXPECT_NEAR(double(r) / double(w), 255.0 / 256.0, 1e-6);
+  EXPECT_NEAR(double(gr) / double(w), 51.0 / 256.0, 1e-6);
   EXPECT_EQ(b, 0);
 }
 
@@ -171,7 +301,8 @@ TEST(DensityTransfer, ColorsBlendTheMeanColorOverTheBackground) {
   DensityImage image;
   image.reset(2, 1, 4);
   const int64_t u = int64_t(kDensityUnit);
-  image.sum = {0, 0, 0, 0, 4 * u, 4 * u, 2 * u, 0};  // pixel 1: mean color (255, 127.5, 0)
+  // Pixel 1: weight 4, colour channels weight x c / 256: mean color (255, 127.5, 0).
+  image.sum = {0, 0, 0, 0, 4 * u, 4 * u * 255 / 256, 2 * u * 255 / 256, 0};
   const uint8_t background[4] = {0, 0, 255, 255};
   Frame frame;
   map_density(image, DensityConfig{}, *Colormap::named("grayscale"), background, &frame);

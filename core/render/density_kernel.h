@@ -1,0 +1,98 @@
+// The footprint kernel of `style: density` along one image axis, in fixed point: what
+// core/render/density_splat.h multiplies, per pixel, into a particle's share. The kernel is
+// *defined* by the integer taps below (not by a Gaussian evaluated per particle): every particle
+// of the same quantised width and sub-pixel phase gets the same taps, so no exp is evaluated per
+// particle and each axis sums to exactly 2^16.
+//
+// One axis, footprint centre c (pixel units, pixel k's centre at k + 0.5), width sigma (px,
+// sigma >= 0.5: the pixel filter alone is 0.5):
+//   - Tabulated, for sigma < 0.5 * 2^(127.5 / 32) = 7.915 px: sigma is quantised
+//     logarithmically to sigma_k = 0.5 * 2^(k / 32), k = round(32 log2(2 sigma)) in [0, 128)
+//     (2.2 % steps), and the centre's sub-pixel phase to 1/32 px: with u = c - 0.5,
+//     b = floor(u), j = floor(32 (u - b)), the centre is taken at b + (j + 0.5) / 32
+//     (so a position error of at most 1/64 px). The taps of entry (k, j) are the samples
+//     exp(-t'^2 / (2 sigma_k^2)) at the pixel centres t' = t - (j + 0.5) / 32 within
+//     |t'| <= 3 sigma_k, scaled to integers that sum to exactly 2^16 (each sample's floor, the
+//     remainder handed out one unit at a time by largest fractional part, ties to the lower
+//     pixel), and stripped of zero taps at both ends. 128 x 32 entries, about 150 kB, built
+//     once per process.
+//   - Computed, for larger sigma: the same truncated Gaussian (3 sigma cut-off, unquantised
+//     centre and sigma), each tap round(2^16 g(t') / I) with I the analytic integral of the
+//     truncated Gaussian (within 0.1 % of the taps' sum from sigma 7.9 on), evaluated only over
+//     the pixels on the image.
+// A footprint whose taps all lie off the image (or a non-finite centre) has none.
+//
+// Thread-safety: the table is immutable once built (a function-local static); AxisTaps borrows
+// either the table or the caller's scratch.
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <vector>
+
+namespace lantern {
+
+inline constexpr int kDensityTapBits = 16;      // each axis's taps sum to 2^16 (tabulated exactly)
+inline constexpr int kDensitySigmaSteps = 32;   // table steps per octave of sigma
+inline constexpr int kDensitySigmaCount = 128;  // table sigmas: 0.5 .. 0.5 * 2^(127 / 32)
+inline constexpr int kDensityPhases = 32;       // sub-pixel phases per pixel
+
+// The taps of one axis on the image: pixel indices first .. first + count - 1, each with weight
+// taps[i] / 2^16.
+struct AxisTaps {
+  const uint16_t *taps = nullptr;
+  int first = 0;
+  int count = 0;
+};
+
+// The table of the header comment.
+class DensityKernelTable {
+ public:
+  // The process's table (built on first use; thread-safe).
+  static const DensityKernelTable &get();
+
+  // k of the header for a width of variance `sigma2` = sigma^2 (px^2): the number of
+  // boundaries 2^((i - 0.5) / 16), i >= 1, at or below 4 sigma^2, which is round(32 log2(2 sigma))
+  // found from the bits of 4 sigma^2, without a square root or a log; 0 below sigma 0.5;
+  // kDensitySigmaCount or more: beyond the table.
+  int index_of_variance(double sigma2) const;
+
+  // The taps of entry (k, phase of `centre`) on [0, size); false when none lies there. `centre`
+  // must be finite and within 2^30 px of the image.
+  bool taps(double centre, int k, int size, AxisTaps *out) const {
+    const double u = centre - 0.5, b = std::floor(u);
+    const int j = std::min(int((u - b) * kDensityPhases), kDensityPhases - 1);
+    const Entry &e = entries_[size_t(k) * kDensityPhases + size_t(j)];
+    const int lo = int(b) + e.first, hi = lo + int(e.count) - 1;
+    if (hi < 0 || lo > size - 1) return false;
+    const int a = std::max(lo, 0), z = std::min(hi, size - 1);
+    out->taps = taps_.data() + e.offset + (a - lo);
+    out->first = a;
+    out->count = z - a + 1;
+    return true;
+  }
+
+ private:
+  DensityKernelTable();
+  struct Entry {
+    uint32_t offset = 0;  // into taps_
+    int16_t first = 0;    // first tap's pixel, from floor(centre - 0.5)
+    uint16_t count = 0;
+  };
+  std::vector<uint16_t> taps_;
+  std::vector<Entry> entries_;  // k * kDensityPhases + phase
+  // Per 1/1024 of an octave of 4 sigma^2's mantissa: the boundaries below the bin, and the one
+  // boundary that may fall inside it (at most one: bins are 1/710 of an octave wide at most,
+  // boundaries 1/16).
+  std::vector<uint8_t> below_;
+  std::vector<double> next_;
+};
+
+// The taps of a footprint of centre `centre` and width `sigma` beyond the table (k >=
+// kDensitySigmaCount) on the pixels [0, size); false when none lies there. `scratch` holds the
+// taps and must outlive `out`'s use.
+bool density_computed_taps(double centre, double sigma, int size, std::vector<uint16_t> *scratch,
+                           AxisTaps *out);
+
+}  // namespace lantern

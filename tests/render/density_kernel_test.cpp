@@ -1,0 +1,116 @@
+// The tabulated footprint kernel of style: density (core/render/density_kernel.h): each entry
+// sums to exactly 2^16, follows the Gaussian of its sigma and centre, the sigma index is
+// round(32 log2(2 sigma)), and the computed kernel beyond the table is normalised.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdint>
+#include <vector>
+
+#include "core/render/density_kernel.h"
+
+namespace lantern {
+namespace {
+
+constexpr int kWide = 1 << 20;  // an axis no footprint reaches the ends of
+
+int64_t sum_of(const AxisTaps &t) {
+  int64_t s = 0;
+  for (int i = 0; i < t.count; ++i) s += t.taps[i];
+  return s;
+}
+
+TEST(DensityKernel, EveryTableEntrySumsToExactlyTwoToTheSixteen) {
+  const DensityKernelTable &table = DensityKernelTable::get();
+  for (int k = 0; k < kDensitySigmaCount; ++k)
+    for (int j = 0; j < kDensityPhases; ++j) {
+      AxisTaps t;
+      ASSERT_TRUE(table.taps(1000.5 + (j + 0.5) / kDensityPhases, k, kWide, &t));
+      ASSERT_EQ(sum_of(t), 1 << kDensityTapBits) << "k " << k << " phase " << j;
+      EXPECT_GT(t.taps[0], 0);  // zero taps stripped: no pixel is written for nothing
+      EXPECT_GT(t.taps[t.count - 1], 0);
+    }
+}
+
+TEST(DensityKernel, IndexOfVarianceIsTheRoundedLogOfTwoSigma) {
+  const DensityKernelTable &table = DensityKernelTable::get();
+  uint32_t h = 99;
+  for (int n = 0; n < 100000; ++n) {
+    h ^= h << 13, h ^= h >> 17, h ^= h << 5;
+    const double sigma = 0.5 * std::exp2(5.0 * double(h) / 4294967296.0);  // 0.5 .. 16 px
+    const double exact = 32.0 * std::log2(2.0 * sigma);
+    if (std::abs(exact - std::floor(exact) - 0.5) < 1e-9) continue;  // a tie: either is fine
+    ASSERT_EQ(table.index_of_variance(sigma * sigma), int(std::lround(exact))) << "sigma " << sigma;
+  }
+  EXPECT_EQ(table.index_of_variance(0.5 * 0.5), 0);
+  EXPECT_EQ(table.index_of_variance(0.3 * 0.3), 0);  // below the pixel filter: the narrowest entry
+  EXPECT_EQ(table.index_of_variance(1.0 * 1.0), 32);
+  EXPECT_GE(table.index_of_variance(8.0 * 8.0), kDensitySigmaCount);
+}
+
+// The taps against the Gaussian of the unquantised sigma and centre, cut at 3 sigma and
+// normalised over its samples: the quantisation (2.2 % of sigma, 1/64 px of position) moves a
+// tap by a few percent of the peak at most, and the centroid by 1/64 px (plus 0.02 px where the
+// shifted centre moves a tap across the 3-sigma cut-off) from the
+// unquantised samples' (which the 3-sigma cut-off and the sampling put up to 0.03 px off centre).
+TEST(DensityKernel, TapsFollowTheGaussianOfTheirSigmaAndCentre) {
+  const DensityKernelTable &table = DensityKernelTable::get();
+  for (const double sigma : {0.5, 0.56, 0.9, 1.7, 3.3, 7.5})
+    for (const double centre : {500.0, 500.013, 500.31, 500.5, 500.77, 500.99}) {
+      AxisTaps t;
+      ASSERT_TRUE(table.taps(centre, table.index_of_variance(sigma * sigma), kWide, &t));
+      double norm = 0.0, peak = 0.0;
+      std::vector<double> g;
+      for (int x = int(centre - 5 * sigma) - 2; x <= int(centre + 5 * sigma) + 2; ++x) {
+        const double d = x + 0.5 - centre;
+        g.push_back(std::abs(d) <= 3.0 * sigma ? std::exp(-d * d / (2 * sigma * sigma)) : 0.0);
+        norm += g.back();
+      }
+      const int x0 = int(centre - 5 * sigma) - 2;
+      double ref_centroid = 0.0;  // of the unquantised samples (cut-off and sampling bias it)
+      for (size_t i = 0; i < g.size(); ++i) {
+        peak = std::max(peak, g[i] /= norm);
+        ref_centroid += g[i] * (x0 + int(i) + 0.5);
+      }
+      double centroid = 0.0;
+      for (int i = 0; i < t.count; ++i) {
+        const double tap = t.taps[i] / 65536.0;
+        const int x = t.first + i;
+        ASSERT_GE(x - x0, 0);
+        EXPECT_NEAR(tap, g[size_t(x - x0)], 0.05 * peak) << "sigma " << sigma << " x " << x;
+        centroid += tap * (x + 0.5);
+      }
+      EXPECT_NEAR(centroid, ref_centroid, 1.0 / 64.0 + 0.02) << "sigma " << sigma;
+      EXPECT_NEAR(centroid, centre, 0.05) << "sigma " << sigma;
+    }
+}
+
+TEST(DensityKernel, TapsAreClippedToTheAxis) {
+  const DensityKernelTable &table = DensityKernelTable::get();
+  AxisTaps t;
+  ASSERT_TRUE(
+      table.taps(0.2, table.index_of_variance(2.0 * 2.0), 100, &t));  // centre near the left end
+  EXPECT_EQ(t.first, 0);
+  EXPECT_LT(sum_of(t), 65536 * 3 / 4);  // the left part is off the axis
+  EXPECT_GT(sum_of(t), 65536 / 2);
+  EXPECT_FALSE(table.taps(-10.0, table.index_of_variance(2.0 * 2.0), 100, &t));  // beyond 3 sigma
+  EXPECT_FALSE(table.taps(110.0, table.index_of_variance(2.0 * 2.0), 100, &t));
+}
+
+TEST(DensityKernel, ComputedTapsBeyondTheTableAreNormalised) {
+  std::vector<uint16_t> scratch;
+  for (const double sigma : {8.0, 20.0, 90.0}) {
+    AxisTaps t;
+    ASSERT_TRUE(density_computed_taps(5000.5, sigma, 10000, &scratch, &t));
+    EXPECT_NEAR(double(sum_of(t)), 65536.0, 1e-3 * 65536.0) << "sigma " << sigma;
+    EXPECT_EQ(t.count, 2 * int(3 * sigma) + 1);
+    EXPECT_GT(t.taps[0], 0);  // 2^-16 resolution keeps the 3-sigma tail
+  }
+  AxisTaps t;
+  ASSERT_TRUE(density_computed_taps(3.0, 20.0, 10000, &scratch, &t));  // clipped on the left
+  EXPECT_EQ(t.first, 0);
+  EXPECT_NEAR(double(sum_of(t)), 65536.0 * 0.56, 0.02 * 65536.0);
+}
+
+}  // namespace
+}  // namespace lantern
