@@ -67,21 +67,6 @@ inline uint32_t depth_order_key(double depth) {
   return bits & 0x80000000u ? ~bits : bits | 0x80000000u;
 }
 
-// The projected centre of view-space point c in pixels (x right, y down; pixel centres at k + 0.5).
-// False behind the near plane.
-inline bool pixel_of(const ViewGeometry &g, const glm::dvec3 &c, double *x, double *y) {
-  double xn, yn;
-  if (g.orthographic) {
-    xn = g.sx * c.x + g.tx, yn = g.sy * c.y + g.ty;
-  } else {
-    const double d = -c.z;
-    if (d <= g.near_plane) return false;
-    xn = g.sx * c.x / d, yn = g.sy * c.y / d;
-  }
-  *x = (xn + 1.0) * 0.5 * g.width, *y = (1.0 - yn) * 0.5 * g.height;
-  return true;
-}
-
 // Calls f(sample index) for each sample of the nx x ny grid inside the disc (centre x, y,
 // radius r, in samples; sample (i, j) at (i + 0.5, j + 0.5)).
 template <typename F>
@@ -130,7 +115,7 @@ bool select_front(const Positions &pos, const Radii &radius, const ViewGeometry 
     float *d = &s->disc[3 * size_t(k)];
     d[2] = -1.0f;  // covers nothing
     double x, y;
-    if (!pixel_of(g, c, &x, &y)) continue;
+    if (!g.pixel_position(c, &x, &y)) continue;
     d[0] = float((x - rect.x0) / step), d[1] = float((y - rect.y0) / step);
     d[2] = float(r * g.pixels_per_unit(-c.z) / step);
     for_samples_in_disc(d[0], d[1], d[2], nx, ny,

@@ -12,16 +12,9 @@ namespace {
 
 // The reference pixel of seed 000: the pixel the projected centre falls in.
 bool reference_pixel(const ViewGeometry &g, const glm::dvec3 &c, int *x, int *y) {
-  double xn, yn;
-  if (g.orthographic) {
-    xn = g.sx * c.x + g.tx, yn = g.sy * c.y + g.ty;
-  } else {
-    const double d = -c.z;
-    if (d <= g.near_plane) return false;
-    xn = g.sx * c.x / d, yn = g.sy * c.y / d;
-  }
-  const double fx = std::floor((xn + 1.0) * 0.5 * g.width),
-               fy = std::floor((1.0 - yn) * 0.5 * g.height);
+  double px, py;
+  if (!g.pixel_position(c, &px, &py)) return false;
+  const double fx = std::floor(px), fy = std::floor(py);
   if (!(fx >= 0 && fy >= 0 && fx < g.width && fy < g.height)) return false;
   *x = int(fx), *y = int(fy);
   return true;

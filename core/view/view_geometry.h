@@ -70,6 +70,22 @@ struct ViewGeometry {
     return 0.5 * z_ndc + 0.5;
   }
 
+  // The projected position of view-space point c in pixels (x right, y down from the image's
+  // top-left corner; pixel k spans [k, k + 1)). False when c is not beyond the near plane
+  // (perspective).
+  bool pixel_position(const glm::dvec3 &c, double *x, double *y) const {
+    double xn, yn;
+    if (orthographic) {
+      xn = sx * c.x + tx, yn = sy * c.y + ty;
+    } else {
+      const double d = -c.z;
+      if (d <= near_plane) return false;
+      xn = sx * c.x / d, yn = sy * c.y / d;
+    }
+    *x = (xn + 1.0) * 0.5 * width, *y = (1.0 - yn) * 0.5 * height;
+    return true;
+  }
+
   // Every pixel whose centre the sphere (view-space centre c, radius r) could cover, clamped to
   // the image. A sphere reaching behind the near plane gets the whole image.
   PixelRect sphere_rect(const glm::dvec3 &c, double r) const;

@@ -15,16 +15,13 @@
 #include "core/culling/brick_selection.h"
 #include "core/render/cpu_sphere_pass.h"
 #include "core/render/sphere_instances.h"
+#include "tests/support/bricked_particles.h"
 
 namespace lantern {
 namespace {
 
 // `n` particles uniform in a cube of side `side` (fixed seed), radius 0.5 (the scene default).
-struct Cloud {
-  std::vector<double> xyz;
-  std::vector<int32_t> type;
-  ParticleArrays arrays;
-  BrickSet bricks;
+struct Cloud : testing::BrickedParticles {
   double side;
   Cloud(int n, double side_) : side(side_) {
     std::mt19937_64 rng(7);
@@ -33,12 +30,7 @@ struct Cloud {
       xyz.insert(xyz.end(), {u(rng), u(rng), u(rng)});
       type.push_back(i % 3);
     }
-    ParticleDescription d{};
-    d.count = int64_t(type.size());
-    d.position = {xyz.data(), DataType::kFloat64, 0};
-    d.type = {type.data(), DataType::kInt32, 0};
-    EXPECT_TRUE(ParticleArrays::validate(d, &arrays).ok());
-    bricks = build_bricks(arrays, BrickOptions{});
+    finish();
   }
   Camera camera(const SceneConfig &s) const {
     Camera cam;

@@ -14,15 +14,12 @@
 #include "core/render/cpu_sphere_pass.h"
 #include "core/render/density_pass.h"
 #include "core/render/sphere_instances.h"
+#include "tests/support/bricked_particles.h"
 
 namespace lantern {
 namespace {
 
-struct Lattice {
-  std::vector<double> xyz;
-  std::vector<int32_t> type;
-  ParticleArrays arrays;
-  BrickSet bricks;
+struct Lattice : testing::BrickedParticles {
   Lattice() {
     for (int z = 0; z < 30; ++z)
       for (int y = 0; y < 30; ++y)
@@ -30,12 +27,7 @@ struct Lattice {
           xyz.insert(xyz.end(), {x * 1.1, y * 1.1 + 0.05 * (x % 3), z * 1.1});
           type.push_back((x / 5 + y / 5 + z / 5) % 4);
         }
-    ParticleDescription d{};
-    d.count = int64_t(type.size());
-    d.position = {xyz.data(), DataType::kFloat64, 0};
-    d.type = {type.data(), DataType::kInt32, 0};
-    EXPECT_TRUE(ParticleArrays::validate(d, &arrays).ok());
-    bricks = build_bricks(arrays, BrickOptions{});
+    finish();
   }
 };
 

@@ -20,6 +20,7 @@
 #include "core/culling/cull_stage.h"
 #include "core/render/cpu_sphere_pass.h"
 #include "core/render/sphere_instances.h"
+#include "tests/support/bricked_particles.h"
 
 namespace lantern {
 namespace {
@@ -27,11 +28,7 @@ namespace {
 // A simple cubic block of n^3 sites, radius 0.75. At spacing 1 neighbouring spheres overlap enough
 // (0.75 > sqrt(2) / 2) that a layer seen along an axis covers every pixel of its face, and a
 // sphere one layer back is 1 deeper everywhere it projects, so only the front layer shows.
-struct Block {
-  std::vector<double> xyz;
-  std::vector<int32_t> type;
-  ParticleArrays arrays;
-  BrickSet bricks;
+struct Block : testing::BrickedParticles {
   int n;
   double spacing;
   explicit Block(int n_, double spacing_ = 1.0) : n(n_), spacing(spacing_) {
@@ -41,12 +38,7 @@ struct Block {
           xyz.insert(xyz.end(), {x * spacing, y * spacing, z * spacing});
           type.push_back((x + 2 * y + 3 * z) % 5);
         }
-    ParticleDescription d{};
-    d.count = int64_t(type.size());
-    d.position = {xyz.data(), DataType::kFloat64, 0};
-    d.type = {type.data(), DataType::kInt32, 0};
-    EXPECT_TRUE(ParticleArrays::validate(d, &arrays).ok());
-    bricks = build_bricks(arrays, BrickOptions{});
+    finish();
   }
 };
 

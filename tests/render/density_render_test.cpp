@@ -14,6 +14,7 @@
 #include "core/render/density_pass.h"
 #include "core/render/density_splat.h"
 #include "core/view/view_geometry.h"
+#include "tests/support/bricked_particles.h"
 
 namespace lantern {
 namespace {
@@ -213,11 +214,7 @@ TEST(DensitySplat, ParticlesBehindTheNearPlaneOrOffTheImageDepositNothing) {
 }
 
 // A cloud of 60,000 particles in [1, 9]^3 in bricks with the z-order level layout.
-struct Cloud {
-  std::vector<double> xyz;
-  std::vector<int32_t> type;
-  ParticleArrays arrays;
-  BrickSet bricks;
+struct Cloud : testing::BrickedParticles {
   Cloud() {
     uint32_t h = 12345;
     const auto next = [&h] {
@@ -230,12 +227,7 @@ struct Cloud {
       for (int k = 0; k < 3; ++k) xyz.push_back(blob ? 4.0 + 1.5 * next() : 1.0 + 8.0 * next());
       type.push_back(i % 3);
     }
-    ParticleDescription d{};
-    d.count = int64_t(type.size());
-    d.position = {xyz.data(), DataType::kFloat64, 0};
-    d.type = {type.data(), DataType::kInt32, 0};
-    EXPECT_TRUE(ParticleArrays::validate(d, &arrays).ok());
-    bricks = build_bricks(arrays, BrickOptions{});
+    finish();
   }
 };
 
