@@ -38,6 +38,7 @@
 #include <glm/geometric.hpp>
 
 #include "bench_scenes.h"
+#include "bench_timing.h"
 #include "core/bricks/brick_set.h"
 #include "core/camera/camera.h"
 #include "core/config/enum_names.h"
@@ -57,19 +58,6 @@
 
 namespace lantern::bench {
 namespace {
-
-using Clock = std::chrono::steady_clock;
-double ms_since(Clock::time_point t0) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
-}
-
-// CPU time of the calling thread: the culling stage runs on one thread, so this is its cost
-// without the waiting a loaded machine adds to wall-clock time.
-double thread_cpu_ms() {
-  timespec ts{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-  return ts.tv_sec * 1e3 + ts.tv_nsec * 1e-6;
-}
 
 struct Options {
   std::vector<std::string> scenes{"fcc1m", "fcc10m", "inside", "void_impact", "droplet"};
@@ -134,13 +122,6 @@ std::vector<Mode> modes() {
     m.push_back(prob);
   }
   return m;
-}
-
-double median(std::vector<double> v) {
-  if (v.empty()) return 0.0;
-  std::sort(v.begin(), v.end());
-  const size_t n = v.size();
-  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
 // `camera` turned by `degrees` about the vertical axis through what it looks at: the automatic

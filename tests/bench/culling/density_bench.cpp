@@ -8,6 +8,7 @@
 
 #include <OpenImageIO/imagebuf.h>
 
+#include "bench_timing.h"
 #include "core/bricks/brick_set.h"
 #include "core/camera/camera.h"
 #include "core/composite/density_transfer.h"
@@ -21,25 +22,6 @@
 
 namespace lantern::bench {
 namespace {
-
-using Clock = std::chrono::steady_clock;
-double ms_since(Clock::time_point t0) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
-}
-
-// CPU time of the calling thread: the splat runs on one thread, so this is its cost per core
-// without the waiting a loaded machine adds to wall-clock time.
-double thread_cpu_ms() {
-  timespec ts{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-  return ts.tv_sec * 1e3 + ts.tv_nsec * 1e-6;
-}
-
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  const size_t n = v.size();
-  return n == 0 ? 0.0 : (n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]));
-}
 
 struct Sample {
   std::string mode;

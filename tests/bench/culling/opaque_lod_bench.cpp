@@ -7,6 +7,7 @@
 #include <memory>
 #include <string>
 
+#include "bench_timing.h"
 #include "core/bricks/brick_set.h"
 #include "core/camera/camera.h"
 #include "core/culling/brick_selection.h"
@@ -21,17 +22,6 @@
 
 namespace lantern::bench {
 namespace {
-
-using Clock = std::chrono::steady_clock;
-double ms_since(Clock::time_point t0) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
-}
-
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  const size_t n = v.size();
-  return n == 0 ? 0.0 : (n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]));
-}
 
 // The particles of the uniform random sample of `fraction`, each grown as level of detail grows
 // the spheres it keeps (level_of_detail.h, LodGrowth::kCoverage): by (1 / fraction)^(1/2) where

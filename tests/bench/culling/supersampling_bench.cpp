@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <memory>
 
+#include "bench_timing.h"
 #include "core/bricks/brick_set.h"
 #include "core/camera/camera.h"
 #include "core/composite/sample_downsampling.h"
@@ -21,18 +22,6 @@
 
 namespace lantern::bench {
 namespace {
-
-using Clock = std::chrono::steady_clock;
-double ms_since(Clock::time_point t0) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
-}
-
-double median(std::vector<double> v) {
-  if (v.empty()) return 0.0;
-  std::sort(v.begin(), v.end());
-  const size_t n = v.size();
-  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
 
 int axis_of(int samples) {
   SceneConfig s;
