@@ -4,6 +4,7 @@
 #include <vector>
 
 #include "core/common/collective_status.h"
+#include "core/dump/frame_cut_back.h"
 
 namespace lantern {
 namespace {
@@ -154,13 +155,19 @@ Status DumpStage::write(MPI_Comm comm, const ParticleArrays &particles, const Ex
       with_context(where, writer_->append({&particles, particles.has_mask() ? &rows : nullptr,
                                            offset, total, step, time, b}));
   if (appended.ok()) return appended;
-  // Agreed by the writer: every rank closes the file here, together, and stops dumping.
-  const int64_t kept = writer_->frames();
+  // Agreed by the writer: every rank closes the file here, together, and stops dumping; then rank
+  // 0 cuts the failed frame back from every time series (serially, on the closed file).
+  const int64_t kept = writer_->frames(), kept_rows = writer_->rows();
   writer_.reset();
   stopped_ = true;
-  return {appended.code, appended.message + " (dump stopped for the rest of the run; " +
-                             config_.file + " keeps its " + std::to_string(kept) +
-                             " earlier frame" + (kept == 1 ? "" : "s") + ")"};
+  const Status cut = broadcast_status(
+      comm, rank == 0 ? cut_back_frames(config_.file, kept, kept_rows) : Status(), 0);
+  return {appended.code,
+          appended.message + " (dump stopped for the rest of the run; " + config_.file +
+              " keeps its " + std::to_string(kept) + " earlier frame" + (kept == 1 ? "" : "s") +
+              (cut.ok() ? ")"
+                        : "; cutting the failed frame back failed: " + cut.message +
+                              ", so some datasets may be one frame longer than their step)")};
 }
 
 }  // namespace lantern

@@ -15,10 +15,9 @@
 // message (the Hdf5Error of hdf5_handle.h stays inside the writer). After a failed frame the
 // caller should destroy the writer (collective close) and write no more: the file keeps every
 // completed frame, and the failed one may have left some datasets one frame longer than their
-// `step` (H5mdReader ignores such a trailing partial frame; shrinking the datasets back is not
-// done, because shrinking chunked datasets in parallel HDF5 can itself leave ranks in different
-// collective calls). After every frame the file is flushed, so a crash later leaves a valid
-// file with every completed frame.
+// `step`, which the caller then cuts back on one rank (frame_cut_back.h: shrinking chunked
+// datasets in parallel HDF5 can itself leave ranks in different collective calls). After every
+// frame the file is flushed, so a crash later leaves a valid file with every completed frame.
 #pragma once
 
 #include <mpi.h>
@@ -82,6 +81,8 @@ class H5mdWriter {
   const DumpLayout &layout() const { return layout_; }
   const std::string &path() const { return path_; }
   int64_t frames() const { return static_cast<int64_t>(frames_); }
+  // N_max of the complete frames: the rows of the per-particle datasets before a failed frame.
+  int64_t rows() const { return static_cast<int64_t>(particles_); }
 
  private:
   H5mdWriter(MPI_Comm comm, const std::string &path, const DumpLayout &layout)
