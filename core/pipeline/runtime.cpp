@@ -78,14 +78,15 @@ Status Runtime::open_gl() {
   return {};
 }
 
-Status Runtime::open(const std::string &config_text, MPI_Comm comm, std::unique_ptr<Runtime> *out) {
+Status Runtime::open(const std::string &config_text, MPI_Comm comm, std::unique_ptr<Runtime> *out,
+                     const Status &caller) {
   std::unique_ptr<Runtime> rt(new Runtime());
   if (MPI_Comm_dup(comm, &rt->comm_) != MPI_SUCCESS)
     return {StatusCode::kMpi, "mpi_comm_f: MPI_Comm_dup failed on this communicator"};
   MPI_Comm_rank(rt->comm_, &rt->rank_);
   MPI_Comm_size(rt->comm_, &rt->size_);
 
-  const Status local = rt->load_first_config(config_text);
+  const Status local = caller.ok() ? rt->load_first_config(config_text) : caller;
   if (Status s = agree_on_status(rt->comm_, local); !s.ok()) return s;
   if (Status s = rt->agree_on_first_config(); !s.ok()) return s;
   if (!rt->config_.scenes.empty())
@@ -120,11 +121,26 @@ Status Runtime::publish(const ParticleDescription &particles) {
   return {};
 }
 
+Status Runtime::mpi_usable(const char *function) const {
+  int finalized = 0;
+  MPI_Finalized(&finalized);
+  if (!finalized) return {};
+  return {StatusCode::kMpi,
+          std::string(function) +
+              ": MPI was finalized (MPI_Finalize) while this context was open; close Lantern "
+              "contexts before MPI_Finalize (mpi4py finalizes MPI at exit, after them)"};
+}
+
 Status Runtime::finish() {
   Status local;
   for (size_t s = 0; s < buffers_.size(); ++s)
     if (Status st = buffers_[s].writer.wait(); !st.ok() && local.ok())
       local = with_context("scenes '" + config_.scenes[s].name + "': ", std::move(st));
+  // After MPI_Finalize nothing collective can run: this rank's images were waited for, the
+  // context is released without the others (the destructor leaves the dump file to HDF5, which
+  // closed it in MPI_Finalize).
+  if (Status s = mpi_usable("lantern_close"); !s.ok())
+    return local.ok() ? s : Status(s.code, s.message + "; and " + local.message);
   return broadcast_status(comm_, local, 0);
 }
 
@@ -148,6 +164,7 @@ Status Runtime::execute(int64_t step, double time) {
   bool dump_due = dump_ && dump_->due(step);
   bool render_due = config_.schedule.due(step);
   if (!dump_due && !render_due) return {};
+  if (Status s = mpi_usable("lantern_execute"); !s.ok()) return s;
   if (watch_.active() && follow_config_file(step)) {  // the edited file rules from this step on
     dump_due = dump_ && dump_->due(step);
     render_due = config_.schedule.due(step);

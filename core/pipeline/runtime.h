@@ -27,7 +27,10 @@ namespace lantern {
 class Runtime {
  public:
   // Collective over comm. On failure returns the (agreed) status and leaves *out empty.
-  static Status open(const std::string &config, MPI_Comm comm, std::unique_ptr<Runtime> *out);
+  // `caller`: a failure of this rank's own arguments (a NULL from the C API), agreed with the
+  // others like a configuration error, so that no rank returns before the collective open.
+  static Status open(const std::string &config, MPI_Comm comm, std::unique_ptr<Runtime> *out,
+                     const Status &caller = Status());
   ~Runtime();
   Runtime(const Runtime &) = delete;
   Runtime &operator=(const Runtime &) = delete;
@@ -56,6 +59,9 @@ class Runtime {
   // The GL session the configuration and environment ask for, or none (then the CPU raster
   // draws); collective, with the outcome agreed. Warns once on rank 0 when it falls back.
   Status open_gl();
+  // OK while MPI runs; kMpi once the host called MPI_Finalize with this context still open
+  // (then no collective call may be made: MPI would abort). Local.
+  Status mpi_usable(const char *function) const;
   void warn_nonfinite_once(int64_t count, int64_t step);
   // Live configuration (runtime_reconfigure.cpp). load_first_config: lantern_open's config into
   // config_ (local). switch_config: collective, `text` the same on every rank. follow_config_file:

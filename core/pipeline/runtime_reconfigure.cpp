@@ -72,6 +72,7 @@ Status Runtime::agree_on_first_config() {
 }
 
 Status Runtime::reconfigure(const std::optional<std::string> &config) {
+  if (Status s = mpi_usable("lantern_reconfigure"); !s.ok()) return s;
   std::string text, path;
   const Status read =
       config ? read_config_text(*config, &text, &path)
@@ -84,8 +85,13 @@ Status Runtime::reconfigure(const std::optional<std::string> &config) {
 }
 
 Status Runtime::switch_config(const std::string &text, const std::string &path, uint64_t hash) {
-  // The same text from the same place: nothing to parse, nothing to rebuild.
-  if (hash == config_hash_ && path == config_path_) return {};
+  // The same text from the same place: nothing to parse, nothing to rebuild. Agreed, because the
+  // place may differ between ranks with the same text (a path on rank 0, the document inline on
+  // the others): a rank that returned here would leave the others waiting in the collectives
+  // below.
+  int unchanged = hash == config_hash_ && path == config_path_;
+  MPI_Allreduce(MPI_IN_PLACE, &unchanged, 1, MPI_INT, MPI_LAND, comm_);
+  if (unchanged) return {};
   Config next;
   Status local = load_config_text(text, source_name(path), &next);
   if (local.ok()) local = apply_environment(&next);

@@ -146,7 +146,11 @@ LANTERN_API int lantern_version_number(void);
  * context that holds only the error message (read it with lantern_error_message(), then close
  * it), or to NULL when even that could not be allocated or `out` is NULL. Collective: every rank
  * must give the same configuration text (the documents, or the files' contents, are compared by
- * hash; LANTERN_ERR_INVALID_ARGUMENT naming the first rank that differs).
+ * hash; LANTERN_ERR_INVALID_ARGUMENT naming the first rank that differs), and every rank returns
+ * the same status - a NULL `config` or `out` on one rank fails the open on every rank
+ * (LANTERN_ERR_NULL_ARGUMENT) rather than leaving the others waiting. LANTERN_ERR_MPI, on the
+ * rank that passed it, for a `mpi_comm_f` that is not a communicator handle (checked without
+ * letting MPI's fatal error handler abort), an intercommunicator, or MPI already finalized.
  */
 LANTERN_API lantern_status lantern_open(const char *config, int mpi_comm_f, lantern_context **out);
 
@@ -157,7 +161,7 @@ LANTERN_API lantern_status lantern_open(const char *config, int mpi_comm_f, lant
  * bricks, the OpenGL session, the dump file, and each scene's buffers, asynchronous writer and
  * per-brick cutting-plane state, matched by scene name (a scene whose cut_planes changed
  * reclassifies only the bricks those planes touch). A text identical to the running one, from the
- * same place, costs one hash and two small collectives: nothing is parsed or rebuilt.
+ * same place, costs one hash and three small collectives: nothing is parsed or rebuilt.
  *
  * May not change while running (LANTERN_ERR_CONFIG naming the key): gl, egl_device, and the dump
  * section's enabled, file, fields and precision (dump.schedule may change).
@@ -223,7 +227,9 @@ LANTERN_API const char *lantern_status_string(lantern_status status);
 
 /* Flushes outputs (waits for images written in the background, see output.asynchronous) and
  * frees the context. Returns LANTERN_ERR_IO if such an image could not be written. Safe on NULL.
- * Collective. */
+ * Collective. If the host already called MPI_Finalize, the context is released without any MPI
+ * call (its images are still waited for) and LANTERN_ERR_MPI says so; lantern_execute() on a
+ * scheduled step and lantern_reconfigure() return LANTERN_ERR_MPI then too. */
 LANTERN_API lantern_status lantern_close(lantern_context *ctx);
 
 #ifdef __cplusplus
