@@ -14,6 +14,7 @@
 #include <sstream>
 
 #include "core/common/quoted_text.h"
+#include "core/config/config_file.h"
 #include "core/config/enum_names.h"
 #include "core/config/file_pattern.h"
 #include "core/config/yaml_reader.h"
@@ -670,21 +671,11 @@ bool is_inline_document(const std::string &s) {
   return s.find('\n') != std::string::npos || (first != std::string::npos && s[first] == '{');
 }
 
-// Reads the whole file. On failure kConfig (a configuration that cannot be read is a
-// configuration error, LANTERN_ERROR_CONFIG in the C API) naming the file and the OS reason.
+// Reads the whole file (config_file.h). On failure kConfig (a configuration that cannot be read
+// is a configuration error, LANTERN_ERROR_CONFIG in the C API) naming the file and the reason.
 Status read_file(const std::string &path, std::string *text) {
-  const auto unreadable = [&](const std::string &reason) {
-    return Status(StatusCode::kConfig, "cannot read config file '" + path + "': " + reason);
-  };
-  std::error_code ec;
-  if (std::filesystem::is_directory(path, ec)) return unreadable(std::strerror(EISDIR));
-  errno = 0;
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return unreadable(std::strerror(errno != 0 ? errno : ENOENT));
-  std::ostringstream buffer;
-  buffer << in.rdbuf();
-  if (in.bad()) return unreadable("read error");
-  *text = buffer.str();
+  if (const std::string why = read_config_file(path, text); !why.empty())
+    return {StatusCode::kConfig, "cannot read config file '" + path + "': " + why};
   return {};
 }
 

@@ -8,6 +8,7 @@
 // lazily by the next pass (a frame of a new size, the counts of a new scene). What may not change
 // is in core/config/live_change.h.
 #include <cstdio>
+#include <filesystem>
 #include <string>
 #include <utility>
 #include <vector>
@@ -50,6 +51,31 @@ Status check_watch_source(const Config &config, const std::string &path) {
   return {};
 }
 
+// True when `output` names the file at `source` (the same file through any path or link).
+bool same_file(const std::string &output, const std::string &source) {
+  std::error_code ec;
+  if (std::filesystem::equivalent(output, source, ec)) return true;
+  const auto normal = [](const std::string &p) {
+    std::error_code ignored;
+    return std::filesystem::weakly_canonical(p, ignored).lexically_normal();
+  };
+  return normal(output) == normal(source);
+}
+
+// The stats file or the dump pointing at the configuration's own file would append JSON lines to
+// the configuration (or replace it by HDF5), which a watch then reads back as a broken edit.
+Status check_outputs_spare_the_source(const Config &config, const std::string &path) {
+  if (path.empty()) return {};
+  if (!config.stats_file.empty() && same_file(config.stats_file, path))
+    return {StatusCode::kConfig, "stats: '" + config.stats_file +
+                                     "' is the configuration file itself; Lantern would append "
+                                     "its stats lines to the configuration (give another path)"};
+  if (config.dump.enabled && same_file(config.dump.file, path))
+    return {StatusCode::kConfig, "dump.file: '" + config.dump.file +
+                                     "' is the configuration file itself (give another path)"};
+  return {};
+}
+
 const char *source_name(const std::string &path) {
   return path.empty() ? "inline config" : path.c_str();
 }
@@ -62,6 +88,7 @@ Status Runtime::load_first_config(const std::string &path_or_document) {
   if (Status s = load_config_text(text, source_name(config_path_), &config_); !s.ok()) return s;
   if (Status s = apply_environment(&config_); !s.ok()) return s;
   if (Status s = check_watch_source(config_, config_path_); !s.ok()) return s;
+  if (Status s = check_outputs_spare_the_source(config_, config_path_); !s.ok()) return s;
   config_hash_ = content_hash(text);
   if (config_.watch) watch_.start(config_path_, config_hash_);
   return {};
@@ -96,6 +123,7 @@ Status Runtime::switch_config(const std::string &text, const std::string &path, 
   Status local = load_config_text(text, source_name(path), &next);
   if (local.ok()) local = apply_environment(&next);
   if (local.ok()) local = check_watch_source(next, path);
+  if (local.ok()) local = check_outputs_spare_the_source(next, path);
   if (local.ok()) local = check_live_change(config_, next);
   // Without OpenGL (tried, and absent on every rank alike) a scene may not insist on it.
   for (const SceneConfig &scene : next.scenes)
