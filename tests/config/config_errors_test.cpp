@@ -67,7 +67,7 @@ TEST(ConfigErrors, MalformedYamlGivesLineAndColumn) {
 
 TEST(ConfigErrors, UnreadableFileIsNamed) {
   expect_config_error("/nonexistent/lantern.yaml", {"/nonexistent/lantern.yaml", "No such file"});
-  expect_config_error("/tmp", {"'/tmp'", "Is a directory"});
+  expect_config_error("/tmp", {"'/tmp'", "is a directory, not a regular file"});
 }
 
 TEST(ConfigErrors, NothingToDo) {
