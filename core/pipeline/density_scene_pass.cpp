@@ -1,6 +1,7 @@
 #include "core/pipeline/density_scene_pass.h"
 
 #include <chrono>
+#include <new>
 #include <string>
 
 #include "core/color/colormap.h"
@@ -43,22 +44,28 @@ Status run_density_scene(const ScenePassInputs &in, const SceneConfig &scene, co
   stats->occlusion = "none (density)";
   CullStats cull;
   DensityImage &image = buffers->density;
-  if (local.ok()) {
-    auto t0 = Clock::now();
-    double build_ms = 0.0;
-    const BrickSet &bricks =
-        in.scratch->bricks.for_step(*in.particles, in.step, &build_ms, &stats->bricks);
-    stats->bricks_ms = build_ms;
-    BrickSelection &selection = in.scratch->selection;
-    select_density_bricks(bricks, camera, scene, radius, &selection, &buffers->cut_counts);
-    stats->cull_ms = ms_since(t0);
-    t0 = Clock::now();
-    const InstanceRecipe recipe = make_recipe(*in.particles, scene, radius, camera, in.global);
-    cull = render_density(*in.particles, bricks, scene, selection, recipe, &image);
-    stats->draw_ms = ms_since(t0);
-  } else {
-    image.reset(scene.width, scene.height, density_channels(scene.color.by));
-  }
+  // Allocations of this rank's sums: running out of memory is agreed below like any failure.
+  if (local.ok()) try {
+      auto t0 = Clock::now();
+      double build_ms = 0.0;
+      const BrickSet &bricks =
+          in.scratch->bricks.for_step(*in.particles, in.step, &build_ms, &stats->bricks);
+      stats->bricks_ms = build_ms;
+      BrickSelection &selection = in.scratch->selection;
+      select_density_bricks(bricks, camera, scene, radius, &selection, &buffers->cut_counts);
+      stats->cull_ms = ms_since(t0);
+      t0 = Clock::now();
+      const InstanceRecipe recipe = make_recipe(*in.particles, scene, radius, camera, in.global);
+      cull = render_density(*in.particles, bricks, scene, selection, recipe, &image);
+      stats->draw_ms = ms_since(t0);
+    } catch (const std::bad_alloc &) {
+      const int64_t bytes = int64_t(scene.width) * scene.height * density_channels(scene.color.by) *
+                            int64_t(sizeof(int64_t));
+      local = {StatusCode::kOutOfMemory,
+               where + "out of memory summing " + std::to_string(scene.width) + " x " +
+                   std::to_string(scene.height) + " pixels (" + std::to_string(bytes) +
+                   " bytes of sums on this rank)"};
+    }
   if (Status s = agree_on_status(in.comm, local); !s.ok()) return s;
   sum_density_counts(in.comm, cull, stats);
   stats->culled = in.global.finite_count - stats->drawn;

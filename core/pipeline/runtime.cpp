@@ -11,6 +11,7 @@
 #include "core/config/environment.h"
 #include "core/output/stats_writer.h"
 #include "core/particles/particle_scan.h"
+#include "core/pipeline/memory_budget.h"
 
 namespace lantern {
 namespace {
@@ -89,6 +90,11 @@ Status Runtime::open(const std::string &config_text, MPI_Comm comm, std::unique_
   const Status local = caller.ok() ? rt->load_first_config(config_text) : caller;
   if (Status s = agree_on_status(rt->comm_, local); !s.ok()) return s;
   if (Status s = rt->agree_on_first_config(); !s.ok()) return s;
+  const MemoryShare share = node_memory_share(rt->comm_);  // collective
+  if (Status s =
+          agree_on_status(rt->comm_, check_scene_memory(estimate_scene_memory(rt->config_), share));
+      !s.ok())
+    return s;
   if (!rt->config_.scenes.empty())
     if (Status s = rt->open_gl(); !s.ok()) return s;
   rt->buffers_.resize(rt->config_.scenes.size());

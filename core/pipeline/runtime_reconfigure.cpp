@@ -18,6 +18,7 @@
 #include "core/config/config_loader.h"
 #include "core/config/environment.h"
 #include "core/config/live_change.h"
+#include "core/pipeline/memory_budget.h"
 #include "core/pipeline/runtime.h"
 
 namespace lantern {
@@ -125,6 +126,8 @@ Status Runtime::switch_config(const std::string &text, const std::string &path, 
   if (local.ok()) local = check_watch_source(next, path);
   if (local.ok()) local = check_outputs_spare_the_source(next, path);
   if (local.ok()) local = check_live_change(config_, next);
+  const MemoryShare share = node_memory_share(comm_);  // collective: on every rank
+  if (local.ok()) local = check_scene_memory(estimate_scene_memory(next), share);
   // Without OpenGL (tried, and absent on every rank alike) a scene may not insist on it.
   for (const SceneConfig &scene : next.scenes)
     if (local.ok() && gl_tried_ && !gl_ && scene.renderer == RendererChoice::kOpenGl)

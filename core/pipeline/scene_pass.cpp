@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cstring>
+#include <new>
 #include <utility>
 
 #include "core/bricks/brick_set.h"
@@ -63,6 +64,16 @@ bool wants_cpu_raster(const SceneConfig &scene, const Camera &camera, double rad
   const double pixels_per_unit = 0.5 * scene.height * camera.projection[1][1] /
                                  (camera.orthographic ? 1.0 : std::max(distance, 1e-300));
   return radius * pixels_per_unit <= kCpuRasterMaxPixels;
+}
+
+// kOutOfMemory naming the scene and the size of its frame on this rank.
+Status out_of_memory(const SceneConfig &scene, const char *what) {
+  const int64_t s = scene.samples_per_axis();
+  const int64_t frame = int64_t(scene.width) * s * scene.height * s * 8;
+  return {StatusCode::kOutOfMemory,
+          "scenes '" + scene.name + "': out of memory " + what + " " +
+              std::to_string(scene.width * s) + " x " + std::to_string(scene.height * s) +
+              " pixels (" + std::to_string(frame) + " bytes for the frame on this rank)"};
 }
 
 // The particle counts of the stats, summed over ranks in one reduction.
@@ -225,79 +236,85 @@ Status run_scene_pass(const ScenePassInputs &in, const SceneConfig &scene, Scene
     return write_scene_image(in, scene, camera, t_start, buffers, stats);
   }
   CullStats cull;
-  if (local.ok()) {
-    // Bricks, culling and level of detail: what to draw.
-    t0 = Clock::now();
-    double build_ms = 0.0;
-    const BrickSet &bricks =
-        in.scratch->bricks.for_step(*in.particles, in.step, &build_ms, &stats->bricks);
-    stats->bricks_ms = build_ms;
-    DrawList &draw = in.scratch->draw;
-    BrickSelection &selection = in.scratch->selection;
-    select_bricks(bricks, camera, scene, radius, &selection, &buffers->cut_counts);
-    InstanceRecipe recipe = make_recipe(*in.particles, scene, radius, camera, in.global);
-    if (object_ao) recipe.occlusion = &occlusion;
-    const Rgb8 bg = to_rgb8(scene.background);
-    const uint8_t background[4] = {bg[0], bg[1], bg[2], 255};
-    // The renderer, decided here once: from the configuration, the camera and the occlusion mode
-    // the selection resolved, so every rank decides the same. Without OpenGL (in.renderer null
-    // on every rank alike) the CPU raster draws, culling exactly (hzb) where nine-spheres was
-    // asked for, which only it could not serve.
-    if (!in.renderer && !cpu_pass_serves(selection.mode)) {
-      selection.stats.occlusion = "hzb (no OpenGL, instead of " + selection.stats.occlusion + ")";
-      selection.mode = OcclusionMode::kHzb;
-    }
-    const bool cpu =
-        !in.renderer || selection.mode == OcclusionMode::kProbabilistic ||
-        (wants_cpu_raster(scene, camera, max_radius) && cpu_pass_serves(selection.mode));
-    // See-through types (opacity) hide nothing for sure: OpenGL's occlusion culling and the
-    // probabilistic mode's confidence maps assume opaque occluders, so OpenGL culls none and
-    // probabilistic becomes hzb (the CPU pass culls against the depth it drew: exact).
-    if (!recipe.alpha_by_type.empty()) {
-      if (!cpu && selection.mode != OcclusionMode::kNone) {
-        selection.stats.occlusion =
-            "none (opacity < 1, instead of " + selection.stats.occlusion + ")";
-        selection.mode = OcclusionMode::kNone;
-      } else if (cpu && selection.mode == OcclusionMode::kProbabilistic) {
-        selection.stats.occlusion = "hzb (opacity < 1, instead of probabilistic)";
+  // This rank's drawing allocates (the frame, bricks, instances): running out of memory here is
+  // this rank's failure, agreed below like any other, so no rank skips the collectives alone.
+  if (local.ok()) try {
+      // Bricks, culling and level of detail: what to draw.
+      t0 = Clock::now();
+      double build_ms = 0.0;
+      const BrickSet &bricks =
+          in.scratch->bricks.for_step(*in.particles, in.step, &build_ms, &stats->bricks);
+      stats->bricks_ms = build_ms;
+      DrawList &draw = in.scratch->draw;
+      BrickSelection &selection = in.scratch->selection;
+      select_bricks(bricks, camera, scene, radius, &selection, &buffers->cut_counts);
+      InstanceRecipe recipe = make_recipe(*in.particles, scene, radius, camera, in.global);
+      if (object_ao) recipe.occlusion = &occlusion;
+      const Rgb8 bg = to_rgb8(scene.background);
+      const uint8_t background[4] = {bg[0], bg[1], bg[2], 255};
+      // The renderer, decided here once: from the configuration, the camera and the occlusion mode
+      // the selection resolved, so every rank decides the same. Without OpenGL (in.renderer null
+      // on every rank alike) the CPU raster draws, culling exactly (hzb) where nine-spheres was
+      // asked for, which only it could not serve.
+      if (!in.renderer && !cpu_pass_serves(selection.mode)) {
+        selection.stats.occlusion = "hzb (no OpenGL, instead of " + selection.stats.occlusion + ")";
         selection.mode = OcclusionMode::kHzb;
       }
-    }
-    stats->renderer = cpu ? "cpu" : "opengl";
-    cull = cpu ? in.scratch->cpu_pass.run(*in.particles, bricks, scene, selection, recipe,
-                                          background, &frame, &draw, in.step)
-               : in.scratch->culler.cull(*in.particles, bricks, scene, selection, &draw);
-    stats->cull_ms = ms_since(t0);
-    stats->occlusion = cull.occlusion;
+      const bool cpu =
+          !in.renderer || selection.mode == OcclusionMode::kProbabilistic ||
+          (wants_cpu_raster(scene, camera, max_radius) && cpu_pass_serves(selection.mode));
+      // See-through types (opacity) hide nothing for sure: OpenGL's occlusion culling and the
+      // probabilistic mode's confidence maps assume opaque occluders, so OpenGL culls none and
+      // probabilistic becomes hzb (the CPU pass culls against the depth it drew: exact).
+      if (!recipe.alpha_by_type.empty()) {
+        if (!cpu && selection.mode != OcclusionMode::kNone) {
+          selection.stats.occlusion =
+              "none (opacity < 1, instead of " + selection.stats.occlusion + ")";
+          selection.mode = OcclusionMode::kNone;
+        } else if (cpu && selection.mode == OcclusionMode::kProbabilistic) {
+          selection.stats.occlusion = "hzb (opacity < 1, instead of probabilistic)";
+          selection.mode = OcclusionMode::kHzb;
+        }
+      }
+      stats->renderer = cpu ? "cpu" : "opengl";
+      cull = cpu ? in.scratch->cpu_pass.run(*in.particles, bricks, scene, selection, recipe,
+                                            background, &frame, &draw, in.step)
+                 : in.scratch->culler.cull(*in.particles, bricks, scene, selection, &draw);
+      stats->cull_ms = ms_since(t0);
+      stats->occlusion = cull.occlusion;
 
-    if (!cpu) {
-      t0 = Clock::now();
-      if (draw.everything)
-        build_all_instances(recipe, &buffers->instances);
-      else
-        build_selected_instances(recipe, draw.spheres, &buffers->instances);
-      std::vector<uint64_t>().swap(draw.spheres);  // only the instances outlive this point
-      stats->instances_ms = ms_since(t0);
-      RenderTimings timings;
-      RenderView view = camera.render_view(background);
-      view.lighting = scene.lighting;
-      local = with_context(where, in.renderer->render(view, buffers->instances.data(),
-                                                      buffers->instances.size(), &frame, &timings));
-      stats->draw_ms = timings.draw_ms;
-      stats->readback_ms = timings.readback_ms;
+      if (!cpu) {
+        t0 = Clock::now();
+        if (draw.everything)
+          build_all_instances(recipe, &buffers->instances);
+        else
+          build_selected_instances(recipe, draw.spheres, &buffers->instances);
+        std::vector<uint64_t>().swap(draw.spheres);  // only the instances outlive this point
+        stats->instances_ms = ms_since(t0);
+        RenderTimings timings;
+        RenderView view = camera.render_view(background);
+        view.lighting = scene.lighting;
+        local =
+            with_context(where, in.renderer->render(view, buffers->instances.data(),
+                                                    buffers->instances.size(), &frame, &timings));
+        stats->draw_ms = timings.draw_ms;
+        stats->readback_ms = timings.readback_ms;
+      }
+      if (!draw.points.empty()) {
+        t0 = Clock::now();
+        splat_points(
+            *in.particles, recipe.per_particle_radius, recipe.radius, draw.points, selection.g,
+            [&recipe](int64_t i) { return recipe.color(i); }, &frame,
+            recipe.alpha_by_type.empty() ? AlphaOf() : AlphaOf([&recipe](int64_t i) {
+              return recipe.alpha(i);
+            }),
+            scene.lighting);
+        std::vector<uint64_t>().swap(draw.points);
+        stats->draw_ms += ms_since(t0);
+      }
+    } catch (const std::bad_alloc &) {
+      local = out_of_memory(scene, "drawing");
     }
-    if (!draw.points.empty()) {
-      t0 = Clock::now();
-      splat_points(
-          *in.particles, recipe.per_particle_radius, recipe.radius, draw.points, selection.g,
-          [&recipe](int64_t i) { return recipe.color(i); }, &frame,
-          recipe.alpha_by_type.empty() ? AlphaOf()
-                                       : AlphaOf([&recipe](int64_t i) { return recipe.alpha(i); }),
-          scene.lighting);
-      std::vector<uint64_t>().swap(draw.points);
-      stats->draw_ms += ms_since(t0);
-    }
-  }
   const double own_ms = ms_since(t_start);  // this rank's work, before waiting on the others
   if (Status s = agree_on_status(in.comm, local); !s.ok()) return s;
   sum_counts_over_ranks(in.comm, cull, stats);
