@@ -105,7 +105,8 @@ BorrowedBuffer BorrowedBuffer::from_buffer_protocol(py::handle object, const std
                          dtype_text(object, "with format '" + format + "'"));
   b.itemsize_ = view->itemsize;
   b.data_ = static_cast<const char *>(view->buf);
-  if (!view->shape) {  // allowed for one-dimensional buffers: len bytes of items
+  if (view->ndim == 0) {      // a 0-d array (a NumPy scalar's buffer): no axes at all
+  } else if (!view->shape) {  // allowed for one-dimensional buffers: len bytes of items
     b.shape_.push_back(view->len / view->itemsize);
   } else {
     b.shape_.assign(view->shape, view->shape + view->ndim);

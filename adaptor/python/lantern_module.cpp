@@ -64,7 +64,8 @@ PYBIND11_MODULE(lantern, m) {
       .def(
           "__enter__", [](Context &self) -> Context & { return self; },
           py::return_value_policy::reference)
-      .def("__exit__", [](Context &self, const py::args &) { self.close(); });
+      .def("__exit__", [](Context &self, const py::object &type, const py::object &,
+                          const py::object &) { return self.exit(type); });
 
   // Contexts left open are closed at exit, before mpi4py finalizes MPI (Python's atexit
   // handlers run before those registered with Py_AtExit).

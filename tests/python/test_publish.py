@@ -155,6 +155,9 @@ def refusal(match, **arrays):
     (dict(position=lattice(2)[0], position_x=np.zeros(8)), r"^position: give either"),
     (dict(position_x=np.zeros(8)), r"^position_x/y/z: give all three"),
     (dict(type=np.zeros(8, np.int32)), r"^type: 8 elements, but there are 0"),
+    # A 0-d array (a NumPy scalar) has no axes: it was reported as shape (1,).
+    (dict(position=np.array(1.0)), r"^position: shape \(\) \(a 0-d array: one number"),
+    (dict(position=lattice(2)[0], radius=np.float64(0.5)), r"^radius: shape \(\) \(a 0-d array"),
 ])
 def test_what_cannot_be_borrowed_is_refused_naming_the_array(arrays, match):
     refusal(match, **arrays)
