@@ -9,6 +9,8 @@
 #   (fix external leaves the forces alone).
 # MODE scalars: lammps.scalar as a compute, an array column, an atom-style variable, a property.
 # MODE example: examples/lammps/in.lj at CI size with tests/dump/lammps_small.yaml.
+# MODE quit: `quit N` (a number, a variable, inside an include) after a run: lantern-lammps exits
+#   with N as lmp does, after rendering the run's steps.
 # MODE error NAME "EXPECTED" "YAML LINES" "SED EXPRESSION" [LANTERN-LAMMPS ARGS]: the script
 #   edited by the sed expression, the configuration extended by the YAML lines: lantern-lammps
 #   must exit non-zero (not killed, not hung) with EXPECTED in its stderr.
@@ -83,6 +85,27 @@ example)  # examples/lammps/in.lj at CI size (256 atoms), images and an H5MD dum
   done
   [ -s lj.h5 ] || { echo "no H5MD dump"; exit 1; }
   echo "example: 3 images and an H5MD dump"
+  ;;
+quit)  # quit N: lantern-lammps exits with LAMMPS's status N (literal, variable, in an include)
+  script all > in.base
+  printf 'variable code equal 4\nquit ${code}\nrun 10\n' > quit.inc
+  for case in "quit 3:3" 'quit ${code}:4' "include quit.inc:4" "quit:0"; do
+    { cat in.base; echo "variable code equal 4"; echo "${case%:*}"; echo "run 10"; } > in.case
+    expect=${case##*:}
+    rm -f lj_*.png
+    grep -v external in.case > in.plain  # lmp itself cannot run a pf/callback fix
+    run "$lmp" -in in.plain -log none -var steps 0 > /dev/null 2>&1
+    lmp_code=$?
+    run "$ll" -in in.case -lantern "$src/lj.yaml" -log none -var steps 0 > /dev/null 2> err.txt
+    code=$?
+    cat err.txt
+    [ "$lmp_code" -eq "$expect" ] || { echo "FAIL: lmp exited $lmp_code on '${case%:*}'"; exit 1; }
+    [ "$code" -eq "$expect" ] ||
+      { echo "FAIL: lantern-lammps exited $code on '${case%:*}', lmp $lmp_code"; exit 1; }
+    # The run before the quit rendered its steps; the one after it did not run.
+    [ "$(ls lj_*.png | wc -l)" -eq 1 ] || { echo "FAIL: expected the image of step 0"; exit 1; }
+    echo "ok: '${case%:*}' exits $code, as lmp"
+  done
   ;;
 error)
   name=$1 expected=$2 yaml=$3 edit=$4  # '-': no YAML lines, no edit (CTest drops empty arguments)
