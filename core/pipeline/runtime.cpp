@@ -6,6 +6,7 @@
 #include <utility>
 
 #include "core/common/collective_status.h"
+#include "core/composite/density_transfer.h"
 #include "core/config/config_loader.h"
 #include "core/config/enum_names.h"
 #include "core/config/environment.h"
@@ -98,6 +99,7 @@ Status Runtime::open(const std::string &config_text, MPI_Comm comm, std::unique_
   if (!rt->config_.scenes.empty())
     if (Status s = rt->open_gl(); !s.ok()) return s;
   rt->buffers_.resize(rt->config_.scenes.size());
+  rt->warn_about_scenes();
   if (rt->config_.dump.enabled) rt->dump_ = std::make_unique<DumpStage>(rt->config_.dump);
   *out = std::move(rt);
   return {};
@@ -148,6 +150,15 @@ Status Runtime::finish() {
   if (Status s = mpi_usable("lantern_close"); !s.ok())
     return local.ok() ? s : Status(s.code, s.message + "; and " + local.message);
   return broadcast_status(comm_, local, 0);
+}
+
+void Runtime::warn_about_scenes() const {
+  if (rank_ != 0) return;
+  for (const SceneConfig &scene : config_.scenes)
+    if (scene.style == SceneStyle::kDensity)
+      if (const std::string problem = density_range_problem(scene.density); !problem.empty())
+        std::fprintf(stderr, "lantern: warning: scenes '%s': %s\n", scene.name.c_str(),
+                     problem.c_str());
 }
 
 void Runtime::warn_nonfinite_once(int64_t count, int64_t step) {

@@ -63,6 +63,9 @@ class Runtime {
   // (then no collective call may be made: MPI would abort). Local.
   Status mpi_usable(const char *function) const;
   void warn_nonfinite_once(int64_t count, int64_t step);
+  // Rank 0: what the configuration's scenes ask that Lantern can only clamp (a density.range
+  // beyond double precision), once per configuration (at open and at each change).
+  void warn_about_scenes() const;
   // Live configuration (runtime_reconfigure.cpp). load_first_config: lantern_open's config into
   // config_ (local). switch_config: collective, `text` the same on every rank. follow_config_file:
   // collective, on scheduled steps while watching; true when a new configuration took effect.

@@ -167,6 +167,7 @@ Status Runtime::switch_config(const std::string &text, const std::string &path, 
                      previous.scenes[j].name.c_str(), s.message.c_str());
   buffers_.swap(kept);
 
+  warn_about_scenes();
   if (dump_) dump_->set_schedule(config_.dump.schedule);
   if (config_.watch)
     watch_.start(path, hash);

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstdio>
 #include <cstring>
 #include <new>
 #include <utility>
@@ -211,6 +212,19 @@ Status run_scene_pass(const ScenePassInputs &in, const SceneConfig &scene, Scene
       !s.ok())
     return with_context(where, std::move(s));
   stats->camera_ms = ms_since(t0);
+  if (camera.point_bounds && !buffers->warned_point_bounds) {
+    buffers->warned_point_bounds = true;
+    int rank = 0;
+    MPI_Comm_rank(in.comm, &rank);
+    if (rank == 0)
+      std::fprintf(stderr,
+                   "lantern: warning: scenes '%s': step %lld: every particle is at one point "
+                   "(%g, %g, %g) with radius %g; the automatic camera frames a sphere of radius "
+                   "%g around it (warned once)\n",
+                   scene.name.c_str(), static_cast<long long>(in.step), 0.5 * (lo.x + hi.x),
+                   0.5 * (lo.y + hi.y), 0.5 * (lo.z + hi.z), max_radius,
+                   kMinFramedExtent * std::max(1.0, glm::length(0.5 * (lo + hi))));
+  }
 
   // Object-space ambient occlusion: a density volume reduced over every rank (collective, so
   // before anything a rank may skip); colours are scaled as particles are drawn.

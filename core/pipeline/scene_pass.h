@@ -53,6 +53,7 @@ struct SceneBuffers {
   BackgroundImageWriter writer;  // rank 0, with output.asynchronous
   BrickCutCounts cut_counts;     // this scene's cutting planes per brick (edits are incremental)
   DensityImage density;          // style: density - this rank's sums, then (rank 0) all ranks'
+  bool warned_point_bounds = false;  // rank 0 warned that the camera had a point to frame
 };
 
 // Renders `scene` and writes its image. Every rank returns the same status.

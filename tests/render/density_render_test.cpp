@@ -307,5 +307,50 @@ TEST(DensityTransfer, ColorsBlendTheMeanColorOverTheBackground) {
   EXPECT_EQ(frame.depth[1], kBackgroundDepth);
 }
 
+// Ranges whose width under- or overflows a double: every transfer stays in [0, 1] (a NaN gave
+// uniform grey), clamped as documented, and the range is named for a warning.
+TEST(DensityTransfer, RangesBeyondDoublePrecisionAreClampedNotNaN) {
+  const DensityRange tiny{0.0, 5e-324}, huge{-1e308, 1e308};
+  for (const DensityTransfer transfer : {DensityTransfer::kLinear, DensityTransfer::kAsinh}) {
+    EXPECT_EQ(density_transfer(1.0 / kDensityUnit, transfer, tiny), 1.0);
+    EXPECT_EQ(density_transfer(3.0, transfer, tiny), 1.0);
+    const double mid = density_transfer(3.0, transfer, huge);
+    EXPECT_TRUE(mid > 0.4 && mid < 0.9) << mid;
+  }
+  EXPECT_NEAR(density_transfer(3.0, DensityTransfer::kLinear, huge), 0.5, 1e-12);
+  EXPECT_NEAR(density_transfer(3.0, DensityTransfer::kAsinh, huge),
+              std::asinh(50.0) / std::asinh(100.0), 1e-12);
+  EXPECT_EQ(density_transfer(std::nan(""), DensityTransfer::kLinear, DensityRange{0.0, 1.0}), 0.0);
+  DensityConfig config;
+  EXPECT_EQ(density_range_problem(config), "");  // auto
+  config.range = std::array<double, 2>{0.0, 5e-324};
+  EXPECT_NE(density_range_problem(config).find("narrower than the summed weight's resolution"),
+            std::string::npos);
+  config.range = std::array<double, 2>{-1e308, 1e308};
+  EXPECT_NE(density_range_problem(config).find("wider than a double can hold"), std::string::npos);
+  config.range = std::array<double, 2>{0.0, 1.0};
+  EXPECT_EQ(density_range_problem(config), "");
+}
+
+// Every particle at one point with radius 0: the automatic camera framed a point 1e-12 away,
+// behind its near plane, and the image was blank. It frames kMinFramedExtent around it instead,
+// the particles in front of the near plane, at the centre of the image.
+TEST(DensitySplat, ParticlesAtOnePointWithRadiusZeroAreFramed) {
+  for (const glm::dvec3 point : {glm::dvec3(5, 5, 5), glm::dvec3(0, 0, 0), glm::dvec3(1e6, 0, 0)}) {
+    Camera camera;
+    ASSERT_TRUE(make_camera(CameraConfig{}, point, point, 0.0, 32, 32, &camera).ok());
+    EXPECT_TRUE(camera.point_bounds);
+    const glm::dvec4 v = camera.view * glm::dvec4(point, 1.0);
+    EXPECT_GT(-v.z, camera.near_plane);
+    EXPECT_LT(-v.z, camera.far_plane);
+    const glm::dvec4 clip = camera.projection * v;
+    EXPECT_NEAR(clip.x / clip.w, 0.0, 1e-6);
+    EXPECT_NEAR(clip.y / clip.w, 0.0, 1e-6);
+  }
+  Camera spread;
+  ASSERT_TRUE(make_camera(CameraConfig{}, {0, 0, 0}, {1, 1, 1}, 0.0, 32, 32, &spread).ok());
+  EXPECT_FALSE(spread.point_bounds);
+}
+
 }  // namespace
 }  // namespace lantern
