@@ -211,6 +211,12 @@ struct SceneConfig {
   Lighting lighting;  // lighting: {direction, ambient, diffuse, specular, shininess} (lighting.h)
 };
 
+// dump.mode: what the first dump does with a file already at dump.file. create: refuse it (a
+// message naming the key; nothing is touched); append: continue its time series (a restarted
+// run), when it is one of Lantern's files with the same fields and precision; overwrite: replace
+// it.
+enum class DumpMode { kCreate, kAppend, kOverwrite };
+
 // dump: (HDF5 / H5MD particle dumps; issue 6)
 struct DumpConfig {
   bool enabled = false;  // true when the `dump:` section is present (enabled: false turns it off)
@@ -218,6 +224,7 @@ struct DumpConfig {
   Schedule schedule;                          // schedule: {...}
   std::vector<std::string> fields;            // fields: [position, type, scalar, radius, id]
   bool single_precision = false;              // precision: float32 | float64
+  DumpMode mode = DumpMode::kCreate;          // mode: create | append | overwrite
 };
 
 // gl: the OpenGL back end (core/render/gl_context.h). auto: EGL, then OSMesa, then none; none:

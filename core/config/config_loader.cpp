@@ -58,7 +58,8 @@ const std::vector<std::string> kDensityKeys = {"transfer", "range", "colormap"};
 const std::vector<std::string> kLightingKeys = {"direction", "ambient", "diffuse", "specular",
                                                 "shininess"};
 const std::vector<std::string> kCutPlaneKeys = {"normal", "offset", "enabled"};
-const std::vector<std::string> kDumpKeys = {"enabled", "file", "schedule", "fields", "precision"};
+const std::vector<std::string> kDumpKeys = {"enabled", "file",      "schedule",
+                                            "fields",  "precision", "mode"};
 const std::vector<std::string> kDumpFields = {"position", "type", "scalar", "radius", "id"};
 const std::vector<std::string> kLammpsKeys = {"fix", "scalar"};
 const std::vector<std::string> kColormaps = {"viridis", "plasma", "coolwarm", "grayscale"};
@@ -645,6 +646,12 @@ class Loader {
     });
     optional_key(node, path, "precision", [&](const YAML::Node &n, const std::string &p) {
       d.single_precision = r_.read_choice(n, p, {"float32", "float64"}) == "float32";
+    });
+    optional_key(node, path, "mode", [&](const YAML::Node &n, const std::string &p) {
+      const std::string mode = r_.read_choice(n, p, {"create", "append", "overwrite"});
+      d.mode = mode == "append"      ? DumpMode::kAppend
+               : mode == "overwrite" ? DumpMode::kOverwrite
+                                     : DumpMode::kCreate;
     });
     return d;
   }

@@ -100,7 +100,10 @@ Status Runtime::open(const std::string &config_text, MPI_Comm comm, std::unique_
     if (Status s = rt->open_gl(); !s.ok()) return s;
   rt->buffers_.resize(rt->config_.scenes.size());
   rt->warn_about_scenes();
-  if (rt->config_.dump.enabled) rt->dump_ = std::make_unique<DumpStage>(rt->config_.dump);
+  if (rt->config_.dump.enabled) {
+    rt->dump_ = std::make_unique<DumpStage>(rt->config_.dump);
+    if (Status s = rt->dump_->check_existing_file(rt->comm_); !s.ok()) return s;
+  }
   *out = std::move(rt);
   return {};
 }

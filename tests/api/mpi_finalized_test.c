@@ -27,8 +27,11 @@ int main(int argc, char **argv) {
            "    output: {pattern: '%s/finalized_{step:04d}.png', asynchronous: true}\n"
            "dump:\n  file: '%s/finalized.h5'\n",
            argv[1], argv[1], argv[1]);
+  char dump[1024];
   snprintf(image, sizeof image, "%s/finalized_0001.png", argv[1]);
+  snprintf(dump, sizeof dump, "%s/finalized.h5", argv[1]);
   unlink(image);
+  unlink(dump); /* an earlier run's: dump.mode: create would refuse it */
   double x[3][3] = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
   lantern_particles p;
   memset(&p, 0, sizeof p);

@@ -194,6 +194,7 @@ TEST(ConfigErrors, TopLevelTypes) {
   expect_config_error("verbose: loud\nscenes: [{}]\n", {"verbose", "line 1", "true or false"});
   expect_config_error("stats: [a]\nscenes: [{}]\n", {"stats", "string"});
   expect_config_error("dump: {precision: float16}\n", {"dump.precision", "float32, float64"});
+  expect_config_error("dump: {mode: truncate}\n", {"dump.mode", "create, append, overwrite"});
   expect_config_error("dump: {fields: [position, velocity]}\n",
                       {"dump.fields[1]", "position, type, scalar, radius, id"});
 }

@@ -164,7 +164,7 @@ LANTERN_API lantern_status lantern_open(const char *config, int mpi_comm_f, lant
  * same place, costs one hash and three small collectives: nothing is parsed or rebuilt.
  *
  * May not change while running (LANTERN_ERR_CONFIG naming the key): gl, egl_device, and the dump
- * section's enabled, file, fields and precision (dump.schedule may change).
+ * section's enabled, file, fields, precision and mode (dump.schedule may change).
  *
  * On any error the running configuration stays in effect and every rank returns the same status:
  * LANTERN_ERR_CONFIG for a file that cannot be read, malformed YAML, an unknown key or a bad
