@@ -17,6 +17,7 @@
 #include "core/config/config_file.h"
 #include "core/config/enum_names.h"
 #include "core/config/file_pattern.h"
+#include "core/config/yaml_guard.h"
 #include "core/config/yaml_reader.h"
 
 namespace lantern {
@@ -710,6 +711,8 @@ Status load_config_text(const std::string &text, const std::string &source, Conf
     return Status(StatusCode::kConfig, escaped_text(message));
   };
   try {
+    if (const std::string loop = check_yaml_text(text); !loop.empty())
+      return invalid(source + " " + loop);
     // All documents, so that a second one (after '---') is an error instead of silently ignored.
     const std::vector<YAML::Node> documents = YAML::LoadAll(text);
     if (documents.size() > 1) {
@@ -724,8 +727,10 @@ Status load_config_text(const std::string &text, const std::string &source, Conf
   } catch (const ConfigError &e) {
     return invalid(e.what());
   } catch (const YAML::ParserException &e) {
+    const std::string explained = explain_yaml_error(text, e.mark, e.msg);
     return invalid(source + " line " + std::to_string(e.mark.line + 1) + ", column " +
-                   std::to_string(e.mark.column + 1) + ": malformed YAML: " + e.msg);
+                   std::to_string(e.mark.column + 1) +
+                   ": malformed YAML: " + (explained.empty() ? e.msg : explained));
   } catch (const YAML::Exception &e) {
     return invalid(source + ": " + e.what());
   } catch (const std::exception &e) {
