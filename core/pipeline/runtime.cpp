@@ -1,8 +1,15 @@
 #include "core/pipeline/runtime.h"
 
+#include <unistd.h>
+
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <ctime>
+#include <fstream>
+#include <set>
+#include <sstream>
 #include <utility>
 
 #include "core/common/collective_status.h"
@@ -10,6 +17,8 @@
 #include "core/config/config_loader.h"
 #include "core/config/enum_names.h"
 #include "core/config/environment.h"
+#include "core/config/file_pattern.h"
+#include "core/output/atomic_file.h"
 #include "core/output/stats_writer.h"
 #include "core/particles/particle_scan.h"
 #include "core/pipeline/memory_budget.h"
@@ -45,7 +54,52 @@ int node_local_rank(MPI_Comm comm) {
   return rank;
 }
 
+// When this process started (from /proc), or 0 where unknown: an output's temporary file
+// modified before it was left by an earlier run.
+std::time_t process_start_time() {
+  std::ifstream self("/proc/self/stat"), system("/proc/stat");
+  std::string line;
+  if (!std::getline(self, line)) return 0;
+  const size_t comm_end = line.rfind(')');  // the command name may hold spaces
+  if (comm_end == std::string::npos) return 0;
+  std::istringstream fields(line.substr(comm_end + 1));
+  std::string field;
+  unsigned long long ticks = 0;
+  for (int k = 3; k <= 22 && fields >> field; ++k)
+    if (k == 22) ticks = std::strtoull(field.c_str(), nullptr, 10);
+  for (std::string key; system >> key;)
+    if (key == "btime") {
+      long long boot = 0;
+      system >> boot;
+      return std::time_t(boot + ticks / std::max(1L, sysconf(_SC_CLK_TCK)));
+    }
+  return 0;
+}
+
 }  // namespace
+
+void Runtime::remove_stale_temporaries_of_outputs() const {
+  if (rank_ != 0) return;
+  const std::time_t started = process_start_time();
+  if (started == 0) return;
+  std::set<std::string> directories;
+  for (const SceneConfig &scene : config_.scenes) {
+    const std::string &pattern = scene.output.pattern;
+    const size_t slash = pattern.rfind('/');
+    const std::string folder = slash == std::string::npos ? "" : pattern.substr(0, slash);
+    if (folder.find("{step") != std::string::npos) continue;  // a folder per step: not scanned
+    directories.insert(expand_pattern(folder, 0, scene.name));
+  }
+  for (const std::string &directory : directories) {
+    const std::vector<std::string> removed = remove_stale_temporaries(directory, started);
+    if (!removed.empty())
+      std::fprintf(stderr,
+                   "lantern: removed %zu temporary file(s) an earlier run left in '%s' (e.g. "
+                   "'%s')\n",
+                   removed.size(), directory.empty() ? "." : directory.c_str(),
+                   removed.front().c_str());
+  }
+}
 
 Status Runtime::open_gl() {
   gl_tried_ = true;
@@ -100,6 +154,7 @@ Status Runtime::open(const std::string &config_text, MPI_Comm comm, std::unique_
     if (Status s = rt->open_gl(); !s.ok()) return s;
   rt->buffers_.resize(rt->config_.scenes.size());
   rt->warn_about_scenes();
+  rt->remove_stale_temporaries_of_outputs();
   if (rt->config_.dump.enabled) {
     rt->dump_ = std::make_unique<DumpStage>(rt->config_.dump);
     if (Status s = rt->dump_->check_existing_file(rt->comm_); !s.ok()) return s;

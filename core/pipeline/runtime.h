@@ -66,6 +66,10 @@ class Runtime {
   // Rank 0: what the configuration's scenes ask that Lantern can only clamp (a density.range
   // beyond double precision), once per configuration (at open and at each change).
   void warn_about_scenes() const;
+  // Rank 0, at open: the hidden temporary files a killed earlier run left in the scenes' output
+  // folders are removed (atomic_file.h: only Lantern's temporary names, only files older than
+  // this process, only of processes not running here).
+  void remove_stale_temporaries_of_outputs() const;
   // Live configuration (runtime_reconfigure.cpp). load_first_config: lantern_open's config into
   // config_ (local). switch_config: collective, `text` the same on every rank. follow_config_file:
   // collective, on scheduled steps while watching; true when a new configuration took effect.
