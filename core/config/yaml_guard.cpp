@@ -77,8 +77,8 @@ std::string check_yaml_text(const std::string &text) {
 
 std::string explain_yaml_error(const std::string &text, const YAML::Mark &,
                                const std::string &message) {
-  const bool about_a_key = message.find("map") != std::string::npos ||
-                           message.find("flow") != std::string::npos;
+  const bool about_a_key =
+      message.find("map") != std::string::npos || message.find("flow") != std::string::npos;
   if (const auto [length, line] = long_key(text); about_a_key && length > 0)
     return "a key of " + std::to_string(length) + " characters at line " +
            std::to_string(line + 1) + " (YAML allows implicit keys of at most " +
