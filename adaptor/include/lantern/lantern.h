@@ -13,8 +13,11 @@
  * but all share the process's OpenGL/OSMesa state, so call Lantern from one thread only.
  *
  * MPI: lantern_open(), lantern_execute() on scheduled steps, and lantern_close() are collective
- * over the communicator given to lantern_open(): every rank must call them in the same order.
- * lantern_publish() is local. If MPI is not initialized when lantern_open() is called, Lantern
+ * over the communicator given to lantern_open(): every rank must call them in the same order,
+ * with the same step. Every decision to skip or fail a collective part is agreed across the ranks
+ * first, so bad arguments or a failure on one rank give every rank the same status; what no rank
+ * can agree on is a call one rank never makes (a NULL context, a step another rank does not
+ * schedule, a communicator handle that is not one). lantern_publish() is local. If MPI is not initialized when lantern_open() is called, Lantern
  * initializes it (MPI_THREAD_FUNNELED) and finalizes it at process exit (atexit).
  *
  * Units: Lantern does not impose units. Positions and radii must share one length unit; the
