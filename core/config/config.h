@@ -43,12 +43,23 @@ struct CameraConfig {
 
 enum class ColorBy { kSolid, kType, kScalar };
 
+// range: auto re-fits the scalar range every frame (frame); {auto: first} keeps the range of the
+// first rendered frame that had one; {auto: running} the union of every frame's range so far.
+// The frame ranges are reduced over ranks, so each mode is rank-invariant.
+enum class AutoRange { kFrame, kFirst, kRunning };
+
 struct ColorConfig {
   ColorBy by = ColorBy::kType;                 // by: solid | type | scalar
   std::array<double, 3> solid{0.8, 0.8, 0.8};  // solid: [r, g, b] in [0, 1]
   std::vector<std::array<double, 3>> palette;  // palette: [[r,g,b], ...]; empty = built-in
-  std::string colormap = "viridis";            // colormap: viridis|plasma|coolwarm|grayscale
+  // colormap: a name of Colormap::names() (core/color/colormap.h), or a custom map: a list
+  // [[r,g,b], ...] or {file: PATH}; then the name is "custom" and colormap_colors holds the
+  // control points (evenly spaced, components in [0, 1]).
+  std::string colormap = "viridis";
+  std::vector<std::array<double, 3>> colormap_colors;
+  bool reverse = false;                        // reverse: run the colormap from its high end
   std::optional<std::array<double, 2>> range;  // range: [min, max]; absent = auto (global)
+  AutoRange auto_range = AutoRange::kFrame;    // range: auto | {auto: frame | first | running}
 };
 
 enum class ImageFormat { kPng, kJpeg, kTiff, kExr };
