@@ -13,6 +13,8 @@
 #include <map>
 #include <sstream>
 
+#include "core/color/colormap.h"
+#include "core/color/colormap_file.h"
 #include "core/common/quoted_text.h"
 #include "core/config/enum_names.h"
 #include "core/config/file_pattern.h"
@@ -39,9 +41,14 @@ const std::vector<std::string> kSceneKeys = {
 const std::vector<std::string> kCameraKeys = {"projection", "fov",      "azimuth", "elevation",
                                               "zoom",       "position", "look_at", "up",
                                               "near",       "far"};
-const std::vector<std::string> kColorKeys = {"by", "solid", "palette", "colormap", "range"};
-const std::vector<std::string> kOutputKeys = {"pattern",           "format",       "jpeg_quality",
-                                              "compression_level", "asynchronous", "exr_color"};
+const std::vector<std::string> kColorKeys = {"by",       "solid", "palette",
+                                             "colormap", "range", "reverse"};
+const std::vector<std::string> kColormapFileKeys = {"file"};
+const std::vector<std::string> kRangeKeys = {"auto"};
+const std::vector<std::string> kOutputKeys = {
+    "pattern", "format", "jpeg_quality", "compression_level", "asynchronous", "exr_color", "movie"};
+const std::vector<std::string> kMovieKeys = {"file",     "fps",   "codec",       "quality",
+                                             "lossless", "queue", "when_behind", "threads"};
 const std::vector<std::string> kCullingKeys = {"frustum",
                                                "occlusion",
                                                "nine_spheres_radius",
@@ -60,7 +67,6 @@ const std::vector<std::string> kCutPlaneKeys = {"normal", "offset", "enabled"};
 const std::vector<std::string> kDumpKeys = {"enabled", "file", "schedule", "fields", "precision"};
 const std::vector<std::string> kDumpFields = {"position", "type", "scalar", "radius", "id"};
 const std::vector<std::string> kLammpsKeys = {"fix", "scalar"};
-const std::vector<std::string> kColormaps = {"viridis", "plasma", "coolwarm", "grayscale"};
 
 std::string lower(std::string s) {
   for (char &c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
@@ -85,6 +91,7 @@ std::map<std::string, std::vector<std::string>> key_homes() {
       {"scenes[].camera", &kCameraKeys},
       {"scenes[].color", &kColorKeys},
       {"scenes[].output", &kOutputKeys},
+      {"scenes[].output.movie", &kMovieKeys},
       {"scenes[].culling", &kCullingKeys},
       {"scenes[].lod", &kLodKeys},
       {"scenes[].cut_planes[]", &kCutPlaneKeys},
@@ -168,6 +175,7 @@ class Loader {
     std::vector<SceneConfig> out;
     std::map<std::string, size_t> by_name;
     std::map<std::string, size_t> by_pattern;  // patterns without {scene}
+    std::map<std::string, size_t> by_movie;    // movie files, {scene} expanded
     for (size_t i = 0; i < node.size(); ++i) {
       const std::string scene_path = index_path(path, i);
       out.push_back(scene(node[i], scene_path, i));
@@ -177,7 +185,8 @@ class Loader {
         r_.fail(node[i], child_path(scene_path, "name"),
                 "scene name " + quoted_text(s.name) + " is already used by " +
                     index_path(path, named->second));
-      if (pattern_uses_scene(s.output.pattern)) continue;
+      check_movie_file_unique(node[i], scene_path, s, &by_movie, out);
+      if (!s.output.images || pattern_uses_scene(s.output.pattern)) continue;
       const auto [same, fresh_pattern] = by_pattern.emplace(s.output.pattern, i);
       if (!fresh_pattern)
         r_.fail(node[i], child_path(scene_path, "output.pattern"),
@@ -468,19 +477,119 @@ class Loader {
       for (size_t i = 0; i < n.size(); ++i)
         c.palette.push_back(r_.read_rgb(n[i], index_path(p, i)));
     });
-    optional_key(node, path, "colormap", [&](const YAML::Node &n, const std::string &p) {
-      c.colormap = r_.read_choice(n, p, kColormaps);
+    optional_key(node, path, "colormap",
+                 [&](const YAML::Node &n, const std::string &p) { colormap(n, p, &c); });
+    optional_key(node, path, "reverse", [&](const YAML::Node &n, const std::string &p) {
+      c.reverse = r_.read_bool(n, p);
     });
     optional_key(node, path, "range", [&](const YAML::Node &n, const std::string &p) {
       if (n.IsScalar() && n.Scalar() == "auto") return;
+      if (n.IsMap()) {
+        r_.check_map(n, p, kRangeKeys);
+        if (!n["auto"].IsDefined()) r_.fail(n, p, "must be {auto: frame | first | running}");
+        c.auto_range = read_enum<AutoRange>(n["auto"], child_path(p, "auto"));
+        return;
+      }
       if (!n.IsSequence() || n.size() != 2)
-        r_.fail(n, p, "must be 'auto' or [min, max] with min < max");
+        r_.fail(n, p,
+                "must be 'auto', {auto: frame | first | running} or [min, max] with min < max");
       const double lo = r_.read_finite(n[0], index_path(p, 0));
       const double hi = r_.read_finite(n[1], index_path(p, 1));
       if (!(lo < hi)) r_.fail(n, p, "must be 'auto' or [min, max] with min < max");
       c.range = std::array<double, 2>{lo, hi};
     });
     return c;
+  }
+
+  // colormap: a name, a list of control points [[r,g,b], ...] or {file: PATH} (colormap_file.h).
+  void colormap(const YAML::Node &node, const std::string &path, ColorConfig *c) const {
+    if (node.IsScalar()) {
+      c->colormap = r_.read_choice(node, path, Colormap::names());
+      return;
+    }
+    c->colormap = "custom";
+    if (node.IsSequence()) {
+      if (node.size() < 2 || node.size() > kMaxColormapColors)
+        r_.fail(node, path,
+                "a custom colormap lists 2 to " + std::to_string(kMaxColormapColors) +
+                    " colors [[r,g,b], ...] (components in [0, 1]), got " +
+                    std::to_string(node.size()));
+      for (size_t i = 0; i < node.size(); ++i)
+        c->colormap_colors.push_back(r_.read_rgb(node[i], index_path(path, i)));
+      return;
+    }
+    if (!node.IsMap())
+      r_.fail(node, path, "must be a colormap name, a list [[r,g,b], ...] or {file: PATH}");
+    r_.check_map(node, path, kColormapFileKeys);
+    if (!node["file"].IsDefined()) r_.fail(node, path, "{file: PATH} needs the key 'file'");
+    const std::string file = r_.read_string(node["file"], child_path(path, "file"));
+    const Status read = read_colormap_file(file, &c->colormap_colors);
+    if (!read.ok()) r_.fail(node["file"], child_path(path, "file"), read.message);
+  }
+
+  // Two scenes may not write the same movie file.
+  void check_movie_file_unique(const YAML::Node &node, const std::string &path,
+                               const SceneConfig &s, std::map<std::string, size_t> *by_file,
+                               const std::vector<SceneConfig> &scenes) const {
+    if (!s.output.movie.enabled) return;
+    const std::string file = expand_pattern(s.output.movie.file, 0, s.name);
+    const auto [same, fresh] = by_file->emplace(file, scenes.size() - 1);
+    if (!fresh)
+      r_.fail(node["output"]["movie"]["file"], child_path(path, "output.movie.file"),
+              quoted_text(file, kPathShown) + " is also the movie of " +
+                  index_path("scenes", same->second) +
+                  "; the scenes would write one file (add {scene})");
+  }
+
+  // output.movie (MovieConfig). Codec names and quality ranges are checked against this build's
+  // encoders when the context opens (core/output/movie/movie_encoder.h).
+  MovieConfig movie(const YAML::Node &node, const std::string &path) const {
+    if (!node.IsMap()) r_.fail(node, path, "must be a mapping {file: 'out/{scene}.mp4', ...}");
+    r_.check_map(node, path, kMovieKeys);
+    MovieConfig m;
+    m.enabled = true;
+    if (!node["file"].IsDefined() || node["file"].IsNull())
+      r_.fail(node, path, "needs 'file' (e.g. file: 'out/{scene}.mp4')");
+    optional_key(node, path, "file", [&](const YAML::Node &n, const std::string &p) {
+      m.file = r_.read_string(n, p);
+      const Status problem = validate_pattern(m.file);
+      if (!problem.ok()) r_.fail(n, p, quoted_text(m.file, kPathShown) + ": " + problem.message);
+      if (expand_pattern(m.file, 0, "") != expand_pattern(m.file, 1, ""))
+        r_.fail(n, p,
+                quoted_text(m.file, kPathShown) +
+                    ": a movie is one file for the whole run; {step} has no place in its name");
+      const std::string extension = lower(std::filesystem::path(m.file).extension().string());
+      if (extension != ".mp4" && extension != ".mov" && extension != ".mkv" && extension != ".webm")
+        r_.fail(n, p,
+                quoted_text(m.file, kPathShown) +
+                    " needs a movie extension: .mp4, .mov (fragmented MPEG-4), .mkv (Matroska) "
+                    "or .webm");
+    });
+    optional_key(node, path, "fps", [&](const YAML::Node &n, const std::string &p) {
+      m.fps = r_.read_in_range(n, p, 0.0, false, 1000.0, true);
+    });
+    optional_key(node, path, "codec", [&](const YAML::Node &n, const std::string &p) {
+      m.codec = r_.read_string(n, p);
+    });
+    optional_key(node, path, "quality", [&](const YAML::Node &n, const std::string &p) {
+      m.quality = static_cast<int>(r_.read_int(n, p, 0, 63));
+    });
+    optional_key(node, path, "lossless", [&](const YAML::Node &n, const std::string &p) {
+      m.lossless = r_.read_bool(n, p);
+    });
+    optional_key(node, path, "queue", [&](const YAML::Node &n, const std::string &p) {
+      m.queue = static_cast<int>(r_.read_int(n, p, 1, 256));
+    });
+    optional_key(node, path, "when_behind", [&](const YAML::Node &n, const std::string &p) {
+      m.when_behind = read_enum<MovieWhenBehind>(n, p);
+    });
+    optional_key(node, path, "threads", [&](const YAML::Node &n, const std::string &p) {
+      m.threads = static_cast<int>(r_.read_int(n, p, 1, 16));
+    });
+    if (m.lossless && m.quality)
+      r_.fail(node["quality"], child_path(path, "quality"),
+              "does not apply with lossless: true (remove one of the two)");
+    return m;
   }
 
   OutputConfig output(const YAML::Node &node, const std::string &path) const {
@@ -491,6 +600,11 @@ class Loader {
       const Status problem = validate_pattern(o.pattern);
       if (!problem.ok()) r_.fail(n, p, quoted_text(o.pattern, kPathShown) + ": " + problem.message);
     });
+    optional_key(node, path, "movie",
+                 [&](const YAML::Node &n, const std::string &p) { o.movie = movie(n, p); });
+    // A movie without a pattern replaces the images; with one, both are written.
+    if (o.movie.enabled && !(node["pattern"].IsDefined() && !node["pattern"].IsNull()))
+      o.images = false;
     const std::optional<ImageFormat> from_extension = format_of_extension(o.pattern);
     bool format_given = false;
     optional_key(node, path, "format", [&](const YAML::Node &n, const std::string &p) {
@@ -587,7 +701,7 @@ class Loader {
       d.transfer = read_enum<DensityTransfer>(n, p);
     });
     optional_key(node, path, "colormap", [&](const YAML::Node &n, const std::string &p) {
-      d.colormap = r_.read_choice(n, p, kColormaps);
+      d.colormap = r_.read_choice(n, p, Colormap::names());
     });
     optional_key(node, path, "range", [&](const YAML::Node &n, const std::string &p) {
       if (n.IsScalar() && n.Scalar() == "auto") return;

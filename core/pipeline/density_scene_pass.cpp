@@ -53,7 +53,9 @@ Status run_density_scene(const ScenePassInputs &in, const SceneConfig &scene, co
     select_density_bricks(bricks, camera, scene, radius, &selection, &buffers->cut_counts);
     stats->cull_ms = ms_since(t0);
     t0 = Clock::now();
-    const InstanceRecipe recipe = make_recipe(*in.particles, scene, radius, camera, in.global);
+    const InstanceRecipe recipe =
+        make_recipe(*in.particles, scene, radius, camera,
+                    with_color_range(in.global, buffers->color_range.current()));
     cull = render_density(*in.particles, bricks, scene, selection, recipe, &image);
     stats->draw_ms = ms_since(t0);
   } else {

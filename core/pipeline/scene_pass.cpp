@@ -20,6 +20,7 @@
 #include "core/output/image_writer.h"
 #include "core/output/png/png_across_ranks.h"
 #include "core/pipeline/density_scene_pass.h"
+#include "core/pipeline/scene_movie.h"
 #include "core/render/cpu_sphere_pass.h"
 #include "core/render/object_occlusion.h"
 #include "core/render/point_splats.h"
@@ -133,9 +134,15 @@ ProbabilisticStats reduce_probabilistic_stats(MPI_Comm comm, const Probabilistic
   return all;
 }
 
+// The frame's own scalar range (reduced over ranks), if any particle had a finite scalar.
+std::optional<std::array<double, 2>> scalar_range_of(const Extent &global) {
+  if (!global.has_scalar_range()) return std::nullopt;
+  return std::array<double, 2>{global.scalar_min, global.scalar_max};
+}
+
 // The composited image (rank 0's frame) to the scene's file. Collective; same status everywhere.
-Status write_scene_image(const ScenePassInputs &in, const SceneConfig &scene, const Camera &camera,
-                         Clock::time_point t_start, SceneBuffers *buffers, SceneStats *stats) {
+Status write_image_file(const ScenePassInputs &in, const SceneConfig &scene, const Camera &camera,
+                        Clock::time_point t_start, SceneBuffers *buffers, SceneStats *stats) {
   int rank = 0;
   MPI_Comm_rank(in.comm, &rank);
   const std::string where = "scenes '" + scene.name + "': ";
@@ -169,12 +176,43 @@ Status write_scene_image(const ScenePassInputs &in, const SceneConfig &scene, co
   return broadcast_status(in.comm, written, 0);
 }
 
+// The composited image to the scene's movie (rank 0, before the image file may take the frame
+// over) and to its image file. Collective; same status everywhere: the image's error, else the
+// movie's (once, when it stopped; later images go on without it).
+Status write_scene_image(const ScenePassInputs &in, const SceneConfig &scene, const Camera &camera,
+                         Clock::time_point t_start, SceneBuffers *buffers, SceneStats *stats) {
+  if (!scene.output.movie.enabled)
+    return write_image_file(in, scene, camera, t_start, buffers, stats);
+  int rank = 0;
+  MPI_Comm_rank(in.comm, &rank);
+  const Status movie =
+      rank == 0 ? send_frame_to_movie(scene, buffers->frame, buffers, stats) : Status();
+  Status image;
+  if (scene.output.images)
+    image = write_image_file(in, scene, camera, t_start, buffers, stats);
+  else
+    stats->total_ms = ms_since(t_start);
+  const Status movie_everywhere = broadcast_status(in.comm, movie, 0);
+  return image.ok() ? movie_everywhere : image;
+}
+
 }  // namespace
+
+Extent with_color_range(Extent global, const std::optional<std::array<double, 2>> &range) {
+  global.scalar_min = range ? (*range)[0] : Extent::kInf;
+  global.scalar_max = range ? (*range)[1] : -Extent::kInf;
+  return global;
+}
 
 Status run_scene_pass(const ScenePassInputs &in, const SceneConfig &scene, SceneBuffers *buffers,
                       SceneStats *stats) {
   const auto t_start = Clock::now();
   stats->name = scene.name;
+  // The colours' scalar range: the same on every rank (from the reduced extent), updated on
+  // every rank at every scheduled step so that the remembered ranges stay in step.
+  const Extent colored = with_color_range(
+      in.global, buffers->color_range.update(scene.color, scalar_range_of(in.global)));
+  if (scene.color.by == ColorBy::kScalar) stats->color_range = buffers->color_range.current();
 
   // Every rank has the same inputs here, so these outcomes agree without communication.
   auto t0 = Clock::now();
@@ -235,7 +273,7 @@ Status run_scene_pass(const ScenePassInputs &in, const SceneConfig &scene, Scene
     DrawList &draw = in.scratch->draw;
     BrickSelection &selection = in.scratch->selection;
     select_bricks(bricks, camera, scene, radius, &selection, &buffers->cut_counts);
-    InstanceRecipe recipe = make_recipe(*in.particles, scene, radius, camera, in.global);
+    InstanceRecipe recipe = make_recipe(*in.particles, scene, radius, camera, colored);
     if (object_ao) recipe.occlusion = &occlusion;
     const Rgb8 bg = to_rgb8(scene.background);
     const uint8_t background[4] = {bg[0], bg[1], bg[2], 255};

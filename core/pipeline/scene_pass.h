@@ -4,15 +4,20 @@
 
 #include <mpi.h>
 
+#include <array>
+#include <memory>
+#include <optional>
 #include <vector>
 
 #include "core/bricks/brick_cache.h"
+#include "core/color/color_range.h"
 #include "core/common/status.h"
 #include "core/config/config.h"
 #include "core/culling/brick_cut_counts.h"
 #include "core/culling/brick_selection.h"
 #include "core/culling/cull_stage.h"
 #include "core/output/background_image_writer.h"
+#include "core/output/movie/movie_writer.h"
 #include "core/particles/global_extent.h"
 #include "core/particles/particle_arrays.h"
 #include "core/pipeline/scene_stats.h"
@@ -53,7 +58,14 @@ struct SceneBuffers {
   BackgroundImageWriter writer;  // rank 0, with output.asynchronous
   BrickCutCounts cut_counts;     // this scene's cutting planes per brick (edits are incremental)
   DensityImage density;          // style: density - this rank's sums, then (rank 0) all ranks'
+  ColorRange color_range;        // the scalar range of the colours, remembered across steps
+  std::unique_ptr<MovieWriter> movie;  // rank 0, with output.movie (scene_movie.h)
+  bool movie_warned = false;           // the "encoder is behind" warning was printed
 };
+
+// `global` with the scalar range replaced by `range`, the range this frame's colours use
+// (ColorRange; none: no scalar range).
+Extent with_color_range(Extent global, const std::optional<std::array<double, 2>> &range);
 
 // Renders `scene` and writes its image. Every rank returns the same status.
 Status run_scene_pass(const ScenePassInputs &in, const SceneConfig &scene, SceneBuffers *buffers,
