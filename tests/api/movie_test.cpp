@@ -5,9 +5,6 @@
 // movie but not alter the one being written. A build without movies says so.
 #include <gtest/gtest.h>
 
-#include <signal.h>
-#include <sys/resource.h>
-
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
@@ -19,6 +16,7 @@
 #include <nlohmann/json.hpp>
 
 #include "tests/api/api_fixture.h"
+#include "tests/support/file_size_limit.h"
 #include "tests/support/image_file.h"
 #if LANTERN_TEST_MOVIES
 #include "tests/support/movie_file.h"
@@ -165,26 +163,6 @@ TEST_F(MovieTest, UnknownCodecIsAConfigErrorListingThisBuildsEncoders) {
   EXPECT_NE(message().find("h264 (libx264)"), std::string::npos) << message();
   EXPECT_FALSE(std::filesystem::exists(dir_ / "m.mp4"));
 }
-
-// Restores the file-size limit and the SIGXFSZ disposition of this process.
-class FileSizeLimit {
- public:
-  explicit FileSizeLimit(rlim_t bytes) {
-    getrlimit(RLIMIT_FSIZE, &saved_);
-    previous_ = signal(SIGXFSZ, SIG_IGN);
-    rlimit limit = saved_;
-    limit.rlim_cur = bytes;
-    setrlimit(RLIMIT_FSIZE, &limit);
-  }
-  ~FileSizeLimit() {
-    setrlimit(RLIMIT_FSIZE, &saved_);
-    signal(SIGXFSZ, previous_);
-  }
-
- private:
-  rlimit saved_{};
-  sighandler_t previous_ = SIG_DFL;
-};
 
 // The movie outgrows a file-size limit (as on a full disk) while every PNG stays below it: one
 // step reports the movie's failure, and every step still writes its image.

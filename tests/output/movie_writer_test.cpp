@@ -3,9 +3,6 @@
 // container checks, the bounded queue, and a movie that fails midway (a file-size limit).
 #include <gtest/gtest.h>
 
-#include <signal.h>
-#include <sys/resource.h>
-
 #include <array>
 #include <cmath>
 #include <cstdint>
@@ -15,6 +12,7 @@
 #include "core/output/movie/movie_encoder.h"
 #include "core/output/movie/movie_writer.h"
 #include "tests/output/scratch_dir.h"
+#include "tests/support/file_size_limit.h"
 #if LANTERN_TEST_MOVIES
 #include "tests/support/movie_file.h"
 #endif
@@ -247,26 +245,6 @@ TEST(MovieWriter, FullQueueDropsAndCountsOrWaits) {
   }
 }
 
-// Restores the file-size limit and the SIGXFSZ disposition of this process.
-class FileSizeLimit {
- public:
-  explicit FileSizeLimit(rlim_t bytes) {
-    getrlimit(RLIMIT_FSIZE, &saved_);
-    previous_ = signal(SIGXFSZ, SIG_IGN);  // a write past the limit fails with EFBIG instead
-    rlimit limit = saved_;
-    limit.rlim_cur = bytes;
-    setrlimit(RLIMIT_FSIZE, &limit);
-  }
-  ~FileSizeLimit() {
-    setrlimit(RLIMIT_FSIZE, &saved_);
-    signal(SIGXFSZ, previous_);
-  }
-
- private:
-  rlimit saved_{};
-  sighandler_t previous_ = SIG_DFL;
-};
-
 // A movie that fails midway (here a file-size limit, as a full disk would): submit() reports the
 // error once, then takes frames without complaint; the file keeps the frames written before.
 TEST(MovieWriter, AFailedMovieStopsReportsOnceAndKeepsItsFrames) {
@@ -276,7 +254,7 @@ TEST(MovieWriter, AFailedMovieStopsReportsOnceAndKeepsItsFrames) {
   m.when_behind = MovieWhenBehind::kWait;
   int64_t written = 0;
   {
-    const FileSizeLimit limit(200 * 1024);  // noisy 160 x 120 ffv1 frames: ~40 KiB each
+    const testing::FileSizeLimit limit(200 * 1024);  // noisy 160 x 120 ffv1 frames: ~40 KiB each
     std::unique_ptr<MovieWriter> writer;
     ASSERT_TRUE(MovieWriter::open(m, path, 160, 120, &writer).ok());
     int errors = 0;
