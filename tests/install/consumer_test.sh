@@ -2,9 +2,9 @@
 # Installs the build tree into a scratch prefix, as a new user would, and checks that it works
 # from there without LD_LIBRARY_PATH: every installed program answers --help and --version in a
 # clean environment (env -i: finding liblantern by its relative RPATH, $ORIGIN/../lib), the
-# Python module imports in one, and no installed binary names a folder of the build tree; and
-# tests/install/consumer builds against the package with find_package(Lantern), runs and writes
-# its image.
+# Python module imports in one, no installed binary names a folder of the build tree, the licence
+# is installed and reported by the CMake package, and tests/install/consumer builds against the
+# package with find_package(Lantern), runs and writes its image.
 # Usage: consumer_test.sh BUILD_DIR CONSUMER_SOURCE_DIR [SANITIZERS]
 #   SANITIZERS: the build's LANTERN_SANITIZE (e.g. address,undefined). The consumer is compiled
 #   with them but given no link flag: the installed package must report them and bring their
@@ -56,6 +56,9 @@ while IFS= read -r -d '' binary; do
     fi
   fi
 done < <(find "$prefix" -type f \( -perm -u+x -o -name '*.so*' \) -print0)
+# The licence, installed with the package's documentation and named by the package.
+test -f "$prefix/share/doc/Lantern/LICENSE"
+test -f "$prefix/share/doc/Lantern/CITATION.cff"
 consumer_flags=()
 if [ -n "$sanitize" ]; then
   consumer_flags=("-DCONSUMER_COMPILE_OPTIONS=-fsanitize=$sanitize;-fno-omit-frame-pointer")
@@ -65,6 +68,8 @@ cmake -S "$source_dir" -B "$work/build" -DCMAKE_PREFIX_PATH="$work/prefix" "${co
 cmake --build "$work/build" > "$work/build.log" || { cat "$work/build.log"; exit 1; }
 grep -q "Lantern_GL_BACKENDS=" "$work/configure.log"  # the package reports its GL back ends
 grep "Lantern_GL_BACKENDS=" "$work/configure.log"
+grep -qx -- "-- Lantern_LICENSE=BSD-3-Clause" "$work/configure.log" || {
+  echo "the installed package does not report Lantern_LICENSE=BSD-3-Clause" >&2; exit 1; }
 grep -qx -- "-- Lantern_SANITIZE=$sanitize" "$work/configure.log" || {
   echo "the installed package does not report Lantern_SANITIZE=$sanitize:" >&2
   grep "Lantern_SANITIZE" "$work/configure.log" >&2 || true
