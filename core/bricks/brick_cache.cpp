@@ -4,6 +4,8 @@
 #include <chrono>
 #include <cstring>
 
+#include "core/common/ms_since.h"
+
 namespace lantern {
 namespace {
 
@@ -67,7 +69,7 @@ const BrickSet &BrickCache::for_step(const ParticleArrays &p, int64_t step, doub
     *how = "built";
   }
   remember(p, step, fingerprint);
-  *build_ms += std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+  *build_ms += ms_since(t0);
   return set_;
 }
 

@@ -5,6 +5,7 @@
 
 #include "core/color/colormap.h"
 #include "core/common/collective_status.h"
+#include "core/common/ms_since.h"
 #include "core/composite/density_sum.h"
 #include "core/composite/density_transfer.h"
 #include "core/render/density_pass.h"
@@ -14,9 +15,6 @@ namespace lantern {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-double ms_since(Clock::time_point t0) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
-}
 
 void sum_density_counts(MPI_Comm comm, const CullStats &local, SceneStats *stats) {
   int64_t in[4] = {local.drawn, local.frustum_culled, local.cut_culled, local.lod_dropped};

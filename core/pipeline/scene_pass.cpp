@@ -9,6 +9,7 @@
 #include "core/camera/camera.h"
 #include "core/color/colormap.h"
 #include "core/common/collective_status.h"
+#include "core/common/ms_since.h"
 #include "core/composite/band_compositing.h"
 #include "core/composite/depth_compositor.h"
 #include "core/composite/row_bands.h"
@@ -29,9 +30,6 @@ namespace lantern {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-double ms_since(Clock::time_point t0) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
-}
 
 // The arrays a scene needs that this rank did not publish.
 Status check_scene_needs(const SceneConfig &scene, const RadiusRule &radius,

@@ -8,6 +8,7 @@
 #include <glm/gtc/matrix_inverse.hpp>
 #include <glm/gtc/type_ptr.hpp>
 
+#include "core/common/ms_since.h"
 #include "core/render/gl_functions.h"
 #include "core/render/gl_objects.h"
 #include "core/render/sphere_shaders.h"
@@ -17,10 +18,6 @@ namespace {
 
 // Instances uploaded per draw call: bounds the streaming buffer at 20 MiB.
 constexpr size_t kChunkInstances = size_t(1) << 20;
-
-double ms_since(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-}
 
 Status compile(GLenum kind, const char *source, GlShader *out) {
   GlShader shader(gl().glCreateShader(kind));

@@ -24,6 +24,7 @@
 #include <string>
 #include <vector>
 
+#include "core/common/ms_since.h"
 #include "core/output/atomic_file.h"
 #include "core/output/image_writer.h"
 #include "core/output/png/png_bands.h"
@@ -45,8 +46,7 @@ double time_ms(int runs, const std::function<void()> &f) {
   for (int i = 0; i < runs; ++i) {
     const auto start = std::chrono::steady_clock::now();
     f();
-    t.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
-                    .count());
+    t.push_back(ms_since(start));
   }
   return median(t);
 }
