@@ -135,7 +135,7 @@ struct CutPlane {
 
 // Depth cues (issue 13), each off unless its section is present. The screen-space ones (screen
 // ambient occlusion, outline, depth cue) run on the final-resolution composited frame, after
-// any down-sampling and before the image is written (core/composite/screen_cues.h).
+// any down-sampling and before the image is written (core/finish/screen_cues.h).
 enum class AmbientOcclusionMethod { kScreen, kObject };
 
 // The default ambient_occlusion.radius, in sphere radii (the scene's largest): about the first

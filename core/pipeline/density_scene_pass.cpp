@@ -7,7 +7,7 @@
 #include "core/common/collective_status.h"
 #include "core/common/ms_since.h"
 #include "core/composite/density_sum.h"
-#include "core/composite/density_transfer.h"
+#include "core/finish/density_transfer.h"
 #include "core/render/density_pass.h"
 #include "core/render/sphere_instances.h"
 

@@ -1,6 +1,6 @@
 // The rendering half of a density scene (`style: density`) on every rank: bricks and level of
 // detail (core/render/density_pass.h), the fixed-point splat, the sum over ranks, and the
-// transfer to colors on rank 0 (core/composite/density_transfer.h), leaving rank 0's frame ready
+// transfer to colors on rank 0 (core/finish/density_transfer.h), leaving rank 0's frame ready
 // for the scene's output. Collective over in.comm; every rank returns the same status.
 #pragma once
 

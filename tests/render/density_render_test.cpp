@@ -9,8 +9,8 @@
 
 #include "core/bricks/brick_set.h"
 #include "core/camera/camera.h"
-#include "core/composite/density_transfer.h"
 #include "core/culling/brick_selection.h"
+#include "core/finish/density_transfer.h"
 #include "core/render/density_pass.h"
 #include "core/render/density_splat.h"
 #include "core/view/view_geometry.h"

@@ -11,7 +11,7 @@
 #include "bench_timing.h"
 #include "core/bricks/brick_set.h"
 #include "core/camera/camera.h"
-#include "core/composite/density_transfer.h"
+#include "core/finish/density_transfer.h"
 #include "core/particles/particle_scan.h"
 #include "core/particles/typed_access.h"
 #include "core/render/density_pass.h"

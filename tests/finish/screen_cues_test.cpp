@@ -1,4 +1,4 @@
-// The screen-space cues (core/composite/screen_cues.h) on analytic frames: spheres seen by an
+// The screen-space cues (core/finish/screen_cues.h) on analytic frames: spheres seen by an
 // orthographic camera, drawn here with exact window depth, then cued through the collective
 // apply_screen_cues on every rank of MPI_COMM_WORLD (run at 1, 2, 3, 4 and 8 ranks).
 #include <gtest/gtest.h>
@@ -16,7 +16,7 @@
 #include <glm/vec4.hpp>
 
 #include "core/camera/camera.h"
-#include "core/composite/screen_cues.h"
+#include "core/finish/screen_cues.h"
 #include "tests/support/mpi_world.h"
 #include "tests/support/status_expect.h"
 
@@ -41,7 +41,7 @@ Camera test_camera() {
   return camera;
 }
 
-// View-space x, y of a pixel centre (independent of core/composite/view_positions.cpp).
+// View-space x, y of a pixel centre (independent of core/finish/view_positions.cpp).
 glm::dvec2 pixel_to_view(const Camera &camera, int x, int y) {
   const glm::dmat4 inverse = glm::inverse(camera.projection);
   const glm::dvec4 v = inverse * glm::dvec4(2.0 * (x + 0.5) / kWidth - 1.0,

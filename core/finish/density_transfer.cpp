@@ -1,4 +1,4 @@
-#include "core/composite/density_transfer.h"
+#include "core/finish/density_transfer.h"
 
 #include <algorithm>
 #include <cmath>

@@ -16,7 +16,7 @@
 #pragma once
 
 #include "core/composite/row_bands.h"
-#include "core/composite/view_positions.h"
+#include "core/finish/view_positions.h"
 
 namespace lantern {
 

@@ -1,4 +1,4 @@
-#include "core/composite/depth_cue.h"
+#include "core/finish/depth_cue.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,4 +1,4 @@
-#include "core/composite/outline.h"
+#include "core/finish/outline.h"
 
 #include <algorithm>
 #include <vector>

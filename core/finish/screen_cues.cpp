@@ -1,14 +1,14 @@
-#include "core/composite/screen_cues.h"
+#include "core/finish/screen_cues.h"
 
 #include <algorithm>
 #include <cmath>
 
 #include "core/color/colormap.h"
-#include "core/composite/depth_cue.h"
-#include "core/composite/outline.h"
 #include "core/composite/row_bands.h"
-#include "core/composite/screen_ambient_occlusion.h"
-#include "core/composite/view_positions.h"
+#include "core/finish/depth_cue.h"
+#include "core/finish/outline.h"
+#include "core/finish/screen_ambient_occlusion.h"
+#include "core/finish/view_positions.h"
 
 namespace lantern {
 

@@ -9,7 +9,7 @@
 #include <cstdint>
 
 #include "core/composite/row_bands.h"
-#include "core/composite/view_positions.h"
+#include "core/finish/view_positions.h"
 
 namespace lantern {
 

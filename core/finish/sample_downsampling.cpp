@@ -1,4 +1,4 @@
-#include "core/composite/sample_downsampling.h"
+#include "core/finish/sample_downsampling.h"
 
 #include <algorithm>
 #include <array>

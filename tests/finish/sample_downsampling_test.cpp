@@ -1,4 +1,4 @@
-// Super-sampling's down-sampling (core/composite/sample_downsampling.h): the documented s x s
+// Super-sampling's down-sampling (core/finish/sample_downsampling.h): the documented s x s
 // ordered grid, which samples belong to which pixel, linear-light averaging with exact sRGB
 // encoding, alpha, and the nearest sample's depth.
 #include <gtest/gtest.h>
@@ -6,7 +6,7 @@
 #include <cmath>
 #include <cstdint>
 
-#include "core/composite/sample_downsampling.h"
+#include "core/finish/sample_downsampling.h"
 #include "core/view/frame.h"
 
 namespace lantern {

@@ -1,4 +1,4 @@
-#include "core/composite/screen_ambient_occlusion.h"
+#include "core/finish/screen_ambient_occlusion.h"
 
 #include <algorithm>
 #include <cmath>

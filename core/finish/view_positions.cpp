@@ -1,4 +1,4 @@
-#include "core/composite/view_positions.h"
+#include "core/finish/view_positions.h"
 
 namespace lantern {
 
