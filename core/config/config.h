@@ -74,8 +74,8 @@ struct OutputConfig {
 // on screen (where it measured faster), opengl elsewhere.
 enum class RendererChoice { kAuto, kOpenGl, kCpu };
 
-// probabilistic: seed 004's confidence-map culling (core/culling/probabilistic_culler.h); an
-// approximate mode served by the CPU raster only, never chosen by auto.
+// probabilistic: seed 004's confidence-map culling (core/culling/probabilistic/); an approximate
+// mode served by the CPU raster only, never chosen by auto.
 enum class OcclusionMode { kAuto, kNone, kNineSpheres, kNineSpheresSorted, kHzb, kProbabilistic };
 
 // The radius the nine-spheres rule compares (a sphere is hidden only by nearer spheres that are

@@ -22,7 +22,7 @@
 #include "core/culling/column_strips.h"
 #include "core/culling/cull_stats.h"
 #include "core/culling/draw_list.h"
-#include "core/culling/probabilistic_culler.h"
+#include "core/culling/probabilistic/probabilistic_culler.h"
 #include "core/particles/particle_arrays.h"
 #include "core/render/cpu_sphere_raster.h"
 #include "core/render/sphere_instances.h"

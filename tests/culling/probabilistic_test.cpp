@@ -14,9 +14,9 @@
 
 #include "core/bricks/brick_set.h"
 #include "core/camera/camera.h"
-#include "core/culling/binomial_tail.h"
 #include "core/culling/brick_selection.h"
-#include "core/culling/depth_confidence.h"
+#include "core/culling/probabilistic/binomial_tail.h"
+#include "core/culling/probabilistic/depth_confidence.h"
 #include "core/render/cpu_sphere_pass.h"
 #include "core/render/sphere_instances.h"
 #include "tests/support/status_expect.h"

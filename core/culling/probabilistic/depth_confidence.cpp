@@ -1,10 +1,10 @@
-#include "core/culling/depth_confidence.h"
+#include "core/culling/probabilistic/depth_confidence.h"
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
 
-#include "core/culling/binomial_tail.h"
+#include "core/culling/probabilistic/binomial_tail.h"
 
 namespace lantern {
 namespace {

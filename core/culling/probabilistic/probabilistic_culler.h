@@ -33,9 +33,9 @@
 #include "core/config/config.h"
 #include "core/culling/brick_selection.h"
 #include "core/culling/cull_stats.h"
-#include "core/culling/density_volume.h"
-#include "core/culling/depth_confidence.h"
-#include "core/culling/meshlets.h"
+#include "core/culling/probabilistic/density_volume.h"
+#include "core/culling/probabilistic/depth_confidence.h"
+#include "core/culling/probabilistic/meshlets.h"
 #include "core/particles/particle_arrays.h"
 
 namespace lantern {

@@ -19,7 +19,7 @@
 
 #include <glm/vec3.hpp>
 
-#include "core/culling/depth_confidence.h"
+#include "core/culling/probabilistic/depth_confidence.h"
 #include "core/view/view_geometry.h"
 
 namespace lantern {

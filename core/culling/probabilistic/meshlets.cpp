@@ -1,4 +1,4 @@
-#include "core/culling/meshlets.h"
+#include "core/culling/probabilistic/meshlets.h"
 
 #include <algorithm>
 

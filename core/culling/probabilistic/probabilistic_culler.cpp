@@ -1,10 +1,10 @@
-#include "core/culling/probabilistic_culler.h"
+#include "core/culling/probabilistic/probabilistic_culler.h"
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
 
-#include "core/culling/counter_random.h"
+#include "core/culling/probabilistic/counter_random.h"
 #include "core/particles/typed_access.h"
 
 namespace lantern {

@@ -1,4 +1,4 @@
-#include "core/culling/binomial_tail.h"
+#include "core/culling/probabilistic/binomial_tail.h"
 
 #include <algorithm>
 #include <array>

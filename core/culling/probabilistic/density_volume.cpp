@@ -1,4 +1,4 @@
-#include "core/culling/density_volume.h"
+#include "core/culling/probabilistic/density_volume.h"
 
 #include <algorithm>
 #include <cmath>
