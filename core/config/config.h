@@ -220,7 +220,7 @@ struct DumpConfig {
   bool single_precision = false;              // precision: float32 | float64
 };
 
-// gl: the OpenGL back end (core/render/gl_context.h). auto: EGL, then OSMesa, then none; none:
+// gl: the OpenGL back end (core/render/gl/gl_context.h). auto: EGL, then OSMesa, then none; none:
 // no OpenGL, every scene drawn by the CPU raster. The environment variable LANTERN_GL, when set,
 // overrides the key (so a site can switch back ends without editing configurations).
 enum class GlBackend { kAuto, kEgl, kOsmesa, kNone };

@@ -18,7 +18,7 @@
 #include "core/pipeline/scene_stats.h"
 #include "core/render/cpu_sphere_pass.h"
 #include "core/render/density_splat.h"
-#include "core/render/sphere_renderer.h"
+#include "core/render/gl/sphere_renderer.h"
 #include "core/view/frame.h"
 
 namespace lantern {

@@ -11,8 +11,8 @@
 #include "core/particles/global_extent.h"
 #include "core/particles/particle_arrays.h"
 #include "core/particles/radius_rule.h"
+#include "core/render/gl/sphere_renderer.h"
 #include "core/render/object_occlusion.h"
-#include "core/render/sphere_renderer.h"
 
 namespace lantern {
 

@@ -16,7 +16,7 @@
 #include "core/culling/cull_stage.h"
 #include "core/render/cpu_sphere_pass.h"
 #include "core/render/cpu_sphere_raster.h"
-#include "core/render/gl_session.h"
+#include "core/render/gl/gl_session.h"
 #include "core/render/point_splats.h"
 #include "core/render/sphere_instances.h"
 #include "tests/support/gl_test.h"

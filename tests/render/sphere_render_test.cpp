@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "core/camera/camera.h"
-#include "core/render/gl_session.h"
+#include "core/render/gl/gl_session.h"
 #include "core/view/view_geometry.h"
 #include "tests/support/gl_test.h"
 #include "tests/support/status_expect.h"

@@ -46,7 +46,7 @@
 #include "core/culling/cut_planes.h"
 #include "core/particles/particle_scan.h"
 #include "core/render/cpu_sphere_pass.h"
-#include "core/render/gl_session.h"
+#include "core/render/gl/gl_session.h"
 #include "core/render/point_splats.h"
 #include "core/render/sphere_instances.h"
 #include "density_bench.h"

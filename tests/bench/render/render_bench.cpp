@@ -15,7 +15,7 @@
 #include "core/camera/camera.h"
 #include "core/common/ms_since.h"
 #include "core/render/cpu_sphere_raster.h"
-#include "core/render/gl_session.h"
+#include "core/render/gl/gl_session.h"
 #include "core/view/view_geometry.h"
 
 using namespace lantern;

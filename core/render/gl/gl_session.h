@@ -10,8 +10,8 @@
 
 #include "core/common/status.h"
 #include "core/config/config.h"
-#include "core/render/gl_context.h"
-#include "core/render/sphere_renderer.h"
+#include "core/render/gl/gl_context.h"
+#include "core/render/gl/sphere_renderer.h"
 
 namespace lantern {
 

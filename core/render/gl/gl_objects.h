@@ -4,7 +4,7 @@
 
 #include <utility>
 
-#include "core/render/gl_functions.h"
+#include "core/render/gl/gl_functions.h"
 
 namespace lantern {
 

@@ -12,7 +12,7 @@
 #include <string>
 
 #include "core/common/status.h"
-#include "core/render/gl.h"
+#include "core/render/gl/gl.h"
 
 // Every GL function the renderer uses; X(name) per function.
 // clang-format off

@@ -11,8 +11,8 @@
 #include <string>
 #include <vector>
 
-#include "core/render/gl_context.h"
-#include "core/render/gl_functions.h"
+#include "core/render/gl/gl_context.h"
+#include "core/render/gl/gl_functions.h"
 
 namespace lantern {
 namespace {

@@ -1,4 +1,4 @@
-#include "core/render/gl_functions.h"
+#include "core/render/gl/gl_functions.h"
 
 namespace lantern {
 namespace {

@@ -1,4 +1,4 @@
-#include "core/render/sphere_renderer.h"
+#include "core/render/gl/sphere_renderer.h"
 
 #include <algorithm>
 #include <chrono>
@@ -9,9 +9,9 @@
 #include <glm/gtc/type_ptr.hpp>
 
 #include "core/common/ms_since.h"
-#include "core/render/gl_functions.h"
-#include "core/render/gl_objects.h"
-#include "core/render/sphere_shaders.h"
+#include "core/render/gl/gl_functions.h"
+#include "core/render/gl/gl_objects.h"
+#include "core/render/gl/sphere_shaders.h"
 
 namespace lantern {
 namespace {

@@ -1,4 +1,4 @@
-#include "core/render/gl_context.h"
+#include "core/render/gl/gl_context.h"
 
 #include "core/config/enum_names.h"
 

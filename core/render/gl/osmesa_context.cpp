@@ -2,7 +2,7 @@
 // (egl_context.cpp) is the way forward, this stays for systems without a usable EGL.
 // gl.h first: it asks GL/glext.h for the prototypes gl_functions.h takes its types from, and
 // GL/osmesa.h would include GL/gl.h without them.
-#include "core/render/gl.h"
+#include "core/render/gl/gl.h"
 // clang-format off
 #include <GL/osmesa.h>
 // clang-format on
@@ -10,8 +10,8 @@
 #include <array>
 #include <string>
 
-#include "core/render/gl_context.h"
-#include "core/render/gl_functions.h"
+#include "core/render/gl/gl_context.h"
+#include "core/render/gl/gl_functions.h"
 
 namespace lantern {
 namespace {

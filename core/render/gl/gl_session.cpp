@@ -1,4 +1,4 @@
-#include "core/render/gl_session.h"
+#include "core/render/gl/gl_session.h"
 
 #include <map>
 
