@@ -1,4 +1,4 @@
-// quoted_text(): file content in messages is escaped and cut short (issue #17 item 5).
+// quoted_text(): file content in messages is escaped and cut short.
 #include "core/common/quoted_text.h"
 
 #include <gtest/gtest.h>
