@@ -16,16 +16,6 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-void sum_density_counts(MPI_Comm comm, const CullStats &local, SceneStats *stats) {
-  int64_t in[4] = {local.drawn, local.frustum_culled, local.cut_culled, local.lod_dropped};
-  int64_t out[4] = {0, 0, 0, 0};
-  MPI_Allreduce(in, out, 4, MPI_INT64_T, MPI_SUM, comm);
-  stats->drawn = out[0];
-  stats->frustum_culled = out[1];
-  stats->cut_culled = out[2];
-  stats->lod_dropped = out[3];
-}
-
 }  // namespace
 
 Status run_density_scene(const ScenePassInputs &in, const SceneConfig &scene, const Camera &camera,
@@ -58,7 +48,7 @@ Status run_density_scene(const ScenePassInputs &in, const SceneConfig &scene, co
     image.reset(scene.width, scene.height, density_channels(scene.color.by));
   }
   if (Status s = agree_on_status(in.comm, local); !s.ok()) return s;
-  sum_density_counts(in.comm, cull, stats);
+  sum_counts_over_ranks(in.comm, cull, stats);  // splatted and occlusion_culled: 0 here
   stats->culled = in.global.finite_count - stats->drawn;
 
   const auto t0 = Clock::now();

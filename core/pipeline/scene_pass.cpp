@@ -63,20 +63,6 @@ bool wants_cpu_raster(const SceneConfig &scene, const Camera &camera, double rad
   return radius * pixels_per_unit <= kCpuRasterMaxPixels;
 }
 
-// The particle counts of the stats, summed over ranks in one reduction.
-void sum_counts_over_ranks(MPI_Comm comm, const CullStats &local, SceneStats *stats) {
-  int64_t in[6] = {local.drawn,      local.splatted,    local.frustum_culled,
-                   local.cut_culled, local.lod_dropped, local.occlusion_culled};
-  int64_t out[6] = {0, 0, 0, 0, 0, 0};
-  MPI_Allreduce(in, out, 6, MPI_INT64_T, MPI_SUM, comm);
-  stats->drawn = out[0];
-  stats->splatted = out[1];
-  stats->frustum_culled = out[2];
-  stats->cut_culled = out[3];
-  stats->lod_dropped = out[4];
-  stats->occlusion_culled = out[5];
-}
-
 // Compositing into bands of the final image, for scenes with a stage after compositing
 // (super-sampling's down-sampling, screen-space cues): the frames are composited so that every
 // rank ends with its own row band of the merged frame (whole pixels, i.e. multiples of s sample
@@ -115,20 +101,6 @@ Status assemble_image(MPI_Comm comm, BandFrame *band, int width, int height, Fra
     return {};
   }
   return gather_row_bands(comm, 0, *band, width, height, image);
-}
-
-// Seed 004's counts over ranks: the slowest rank's iterations and samples, summed classes.
-ProbabilisticStats reduce_probabilistic_stats(MPI_Comm comm, const ProbabilisticStats &local) {
-  int64_t most[2] = {local.iterations, local.samples};
-  int64_t sum[5] = {local.meshlets[0], local.meshlets[1], local.meshlets[2], local.meshlets[3],
-                    local.particles_culled};
-  MPI_Allreduce(MPI_IN_PLACE, most, 2, MPI_INT64_T, MPI_MAX, comm);
-  MPI_Allreduce(MPI_IN_PLACE, sum, 5, MPI_INT64_T, MPI_SUM, comm);
-  ProbabilisticStats all;
-  all.iterations = most[0], all.samples = most[1];
-  for (int k = 0; k < 4; ++k) all.meshlets[k] = sum[k];
-  all.particles_culled = sum[4];
-  return all;
 }
 
 // The composited image (rank 0's frame) to the scene's file. Collective; same status everywhere.
