@@ -10,13 +10,10 @@
 #include "core/color/colormap.h"
 #include "core/common/collective_status.h"
 #include "core/common/ms_since.h"
-#include "core/composite/band_compositing.h"
-#include "core/composite/depth_compositor.h"
-#include "core/composite/row_bands.h"
 #include "core/config/file_pattern.h"
 #include "core/culling/brick_selection.h"
 #include "core/culling/cull_stage.h"
-#include "core/finish/sample_downsampling.h"
+#include "core/finish/finish_image.h"
 #include "core/finish/screen_cues.h"
 #include "core/output/image_writer.h"
 #include "core/output/png/png_across_ranks.h"
@@ -61,46 +58,6 @@ bool wants_cpu_raster(const SceneConfig &scene, const Camera &camera, double rad
   const double pixels_per_unit = 0.5 * scene.height * camera.projection[1][1] /
                                  (camera.orthographic ? 1.0 : std::max(distance, 1e-300));
   return radius * pixels_per_unit <= kCpuRasterMaxPixels;
-}
-
-// Compositing into bands of the final image, for scenes with a stage after compositing
-// (super-sampling's down-sampling, screen-space cues): the frames are composited so that every
-// rank ends with its own row band of the merged frame (whole pixels, i.e. multiples of s sample
-// rows), and every rank down-samples its band (s > 1) into *band, which then holds exactly the
-// rank's row_band(height, ranks, rank) of the image. The merged frame is never gathered on one
-// rank. Collective. The bands depend only on (height, ranks) and each output pixel only on its
-// own samples, so the bytes never depend on the rank count. Fills *composite (time, method).
-Status composite_into_image_band(MPI_Comm comm, Frame &frame, int s, BandFrame *band,
-                                 CompositeStats *composite) {
-  RowBand rows;
-  if (Status st = composite_to_row_bands(comm, frame, s, &rows, composite); !st.ok()) return st;
-  band->first = rows.y0 / s;
-  band->owned = {rows.y0 / s, rows.y1 / s};
-  int ranks = 1;
-  MPI_Comm_size(comm, &ranks);
-  if (s > 1) {
-    downsample_band(frame, s, band->first, band->owned.rows(), &band->frame);
-  } else if (ranks == 1) {
-    band->frame = std::move(frame);  // the band is the frame: no copy
-  } else {
-    const size_t begin = size_t(rows.y0) * size_t(frame.width), end = size_t(rows.y1) * frame.width;
-    band->frame.width = frame.width;
-    band->frame.height = rows.rows();
-    band->frame.rgba.assign(frame.rgba.begin() + 4 * begin, frame.rgba.begin() + 4 * end);
-    band->frame.depth.assign(frame.depth.begin() + begin, frame.depth.begin() + end);
-  }
-  return {};
-}
-
-// The image's bands to root's *image (on one rank the band is the image: moved, not copied).
-Status assemble_image(MPI_Comm comm, BandFrame *band, int width, int height, Frame *image) {
-  int ranks = 1;
-  MPI_Comm_size(comm, &ranks);
-  if (ranks == 1) {
-    *image = std::move(band->frame);
-    return {};
-  }
-  return gather_row_bands(comm, 0, *band, width, height, image);
 }
 
 // The composited image (rank 0's frame) to the scene's file. Collective; same status everywhere.
@@ -279,42 +236,22 @@ Status run_scene_pass(const ScenePassInputs &in, const SceneConfig &scene, Scene
         reduce_per_rank_stats(in.comm, 0, double(cull.drawn),
                               double(cull.candidates - cull.drawn - cull.splatted), own_ms);
 
-  CompositeStats cs;
-  const bool cues = wants_screen_cues(scene);
-  if (s_axis == 1 && !cues) {
-    if (Status s = composite_frames(in.comm, frame, 0, CompositeMethod::kAuto, 0, &cs); !s.ok())
-      return with_context(where + "compositing: ", std::move(s));
-  } else {
-    // A stage after compositing: every rank composites into, then works on, its own band of the
-    // image; root gathers the finished bands. The merged frame is never gathered and handed out.
-    t0 = Clock::now();
-    BandFrame band;
-    if (Status s = composite_into_image_band(in.comm, frame, s_axis, &band, &cs); !s.ok())
-      return with_context(where + "compositing: ", std::move(s));
-    stats->downsample_ms = ms_since(t0) - cs.milliseconds;
-    if (cues) {
-      // Screen-space cues on the final-resolution image, each rank its band plus the halo rows
-      // its neighbours own. With super-sampling they need the image's camera (the sample
-      // frame's has s times the pixels; the same frustum, so the same depths).
-      t0 = Clock::now();
-      Camera image_camera = camera;
-      if (s_axis > 1)
-        (void)make_camera(scene.camera, lo, hi, max_radius, scene.width, scene.height,
-                          &image_camera, radius_source);  // succeeded above at s times the size
-      Status cued =
-          exchange_halo_rows(in.comm, scene.width, scene.height, screen_cue_halo(scene), &band);
-      if (cued.ok()) cued = cue_band(in.comm, scene, image_camera, max_radius, &band);
-      if (!cued.ok()) return with_context(where + "screen cues: ", std::move(cued));
-      stats->cues_ms += ms_since(t0);
-    }
-    t0 = Clock::now();
-    if (Status s = assemble_image(in.comm, &band, scene.width, scene.height, &buffers->frame);
-        !s.ok())
-      return with_context(where + "gathering the image: ", std::move(s));
-    if (s_axis > 1) stats->downsample_ms += ms_since(t0);
-  }
-  stats->composite_ms = cs.milliseconds;
-  stats->composite_method = cs.method;
+  // The composited image finished (down-sampling, screen-space cues) on root. The cues need the
+  // image's camera: with super-sampling the sample frame's has s times the pixels (the same
+  // frustum, so the same depths).
+  Camera image_camera = camera;
+  if (s_axis > 1 && wants_screen_cues(scene))
+    (void)make_camera(scene.camera, lo, hi, max_radius, scene.width, scene.height, &image_camera,
+                      radius_source);  // succeeded above at s times the size
+  FinishStats finished;
+  if (Status s =
+          finish_image(in.comm, frame, scene, image_camera, max_radius, &buffers->frame, &finished);
+      !s.ok())
+    return with_context(where, std::move(s));
+  stats->downsample_ms = finished.downsample_ms;
+  stats->cues_ms += finished.cues_ms;
+  stats->composite_ms = finished.composite.milliseconds;
+  stats->composite_method = finished.composite.method;
 
   return write_scene_image(in, scene, camera, t_start, buffers, stats);
 }
