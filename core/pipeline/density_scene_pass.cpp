@@ -37,7 +37,7 @@ Status run_density_scene(const ScenePassInputs &in, const SceneConfig &scene, co
     const BrickSet &bricks =
         in.scratch->bricks.for_step(*in.particles, in.step, &build_ms, &stats->bricks);
     stats->bricks_ms = build_ms;
-    BrickSelection &selection = in.scratch->selection;
+    BrickSelection &selection = in.scratch->draw.selection;
     select_density_bricks(bricks, camera, scene, radius, &selection, &buffers->cut_counts);
     stats->cull_ms = ms_since(t0);
     t0 = Clock::now();

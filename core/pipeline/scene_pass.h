@@ -1,5 +1,6 @@
-// One scene on one scheduled step, on every rank: camera, the spheres to draw, rendering,
-// compositing across ranks, and the image file on rank 0. Collective over the communicator.
+// One scene on one scheduled step, on every rank: the camera, object-space ambient occlusion, the
+// style's pass (sphere_scene_pass.h or density_scene_pass.h: drawing, compositing, finishing), and
+// the image file. Collective over the communicator.
 #pragma once
 
 #include "core/common/status.h"

@@ -7,16 +7,12 @@
 
 #include <mpi.h>
 
-#include <vector>
-
 #include "core/bricks/brick_cache.h"
 #include "core/culling/brick_cut_counts.h"
-#include "core/culling/brick_selection.h"
-#include "core/culling/cull_stage.h"
 #include "core/output/background_image_writer.h"
 #include "core/particles/global_extent.h"
 #include "core/particles/particle_arrays.h"
-#include "core/render/cpu_sphere_pass.h"
+#include "core/pipeline/rank_draw.h"
 #include "core/render/density_splat.h"
 #include "core/render/gl/sphere_renderer.h"
 #include "core/view/frame.h"
@@ -25,11 +21,8 @@ namespace lantern {
 
 // What the scenes of one context share and keep between steps; owned by the Runtime.
 struct PassScratch {
-  BrickCache bricks;         // this step's bricks, refit on later steps
-  BrickSelection selection;  // the visible bricks of the scene being drawn
-  Culler culler;             // per-particle culling for OpenGL (pyramids, grids reused)
-  CpuSpherePass cpu_pass;    // culling and drawing in one pass for the CPU renderer
-  DrawList draw;             // its lists are released once drawn
+  BrickCache bricks;     // this step's bricks, refit on later steps
+  RankDrawScratch draw;  // selection, culling and drawing buffers (rank_draw.h)
 };
 
 // What a scene pass reads and reuses between steps (buffers are kept to avoid reallocation).
@@ -47,7 +40,6 @@ struct ScenePassInputs {
 };
 
 struct SceneBuffers {
-  std::vector<SphereInstance> instances;
   Frame frame;    // the image (on root after compositing)
   Frame samples;  // samples > 1: the sample-resolution frame, kept between steps like `frame`
   BackgroundImageWriter writer;  // rank 0, with output.asynchronous
