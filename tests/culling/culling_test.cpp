@@ -14,6 +14,7 @@
 #include "core/bricks/brick_set.h"
 #include "core/camera/camera.h"
 #include "core/culling/cull_stage.h"
+#include "core/pipeline/rank_draw.h"
 #include "core/render/cpu_sphere_pass.h"
 #include "core/render/cpu_sphere_raster.h"
 #include "core/render/gl/gl_session.h"
@@ -92,45 +93,39 @@ class CullingTest : public testing::GlTest {
     return f;
   }
 
-  // Renders brute force and culled; returns the culling stats and the number of differing
-  // pixels (color or depth).
+  // Renders brute force and the culled scene as the pipeline draws it with OpenGL; returns the
+  // culling stats and the number of differing pixels (color or depth).
   CullStats compare(const Cloud &c, const SceneConfig &s, const Camera &cam, int64_t *differ) {
     const ParticleArrays p = c.arrays();
     const InstanceRecipe recipe = make_recipe(p, s, RadiusRule::of(s, p), cam, Extent{});
-    std::vector<SphereInstance> all, some;
+    std::vector<SphereInstance> all;
     build_all_instances(recipe, &all);
     const Frame brute = render(all, cam);
     const BrickSet bricks = build_bricks(p, BrickOptions{});
-    Culler culler;
-    DrawList draw;
-    const CullStats st = culler.run(p, bricks, cam, s, &draw);
-    if (draw.everything)
-      build_all_instances(recipe, &some);
-    else
-      build_selected_instances(recipe, draw.spheres, &some);
-    const Frame culled = render(some, cam);
-    *differ = 0;
-    for (size_t i = 0; i < brute.pixel_count(); ++i)
-      if (brute.depth[i] != culled.depth[i] ||
-          std::memcmp(&brute.rgba[4 * i], &culled.rgba[4 * i], 4) != 0)
-        ++*differ;
-    return st;
+    SceneConfig on_gl = s;
+    on_gl.renderer = RendererChoice::kOpenGl;
+    RankScene scene(p, bricks, cam, on_gl);
+    scene.renderer = renderer_;
+    RankDrawScratch scratch;
+    Frame culled;
+    RankDraw drawn;
+    EXPECT_OK(draw_scene_on_rank(scene, &scratch, &culled, &drawn));
+    EXPECT_EQ(drawn.renderer, "opengl");
+    *differ = differing_pixels(brute, culled);
+    return drawn.cull;
   }
 
-  // The scene drawn by the CPU raster through the culler in s.culling.occlusion mode.
+  // The scene drawn by the CPU raster as the pipeline draws it without OpenGL, in
+  // s.culling.occlusion mode (one the CPU pass serves itself).
   Frame raster(const Cloud &c, const SceneConfig &s, const Camera &cam, CullStats *stats) {
     const ParticleArrays p = c.arrays();
-    const InstanceRecipe recipe = make_recipe(p, s, RadiusRule::of(s, p), cam, Extent{});
     const BrickSet bricks = build_bricks(p, BrickOptions{});
-    const Rgb8 bg = to_rgb8(s.background);
-    const uint8_t background[4] = {bg[0], bg[1], bg[2], 255};
-    BrickSelection selection;
-    select_bricks(bricks, cam, s, RadiusRule::of(s, p), &selection);
-    EXPECT_TRUE(cpu_pass_serves(selection.mode));
+    RankDrawScratch scratch;
     Frame frame;
-    CpuSpherePass pass;
-    DrawList draw;
-    *stats = pass.run(p, bricks, s, selection, recipe, background, &frame, &draw);
+    RankDraw drawn;
+    EXPECT_OK(draw_scene_on_rank(RankScene(p, bricks, cam, s), &scratch, &frame, &drawn));
+    EXPECT_EQ(drawn.cull.occlusion.find("no OpenGL"), std::string::npos) << drawn.cull.occlusion;
+    *stats = drawn.cull;
     return frame;
   }
 

@@ -18,8 +18,7 @@
 #include "core/culling/brick_selection.h"
 #include "core/culling/cull_pass.h"
 #include "core/culling/cull_stage.h"
-#include "core/render/cpu_sphere_pass.h"
-#include "core/render/sphere_instances.h"
+#include "core/pipeline/rank_draw.h"
 #include "tests/support/bricked_particles.h"
 
 namespace lantern {
@@ -77,14 +76,13 @@ struct Render {
 
 Render render(const Block &b, const SceneConfig &s) {
   const Camera cam = camera_for(b, s);
-  const RadiusRule radius = RadiusRule::of(s, b.arrays);
-  const InstanceRecipe recipe = make_recipe(b.arrays, s, radius, cam, Extent{});
   Render r;
-  select_bricks(b.bricks, cam, s, radius, &r.sel);
-  const uint8_t background[4] = {255, 255, 255, 255};
-  CpuSpherePass pass;
-  DrawList draw;
-  r.stats = pass.run(b.arrays, b.bricks, s, r.sel, recipe, background, &r.frame, &draw);
+  RankDrawScratch scratch;
+  RankDraw drawn;
+  EXPECT_TRUE(
+      draw_scene_on_rank(RankScene(b.arrays, b.bricks, cam, s), &scratch, &r.frame, &drawn).ok());
+  r.stats = drawn.cull;
+  r.sel = scratch.selection;
   return r;
 }
 

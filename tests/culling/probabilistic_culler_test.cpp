@@ -17,8 +17,8 @@
 #include "core/culling/brick_selection.h"
 #include "core/culling/probabilistic/binomial_tail.h"
 #include "core/culling/probabilistic/depth_confidence.h"
+#include "core/pipeline/rank_draw.h"
 #include "core/render/cpu_sphere_pass.h"
-#include "core/render/sphere_instances.h"
 #include "tests/support/status_expect.h"
 
 namespace lantern {
@@ -209,16 +209,17 @@ class Probabilistic : public ::testing::Test {
     CameraConfig cc;
     cc.azimuth = 30, cc.elevation = 25;
     EXPECT_OK(make_camera(cc, lo, hi, s.radius, s.width, s.height, &cam));
-    const InstanceRecipe recipe = make_recipe(p, s, RadiusRule::of(s, p), cam, Extent{});
     const BrickSet bricks = build_bricks(p, BrickOptions{});
-    BrickSelection sel;
-    select_bricks(bricks, cam, s, RadiusRule::of(s, p), &sel);
-    const uint8_t bg[4] = {255, 255, 255, 255};
     Rendered r;
-    CpuSpherePass pass;
-    DrawList draw;
-    r.stats = pass.run(p, bricks, s, sel, recipe, bg, &r.frame, &draw, step);
-    r.drawn = draw.spheres;
+    RankScene rank_scene(p, bricks, cam, s);
+    rank_scene.step = step;
+    RankDrawScratch scratch;
+    RankDraw drawn;
+    EXPECT_OK(draw_scene_on_rank(rank_scene, &scratch, &r.frame, &drawn));
+    r.stats = drawn.cull;
+    r.drawn = scratch.draw.spheres;
+    const CpuSpherePass &pass = scratch.cpu_pass;
+    const BrickSelection &sel = scratch.selection;
     if (s.culling.occlusion == OcclusionMode::kProbabilistic) {
       r.meshlets = pass.probabilistic().meshlets();
       for (uint32_t m = 0; m < r.meshlets.meshlets.size(); ++m)
