@@ -8,6 +8,7 @@
 #include "core/common/ms_since.h"
 #include "core/composite/density_sum.h"
 #include "core/finish/density_transfer.h"
+#include "core/pipeline/scene_settings.h"
 #include "core/render/density_pass.h"
 #include "core/render/sphere_instances.h"
 
@@ -29,7 +30,7 @@ Status run_density_scene(const ScenePassInputs &in, const SceneConfig &scene, co
                 std::to_string(in.global.finite_count)};
   stats->renderer = "density";
   stats->occlusion = "none (density)";
-  CullStats cull;
+  CullStats counts;
   DensityImage &image = buffers->density;
   if (local.ok()) {
     auto t0 = Clock::now();
@@ -38,17 +39,18 @@ Status run_density_scene(const ScenePassInputs &in, const SceneConfig &scene, co
         in.scratch->bricks.for_step(*in.particles, in.step, &build_ms, &stats->bricks);
     stats->bricks_ms = build_ms;
     BrickSelection &selection = in.scratch->draw.selection;
-    select_density_bricks(bricks, camera, scene, radius, &selection, &buffers->cut_counts);
+    const CullSettings cull = cull_settings(scene);
+    select_density_bricks(bricks, camera, cull, radius, &selection, &buffers->cut_counts);
     stats->cull_ms = ms_since(t0);
     t0 = Clock::now();
     const InstanceRecipe recipe = make_recipe(*in.particles, scene, radius, camera, in.global);
-    cull = render_density(*in.particles, bricks, scene, selection, recipe, &image);
+    counts = render_density(*in.particles, bricks, cull, selection, recipe, &image);
     stats->draw_ms = ms_since(t0);
   } else {
     image.reset(scene.width, scene.height, density_channels(scene.color.by));
   }
   if (Status s = agree_on_status(in.comm, local); !s.ok()) return s;
-  sum_counts_over_ranks(in.comm, cull, stats);  // splatted and occlusion_culled: 0 here
+  sum_counts_over_ranks(in.comm, counts, stats);  // splatted and occlusion_culled: 0 here
   stats->culled = in.global.finite_count - stats->drawn;
 
   const auto t0 = Clock::now();

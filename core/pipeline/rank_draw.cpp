@@ -5,6 +5,7 @@
 #include "core/color/colormap.h"
 #include "core/common/ms_since.h"
 #include "core/pipeline/renderer_choice.h"
+#include "core/pipeline/scene_settings.h"
 #include "core/render/point_splats.h"
 #include "core/render/sphere_instances.h"
 
@@ -21,7 +22,8 @@ Status draw_scene_on_rank(const RankScene &in, RankDrawScratch *scratch, Frame *
   auto t0 = Clock::now();
   BrickSelection &selection = scratch->selection;
   DrawList &draw = scratch->draw;
-  select_bricks(*in.bricks, camera, scene, in.radius, &selection, in.cut_counts);
+  const CullSettings cull = cull_settings(scene);
+  select_bricks(*in.bricks, camera, cull, in.radius, &selection, in.cut_counts);
   InstanceRecipe recipe = make_recipe(particles, scene, in.radius, camera, in.global);
   recipe.occlusion = in.occlusion;
   const Rgb8 bg = to_rgb8(scene.background);
@@ -29,9 +31,9 @@ Status draw_scene_on_rank(const RankScene &in, RankDrawScratch *scratch, Frame *
   const bool cpu = draws_on_cpu(scene, camera, in.radius.max_radius(in.global),
                                 in.renderer != nullptr, !recipe.alpha_by_type.empty(), &selection);
   out->renderer = cpu ? "cpu" : "opengl";
-  out->cull = cpu ? scratch->cpu_pass.run(particles, *in.bricks, scene, selection, recipe,
-                                          background, frame, &draw, in.step)
-                  : scratch->culler.cull(particles, *in.bricks, scene, selection, &draw);
+  out->cull = cpu ? scratch->cpu_pass.run(particles, *in.bricks, cull, scene.lighting, selection,
+                                          recipe, background, frame, &draw, in.step)
+                  : scratch->culler.cull(particles, *in.bricks, cull, selection, &draw);
   out->cull_ms = ms_since(t0);
 
   Status drawn;

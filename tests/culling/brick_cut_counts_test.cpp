@@ -11,6 +11,7 @@
 #include "core/culling/brick_cut_counts.h"
 #include "core/culling/brick_selection.h"
 #include "core/culling/cut_planes.h"
+#include "core/pipeline/scene_settings.h"
 #include "tests/support/status_expect.h"
 
 namespace lantern {
@@ -168,8 +169,9 @@ TEST(BrickCutCounts, SelectionThroughCountsEqualsSelectionFromScratch) {
   for (size_t e = 0; e < edits.size(); ++e) {
     scene.cuts = edits[e];
     BrickSelection full, incremental;
-    select_bricks(bricks, cam, scene, RadiusRule::of(scene, p), &full);
-    select_bricks(bricks, cam, scene, RadiusRule::of(scene, p), &incremental, &counts);
+    select_bricks(bricks, cam, cull_settings(scene), RadiusRule::of(scene, p), &full);
+    select_bricks(bricks, cam, cull_settings(scene), RadiusRule::of(scene, p), &incremental,
+                  &counts);
     ASSERT_EQ(full.visible.size(), incremental.visible.size()) << "edit " << e;
     for (size_t i = 0; i < full.visible.size(); ++i) {
       ASSERT_EQ(full.visible[i].brick, incremental.visible[i].brick) << "edit " << e;

@@ -15,6 +15,7 @@
 #include "core/camera/camera.h"
 #include "core/culling/cull_stage.h"
 #include "core/pipeline/rank_draw.h"
+#include "core/pipeline/scene_settings.h"
 #include "core/render/cpu_sphere_pass.h"
 #include "core/render/cpu_sphere_raster.h"
 #include "core/render/gl/gl_session.h"
@@ -250,7 +251,8 @@ TEST_F(CullingTest, CutPlanesDropParticlesOnThePositiveSide) {
   const BrickSet bricks = build_bricks(p, BrickOptions{});
   Culler culler;
   DrawList draw;
-  const CullStats st = culler.run(p, bricks, camera(s, c, orbit(30, 20)), s, &draw);
+  const CullStats st = culler.run(p, bricks, camera(s, c, orbit(30, 20)), cull_settings(s),
+                                  RadiusRule::of(s, p), &draw);
   int64_t expect_kept = 0;
   for (size_t i = 0; i < c.xyz.size(); i += 3) expect_kept += c.xyz[i] <= 7.0;
   EXPECT_EQ(st.drawn, expect_kept);
@@ -266,7 +268,8 @@ TEST_F(CullingTest, BudgetIsServedFromBrickPrefixes) {
   const BrickSet bricks = build_bricks(p, BrickOptions{});
   Culler culler;
   DrawList draw;
-  const CullStats st = culler.run(p, bricks, camera(s, c, orbit(30, 20)), s, &draw);
+  const CullStats st = culler.run(p, bricks, camera(s, c, orbit(30, 20)), cull_settings(s),
+                                  RadiusRule::of(s, p), &draw);
   EXPECT_LE(st.drawn, 4000 + int64_t(bricks.bricks.size()));
   EXPECT_GE(st.drawn, 3500);
   EXPECT_EQ(st.lod_dropped + st.drawn, st.candidates);
@@ -282,12 +285,12 @@ TEST_F(CullingTest, ScreenSpaceRuleAndPointPathTakeOverSubPixelSpheres) {
   Culler culler;
   DrawList draw;
   s.lod.min_pixels = 3.0;
-  CullStats st = culler.run(p, bricks, cam, s, &draw);
+  CullStats st = culler.run(p, bricks, cam, cull_settings(s), RadiusRule::of(s, p), &draw);
   EXPECT_LT(st.drawn, st.candidates / 4);
   EXPECT_EQ(st.drawn + st.lod_dropped, st.candidates);
   s.lod.min_pixels = 0.0;
   s.lod.point_path = true;
-  st = culler.run(p, bricks, cam, s, &draw);
+  st = culler.run(p, bricks, cam, cull_settings(s), RadiusRule::of(s, p), &draw);
   EXPECT_EQ(st.splatted, st.candidates);  // every sphere is below half a pixel here
   EXPECT_EQ(st.drawn, 0);
   // The splats land in the frame, nearest first.

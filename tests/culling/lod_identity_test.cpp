@@ -12,6 +12,7 @@
 #include "core/camera/camera.h"
 #include "core/culling/brick_selection.h"
 #include "core/pipeline/rank_draw.h"
+#include "core/pipeline/scene_settings.h"
 #include "core/render/density_pass.h"
 #include "core/render/sphere_instances.h"
 #include "tests/support/bricked_particles.h"
@@ -62,9 +63,10 @@ std::vector<int64_t> density(const Lattice &l, const SceneConfig &s, int64_t *lo
   const RadiusRule radius = RadiusRule::of(s, l.arrays);
   const InstanceRecipe recipe = make_recipe(l.arrays, s, radius, cam, Extent{});
   BrickSelection sel;
-  select_density_bricks(l.bricks, cam, s, radius, &sel, nullptr);
+  select_density_bricks(l.bricks, cam, cull_settings(s), radius, &sel, nullptr);
   DensityImage image;
-  *lod_dropped = render_density(l.arrays, l.bricks, s, sel, recipe, &image).lod_dropped;
+  *lod_dropped =
+      render_density(l.arrays, l.bricks, cull_settings(s), sel, recipe, &image).lod_dropped;
   return image.sum;
 }
 

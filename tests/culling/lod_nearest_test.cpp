@@ -19,6 +19,7 @@
 #include "core/culling/cull_pass.h"
 #include "core/culling/cull_stage.h"
 #include "core/pipeline/rank_draw.h"
+#include "core/pipeline/scene_settings.h"
 #include "tests/support/bricked_particles.h"
 
 namespace lantern {
@@ -164,12 +165,13 @@ TEST(LodNearest, KeepsExactlyTheNearestKeepOfEachBrickDeterministically) {
   const Camera cam = camera_for(block, s);
   const RadiusRule radius = RadiusRule::of(s, block.arrays);
   BrickSelection sel;
-  select_bricks(block.bricks, cam, s, radius, &sel);
+  const CullSettings cull = cull_settings(s);
+  select_bricks(block.bricks, cam, cull, radius, &sel);
   ASSERT_GT(nearest_bricks(sel), 0);
   Culler culler;
   DrawList first, second;
-  const CullStats st = culler.cull(block.arrays, block.bricks, s, sel, &first);
-  culler.cull(block.arrays, block.bricks, s, sel, &second);
+  const CullStats st = culler.cull(block.arrays, block.bricks, cull, sel, &first);
+  culler.cull(block.arrays, block.bricks, cull, sel, &second);
   EXPECT_EQ(first.spheres, second.spheres);
 
   std::set<uint32_t> drawn;

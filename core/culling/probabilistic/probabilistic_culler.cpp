@@ -128,8 +128,8 @@ void ProbabilisticCuller::sample_sphere(const ViewGeometry &g, const glm::dvec3 
 }
 
 ProbabilisticStats ProbabilisticCuller::run(const ParticleArrays &particles, const BrickSet &bricks,
-                                            const SceneConfig &scene, const BrickSelection &sel,
-                                            int64_t step) {
+                                            const ProbabilisticConfig &cfg,
+                                            const BrickSelection &sel, int64_t step) {
   if (meshlets_.generation == 0 || meshlets_.generation != bricks.generation)
     meshlets_.build(particles, bricks);
   const ViewGeometry &g = sel.g;
@@ -140,7 +140,6 @@ ProbabilisticStats ProbabilisticCuller::run(const ParticleArrays &particles, con
   rects_.assign(meshlets_.meshlets.size(), PixelRect{});
   nears_.assign(meshlets_.meshlets.size(), 0.0);
   ProbabilisticStats st;
-  const ProbabilisticConfig &cfg = scene.culling.probabilistic;
 
   visit_positions(particles, [&](const auto &pos) {
     visit_radii(particles, sel.radius.per_particle, sel.radius.radius, [&](const auto &radius) {

@@ -50,8 +50,10 @@ class ProbabilisticCuller {
  public:
   // Classifies the meshlets of `sel`'s visible bricks (sel.mode must be probabilistic) for the
   // frame of step `step`.
+  // `settings`: the scene's culling.probabilistic keys.
   ProbabilisticStats run(const ParticleArrays &particles, const BrickSet &bricks,
-                         const SceneConfig &scene, const BrickSelection &sel, int64_t step);
+                         const ProbabilisticConfig &settings, const BrickSelection &sel,
+                         int64_t step);
 
   const MeshletSet &meshlets() const { return meshlets_; }
   // The class of meshlet m after the last run (meaningful for meshlets of visible bricks).

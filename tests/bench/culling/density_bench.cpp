@@ -1,4 +1,5 @@
 #include "density_bench.h"
+#include "core/pipeline/scene_settings.h"
 
 #include <algorithm>
 #include <chrono>
@@ -103,17 +104,18 @@ bool run_at(const BenchScene &bs, const ParticleArrays &p, const BrickSet &brick
     if (f < 1.0) samples.push_back({"random_" + pct, f, true, {}, {}, 0, 0, {}, {}});
   }
   BrickSelection sel;
+  const CullSettings cull = cull_settings(sc);
   // Run 0 warms up (first touch of every image's pages) and is not timed.
   for (int run = 0; run <= runs; ++run)
     for (Sample &s : samples) {
       const auto t0 = Clock::now();
       const double cpu0 = thread_cpu_ms();
       if (s.random) {
-        select_density_bricks(bricks, cam, sc, radius, &sel, nullptr);  // the geometry
+        select_density_bricks(bricks, cam, cull, radius, &sel, nullptr);  // the geometry
         s.drawn =
             render_random(p, bricks, sel.g, recipe, sc.radius, s.fraction, &s.image, &s.pixels);
       } else {
-        SceneConfig lod = sc;
+        CullSettings lod = cull;
         lod.lod.fraction = s.fraction;
         select_density_bricks(bricks, cam, lod, radius, &sel, nullptr);
         s.drawn = render_density(p, bricks, lod, sel, recipe, &s.image, &s.pixels).drawn;

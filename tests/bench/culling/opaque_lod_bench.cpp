@@ -1,4 +1,5 @@
 #include "opaque_lod_bench.h"
+#include "core/pipeline/scene_settings.h"
 
 #include <algorithm>
 #include <chrono>
@@ -76,9 +77,10 @@ class Renderer {
     sc.lod = lod;
     const Rgb8 bg = to_rgb8(sc.background);
     const uint8_t background[4] = {bg[0], bg[1], bg[2], 255};
-    select_bricks(d.bricks, cam, sc, RadiusRule::of(sc, d.arrays), &selection_);
-    const CullStats st =
-        pass_.run(d.arrays, d.bricks, sc, selection_, d.recipe, background, &s->frame, &draw_);
+    const CullSettings cull = cull_settings(sc);
+    select_bricks(d.bricks, cam, cull, RadiusRule::of(sc, d.arrays), &selection_);
+    const CullStats st = pass_.run(d.arrays, d.bricks, cull, sc.lighting, selection_, d.recipe,
+                                   background, &s->frame, &draw_);
     if (!draw_.points.empty())
       splat_points(
           d.arrays, d.recipe.per_particle_radius, d.recipe.radius, draw_.points, selection_.g,

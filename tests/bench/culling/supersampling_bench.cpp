@@ -1,4 +1,5 @@
 #include "supersampling_bench.h"
+#include "core/pipeline/scene_settings.h"
 
 #include <mpi.h>
 #include <sys/resource.h>
@@ -68,10 +69,12 @@ class SampledRenderer {
     const InstanceRecipe recipe = make_recipe(p_, sc, rule, cam, ext_);
     const Rgb8 bg = to_rgb8(sc.background);
     const uint8_t background[4] = {bg[0], bg[1], bg[2], 255};
+    const CullSettings cull = cull_settings(sc);
     const auto t0 = Clock::now();
-    select_bricks(bricks_, cam, sc, rule, &selection_);
+    select_bricks(bricks_, cam, cull, rule, &selection_);
     Frame &target = s > 1 ? samples_ : out->frame;
-    out->stats = pass_.run(p_, bricks_, sc, selection_, recipe, background, &target, &draw_);
+    out->stats =
+        pass_.run(p_, bricks_, cull, sc.lighting, selection_, recipe, background, &target, &draw_);
     const auto t1 = Clock::now();
     if (s > 1) downsample_frame(samples_, s, &out->frame);
     out->downsample_ms.push_back(ms_since(t1));

@@ -1,0 +1,14 @@
+// The small values each stage takes, resolved once per scene from the scene's configuration:
+// the stages below the pipeline never read a SceneConfig, only what they need of it.
+#pragma once
+
+#include "core/config/config.h"
+#include "core/culling/cull_settings.h"
+
+namespace lantern {
+
+// Culling's: frustum, occlusion, level of detail (and how it grows spheres for the style),
+// cutting planes.
+CullSettings cull_settings(const SceneConfig &scene);
+
+}  // namespace lantern
