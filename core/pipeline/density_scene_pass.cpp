@@ -43,7 +43,8 @@ Status run_density_scene(const ScenePassInputs &in, const SceneConfig &scene, co
     select_density_bricks(bricks, camera, cull, radius, &selection, &buffers->cut_counts);
     stats->cull_ms = ms_since(t0);
     t0 = Clock::now();
-    const InstanceRecipe recipe = make_recipe(*in.particles, scene, radius, camera, in.global);
+    const InstanceRecipe recipe =
+        make_recipe(*in.particles, shading_settings(scene), radius, camera, in.global);
     counts = render_density(*in.particles, bricks, cull, selection, recipe, &image);
     stats->draw_ms = ms_since(t0);
   } else {

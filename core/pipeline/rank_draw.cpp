@@ -23,15 +23,16 @@ Status draw_scene_on_rank(const RankScene &in, RankDrawScratch *scratch, Frame *
   BrickSelection &selection = scratch->selection;
   DrawList &draw = scratch->draw;
   const CullSettings cull = cull_settings(scene);
+  const ShadingSettings shading = shading_settings(scene);
   select_bricks(*in.bricks, camera, cull, in.radius, &selection, in.cut_counts);
-  InstanceRecipe recipe = make_recipe(particles, scene, in.radius, camera, in.global);
+  InstanceRecipe recipe = make_recipe(particles, shading, in.radius, camera, in.global);
   recipe.occlusion = in.occlusion;
-  const Rgb8 bg = to_rgb8(scene.background);
+  const Rgb8 bg = to_rgb8(shading.background);
   const uint8_t background[4] = {bg[0], bg[1], bg[2], 255};
   const bool cpu = draws_on_cpu(scene, camera, in.radius.max_radius(in.global),
                                 in.renderer != nullptr, !recipe.alpha_by_type.empty(), &selection);
   out->renderer = cpu ? "cpu" : "opengl";
-  out->cull = cpu ? scratch->cpu_pass.run(particles, *in.bricks, cull, scene.lighting, selection,
+  out->cull = cpu ? scratch->cpu_pass.run(particles, *in.bricks, cull, shading.lighting, selection,
                                           recipe, background, frame, &draw, in.step)
                   : scratch->culler.cull(particles, *in.bricks, cull, selection, &draw);
   out->cull_ms = ms_since(t0);
@@ -47,7 +48,7 @@ Status draw_scene_on_rank(const RankScene &in, RankDrawScratch *scratch, Frame *
     out->instances_ms = ms_since(t0);
     RenderTimings timings;
     RenderView view = camera.render_view(background);
-    view.lighting = scene.lighting;
+    view.lighting = shading.lighting;
     drawn = in.renderer->render(view, scratch->instances.data(), scratch->instances.size(), frame,
                                 &timings);
     out->draw_ms = timings.draw_ms;
@@ -60,7 +61,7 @@ Status draw_scene_on_rank(const RankScene &in, RankDrawScratch *scratch, Frame *
         [&recipe](int64_t i) { return recipe.color(i); }, frame,
         recipe.alpha_by_type.empty() ? AlphaOf()
                                      : AlphaOf([&recipe](int64_t i) { return recipe.alpha(i); }),
-        scene.lighting);
+        shading.lighting);
     std::vector<uint64_t>().swap(draw.points);
     out->draw_ms += ms_since(t0);
   }

@@ -20,4 +20,13 @@ CullSettings cull_settings(const SceneConfig &scene) {
   return c;
 }
 
+ShadingSettings shading_settings(const SceneConfig &scene) {
+  ShadingSettings s;
+  s.color = scene.color;
+  s.opacity = scene.opacity;
+  s.lighting = scene.lighting;
+  s.background = scene.background;
+  return s;
+}
+
 }  // namespace lantern

@@ -4,11 +4,15 @@
 
 #include "core/config/config.h"
 #include "core/culling/cull_settings.h"
+#include "core/render/shading_settings.h"
 
 namespace lantern {
 
 // Culling's: frustum, occlusion, level of detail (and how it grows spheres for the style),
 // cutting planes.
 CullSettings cull_settings(const SceneConfig &scene);
+
+// Rendering's: colors, opacity, light, background.
+ShadingSettings shading_settings(const SceneConfig &scene);
 
 }  // namespace lantern

@@ -98,7 +98,8 @@ class CullingTest : public testing::GlTest {
   // culling stats and the number of differing pixels (color or depth).
   CullStats compare(const Cloud &c, const SceneConfig &s, const Camera &cam, int64_t *differ) {
     const ParticleArrays p = c.arrays();
-    const InstanceRecipe recipe = make_recipe(p, s, RadiusRule::of(s, p), cam, Extent{});
+    const InstanceRecipe recipe =
+        make_recipe(p, shading_settings(s), RadiusRule::of(s, p), cam, Extent{});
     std::vector<SphereInstance> all;
     build_all_instances(recipe, &all);
     const Frame brute = render(all, cam);
@@ -295,7 +296,8 @@ TEST_F(CullingTest, ScreenSpaceRuleAndPointPathTakeOverSubPixelSpheres) {
   EXPECT_EQ(st.drawn, 0);
   // The splats land in the frame, nearest first.
   Frame f = render({}, cam);
-  const InstanceRecipe recipe = make_recipe(p, s, RadiusRule::of(s, p), cam, Extent{});
+  const InstanceRecipe recipe =
+      make_recipe(p, shading_settings(s), RadiusRule::of(s, p), cam, Extent{});
   splat_points(
       p, false, s.radius, draw.points, culler.geometry(),
       [&recipe](int64_t i) { return recipe.color(i); }, &f);
@@ -383,7 +385,8 @@ TEST_F(CullingTest, CpuRasterCullsTheHiddenCrystalAndMatchesOpenGl) {
 
   const ParticleArrays p = c.arrays();
   std::vector<SphereInstance> all;
-  build_all_instances(make_recipe(p, s, RadiusRule::of(s, p), cam, Extent{}), &all);
+  build_all_instances(make_recipe(p, shading_settings(s), RadiusRule::of(s, p), cam, Extent{}),
+                      &all);
   const Frame gl = render(all, cam);
   int64_t background_mismatch = 0, off_by_more = 0;
   double squared = 0.0;
@@ -466,7 +469,8 @@ TEST_F(CullingTest, OpenGlMatchesCpuRasterWithTheCameraInsideACrystal) {
     const Frame cpu = raster(c, s, cam, &st);
     const ParticleArrays p = c.arrays();
     std::vector<SphereInstance> all;
-    build_all_instances(make_recipe(p, s, RadiusRule::of(s, p), cam, Extent{}), &all);
+    build_all_instances(make_recipe(p, shading_settings(s), RadiusRule::of(s, p), cam, Extent{}),
+                        &all);
     const Frame gl = render(all, cam);
     const RendererDifference d = renderer_difference(gl, cpu);
     // From outside the renderers differ in a pixel or two where intersecting spheres' float and
@@ -481,7 +485,8 @@ TEST_F(CullingTest, OpenGlMatchesCpuRasterWithTheCameraInsideACrystal) {
     const Camera far_cam = camera(s, c, orbit_cfg);
     const Frame cpu_out = raster(c, s, far_cam, &st);
     std::vector<SphereInstance> all_out;
-    build_all_instances(make_recipe(p, s, RadiusRule::of(s, p), far_cam, Extent{}), &all_out);
+    build_all_instances(
+        make_recipe(p, shading_settings(s), RadiusRule::of(s, p), far_cam, Extent{}), &all_out);
     outside.add(renderer_difference(render(all_out, far_cam), cpu_out));
   }
   std::printf(

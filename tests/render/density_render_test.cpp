@@ -239,7 +239,8 @@ double rendered_weight(const Cloud &cloud, const SceneConfig &scene, const Camer
   select_density_bricks(cloud.bricks, camera, cull_settings(scene), radius, &sel, nullptr);
   Extent ext;
   ext.lo = {1, 1, 1}, ext.hi = {9, 9, 9};
-  const InstanceRecipe recipe = make_recipe(cloud.arrays, scene, radius, camera, ext);
+  const InstanceRecipe recipe =
+      make_recipe(cloud.arrays, shading_settings(scene), radius, camera, ext);
   DensityImage image;
   const CullStats st =
       render_density(cloud.arrays, cloud.bricks, cull_settings(scene), sel, recipe, &image);

@@ -210,7 +210,7 @@ class Bench {
         return;
       }
       const InstanceRecipe recipe =
-          make_recipe(p, view.config, RadiusRule::of(view.config, p), cam, ext);
+          make_recipe(p, shading_settings(view.config), RadiusRule::of(view.config, p), cam, ext);
       std::vector<Result> &results = per_view[size_t(k)];
       for (int run = 0; run < opt_.runs; ++run)
         for (size_t m = 0; m < all.size(); ++m)

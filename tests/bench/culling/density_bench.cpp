@@ -96,7 +96,7 @@ bool run_at(const BenchScene &bs, const ParticleArrays &p, const BrickSet &brick
     std::printf("%s: camera: %s\n", name.c_str(), s.message.c_str());
     return true;
   }
-  const InstanceRecipe recipe = make_recipe(p, sc, radius, cam, ext);
+  const InstanceRecipe recipe = make_recipe(p, shading_settings(sc), radius, cam, ext);
   std::vector<Sample> samples;
   for (const double f : {1.0, 0.5, 0.25, 0.1, 0.01}) {
     const std::string pct = std::to_string(int(std::lround(f * 100))) + "%";

@@ -127,8 +127,8 @@ void run_opaque_lod_bench(const BenchScene &bs, int runs, std::ostream &csv,
     d->arrays = d->scene.arrays();
     d->bricks = build_bricks(d->arrays, BrickOptions{});
     // The full scene's extent: a sample is colored and framed as the whole.
-    d->recipe = make_recipe(d->arrays, d->scene.config, RadiusRule::of(d->scene.config, d->arrays),
-                            cam, ext);
+    d->recipe = make_recipe(d->arrays, shading_settings(d->scene.config),
+                            RadiusRule::of(d->scene.config, d->arrays), cam, ext);
     return d;
   };
   const double fractions[] = {1.0, 0.5, 0.25, 0.1, 0.01};

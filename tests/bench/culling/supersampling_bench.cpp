@@ -66,7 +66,7 @@ class SampledRenderer {
       std::printf("camera: %s\n", st.message.c_str());
       return;
     }
-    const InstanceRecipe recipe = make_recipe(p_, sc, rule, cam, ext_);
+    const InstanceRecipe recipe = make_recipe(p_, shading_settings(sc), rule, cam, ext_);
     const Rgb8 bg = to_rgb8(sc.background);
     const uint8_t background[4] = {bg[0], bg[1], bg[2], 255};
     const CullSettings cull = cull_settings(sc);
