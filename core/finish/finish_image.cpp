@@ -52,11 +52,11 @@ Status assemble_image(MPI_Comm comm, BandFrame *band, int width, int height, Fra
 
 }  // namespace
 
-Status finish_image(MPI_Comm comm, Frame &frame, const SceneConfig &scene,
+Status finish_image(MPI_Comm comm, Frame &frame, const FinishSettings &finish,
                     const Camera &image_camera, double sphere_radius, Frame *image,
                     FinishStats *stats) {
-  const int s = scene.samples_per_axis();
-  const bool cues = wants_screen_cues(scene);
+  const int s = finish.samples_per_axis;
+  const bool cues = wants_screen_cues(finish.cues);
   if (s == 1 && !cues) {  // nothing after compositing: straight to root's frame
     if (Status st = composite_frames(comm, frame, 0, CompositeMethod::kAuto, 0, &stats->composite);
         !st.ok())
@@ -72,13 +72,13 @@ Status finish_image(MPI_Comm comm, Frame &frame, const SceneConfig &scene,
     // Each rank cues its band plus the halo rows its neighbours own.
     t0 = Clock::now();
     Status cued =
-        exchange_halo_rows(comm, scene.width, scene.height, screen_cue_halo(scene), &band);
-    if (cued.ok()) cued = cue_band(comm, scene, image_camera, sphere_radius, &band);
+        exchange_halo_rows(comm, finish.width, finish.height, screen_cue_halo(finish.cues), &band);
+    if (cued.ok()) cued = cue_band(comm, finish.cues, image_camera, sphere_radius, &band);
     if (!cued.ok()) return with_context("screen cues: ", std::move(cued));
     stats->cues_ms += ms_since(t0);
   }
   t0 = Clock::now();
-  if (Status st = assemble_image(comm, &band, scene.width, scene.height, image); !st.ok())
+  if (Status st = assemble_image(comm, &band, finish.width, finish.height, image); !st.ok())
     return with_context("gathering the image: ", std::move(st));
   if (s > 1) stats->downsample_ms += ms_since(t0);
   return {};

@@ -14,9 +14,9 @@ namespace lantern {
 
 namespace {
 
-bool screen_ao(const SceneConfig &scene) {
-  return scene.ambient_occlusion.enabled &&
-         scene.ambient_occlusion.method == AmbientOcclusionMethod::kScreen;
+bool screen_ao(const ScreenCueSettings &cues) {
+  return cues.ambient_occlusion.enabled &&
+         cues.ambient_occlusion.method == AmbientOcclusionMethod::kScreen;
 }
 
 void copy_rgb(const std::array<double, 3> &rgb, uint8_t out[3]) {
@@ -46,59 +46,59 @@ Status drawn_depth_range(MPI_Comm comm, const ViewPositions &v, const RowBand &o
 
 }  // namespace
 
-bool wants_screen_cues(const SceneConfig &scene) {
-  return screen_ao(scene) || scene.outline.enabled || scene.depth_cue.enabled;
+bool wants_screen_cues(const ScreenCueSettings &cues) {
+  return screen_ao(cues) || cues.outline.enabled || cues.depth_cue.enabled;
 }
 
-int screen_cue_halo(const SceneConfig &scene) {
+int screen_cue_halo(const ScreenCueSettings &cues) {
   int halo = 0;
-  if (screen_ao(scene)) halo = kMaxAoPixels;
-  if (scene.outline.enabled) halo = std::max(halo, scene.outline.width);
+  if (screen_ao(cues)) halo = kMaxAoPixels;
+  if (cues.outline.enabled) halo = std::max(halo, cues.outline.width);
   return halo;
 }
 
-Status apply_screen_cues(MPI_Comm comm, int root, const SceneConfig &scene, const Camera &camera,
-                         double sphere_radius, Frame *frame) {
-  if (!wants_screen_cues(scene)) return {};
+Status apply_screen_cues(MPI_Comm comm, int root, const ScreenCueSettings &cues, int width,
+                         int height, const Camera &camera, double sphere_radius, Frame *frame) {
+  if (!wants_screen_cues(cues)) return {};
   BandFrame band;
-  if (Status s = scatter_row_bands(comm, root, *frame, scene.width, scene.height, 1,
-                                   screen_cue_halo(scene), &band);
+  if (Status s =
+          scatter_row_bands(comm, root, *frame, width, height, 1, screen_cue_halo(cues), &band);
       !s.ok())
     return s;
-  if (Status s = cue_band(comm, scene, camera, sphere_radius, &band); !s.ok()) return s;
-  return gather_row_bands(comm, root, band, scene.width, scene.height, frame);
+  if (Status s = cue_band(comm, cues, camera, sphere_radius, &band); !s.ok()) return s;
+  return gather_row_bands(comm, root, band, width, height, frame);
 }
 
-Status cue_band(MPI_Comm comm, const SceneConfig &scene, const Camera &camera, double sphere_radius,
-                BandFrame *band_in) {
+Status cue_band(MPI_Comm comm, const ScreenCueSettings &cues, const Camera &camera,
+                double sphere_radius, BandFrame *band_in) {
   BandFrame &band = *band_in;
   ViewPositions positions;
   positions.build(band, camera);
 
-  if (screen_ao(scene)) {
+  if (screen_ao(cues)) {
     AmbientOcclusionStyle style;
     style.radius = float(
-        scene.ambient_occlusion.radius.value_or(kDefaultAoRadiusInSphereRadii * sphere_radius));
-    style.samples = scene.ambient_occlusion.samples;
-    style.strength = float(scene.ambient_occlusion.strength);
+        cues.ambient_occlusion.radius.value_or(kDefaultAoRadiusInSphereRadii * sphere_radius));
+    style.samples = cues.ambient_occlusion.samples;
+    style.strength = float(cues.ambient_occlusion.strength);
     apply_screen_ambient_occlusion(positions, style, &band);
   }
-  if (scene.outline.enabled) {
+  if (cues.outline.enabled) {
     OutlineStyle style;
-    style.width = scene.outline.width;
-    style.jump = float(scene.outline.depth_threshold * sphere_radius);
-    copy_rgb(scene.outline.color, style.color);
+    style.width = cues.outline.width;
+    style.jump = float(cues.outline.depth_threshold * sphere_radius);
+    copy_rgb(cues.outline.color, style.color);
     draw_outlines(positions, style, &band);
   }
-  if (scene.depth_cue.enabled) {
+  if (cues.depth_cue.enabled) {
     DepthCueStyle style;
     float nearest = 0, farthest = 0;
-    if (!scene.depth_cue.start || !scene.depth_cue.end)
+    if (!cues.depth_cue.start || !cues.depth_cue.end)
       if (Status s = drawn_depth_range(comm, positions, band.owned, &nearest, &farthest); !s.ok())
         return s;
-    style.start = float(scene.depth_cue.start.value_or(nearest));
-    style.end = float(scene.depth_cue.end.value_or(farthest));
-    copy_rgb(scene.depth_cue.color.value_or(scene.background), style.color);
+    style.start = float(cues.depth_cue.start.value_or(nearest));
+    style.end = float(cues.depth_cue.end.value_or(farthest));
+    copy_rgb(cues.depth_cue.color.value_or(cues.background), style.color);
     apply_depth_cue(positions, style, &band);
   }
   return {};

@@ -12,6 +12,7 @@
 #include "core/output/image_writer.h"
 #include "core/output/png/png_across_ranks.h"
 #include "core/pipeline/density_scene_pass.h"
+#include "core/pipeline/scene_settings.h"
 #include "core/pipeline/sphere_scene_pass.h"
 #include "core/render/object_occlusion.h"
 
@@ -129,7 +130,7 @@ Status run_scene_pass(const ScenePassInputs &in, const SceneConfig &scene, Scene
   // super-sampling the sample frame's has s times the pixels (the same frustum, so the same
   // depths).
   Camera image_camera = camera;
-  if (s_axis > 1 && wants_screen_cues(scene))
+  if (s_axis > 1 && wants_screen_cues(finish_settings(scene).cues))
     (void)make_camera(scene.camera, lo, hi, max_radius, scene.width, scene.height, &image_camera,
                       radius_source);  // succeeded above at s times the size
   if (Status s = run_sphere_scene(in, scene, camera, image_camera, radius,

@@ -29,4 +29,21 @@ ShadingSettings shading_settings(const SceneConfig &scene) {
   return s;
 }
 
+FinishSettings finish_settings(const SceneConfig &scene) {
+  FinishSettings f;
+  f.width = scene.width;
+  f.height = scene.height;
+  f.samples_per_axis = scene.samples_per_axis();
+  // Ambient occlusion is a screen cue only with the screen method (object-space occlusion
+  // darkens the particles as they are drawn).
+  f.cues.ambient_occlusion = scene.ambient_occlusion;
+  f.cues.ambient_occlusion.enabled =
+      scene.ambient_occlusion.enabled &&
+      scene.ambient_occlusion.method == AmbientOcclusionMethod::kScreen;
+  f.cues.outline = scene.outline;
+  f.cues.depth_cue = scene.depth_cue;
+  f.cues.background = scene.background;
+  return f;
+}
+
 }  // namespace lantern

@@ -4,6 +4,7 @@
 
 #include "core/config/config.h"
 #include "core/culling/cull_settings.h"
+#include "core/finish/finish_image.h"
 #include "core/render/shading_settings.h"
 
 namespace lantern {
@@ -14,5 +15,8 @@ CullSettings cull_settings(const SceneConfig &scene);
 
 // Rendering's: colors, opacity, light, background.
 ShadingSettings shading_settings(const SceneConfig &scene);
+
+// Finishing's: the image's size, the samples per axis, the screen-space cues.
+FinishSettings finish_settings(const SceneConfig &scene);
 
 }  // namespace lantern

@@ -8,6 +8,7 @@
 #include "core/finish/finish_image.h"
 #include "core/pipeline/rank_draw.h"
 #include "core/pipeline/rank_spread.h"
+#include "core/pipeline/scene_settings.h"
 
 namespace lantern {
 
@@ -58,8 +59,8 @@ Status run_sphere_scene(const ScenePassInputs &in, const SceneConfig &scene, con
 
   // The composited image, finished (down-sampling, screen-space cues), on rank 0.
   FinishStats finished;
-  if (Status s = finish_image(in.comm, frame, scene, image_camera, radius.max_radius(in.global),
-                              &buffers->frame, &finished);
+  if (Status s = finish_image(in.comm, frame, finish_settings(scene), image_camera,
+                              radius.max_radius(in.global), &buffers->frame, &finished);
       !s.ok())
     return with_context(where, std::move(s));
   stats->downsample_ms = finished.downsample_ms;

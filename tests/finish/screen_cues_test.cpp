@@ -83,15 +83,14 @@ std::pair<int, int> pixel_at(const Camera &camera, double vx, double vy) {
 }
 
 // Cues `frame` on every rank of the world (the frame matters on rank 0 only) and returns rank 0's.
-Frame cued(const SceneConfig &scene, const Camera &camera, double radius, Frame frame) {
-  EXPECT_OK(apply_screen_cues(MPI_COMM_WORLD, 0, scene, camera, radius, &frame));
+Frame cued(const ScreenCueSettings &cues, const Camera &camera, double radius, Frame frame) {
+  EXPECT_OK(apply_screen_cues(MPI_COMM_WORLD, 0, cues, kWidth, kHeight, camera, radius, &frame));
   return frame;
 }
 
-SceneConfig scene_of_size() {
-  SceneConfig s;
-  s.width = kWidth;
-  s.height = kHeight;
+// No cue on, the frames' background.
+ScreenCueSettings no_cues() {
+  ScreenCueSettings s;
   s.background = {kBg[0] / 255.0, kBg[1] / 255.0, kBg[2] / 255.0};
   return s;
 }
@@ -99,8 +98,8 @@ SceneConfig scene_of_size() {
 TEST(ScreenCues, NoCueLeavesTheFrameAlone) {
   const Camera camera = test_camera();
   const Frame before = draw(camera, {{0, 0, 50, 3, 180}});
-  const Frame after = cued(scene_of_size(), camera, 3, before);
-  EXPECT_FALSE(wants_screen_cues(scene_of_size()));
+  const Frame after = cued(no_cues(), camera, 3, before);
+  EXPECT_FALSE(wants_screen_cues(no_cues()));
   if (world_rank() == 0) EXPECT_EQ(after.rgba, before.rgba);
 }
 
@@ -109,7 +108,7 @@ TEST(ScreenCues, AmbientOcclusionDarkensTheCreaseAndNotTheFarSide) {
   const Camera camera = test_camera();
   const double r = 3.0;
   const Frame before = draw(camera, {{-r, 0, 50, r, 200}, {r, 0, 50, r, 200}});
-  SceneConfig scene = scene_of_size();
+  ScreenCueSettings scene = no_cues();
   scene.ambient_occlusion.enabled = true;
   scene.ambient_occlusion.radius = 2.0 * r;
   scene.ambient_occlusion.strength = 1.0;
@@ -151,7 +150,7 @@ TEST(ScreenCues, AmbientOcclusionDarkensTheCreaseAndNotTheFarSide) {
 TEST(ScreenCues, IsolatedSphereGetsAClosedOutlineOfTheConfiguredWidth) {
   const Camera camera = test_camera();
   const Frame before = draw(camera, {{0.3, -0.2, 50, 4.2, 180}});
-  SceneConfig scene = scene_of_size();
+  ScreenCueSettings scene = no_cues();
   scene.outline.enabled = true;
   scene.outline.width = 2;
   scene.outline.color = {1.0, 0.0, 0.0};
@@ -185,7 +184,7 @@ TEST(ScreenCues, IsolatedSphereGetsAClosedOutlineOfTheConfiguredWidth) {
 TEST(ScreenCues, OutlinesFollowDepthJumpsNotIntersections) {
   const Camera camera = test_camera();
   const double r = 3.0;
-  SceneConfig scene = scene_of_size();
+  ScreenCueSettings scene = no_cues();
   scene.outline.enabled = true;
   const Frame joined = draw(camera, {{-0.6 * r, 0, 50, r, 200}, {0.6 * r, 0, 50, r, 200}});
   const Frame joined_after = cued(scene, camera, r, joined);
@@ -213,16 +212,16 @@ TEST(ScreenCues, DepthCueFadesTheFarSphereByTheConfiguredFraction) {
   const double r = 3.0;
   const uint8_t gray = 40;
   const Frame before = draw(camera, {{-6, 0, 40, r, gray}, {6, 0, 60, r, gray}});
-  SceneConfig scene = scene_of_size();
+  ScreenCueSettings scene = no_cues();
   scene.depth_cue.enabled = true;
   scene.depth_cue.start = 40 - r;
   scene.depth_cue.end = 40 - r + 40;
   const Frame after = cued(scene, camera, r, before);
-  SceneConfig to_black = scene;
+  ScreenCueSettings to_black = scene;
   to_black.depth_cue.color = std::array<double, 3>{0, 0, 0};
   const Frame after_black = cued(to_black, camera, r, before);
   // Automatic range: from the near sphere's front to the far one's back rim.
-  SceneConfig automatic = scene_of_size();
+  ScreenCueSettings automatic = no_cues();
   automatic.depth_cue.enabled = true;
   const Frame after_auto = cued(automatic, camera, r, before);
   if (world_rank() != 0) return;
@@ -258,7 +257,7 @@ TEST(ScreenCues, AllCuesGiveTheSameBytesOnOneRankAndOnAll) {
     balls.push_back({-14.0 + 0.7 * k, 6.0 * std::sin(0.9 * k), 45.0 + 3.0 * std::cos(1.3 * k),
                      1.0 + 0.05 * (k % 7), uint8_t(60 + 4 * k)});
   const Frame before = draw(camera, balls);
-  SceneConfig scene = scene_of_size();
+  ScreenCueSettings scene = no_cues();
   scene.ambient_occlusion.enabled = true;
   scene.outline.enabled = true;
   scene.outline.width = 2;
@@ -266,7 +265,7 @@ TEST(ScreenCues, AllCuesGiveTheSameBytesOnOneRankAndOnAll) {
   const Frame all = cued(scene, camera, 1.3, before);
   if (world_rank() != 0) return;
   Frame alone = before;
-  ASSERT_OK(apply_screen_cues(MPI_COMM_SELF, 0, scene, camera, 1.3, &alone));
+  ASSERT_OK(apply_screen_cues(MPI_COMM_SELF, 0, scene, kWidth, kHeight, camera, 1.3, &alone));
   EXPECT_EQ(all.rgba, alone.rgba);
   EXPECT_EQ(all.depth, before.depth);  // cues change colours only
   EXPECT_NE(all.rgba, before.rgba);
