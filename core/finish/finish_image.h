@@ -18,6 +18,7 @@
 #include "core/camera/camera.h"
 #include "core/common/status.h"
 #include "core/composite/depth_compositor.h"
+#include "core/config/config.h"
 #include "core/finish/screen_cues.h"
 #include "core/view/frame.h"
 
@@ -29,6 +30,7 @@ struct FinishSettings {
   int width = 0, height = 0;  // the image, pixels
   int samples_per_axis = 1;   // s: the ranks' frames are s times the image's width and height
   ScreenCueSettings cues;     // the screen-space cues on the final-resolution image
+  DensityConfig density;      // style: density - the transfer to colors (density_transfer.h)
 };
 
 struct FinishStats {

@@ -8,7 +8,6 @@
 #include "core/common/ms_since.h"
 #include "core/composite/density_sum.h"
 #include "core/finish/density_transfer.h"
-#include "core/pipeline/scene_settings.h"
 #include "core/render/density_pass.h"
 #include "core/render/sphere_instances.h"
 
@@ -19,10 +18,9 @@ using Clock = std::chrono::steady_clock;
 
 }  // namespace
 
-Status run_density_scene(const ScenePassInputs &in, const SceneConfig &scene, const Camera &camera,
-                         const RadiusRule &radius, Status local, SceneBuffers *buffers,
-                         SceneStats *stats) {
-  const std::string where = "scenes '" + scene.name + "': ";
+Status run_density_scene(const ScenePassInputs &in, const SceneSettings &settings,
+                         const std::string &where, const Camera &camera, const RadiusRule &radius,
+                         Status local, SceneBuffers *buffers, SceneStats *stats) {
   // The same on every rank (a global count): the bound that keeps every pixel sum below 2^63.
   if (in.global.finite_count > kDensityMaxParticles)
     return {StatusCode::kInvalidArgument,
@@ -39,16 +37,16 @@ Status run_density_scene(const ScenePassInputs &in, const SceneConfig &scene, co
         in.scratch->bricks.for_step(*in.particles, in.step, &build_ms, &stats->bricks);
     stats->bricks_ms = build_ms;
     BrickSelection &selection = in.scratch->draw.selection;
-    const CullSettings cull = cull_settings(scene);
-    select_density_bricks(bricks, camera, cull, radius, &selection, &buffers->cut_counts);
+    select_density_bricks(bricks, camera, settings.cull, radius, &selection, &buffers->cut_counts);
     stats->cull_ms = ms_since(t0);
     t0 = Clock::now();
     const InstanceRecipe recipe =
-        make_recipe(*in.particles, shading_settings(scene), radius, camera, in.global);
-    counts = render_density(*in.particles, bricks, cull, selection, recipe, &image);
+        make_recipe(*in.particles, settings.shading, radius, camera, in.global);
+    counts = render_density(*in.particles, bricks, settings.cull, selection, recipe, &image);
     stats->draw_ms = ms_since(t0);
   } else {
-    image.reset(scene.width, scene.height, density_channels(scene.color.by));
+    image.reset(settings.finish.width, settings.finish.height,
+                density_channels(settings.shading.color.by));
   }
   if (Status s = agree_on_status(in.comm, local); !s.ok()) return s;
   sum_counts_over_ranks(in.comm, counts, stats);  // splatted and occlusion_culled: 0 here
@@ -60,12 +58,12 @@ Status run_density_scene(const ScenePassInputs &in, const SceneConfig &scene, co
   int rank = 0;
   MPI_Comm_rank(in.comm, &rank);
   if (rank == 0) {
-    const Rgb8 bg = to_rgb8(scene.background);
+    const Rgb8 bg = to_rgb8(settings.shading.background);
     const uint8_t background[4] = {bg[0], bg[1], bg[2], 255};
     // The loader accepts only known names, so the map exists.
-    const Colormap map =
-        Colormap::named(scene.density.colormap).value_or(*Colormap::named("grayscale"));
-    map_density(image, scene.density, map, background, &buffers->frame);
+    const DensityConfig &density = settings.finish.density;
+    const Colormap map = Colormap::named(density.colormap).value_or(*Colormap::named("grayscale"));
+    map_density(image, density, map, background, &buffers->frame);
   }
   stats->composite_ms = ms_since(t0);
   stats->composite_method = "sum (int64)";

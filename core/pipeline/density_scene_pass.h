@@ -4,18 +4,22 @@
 // for the scene's output. Collective over in.comm; every rank returns the same status.
 #pragma once
 
+#include <string>
+
 #include "core/camera/camera.h"
 #include "core/common/status.h"
-#include "core/config/config.h"
 #include "core/particles/radius_rule.h"
 #include "core/pipeline/scene_pass_inputs.h"
+#include "core/pipeline/scene_settings.h"
 #include "core/pipeline/scene_stats.h"
 
 namespace lantern {
 
-// `local`: this rank's verdict on the scene's inputs so far (missing arrays), agreed on here.
-Status run_density_scene(const ScenePassInputs &in, const SceneConfig &scene, const Camera &camera,
-                         const RadiusRule &radius, Status local, SceneBuffers *buffers,
-                         SceneStats *stats);
+// `settings`: the scene's, resolved once (scene_settings.h); `where`: "scenes 'name': ", in
+// front of its error messages. `local`: this rank's verdict on the scene's inputs so far
+// (missing arrays), agreed on here.
+Status run_density_scene(const ScenePassInputs &in, const SceneSettings &settings,
+                         const std::string &where, const Camera &camera, const RadiusRule &radius,
+                         Status local, SceneBuffers *buffers, SceneStats *stats);
 
 }  // namespace lantern

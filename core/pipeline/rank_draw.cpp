@@ -5,7 +5,6 @@
 #include "core/color/colormap.h"
 #include "core/common/ms_since.h"
 #include "core/pipeline/renderer_choice.h"
-#include "core/pipeline/scene_settings.h"
 #include "core/render/point_splats.h"
 #include "core/render/sphere_instances.h"
 
@@ -14,7 +13,8 @@ namespace lantern {
 Status draw_scene_on_rank(const RankScene &in, RankDrawScratch *scratch, Frame *frame,
                           RankDraw *out) {
   using Clock = std::chrono::steady_clock;
-  const SceneConfig &scene = *in.scene;
+  const CullSettings &cull = in.settings.cull;
+  const ShadingSettings &shading = in.settings.shading;
   const Camera &camera = *in.camera;
   const ParticleArrays &particles = *in.particles;
   *out = RankDraw();
@@ -22,15 +22,14 @@ Status draw_scene_on_rank(const RankScene &in, RankDrawScratch *scratch, Frame *
   auto t0 = Clock::now();
   BrickSelection &selection = scratch->selection;
   DrawList &draw = scratch->draw;
-  const CullSettings cull = cull_settings(scene);
-  const ShadingSettings shading = shading_settings(scene);
   select_bricks(*in.bricks, camera, cull, in.radius, &selection, in.cut_counts);
   InstanceRecipe recipe = make_recipe(particles, shading, in.radius, camera, in.global);
   recipe.occlusion = in.occlusion;
   const Rgb8 bg = to_rgb8(shading.background);
   const uint8_t background[4] = {bg[0], bg[1], bg[2], 255};
-  const bool cpu = draws_on_cpu(scene, camera, in.radius.max_radius(in.global),
-                                in.renderer != nullptr, !recipe.alpha_by_type.empty(), &selection);
+  const bool cpu = draws_on_cpu(in.settings.renderer, in.settings.finish.height, camera,
+                                in.radius.max_radius(in.global), in.renderer != nullptr,
+                                !recipe.alpha_by_type.empty(), &selection);
   out->renderer = cpu ? "cpu" : "opengl";
   out->cull = cpu ? scratch->cpu_pass.run(particles, *in.bricks, cull, shading.lighting, selection,
                                           recipe, background, frame, &draw, in.step)

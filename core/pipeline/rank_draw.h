@@ -11,12 +11,12 @@
 
 #include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "core/bricks/brick_set.h"
 #include "core/camera/camera.h"
 #include "core/common/status.h"
-#include "core/config/config.h"
 #include "core/culling/brick_cut_counts.h"
 #include "core/culling/brick_selection.h"
 #include "core/culling/cull_stage.h"
@@ -25,6 +25,7 @@
 #include "core/particles/global_extent.h"
 #include "core/particles/particle_arrays.h"
 #include "core/particles/radius_rule.h"
+#include "core/pipeline/scene_settings.h"
 #include "core/render/cpu_sphere_pass.h"
 #include "core/render/gl/sphere_renderer.h"
 #include "core/render/object_occlusion.h"
@@ -37,18 +38,21 @@ struct RankScene {
   const ParticleArrays *particles = nullptr;
   const BrickSet *bricks = nullptr;  // of `particles`
   const Camera *camera = nullptr;    // at the frame's size (the sample frame's with samples > 1)
-  const SceneConfig *scene = nullptr;
-  RadiusRule radius;  // the scene's radius rule for these particles
-  Extent global;      // the step's extent over every rank: automatic color ranges, max radius
-  int64_t step = 0;   // keys probabilistic culling's random numbers
+  SceneSettings settings;            // the scene's, resolved from its configuration
+  RadiusRule radius;                 // the scene's radius rule for these particles
+  Extent global;     // the step's extent over every rank: automatic color ranges, max radius
+  int64_t step = 0;  // keys probabilistic culling's random numbers
   SphereRenderer *renderer = nullptr;          // null: no OpenGL, the CPU raster draws
   const OcclusionVolume *occlusion = nullptr;  // object-space ambient occlusion, or none
   BrickCutCounts *cut_counts = nullptr;        // the scene's, kept between frames, or none
 
   RankScene() = default;
-  // The common case of tests: `scene`'s radius rule, no global extent, no OpenGL.
-  RankScene(const ParticleArrays &p, const BrickSet &b, const Camera &c, const SceneConfig &s)
-      : particles(&p), bricks(&b), camera(&c), scene(&s), radius(RadiusRule::of(s, p)) {}
+  RankScene(const ParticleArrays &p, const BrickSet &b, const Camera &c, SceneSettings s,
+            const RadiusRule &r)
+      : particles(&p), bricks(&b), camera(&c), settings(std::move(s)), radius(r) {}
+  // The common case of tests: `scene` resolved, its radius rule, no global extent, no OpenGL.
+  RankScene(const ParticleArrays &p, const BrickSet &b, const Camera &c, const SceneConfig &scene)
+      : RankScene(p, b, c, scene_settings(scene), RadiusRule::of(scene, p)) {}
 };
 
 // The buffers a rank draws with, kept between scenes and steps.

@@ -14,27 +14,28 @@ namespace {
 // until measured.
 constexpr double kCpuRasterMaxPixels = 16.0;
 
-// The configuration's choice, from the camera only. Measured in the final image's pixels
-// (scene.height), not the sample frame's, so `samples` never switches it.
-bool wants_cpu_raster(const SceneConfig &scene, const Camera &camera, double radius) {
-  if (scene.renderer != RendererChoice::kAuto) return scene.renderer == RendererChoice::kCpu;
+// The configuration's choice, from the camera only. Measured in the final image's pixels, not
+// the sample frame's, so `samples` never switches it.
+bool wants_cpu_raster(RendererChoice asked, int image_height, const Camera &camera, double radius) {
+  if (asked != RendererChoice::kAuto) return asked == RendererChoice::kCpu;
   const double distance = glm::length(camera.target - camera.eye);
-  const double pixels_per_unit = 0.5 * scene.height * camera.projection[1][1] /
+  const double pixels_per_unit = 0.5 * image_height * camera.projection[1][1] /
                                  (camera.orthographic ? 1.0 : std::max(distance, 1e-300));
   return radius * pixels_per_unit <= kCpuRasterMaxPixels;
 }
 
 }  // namespace
 
-bool draws_on_cpu(const SceneConfig &scene, const Camera &camera, double max_radius,
+bool draws_on_cpu(RendererChoice asked, int image_height, const Camera &camera, double max_radius,
                   bool have_opengl, bool see_through, BrickSelection *selection) {
   BrickSelection &sel = *selection;
   if (!have_opengl && !cpu_pass_serves(sel.mode)) {
     sel.stats.occlusion = "hzb (no OpenGL, instead of " + sel.stats.occlusion + ")";
     sel.mode = OcclusionMode::kHzb;
   }
-  const bool cpu = !have_opengl || sel.mode == OcclusionMode::kProbabilistic ||
-                   (wants_cpu_raster(scene, camera, max_radius) && cpu_pass_serves(sel.mode));
+  const bool cpu =
+      !have_opengl || sel.mode == OcclusionMode::kProbabilistic ||
+      (wants_cpu_raster(asked, image_height, camera, max_radius) && cpu_pass_serves(sel.mode));
   // See-through types hide nothing for sure: OpenGL's occlusion culling and the probabilistic
   // mode's confidence maps assume opaque occluders, so OpenGL culls none and probabilistic
   // becomes hzb (the CPU pass culls against the depth it drew: exact).

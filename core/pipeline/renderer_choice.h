@@ -15,8 +15,9 @@ namespace lantern {
 // rank alike) the CPU raster culls exactly (hzb) where nine-spheres was asked for; with
 // see-through types (`see_through`: some type's opacity below 1) OpenGL culls nothing and the
 // probabilistic mode becomes hzb, as both assume opaque occluders. `max_radius`: the scene's
-// largest drawn radius (its spheres' size on screen decides `renderer: auto`).
-bool draws_on_cpu(const SceneConfig &scene, const Camera &camera, double max_radius,
+// largest drawn radius (its spheres' size on screen decides `renderer: auto`, measured in the
+// final image's pixels: `image_height` rows, so `samples` never switches it).
+bool draws_on_cpu(RendererChoice asked, int image_height, const Camera &camera, double max_radius,
                   bool have_opengl, bool see_through, BrickSelection *selection);
 
 }  // namespace lantern

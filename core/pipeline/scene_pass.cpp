@@ -119,9 +119,12 @@ Status run_scene_pass(const ScenePassInputs &in, const SceneConfig &scene, Scene
     stats->cues_ms = ms_since(t0);
   }
 
+  // Every stage's values, resolved once from the configuration; the passes hand each its part.
+  const SceneSettings settings = scene_settings(scene);
   Status local = check_scene_needs(scene, radius, *in.particles);
   if (scene.style == SceneStyle::kDensity) {
-    if (Status s = run_density_scene(in, scene, camera, radius, std::move(local), buffers, stats);
+    if (Status s = run_density_scene(in, settings, where, camera, radius, std::move(local), buffers,
+                                     stats);
         !s.ok())
       return s;
     return write_scene_image(in, scene, camera, t_start, buffers, stats);
@@ -130,10 +133,10 @@ Status run_scene_pass(const ScenePassInputs &in, const SceneConfig &scene, Scene
   // super-sampling the sample frame's has s times the pixels (the same frustum, so the same
   // depths).
   Camera image_camera = camera;
-  if (s_axis > 1 && wants_screen_cues(finish_settings(scene).cues))
+  if (s_axis > 1 && wants_screen_cues(settings.finish.cues))
     (void)make_camera(scene.camera, lo, hi, max_radius, scene.width, scene.height, &image_camera,
                       radius_source);  // succeeded above at s times the size
-  if (Status s = run_sphere_scene(in, scene, camera, image_camera, radius,
+  if (Status s = run_sphere_scene(in, settings, where, camera, image_camera, radius,
                                   object_ao ? &occlusion : nullptr, std::move(local), t_start,
                                   buffers, stats);
       !s.ok())

@@ -43,7 +43,17 @@ FinishSettings finish_settings(const SceneConfig &scene) {
   f.cues.outline = scene.outline;
   f.cues.depth_cue = scene.depth_cue;
   f.cues.background = scene.background;
+  f.density = scene.density;
   return f;
+}
+
+SceneSettings scene_settings(const SceneConfig &scene) {
+  SceneSettings s;
+  s.cull = cull_settings(scene);
+  s.shading = shading_settings(scene);
+  s.finish = finish_settings(scene);
+  s.renderer = scene.renderer;
+  return s;
 }
 
 }  // namespace lantern

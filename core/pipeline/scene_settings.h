@@ -1,5 +1,8 @@
 // The small values each stage takes, resolved once per scene from the scene's configuration:
 // the stages below the pipeline never read a SceneConfig, only what they need of it.
+//
+// Plain value types; run_scene_pass resolves a SceneSettings once per scene and step and hands
+// each stage its part.
 #pragma once
 
 #include "core/config/config.h"
@@ -8,6 +11,16 @@
 #include "core/render/shading_settings.h"
 
 namespace lantern {
+
+// Every stage's values for one scene.
+struct SceneSettings {
+  CullSettings cull;        // culling
+  ShadingSettings shading;  // rendering
+  FinishSettings finish;    // finishing (cues, down-sampling, density transfer)
+  RendererChoice renderer = RendererChoice::kAuto;  // renderer: the pipeline's choice of renderer
+};
+
+SceneSettings scene_settings(const SceneConfig &scene);
 
 // Culling's: frustum, occlusion, level of detail (and how it grows spheres for the style),
 // cutting planes.

@@ -8,19 +8,17 @@
 #include "core/finish/finish_image.h"
 #include "core/pipeline/rank_draw.h"
 #include "core/pipeline/rank_spread.h"
-#include "core/pipeline/scene_settings.h"
 
 namespace lantern {
 
-Status run_sphere_scene(const ScenePassInputs &in, const SceneConfig &scene, const Camera &camera,
-                        const Camera &image_camera, const RadiusRule &radius,
-                        const OcclusionVolume *occlusion, Status local,
+Status run_sphere_scene(const ScenePassInputs &in, const SceneSettings &settings,
+                        const std::string &where, const Camera &camera, const Camera &image_camera,
+                        const RadiusRule &radius, const OcclusionVolume *occlusion, Status local,
                         std::chrono::steady_clock::time_point t_start, SceneBuffers *buffers,
                         SceneStats *stats) {
-  const std::string where = "scenes '" + scene.name + "': ";
   // Super-sampling draws the same frustum at s times the width and height; every stage up to
   // compositing sees sample pixels.
-  Frame &frame = scene.samples_per_axis() > 1 ? buffers->samples : buffers->frame;
+  Frame &frame = settings.finish.samples_per_axis > 1 ? buffers->samples : buffers->frame;
   CullStats cull;
   if (local.ok()) {
     const auto t0 = std::chrono::steady_clock::now();
@@ -29,8 +27,7 @@ Status run_sphere_scene(const ScenePassInputs &in, const SceneConfig &scene, con
         in.scratch->bricks.for_step(*in.particles, in.step, &build_ms, &stats->bricks);
     stats->bricks_ms = build_ms;
     const double bricks_wall_ms = ms_since(t0);
-    RankScene rank_scene(*in.particles, bricks, camera, scene);
-    rank_scene.radius = radius;
+    RankScene rank_scene(*in.particles, bricks, camera, settings, radius);
     rank_scene.global = in.global;
     rank_scene.step = in.step;
     rank_scene.renderer = in.renderer;
@@ -49,7 +46,7 @@ Status run_sphere_scene(const ScenePassInputs &in, const SceneConfig &scene, con
   const double own_ms = ms_since(t_start);  // this rank's work, before waiting on the others
   if (Status s = agree_on_status(in.comm, local); !s.ok()) return s;
   sum_counts_over_ranks(in.comm, cull, stats);
-  if (scene.culling.occlusion == OcclusionMode::kProbabilistic)  // the same on every rank
+  if (settings.cull.occlusion == OcclusionMode::kProbabilistic)  // the same on every rank
     stats->probabilistic = reduce_probabilistic_stats(in.comm, cull.probabilistic);
   stats->culled = in.global.finite_count - stats->drawn - stats->splatted;
   if (in.per_rank_stats)
@@ -59,7 +56,7 @@ Status run_sphere_scene(const ScenePassInputs &in, const SceneConfig &scene, con
 
   // The composited image, finished (down-sampling, screen-space cues), on rank 0.
   FinishStats finished;
-  if (Status s = finish_image(in.comm, frame, finish_settings(scene), image_camera,
+  if (Status s = finish_image(in.comm, frame, settings.finish, image_camera,
                               radius.max_radius(in.global), &buffers->frame, &finished);
       !s.ok())
     return with_context(where, std::move(s));
