@@ -52,7 +52,7 @@ struct RankScene {
       : particles(&p), bricks(&b), camera(&c), settings(std::move(s)), radius(r) {}
   // The common case of tests: `scene` resolved, its radius rule, no global extent, no OpenGL.
   RankScene(const ParticleArrays &p, const BrickSet &b, const Camera &c, const SceneConfig &scene)
-      : RankScene(p, b, c, scene_settings(scene), RadiusRule::of(scene, p)) {}
+      : RankScene(p, b, c, scene_settings(scene), radius_rule(scene, p)) {}
 };
 
 // The buffers a rank draws with, kept between scenes and steps.

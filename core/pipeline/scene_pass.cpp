@@ -82,7 +82,7 @@ Status run_scene_pass(const ScenePassInputs &in, const SceneConfig &scene, Scene
   // Every rank has the same inputs here, so these outcomes agree without communication.
   auto t0 = Clock::now();
   Camera camera;
-  const RadiusRule radius = RadiusRule::of(scene, *in.particles);  // for every stage below
+  const RadiusRule radius = radius_rule(scene, *in.particles);  // for every stage below
   const double max_radius = radius.max_radius(in.global);
   const glm::dvec3 lo{in.global.lo[0], in.global.lo[1], in.global.lo[2]};
   const glm::dvec3 hi{in.global.hi[0], in.global.hi[1], in.global.hi[2]};

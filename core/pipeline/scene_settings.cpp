@@ -2,6 +2,10 @@
 
 namespace lantern {
 
+RadiusRule radius_rule(const SceneConfig &scene, const ParticleArrays &particles) {
+  return RadiusRule::of(scene.per_particle_radius, scene.radius, particles);
+}
+
 CullSettings cull_settings(const SceneConfig &scene) {
   CullSettings c;
   c.frustum = scene.culling.frustum;

@@ -8,6 +8,8 @@
 #include "core/config/config.h"
 #include "core/culling/cull_settings.h"
 #include "core/finish/finish_image.h"
+#include "core/particles/particle_arrays.h"
+#include "core/particles/radius_rule.h"
 #include "core/render/shading_settings.h"
 
 namespace lantern {
@@ -21,6 +23,9 @@ struct SceneSettings {
 };
 
 SceneSettings scene_settings(const SceneConfig &scene);
+
+// How the scene sizes this rank's particles (`radius:`), for every stage that needs it.
+RadiusRule radius_rule(const SceneConfig &scene, const ParticleArrays &particles);
 
 // Culling's: frustum, occlusion, level of detail (and how it grows spheres for the style),
 // cutting planes.

@@ -169,9 +169,8 @@ TEST(BrickCutCounts, SelectionThroughCountsEqualsSelectionFromScratch) {
   for (size_t e = 0; e < edits.size(); ++e) {
     scene.cuts = edits[e];
     BrickSelection full, incremental;
-    select_bricks(bricks, cam, cull_settings(scene), RadiusRule::of(scene, p), &full);
-    select_bricks(bricks, cam, cull_settings(scene), RadiusRule::of(scene, p), &incremental,
-                  &counts);
+    select_bricks(bricks, cam, cull_settings(scene), radius_rule(scene, p), &full);
+    select_bricks(bricks, cam, cull_settings(scene), radius_rule(scene, p), &incremental, &counts);
     ASSERT_EQ(full.visible.size(), incremental.visible.size()) << "edit " << e;
     for (size_t i = 0; i < full.visible.size(); ++i) {
       ASSERT_EQ(full.visible[i].brick, incremental.visible[i].brick) << "edit " << e;

@@ -99,7 +99,7 @@ class CullingTest : public testing::GlTest {
   CullStats compare(const Cloud &c, const SceneConfig &s, const Camera &cam, int64_t *differ) {
     const ParticleArrays p = c.arrays();
     const InstanceRecipe recipe =
-        make_recipe(p, shading_settings(s), RadiusRule::of(s, p), cam, Extent{});
+        make_recipe(p, shading_settings(s), radius_rule(s, p), cam, Extent{});
     std::vector<SphereInstance> all;
     build_all_instances(recipe, &all);
     const Frame brute = render(all, cam);
@@ -253,7 +253,7 @@ TEST_F(CullingTest, CutPlanesDropParticlesOnThePositiveSide) {
   Culler culler;
   DrawList draw;
   const CullStats st = culler.run(p, bricks, camera(s, c, orbit(30, 20)), cull_settings(s),
-                                  RadiusRule::of(s, p), &draw);
+                                  radius_rule(s, p), &draw);
   int64_t expect_kept = 0;
   for (size_t i = 0; i < c.xyz.size(); i += 3) expect_kept += c.xyz[i] <= 7.0;
   EXPECT_EQ(st.drawn, expect_kept);
@@ -270,7 +270,7 @@ TEST_F(CullingTest, BudgetIsServedFromBrickPrefixes) {
   Culler culler;
   DrawList draw;
   const CullStats st = culler.run(p, bricks, camera(s, c, orbit(30, 20)), cull_settings(s),
-                                  RadiusRule::of(s, p), &draw);
+                                  radius_rule(s, p), &draw);
   EXPECT_LE(st.drawn, 4000 + int64_t(bricks.bricks.size()));
   EXPECT_GE(st.drawn, 3500);
   EXPECT_EQ(st.lod_dropped + st.drawn, st.candidates);
@@ -286,18 +286,18 @@ TEST_F(CullingTest, ScreenSpaceRuleAndPointPathTakeOverSubPixelSpheres) {
   Culler culler;
   DrawList draw;
   s.lod.min_pixels = 3.0;
-  CullStats st = culler.run(p, bricks, cam, cull_settings(s), RadiusRule::of(s, p), &draw);
+  CullStats st = culler.run(p, bricks, cam, cull_settings(s), radius_rule(s, p), &draw);
   EXPECT_LT(st.drawn, st.candidates / 4);
   EXPECT_EQ(st.drawn + st.lod_dropped, st.candidates);
   s.lod.min_pixels = 0.0;
   s.lod.point_path = true;
-  st = culler.run(p, bricks, cam, cull_settings(s), RadiusRule::of(s, p), &draw);
+  st = culler.run(p, bricks, cam, cull_settings(s), radius_rule(s, p), &draw);
   EXPECT_EQ(st.splatted, st.candidates);  // every sphere is below half a pixel here
   EXPECT_EQ(st.drawn, 0);
   // The splats land in the frame, nearest first.
   Frame f = render({}, cam);
   const InstanceRecipe recipe =
-      make_recipe(p, shading_settings(s), RadiusRule::of(s, p), cam, Extent{});
+      make_recipe(p, shading_settings(s), radius_rule(s, p), cam, Extent{});
   splat_points(
       p, false, s.radius, draw.points, culler.geometry(),
       [&recipe](int64_t i) { return recipe.color(i); }, &f);
@@ -385,8 +385,7 @@ TEST_F(CullingTest, CpuRasterCullsTheHiddenCrystalAndMatchesOpenGl) {
 
   const ParticleArrays p = c.arrays();
   std::vector<SphereInstance> all;
-  build_all_instances(make_recipe(p, shading_settings(s), RadiusRule::of(s, p), cam, Extent{}),
-                      &all);
+  build_all_instances(make_recipe(p, shading_settings(s), radius_rule(s, p), cam, Extent{}), &all);
   const Frame gl = render(all, cam);
   int64_t background_mismatch = 0, off_by_more = 0;
   double squared = 0.0;
@@ -469,7 +468,7 @@ TEST_F(CullingTest, OpenGlMatchesCpuRasterWithTheCameraInsideACrystal) {
     const Frame cpu = raster(c, s, cam, &st);
     const ParticleArrays p = c.arrays();
     std::vector<SphereInstance> all;
-    build_all_instances(make_recipe(p, shading_settings(s), RadiusRule::of(s, p), cam, Extent{}),
+    build_all_instances(make_recipe(p, shading_settings(s), radius_rule(s, p), cam, Extent{}),
                         &all);
     const Frame gl = render(all, cam);
     const RendererDifference d = renderer_difference(gl, cpu);
@@ -485,8 +484,8 @@ TEST_F(CullingTest, OpenGlMatchesCpuRasterWithTheCameraInsideACrystal) {
     const Camera far_cam = camera(s, c, orbit_cfg);
     const Frame cpu_out = raster(c, s, far_cam, &st);
     std::vector<SphereInstance> all_out;
-    build_all_instances(
-        make_recipe(p, shading_settings(s), RadiusRule::of(s, p), far_cam, Extent{}), &all_out);
+    build_all_instances(make_recipe(p, shading_settings(s), radius_rule(s, p), far_cam, Extent{}),
+                        &all_out);
     outside.add(renderer_difference(render(all_out, far_cam), cpu_out));
   }
   std::printf(

@@ -77,7 +77,7 @@ TEST(LodCoverage, GrowthBySquareRootOnlyForSubPixelOpaqueBricks) {
   const Cloud far_cloud(40000, 200.0), near_cloud(40000, 40.0);  // ~0.35 px and ~2 px spheres
   const auto growths = [](const Cloud &c, const SceneConfig &s) {
     BrickSelection sel;
-    select_bricks(c.bricks, c.camera(s), cull_settings(s), RadiusRule::of(s, c.arrays), &sel);
+    select_bricks(c.bricks, c.camera(s), cull_settings(s), radius_rule(s, c.arrays), &sel);
     std::vector<double> expected_exponent;  // log(scale) / log(n / keep) per reduced brick
     for (const VisibleBrick &v : sel.visible) {
       const double ratio = double(c.bricks.bricks[v.brick].count) / double(v.keep);

@@ -60,7 +60,7 @@ Frame spheres(const Lattice &l, const SceneConfig &s, int64_t *lod_dropped) {
 
 std::vector<int64_t> density(const Lattice &l, const SceneConfig &s, int64_t *lod_dropped) {
   const Camera cam = camera_for(s);
-  const RadiusRule radius = RadiusRule::of(s, l.arrays);
+  const RadiusRule radius = radius_rule(s, l.arrays);
   const InstanceRecipe recipe = make_recipe(l.arrays, shading_settings(s), radius, cam, Extent{});
   BrickSelection sel;
   select_density_bricks(l.bricks, cam, cull_settings(s), radius, &sel, nullptr);

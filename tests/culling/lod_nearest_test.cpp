@@ -163,7 +163,7 @@ TEST(LodNearest, KeepsExactlyTheNearestKeepOfEachBrickDeterministically) {
   SceneConfig s = scene_of(0.5, LodSelect::kNearest, true);
   s.culling.occlusion = OcclusionMode::kNone;  // draws every kept particle: the selection itself
   const Camera cam = camera_for(block, s);
-  const RadiusRule radius = RadiusRule::of(s, block.arrays);
+  const RadiusRule radius = radius_rule(s, block.arrays);
   BrickSelection sel;
   const CullSettings cull = cull_settings(s);
   select_bricks(block.bricks, cam, cull, radius, &sel);

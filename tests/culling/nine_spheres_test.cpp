@@ -139,7 +139,7 @@ class NineSpheresEquivalentRadius : public ::testing::Test {
     s.culling.nine_spheres_radius = rule;
     Culler culler;
     DrawList draw;
-    culler.run(p, build_bricks(p, BrickOptions{}), camera_, cull_settings(s), RadiusRule::of(s, p),
+    culler.run(p, build_bricks(p, BrickOptions{}), camera_, cull_settings(s), radius_rule(s, p),
                &draw);
     EXPECT_FALSE(draw.everything);
     std::vector<bool> out(type_.size(), true);

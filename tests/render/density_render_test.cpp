@@ -235,7 +235,7 @@ struct Cloud : testing::BrickedParticles {
 double rendered_weight(const Cloud &cloud, const SceneConfig &scene, const Camera &camera,
                        int64_t *drawn) {
   BrickSelection sel;
-  const RadiusRule radius = RadiusRule::of(scene, cloud.arrays);
+  const RadiusRule radius = radius_rule(scene, cloud.arrays);
   select_density_bricks(cloud.bricks, camera, cull_settings(scene), radius, &sel, nullptr);
   Extent ext;
   ext.lo = {1, 1, 1}, ext.hi = {9, 9, 9};

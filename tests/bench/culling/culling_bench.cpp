@@ -162,7 +162,7 @@ class Bench {
   void run_scene(const BenchScene &bs, std::ostream &csv, std::vector<PlotPoint> *plot) {
     const ParticleArrays p = bs.arrays();
     const Extent ext = scan_particles(p, bs.config.per_particle_radius, bs.config.radius);
-    const double max_radius = RadiusRule::of(bs.config, p).max_radius(ext);
+    const double max_radius = radius_rule(bs.config, p).max_radius(ext);
     // Bricks: once per step in Lantern; timed apart (median of 3 builds).
     std::vector<double> build;
     BrickSet bricks;
@@ -210,7 +210,7 @@ class Bench {
         return;
       }
       const InstanceRecipe recipe =
-          make_recipe(p, shading_settings(view.config), RadiusRule::of(view.config, p), cam, ext);
+          make_recipe(p, shading_settings(view.config), radius_rule(view.config, p), cam, ext);
       std::vector<Result> &results = per_view[size_t(k)];
       for (int run = 0; run < opt_.runs; ++run)
         for (size_t m = 0; m < all.size(); ++m)
@@ -241,7 +241,7 @@ class Bench {
       const uint8_t background[4] = {bg[0], bg[1], bg[2], 255};
       const auto t0 = Clock::now();
       const double cpu0 = thread_cpu_ms();
-      select_bricks(bricks, cam, cull, RadiusRule::of(sc, p), &selection_);
+      select_bricks(bricks, cam, cull, radius_rule(sc, p), &selection_);
       r->stats =
           cpu_pass_.run(p, bricks, cull, sc.lighting, selection_, recipe, background, &f, &draw_);
       r->drawn = r->stats.drawn;
@@ -257,7 +257,7 @@ class Bench {
       brute_force_instances(p, sc, recipe);
       r->drawn = int64_t(instances_.size());
     } else {
-      r->stats = culler_.run(p, bricks, cam, cull, RadiusRule::of(sc, p), &draw_);
+      r->stats = culler_.run(p, bricks, cam, cull, radius_rule(sc, p), &draw_);
       if (draw_.everything)
         build_all_instances(recipe, &instances_);
       else

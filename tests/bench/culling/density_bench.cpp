@@ -88,7 +88,7 @@ bool run_at(const BenchScene &bs, const ParticleArrays &p, const BrickSet &brick
   std::snprintf(label_text, sizeof label_text, "%s_%d@r%g", bs.name.c_str(), sc.width, sc.radius);
   const std::string name = label_text;
   const Extent ext = scan_particles(p, sc.per_particle_radius, sc.radius);
-  const RadiusRule radius = RadiusRule::of(sc, p);
+  const RadiusRule radius = radius_rule(sc, p);
   Camera cam;
   const glm::dvec3 lo{ext.lo[0], ext.lo[1], ext.lo[2]}, hi{ext.hi[0], ext.hi[1], ext.hi[2]};
   if (Status s = make_camera(sc.camera, lo, hi, radius.max_radius(ext), sc.width, sc.height, &cam);

@@ -78,7 +78,7 @@ class Renderer {
     const Rgb8 bg = to_rgb8(sc.background);
     const uint8_t background[4] = {bg[0], bg[1], bg[2], 255};
     const CullSettings cull = cull_settings(sc);
-    select_bricks(d.bricks, cam, cull, RadiusRule::of(sc, d.arrays), &selection_);
+    select_bricks(d.bricks, cam, cull, radius_rule(sc, d.arrays), &selection_);
     const CullStats st = pass_.run(d.arrays, d.bricks, cull, sc.lighting, selection_, d.recipe,
                                    background, &s->frame, &draw_);
     if (!draw_.points.empty())
@@ -110,7 +110,7 @@ void run_opaque_lod_bench(const BenchScene &bs, int runs, std::ostream &csv,
                           std::vector<PlotPoint> *plot) {
   const ParticleArrays full_arrays = bs.arrays();
   const Extent ext = scan_particles(full_arrays, bs.config.per_particle_radius, bs.config.radius);
-  const double max_radius = RadiusRule::of(bs.config, full_arrays).max_radius(ext);
+  const double max_radius = radius_rule(bs.config, full_arrays).max_radius(ext);
   Camera cam;
   const glm::dvec3 lo{ext.lo[0], ext.lo[1], ext.lo[2]}, hi{ext.hi[0], ext.hi[1], ext.hi[2]};
   char label[96];
@@ -128,7 +128,7 @@ void run_opaque_lod_bench(const BenchScene &bs, int runs, std::ostream &csv,
     d->bricks = build_bricks(d->arrays, BrickOptions{});
     // The full scene's extent: a sample is colored and framed as the whole.
     d->recipe = make_recipe(d->arrays, shading_settings(d->scene.config),
-                            RadiusRule::of(d->scene.config, d->arrays), cam, ext);
+                            radius_rule(d->scene.config, d->arrays), cam, ext);
     return d;
   };
   const double fractions[] = {1.0, 0.5, 0.25, 0.1, 0.01};

@@ -57,7 +57,7 @@ class SampledRenderer {
     sc.samples = 1;  // this class does the down-sampling itself
     sc.culling.occlusion = mode;
     sc.renderer = RendererChoice::kCpu;
-    const RadiusRule rule = RadiusRule::of(sc, p_);
+    const RadiusRule rule = radius_rule(sc, p_);
     Camera cam;
     const glm::dvec3 lo{ext_.lo[0], ext_.lo[1], ext_.lo[2]}, hi{ext_.hi[0], ext_.hi[1], ext_.hi[2]};
     if (Status st =
