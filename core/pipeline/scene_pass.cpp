@@ -90,7 +90,8 @@ Status run_scene_pass(const ScenePassInputs &in, const SceneConfig &scene, Scene
   const RadiusSource radius_source =
       radius.wanted ? RadiusSource::kParticles : RadiusSource::kConfig;
   // Super-sampling renders the same frustum at s times the width and height (an s x s grid of
-  // samples per pixel, sample_downsampling.h); every stage up to compositing sees sample pixels.
+  // samples per pixel, core/finish/sample_downsampling.h); every stage up to compositing sees
+  // sample pixels.
   const int s_axis = scene.samples_per_axis();
   if (s_axis == 1 && !buffers->samples.rgba.empty())
     buffers->samples = Frame();  // a live change back to 1 sample frees the sample frame

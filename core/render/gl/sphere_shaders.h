@@ -159,7 +159,8 @@ inline std::string glsl_float(float v) {
   return literal;
 }
 
-// screen_door.h's dither matrix as a GLSL constant array: one definition for both renderers.
+// core/render/screen_door.h's dither matrix as a GLSL constant array: one definition for both
+// renderers.
 inline std::string bayer_glsl() {
   std::string s = "const int k_bayer[16] = int[16](";
   for (int i = 0; i < 16; ++i) s += std::to_string(kBayer4[i]) + (i < 15 ? ", " : ");\n");
@@ -167,8 +168,8 @@ inline std::string bayer_glsl() {
 }
 
 // The lighting block of kSphereFragmentBody for a lighting other than the default
-// (core/config/lighting.h; the steps of shading.h's LightModel): it replaces the headlight block
-// in a variant program, so the default program's source stays exactly what it was.
+// (core/config/lighting.h; the steps of core/render/shading.h's LightModel): it replaces the
+// headlight block in a variant program, so the default program's source stays exactly what it was.
 inline constexpr const char *kCustomLightBlock = R"GLSL(  // Custom lighting: k_light (unit,
   // camera space, towards the light) or the view ray when k_along_view; Blinn-Phong highlight.
   vec3 n = normalize(hit - v_center);
@@ -185,9 +186,9 @@ inline constexpr const char *kCustomLightBlock = R"GLSL(  // Custom lighting: k_
   vec3 rgb = v_color.rgb * (k_ambient + k_diffuse * max(n_l, 0.0)) + vec3(highlight);
 )GLSL";
 
-// The impostor fragment shader, with the headlight constants of shading.h injected as GLSL
-// constants: one change there changes the OpenGL and the CPU images alike. A lighting other than
-// the default gets a variant: its own values as constants (constants, not uniforms, as in the
+// The impostor fragment shader, with the headlight constants of core/render/shading.h injected as
+// GLSL constants: one change there changes the OpenGL and the CPU images alike. A lighting other
+// than the default gets a variant: its own values as constants (constants, not uniforms, as in the
 // default program) and kCustomLightBlock in place of the headlight block.
 inline std::string sphere_fragment_source(const Lighting &lighting = Lighting()) {
   if (lighting.is_default())
