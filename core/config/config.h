@@ -117,8 +117,8 @@ struct OutputConfig {
 // on screen (where it measured faster), opengl elsewhere.
 enum class RendererChoice { kAuto, kOpenGl, kCpu };
 
-// probabilistic: seed 004's confidence-map culling (core/culling/probabilistic_culler.h); an
-// approximate mode served by the CPU raster only, never chosen by auto.
+// probabilistic: seed 004's confidence-map culling (core/culling/probabilistic/); an approximate
+// mode served by the CPU raster only, never chosen by auto.
 enum class OcclusionMode { kAuto, kNone, kNineSpheres, kNineSpheresSorted, kHzb, kProbabilistic };
 
 // The radius the nine-spheres rule compares (a sphere is hidden only by nearer spheres that are
@@ -178,7 +178,7 @@ struct CutPlane {
 
 // Depth cues (issue 13), each off unless its section is present. The screen-space ones (screen
 // ambient occlusion, outline, depth cue) run on the final-resolution composited frame, after
-// any down-sampling and before the image is written (core/composite/screen_cues.h).
+// any down-sampling and before the image is written (core/finish/screen_cues.h).
 enum class AmbientOcclusionMethod { kScreen, kObject };
 
 // The default ambient_occlusion.radius, in sphere radii (the scene's largest): about the first
@@ -263,7 +263,7 @@ struct DumpConfig {
   bool single_precision = false;              // precision: float32 | float64
 };
 
-// gl: the OpenGL back end (core/render/gl_context.h). auto: EGL, then OSMesa, then none; none:
+// gl: the OpenGL back end (core/render/gl/gl_context.h). auto: EGL, then OSMesa, then none; none:
 // no OpenGL, every scene drawn by the CPU raster. The environment variable LANTERN_GL, when set,
 // overrides the key (so a site can switch back ends without editing configurations).
 enum class GlBackend { kAuto, kEgl, kOsmesa, kNone };

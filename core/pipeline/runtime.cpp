@@ -6,6 +6,7 @@
 #include <utility>
 
 #include "core/common/collective_status.h"
+#include "core/common/ms_since.h"
 #include "core/config/config_loader.h"
 #include "core/config/enum_names.h"
 #include "core/config/environment.h"
@@ -163,7 +164,7 @@ Status Runtime::execute(int64_t step, double time) {
   const auto t_scan = Clock::now();
   const Extent global =
       reduce_extent(comm_, scan_particles(particles_, particles_.has_radius(), 0.0));
-  const double scan_ms = std::chrono::duration<double, std::milli>(Clock::now() - t_scan).count();
+  const double scan_ms = ms_since(t_scan);
   // The dump has its own schedule; a dump error is returned unless rendering fails too.
   const Status dumped =
       dump_due ? dump_->write(comm_, particles_, global, box_, step, time) : Status();
@@ -185,8 +186,7 @@ Status Runtime::execute(int64_t step, double time) {
       if (!st.ok() && first_error.ok()) first_error = st;  // later scenes still render
     }
   }
-  const double total_ms =
-      scan_ms + std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+  const double total_ms = scan_ms + ms_since(t0);
   // What this call returns, and so what the step's stats line reports: the first scene's error,
   // else the dump's.
   const Status result = first_error.ok() ? dumped : first_error;

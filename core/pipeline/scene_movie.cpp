@@ -4,6 +4,7 @@
 #include <cstdio>
 
 #include "core/common/collective_status.h"
+#include "core/common/ms_since.h"
 #include "core/config/file_pattern.h"
 #include "core/output/movie/movie_encoder.h"
 
@@ -67,8 +68,7 @@ Status send_frame_to_movie(const SceneConfig &scene, const Frame &frame, SceneBu
   const Status sent = with_context(where(scene), movie->submit(frame));
   SceneMovieStats out;
   out.progress = movie->progress();
-  out.submit_ms =
-      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  out.submit_ms = ms_since(t0);
   out.behind = out.progress.dropped > dropped_before || out.progress.waited_ms > 0.0;
   if (out.progress.dropped > dropped_before && !buffers->movie_warned) {
     buffers->movie_warned = true;  // once per movie; the stats line counts every drop

@@ -11,7 +11,7 @@
 
 #include "core/common/status.h"
 #include "core/config/config.h"
-#include "core/pipeline/scene_pass.h"
+#include "core/pipeline/scene_pass_inputs.h"
 #include "core/pipeline/scene_stats.h"
 
 namespace lantern {

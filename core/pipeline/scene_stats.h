@@ -2,6 +2,8 @@
 // step's JSON stats line.
 #pragma once
 
+#include <mpi.h>
+
 #include <array>
 #include <cstdint>
 #include <optional>
@@ -69,5 +71,10 @@ struct SceneStats {
  private:
   nlohmann::json counts_json() const;  // everything but per_rank
 };
+
+// Sums this rank's particle counts (`local`: drawn, splatted, and culled by frustum, cutting
+// planes, level of detail and occlusion) over the ranks of comm into *stats. Collective: one
+// reduction; every rank gets the sums.
+void sum_counts_over_ranks(MPI_Comm comm, const CullStats &local, SceneStats *stats);
 
 }  // namespace lantern

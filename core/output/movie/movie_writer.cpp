@@ -3,13 +3,12 @@
 #include <chrono>
 #include <utility>
 
+#include "core/common/ms_since.h"
+
 namespace lantern {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-double ms_since(Clock::time_point t0) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
-}
 
 }  // namespace
 
