@@ -3,6 +3,7 @@
 #include <string>
 
 #include "core/config/enum_names.h"
+#include "core/config/file_pattern.h"
 
 namespace lantern {
 namespace {
@@ -20,9 +21,32 @@ std::string joined(const std::vector<std::string> &words) {
   return "[" + out + "]";
 }
 
+// A movie file being written keeps its codec and frame size: a scene may start a new file, not
+// change the one it writes.
+Status check_movie_change(const SceneConfig &a, const SceneConfig &b) {
+  const MovieConfig &m = a.output.movie, &n = b.output.movie;
+  if (!m.enabled || !n.enabled) return {};
+  const std::string file = expand_pattern(m.file, 0, a.name);
+  if (file != expand_pattern(n.file, 0, b.name)) return {};
+  const auto size = [](const SceneConfig &s) {
+    return std::to_string(s.width) + " x " + std::to_string(s.height);
+  };
+  if (m != n || size(a) != size(b))
+    return {StatusCode::kConfig,
+            "scenes '" + b.name + "': output.movie: '" + file +
+                "' cannot change its settings or frame size while it is written (running " +
+                m.codec + " " + size(a) + ", new " + n.codec + " " + size(b) +
+                "): give output.movie.file a new name to start another movie"};
+  return {};
+}
+
 }  // namespace
 
 Status check_live_change(const Config &running, const Config &next) {
+  for (const SceneConfig &b : next.scenes)
+    for (const SceneConfig &a : running.scenes)
+      if (a.name == b.name)
+        if (Status s = check_movie_change(a, b); !s.ok()) return s;
   if (running.gl != next.gl)
     return fixed("gl", name_of(running.gl), name_of(next.gl),
                  "the OpenGL back end is chosen at lantern_open");
@@ -38,12 +62,9 @@ Status check_live_change(const Config &running, const Config &next) {
   if (a.fields != b.fields)
     return fixed("dump.fields", joined(a.fields), joined(b.fields),
                  "the file's datasets are made at the first dump");
-  if (a.mode != b.mode) {
-    const auto text = [](DumpMode m) {
-      return m == DumpMode::kAppend ? "append" : m == DumpMode::kOverwrite ? "overwrite" : "create";
-    };
-    return fixed("dump.mode", text(a.mode), text(b.mode), "it applies when the file is opened");
-  }
+  if (a.mode != b.mode)
+    return fixed("dump.mode", name_of(a.mode), name_of(b.mode),
+                 "it applies when the file is opened");
   if (a.single_precision != b.single_precision)
     return fixed("dump.precision", a.single_precision ? "float32" : "float64",
                  b.single_precision ? "float32" : "float64",

@@ -13,15 +13,17 @@
 #include <utility>
 
 #include "core/common/collective_status.h"
-#include "core/composite/density_transfer.h"
+#include "core/common/ms_since.h"
 #include "core/config/config_loader.h"
 #include "core/config/enum_names.h"
 #include "core/config/environment.h"
 #include "core/config/file_pattern.h"
+#include "core/finish/density_transfer.h"
 #include "core/output/atomic_file.h"
 #include "core/output/stats_writer.h"
 #include "core/particles/particle_scan.h"
 #include "core/pipeline/memory_budget.h"
+#include "core/pipeline/scene_movie.h"
 
 namespace lantern {
 namespace {
@@ -142,7 +144,8 @@ Status Runtime::open(const std::string &config_text, MPI_Comm comm, std::unique_
   MPI_Comm_rank(rt->comm_, &rt->rank_);
   MPI_Comm_size(rt->comm_, &rt->size_);
 
-  const Status local = caller.ok() ? rt->load_first_config(config_text) : caller;
+  Status local = caller.ok() ? rt->load_first_config(config_text) : caller;
+  if (local.ok()) local = check_scene_movies(rt->config_.scenes);
   if (Status s = agree_on_status(rt->comm_, local); !s.ok()) return s;
   if (Status s = rt->agree_on_first_config(); !s.ok()) return s;
   const MemoryShare share = node_memory_share(rt->comm_);  // collective
@@ -159,6 +162,9 @@ Status Runtime::open(const std::string &config_text, MPI_Comm comm, std::unique_
     rt->dump_ = std::make_unique<DumpStage>(rt->config_.dump);
     if (Status s = rt->dump_->check_existing_file(rt->comm_); !s.ok()) return s;
   }
+  // Movie files are opened now (after the checks that may refuse the open, so a refused open
+  // leaves no movie file), so an unwritable path fails here rather than at the first frame.
+  if (Status s = open_scene_movies(rt->comm_, rt->config_.scenes, &rt->buffers_); !s.ok()) return s;
   *out = std::move(rt);
   return {};
 }
@@ -202,12 +208,19 @@ Status Runtime::finish() {
   for (size_t s = 0; s < buffers_.size(); ++s)
     if (Status st = buffers_[s].writer.wait(); !st.ok() && local.ok())
       local = with_context("scenes '" + config_.scenes[s].name + "': ", std::move(st));
-  // After MPI_Finalize nothing collective can run: this rank's images were waited for, the
-  // context is released without the others (the destructor leaves the dump file to HDF5, which
-  // closed it in MPI_Finalize).
-  if (Status s = mpi_usable("lantern_close"); !s.ok())
-    return local.ok() ? s : Status(s.code, s.message + "; and " + local.message);
-  return broadcast_status(comm_, local, 0);
+  // Rank 0's movies are completed before anything collective, so that they are whole even
+  // after the host's MPI_Finalize.
+  const Status movies = finish_movies_on_this_rank(config_.scenes, &buffers_);
+  // After MPI_Finalize nothing collective can run: this rank's images and movies were waited
+  // for, the context is released without the others (the destructor leaves the dump file to
+  // HDF5, which closed it in MPI_Finalize).
+  if (Status s = mpi_usable("lantern_close"); !s.ok()) {
+    const Status &first = local.ok() ? movies : local;
+    return first.ok() ? s : Status(s.code, s.message + "; and " + first.message);
+  }
+  const Status images = broadcast_status(comm_, local, 0);
+  const Status movies_everywhere = broadcast_status(comm_, movies, 0);
+  return images.ok() ? movies_everywhere : images;
 }
 
 void Runtime::warn_about_scenes() const {
@@ -249,7 +262,7 @@ Status Runtime::execute(int64_t step, double time) {
   const auto t_scan = Clock::now();
   const Extent global =
       reduce_extent(comm_, scan_particles(particles_, particles_.has_radius(), 0.0));
-  const double scan_ms = std::chrono::duration<double, std::milli>(Clock::now() - t_scan).count();
+  const double scan_ms = ms_since(t_scan);
   // The dump has its own schedule; a dump error is returned unless rendering fails too.
   const Status dumped =
       dump_due ? dump_->write(comm_, particles_, global, box_, step, time) : Status();
@@ -271,8 +284,7 @@ Status Runtime::execute(int64_t step, double time) {
       if (!st.ok() && first_error.ok()) first_error = st;  // later scenes still render
     }
   }
-  const double total_ms =
-      scan_ms + std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+  const double total_ms = scan_ms + ms_since(t0);
   // What this call returns, and so what the step's stats line reports: the first scene's error,
   // else the dump's.
   const Status result = first_error.ok() ? dumped : first_error;

@@ -17,8 +17,9 @@
  * with the same step. Every decision to skip or fail a collective part is agreed across the ranks
  * first, so bad arguments or a failure on one rank give every rank the same status; what no rank
  * can agree on is a call one rank never makes (a NULL context, a step another rank does not
- * schedule, a communicator handle that is not one). lantern_publish() is local. If MPI is not initialized when lantern_open() is called, Lantern
- * initializes it (MPI_THREAD_FUNNELED) and finalizes it at process exit (atexit).
+ * schedule, a communicator handle that is not one). lantern_publish() is local. If MPI is not
+ * initialized when lantern_open() is called, Lantern initializes it (MPI_THREAD_FUNNELED) and
+ * finalizes it at process exit (atexit).
  *
  * Units: Lantern does not impose units. Positions and radii must share one length unit; the
  * configuration's lengths (camera position, radius, cutting planes) are in that same unit.
@@ -228,11 +229,13 @@ LANTERN_API const char *lantern_load_summary(const lantern_context *ctx);
  */
 LANTERN_API const char *lantern_status_string(lantern_status status);
 
-/* Flushes outputs (waits for images written in the background, see output.asynchronous) and
- * frees the context. Returns LANTERN_ERR_IO if such an image could not be written. Safe on NULL.
+/* Flushes outputs (waits for images written in the background, see output.asynchronous, and for
+ * the movie frames still queued, then completes the movie files, see output.movie) and frees the
+ * context. Returns LANTERN_ERR_IO if such an image or movie could not be written. Safe on NULL.
  * Collective. If the host already called MPI_Finalize, the context is released without any MPI
- * call (its images are still waited for) and LANTERN_ERR_MPI says so; lantern_execute() on a
- * scheduled step and lantern_reconfigure() return LANTERN_ERR_MPI then too. */
+ * call (its images and movie frames are still waited for) and LANTERN_ERR_MPI says so;
+ * lantern_execute() on a scheduled step and lantern_reconfigure() return LANTERN_ERR_MPI then too.
+ */
 LANTERN_API lantern_status lantern_close(lantern_context *ctx);
 
 #ifdef __cplusplus
