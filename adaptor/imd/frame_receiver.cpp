@@ -104,7 +104,7 @@ Event FrameReceiver::read_one(bool *stream_over) {
       if (std::string e = describe(r, "an IMD_ENERGIES record", sizeof(energies), stream_over);
           !e.empty() || *stream_over)
         return *stream_over && e.empty() ? end_event("stopped") : error_event(e);
-      pending_step_ = energies_step(energies, connection_->swap());
+      pending_step_ = int64_t(energies_step(energies, connection_->swap())) + options_.step_offset;
       continue;
     }
     Event event;
@@ -116,9 +116,9 @@ Event FrameReceiver::read_one(bool *stream_over) {
       return *stream_over && e.empty() ? end_event("stopped") : error_event(e);
     }
     Frame &f = *event.frame;
-    f.step = pending_step_ >= 0 ? pending_step_ : options_.first_step + frames_ * options_.every;
+    f.step = pending_step_ ? *pending_step_ : options_.first_step + frames_ * options_.every;
     f.receive_seconds = std::chrono::duration<double>(Clock::now() - t0).count();
-    pending_step_ = -1;
+    pending_step_.reset();
     limits_.expected_atoms = header.length;
     ++frames_;
     return event;

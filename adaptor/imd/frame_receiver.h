@@ -10,9 +10,10 @@
 // next send, no frame is lost) or drops the oldest queued frame (kDropOldest: the simulation
 // never waits for rendering; the dropped frames are counted).
 //
-// Steps: from the IMD_ENERGIES record sent before a frame (GROMACS, NAMD), else numbered
-// first_step, first_step + every, ... (LAMMPS's fix imd sends no step: it sends at the steps
-// that are multiples of its trate, the first after the start of the run).
+// Steps: from the IMD_ENERGIES record sent before a frame (GROMACS, NAMD), plus step_offset
+// (GROMACS 2022 fills the record after advancing its step counter: its frame of step s carries
+// s + 1), else numbered first_step, first_step + every, ... (LAMMPS's fix imd sends no step: it
+// sends at the steps that are multiples of its trate, the first after the start of the run).
 //
 // The end of the stream is an Event: kEnd when the server closed the connection between
 // messages (the simulation ended), when the receiver was stopped, or after the idle limit;
@@ -31,6 +32,7 @@
 #include <deque>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <thread>
 #include <vector>
@@ -57,7 +59,8 @@ struct ReceiverOptions {
   int64_t max_atoms = 0;
   int64_t first_step = 0;
   int64_t every = 1;
-  int capacity = 1;  // frames waiting to be rendered
+  int64_t step_offset = 0;  // added to IMD_ENERGIES steps
+  int capacity = 1;         // frames waiting to be rendered
   bool drop_oldest = false;
   double idle_seconds = 0;  // 0: wait for the simulation as long as it takes
 };
@@ -92,7 +95,7 @@ class FrameReceiver {
   std::atomic<int64_t> dropped_{0};
   Limits limits_;
   int64_t frames_ = 0;
-  int64_t pending_step_ = -1;  // from IMD_ENERGIES, for the next frame
+  std::optional<int64_t> pending_step_;  // from IMD_ENERGIES, for the next frame
 
   std::mutex mutex_;
   std::condition_variable changed_;

@@ -42,6 +42,7 @@ constexpr const char *kUsage =
     "                     fix imd trate; default 1, or --trate)\n"
     "  --first-step S     step of the first frame without step numbers (default: N)\n"
     "  --trate N          ask the simulation to send a frame every N steps (IMD_TRATE)\n"
+    "  --step-offset K    add K to the steps of IMD_ENERGIES records (GROMACS: -1, see README)\n"
     "  --types FILE       atom types and ids: a LAMMPS text dump (id type ...) or H5MD file\n"
     "  --frames K         stop after K frames, leaving the simulation running\n"
     "  --drop-frames      never hold the simulation: drop the oldest frame waiting to be rendered\n"
@@ -59,7 +60,7 @@ extern "C" void on_stop_signal(int) {
 
 struct Options {
   std::string host, port, config, types;
-  int64_t every = 0, first_step = -1, trate = 0, frames = 0;
+  int64_t every = 0, first_step = -1, trate = 0, frames = 0, step_offset = 0;
   int64_t max_atoms = 178956970;  // INT32_MAX / 12: an IMD frame's bytes fit an int32 length
   double dt = 0, connect_seconds = 60, idle_seconds = 0;
   bool drop = false;
@@ -105,6 +106,9 @@ std::string parse(int argc, char **argv, Options *out) {
                        : arg == "--frames" ? out->frames
                                            : out->max_atoms;
       field = int64_t(v);
+    } else if (arg == "--step-offset") {
+      if (!whole) return arg + " must be an integer, not '" + value + "'";
+      out->step_offset = int64_t(v);
     } else if (arg == "--first-step") {
       if (!whole || v < 0) return arg + " must be a step (an integer >= 0), not '" + value + "'";
       out->first_step = int64_t(v);
@@ -305,6 +309,7 @@ int run(const Options &options, lantern_context *ctx, int rank, int size) {
     ro.max_atoms = options.max_atoms;
     ro.first_step = options.first_step;
     ro.every = options.every;
+    ro.step_offset = options.step_offset;
     ro.drop_oldest = options.drop;
     ro.idle_seconds = options.idle_seconds;
     receiver =
