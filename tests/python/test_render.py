@@ -211,3 +211,22 @@ def test_ranks_split_atoms_or_frames(lammps_dump, tmp_path):
         stats = json.loads(line)
         assert stats["ranks"] == 2 and stats["particles"]["finite"] == 256
         assert stats["scenes"][0]["per_rank"]["drawn"]["max"] == 128
+
+
+def test_selection_example(lammps_dump, tmp_path):
+    """examples/python/render_selection.py: an AtomGroup (LAMMPS type 2) draws what publishing
+    those atoms' positions draws."""
+    import MDAnalysis as mda
+    import render_selection
+    assert render_selection.main(str(lammps_dump), str(lammps_dump), "type 2",
+                                 str(tmp_path / "example")) == 5
+    u = mda.Universe(str(lammps_dump), str(lammps_dump), format="LAMMPSDUMP",
+                     topology_format="LAMMPSDUMP")
+    atoms = u.select_atoms("type 2")
+    assert 0 < len(atoms) < len(u.atoms)
+    ts = u.trajectory[4]
+    with lantern.Context(render_selection.config(tmp_path / "fresh")) as ctx:
+        ctx.publish(position=atoms.positions, type=np.full(len(atoms), 2, dtype=np.int32))
+        ctx.execute(ts.data["step"], 0.0)
+    assert (tmp_path / "example" / "selection_000040.png").read_bytes() == \
+        (tmp_path / "fresh" / "selection_000040.png").read_bytes()

@@ -5,12 +5,14 @@ H5MD, ...) through Lantern's pipeline, offline, under MPI.
         [--every N] [--frames a:b] [--types auto|element|name|type|resname|none] \\
         [--scalar speed|force|ATTRIBUTE] [--split atoms|frames] [--option KEY=VALUE ...]
 
-or, from Python, ``render_universe(universe, config, ...)`` with an MDAnalysis Universe.
+or, from Python, ``render_universe(universe, config, ...)`` with an MDAnalysis Universe (or an
+AtomGroup: a selection, such as ``u.select_atoms("protein")``).
 
 Every selected frame is published and rendered at its step (the trajectory's own step numbers
 where the format has them, else the frame index), so the configuration's ``schedule:`` still
 applies; use one without a schedule to render every selected frame. Lengths are MDAnalysis's:
-Angstrom. Positions are borrowed from MDAnalysis's frame buffer (float32), never copied.
+Angstrom. A Universe's positions are borrowed from MDAnalysis's frame buffer (float32), never
+copied; an AtomGroup's are gathered by MDAnalysis into a new array each frame.
 
 MPI: with ``split='atoms'`` (the default) every rank reads every frame and publishes its share of
 the atoms (a contiguous range), and all ranks render each frame together; with
@@ -70,8 +72,9 @@ def atom_types(atoms, types="auto"):
                      + " or ".join(_ATTRIBUTES[k] for k in candidates))
 
 
-def _scalar_reader(atoms, scalar):
-    """A function of the current frame returning the per-atom scalar (float64), or None."""
+def _scalar_reader(atoms, scalar, whole=True):
+    """A function of the current frame returning the per-atom scalar (float64), or None. whole:
+    the atoms are all of the frame's, in order (else their vectors are gathered from it)."""
     if scalar is None:
         return None
     if scalar in ("speed", "force"):
@@ -80,7 +83,8 @@ def _scalar_reader(atoms, scalar):
                 raise ValueError(f"scalar 'speed': frame {ts.frame} has no velocities")
             if scalar == "force" and not ts.has_forces:
                 raise ValueError(f"scalar 'force': frame {ts.frame} has no forces")
-            vectors = ts.velocities if scalar == "speed" else ts.forces
+            source = ts if whole else atoms
+            vectors = source.velocities if scalar == "speed" else source.forces
             return np.sqrt(np.einsum("ij,ij->i", vectors, vectors, dtype=np.float64))
         return magnitude
     try:
@@ -127,8 +131,8 @@ def _config_has(config, keys):
 
 def render_universe(universe, config, *, every=1, frames=None, types="auto", scalar=None,
                     split="atoms", comm=None, progress=True):
-    """Renders the frames of an MDAnalysis Universe through Lantern; returns how many frames this
-    rank rendered.
+    """Renders the frames of an MDAnalysis Universe (or of an AtomGroup's atoms) through Lantern;
+    returns how many frames this rank rendered.
 
     config: Lantern's configuration (YAML text or a path). every: render every N-th selected
     frame. frames: a slice of frame indices (or 'a:b'), None for all. types, scalar: as the
@@ -146,9 +150,11 @@ def render_universe(universe, config, *, every=1, frames=None, types="auto", sca
         raise ValueError(f"types must be one of {_TYPES}, not {types!r}")
     comm = comm if comm is not None else _world()
     rank, size = (comm.rank, comm.size) if comm is not None else (0, 1)
-    atoms = universe.atoms
+    atoms = universe.atoms  # a Universe's, or the AtomGroup itself
+    whole = atoms is atoms.universe.atoms or hasattr(universe, "trajectory")
+    universe = atoms.universe
     type_array, _ = atom_types(atoms, types)
-    scalar_of = _scalar_reader(atoms, scalar)
+    scalar_of = _scalar_reader(atoms, scalar, whole)
     selected = range(len(universe.trajectory))[frames if frames is not None else slice(None)]
     selected = selected[::int(every)]
 
@@ -179,7 +185,8 @@ def render_universe(universe, config, *, every=1, frames=None, types="auto", sca
             error, ts = None, None
             try:
                 ts = universe.trajectory[index]
-                arrays = {"position": ts.positions[share], "id": ids}
+                positions = ts.positions if whole else atoms.positions
+                arrays = {"position": positions[share], "id": ids}
                 if types_mine is not None:
                     arrays["type"] = types_mine
                 if scalar_of is not None:
