@@ -11,7 +11,8 @@
 # MODE leave (TOOLS: lmp): three clients in turn on one LAMMPS run that waits for a client:
 #   one leaves after --frames 2, one is stopped by SIGTERM, one sees the run end; every client
 #   exits 0 with intact images, and LAMMPS carries on to the end each time.
-# MODE hostile (TOOLS: python3): a server that sends one good frame then a truncated one:
+# MODE example (TOOLS: lmp): examples/imd/in.melt and viz.yaml at CI size.
+# MODE hostile: a server that sends one good frame then a truncated one:
 #   lantern-imd on RANKS ranks exits 1 naming the truncation, the first image intact, no hang.
 # MODE gromacs (TOOLS: gmx): GROMACS's mdrun -imdport on an argon box: lantern-imd's
 #   images equal python3 -m lantern.render's of GROMACS's own TRR at the same steps; the XTC and
@@ -118,6 +119,18 @@ leave)
   done
   echo "leave: --frames, SIGTERM and the end of the run, LAMMPS finished both runs;" \
     "$(ls first/*.png second/*.png third/*.png | wc -l) images"
+  ;;
+example)  # examples/imd: in.melt at CI size streamed to lantern-imd with viz.yaml
+  lmp=$1
+  port=$(free_port)
+  run_imd imd 1 "127.0.0.1:$port" -lantern "$src/../../examples/imd/viz.yaml" --every 10 &
+  client=$!
+  timeout 120 "$lmp" -in "$src/../../examples/imd/in.melt" -log none -var cells 4 \
+    -var every 10 -var steps 30 -var port "$port" > lmp.txt 2>&1 || { cat lmp.txt; fail "lmp"; }
+  wait "$client"
+  expect_rc imd 0
+  for s in 10 20 30; do valid_png imd/out/imd/melt_$(printf %06d $s).png; done
+  echo "example: 3 images of examples/imd/in.melt"
   ;;
 hostile)
   port=$(free_port)
