@@ -44,32 +44,46 @@ def _world():
     return MPI.COMM_WORLD
 
 
+def _labels(atoms, kind):
+    """The topology's labels of one kind ('element', 'name', 'type', 'resname') as strings, or
+    None when it has none (or only empty ones)."""
+    from MDAnalysis.exceptions import NoDataError
+    try:
+        labels = np.asarray(getattr(atoms, _ATTRIBUTES[kind])).astype(str)
+    except (NoDataError, AttributeError):
+        return None
+    return labels if len(labels) and any(labels) else None
+
+
+def _is_integer(labels):
+    return all(s.lstrip("-").isdigit() for s in labels)
+
+
 def atom_types(atoms, types="auto"):
     """Integer types of an AtomGroup, and the label of each type (list, index = type).
 
-    'auto': integer `types` as they are (LAMMPS's numeric types stay LAMMPS's), else elements,
-    atom names or types, the first the topology has. Labels (element, name, type, resname) map to
-    their index among the sorted distinct labels, whatever the atoms' order. 'none': None."""
-    from MDAnalysis.exceptions import NoDataError
+    Integer labels stay what they are (LAMMPS's numeric types); other labels become their index
+    among the sorted distinct labels, whatever the atoms' order. 'auto': integer `types`, else
+    elements, else atom names, else (guessed) types, else none. 'none': (None, [])."""
     if types == "none":
         return None, []
-    candidates = ["type", "element", "name"] if types == "auto" else [types]
-    for kind in candidates:
-        try:
-            labels = np.asarray(getattr(atoms, _ATTRIBUTES[kind])).astype(str)
-        except (NoDataError, AttributeError):
-            continue
-        if types == "auto" and kind == "type" and not all(s.lstrip("-").isdigit() for s in labels):
-            continue  # guessed letters (GRO, PDB): elements or names say more
-        if types == "auto" and len(labels) and not any(labels):
-            continue  # an empty attribute (elements of a file that has none)
-        if all(s.lstrip("-").isdigit() for s in labels) and len(labels):
-            values = labels.astype(np.int64)
-            return values.astype(np.int32), [str(v) for v in range(values.max() + 1)]
-        names, index = np.unique(labels, return_inverse=True)
-        return index.astype(np.int32), [str(n) for n in names]
-    raise ValueError(f"types={types!r}: the topology has no "
-                     + " or ".join(_ATTRIBUTES[k] for k in candidates))
+    if types == "auto":
+        found = _labels(atoms, "type")
+        if found is None or not _is_integer(found):
+            found = next((labels for labels in (_labels(atoms, "element"),
+                                                 _labels(atoms, "name"), found)
+                          if labels is not None), None)
+        if found is None:
+            return None, []
+    else:
+        found = _labels(atoms, types)
+        if found is None:
+            raise ValueError(f"types={types!r}: the topology has no {_ATTRIBUTES[types]}")
+    if _is_integer(found):
+        values = found.astype(np.int64)
+        return values.astype(np.int32), [str(v) for v in range(max(values.max() + 1, 0))]
+    names, index = np.unique(found, return_inverse=True)
+    return index.astype(np.int32), [str(n) for n in names]
 
 
 def _scalar_reader(atoms, scalar, whole=True):
