@@ -38,6 +38,7 @@ using lantern_imd::Frame;
 
 constexpr const char *kUsage =
     "usage: lantern-imd HOST:PORT -lantern CONFIG.yaml [options]\n"
+    "       lantern-imd --help | --version\n"
     "  --every N          steps between frames when the stream has no step numbers (LAMMPS: the\n"
     "                     fix imd trate; default 1, or --trate)\n"
     "  --first-step S     step of the first frame without step numbers (default: N)\n"
@@ -72,12 +73,13 @@ bool parse_number(const std::string &text, double *out) {
   return !text.empty() && end && *end == '\0';
 }
 
-// "" and *out, or a usage error.
+// "" and *out, "help" or "version" when asked, or a usage error.
 std::string parse(int argc, char **argv, Options *out) {
   std::vector<std::string> positional;
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
     if (arg == "-h" || arg == "--help") return "help";
+    if (arg == "--version") return "version";
     if (arg.rfind("-", 0) != 0) {
       positional.push_back(arg);
       continue;
@@ -369,10 +371,18 @@ int run(const Options &options, lantern_context *ctx, int rank, int size) {
 int main(int argc, char **argv) {
   Options options;
   const std::string usage_error = parse(argc, argv, &options);
+  // --help and --version answer on stdout without starting MPI; a usage error goes to stderr.
+  if (usage_error == "help") {
+    std::fputs(kUsage, stdout);
+    return 0;
+  }
+  if (usage_error == "version") {
+    std::printf("lantern-imd (Lantern) %s\n", lantern_version());
+    return 0;
+  }
   if (!usage_error.empty()) {
-    if (usage_error != "help") std::fprintf(stderr, "lantern-imd: %s\n", usage_error.c_str());
-    std::fputs(kUsage, stderr);
-    return usage_error == "help" ? 0 : 2;
+    std::fprintf(stderr, "lantern-imd: %s\n%s", usage_error.c_str(), kUsage);
+    return 2;
   }
   // The receiving thread does no MPI: only the main thread calls it.
   int provided = 0;
