@@ -44,6 +44,17 @@ Status drawn_depth_range(MPI_Comm comm, const ViewPositions &v, const RowBand &o
   return {};
 }
 
+// The screen ambient occlusion of a scene, `sphere_radius` the unit of its default radius.
+AmbientOcclusionStyle ao_style(const SceneConfig &scene, double sphere_radius) {
+  AmbientOcclusionStyle style;
+  style.radius =
+      float(scene.ambient_occlusion.radius.value_or(kDefaultAoRadiusInSphereRadii * sphere_radius));
+  style.samples = scene.ambient_occlusion.samples;
+  style.strength = float(scene.ambient_occlusion.strength);
+  style.half_resolution = scene.ambient_occlusion.resolution == AoResolution::kHalf;
+  return style;
+}
+
 }  // namespace
 
 bool wants_screen_cues(const SceneConfig &scene) {
@@ -52,7 +63,7 @@ bool wants_screen_cues(const SceneConfig &scene) {
 
 int screen_cue_halo(const SceneConfig &scene) {
   int halo = 0;
-  if (screen_ao(scene)) halo = kMaxAoPixels;
+  if (screen_ao(scene)) halo = screen_ambient_occlusion_halo(ao_style(scene, 1.0));
   if (scene.outline.enabled) halo = std::max(halo, scene.outline.width);
   return halo;
 }
@@ -75,14 +86,8 @@ Status cue_band(MPI_Comm comm, const SceneConfig &scene, const Camera &camera, d
   ViewPositions positions;
   positions.build(band, camera);
 
-  if (screen_ao(scene)) {
-    AmbientOcclusionStyle style;
-    style.radius = float(
-        scene.ambient_occlusion.radius.value_or(kDefaultAoRadiusInSphereRadii * sphere_radius));
-    style.samples = scene.ambient_occlusion.samples;
-    style.strength = float(scene.ambient_occlusion.strength);
-    apply_screen_ambient_occlusion(positions, style, &band);
-  }
+  if (screen_ao(scene))
+    apply_screen_ambient_occlusion(positions, ao_style(scene, sphere_radius), &band);
   if (scene.outline.enabled) {
     OutlineStyle style;
     style.width = scene.outline.width;

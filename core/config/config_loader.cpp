@@ -50,7 +50,8 @@ const std::vector<std::string> kCullingKeys = {"frustum",
                                                "probabilistic_patience"};
 const std::vector<std::string> kLodKeys = {"budget", "fraction", "min_pixels", "point_path",
                                            "select"};
-const std::vector<std::string> kAmbientOcclusionKeys = {"method", "radius", "samples", "strength"};
+const std::vector<std::string> kAmbientOcclusionKeys = {"method", "radius", "samples", "strength",
+                                                        "resolution"};
 const std::vector<std::string> kOutlineKeys = {"width", "color", "depth_threshold"};
 const std::vector<std::string> kDepthCueKeys = {"start", "end", "color"};
 const std::vector<std::string> kDensityKeys = {"transfer", "range", "colormap"};
@@ -327,6 +328,10 @@ class Loader {
     });
     optional_key(node, path, "strength", [&](const YAML::Node &n, const std::string &p) {
       a.strength = r_.read_in_range(n, p, 0.0, true, 1.0, true);
+    });
+    optional_key(node, path, "resolution", [&](const YAML::Node &n, const std::string &p) {
+      a.resolution = r_.read_choice(n, p, {"half", "full"}) == "half" ? AoResolution::kHalf
+                                                                      : AoResolution::kFull;
     });
     return a;
   }
