@@ -97,59 +97,78 @@ void OcclusionVolume::set_grid(const Extent &global, double radius) {
   for (int a = 0; a < 3; ++a) lo_[a] = global.lo[a];
 }
 
-// Trilinear deposits of this rank's drawn particles, kParticleWeight each.
+// Trilinear deposits of this rank's drawn particles, kParticleWeight each. Per axis the position
+// in 1/kSteps of a node, v = round(kSteps u), gives the lower node v / kSteps and the upper
+// node's weight v mod kSteps (kSteps on the grid's last node): the weights of upper_weight().
 void OcclusionVolume::deposit(const ParticleArrays &particles, const std::vector<CutPlane> &cuts,
                               std::vector<int64_t> *nodes) const {
   const CutPlanes planes(cuts);
   const size_t dy = size_t(n_[0]), dz = size_t(n_[0]) * size_t(n_[1]);
   int64_t *out = nodes->data();
-  visit_positions(particles, [&](const auto &positions) {
-    for (int64_t i = 0; i < particles.count(); ++i) {
-      if (!particles.kept(i)) continue;
-      const glm::dvec3 x = positions.get(i);
-      if (!(std::isfinite(x.x) && std::isfinite(x.y) && std::isfinite(x.z))) continue;
-      if (!planes.empty() && planes.drops(x)) continue;
-      int at[3];
-      int64_t w[3][2];
-      for (int a = 0; a < 3; ++a) {
-        double f;
-        locate((x[a] - lo_[a]) * inverse_cell_, n_[a], &at[a], &f);
-        const int up = upper_weight(f);
-        w[a][0] = kSteps - up;
-        w[a][1] = up;
-      }
-      int64_t *node = out + index(at[0], at[1], at[2]);
-      for (int c = 0; c < 2; ++c)
-        for (int b = 0; b < 2; ++b) {
-          const int64_t wyz = w[1][b] * w[2][c];
-          int64_t *row = node + size_t(b) * dy + size_t(c) * dz;
-          row[0] += w[0][0] * wyz;
-          row[1] += w[0][1] * wyz;
+  const double steps_per_unit = kSteps * inverse_cell_;
+  int last[3];
+  for (int a = 0; a < 3; ++a) last[a] = kSteps * (n_[a] - 1);
+  visit_kept(particles, [&](const auto &kept) {
+    visit_positions(particles, [&](const auto &positions) {
+      for (int64_t i = 0; i < particles.count(); ++i) {
+        if (!kept.get(i)) continue;
+        const glm::dvec3 x = positions.get(i);
+        if (!(std::isfinite(x.x) && std::isfinite(x.y) && std::isfinite(x.z))) continue;
+        if (!planes.empty() && planes.drops(x)) continue;
+        int at[3];
+        int64_t w[3][2];
+        for (int a = 0; a < 3; ++a) {
+          const double u = std::clamp((x[a] - lo_[a]) * steps_per_unit + 0.5, 0.0, double(last[a]));
+          const int v = int(u);
+          at[a] = std::min(v / kSteps, n_[a] - 2);
+          w[a][1] = v - kSteps * at[a];
+          w[a][0] = kSteps - w[a][1];
         }
-    }
+        int64_t *node = out + index(at[0], at[1], at[2]);
+        for (int c = 0; c < 2; ++c)
+          for (int b = 0; b < 2; ++b) {
+            const int64_t wyz = w[1][b] * w[2][c];
+            int64_t *row = node + size_t(b) * dy + size_t(c) * dz;
+            row[0] += w[0][0] * wyz;
+            row[1] += w[0][1] * wyz;
+          }
+      }
+    });
   });
 }
 
 // The filter along each axis (nodes beyond the grid hold nothing), exact in integers, then in
-// particles per cell^3.
+// particles per cell^3. Written as loops over whole rows of nodes so that they vectorise.
 void OcclusionVolume::smooth(const std::vector<int64_t> &deposits) {
+  const size_t nx = size_t(n_[0]), plane = nx * size_t(n_[1]);
   std::vector<int64_t> a = deposits, b(a.size());
-  for (int axis = 0; axis < 3; ++axis) {
-    const size_t step = axis == 0 ? 1 : axis == 1 ? size_t(n_[0]) : size_t(n_[0]) * n_[1];
+  // Along x: each row padded with kFilterReach empty nodes at both ends.
+  std::vector<int64_t> padded(nx + 2 * kFilterReach, 0);
+  for (size_t row = 0; row < a.size(); row += nx) {
+    std::copy(a.begin() + ptrdiff_t(row), a.begin() + ptrdiff_t(row + nx),
+              padded.begin() + kFilterReach);
+    for (size_t x = 0; x < nx; ++x) {
+      int64_t sum = 0;
+      for (int k = 0; k <= 2 * kFilterReach; ++k) sum += kFilter[k] * padded[x + size_t(k)];
+      b[row + x] = sum;
+    }
+  }
+  a.swap(b);
+  // Along y, then z: whole rows of x at a time.
+  for (int axis = 1; axis < 3; ++axis) {
+    const size_t step = axis == 1 ? nx : plane;
     const int along = n_[axis];
-    for (int z = 0; z < n_[2]; ++z)
-      for (int y = 0; y < n_[1]; ++y) {
-        const size_t row = index(0, y, z);
-        for (int x = 0; x < n_[0]; ++x) {
-          const int at = axis == 0 ? x : axis == 1 ? y : z;
-          const size_t i = row + size_t(x);
-          int64_t sum = 0;
-          for (int k = -kFilterReach; k <= kFilterReach; ++k)
-            if (at + k >= 0 && at + k < along)
-              sum += kFilter[k + kFilterReach] * a[size_t(ptrdiff_t(i) + k * ptrdiff_t(step))];
-          b[i] = sum;
-        }
+    std::fill(b.begin(), b.end(), 0);
+    for (size_t row = 0; row < a.size(); row += nx) {
+      const int at = axis == 1 ? int(row / nx % size_t(n_[1])) : int(row / plane);
+      int64_t *out = &b[row];
+      for (int k = -kFilterReach; k <= kFilterReach; ++k) {
+        if (at + k < 0 || at + k >= along) continue;
+        const int64_t *in = &a[size_t(ptrdiff_t(row) + k * ptrdiff_t(step))];
+        const int64_t weight = kFilter[k + kFilterReach];
+        for (size_t x = 0; x < nx; ++x) out[x] += weight * in[x];
       }
+    }
     a.swap(b);
   }
   smoothed_.resize(a.size());
@@ -187,8 +206,9 @@ void OcclusionVolume::find_bulk(const std::vector<int64_t> &deposits) {
 
 Status OcclusionVolume::build(MPI_Comm comm, const ParticleArrays &particles, const Extent &global,
                               const std::vector<CutPlane> &cuts, double radius, double strength) {
-  strength_ = strength;
+  strength_ = float(strength);
   smoothed_.clear();
+  enclosure_.clear();
   bulk_ = 0.0;
   face_ = 1.0;
   if (global.empty()) return {};  // the same on every rank: no reduction to skip
@@ -203,35 +223,44 @@ Status OcclusionVolume::build(MPI_Comm comm, const ParticleArrays &particles, co
     return {StatusCode::kMpi, "ambient_occlusion (object): MPI_Allreduce of the density failed"};
   smooth(deposits);
   find_bulk(deposits);
+  // Layers too far apart for the smoothing to see a surface (o_face near 1): nothing darkens.
+  if (bulk_ > 0.0 && face_ < 0.999) {
+    enclosure_.resize(smoothed_.size());
+    const double per_bulk = 1.0 / bulk_, open = 1.0 / (1.0 - face_);
+    for (size_t i = 0; i < smoothed_.size(); ++i)
+      enclosure_[i] = float((double(smoothed_[i]) * per_bulk - face_) * open);
+  }
+  std::vector<float>().swap(smoothed_);
   return {};
 }
 
-double OcclusionVolume::occupancy(const glm::dvec3 &x) const {
-  if (smoothed_.empty() || !(bulk_ > 0.0)) return 0.0;
+// The trilinear interpolation of the enclosure at x, in float (the factors are 8-bit colours).
+float OcclusionVolume::enclosure_at(const glm::dvec3 &x) const {
   int i0[3];
-  double t[3];
-  for (int a = 0; a < 3; ++a) locate((x[a] - lo_[a]) * inverse_cell_, n_[a], &i0[a], &t[a]);
-  double value = 0.0;
-  for (int corner = 0; corner < 8; ++corner) {
-    double w = 1.0;
-    int c[3];
-    for (int a = 0; a < 3; ++a) {
-      const int up = (corner >> a) & 1;
-      c[a] = i0[a] + up;
-      w *= up ? t[a] : 1.0 - t[a];
-    }
-    value += w * double(smoothed_[index(c[0], c[1], c[2])]);
+  float t[3];
+  for (int a = 0; a < 3; ++a) {
+    double f;
+    locate((x[a] - lo_[a]) * inverse_cell_, n_[a], &i0[a], &f);
+    t[a] = float(f);
   }
-  return value / bulk_;
+  const float *node = &enclosure_[index(i0[0], i0[1], i0[2])];
+  const size_t dy = size_t(n_[0]), dz = size_t(n_[0]) * size_t(n_[1]);
+  const auto along_x = [&](const float *row) { return row[0] + t[0] * (row[1] - row[0]); };
+  const float y0 = along_x(node) + t[1] * (along_x(node + dy) - along_x(node));
+  const float y1 = along_x(node + dz) + t[1] * (along_x(node + dz + dy) - along_x(node + dz));
+  return y0 + t[2] * (y1 - y0);
+}
+
+double OcclusionVolume::occupancy(const glm::dvec3 &x) const {
+  if (enclosure_.empty()) return 0.0;
+  return face_ + double(enclosure_at(x)) * (1.0 - face_);
 }
 
 float OcclusionVolume::factor(const glm::dvec3 &x) const {
-  // Layers too far apart for the smoothing to see a surface: nothing to darken.
-  if (!(face_ < 0.999)) return 1.0f;
+  if (enclosure_.empty()) return 1.0f;
   // The share of the open half-space that is filled, twice: as the screen method, a particle
   // half enclosed (the wall of a narrow pit, a deep crease) darkens by the whole strength.
-  const double enclosed = (occupancy(x) - face_) / (1.0 - face_);
-  return float(1.0 - strength_ * std::clamp(2.0 * enclosed, 0.0, 1.0));
+  return 1.0f - strength_ * std::clamp(2.0f * enclosure_at(x), 0.0f, 1.0f);
 }
 
 }  // namespace lantern

@@ -83,13 +83,18 @@ class OcclusionVolume {
                std::vector<int64_t> *nodes) const;
   void smooth(const std::vector<int64_t> &deposits);
   void find_bulk(const std::vector<int64_t> &deposits);
+  float enclosure_at(const glm::dvec3 &x) const;
 
   glm::dvec3 lo_{0.0};
-  double cell_ = 1.0, inverse_cell_ = 1.0, strength_ = 0.0;
+  double cell_ = 1.0, inverse_cell_ = 1.0;
+  float strength_ = 0.0f;
   double bulk_ = 0.0;  // particles per cell^3 in the bulk (0: nothing drawn anywhere)
   double face_ = 1.0;  // o_face (1: no darkening at all)
   std::array<int, 3> n_{2, 2, 2};
-  std::vector<float> smoothed_;  // per node, in particles per cell^3
+  std::vector<float> smoothed_;  // per node, in particles per cell^3 (while building)
+  // Per node: (smoothed / bulk - o_face) / (1 - o_face), the share of a flat face's open
+  // half-space that is filled; empty where nothing darkens.
+  std::vector<float> enclosure_;
 };
 
 }  // namespace lantern
