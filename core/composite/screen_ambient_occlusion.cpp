@@ -426,9 +426,11 @@ LANTERN_AO_INLINE void half_resolution_pass(const ViewPositions &v,
                 *bottom_z = blurred.z_at(j + (y & 1));
     for (int x0 = 0; x0 < w; x0 += kLanes) {
       const int lanes = std::min(kLanes, w - x0);
-      std::fill(zs, zs + kLanes, kBackground);
-      std::copy(zrow + x0, zrow + x0 + lanes, zs);
-      const F8 z = load8(zs);
+      if (lanes < kLanes) {  // the row's last pixels: the lanes beyond it are background
+        std::fill(zs, zs + kLanes, kBackground);
+        std::copy(zrow + x0, zrow + x0 + lanes, zs);
+      }
+      const F8 z = load8(lanes < kLanes ? zs : zrow + x0);
       const I8 drawn = z != kBackground;
       if (!any(drawn)) continue;
       const int i0 = x0 / 2;
