@@ -105,9 +105,9 @@ __attribute__((target("avx512f,avx512vl,avx512dq,avx512bw"))) void add4_avx512(
                                       int64_t(m[3]), int64_t(m[2]), int64_t(m[1]), int64_t(m[0]));
   const __m512i half = _mm512_set1_epi64(int64_t(1) << (shift - 1));
   const __m128i by = _mm_cvtsi32_si128(shift);
-  uint64_t t[4] = {0, 0, 0, 0};
-  for (int i = 0; i < ax.count; ++i) t[i] = ax.taps[i];
-  const __m256i tx = _mm256_loadu_si256(reinterpret_cast<const __m256i *>(t));
+  // The row's taps, zero beyond the footprint (a masked load reads nothing past it).
+  const __m256i tx =
+      _mm256_cvtepu16_epi64(_mm_maskz_loadu_epi16(__mmask8((1u << ax.count) - 1), ax.taps));
   const __m512i first_pair = _mm512_set_epi64(1, 1, 1, 1, 0, 0, 0, 0);
   const __m512i second_pair = _mm512_set_epi64(3, 3, 3, 3, 2, 2, 2, 2);
   const __mmask8 first = ax.count >= 2 ? 0xff : 0x0f;
@@ -274,14 +274,16 @@ bool DensitySplatter::deposit(const DensityFootprint &fp, double weight, const R
   pixels_written_ += int64_t(ax.count) * ay.count;
   // W = weight 2^F in [2^23, 2^24): F = 23 - floor(log2 weight). Weights repeat (1, or n / keep
   // for a whole brick), so the factors are kept from the previous particle when they can be.
-  if (weight != last_weight_ || color != last_color_) {
+  // The colour packed in one word: comparing the arrays costs a library call.
+  const uint32_t packed = uint32_t(color[0]) | uint32_t(color[1]) << 8 | uint32_t(color[2]) << 16;
+  if (weight != last_weight_ || packed != last_color_) {
     const int f = kWeightMantissaBits - 1 - std::ilogb(weight);
     // Rounded, but kept below 2^24 so that W 256 < 2^32.
     const uint64_t w = std::min(uint64_t(std::ldexp(weight, f) + 0.5), (uint64_t(1) << 24) - 1);
     factors_m_[0] = w << 8;
     for (int k3 = 0; k3 < 3; ++k3) factors_m_[1 + k3] = w * color[size_t(k3)];
     factors_shift_ = f + 2 * kDensityTapBits + 8 - kDensityFractionBits;
-    last_weight_ = weight, last_color_ = color;
+    last_weight_ = weight, last_color_ = packed;
   }
   if (image_->channels == 4)
     add4_(image_->sum.data(), g_.width, ax, ay, factors_m_, factors_shift_);

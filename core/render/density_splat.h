@@ -133,7 +133,7 @@ class DensitySplatter {
                 const uint64_t m[4], int shift) = nullptr;
   // The previous particle's weight and colour, and the factors made of them (see the .cpp).
   double last_weight_ = -1.0;
-  Rgb8 last_color_{0, 0, 0};
+  uint32_t last_color_ = 0;  // packed r | g << 8 | b << 16
   uint64_t factors_m_[4] = {0, 0, 0, 0};
   int factors_shift_ = 1;
   int64_t pixels_written_ = 0;
