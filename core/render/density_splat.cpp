@@ -242,6 +242,62 @@ bool DensitySplatter::splat(const glm::dvec3 &c, double r, double weight, const 
   return project(c, r, &f) && deposit(f, weight, color);
 }
 
+// W = weight 2^F in [2^23, 2^24): F = 23 - floor(log2 weight). Weights repeat (1, or n / keep
+// for a whole brick), so the factors are kept from the previous particle when they can be.
+void DensitySplatter::set_factors(double weight, const Rgb8 &color) {
+  // The colour packed in one word: comparing the arrays costs a library call.
+  const uint32_t packed = uint32_t(color[0]) | uint32_t(color[1]) << 8 | uint32_t(color[2]) << 16;
+  if (weight == last_weight_ && packed == last_color_) return;
+  const int f = kWeightMantissaBits - 1 - std::ilogb(weight);
+  // Rounded, but kept below 2^24 so that W 256 < 2^32.
+  const uint64_t w = std::min(uint64_t(std::ldexp(weight, f) + 0.5), (uint64_t(1) << 24) - 1);
+  factors_m_[0] = w << 8;
+  for (int k3 = 0; k3 < 3; ++k3) factors_m_[1 + k3] = w * color[size_t(k3)];
+  factors_shift_ = f + 2 * kDensityTapBits + 8 - kDensityFractionBits;
+  last_weight_ = weight, last_color_ = packed;
+}
+
+bool DensitySplatter::bin(const DensityFootprint &fp, const Rgb8 &color, DensityBins *bins) {
+  const int k = table_.index_of_variance(fp.sigma2);
+  if (k >= kDensitySigmaCount) return deposit(fp, 1.0, color);  // wide: no table entry
+  constexpr double kFar = double(1 << 30);                      // as deposit()
+  if (!(std::abs(fp.px) < kFar && std::abs(fp.py) < kFar)) return false;
+  DensityRecord r;
+  int base_x = 0, base_y = 0, phase_x = 0, phase_y = 0;
+  DensityKernelTable::place(fp.px, &base_x, &phase_x);
+  DensityKernelTable::place(fp.py, &base_y, &phase_y);
+  AxisTaps ax, ay;
+  if (!table_.taps_at(base_x, phase_x, k, g_.width, &ax) ||
+      !table_.taps_at(base_y, phase_y, k, g_.height, &ay))
+    return false;
+  // A footprint touching the image has its base within 26 px of it: int16 holds it
+  // (kMaxImageSize is 16384).
+  r.base_x = int16_t(base_x), r.base_y = int16_t(base_y);
+  r.k = uint8_t(k), r.phase_x = uint8_t(phase_x), r.phase_y = uint8_t(phase_y);
+  std::copy(color.begin(), color.end(), r.color);
+  bins->tiles[size_t(ay.first / kDensityTile) * size_t(bins->across) +
+              size_t(ax.first / kDensityTile)]
+      .push_back(r);
+  return true;
+}
+
+void DensitySplatter::deposit_bins(const DensityBins &bins) {
+  for (const std::vector<DensityRecord> &tile : bins.tiles)
+    for (const DensityRecord &r : tile) {
+      AxisTaps ax, ay;
+      table_.taps_at(r.base_x, r.phase_x, r.k, g_.width, &ax);
+      table_.taps_at(r.base_y, r.phase_y, r.k, g_.height, &ay);
+      pixels_written_ += int64_t(ax.count) * ay.count;
+      set_factors(1.0, {r.color[0], r.color[1], r.color[2]});
+      if (image_->channels == 4)
+        add4_(image_->sum.data(), g_.width, ax, ay, factors_m_, factors_shift_);
+      else
+        add_scalar(
+            image_->sum.data(), g_.width, image_->channels, ax, ay,
+            Factors{{factors_m_[0], factors_m_[1], factors_m_[2], factors_m_[3]}, factors_shift_});
+    }
+}
+
 int64_t DensitySplatter::deposit_all(const DensityFootprints &footprints, const uint8_t *skip,
                                      const Rgb8 *color, int count, double weight) {
   int64_t touched = 0;
@@ -272,19 +328,7 @@ bool DensitySplatter::deposit(const DensityFootprint &fp, double weight, const R
       return false;
   }
   pixels_written_ += int64_t(ax.count) * ay.count;
-  // W = weight 2^F in [2^23, 2^24): F = 23 - floor(log2 weight). Weights repeat (1, or n / keep
-  // for a whole brick), so the factors are kept from the previous particle when they can be.
-  // The colour packed in one word: comparing the arrays costs a library call.
-  const uint32_t packed = uint32_t(color[0]) | uint32_t(color[1]) << 8 | uint32_t(color[2]) << 16;
-  if (weight != last_weight_ || packed != last_color_) {
-    const int f = kWeightMantissaBits - 1 - std::ilogb(weight);
-    // Rounded, but kept below 2^24 so that W 256 < 2^32.
-    const uint64_t w = std::min(uint64_t(std::ldexp(weight, f) + 0.5), (uint64_t(1) << 24) - 1);
-    factors_m_[0] = w << 8;
-    for (int k3 = 0; k3 < 3; ++k3) factors_m_[1 + k3] = w * color[size_t(k3)];
-    factors_shift_ = f + 2 * kDensityTapBits + 8 - kDensityFractionBits;
-    last_weight_ = weight, last_color_ = packed;
-  }
+  set_factors(weight, color);
   if (image_->channels == 4)
     add4_(image_->sum.data(), g_.width, ax, ay, factors_m_, factors_shift_);
   else

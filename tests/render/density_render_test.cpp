@@ -316,9 +316,10 @@ TEST(DensityLevelOfDetail, WeightsKeepTheTotalIntensityAtTenPercent) {
   EXPECT_NEAR(tenth, full, 0.01 * full);
 }
 
-// The density pass (bricks gathered with prefetching, projected in one vectorised loop,
-// deposited in batches) gives the sums of splat() called particle by particle in published
-// order: the same bits, coloured by type, through a cutting plane, at LOD 100 %.
+// The density pass gives the sums of splat() called particle by particle, bit for bit, coloured
+// by type, through a cutting plane: at LOD 100 % (the particles streamed in published order,
+// binned by image tile) and at LOD 30 % (each brick's prefix gathered with prefetching,
+// projected in one vectorised loop, deposited per brick).
 TEST(DensityPass, GivesTheSumsOfOneSplatPerParticle) {
   const Cloud cloud;
   Camera camera;
@@ -354,6 +355,26 @@ TEST(DensityPass, GivesTheSumsOfOneSplatPerParticle) {
   EXPECT_EQ(st.drawn, drawn);
   EXPECT_EQ(st.cut_culled, cut_away);
   EXPECT_GT(cut_away, 10000);
+  EXPECT_TRUE(pass.sum == one_by_one.sum);
+
+  // Level of detail: each brick's prefix, weighted and grown, brick by brick.
+  scene.lod.fraction = 0.3;
+  select_density_bricks(cloud.bricks, camera, scene, radius, &sel, nullptr);
+  const CullStats lod = render_density(cloud.arrays, cloud.bricks, scene, sel, recipe, &pass);
+  one_by_one.reset(g.width, g.height, 4);
+  drawn = 0;
+  for (const VisibleBrick &v : sel.visible) {
+    const Brick &b = cloud.bricks.bricks[v.brick];
+    for (uint32_t k = 0; k < v.keep; ++k) {
+      const uint32_t i = cloud.bricks.order[b.first + k];
+      const glm::dvec3 x = cloud.arrays.position(i);
+      if (v.cut_each && glm::dot(glm::dvec3(1, 0.3, 0), x) > 6.0) continue;
+      drawn += splat.splat(sel.g.to_view(x), 0.12 * v.radius_scale, double(b.count) / v.keep,
+                           recipe.color(i));
+    }
+  }
+  EXPECT_EQ(lod.drawn, drawn);
+  EXPECT_GT(lod.lod_dropped, 20000);
   EXPECT_TRUE(pass.sum == one_by_one.sum);
 }
 
