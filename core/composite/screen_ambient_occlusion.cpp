@@ -1,5 +1,14 @@
 #include "core/composite/screen_ambient_occlusion.h"
 
+// No fused multiply-adds: the AVX-512 and AVX2 compilations of the half-resolution pass must round
+// every operation as the baseline compilation (which has none) does, or the images would depend on
+// the processor (GCC contracts a * b + c wherever the target has FMA, and AVX-512 implies it).
+#if defined(__clang__)
+#pragma clang fp contract(off)
+#elif defined(__GNUC__)
+#pragma GCC optimize("fp-contract=off")
+#endif
+
 #include <algorithm>
 #include <cmath>
 #include <cstdint>

@@ -1,5 +1,14 @@
 #include "core/render/density_splat.h"
 
+// No fused multiply-adds: project_all's vectorised projection must round every operation as the
+// baseline compilation (which has none) does, or the images would depend on the processor (GCC
+// contracts a * b + c wherever the target has FMA, and AVX-512 implies it).
+#if defined(__clang__)
+#pragma clang fp contract(off)
+#elif defined(__GNUC__)
+#pragma GCC optimize("fp-contract=off")
+#endif
+
 #include <algorithm>
 #include <cmath>
 

@@ -6,8 +6,9 @@
 //                                   [--md-cells 30] [--out DIR] [--kernels REPS]
 //
 // Per scene it prints the median over steps of the pipeline's own per-scene time (stats "ms.total",
-// rank 0) of each variant and its ratio to the plain one. Particles: fcc split in blocks over the
-// ranks; void_impact as mini_md's domain decomposition hands them out.
+// rank 0) of each variant and its ratio to the plain one (an unreported copy of the plain scene
+// renders first in every step and pays for the step's bricks, which the others reuse). Particles:
+// fcc split in blocks over the ranks; void_impact as mini_md's domain decomposition hands them out.
 //
 // --kernels REPS adds, per scene, the screen ambient occlusion kernels alone on rank 0: the whole
 // scene drawn once by the CPU raster, then each kernel run REPS times on the whole frame (one
@@ -50,7 +51,10 @@ struct Variant {
   const char *keys;  // YAML added to the scene
 };
 
+// The first scene of a step also builds the step's bricks (the other scenes reuse them): a
+// copy of the plain scene goes first to take that cost, and is not reported.
 const Variant kVariants[] = {
+    {"bricks", ""},
     {"plain", ""},
     {"screen_ao", "    ambient_occlusion: {method: screen}\n"},
     {"screen_ao_full", "    ambient_occlusion: {method: screen, resolution: full}\n"},
@@ -271,9 +275,10 @@ int main(int argc, char **argv) {
                 size, size, ranks, steps);
     const double plain = median(ms["plain"]);
     for (const Variant &v : kVariants)
-      std::printf("  %-11s %8.1f ms  x%.3f   (cue stage %6.1f ms = %5.1f%% of plain)\n", v.name,
-                  median(ms[v.name]), median(ms[v.name]) / plain, median(cues[v.name]),
-                  100.0 * median(cues[v.name]) / plain);
+      if (std::string(v.name) != "bricks")
+        std::printf("  %-14s %8.1f ms  x%.3f   (cue stage %6.1f ms = %5.1f%% of plain)\n", v.name,
+                    median(ms[v.name]), median(ms[v.name]) / plain, median(cues[v.name]),
+                    100.0 * median(cues[v.name]) / plain);
   }
   MPI_Finalize();
   return failures == 0 ? 0 : 1;
