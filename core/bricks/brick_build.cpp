@@ -12,6 +12,7 @@
 #include "core/bricks/level_layout.h"
 #include "core/bricks/morton.h"
 #include "core/bricks/radix_sort.h"
+#include "core/common/ms_since.h"
 #include "core/particles/typed_access.h"
 
 namespace lantern {
@@ -21,9 +22,6 @@ using namespace brick_steps;
 namespace {
 
 using Clock = std::chrono::steady_clock;
-double ms_since(Clock::time_point t0) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
-}
 
 // Bounds, finite and non-finite counts of the kept centres in [begin, end) (particles outside the
 // group are in neither count: no brick ever holds them).

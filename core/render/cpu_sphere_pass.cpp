@@ -15,29 +15,30 @@ constexpr double kRasterSlack = 0.05;
 }  // namespace
 
 CullStats CpuSpherePass::run(const ParticleArrays &particles, const BrickSet &bricks,
-                             const SceneConfig &scene, const BrickSelection &sel,
-                             const InstanceRecipe &recipe, const uint8_t background[4],
-                             Frame *frame, DrawList *out, int64_t step) {
+                             const CullSettings &cull, const Lighting &lighting,
+                             const BrickSelection &sel, const InstanceRecipe &recipe,
+                             const uint8_t background[4], Frame *frame, DrawList *out,
+                             int64_t step) {
   if (sel.mode == OcclusionMode::kProbabilistic)
-    return run_probabilistic(particles, bricks, scene, sel, recipe, background, frame, out, step);
+    return run_probabilistic(particles, bricks, cull, sel, recipe, background, frame, out, step);
   CullStats st = sel.stats;
   out->clear();
   const ViewGeometry &g = sel.g;
   const bool occlusion = sel.mode == OcclusionMode::kHzb;
-  const bool point_path = scene.lod.point_path;
+  const bool point_path = cull.lod.point_path;
   const bool two = split_strips(g.width, strips_);
   CpuSphereRaster::clear_target(g, background, frame);
   for (int k = 0; k < 2; ++k) {
     rasters_[k].begin_strip(g, frame, strips_[k].x0, strips_[k].x1);
-    rasters_[k].set_lighting(scene.lighting);
+    rasters_[k].set_lighting(lighting);
   }
 
   const Frustum frustum(g);
-  const CutPlanes cuts(scene.cuts);
+  const CutPlanes cuts(cull.cuts);
   visit_positions(particles, [&](const auto &pos) {
     visit_radii(particles, sel.radius.per_particle, sel.radius.radius, [&](const auto &radius) {
       const CullPass<std::decay_t<decltype(pos)>, std::decay_t<decltype(radius)>> pass{
-          pos, radius, g, frustum, cuts, scene, bricks};
+          pos, radius, g, frustum, cuts, point_path, bricks};
       const auto strip = [&](int k) {
         CpuSphereRaster &raster = rasters_[k];
         const auto covered = [&raster](const PixelRect &r, double z) {
@@ -75,22 +76,22 @@ CullStats CpuSpherePass::run(const ParticleArrays &particles, const BrickSet &br
 }
 
 CullStats CpuSpherePass::run_probabilistic(const ParticleArrays &particles, const BrickSet &bricks,
-                                           const SceneConfig &scene, const BrickSelection &sel,
+                                           const CullSettings &cull, const BrickSelection &sel,
                                            const InstanceRecipe &recipe,
                                            const uint8_t background[4], Frame *frame, DrawList *out,
                                            int64_t step) {
   CullStats st = sel.stats;
   out->clear();
-  st.probabilistic = probabilistic_.run(particles, bricks, scene, sel, step);
+  st.probabilistic = probabilistic_.run(particles, bricks, cull.probabilistic, sel, step);
   st.occlusion_culled = st.probabilistic.particles_culled;
   const ViewGeometry &g = sel.g;
-  const bool point_path = scene.lod.point_path;
+  const bool point_path = cull.lod.point_path;
   const bool two = split_strips(g.width, strips_);
   CpuSphereRaster::clear_target(g, background, frame);
   for (int k = 0; k < 2; ++k) rasters_[k].begin_strip(g, frame, strips_[k].x0, strips_[k].x1);
   const MeshletSet &ml = probabilistic_.meshlets();
   const Frustum frustum(g);
-  const CutPlanes cuts(scene.cuts);
+  const CutPlanes cuts(cull.cuts);
   for (const VisibleBrick &v : sel.visible) st.lod_dropped += bricks.bricks[v.brick].count - v.keep;
   visit_positions(particles, [&](const auto &pos) {
     visit_radii(particles, sel.radius.per_particle, sel.radius.radius, [&](const auto &radius) {

@@ -65,12 +65,12 @@ class GatherPrefetch {
 
 }  // namespace
 
-void select_density_bricks(const BrickSet &bricks, const Camera &camera, const SceneConfig &scene,
+void select_density_bricks(const BrickSet &bricks, const Camera &camera, const CullSettings &cull,
                            const RadiusRule &radius, BrickSelection *out,
                            BrickCutCounts *cut_counts) {
-  SceneConfig all = scene;
-  all.culling.frustum = false;
-  all.culling.occlusion = OcclusionMode::kNone;
+  CullSettings all = cull;
+  all.frustum = false;
+  all.occlusion = OcclusionMode::kNone;
   select_bricks(bricks, camera, all, radius, out, cut_counts);
 }
 
@@ -149,21 +149,21 @@ void render_every_particle(const ParticleArrays &particles, const std::vector<Cu
 }  // namespace
 
 CullStats render_density(const ParticleArrays &particles, const BrickSet &bricks,
-                         const SceneConfig &scene, const BrickSelection &sel,
+                         const CullSettings &cull, const BrickSelection &sel,
                          const InstanceRecipe &recipe, DensityImage *image,
                          int64_t *pixels_written) {
   CullStats st = sel.stats;
   const ViewGeometry &g = sel.g;
   image->reset(g.width, g.height, density_channels(recipe.coloring.by));
   DensitySplatter splatter(g, image);
-  const CutPlanes cuts(scene.cuts);
+  const CutPlanes cuts(cull.cuts);
   const DensityColors colors(recipe, image->channels > 1);
   const bool everything =
       std::all_of(sel.visible.begin(), sel.visible.end(), [&](const VisibleBrick &v) {
         return v.keep == bricks.bricks[v.brick].count && v.radius_scale == 1.0f;
       });
   if (everything) {
-    render_every_particle(particles, scene.cuts, sel, colors, &splatter, &st);
+    render_every_particle(particles, cull.cuts, sel, colors, &splatter, &st);
     if (pixels_written) *pixels_written = splatter.pixels_written();
     return st;
   }

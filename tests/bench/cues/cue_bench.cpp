@@ -33,11 +33,12 @@
 #include "bench_timing.h"
 #include "core/bricks/brick_set.h"
 #include "core/camera/camera.h"
-#include "core/composite/screen_ambient_occlusion.h"
-#include "core/composite/view_positions.h"
 #include "core/culling/brick_selection.h"
+#include "core/finish/screen_ambient_occlusion.h"
+#include "core/finish/view_positions.h"
 #include "core/particles/particle_scan.h"
 #include "core/pipeline/runtime.h"
+#include "core/pipeline/scene_settings.h"
 #include "core/render/cpu_sphere_pass.h"
 #include "core/render/sphere_instances.h"
 #include "image_metrics.h"
@@ -127,7 +128,7 @@ void kernel_table(const BenchScene &bs, int reps) {
   sc.renderer = RendererChoice::kCpu;
   sc.culling.occlusion = OcclusionMode::kHzb;
   const Extent ext = scan_particles(p, sc.per_particle_radius, sc.radius);
-  const RadiusRule radius = RadiusRule::of(sc, p);
+  const RadiusRule radius = radius_rule(sc, p);
   Camera cam;
   const glm::dvec3 lo{ext.lo[0], ext.lo[1], ext.lo[2]}, hi{ext.hi[0], ext.hi[1], ext.hi[2]};
   if (Status s = make_camera(sc.camera, lo, hi, radius.max_radius(ext), sc.width, sc.height, &cam);
@@ -136,15 +137,16 @@ void kernel_table(const BenchScene &bs, int reps) {
     return;
   }
   const BrickSet bricks = build_bricks(p, BrickOptions{});
-  const InstanceRecipe recipe = make_recipe(p, sc, radius, cam, ext);
+  const InstanceRecipe recipe = make_recipe(p, shading_settings(sc), radius, cam, ext);
+  const CullSettings cull = cull_settings(sc);
   BrickSelection selection;
-  select_bricks(bricks, cam, sc, radius, &selection);
+  select_bricks(bricks, cam, cull, radius, &selection);
   CpuSpherePass pass;
   DrawList draw;
   BandFrame plain;
   const Rgb8 bg = to_rgb8(sc.background);
   const uint8_t background[4] = {bg[0], bg[1], bg[2], 255};
-  pass.run(p, bricks, sc, selection, recipe, background, &plain.frame, &draw);
+  pass.run(p, bricks, cull, sc.lighting, selection, recipe, background, &plain.frame, &draw);
   plain.owned = {0, sc.height};
   AmbientOcclusionStyle style;
   style.radius = float(kDefaultAoRadiusInSphereRadii * radius.max_radius(ext));
