@@ -180,18 +180,22 @@ struct CutPlane {
 // ambient occlusion, outline, depth cue) run on the final-resolution composited frame, after
 // any down-sampling and before the image is written (core/finish/screen_cues.h).
 enum class AmbientOcclusionMethod { kScreen, kObject };
+// Where screen ambient occlusion is estimated: on every other pixel of every other row, then
+// blurred and brought back to every pixel by depth-aware upsampling (half), or at every pixel.
+enum class AoResolution { kHalf, kFull };
 
 // The default ambient_occlusion.radius, in sphere radii (the scene's largest): about the first
 // neighbour shell of a dense packing.
 inline constexpr double kDefaultAoRadiusInSphereRadii = 4.0;
 
-// ambient_occlusion: {method, radius, samples, strength}
+// ambient_occlusion: {method, radius, samples, strength, resolution}
 struct AmbientOcclusionConfig {
   bool enabled = false;                                             // the section is present
   AmbientOcclusionMethod method = AmbientOcclusionMethod::kScreen;  // method: screen | object
   std::optional<double> radius;  // radius: > 0, simulation units; absent = 4 x sphere radius
-  int samples = 16;              // samples: 1..64 (screen: samples per pixel)
+  int samples = 16;              // samples: 1..64 (screen: samples per estimate)
   double strength = 0.6;         // strength: [0, 1], 0 = no darkening
+  AoResolution resolution = AoResolution::kHalf;  // resolution: half | full (method: screen)
 };
 
 // outline: {width, color, depth_threshold}

@@ -255,6 +255,8 @@ const Section<AmbientOcclusionConfig> kAmbientOcclusion(
         {"radius", &AmbientOcclusionConfig::radius, above(0)},
         {"samples", &AmbientOcclusionConfig::samples, integer(1, 64)},
         {"strength", &AmbientOcclusionConfig::strength, number_in('[', 0, 1, ']')},
+        {"resolution", &AmbientOcclusionConfig::resolution,
+         one_of<AoResolution>({{"half", AoResolution::kHalf}, {"full", AoResolution::kFull}})},
     },
     kCue, &AmbientOcclusionConfig::enabled);
 

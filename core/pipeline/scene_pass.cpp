@@ -160,9 +160,9 @@ Status run_scene_pass(const ScenePassInputs &in, const SceneConfig &scene, Scene
   OcclusionVolume occlusion;
   if (object_ao) {
     t0 = Clock::now();
-    const double cell =
+    const double radius_ao =
         scene.ambient_occlusion.radius.value_or(kDefaultAoRadiusInSphereRadii * max_radius);
-    if (Status s = occlusion.build(in.comm, *in.particles, in.global, scene.cuts, cell,
+    if (Status s = occlusion.build(in.comm, *in.particles, in.global, scene.cuts, radius_ao,
                                    scene.ambient_occlusion.strength);
         !s.ok())
       return with_context(where, std::move(s));

@@ -283,6 +283,18 @@ TEST(RankInvariance, SameImagesWithEveryDepthCue) {
                         "specular: 0.5, shininess: 30}\n");
 }
 
+// Screen ambient occlusion at full resolution (the default, half, is in the test above), and at
+// half resolution on a super-sampled frame's down-sampled bands.
+TEST(RankInvariance, SameImagesWithFullResolutionAmbientOcclusion) {
+  expect_rank_invariant(make_particles(1500), "ao_full", "",
+                        "    ambient_occlusion: {method: screen, resolution: full}\n");
+}
+
+TEST(RankInvariance, SameImagesWithAmbientOcclusionOnFourSamples) {
+  expect_rank_invariant(make_particles(1500), "ao_ssaa4", "",
+                        "    samples: 4\n    ambient_occlusion: {method: screen, radius: 1.2}\n");
+}
+
 // Object-space ambient occlusion: a density volume summed over ranks, per-particle colours.
 TEST(RankInvariance, SameImagesWithObjectAmbientOcclusion) {
   expect_rank_invariant(make_particles(1500), "object_ao", "",
