@@ -43,7 +43,8 @@ void BrickCache::remember(const ParticleArrays &p, int64_t step, uint64_t finger
   fingerprint_ = fingerprint;
 }
 
-const BrickSet &BrickCache::for_step(const ParticleArrays &p, int64_t step, double *build_ms,
+const BrickSet &BrickCache::for_step(const ParticleArrays &p, int64_t step,
+                                     const BrickOptions &options, double *build_ms,
                                      std::string *how) {
   const uint64_t fingerprint = sample_fingerprint(p);
   if (count_ == p.count() && step_ == step && positions_ == p.position_array(0).data() &&
@@ -58,12 +59,12 @@ const BrickSet &BrickCache::for_step(const ParticleArrays &p, int64_t step, doub
   // or added particles (migration): refit_bricks re-sorts only the strays, recomputes every
   // bound from the particles themselves - culling stays exact whatever the indices now hold -
   // and asks for a rebuild when too much changed.
-  if (count_ >= 0 && refit_bricks(p, kMaxSpreadGrowth, &set_)) {
+  if (count_ >= 0 && refit_bricks(p, kMaxSpreadGrowth, &set_, options)) {
     ++refits_;
     *how = "refit";
   } else {
     set_ = BrickSet();  // free the old permutation before building: keeps the peak low
-    set_ = build_bricks(p, BrickOptions{});
+    set_ = build_bricks(p, options);
     *how = "built";
   }
   remember(p, step, fingerprint);

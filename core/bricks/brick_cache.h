@@ -20,10 +20,11 @@ namespace lantern {
 class BrickCache {
  public:
   // The bricks of `particles` at `step`: the cached set when this step's bricks were already made
-  // from the same arrays (same addresses, count and sampled contents), else refit or rebuilt.
-  // Adds the time spent to *build_ms and says "cached", "refit" or "built" in *how.
-  const BrickSet &for_step(const ParticleArrays &particles, int64_t step, double *build_ms,
-                           std::string *how);
+  // from the same arrays (same addresses, count and sampled contents), else refit or rebuilt
+  // with `options` (threads, and the rank's scanned extent when known). Adds the time spent to
+  // *build_ms and says "cached", "refit" or "built" in *how.
+  const BrickSet &for_step(const ParticleArrays &particles, int64_t step,
+                           const BrickOptions &options, double *build_ms, std::string *how);
 
   int64_t refits() const { return refits_; }  // steps served by a refit instead of a rebuild
 

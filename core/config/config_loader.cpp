@@ -29,8 +29,8 @@ constexpr int64_t kMaxInt = std::numeric_limits<int64_t>::max();
 constexpr size_t kPathShown = 256;
 
 // The keys of every section: the schema. README.md (config/) documents the same keys.
-const std::vector<std::string> kTopKeys = {"schedule", "scenes",     "stats",  "verbose", "dump",
-                                           "gl",       "egl_device", "lammps", "watch"};
+const std::vector<std::string> kTopKeys = {"schedule",   "scenes", "stats", "verbose", "dump", "gl",
+                                           "egl_device", "lammps", "watch", "threads"};
 const std::vector<std::string> kScheduleKeys = {"every", "start", "steps"};
 const std::vector<std::string> kSceneKeys = {
     "name",    "width",     "height", "background", "radius",   "camera",  "color",
@@ -136,6 +136,10 @@ class Loader {
                  [&](const YAML::Node &n, const std::string &p) { config.lammps = lammps(n, p); });
     optional_key(root, "", "watch", [&](const YAML::Node &n, const std::string &p) {
       config.watch = r_.read_bool(n, p);
+    });
+    optional_key(root, "", "threads", [&](const YAML::Node &n, const std::string &p) {
+      if (n.IsScalar() && n.Scalar() == "auto") return;
+      config.threads = static_cast<int>(r_.read_int(n, p, 1, 1024));
     });
     if (config.scenes.empty() && !config.dump.enabled)
       r_.fail(root, "", "nothing to do: add at least one entry under 'scenes:' (or a 'dump:')");

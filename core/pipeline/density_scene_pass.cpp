@@ -46,8 +46,8 @@ Status run_density_scene(const ScenePassInputs &in, const SceneConfig &scene, co
   if (local.ok()) {
     auto t0 = Clock::now();
     double build_ms = 0.0;
-    const BrickSet &bricks =
-        in.scratch->bricks.for_step(*in.particles, in.step, &build_ms, &stats->bricks);
+    const BrickSet &bricks = in.scratch->bricks.for_step(*in.particles, in.step, brick_options(in),
+                                                         &build_ms, &stats->bricks);
     stats->bricks_ms = build_ms;
     BrickSelection &selection = in.scratch->selection;
     select_density_bricks(bricks, camera, scene, radius, &selection, &buffers->cut_counts);

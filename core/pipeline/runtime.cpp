@@ -6,6 +6,7 @@
 #include <utility>
 
 #include "core/common/collective_status.h"
+#include "core/common/rank_threads.h"
 #include "core/config/config_loader.h"
 #include "core/config/enum_names.h"
 #include "core/config/environment.h"
@@ -155,8 +156,9 @@ Status Runtime::execute(int64_t step, double time) {
   }
   // One scan and one reduction per step, for the dump and every scene.
   const auto t_scan = Clock::now();
-  const Extent global =
-      reduce_extent(comm_, scan_particles(particles_, particles_.has_radius(), 0.0));
+  const int threads = config_.threads > 0 ? config_.threads : default_thread_count();
+  const Extent local = scan_particles(particles_, particles_.has_radius(), 0.0, threads);
+  const Extent global = reduce_extent(comm_, local);
   const double scan_ms = std::chrono::duration<double, std::milli>(Clock::now() - t_scan).count();
   // The dump has its own schedule; a dump error is returned unless rendering fails too.
   const Status dumped =
@@ -174,6 +176,8 @@ Status Runtime::execute(int64_t step, double time) {
     if (!first_error.ok()) stats.clear();  // no scene was drawn
     ScenePassInputs in{comm_, renderer, &particles_, global, step, time, &scratch_};
     in.per_rank_stats = !config_.stats_file.empty();  // the same configuration on every rank
+    in.threads = threads;
+    in.local = &local;
     for (size_t s = 0; s < stats.size(); ++s) {
       const Status st = run_scene_pass(in, config_.scenes[s], &buffers_[s], &stats[s]);
       if (!st.ok() && first_error.ok()) first_error = st;  // later scenes still render

@@ -229,8 +229,8 @@ Status run_scene_pass(const ScenePassInputs &in, const SceneConfig &scene, Scene
     // Bricks, culling and level of detail: what to draw.
     t0 = Clock::now();
     double build_ms = 0.0;
-    const BrickSet &bricks =
-        in.scratch->bricks.for_step(*in.particles, in.step, &build_ms, &stats->bricks);
+    const BrickSet &bricks = in.scratch->bricks.for_step(*in.particles, in.step, brick_options(in),
+                                                         &build_ms, &stats->bricks);
     stats->bricks_ms = build_ms;
     DrawList &draw = in.scratch->draw;
     BrickSelection &selection = in.scratch->selection;
@@ -264,9 +264,10 @@ Status run_scene_pass(const ScenePassInputs &in, const SceneConfig &scene, Scene
       }
     }
     stats->renderer = cpu ? "cpu" : "opengl";
-    cull = cpu ? in.scratch->cpu_pass.run(*in.particles, bricks, scene, selection, recipe,
-                                          background, &frame, &draw, in.step)
-               : in.scratch->culler.cull(*in.particles, bricks, scene, selection, &draw);
+    cull =
+        cpu ? in.scratch->cpu_pass.run(*in.particles, bricks, scene, selection, recipe, background,
+                                       &frame, &draw, in.step, in.threads)
+            : in.scratch->culler.cull(*in.particles, bricks, scene, selection, &draw, in.threads);
     stats->cull_ms = ms_since(t0);
     stats->occlusion = cull.occlusion;
 
@@ -305,9 +306,9 @@ Status run_scene_pass(const ScenePassInputs &in, const SceneConfig &scene, Scene
     stats->probabilistic = reduce_probabilistic_stats(in.comm, cull.probabilistic);
   stats->culled = in.global.finite_count - stats->drawn - stats->splatted;
   if (in.per_rank_stats)
-    stats->per_rank =
-        reduce_per_rank_stats(in.comm, 0, double(cull.drawn),
-                              double(cull.candidates - cull.drawn - cull.splatted), own_ms);
+    stats->per_rank = reduce_per_rank_stats(
+        in.comm, 0, double(cull.drawn), double(cull.candidates - cull.drawn - cull.splatted),
+        own_ms, in.local ? double(in.local->finite_count) : double(cull.candidates));
 
   CompositeStats cs;
   const bool cues = wants_screen_cues(scene);

@@ -10,7 +10,7 @@
 // lod.point_path is on, for point_splats.h to draw afterwards.
 // Ownership: owns its strips' rasters and buffers (reused between frames); borrows the frame,
 // particles and bricks for one call. Thread-safety: one pass per thread; run() starts and joins its
-// own helper thread on images >= kTwoStripsFrom px wide.
+// own helper threads (up to `threads` column strips, none narrower than kMinStripWidth px).
 #pragma once
 
 #include <cstdint>
@@ -36,10 +36,12 @@ class CpuSpherePass {
   // (select_bricks for these particles, bricks and scene; its mode must be hzb, none or
   // probabilistic), colored by `recipe`. `out` lists the spheres drawn (for the counts) and the
   // points left to splat. `step` keys probabilistic culling's random numbers. Returns the
-  // selection's counts completed by this pass.
+  // selection's counts completed by this pass. `threads`: column strips drawn at once (the image
+  // and the lists are the same at any count).
   CullStats run(const ParticleArrays &particles, const BrickSet &bricks, const SceneConfig &scene,
                 const BrickSelection &selection, const InstanceRecipe &recipe,
-                const uint8_t background[4], Frame *frame, DrawList *out, int64_t step = 0);
+                const uint8_t background[4], Frame *frame, DrawList *out, int64_t step = 0,
+                int threads = 2);
 
   // The meshlet classes of the last probabilistic run (tests).
   const ProbabilisticCuller &probabilistic() const { return probabilistic_; }
@@ -51,11 +53,14 @@ class CpuSpherePass {
   CullStats run_probabilistic(const ParticleArrays &particles, const BrickSet &bricks,
                               const SceneConfig &scene, const BrickSelection &selection,
                               const InstanceRecipe &recipe, const uint8_t background[4],
-                              Frame *frame, DrawList *out, int64_t step);
+                              Frame *frame, DrawList *out, int64_t step, int threads);
+
+  // Gives the first `count` strips their rasters, begun on `frame`.
+  void begin_strips(int count, const ViewGeometry &g, const Lighting *lighting, Frame *frame);
 
   ProbabilisticCuller probabilistic_;
-  StripState strips_[2];
-  CpuSphereRaster rasters_[2];
+  std::vector<StripState> strips_;
+  std::vector<CpuSphereRaster> rasters_;
   std::vector<uint64_t> scratch_;
 };
 

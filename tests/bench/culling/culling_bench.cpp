@@ -175,11 +175,11 @@ class Bench {
     std::printf("\n== %s: %s, %dx%d\n", bs.name.c_str(), bs.note.c_str(), bs.config.width,
                 bs.config.height);
     std::printf(
-        "   bricks: %zu (<= 1024 particles), built in %.1f ms median of 3 (keys %.1f, "
-        "sort %.1f, split %.1f, layout %.1f, bounds %.1f; last build); once per step, "
+        "   bricks: %zu (<= 1024 particles), built in %.1f ms median of 3 (bounds %.1f, "
+        "keys %.1f, scatter %.1f, cells %.1f; last build); once per step, "
         "shared by all scenes, not in the times below\n",
-        bricks.bricks.size(), median(build), bt.keys_ms, bt.sort_ms, bt.split_ms, bt.layout_ms,
-        bt.bounds_ms);
+        bricks.bricks.size(), median(build), bt.bounds_ms, bt.keys_ms, bt.scatter_ms,
+        bt.cells_ms);
     std::vector<Mode> all = modes();
     if (!opt_.modes.empty())
       all.erase(std::remove_if(all.begin() + 1, all.end(),
