@@ -50,12 +50,15 @@ inline int split_strips(int width, int threads, std::vector<StripState> *s) {
   return count;
 }
 
-// Walks the visible bricks for one strip. `test` is the strip's depth pyramid: test.covered(rect,
-// depth) says the strip's part of rect holds something nearer than depth everywhere (bricks are
-// tested only when `bricks_first`); visit(candidate, state) judges and keeps one particle.
+// Walks the visible bricks for one strip. covered(rect, depth) says the strip's part of rect holds
+// something nearer than depth everywhere (the strip's depth pyramid); bricks are tested with it
+// when `bricks_first`, and a brick's depth buckets (bucket_hidden) when `buckets_first` - only
+// where visit() would find a covered particle hidden whatever else it is; visit(candidate,
+// state) judges and keeps one particle.
 template <typename Positions, typename Radii, typename Covered, typename Visit>
 void walk_strip(const CullPass<Positions, Radii> &pass, const std::vector<VisibleBrick> &visible,
-                bool bricks_first, const Covered &covered, Visit &&visit, StripState *s) {
+                bool bricks_first, bool buckets_first, const Covered &covered, Visit &&visit,
+                StripState *s) {
   s->out.clear();
   s->frustum_pp.assign(visible.size(), -1);
   s->cut_pp.assign(visible.size(), 0);
@@ -78,7 +81,10 @@ void walk_strip(const CullPass<Positions, Radii> &pass, const std::vector<Visibl
     s->frustum_pp[k] = brick.frustum_culled;
     s->cut_pp[k] = brick.cut_culled;
     order_front_to_back(&s->buffers);
-    for (const Candidate &c : s->buffers.sorted) visit(c, s);
+    for (const DepthBucket &d : s->buffers.buckets) {
+      if (buckets_first && bucket_hidden(pass.g, d, s->x0, s->x1, covered)) continue;
+      for (uint32_t k = d.begin; k < d.end; ++k) visit(s->buffers.sorted[k], s);
+    }
   }
 }
 

@@ -125,11 +125,20 @@ void Culler::process(const CullPass<Positions, Radii> &pass, const BrickSelectio
     gather(pass, v, occlusion, hidden, &s.buffers, st, out);
     if (!occlusion) continue;
     order_front_to_back(&s.buffers);
-    for (const Candidate &c : s.buffers.sorted) {
-      if (occluded(sel.mode, sel.g, c, 0))
-        ++st->occlusion_culled;
-      else
-        accept(sel.g, c, pass.scene.lod.point_path, out);
+    const Hzb &hzb = hzb_[0];
+    const auto covered = [&hzb](const PixelRect &r, double z) { return hzb.covered(r, z); };
+    for (const DepthBucket &d : s.buffers.buckets) {
+      if (sel.mode == OcclusionMode::kHzb && bucket_hidden(sel.g, d, s.x0, s.x1, covered)) {
+        st->occlusion_culled += d.end - d.begin;
+        continue;
+      }
+      for (uint32_t k = d.begin; k < d.end; ++k) {
+        const Candidate &c = s.buffers.sorted[k];
+        if (occluded(sel.mode, sel.g, c, 0))
+          ++st->occlusion_culled;
+        else
+          accept(sel.g, c, pass.scene.lod.point_path, out);
+      }
     }
   }
 }
@@ -154,7 +163,7 @@ void Culler::process_strips(const CullPass<Positions, Radii> &pass, const BrickS
       hzb_[size_t(k)].add_occluder(c.c, c.r, r);
       accept(g, c, point_path, &s->out);
     };
-    walk_strip(pass, sel.visible, true, covered, visit, &strips_[size_t(k)]);
+    walk_strip(pass, sel.visible, true, true, covered, visit, &strips_[size_t(k)]);
   };
   run_strips(count, strip);
   merge_strips(sel.visible, pass.bricks, strips_, count, &scratch_, st, out);

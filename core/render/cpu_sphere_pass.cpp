@@ -69,7 +69,9 @@ CullStats CpuSpherePass::run(const ParticleArrays &particles, const BrickSet &br
           raster.draw(c.c, c.r, color.data(), r, recipe.alpha(c.index));
           s->out.spheres.push_back(draw_entry(c.index, c.scale));
         };
-        walk_strip(pass, sel.visible, occlusion, covered, visit, &strips_[size_t(k)]);
+        // Splats skip the depth test (visit): a hidden bucket may still hold one to splat.
+        walk_strip(pass, sel.visible, occlusion, occlusion && !point_path, covered, visit,
+                   &strips_[size_t(k)]);
       };
       run_strips(count, strip);
     });
