@@ -271,16 +271,17 @@ void bound_bricks(const Positions &pos, const Radii &radius, int threads, BrickS
 void number_bricks(const std::vector<Brick> &bricks, std::vector<IndexRun> *runs) {
   constexpr size_t kRecent = 1024;
   std::vector<std::pair<uint32_t, uint32_t>> recent(kRecent, {kNoBrick, 0});
-  for (IndexRun &r : *runs) {
-    if (r.brick == kNoBrick) continue;
-    auto &hit = recent[(r.brick * 2654435761u >> 16) % kRecent];
-    if (hit.first != r.brick) {
-      const auto at = std::lower_bound(bricks.begin(), bricks.end(), r.brick,
+  const auto number = [&](uint32_t *owner) {
+    if (*owner == kNoBrick) return;
+    auto &hit = recent[(*owner * 2654435761u >> 16) % kRecent];
+    if (hit.first != *owner) {
+      const auto at = std::lower_bound(bricks.begin(), bricks.end(), *owner,
                                        [](const Brick &b, uint32_t f) { return b.first < f; });
-      hit = {r.brick, uint32_t(at - bricks.begin())};
+      hit = {*owner, uint32_t(at - bricks.begin())};
     }
-    r.brick = hit.second;
-  }
+    *owner = hit.second;
+  };
+  for (IndexRun &r : *runs) number(&r.brick), number(&r.other);
 }
 
 }  // namespace
@@ -403,7 +404,7 @@ BrickSet build_bricks(const ParticleArrays &particles, const BrickOptions &optio
       std::vector<Brick>().swap(b);
     }
     // The owners are the bricks' first slots: runs in index order, then brick numbers.
-    set.runs = runs_of_owners(keys.data(), n, set.particle_count());
+    set.runs = runs_of_owners(keys.data(), n, set.particle_count(), &set.in_other);
     number_bricks(set.bricks, &set.runs);
   }
   UninitializedBuffer<uint32_t>().swap(keys);

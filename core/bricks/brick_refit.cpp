@@ -235,7 +235,7 @@ bool refit_bricks(const ParticleArrays &particles, double max_growth, BrickSet *
   });
   if (!finite_all || set->particle_count() != kept_total) return false;
   // Particles moved between bricks: the runs are listed again (none where too short to pay).
-  set->runs = runs_of(*set, count);
+  list_runs(count, set);
   // Kept bricks got their bounds while sorting out; the strays' bricks get theirs here.
   visit_positions(particles, [&](const auto &pos) {
     visit_radii(particles, true, 0.0, [&](const auto &radius) {

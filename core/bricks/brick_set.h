@@ -3,7 +3,8 @@
 //
 // The simulation's arrays are never moved: a BrickSet holds a permutation of uint32 indices into
 // them (4 bytes per particle), the runs of consecutive indices per brick when they are long enough
-// to pay (8 bytes a run, at most 2 per particle; index_runs.h) and a few dozen bytes per brick.
+// to pay (12 bytes a run and a bit per particle, at most 1.6 bytes per particle; index_runs.h)
+// and a few dozen bytes per brick.
 // Building it peaks at 16 bytes per particle (each particle's key, later its brick; the packed
 // key|index words; the permutation). Bricks depend only on the particles, not on a camera: build
 // once per step and reuse for every scene of that step.
@@ -37,10 +38,11 @@ struct Brick {
   double max_radius = 0.0;      // largest published radius in the brick (0 without radius array)
 };
 
-// The start of a stretch of consecutive particle indices that all belong to one brick, or to
-// none (brick ~0u); it ends where the next run starts (index_runs.h).
+// The start of a stretch of consecutive particle indices whose particles belong to one or two
+// bricks (`other` ~0u: one; else BrickSet::in_other says which), or to none (brick ~0u); it ends
+// where the next run starts (index_runs.h).
 struct IndexRun {
-  uint32_t first = 0, brick = 0;
+  uint32_t first = 0, brick = 0, other = ~0u;
 };
 
 struct BrickOptions {
@@ -57,8 +59,9 @@ struct BrickSet {
   std::vector<Brick> bricks;    // in z-order along the curve
   // The bricks' particles as runs of consecutive indices, in index order and closed by a run of
   // no brick, for refits that stream the positions (index_runs.h); empty where runs would be too
-  // short to pay.
+  // short to pay. in_other: a bit per index, set where a run's particle is in its `other` brick.
   std::vector<IndexRun> runs;
+  std::vector<uint64_t> in_other;
   glm::dvec3 lo{0.0}, hi{0.0};  // bounds of the finite centres (lo > hi when there are none)
   int64_t nonfinite = 0;        // kept particles left out for a NaN or infinite coordinate
   bool has_radius = false;      // bricks carry max_radius from the published radius array

@@ -5,9 +5,12 @@
 // Why: a brick's particles lie in a few dozen separate stretches of the host's arrays (a
 // simulation that keeps its atoms spatially sorted, as LAMMPS and most MD codes do, stores a
 // brick's x-rows one after another), and gathering brick after brick costs about twice a
-// streaming pass. Listing those stretches in index order - runs of (first index, count, brick) -
-// turns the gather into a stream at about 12 bytes per run. Where runs are short (particles in
-// random order) they cost more than they save, and the set keeps none (the refit then gathers).
+// streaming pass. Listing those stretches in index order turns the gather into a stream. A run
+// may hold two bricks, a bit per particle saying which: where a brick boundary cuts a row, the
+// particles of the two bricks interleave (a crystal's basis atoms straddle it, a host's sorting
+// bins do), and one-brick runs there would be a few particles long, each paying a loop's
+// overhead. Where runs are short anyway (particles in random order) they cost more than they
+// save, and the set keeps none (the refit then gathers).
 //
 // Bounds computed through runs visit a brick's particles in index order rather than in the
 // brick's order; min and max give the same values either way, and where a bound is exactly zero
@@ -30,22 +33,24 @@
 
 namespace lantern {
 
-// Runs shorter than this on average are not kept (8 bytes a run: 2 bytes per particle). A
-// crystal in lattice order gives about 5 (a brick's x-rows, cut where the basis atoms straddle a
-// brick boundary).
-inline constexpr uint32_t kMinMeanRun = 4;
+// Runs shorter than this on average are not kept (12 bytes a run and a bit per particle: at most
+// 1.6 bytes per particle). A crystal in lattice order gives about 20-40 (a row of two bricks).
+inline constexpr uint32_t kMinMeanRun = 8;
 
 // The owner of an index that no brick holds.
 inline constexpr uint32_t kNoBrick = ~0u;
 
-// The runs of owner[0, n) (a brick number per index, kNoBrick for none) in index order, each
-// run's `brick` the owner, closed by a run of no brick at n; none when the runs of a brick would
-// average fewer than kMinMeanRun of the `held` indices that have an owner.
-std::vector<IndexRun> runs_of_owners(const uint32_t *owner, int64_t n, int64_t held);
+// The runs of owner[0, n) (a brick number per index, kNoBrick for none) in index order, closed by a
+// run of no brick at n, with their in_other bits (*in_other, a bit per index); each run as long as
+// its particles belong to at most two bricks. None (both empty) when they would average fewer
+// than kMinMeanRun of the `held` indices that have an owner.
+std::vector<IndexRun> runs_of_owners(const uint32_t *owner, int64_t n, int64_t held,
+                                     std::vector<uint64_t> *in_other);
 
-// The runs of `set` from scratch (after a refit moved particles between bricks), or none when
-// their mean length is below kMinMeanRun. Needs a temporary of 4 bytes per index below `bound`.
-std::vector<IndexRun> runs_of(const BrickSet &set, int64_t bound);
+// The runs of `set` from scratch (after a refit moved particles between bricks) into set->runs and
+// set->in_other, or none when too short to pay. Needs a temporary of 4 bytes per index below
+// `bound`.
+void list_runs(int64_t bound, BrickSet *set);
 
 // What the streaming pass finds for one brick.
 struct BrickScan {
@@ -67,32 +72,45 @@ std::vector<BrickScan> scan_runs(const Positions &pos, const Radii &radius, cons
   const int parts = parts_for(threads, set.particle_count(), int64_t(1) << 16);
   std::vector<std::vector<BrickScan>> part(static_cast<size_t>(parts));
   const int64_t stretches = runs.empty() ? 0 : int64_t(runs.size()) - 1;  // the last closes
+  const uint64_t *bits = set.in_other.data();
   run_in_parts(parts, stretches, [&](int p, int64_t begin, int64_t end) {
     std::vector<BrickScan> &acc = part[size_t(p)];
     acc.assign(set.bricks.size(), BrickScan{});
     for (int64_t k = begin; k < end; ++k) {
       const IndexRun &run = runs[size_t(k)];
       if (run.brick == kNoBrick) continue;
-      BrickScan &a = acc[run.brick];
-      glm::dvec3 lo = a.lo, hi = a.hi;
-      double r = a.r;
-      bool finite = true;
       const int64_t first = run.first, stop = runs[size_t(k) + 1].first;
       const int64_t last = std::min<int64_t>(stop, count);
-      if (last < stop) a.all_published = false;
-      for (int64_t i = first; i < last; ++i) {
+      const auto in_other = [bits](int64_t i) { return (bits[i >> 6] >> (i & 63) & 1) != 0; };
+      // Indices past the particle count are no longer published: their brick does not fit.
+      for (int64_t i = last; i < stop; ++i)
+        acc[run.other != kNoBrick && in_other(i) ? run.other : run.brick].all_published = false;
+      // The run's bricks in locals (registers), written back after the run.
+      BrickScan a = acc[run.brick];
+      const auto add = [&](BrickScan &s, int64_t i) {
         if (!keep.get(i)) {
-          a.all_published = false;
-          continue;
+          s.all_published = false;
+          return;
         }
         const glm::dvec3 x = pos.get(i);
         // x - x is 0 for finite x and NaN otherwise: a test without branches.
-        finite &= (x.x - x.x == 0.0) & (x.y - x.y == 0.0) & (x.z - x.z == 0.0);
-        lo = glm::min(lo, x), hi = glm::max(hi, x);
-        if (has_radius) r = std::max(r, radius.get(i));
+        s.finite &= (x.x - x.x == 0.0) & (x.y - x.y == 0.0) & (x.z - x.z == 0.0);
+        s.lo = glm::min(s.lo, x), s.hi = glm::max(s.hi, x);
+        if (has_radius) s.r = std::max(s.r, radius.get(i));
+      };
+      if (run.other == kNoBrick) {
+        for (int64_t i = first; i < last; ++i) add(a, i);
+      } else {
+        BrickScan b = acc[run.other];
+        for (int64_t i = first; i < last; ++i) {
+          if (in_other(i))
+            add(b, i);
+          else
+            add(a, i);
+        }
+        acc[run.other] = b;
       }
-      a.lo = lo, a.hi = hi, a.r = r;
-      a.finite &= finite;
+      acc[run.brick] = a;
     }
   });
   std::vector<BrickScan> all = std::move(part[0]);

@@ -154,10 +154,18 @@ Status Runtime::execute(int64_t step, double time) {
     render_due = config_.schedule.due(step);
     if (!dump_due && !render_due) return {};
   }
-  // One scan and one reduction per step, for the dump and every scene.
+  // One scan and one reduction per step, for the dump and every scene. On a later step whose
+  // bricks refit, their bounds give the scan's result and the pass is left out (a dump step
+  // scans: it writes before the scenes run).
   const auto t_scan = Clock::now();
   const int threads = config_.threads > 0 ? config_.threads : default_thread_count();
-  const Extent local = scan_particles(particles_, particles_.has_radius(), 0.0, threads);
+  BrickOptions refit_options;
+  refit_options.threads = threads;
+  Extent local;
+  const bool from_bricks = render_due && !dump_due && !config_.scenes.empty() &&
+                           scratch_.bricks.refit_first(particles_, step, refit_options) &&
+                           extent_of_bricks(scratch_.bricks.bricks(), particles_, &local);
+  if (!from_bricks) local = scan_particles(particles_, particles_.has_radius(), 0.0, threads);
   const Extent global = reduce_extent(comm_, local);
   const double scan_ms = std::chrono::duration<double, std::milli>(Clock::now() - t_scan).count();
   // The dump has its own schedule; a dump error is returned unless rendering fails too.

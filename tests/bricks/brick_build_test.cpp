@@ -10,10 +10,12 @@
 #include <cmath>
 #include <cstring>
 #include <random>
+#include <string>
 #include <vector>
 
 #include <glm/common.hpp>
 
+#include "core/bricks/brick_cache.h"
 #include "core/bricks/brick_set.h"
 #include "core/bricks/index_runs.h"
 #include "core/bricks/level_layout.h"
@@ -230,13 +232,24 @@ TEST(BrickBuild, StreamsBoundsThroughIndexRunsOnSortedParticles) {
   ASSERT_EQ(set.runs.front().first, 0u);
   ASSERT_EQ(set.runs.back().first, set.order.size());
   ASSERT_EQ(set.runs.back().brick, kNoBrick);
+  size_t two = 0;
   for (size_t k = 0; k + 1 < set.runs.size(); ++k) {
     const IndexRun &r = set.runs[k];
     ASSERT_LT(r.first, set.runs[k + 1].first);
-    ASSERT_NE(r.brick, kNoBrick);                          // every particle is in a brick
-    if (k > 0) ASSERT_NE(r.brick, set.runs[k - 1].brick);  // maximal runs
-    for (uint32_t i = r.first; i < set.runs[k + 1].first; ++i) ASSERT_EQ(brick_of[i], r.brick);
+    ASSERT_NE(r.brick, kNoBrick);  // every particle is in a brick
+    ASSERT_NE(r.brick, r.other);
+    two += r.other != kNoBrick;
+    for (uint32_t i = r.first; i < set.runs[k + 1].first; ++i) {
+      const bool other = (set.in_other[i / 64] >> (i % 64)) & 1;
+      ASSERT_TRUE(!other || r.other != kNoBrick);
+      ASSERT_EQ(brick_of[i], other ? r.other : r.brick) << i;
+    }
+    // Maximal: the next run's first particle is in neither of this run's bricks.
+    const uint32_t next = set.runs[k + 1].first;
+    if (next < set.order.size() && r.other != kNoBrick)
+      ASSERT_TRUE(brick_of[next] != r.brick && brick_of[next] != r.other);
   }
+  EXPECT_GT(two, 0u);  // rows that cross a brick boundary
   check_against_reference(c);
 }
 
@@ -291,12 +304,60 @@ TEST(BrickRefit, StreamingThroughRunsGivesTheGatheredBounds) {
   for (size_t k = 0; k + 1 < strayed.runs.size(); ++k)
     for (uint32_t i = strayed.runs[k].first; i < strayed.runs[k + 1].first; ++i) {
       ++seen[i];
-      const Brick &b = strayed.bricks[strayed.runs[k].brick];
+      const bool other = (strayed.in_other[i / 64] >> (i % 64)) & 1;
+      const Brick &b = strayed.bricks[other ? strayed.runs[k].other : strayed.runs[k].brick];
       EXPECT_NE(
           std::find(strayed.order.begin() + b.first, strayed.order.begin() + b.first + b.count, i),
           strayed.order.begin() + b.first + b.count);
     }
   EXPECT_TRUE(std::all_of(seen.begin(), seen.end(), [](int s) { return s == 1; }));
+}
+
+// After a refit, the bricks' bounds stand in for the step's scan (the runtime then skips it):
+// the same Extent bit for bit, or a refusal where the bricks cannot tell.
+TEST(BrickRefit, BricksGiveTheScansExtent) {
+  Cloud c = lattice(40, 0.25);
+  c.radius.assign(c.xyz.size() / 3, 0.5f);
+  for (size_t i = 0; i < c.radius.size(); i += 7) c.radius[i] = 0.75f;
+  c.mask.assign(c.xyz.size() / 3, 2);
+  for (size_t i = 0; i < c.mask.size(); i += 5) c.mask[i] = 1;  // outside the group
+  BrickCache cache;
+  double ms = 0.0;
+  std::string how;
+  cache.for_step(c.arrays(), 0, BrickOptions{}, &ms, &how);
+  EXPECT_EQ(how, "built");
+  for (double &v : c.xyz) v += 0.01;
+  ASSERT_TRUE(cache.refit_first(c.arrays(), 1, BrickOptions{}));
+  Extent from_bricks;
+  ASSERT_TRUE(extent_of_bricks(cache.bricks(), c.arrays(), &from_bricks));
+  const Extent scanned = scan_particles(c.arrays(), true, 0.0);
+  for (int k = 0; k < 3; ++k) {
+    EXPECT_EQ(from_bricks.lo[size_t(k)], scanned.lo[size_t(k)]);
+    EXPECT_EQ(from_bricks.hi[size_t(k)], scanned.hi[size_t(k)]);
+  }
+  EXPECT_EQ(from_bricks.max_radius, 0.75);
+  EXPECT_EQ(from_bricks.max_radius, scanned.max_radius);
+  EXPECT_EQ(from_bricks.finite_count, scanned.finite_count);
+  EXPECT_EQ(from_bricks.nonfinite_count, scanned.nonfinite_count);
+  // The step's first for_step reports the refit made ahead; the next ones the cache.
+  ms = 0.0;
+  cache.for_step(c.arrays(), 1, BrickOptions{}, &ms, &how);
+  EXPECT_EQ(how, "refit");
+  cache.for_step(c.arrays(), 1, BrickOptions{}, &ms, &how);
+  EXPECT_EQ(how, "cached");
+  EXPECT_FALSE(cache.refit_first(c.arrays(), 1, BrickOptions{}));  // already made
+  // A bound of exactly zero: -0 or +0 depends on the order particles are met in: refused.
+  // The row x = 1 moves to exactly 0; it is the group's lowest (every particle of the row x = 0
+  // has an index that is a multiple of 5: outside the group).
+  const double x1 = c.xyz[3];
+  for (size_t i = 0; i < c.xyz.size(); i += 3) c.xyz[i] -= x1;
+  ASSERT_TRUE(cache.refit_first(c.arrays(), 2, BrickOptions{}));
+  EXPECT_FALSE(extent_of_bricks(cache.bricks(), c.arrays(), &from_bricks));
+  // A NaN in the group: a rebuild, so no refit ahead.
+  c.xyz[3 * 101 + 1] = std::nan("");
+  EXPECT_FALSE(cache.refit_first(c.arrays(), 3, BrickOptions{}));
+  cache.for_step(c.arrays(), 3, BrickOptions{}, &ms, &how);
+  EXPECT_EQ(how, "built");
 }
 
 TEST(BrickRefit, IsTheSameAtEveryThreadCount) {
