@@ -7,8 +7,9 @@
 // time LAMMPS calls it (every 100 steps here; the YAML's `schedule:` can thin that further), or
 // only the one named by the YAML's `lammps: {fix: ID}`. `lammps: {scalar: c_ke}` publishes a
 // per-atom quantity as Lantern's scalar. Every other option goes to LAMMPS unchanged (-var,
-// -log, -screen, -echo, -suffix, ...). Exit code: 0, 1 on any error (the message names the file
-// and line, the fix, or the key at fault), 2 on a usage error.
+// -log, -screen, -echo, -suffix, ...; LAMMPS's own -h lists its styles). --help and --version
+// answer for lantern-lammps. Exit code: 0, 1 on any error (the message names the file and line,
+// the fix, or the key at fault), 2 on a usage error.
 #include <mpi.h>
 
 #define LAMMPS_LIB_MPI 1
@@ -26,7 +27,14 @@
 
 namespace {
 
+constexpr const char *kUsage =
+    "usage: lantern-lammps -in SCRIPT -lantern CONFIG.yaml [LAMMPS options]\n"
+    "       lantern-lammps --help | --version\n"
+    "  SCRIPT: a LAMMPS input script with a `fix ID GROUP external pf/callback N 1` line;\n"
+    "  every other option goes to LAMMPS (-var, -log, -screen, -suffix, ...; -h: LAMMPS's help)\n";
+
 struct Arguments {
+  bool help = false, version = false;  // --help, --version: answer and run nothing
   std::string input, config;
   std::vector<std::string> lammps{"lantern-lammps"};  // argv for lammps_open
   std::string error;                                  // a usage error, if any
@@ -36,6 +44,10 @@ Arguments parse(int argc, char **argv) {
   Arguments a;
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
+    if (arg == "--help" || arg == "--version") {
+      (arg == "--help" ? a.help : a.version) = true;
+      return a;
+    }
     const bool ours = arg == "-in" || arg == "-i" || arg == "-lantern";
     if (!ours) {
       a.lammps.push_back(arg);
@@ -126,17 +138,23 @@ int run(const Arguments &args, int rank) {
 }  // namespace
 
 int main(int argc, char **argv) {
+  const Arguments args = parse(argc, argv);
+  // --help and --version answer on stdout without starting MPI or LAMMPS.
+  if (args.help) {
+    std::fputs(kUsage, stdout);
+    return 0;
+  }
+  if (args.version) {
+    std::printf("lantern-lammps (Lantern) %s\n", lantern_version());
+    return 0;
+  }
   MPI_Init(&argc, &argv);
   int rank = 0;
   MPI_Comm_rank(MPI_COMM_WORLD, &rank);
-  const Arguments args = parse(argc, argv);
-  const int code = args.error.empty()
-                       ? run(args, rank)
-                       : report(rank,
-                                args.error +
-                                    "\nusage: lantern-lammps -in SCRIPT -lantern CONFIG.yaml "
-                                    "[LAMMPS options]",
-                                2);
+  std::string usage = kUsage;
+  usage.pop_back();  // report() ends the line
+  const int code =
+      args.error.empty() ? run(args, rank) : report(rank, args.error + "\n" + usage, 2);
   MPI_Finalize();
   return code;
 }

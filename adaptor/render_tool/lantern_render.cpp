@@ -14,6 +14,7 @@
 
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <memory>
 #include <string>
 #include <vector>
@@ -29,6 +30,7 @@ namespace {
 
 constexpr const char *kUsage =
     "usage: lantern-render CONFIG.yaml INPUT [--steps a,b,c | --steps a:b] [--split space|rows]\n"
+    "       lantern-render --help | --version\n"
     "  INPUT: an H5MD file (Lantern's dump: output) or a LAMMPS text dump (dump atom/custom)\n"
     "  --split: space gives each rank a contiguous run of the frame's z-order curve (the default,\n"
     "           unless the configuration writes a dump: a conversion keeps the file's order);\n"
@@ -39,7 +41,7 @@ struct Options {
   std::string split;  // --split: space, rows, or "" (space, unless the configuration dumps)
 };
 
-// "" and *out, or a usage error.
+// "" and *out, "help" or "version" when asked, or a usage error.
 std::string parse_options(int argc, char **argv, Options *out) {
   std::vector<std::string> positional;
   for (int i = 1; i < argc; ++i) {
@@ -62,6 +64,8 @@ std::string parse_options(int argc, char **argv, Options *out) {
       out->split = value;
     } else if (arg == "-h" || arg == "--help") {
       return "help";
+    } else if (arg == "--version") {
+      return "version";
     } else if (arg.rfind("--", 0) == 0) {
       return "unknown option " + arg;
     } else {
@@ -184,11 +188,22 @@ int run(const Options &opt, int rank, int size) {
 int main(int argc, char **argv) {
   Options opt;
   const std::string usage_error = parse_options(argc, argv, &opt);
-  if (!usage_error.empty()) {
-    if (usage_error != "help") std::fprintf(stderr, "lantern-render: %s\n", usage_error.c_str());
-    std::fputs(kUsage, stderr);
-    return usage_error == "help" ? 0 : 2;
+  // --help and --version answer on stdout without starting MPI; a usage error goes to stderr.
+  if (usage_error == "help") {
+    std::fputs(kUsage, stdout);
+    return 0;
   }
+  if (usage_error == "version") {
+    std::printf("lantern-render (Lantern) %s\n", lantern_version());
+    return 0;
+  }
+  if (!usage_error.empty()) {
+    std::fprintf(stderr, "lantern-render: %s\n%s", usage_error.c_str(), kUsage);
+    return 2;
+  }
+  // Offline, nothing waits on the encoder but this tool: every frame goes into a movie (unless
+  // the caller's environment says otherwise).
+  setenv("LANTERN_MOVIE_WHEN_BEHIND", "wait", /*overwrite=*/0);
   MPI_Init(&argc, &argv);
   int rank = 0, size = 1;
   MPI_Comm_rank(MPI_COMM_WORLD, &rank);

@@ -23,6 +23,7 @@
 #include "core/bricks/brick_steps.h"
 #include "core/bricks/index_runs.h"
 #include "core/bricks/morton.h"
+#include "core/common/ms_since.h"
 #include "core/common/rank_threads.h"
 #include "core/common/uninitialized_buffer.h"
 #include "core/particles/global_extent.h"
@@ -35,9 +36,6 @@ using namespace brick_steps;
 namespace {
 
 using Clock = std::chrono::steady_clock;
-double ms_since(Clock::time_point t0) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
-}
 
 // The octree levels the scatter pass resolves: 8^4 = 4096 top cells (a 16 KiB count table per
 // thread; at 10-100 M particles a cell holds a few thousand, sorted in cache).

@@ -5,6 +5,9 @@
 #include <cstring>
 #include <utility>
 
+#include "core/common/content_hash.h"
+#include "core/common/ms_since.h"
+
 namespace lantern {
 namespace {
 
@@ -18,11 +21,11 @@ constexpr double kMaxSpreadGrowth = 1.25;
 
 uint64_t sample_fingerprint(const ParticleArrays &p) {
   // Positions that change between steps nearly always change some of the sampled ones.
-  uint64_t h = 1469598103934665603ull;
+  uint64_t h = kContentHashBasis;
   const auto mix = [&h](double v) {
     uint64_t bits;
     std::memcpy(&bits, &v, sizeof bits);
-    h = (h ^ bits) * 1099511628211ull;
+    h = content_hash_step(h, bits);  // a word at a time: the raw bytes of the double
   };
   const int64_t n = p.count(), stride = std::max<int64_t>(1, n / 4096);
   for (int64_t i = 0; i < n; i += stride) {
@@ -91,7 +94,7 @@ const BrickSet &BrickCache::for_step(const ParticleArrays &p, int64_t step,
     *how = "built";
   }
   remember(p, step, fingerprint);
-  *build_ms += std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+  *build_ms += ms_since(t0);
   return set_;
 }
 

@@ -1,3 +1,12 @@
+// The configuration's schema and its loader. Each section of the YAML document is one table
+// (key_table.h): a key, the field it fills and the reader that checks its value, in the order the
+// keys are read and listed in messages. Cross-key rules live in config_rules.cpp and appear in a
+// table where they run.
+//
+// Adding a key: one entry in its section's table, one row in that section's table in
+// config/README.md and one line in config/reference.yaml (tests/config/config_docs_test.cpp
+// checks all three agree). A new section is a new Section<T> table, named by a key of its parent
+// ({"movie", &OutputConfig::movie, kMovie}; a list of them: list_of(kKeyframe)).
 #include "core/config/config_loader.h"
 
 #include <yaml-cpp/yaml.h>
@@ -9,665 +18,368 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
-#include <limits>
 #include <map>
+#include <set>
 #include <sstream>
 
+#include "core/color/colormap.h"
+#include "core/color/colormap_file.h"
 #include "core/common/quoted_text.h"
-#include "core/config/enum_names.h"
+#include "core/config/config_rules.h"
 #include "core/config/file_pattern.h"
+#include "core/config/key_table.h"
+#include "core/config/value_readers.h"
 #include "core/config/yaml_reader.h"
 
 namespace lantern {
 
 namespace {
 
-constexpr double kInf = std::numeric_limits<double>::infinity();
-constexpr int64_t kMaxInt = std::numeric_limits<int64_t>::max();
-// Output patterns are paths, shown whole in messages up to this many bytes (other values are cut
-// after kQuotedTextLimit).
-constexpr size_t kPathShown = 256;
+using namespace value_readers;
 
-// The keys of every section: the schema. README.md (config/) documents the same keys.
-const std::vector<std::string> kTopKeys = {"schedule",   "scenes", "stats", "verbose", "dump", "gl",
-                                           "egl_device", "lammps", "watch", "threads"};
-const std::vector<std::string> kScheduleKeys = {"every", "start", "steps"};
-const std::vector<std::string> kSceneKeys = {
-    "name",    "width",     "height", "background", "radius",   "camera",  "color",
-    "output",  "culling",   "lod",    "cut_planes", "renderer", "samples", "ambient_occlusion",
-    "outline", "depth_cue", "style",  "density",    "opacity",  "lighting"};
-const std::vector<std::string> kCameraKeys = {"projection", "fov",      "azimuth", "elevation",
-                                              "zoom",       "position", "look_at", "up",
-                                              "near",       "far"};
-const std::vector<std::string> kColorKeys = {"by", "solid", "palette", "colormap", "range"};
-const std::vector<std::string> kOutputKeys = {"pattern",           "format",       "jpeg_quality",
-                                              "compression_level", "asynchronous", "exr_color"};
-const std::vector<std::string> kCullingKeys = {"frustum",
-                                               "occlusion",
-                                               "nine_spheres_radius",
-                                               "confidence",
-                                               "probabilistic_budget",
-                                               "probabilistic_patience"};
-const std::vector<std::string> kLodKeys = {"budget", "fraction", "min_pixels", "point_path",
-                                           "select"};
-const std::vector<std::string> kAmbientOcclusionKeys = {"method", "radius", "samples", "strength"};
-const std::vector<std::string> kOutlineKeys = {"width", "color", "depth_threshold"};
-const std::vector<std::string> kDepthCueKeys = {"start", "end", "color"};
-const std::vector<std::string> kDensityKeys = {"transfer", "range", "colormap"};
-const std::vector<std::string> kLightingKeys = {"direction", "ambient", "diffuse", "specular",
-                                                "shininess"};
-const std::vector<std::string> kCutPlaneKeys = {"normal", "offset", "enabled"};
-const std::vector<std::string> kDumpKeys = {"enabled", "file", "schedule", "fields", "precision"};
-const std::vector<std::string> kDumpFields = {"position", "type", "scalar", "radius", "id"};
-const std::vector<std::string> kLammpsKeys = {"fix", "scalar"};
-const std::vector<std::string> kColormaps = {"viridis", "plasma", "coolwarm", "grayscale"};
+// --- Readers of single keys that Lantern alone has -----------------------------------------
 
-std::string lower(std::string s) {
-  for (char &c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return s;
+// Names end up in file names ({scene}) and stats: keep them to portable file-name characters.
+std::string scene_name(const YamlReader &r, const YAML::Node &node, const std::string &path) {
+  const std::string name = r.read_string(node, path);
+  for (const char c : name) {
+    if (!std::isalnum(static_cast<unsigned char>(c)) && c != '_' && c != '-' && c != '.')
+      r.fail(node, path, quoted_text(name) + " may contain only letters, digits, '_', '-' and '.'");
+  }
+  if (name == "." || name == "..") r.fail(node, path, "'" + name + "' is not a usable name");
+  return name;
 }
 
-// Calls `read(value_node, key_path)` if `key` is present (and not null) in `map`.
-template <typename Read>
-void optional_key(const YAML::Node &map, const std::string &path, const std::string &key,
-                  Read read) {
-  if (!map.IsMap()) return;
-  const YAML::Node value = map[key];
-  if (value.IsDefined() && !value.IsNull()) read(value, child_path(path, key));
+// The first scene is "scene" (SceneConfig's default), the others "scene1", "scene2", ...
+void default_scene_name(SceneConfig &s, size_t index) {
+  if (index > 0) s.name = "scene" + std::to_string(index);
+}
+
+// radius: a number for every particle, or per_particle (the published radius array).
+void read_radius(const YamlReader &r, const YAML::Node &n, const std::string &p, SceneConfig &s) {
+  if (n.IsScalar() && n.Scalar() == "per_particle") {
+    s.per_particle_radius = true;
+    return;
+  }
+  double value = 0;
+  if (!n.IsScalar() || !YAML::convert<double>::decode(n, value) || !std::isfinite(value) ||
+      value <= 0)
+    r.fail(n, p,
+           "must be a finite number > 0 or 'per_particle', got " +
+               (n.IsScalar() ? quoted_text(n.Scalar()) : std::string("a collection")));
+  s.radius = value;
+}
+
+std::string image_pattern(const YamlReader &r, const YAML::Node &n, const std::string &p) {
+  const std::string pattern = r.read_string(n, p);
+  const Status problem = validate_pattern(pattern);
+  if (!problem.ok()) r.fail(n, p, quoted_text(pattern, kPathShown) + ": " + problem.message);
+  return pattern;
+}
+
+// lighting.direction: normalised on reading.
+std::array<double, 3> light_direction(const YamlReader &r, const YAML::Node &n,
+                                      const std::string &p) {
+  const std::array<double, 3> d = r.read_vec3(n, p);
+  const double length = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+  if (!(length > 0.0) || !std::isfinite(length))
+    r.fail(n, p,
+           "must be a non-zero, finite vector [x, y, z] (camera-relative: x right, y up, "
+           "z towards the viewer)");
+  // [0, 0, 1] in any length is the headlight exactly, not a rounded neighbour of it.
+  return {d[0] / length, d[1] / length, d[2] / length};
+}
+
+// colormap: a name, a list of control points [[r,g,b], ...] or {file: PATH} (colormap_file.h);
+// a list or a file makes the name "custom".
+void read_colormap(const YamlReader &r, const YAML::Node &n, const std::string &p, ColorConfig &c) {
+  if (n.IsScalar()) {
+    c.colormap = r.read_choice(n, p, Colormap::names());
+    return;
+  }
+  c.colormap = "custom";
+  if (n.IsSequence()) {
+    if (n.size() < 2 || n.size() > kMaxColormapColors)
+      r.fail(n, p,
+             "a custom colormap lists 2 to " + std::to_string(kMaxColormapColors) +
+                 " colors [[r,g,b], ...] (components in [0, 1]), got " + std::to_string(n.size()));
+    for (size_t i = 0; i < n.size(); ++i)
+      c.colormap_colors.push_back(r.read_rgb(n[i], index_path(p, i)));
+    return;
+  }
+  if (!n.IsMap()) r.fail(n, p, "must be a colormap name, a list [[r,g,b], ...] or {file: PATH}");
+  r.check_map(n, p, {"file"});
+  if (!n["file"].IsDefined()) r.fail(n, p, "{file: PATH} needs the key 'file'");
+  const std::string file = r.read_string(n["file"], child_path(p, "file"));
+  const Status read = read_colormap_file(file, &c.colormap_colors);
+  if (!read.ok()) r.fail(n["file"], child_path(p, "file"), read.message);
+}
+
+// color.range: 'auto' (= {auto: frame}), {auto: frame | first | running} (color_range.h) or a
+// fixed [min, max].
+void read_color_range(const YamlReader &r, const YAML::Node &n, const std::string &p,
+                      ColorConfig &c) {
+  if (n.IsMap()) {
+    r.check_map(n, p, {"auto"});
+    if (!n["auto"].IsDefined()) r.fail(n, p, "must be {auto: frame | first | running}");
+    c.auto_range = one_of<AutoRange>()(r, n["auto"], child_path(p, "auto"));
+    return;
+  }
+  if (!(n.IsScalar() && n.Scalar() == "auto") && !(n.IsSequence() && n.size() == 2))
+    r.fail(n, p, "must be 'auto', {auto: frame | first | running} or [min, max] with min < max");
+  c.range = auto_or_range("min", "max")(r, n, p);
+}
+
+// output.movie.file: one file for the whole run, with a movie container's extension.
+std::string movie_file(const YamlReader &r, const YAML::Node &n, const std::string &p) {
+  const std::string file = image_pattern(r, n, p);
+  if (expand_pattern(file, 0, "") != expand_pattern(file, 1, ""))
+    r.fail(n, p,
+           quoted_text(file, kPathShown) +
+               ": a movie is one file for the whole run; {step} has no place in its name");
+  std::string extension = std::filesystem::path(file).extension().string();
+  std::transform(extension.begin(), extension.end(), extension.begin(),
+                 [](unsigned char c) { return char(std::tolower(c)); });
+  if (extension != ".mp4" && extension != ".mov" && extension != ".mkv" && extension != ".webm")
+    r.fail(n, p,
+           quoted_text(file, kPathShown) +
+               " needs a movie extension: .mp4, .mov (fragmented MPEG-4), .mkv (Matroska) or "
+               ".webm");
+  return file;
+}
+
+const std::vector<std::string> kDumpFields = {"position", "type", "scalar", "radius", "id"};
+
+// ambient_occlusion, outline, depth_cue: a section that is present turns its cue on; `outline:`
+// or `outline: {}` with the defaults.
+constexpr SectionShape kCue{"must be a mapping ({} for the defaults)", true};
+
+// --- The tables, innermost first ----------------------------------------------------------
+
+const Section<Schedule> kSchedule({
+    {"every", &Schedule::every, integer(0, kMaxInt)},
+    {"start", &Schedule::start, integer(0, kMaxInt)},
+    {"steps", &Schedule::steps,
+     sorted_set_of(list_of(integer(0, kMaxInt),
+                           "must list at least one step (omit it for every step)"))},
+});
+
+const Section<CameraConfig> kCamera({
+    {"projection", &CameraConfig::projection, one_of<Projection>()},
+    {"fov", &CameraConfig::fov_y, number_in('(', 0, 180, ')')},
+    {"azimuth", &CameraConfig::azimuth, finite()},
+    {"elevation", &CameraConfig::elevation, number_in('[', -90, 90, ']')},
+    {"zoom", &CameraConfig::zoom, above(0)},
+    {"position", &CameraConfig::position, vec3()},
+    {"look_at", read_look_at},
+    {"up", &CameraConfig::up, nonzero_vec3()},
+    {"near", &CameraConfig::near_plane, above(0)},
+    {"far", read_far},
+    rule(camera_looks_away),
+});
+
+const Section<ColorConfig> kColor({
+    {"by", &ColorConfig::by, one_of<ColorBy>()},
+    {"solid", &ColorConfig::solid, rgb()},
+    {"palette", &ColorConfig::palette,
+     list_of(rgb(), "must list at least one color (omit it for the default)")},
+    {"colormap", read_colormap},
+    {"range", read_color_range},
+    {"reverse", &ColorConfig::reverse, boolean()},
+});
+
+// output.movie: codec names and quality ranges are checked against this build's encoders when
+// the context opens (core/output/movie/movie_encoder.h).
+const Section<MovieConfig> kMovie(
+    {
+        rule(movie_has_file),
+        {"file", &MovieConfig::file, movie_file},
+        {"fps", &MovieConfig::fps, number_in('(', 0, 1000, ']')},
+        {"codec", &MovieConfig::codec, text()},
+        {"quality", &MovieConfig::quality, integer(0, 63)},
+        {"lossless", &MovieConfig::lossless, boolean()},
+        {"queue", &MovieConfig::queue, integer(1, 256)},
+        {"when_behind", &MovieConfig::when_behind, one_of<MovieWhenBehind>()},
+        {"threads", &MovieConfig::threads, integer(1, 16)},
+        rule(lossless_has_no_quality),
+    },
+    {"must be a mapping {file: 'out/{scene}.mp4', ...}"}, &MovieConfig::enabled);
+
+const Section<OutputConfig> kOutput({
+    {"pattern", &OutputConfig::pattern, image_pattern},
+    {"format", &OutputConfig::format, one_of<ImageFormat>()},
+    rule(format_agrees_with_pattern),
+    {"jpeg_quality", &OutputConfig::jpeg_quality, integer(1, 100)},
+    {"compression_level", &OutputConfig::compression_level, integer(0, 9)},
+    {"asynchronous", &OutputConfig::asynchronous, boolean()},
+    {"exr_color", &OutputConfig::exr_half, one_of<bool>({{"half", true}, {"float", false}})},
+    {"movie", &OutputConfig::movie, kMovie},
+    rule(movie_replaces_images),
+});
+
+const Section<CullingConfig> kCulling({
+    {"frustum", &CullingConfig::frustum, boolean()},
+    {"occlusion", &CullingConfig::occlusion, one_of<OcclusionMode>()},
+    {"nine_spheres_radius", &CullingConfig::nine_spheres_radius, one_of<NineSpheresRadius>()},
+    {"confidence", member(&CullingConfig::probabilistic, &ProbabilisticConfig::confidence),
+     number_in('(', 0, 1, ')')},
+    {"probabilistic_budget", member(&CullingConfig::probabilistic, &ProbabilisticConfig::budget),
+     integer(1, 64)},
+    {"probabilistic_patience",
+     member(&CullingConfig::probabilistic, &ProbabilisticConfig::patience), integer(1, 64)},
+});
+
+const Section<LodConfig> kLod({
+    {"budget", &LodConfig::budget, integer(0, kMaxInt)},
+    {"fraction", &LodConfig::fraction, number_in('(', 0, 1, ']')},
+    {"min_pixels", &LodConfig::min_pixels, at_least(0)},
+    {"point_path", &LodConfig::point_path, boolean()},
+    {"select", &LodConfig::select, one_of<LodSelect>()},
+});
+
+const Section<CutPlane> kCutPlane(
+    {
+        {"normal", &CutPlane::normal, nonzero_vec3()},
+        {"offset", &CutPlane::offset, finite()},
+        {"enabled", &CutPlane::enabled, boolean()},
+    },
+    {"each cut plane must be a mapping {normal, offset}"});
+
+const Section<AmbientOcclusionConfig> kAmbientOcclusion(
+    {
+        {"method", &AmbientOcclusionConfig::method,
+         one_of<AmbientOcclusionMethod>({{"screen", AmbientOcclusionMethod::kScreen},
+                                         {"object", AmbientOcclusionMethod::kObject}})},
+        {"radius", &AmbientOcclusionConfig::radius, above(0)},
+        {"samples", &AmbientOcclusionConfig::samples, integer(1, 64)},
+        {"strength", &AmbientOcclusionConfig::strength, number_in('[', 0, 1, ']')},
+    },
+    kCue, &AmbientOcclusionConfig::enabled);
+
+const Section<OutlineConfig> kOutline(
+    {
+        {"width", &OutlineConfig::width, integer(1, 16)},
+        {"color", &OutlineConfig::color, rgb()},
+        {"depth_threshold", &OutlineConfig::depth_threshold, at_least(0)},
+    },
+    kCue, &OutlineConfig::enabled);
+
+const Section<DepthCueConfig> kDepthCue(
+    {
+        {"start", &DepthCueConfig::start, default_if("auto", at_least(0))},
+        {"end", read_cue_end},
+        {"color", &DepthCueConfig::color, rgb()},
+    },
+    kCue, &DepthCueConfig::enabled);
+
+const Section<DensityConfig> kDensity({
+    {"transfer", &DensityConfig::transfer, one_of<DensityTransfer>()},
+    {"range", &DensityConfig::range, auto_or_range("lo", "hi")},
+    {"colormap", &DensityConfig::colormap, one_of(Colormap::names())},
+    rule(log_range_is_positive),
+});
+
+const Section<Lighting> kLighting(
+    {
+        {"direction", &Lighting::direction, light_direction},
+        {"ambient", &Lighting::ambient, number_in('[', 0, 1, ']')},
+        {"diffuse", &Lighting::diffuse, number_in('[', 0, 1, ']')},
+        {"specular", &Lighting::specular, number_in('[', 0, 1, ']')},
+        {"shininess", &Lighting::shininess, number_in('[', kMinShininess, kMaxShininess, ']')},
+    },
+    {"must be a mapping ({} for the defaults)"});
+
+const Section<SceneConfig> kScene(
+    {
+        {"name", &SceneConfig::name, scene_name},
+        {"width", &SceneConfig::width, integer(1, kMaxImageSize)},
+        {"height", &SceneConfig::height, integer(1, kMaxImageSize)},
+        {"background", &SceneConfig::background, rgb()},
+        {"radius", read_radius},
+        {"camera", &SceneConfig::camera, kCamera},
+        {"color", &SceneConfig::color, kColor},
+        {"output", &SceneConfig::output, kOutput},
+        {"culling", &SceneConfig::culling, kCulling},
+        {"lod", &SceneConfig::lod, kLod},
+        {"cut_planes", &SceneConfig::cuts, list_of(kCutPlane)},
+        {"renderer", &SceneConfig::renderer, one_of<RendererChoice>()},
+        {"samples", &SceneConfig::samples,
+         one_of<int>({{"1", 1}, {"4", 4}, {"16", 16}, {"64", 64}})},
+        rule(sample_frame_fits),
+        {"ambient_occlusion", &SceneConfig::ambient_occlusion, kAmbientOcclusion},
+        {"outline", &SceneConfig::outline, kOutline},
+        {"depth_cue", &SceneConfig::depth_cue, kDepthCue},
+        {"style", &SceneConfig::style, one_of<SceneStyle>()},
+        {"density", &SceneConfig::density, kDensity},
+        {"opacity", &SceneConfig::opacity,
+         list_of(number_in('[', 0, 1, ']'), "must list at least one opacity (omit it for opaque)")},
+        {"lighting", &SceneConfig::lighting, kLighting},
+        rule(renderer_serves_occlusion),
+        rule(density_scene_has_no_depth),
+    },
+    {"each scene must be a mapping (name:, width:, ...)"});
+
+const Section<DumpConfig> kDump(
+    {
+        {"enabled", &DumpConfig::enabled, boolean()},
+        {"file", &DumpConfig::file, text()},
+        {"schedule", &DumpConfig::schedule, kSchedule},
+        {"fields", &DumpConfig::fields, distinct_list_of(one_of(kDumpFields))},
+        {"precision", &DumpConfig::single_precision,
+         one_of<bool>({{"float32", true}, {"float64", false}})},
+    },
+    {}, &DumpConfig::enabled);
+
+const Section<LammpsConfig> kLammps({
+    {"fix", &LammpsConfig::fix, text()},
+    {"scalar", &LammpsConfig::scalar, text()},
+});
+
+const Section<Config> kTop(
+    {
+        {"schedule", &Config::schedule, kSchedule},
+        {"scenes", &Config::scenes, list_of(kScene, default_scene_name)},
+        rule(scenes_are_distinct),
+        // An empty string is the documented way to write "no stats".
+        {"stats", &Config::stats_file, default_if("", text())},
+        {"verbose", &Config::verbose, boolean()},
+        {"dump", &Config::dump, kDump},
+        {"gl", &Config::gl, one_of<GlBackend>()},
+        {"egl_device", &Config::egl_device, default_if("auto", integer(0, 1023))},
+        {"lammps", &Config::lammps, kLammps},
+        {"watch", &Config::watch, boolean()},
+        // threads: 'auto' keeps 0, resolved per process (core/common/rank_threads.h).
+        {"threads", &Config::threads, default_if("auto", integer(1, 1024))},
+        rule(config_has_work),
+    },
+    {"the configuration must be a mapping with keys (schedule, scenes, ...)", true});
+
+// --- The schema, walked from the top ------------------------------------------------------
+
+// Each section once (dump.schedule is the top level's schedule), parents before children.
+void collect_sections(const Schema &section, const std::string &label, const std::string &prefix,
+                      std::set<const Schema *> *seen, std::vector<ConfigSection> *out) {
+  if (!seen->insert(&section).second) return;
+  ConfigSection entry{label, {}};
+  for (const Schema::Key &key : section.keys()) entry.keys.push_back(key.name);
+  out->push_back(entry);
+  for (const Schema::Key &key : section.keys()) {
+    if (key.section == nullptr) continue;
+    const std::string child = prefix + key.name + (key.list ? "[]" : "");
+    collect_sections(*key.section, child, child + ".", seen, out);
+  }
 }
 
 // key -> the sections it belongs to, for "'azimuth' is a key of scenes[].camera".
-std::map<std::string, std::vector<std::string>> key_homes() {
-  const std::vector<std::pair<const char *, const std::vector<std::string> *>> sections = {
-      {"the top level", &kTopKeys},
-      {"schedule", &kScheduleKeys},
-      {"scenes[]", &kSceneKeys},
-      {"scenes[].camera", &kCameraKeys},
-      {"scenes[].color", &kColorKeys},
-      {"scenes[].output", &kOutputKeys},
-      {"scenes[].culling", &kCullingKeys},
-      {"scenes[].lod", &kLodKeys},
-      {"scenes[].cut_planes[]", &kCutPlaneKeys},
-      {"scenes[].ambient_occlusion", &kAmbientOcclusionKeys},
-      {"scenes[].outline", &kOutlineKeys},
-      {"scenes[].depth_cue", &kDepthCueKeys},
-      {"scenes[].density", &kDensityKeys},
-      {"scenes[].lighting", &kLightingKeys},
-      {"dump", &kDumpKeys},
-      {"lammps", &kLammpsKeys}};
-  std::map<std::string, std::vector<std::string>> homes;
-  for (const auto &[section, keys] : sections)
-    for (const std::string &key : *keys) homes[key].push_back(section);
+const std::map<std::string, std::vector<std::string>> &key_homes() {
+  static const std::map<std::string, std::vector<std::string>> homes = [] {
+    std::map<std::string, std::vector<std::string>> h;
+    for (const ConfigSection &section : config_sections())
+      for (const std::string &key : section.keys) h[key].push_back(section.label);
+    return h;
+  }();
   return homes;
 }
-
-class Loader {
- public:
-  explicit Loader(std::string source) : r_(std::move(source)) { r_.set_key_homes(key_homes()); }
-
-  Config load(const YAML::Node &root) const {
-    if (!root.IsMap() && !root.IsNull())
-      r_.fail(root, "", "the configuration must be a mapping with keys (schedule, scenes, ...)");
-    r_.check_map(root, "", kTopKeys);
-    Config config;
-    optional_key(root, "", "schedule", [&](const YAML::Node &n, const std::string &p) {
-      config.schedule = schedule(n, p);
-    });
-    optional_key(root, "", "stats", [&](const YAML::Node &n, const std::string &p) {
-      // An empty string is allowed: it is the documented way to write "no stats".
-      if (n.IsScalar() && n.Scalar().empty()) return;
-      config.stats_file = r_.read_string(n, p);
-    });
-    optional_key(root, "", "verbose", [&](const YAML::Node &n, const std::string &p) {
-      config.verbose = r_.read_bool(n, p);
-    });
-    optional_key(root, "", "dump",
-                 [&](const YAML::Node &n, const std::string &p) { config.dump = dump(n, p); });
-    optional_key(root, "", "gl", [&](const YAML::Node &n, const std::string &p) {
-      config.gl = read_enum<GlBackend>(n, p);
-    });
-    optional_key(root, "", "egl_device", [&](const YAML::Node &n, const std::string &p) {
-      if (n.IsScalar() && n.Scalar() == "auto") return;
-      config.egl_device = static_cast<int>(r_.read_int(n, p, 0, 1023));
-    });
-    optional_key(root, "", "scenes",
-                 [&](const YAML::Node &n, const std::string &p) { config.scenes = scenes(n, p); });
-    optional_key(root, "", "lammps",
-                 [&](const YAML::Node &n, const std::string &p) { config.lammps = lammps(n, p); });
-    optional_key(root, "", "watch", [&](const YAML::Node &n, const std::string &p) {
-      config.watch = r_.read_bool(n, p);
-    });
-    optional_key(root, "", "threads", [&](const YAML::Node &n, const std::string &p) {
-      if (n.IsScalar() && n.Scalar() == "auto") return;
-      config.threads = static_cast<int>(r_.read_int(n, p, 1, 1024));
-    });
-    if (config.scenes.empty() && !config.dump.enabled)
-      r_.fail(root, "", "nothing to do: add at least one entry under 'scenes:' (or a 'dump:')");
-    return config;
-  }
-
- private:
-  Schedule schedule(const YAML::Node &node, const std::string &path) const {
-    r_.check_map(node, path, kScheduleKeys);
-    Schedule s;
-    optional_key(node, path, "every", [&](const YAML::Node &n, const std::string &p) {
-      s.every = r_.read_int(n, p, 0, kMaxInt);
-    });
-    optional_key(node, path, "start", [&](const YAML::Node &n, const std::string &p) {
-      s.start = r_.read_int(n, p, 0, kMaxInt);
-    });
-    optional_key(node, path, "steps", [&](const YAML::Node &n, const std::string &p) {
-      r_.check_sequence(n, p);
-      if (n.size() == 0) r_.fail(n, p, "must list at least one step (omit it for every step)");
-      for (size_t i = 0; i < n.size(); ++i)
-        s.steps.push_back(r_.read_int(n[i], index_path(p, i), 0, kMaxInt));
-      std::sort(s.steps.begin(), s.steps.end());
-      s.steps.erase(std::unique(s.steps.begin(), s.steps.end()), s.steps.end());
-    });
-    return s;
-  }
-
-  std::vector<SceneConfig> scenes(const YAML::Node &node, const std::string &path) const {
-    r_.check_sequence(node, path);
-    std::vector<SceneConfig> out;
-    std::map<std::string, size_t> by_name;
-    std::map<std::string, size_t> by_pattern;  // patterns without {scene}
-    for (size_t i = 0; i < node.size(); ++i) {
-      const std::string scene_path = index_path(path, i);
-      out.push_back(scene(node[i], scene_path, i));
-      const SceneConfig &s = out.back();
-      const auto [named, fresh_name] = by_name.emplace(s.name, i);
-      if (!fresh_name)
-        r_.fail(node[i], child_path(scene_path, "name"),
-                "scene name " + quoted_text(s.name) + " is already used by " +
-                    index_path(path, named->second));
-      if (pattern_uses_scene(s.output.pattern)) continue;
-      const auto [same, fresh_pattern] = by_pattern.emplace(s.output.pattern, i);
-      if (!fresh_pattern)
-        r_.fail(node[i], child_path(scene_path, "output.pattern"),
-                quoted_text(s.output.pattern, kPathShown) + " is also the pattern of " +
-                    index_path(path, same->second) +
-                    "; the scenes would overwrite each other's images (add {scene})");
-    }
-    return out;
-  }
-
-  SceneConfig scene(const YAML::Node &node, const std::string &path, size_t index) const {
-    if (!node.IsMap()) r_.fail(node, path, "each scene must be a mapping (name:, width:, ...)");
-    r_.check_map(node, path, kSceneKeys);
-    SceneConfig s;
-    if (index > 0) s.name = "scene" + std::to_string(index);
-    optional_key(node, path, "name",
-                 [&](const YAML::Node &n, const std::string &p) { s.name = scene_name(n, p); });
-    optional_key(node, path, "width", [&](const YAML::Node &n, const std::string &p) {
-      s.width = static_cast<int>(r_.read_int(n, p, 1, kMaxImageSize));
-    });
-    optional_key(node, path, "height", [&](const YAML::Node &n, const std::string &p) {
-      s.height = static_cast<int>(r_.read_int(n, p, 1, kMaxImageSize));
-    });
-    optional_key(node, path, "background", [&](const YAML::Node &n, const std::string &p) {
-      s.background = r_.read_rgb(n, p);
-    });
-    optional_key(node, path, "radius", [&](const YAML::Node &n, const std::string &p) {
-      if (n.IsScalar() && n.Scalar() == "per_particle") {
-        s.per_particle_radius = true;
-        return;
-      }
-      double value = 0;
-      if (!n.IsScalar() || !YAML::convert<double>::decode(n, value) || !std::isfinite(value) ||
-          value <= 0)
-        r_.fail(n, p,
-                "must be a finite number > 0 or 'per_particle', got " +
-                    (n.IsScalar() ? quoted_text(n.Scalar()) : std::string("a collection")));
-      s.radius = value;
-    });
-    optional_key(node, path, "camera",
-                 [&](const YAML::Node &n, const std::string &p) { s.camera = camera(n, p); });
-    optional_key(node, path, "color",
-                 [&](const YAML::Node &n, const std::string &p) { s.color = color(n, p); });
-    optional_key(node, path, "output",
-                 [&](const YAML::Node &n, const std::string &p) { s.output = output(n, p); });
-    optional_key(node, path, "culling",
-                 [&](const YAML::Node &n, const std::string &p) { s.culling = culling(n, p); });
-    optional_key(node, path, "lod",
-                 [&](const YAML::Node &n, const std::string &p) { s.lod = lod(n, p); });
-    optional_key(node, path, "renderer", [&](const YAML::Node &n, const std::string &p) {
-      s.renderer = read_enum<RendererChoice>(n, p);
-    });
-    optional_key(node, path, "cut_planes", [&](const YAML::Node &n, const std::string &p) {
-      r_.check_sequence(n, p);
-      for (size_t i = 0; i < n.size(); ++i) s.cuts.push_back(cut_plane(n[i], index_path(p, i)));
-    });
-    optional_key(node, path, "samples", [&](const YAML::Node &n, const std::string &p) {
-      s.samples = std::stoi(r_.read_choice(n, p, {"1", "4", "16", "64"}));
-      check_sample_frame(s, n, p);
-    });
-    read_depth_cues(node, path, &s);
-    optional_key(node, path, "lighting",
-                 [&](const YAML::Node &n, const std::string &p) { s.lighting = lighting(n, p); });
-    optional_key(node, path, "opacity", [&](const YAML::Node &n, const std::string &p) {
-      r_.check_sequence(n, p);
-      if (n.size() == 0) r_.fail(n, p, "must list at least one opacity (omit it for opaque)");
-      for (size_t i = 0; i < n.size(); ++i)
-        s.opacity.push_back(r_.read_in_range(n[i], index_path(p, i), 0.0, true, 1.0, true));
-    });
-    // Seed 004's culling runs inside the CPU raster's pass only.
-    if (s.culling.occlusion == OcclusionMode::kProbabilistic &&
-        s.renderer == RendererChoice::kOpenGl)
-      r_.fail(node["renderer"], child_path(path, "renderer"),
-              "'opengl' cannot serve culling.occlusion 'probabilistic' (a renderer that cannot "
-              "serve it); allowed with probabilistic: auto, cpu");
-    optional_key(node, path, "style", [&](const YAML::Node &n, const std::string &p) {
-      s.style = read_enum<SceneStyle>(n, p);
-    });
-    optional_key(node, path, "density",
-                 [&](const YAML::Node &n, const std::string &p) { s.density = density(n, p); });
-    if (s.style == SceneStyle::kDensity) check_density_scene(node, path, s);
-    return s;
-  }
-
-  // A density image is a sum of smooth footprints with no surface: nothing to super-sample and
-  // no depth for the screen-space cues to read, so those keys are refused rather than ignored.
-  void check_density_scene(const YAML::Node &node, const std::string &path,
-                           const SceneConfig &s) const {
-    if (s.samples != 1)
-      r_.fail(node["samples"], child_path(path, "samples"),
-              "must be 1 with style: density (footprints are already smooth); allowed: 1");
-    for (const char *cue : {"ambient_occlusion", "outline", "depth_cue"})
-      if (node[cue].IsDefined())
-        r_.fail(node[cue], child_path(path, cue),
-                "needs style: spheres (a density image has no depth to cue)");
-  }
-
-  // A super-sampled frame must fit the documented limit: refused here, at lantern_open, rather
-  // than failing an allocation mid-run.
-  void check_sample_frame(const SceneConfig &s, const YAML::Node &node,
-                          const std::string &path) const {
-    const int64_t pixels = int64_t(s.width) * s.height * s.samples;
-    if (s.samples == 1 || pixels <= kMaxSampleFramePixels) return;
-    r_.fail(
-        node, path,
-        "scene " + quoted_text(s.name) + ": " + std::to_string(s.width) + " x " +
-            std::to_string(s.height) + " at " + std::to_string(s.samples) +
-            " samples needs a sample frame of " + std::to_string(pixels) + " pixels, " +
-            std::to_string(pixels * 8) + " bytes (RGBA8 + float depth) per rank; the limit is " +
-            std::to_string(kMaxSampleFramePixels) + " pixels (" +
-            std::to_string(kMaxSampleFramePixels * 8) + " bytes): lower samples, width or height");
-  }
-
-  // The depth cues (issue 13): a section that is present turns its cue on, `{}` with defaults.
-  void read_depth_cues(const YAML::Node &node, const std::string &path, SceneConfig *s) const {
-    const auto present = [&](const std::string &key) {
-      const YAML::Node n = node[key];
-      return n.IsDefined() && (n.IsNull() || n.IsMap());
-    };
-    for (const char *key : {"ambient_occlusion", "outline", "depth_cue"}) {
-      const YAML::Node n = node[key];
-      if (n.IsDefined() && !n.IsNull() && !n.IsMap())
-        r_.fail(n, child_path(path, key), "must be a mapping ({} for the defaults)");
-    }
-    if (present("ambient_occlusion"))
-      s->ambient_occlusion =
-          ambient_occlusion(node["ambient_occlusion"], child_path(path, "ambient_occlusion"));
-    if (present("outline")) s->outline = outline(node["outline"], child_path(path, "outline"));
-    if (present("depth_cue"))
-      s->depth_cue = depth_cue(node["depth_cue"], child_path(path, "depth_cue"));
-  }
-
-  AmbientOcclusionConfig ambient_occlusion(const YAML::Node &node, const std::string &path) const {
-    r_.check_map(node, path, kAmbientOcclusionKeys);
-    AmbientOcclusionConfig a;
-    a.enabled = true;
-    optional_key(node, path, "method", [&](const YAML::Node &n, const std::string &p) {
-      a.method = r_.read_choice(n, p, {"screen", "object"}) == "screen"
-                     ? AmbientOcclusionMethod::kScreen
-                     : AmbientOcclusionMethod::kObject;
-    });
-    optional_key(node, path, "radius", [&](const YAML::Node &n, const std::string &p) {
-      a.radius = r_.read_in_range(n, p, 0.0, false, kInf, false);
-    });
-    optional_key(node, path, "samples", [&](const YAML::Node &n, const std::string &p) {
-      a.samples = static_cast<int>(r_.read_int(n, p, 1, 64));
-    });
-    optional_key(node, path, "strength", [&](const YAML::Node &n, const std::string &p) {
-      a.strength = r_.read_in_range(n, p, 0.0, true, 1.0, true);
-    });
-    return a;
-  }
-
-  OutlineConfig outline(const YAML::Node &node, const std::string &path) const {
-    r_.check_map(node, path, kOutlineKeys);
-    OutlineConfig o;
-    o.enabled = true;
-    optional_key(node, path, "width", [&](const YAML::Node &n, const std::string &p) {
-      o.width = static_cast<int>(r_.read_int(n, p, 1, 16));
-    });
-    optional_key(node, path, "color",
-                 [&](const YAML::Node &n, const std::string &p) { o.color = r_.read_rgb(n, p); });
-    optional_key(node, path, "depth_threshold", [&](const YAML::Node &n, const std::string &p) {
-      o.depth_threshold = r_.read_in_range(n, p, 0.0, true, kInf, false);
-    });
-    return o;
-  }
-
-  DepthCueConfig depth_cue(const YAML::Node &node, const std::string &path) const {
-    r_.check_map(node, path, kDepthCueKeys);
-    DepthCueConfig d;
-    d.enabled = true;
-    optional_key(node, path, "start", [&](const YAML::Node &n, const std::string &p) {
-      if (n.IsScalar() && n.Scalar() == "auto") return;
-      d.start = r_.read_in_range(n, p, 0.0, true, kInf, false);
-    });
-    optional_key(node, path, "end", [&](const YAML::Node &n, const std::string &p) {
-      if (n.IsScalar() && n.Scalar() == "auto") return;
-      d.end = r_.read_in_range(n, p, d.start.value_or(0.0), false, kInf, false);
-    });
-    optional_key(node, path, "color",
-                 [&](const YAML::Node &n, const std::string &p) { d.color = r_.read_rgb(n, p); });
-    return d;
-  }
-
-  // lighting: {...} (lighting.h); every key optional, absent = the default headlight's value.
-  Lighting lighting(const YAML::Node &node, const std::string &path) const {
-    if (!node.IsMap()) r_.fail(node, path, "must be a mapping ({} for the defaults)");
-    r_.check_map(node, path, kLightingKeys);
-    Lighting l;
-    optional_key(node, path, "direction", [&](const YAML::Node &n, const std::string &p) {
-      const std::array<double, 3> d = r_.read_vec3(n, p);
-      const double length = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
-      if (!(length > 0.0) || !std::isfinite(length))
-        r_.fail(n, p,
-                "must be a non-zero, finite vector [x, y, z] (camera-relative: x right, y up, "
-                "z towards the viewer)");
-      // [0, 0, 1] in any length is the headlight exactly, not a rounded neighbour of it.
-      l.direction = {d[0] / length, d[1] / length, d[2] / length};
-    });
-    optional_key(node, path, "ambient", [&](const YAML::Node &n, const std::string &p) {
-      l.ambient = r_.read_in_range(n, p, 0.0, true, 1.0, true);
-    });
-    optional_key(node, path, "diffuse", [&](const YAML::Node &n, const std::string &p) {
-      l.diffuse = r_.read_in_range(n, p, 0.0, true, 1.0, true);
-    });
-    optional_key(node, path, "specular", [&](const YAML::Node &n, const std::string &p) {
-      l.specular = r_.read_in_range(n, p, 0.0, true, 1.0, true);
-    });
-    optional_key(node, path, "shininess", [&](const YAML::Node &n, const std::string &p) {
-      l.shininess = r_.read_in_range(n, p, kMinShininess, true, kMaxShininess, true);
-    });
-    return l;
-  }
-
-  // Names end up in file names ({scene}) and stats: keep them to portable file-name characters.
-  std::string scene_name(const YAML::Node &node, const std::string &path) const {
-    const std::string name = r_.read_string(node, path);
-    for (const char c : name) {
-      if (!std::isalnum(static_cast<unsigned char>(c)) && c != '_' && c != '-' && c != '.')
-        r_.fail(node, path,
-                quoted_text(name) + " may contain only letters, digits, '_', '-' and '.'");
-    }
-    if (name == "." || name == "..") r_.fail(node, path, "'" + name + "' is not a usable name");
-    return name;
-  }
-
-  // A configuration enum, by the names of its table (core/config/enum_names.h).
-  template <typename E>
-  E read_enum(const YAML::Node &node, const std::string &path) const {
-    return *value_of<E>(r_.read_choice(node, path, names_of<E>()));
-  }
-
-  CameraConfig camera(const YAML::Node &node, const std::string &path) const {
-    r_.check_map(node, path, kCameraKeys);
-    CameraConfig c;
-    optional_key(node, path, "projection", [&](const YAML::Node &n, const std::string &p) {
-      c.projection = read_enum<Projection>(n, p);
-    });
-    optional_key(node, path, "fov", [&](const YAML::Node &n, const std::string &p) {
-      c.fov_y = r_.read_in_range(n, p, 0.0, false, 180.0, false);
-    });
-    optional_key(node, path, "azimuth", [&](const YAML::Node &n, const std::string &p) {
-      c.azimuth = r_.read_finite(n, p);
-    });
-    optional_key(node, path, "elevation", [&](const YAML::Node &n, const std::string &p) {
-      c.elevation = r_.read_in_range(n, p, -90.0, true, 90.0, true);
-    });
-    optional_key(node, path, "zoom", [&](const YAML::Node &n, const std::string &p) {
-      c.zoom = r_.read_in_range(n, p, 0.0, false, kInf, false);
-    });
-    optional_key(node, path, "position", [&](const YAML::Node &n, const std::string &p) {
-      c.position = r_.read_vec3(n, p);
-    });
-    optional_key(node, path, "look_at", [&](const YAML::Node &n, const std::string &p) {
-      if (!c.position)
-        r_.fail(n, p, "look_at needs an explicit camera: set camera.position as well");
-      c.look_at = r_.read_vec3(n, p);
-      if (c.look_at == *c.position) r_.fail(n, p, "must differ from camera.position");
-    });
-    optional_key(node, path, "up", [&](const YAML::Node &n, const std::string &p) {
-      c.up = r_.read_vec3(n, p);
-      if (c.up == std::array<double, 3>{0, 0, 0}) r_.fail(n, p, "must not be the zero vector");
-    });
-    optional_key(node, path, "near", [&](const YAML::Node &n, const std::string &p) {
-      c.near_plane = r_.read_in_range(n, p, 0.0, false, kInf, false);
-    });
-    optional_key(node, path, "far", [&](const YAML::Node &n, const std::string &p) {
-      c.far_plane = r_.read_in_range(n, p, c.near_plane.value_or(0.0), false, kInf, false);
-    });
-    if (c.position && c.look_at == *c.position)  // look_at defaulted to the origin
-      r_.fail(node["position"], child_path(path, "position"),
-              "the explicit camera looks at look_at (default [0, 0, 0]); position must differ");
-    return c;
-  }
-
-  ColorConfig color(const YAML::Node &node, const std::string &path) const {
-    r_.check_map(node, path, kColorKeys);
-    ColorConfig c;
-    optional_key(node, path, "by", [&](const YAML::Node &n, const std::string &p) {
-      c.by = read_enum<ColorBy>(n, p);
-    });
-    optional_key(node, path, "solid",
-                 [&](const YAML::Node &n, const std::string &p) { c.solid = r_.read_rgb(n, p); });
-    optional_key(node, path, "palette", [&](const YAML::Node &n, const std::string &p) {
-      r_.check_sequence(n, p);
-      if (n.size() == 0) r_.fail(n, p, "must list at least one color (omit it for the default)");
-      for (size_t i = 0; i < n.size(); ++i)
-        c.palette.push_back(r_.read_rgb(n[i], index_path(p, i)));
-    });
-    optional_key(node, path, "colormap", [&](const YAML::Node &n, const std::string &p) {
-      c.colormap = r_.read_choice(n, p, kColormaps);
-    });
-    optional_key(node, path, "range", [&](const YAML::Node &n, const std::string &p) {
-      if (n.IsScalar() && n.Scalar() == "auto") return;
-      if (!n.IsSequence() || n.size() != 2)
-        r_.fail(n, p, "must be 'auto' or [min, max] with min < max");
-      const double lo = r_.read_finite(n[0], index_path(p, 0));
-      const double hi = r_.read_finite(n[1], index_path(p, 1));
-      if (!(lo < hi)) r_.fail(n, p, "must be 'auto' or [min, max] with min < max");
-      c.range = std::array<double, 2>{lo, hi};
-    });
-    return c;
-  }
-
-  OutputConfig output(const YAML::Node &node, const std::string &path) const {
-    r_.check_map(node, path, kOutputKeys);
-    OutputConfig o;
-    optional_key(node, path, "pattern", [&](const YAML::Node &n, const std::string &p) {
-      o.pattern = r_.read_string(n, p);
-      const Status problem = validate_pattern(o.pattern);
-      if (!problem.ok()) r_.fail(n, p, quoted_text(o.pattern, kPathShown) + ": " + problem.message);
-    });
-    const std::optional<ImageFormat> from_extension = format_of_extension(o.pattern);
-    bool format_given = false;
-    optional_key(node, path, "format", [&](const YAML::Node &n, const std::string &p) {
-      o.format = read_enum<ImageFormat>(n, p);
-      if (from_extension && *from_extension != o.format)
-        r_.fail(n, p,
-                quoted_text(n.Scalar()) + " contradicts the extension of output.pattern " +
-                    quoted_text(o.pattern, kPathShown));
-      format_given = true;
-    });
-    if (!format_given) {
-      if (!from_extension)
-        r_.fail(node["pattern"], child_path(path, "pattern"),
-                quoted_text(o.pattern, kPathShown) +
-                    " has no image extension (.png, .jpg, .jpeg, .tif, .tiff, .exr); add one or "
-                    "set output.format");
-      o.format = *from_extension;
-    }
-    optional_key(node, path, "jpeg_quality", [&](const YAML::Node &n, const std::string &p) {
-      o.jpeg_quality = static_cast<int>(r_.read_int(n, p, 1, 100));
-    });
-    optional_key(node, path, "compression_level", [&](const YAML::Node &n, const std::string &p) {
-      o.compression_level = static_cast<int>(r_.read_int(n, p, 0, 9));
-    });
-    optional_key(node, path, "asynchronous", [&](const YAML::Node &n, const std::string &p) {
-      o.asynchronous = r_.read_bool(n, p);
-    });
-    optional_key(node, path, "exr_color", [&](const YAML::Node &n, const std::string &p) {
-      o.exr_half = r_.read_choice(n, p, {"half", "float"}) == "half";
-    });
-    return o;
-  }
-
-  static std::optional<ImageFormat> format_of_extension(const std::string &pattern) {
-    const std::string extension = lower(std::filesystem::path(pattern).extension().string());
-    if (extension.size() < 2) return std::nullopt;
-    return value_of<ImageFormat>(extension.substr(1));
-  }
-
-  CullingConfig culling(const YAML::Node &node, const std::string &path) const {
-    r_.check_map(node, path, kCullingKeys);
-    CullingConfig c;
-    optional_key(node, path, "frustum", [&](const YAML::Node &n, const std::string &p) {
-      c.frustum = r_.read_bool(n, p);
-    });
-    optional_key(node, path, "occlusion", [&](const YAML::Node &n, const std::string &p) {
-      c.occlusion = read_enum<OcclusionMode>(n, p);
-    });
-    optional_key(node, path, "nine_spheres_radius", [&](const YAML::Node &n, const std::string &p) {
-      c.nine_spheres_radius = read_enum<NineSpheresRadius>(n, p);
-    });
-    ProbabilisticConfig &prob = c.probabilistic;
-    optional_key(node, path, "confidence", [&](const YAML::Node &n, const std::string &p) {
-      prob.confidence = r_.read_in_range(n, p, 0.0, false, 1.0, false);
-    });
-    optional_key(node, path, "probabilistic_budget",
-                 [&](const YAML::Node &n, const std::string &p) {
-                   prob.budget = static_cast<int>(r_.read_int(n, p, 1, 64));
-                 });
-    optional_key(node, path, "probabilistic_patience",
-                 [&](const YAML::Node &n, const std::string &p) {
-                   prob.patience = static_cast<int>(r_.read_int(n, p, 1, 64));
-                 });
-    return c;
-  }
-
-  LodConfig lod(const YAML::Node &node, const std::string &path) const {
-    r_.check_map(node, path, kLodKeys);
-    LodConfig l;
-    optional_key(node, path, "budget", [&](const YAML::Node &n, const std::string &p) {
-      l.budget = r_.read_int(n, p, 0, kMaxInt);
-    });
-    optional_key(node, path, "fraction", [&](const YAML::Node &n, const std::string &p) {
-      l.fraction = r_.read_in_range(n, p, 0.0, false, 1.0, true);
-    });
-    optional_key(node, path, "min_pixels", [&](const YAML::Node &n, const std::string &p) {
-      l.min_pixels = r_.read_in_range(n, p, 0.0, true, kInf, false);
-    });
-    optional_key(node, path, "point_path", [&](const YAML::Node &n, const std::string &p) {
-      l.point_path = r_.read_bool(n, p);
-    });
-    optional_key(node, path, "select", [&](const YAML::Node &n, const std::string &p) {
-      l.select = read_enum<LodSelect>(n, p);
-    });
-    return l;
-  }
-
-  // density: (style: density). A fixed range under the log transfer must be positive: log(0)
-  // has no picture.
-  DensityConfig density(const YAML::Node &node, const std::string &path) const {
-    r_.check_map(node, path, kDensityKeys);
-    DensityConfig d;
-    optional_key(node, path, "transfer", [&](const YAML::Node &n, const std::string &p) {
-      d.transfer = read_enum<DensityTransfer>(n, p);
-    });
-    optional_key(node, path, "colormap", [&](const YAML::Node &n, const std::string &p) {
-      d.colormap = r_.read_choice(n, p, kColormaps);
-    });
-    optional_key(node, path, "range", [&](const YAML::Node &n, const std::string &p) {
-      if (n.IsScalar() && n.Scalar() == "auto") return;
-      if (!n.IsSequence() || n.size() != 2)
-        r_.fail(n, p, "must be 'auto' or [lo, hi] with lo < hi");
-      const double lo = r_.read_finite(n[0], index_path(p, 0));
-      const double hi = r_.read_finite(n[1], index_path(p, 1));
-      if (!(lo < hi)) r_.fail(n, p, "must be 'auto' or [lo, hi] with lo < hi");
-      d.range = std::array<double, 2>{lo, hi};
-    });
-    if (d.transfer == DensityTransfer::kLog && d.range && (*d.range)[0] <= 0.0)
-      r_.fail(node["range"], child_path(path, "range"),
-              "transfer: log needs a range with lo > 0 (or 'auto'), got lo = " +
-                  std::to_string((*d.range)[0]));
-    return d;
-  }
-
-  CutPlane cut_plane(const YAML::Node &node, const std::string &path) const {
-    if (!node.IsMap()) r_.fail(node, path, "each cut plane must be a mapping {normal, offset}");
-    r_.check_map(node, path, kCutPlaneKeys);
-    CutPlane c;
-    optional_key(node, path, "normal", [&](const YAML::Node &n, const std::string &p) {
-      c.normal = r_.read_vec3(n, p);
-      if (c.normal == std::array<double, 3>{0, 0, 0}) r_.fail(n, p, "must not be the zero vector");
-    });
-    optional_key(node, path, "offset", [&](const YAML::Node &n, const std::string &p) {
-      c.offset = r_.read_finite(n, p);
-    });
-    optional_key(node, path, "enabled", [&](const YAML::Node &n, const std::string &p) {
-      c.enabled = r_.read_bool(n, p);
-    });
-    return c;
-  }
-
-  DumpConfig dump(const YAML::Node &node, const std::string &path) const {
-    r_.check_map(node, path, kDumpKeys);
-    DumpConfig d;
-    d.enabled = true;
-    optional_key(node, path, "enabled", [&](const YAML::Node &n, const std::string &p) {
-      d.enabled = r_.read_bool(n, p);
-    });
-    optional_key(node, path, "file",
-                 [&](const YAML::Node &n, const std::string &p) { d.file = r_.read_string(n, p); });
-    optional_key(node, path, "schedule",
-                 [&](const YAML::Node &n, const std::string &p) { d.schedule = schedule(n, p); });
-    optional_key(node, path, "fields", [&](const YAML::Node &n, const std::string &p) {
-      r_.check_sequence(n, p);
-      for (size_t i = 0; i < n.size(); ++i) {
-        const std::string field = r_.read_choice(n[i], index_path(p, i), kDumpFields);
-        if (std::find(d.fields.begin(), d.fields.end(), field) != d.fields.end())
-          r_.fail(n[i], index_path(p, i), "'" + field + "' is listed twice");
-        d.fields.push_back(field);
-      }
-    });
-    optional_key(node, path, "precision", [&](const YAML::Node &n, const std::string &p) {
-      d.single_precision = r_.read_choice(n, p, {"float32", "float64"}) == "float32";
-    });
-    return d;
-  }
-
-  LammpsConfig lammps(const YAML::Node &node, const std::string &path) const {
-    r_.check_map(node, path, kLammpsKeys);
-    LammpsConfig l;
-    optional_key(node, path, "fix", [&](const YAML::Node &n, const std::string &p) {
-      l.fix = r_.read_string(n, p);
-      if (l.fix.empty()) r_.fail(n, p, "must name a fix ID (omit the key for every fix external)");
-    });
-    optional_key(node, path, "scalar", [&](const YAML::Node &n, const std::string &p) {
-      l.scalar = r_.read_string(n, p);
-      if (l.scalar.empty()) r_.fail(n, p, "must name a per-atom quantity (c_ID, v_name, vx, ...)");
-    });
-    return l;
-  }
-
-  YamlReader r_;
-};
 
 bool is_inline_document(const std::string &s) {
   const size_t first = s.find_first_not_of(" \t");
@@ -693,6 +405,13 @@ Status read_file(const std::string &path, std::string *text) {
 }
 
 }  // namespace
+
+std::vector<ConfigSection> config_sections() {
+  std::vector<ConfigSection> sections;
+  std::set<const Schema *> seen;
+  collect_sections(kTop, "the top level", "", &seen, &sections);
+  return sections;
+}
 
 Status read_config_text(const std::string &path_or_document, std::string *text, std::string *path) {
   if (text == nullptr || path == nullptr)
@@ -725,7 +444,9 @@ Status load_config_text(const std::string &text, const std::string &source, Conf
                      "merge the two or remove the '---'");
     }
     const YAML::Node root = documents.empty() ? YAML::Node() : documents.front();
-    *out = Loader(source).load(root);
+    YamlReader reader(source);
+    reader.set_key_homes(key_homes());
+    *out = kTop(reader, root, "");
     return {};
   } catch (const ConfigError &e) {
     return invalid(e.what());

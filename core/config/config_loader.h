@@ -5,6 +5,7 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include "core/common/status.h"
 #include "core/config/config.h"
@@ -24,5 +25,16 @@ Status load_config(const std::string &path_or_document, Config *out);
 // names it in messages (a path, or "inline config").
 Status read_config_text(const std::string &path_or_document, std::string *text, std::string *path);
 Status load_config_text(const std::string &text, const std::string &source, Config *out);
+
+// One section of the configuration's schema: its label as messages write it ("the top level",
+// "scenes[]", "scenes[].camera") and its keys in the order messages list them.
+struct ConfigSection {
+  std::string label;
+  std::vector<std::string> keys;
+};
+
+// Every section the loader reads, parents before children (for the documentation test and the
+// "is a key of ..." hints). Thread-safe.
+std::vector<ConfigSection> config_sections();
 
 }  // namespace lantern

@@ -38,11 +38,11 @@ void footprint(const ViewGeometry &g, const Brick &b, double r, VisibleBrick *v)
 
 // Frustum and cutting planes, brick by brick: the survivors with their footprints. The planes'
 // verdicts come from `cut_counts` when given (already updated), else from the planes.
-void classify(const BrickSet &bricks, const SceneConfig &scene, const BrickCutCounts *cut_counts,
+void classify(const BrickSet &bricks, const CullSettings &cull, const BrickCutCounts *cut_counts,
               BrickSelection *sel) {
   const ViewGeometry &g = sel->g;
   const Frustum frustum(g);
-  const CutPlanes cuts(scene.cuts);
+  const CutPlanes cuts(cull.cuts);
   const bool any_cut = cut_counts ? cut_counts->any_plane() : !cuts.empty();
   CullStats &st = sel->stats;
   for (uint32_t i = 0; i < bricks.bricks.size(); ++i) {
@@ -52,7 +52,7 @@ void classify(const BrickSet &bricks, const SceneConfig &scene, const BrickCutCo
     v.brick = i;
     v.radius = r;
     v.keep = b.count;
-    if (scene.culling.frustum) {
+    if (cull.frustum) {
       glm::dvec3 corners[8];
       for (int k = 0; k < 8; ++k) corners[k] = g.to_view(box_corner(b.lo, b.hi, k));
       v.containment = frustum.classify_box(corners, r);
@@ -79,12 +79,12 @@ void classify(const BrickSet &bricks, const SceneConfig &scene, const BrickCutCo
 
 // The configured occlusion mode, or under auto the one choose_occlusion picks; bricks front to
 // back for every mode that judges particles by depth.
-void resolve_occlusion(const SceneConfig &scene, BrickSelection *sel) {
+void resolve_occlusion(const CullSettings &cull, BrickSelection *sel) {
   const auto front_to_back = [](const VisibleBrick &a, const VisibleBrick &b) {
     return a.near_depth < b.near_depth;
   };
   CullStats &st = sel->stats;
-  sel->mode = scene.culling.occlusion;
+  sel->mode = cull.occlusion;
   if (sel->mode == OcclusionMode::kAuto) {
     std::stable_sort(sel->visible.begin(), sel->visible.end(), front_to_back);
     const OcclusionChoice choice = choose_occlusion(sel->visible, sel->g);
@@ -100,14 +100,14 @@ void resolve_occlusion(const SceneConfig &scene, BrickSelection *sel) {
 
 }  // namespace
 
-void select_bricks(const BrickSet &bricks, const Camera &camera, const SceneConfig &scene,
+void select_bricks(const BrickSet &bricks, const Camera &camera, const CullSettings &cull,
                    const RadiusRule &radius, BrickSelection *out) {
-  select_bricks(bricks, camera, scene, radius, out, nullptr);
+  select_bricks(bricks, camera, cull, radius, out, nullptr);
 }
 
-void select_bricks(const BrickSet &bricks, const Camera &camera, const SceneConfig &scene,
+void select_bricks(const BrickSet &bricks, const Camera &camera, const CullSettings &cull,
                    const RadiusRule &radius, BrickSelection *out, BrickCutCounts *cut_counts) {
-  if (cut_counts) cut_counts->update(bricks, scene.cuts);
+  if (cut_counts) cut_counts->update(bricks, cull.cuts);
   out->visible.clear();
   out->stats = CullStats();
   out->stats.candidates = bricks.particle_count();
@@ -117,22 +117,17 @@ void select_bricks(const BrickSet &bricks, const Camera &camera, const SceneConf
   if (radius.per_particle)
     for (const Brick &b : bricks.bricks) max_r = std::max(max_r, b.max_radius);
   out->g = ViewGeometry::from_camera(camera, scene_scale(bricks, camera, max_r));
-  classify(bricks, scene, cut_counts, out);
+  classify(bricks, cull, cut_counts, out);
 
   // Level of detail, then footprints of the bricks whose spheres grew.
-  const LodConfig &lod = scene.lod;
+  const LodConfig &lod = cull.lod;
   const bool lod_on = lod.budget > 0 || lod.fraction < 1.0 || lod.min_pixels > 0.0;
-  const LodGrowth growth =
-      scene.style == SceneStyle::kDensity ? LodGrowth::kVolume : LodGrowth::kCoverage;
-  // The probabilistic culler draws meshlet slots of the uniform prefix; it keeps that.
-  const bool nearest = lod.select == LodSelect::kNearest && scene.style == SceneStyle::kSpheres &&
-                       scene.culling.occlusion != OcclusionMode::kProbabilistic;
-  out->reduced =
-      lod_on && apply_level_of_detail(lod, bricks, out->g, growth, nearest, &out->visible);
+  out->reduced = lod_on && apply_level_of_detail(lod, bricks, out->g, cull.lod_growth,
+                                                 cull.lod_nearest, &out->visible);
   for (VisibleBrick &v : out->visible)
     if (v.radius_scale != 1.0f)
       footprint(out->g, bricks.bricks[v.brick], v.radius * v.radius_scale, &v);
-  resolve_occlusion(scene, out);
+  resolve_occlusion(cull, out);
 }
 
 }  // namespace lantern

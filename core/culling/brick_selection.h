@@ -14,6 +14,7 @@
 #include "core/camera/camera.h"
 #include "core/config/config.h"
 #include "core/culling/brick_cut_counts.h"
+#include "core/culling/cull_settings.h"
 #include "core/culling/cull_stats.h"
 #include "core/culling/visible_brick.h"
 #include "core/particles/particle_arrays.h"
@@ -31,14 +32,16 @@ struct BrickSelection {
   CullStats stats;  // so far: candidates, brick counts, brick-level frustum / cut drops, mode
 };
 
-// Classifies `bricks` for `scene`, whose spheres follow `radius`, seen by `camera` into *out.
-void select_bricks(const BrickSet &bricks, const Camera &camera, const SceneConfig &scene,
+// Classifies `bricks` for a scene culled by `cull`, whose spheres follow `radius`, seen by
+// `camera` into *out.
+void select_bricks(const BrickSet &bricks, const Camera &camera, const CullSettings &cull,
                    const RadiusRule &radius, BrickSelection *out);
 
 // The same, with the cutting planes judged through `cut_counts` (kept by the caller between
-// frames, one per scene): updated to the scene's planes first, so a plane edit since the last
-// frame reclassifies only the bricks it touches. The selection is identical to the one above.
-void select_bricks(const BrickSet &bricks, const Camera &camera, const SceneConfig &scene,
+// frames, one per scene; null: none): updated to the scene's planes first, so a plane edit since
+// the last frame reclassifies only the bricks it touches. The selection is identical to the one
+// above.
+void select_bricks(const BrickSet &bricks, const Camera &camera, const CullSettings &cull,
                    const RadiusRule &radius, BrickSelection *out, BrickCutCounts *cut_counts);
 
 }  // namespace lantern

@@ -15,7 +15,6 @@
 #include <glm/vec3.hpp>
 
 #include "core/bricks/brick_set.h"
-#include "core/config/config.h"
 #include "core/culling/cull_stats.h"
 #include "core/culling/cut_planes.h"
 #include "core/culling/draw_list.h"
@@ -34,7 +33,7 @@ struct CullPass {
   const ViewGeometry &g;
   const Frustum &frustum;
   const CutPlanes &cuts;
-  const SceneConfig &scene;
+  bool point_path;  // lod.point_path: sub-pixel spheres go to the CPU splats
   const BrickSet &bricks;
 };
 
@@ -93,7 +92,7 @@ void gather(const CullPass<Positions, Radii> &pass, const VisibleBrick &v, bool 
     scale = 1.0f;  // they stand for nothing: what they hide is dropped
   }
   const bool straddle = v.containment == Containment::kStraddling;
-  const bool point_path = pass.scene.lod.point_path;
+  const bool point_path = pass.point_path;
   if (!keep_candidates && !straddle && !v.cut_each && !point_path) {
     for (uint32_t k = 0; k < v.keep; ++k) out->spheres.push_back(draw_entry(idx[k], scale));
     return;

@@ -21,6 +21,7 @@
 #include "core/culling/brick_selection.h"
 #include "core/culling/column_strips.h"
 #include "core/culling/cull_pass.h"
+#include "core/culling/cull_settings.h"
 #include "core/culling/cull_stats.h"
 #include "core/culling/draw_list.h"
 #include "core/culling/hzb.h"
@@ -32,16 +33,17 @@ namespace lantern {
 
 class Culler {
  public:
-  // Fills `out` with what to draw of `particles` (whose bricks are `bricks`) for `scene` seen by
-  // `selection` (made by select_bricks for the same particles, bricks and scene). Returns the
-  // selection's counts completed by the per-particle pass. `threads`: for hzb's column strips
-  // (the list is the same at any count).
-  CullStats cull(const ParticleArrays &particles, const BrickSet &bricks, const SceneConfig &scene,
-                 const BrickSelection &selection, DrawList *out, int threads = 2);
+  // Fills `out` with what to draw of `particles` (whose bricks are `bricks`) for a scene culled by
+  // `settings` seen by `selection` (made by select_bricks for the same particles, bricks and
+  // settings). Returns the selection's counts completed by the per-particle pass. `threads`: for
+  // hzb's column strips (the list is the same at any count).
+  CullStats cull(const ParticleArrays &particles, const BrickSet &bricks,
+                 const CullSettings &settings, const BrickSelection &selection, DrawList *out,
+                 int threads = 2);
 
   // select_bricks and cull in one call, the selection kept inside (tests and benchmarks).
   CullStats run(const ParticleArrays &particles, const BrickSet &bricks, const Camera &camera,
-                const SceneConfig &scene, DrawList *out);
+                const CullSettings &settings, const RadiusRule &radius, DrawList *out);
   // The double-precision camera of the last run() (the point path needs it after rendering).
   const ViewGeometry &geometry() const { return selection_.g; }
 

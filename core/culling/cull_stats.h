@@ -2,6 +2,8 @@
 // value type, summed over ranks by the pipeline for the stats line.
 #pragma once
 
+#include <mpi.h>
+
 #include <cstdint>
 #include <string>
 
@@ -29,5 +31,10 @@ struct CullStats {
   bool per_particle_frustum = false;  // some brick straddled the frustum
   ProbabilisticStats probabilistic;   // occlusion: probabilistic only
 };
+
+// The probabilistic counts of every rank of comm: the slowest rank's iterations and samples, the
+// meshlet classes and culled particles summed. Collective (two small reductions); the same on
+// every rank.
+ProbabilisticStats reduce_probabilistic_stats(MPI_Comm comm, const ProbabilisticStats &local);
 
 }  // namespace lantern

@@ -1,4 +1,4 @@
-// Cutting planes (SceneConfig::cuts): a particle whose CENTRE has dot(n, x) > offset is dropped.
+// Cutting planes (a scene's cut_planes): a particle whose CENTRE has dot(n, x) > offset is dropped.
 // Bricks wholly on the dropped side are skipped; bricks wholly on the kept side need no
 // per-particle test. Planes with `enabled: false` are left out. World space, double precision.
 // Thread-safety: immutable value type.

@@ -28,9 +28,9 @@ uint32_t float_key(double depth) {
 }
 
 // Nothing to judge per particle: every particle drawn, in brute force's order.
-bool trivial(const SceneConfig &scene, const BrickSelection &sel) {
+bool trivial(const CullSettings &cull, const BrickSelection &sel) {
   const CullStats &st = sel.stats;
-  return sel.mode == OcclusionMode::kNone && !sel.reduced && !scene.lod.point_path &&
+  return sel.mode == OcclusionMode::kNone && !sel.reduced && !cull.lod.point_path &&
          !st.per_particle_frustum && st.frustum_culled == 0 && st.cut_culled == 0 &&
          std::none_of(sel.visible.begin(), sel.visible.end(),
                       [](const VisibleBrick &v) { return v.cut_each; });
@@ -39,13 +39,13 @@ bool trivial(const SceneConfig &scene, const BrickSelection &sel) {
 }  // namespace
 
 CullStats Culler::run(const ParticleArrays &particles, const BrickSet &bricks, const Camera &camera,
-                      const SceneConfig &scene, DrawList *out) {
-  select_bricks(bricks, camera, scene, RadiusRule::of(scene, particles), &selection_);
-  return cull(particles, bricks, scene, selection_, out);
+                      const CullSettings &settings, const RadiusRule &radius, DrawList *out) {
+  select_bricks(bricks, camera, settings, radius, &selection_);
+  return cull(particles, bricks, settings, selection_, out);
 }
 
 CullStats Culler::cull(const ParticleArrays &particles, const BrickSet &bricks,
-                       const SceneConfig &scene, const BrickSelection &sel, DrawList *out,
+                       const CullSettings &settings, const BrickSelection &sel, DrawList *out,
                        int threads) {
   CullStats st = sel.stats;
   out->clear();
@@ -53,21 +53,21 @@ CullStats Culler::cull(const ParticleArrays &particles, const BrickSet &bricks,
   if (mode == OcclusionMode::kHzb) hzb_[0].reset(sel.g);
   if (mode == OcclusionMode::kNineSpheres || mode == OcclusionMode::kNineSpheresSorted)
     nine_.reset(sel.g.width, sel.g.height);
-  nine_equivalent_ = scene.culling.nine_spheres_radius == NineSpheresRadius::kEquivalent;
+  nine_equivalent_ = settings.nine_spheres_radius == NineSpheresRadius::kEquivalent;
   if (nine_equivalent_ &&
       (mode == OcclusionMode::kNineSpheres || mode == OcclusionMode::kNineSpheresSorted))
     st.occlusion += " (equivalent radius)";
-  if (trivial(scene, sel)) {
+  if (trivial(settings, sel)) {
     out->everything = true;  // nothing to cull: brute force order, no per-particle pass
     st.drawn = st.candidates;
     return st;
   }
   const Frustum frustum(sel.g);
-  const CutPlanes cuts(scene.cuts);
+  const CutPlanes cuts(settings.cuts);
   visit_positions(particles, [&](const auto &pos) {
     visit_radii(particles, sel.radius.per_particle, sel.radius.radius, [&](const auto &radius) {
       const CullPass<std::decay_t<decltype(pos)>, std::decay_t<decltype(radius)>> pass{
-          pos, radius, sel.g, frustum, cuts, scene, bricks};
+          pos, radius, sel.g, frustum, cuts, settings.lod.point_path, bricks};
       if (mode == OcclusionMode::kNineSpheresSorted)
         process_sorted(pass, sel, &st, out);
       else if (mode == OcclusionMode::kHzb && threads > 1 && sel.g.width >= kTwoStripsFrom)
@@ -137,7 +137,7 @@ void Culler::process(const CullPass<Positions, Radii> &pass, const BrickSelectio
         if (occluded(sel.mode, sel.g, c, 0))
           ++st->occlusion_culled;
         else
-          accept(sel.g, c, pass.scene.lod.point_path, out);
+          accept(sel.g, c, pass.point_path, out);
       }
     }
   }
@@ -151,7 +151,7 @@ void Culler::process_strips(const CullPass<Positions, Radii> &pass, const BrickS
   const int count = split_strips(g.width, threads, &strips_);
   if (int(hzb_.size()) < count) hzb_.resize(size_t(count));
   for (int k = 1; k < count; ++k) hzb_[size_t(k)].reset(g);
-  const bool point_path = pass.scene.lod.point_path;
+  const bool point_path = pass.point_path;
   const auto strip = [&](int k) {
     const Hzb &hzb = hzb_[size_t(k)];
     const auto covered = [&hzb](const PixelRect &r, double z) { return hzb.covered(r, z); };
@@ -191,7 +191,7 @@ void Culler::process_sorted(const CullPass<Positions, Radii> &pass, const BrickS
     if (occluded(OcclusionMode::kNineSpheresSorted, sel.g, c, 0))
       ++st->occlusion_culled;
     else
-      accept(sel.g, c, pass.scene.lod.point_path, out);
+      accept(sel.g, c, pass.point_path, out);
   }
 }
 

@@ -6,7 +6,6 @@
 
 #include <algorithm>
 
-#include "core/config/config.h"
 #include "core/particles/global_extent.h"
 #include "core/particles/particle_arrays.h"
 
@@ -21,11 +20,13 @@ struct RadiusRule {
   bool per_particle = false;
   double radius = 0.5;  // the scene's radius, for every particle when not per_particle
 
-  static RadiusRule of(const SceneConfig &scene, const ParticleArrays &particles) {
+  // The rule of a scene whose radius is `radius` for every particle, or the published radii when
+  // `per_particle` (`radius: per_particle`), for this rank's `particles`.
+  static RadiusRule of(bool per_particle, double radius, const ParticleArrays &particles) {
     RadiusRule r;
-    r.wanted = scene.per_particle_radius;
+    r.wanted = per_particle;
     r.per_particle = r.wanted && particles.has_radius();
-    r.radius = scene.radius;
+    r.radius = radius;
     return r;
   }
 

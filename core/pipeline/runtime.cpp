@@ -6,12 +6,14 @@
 #include <utility>
 
 #include "core/common/collective_status.h"
+#include "core/common/ms_since.h"
 #include "core/common/rank_threads.h"
 #include "core/config/config_loader.h"
 #include "core/config/enum_names.h"
 #include "core/config/environment.h"
 #include "core/output/stats_writer.h"
 #include "core/particles/particle_scan.h"
+#include "core/pipeline/scene_movie.h"
 
 namespace lantern {
 namespace {
@@ -86,12 +88,15 @@ Status Runtime::open(const std::string &config_text, MPI_Comm comm, std::unique_
   MPI_Comm_rank(rt->comm_, &rt->rank_);
   MPI_Comm_size(rt->comm_, &rt->size_);
 
-  const Status local = rt->load_first_config(config_text);
+  Status local = rt->load_first_config(config_text);
+  if (local.ok()) local = check_scene_movies(rt->config_.scenes);
   if (Status s = agree_on_status(rt->comm_, local); !s.ok()) return s;
   if (Status s = rt->agree_on_first_config(); !s.ok()) return s;
   if (!rt->config_.scenes.empty())
     if (Status s = rt->open_gl(); !s.ok()) return s;
   rt->buffers_.resize(rt->config_.scenes.size());
+  // Movie files are opened now, so an unwritable path fails here rather than at the first frame.
+  if (Status s = open_scene_movies(rt->comm_, rt->config_.scenes, &rt->buffers_); !s.ok()) return s;
   if (rt->config_.dump.enabled) rt->dump_ = std::make_unique<DumpStage>(rt->config_.dump);
   *out = std::move(rt);
   return {};
@@ -126,7 +131,9 @@ Status Runtime::finish() {
   for (size_t s = 0; s < buffers_.size(); ++s)
     if (Status st = buffers_[s].writer.wait(); !st.ok() && local.ok())
       local = with_context("scenes '" + config_.scenes[s].name + "': ", std::move(st));
-  return broadcast_status(comm_, local, 0);
+  const Status images = broadcast_status(comm_, local, 0);
+  const Status movies = finish_scene_movies(comm_, config_.scenes, &buffers_);
+  return images.ok() ? movies : images;
 }
 
 void Runtime::warn_nonfinite_once(int64_t count, int64_t step) {
@@ -167,7 +174,7 @@ Status Runtime::execute(int64_t step, double time) {
                            extent_of_bricks(scratch_.bricks.bricks(), particles_, &local);
   if (!from_bricks) local = scan_particles(particles_, particles_.has_radius(), 0.0, threads);
   const Extent global = reduce_extent(comm_, local);
-  const double scan_ms = std::chrono::duration<double, std::milli>(Clock::now() - t_scan).count();
+  const double scan_ms = ms_since(t_scan);
   // The dump has its own schedule; a dump error is returned unless rendering fails too.
   const Status dumped =
       dump_due ? dump_->write(comm_, particles_, global, box_, step, time) : Status();
@@ -191,8 +198,7 @@ Status Runtime::execute(int64_t step, double time) {
       if (!st.ok() && first_error.ok()) first_error = st;  // later scenes still render
     }
   }
-  const double total_ms =
-      scan_ms + std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+  const double total_ms = scan_ms + ms_since(t0);
   // What this call returns, and so what the step's stats line reports: the first scene's error,
   // else the dump's.
   const Status result = first_error.ok() ? dumped : first_error;

@@ -20,7 +20,7 @@
 #include "core/particles/particle_arrays.h"
 #include "core/pipeline/config_watch.h"
 #include "core/pipeline/scene_pass.h"
-#include "core/render/gl_session.h"
+#include "core/render/gl/gl_session.h"
 
 namespace lantern {
 

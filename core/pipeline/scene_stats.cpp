@@ -16,6 +16,19 @@ std::string spread_text(const char *what, const RankSpread &s, const char *forma
 
 }  // namespace
 
+void sum_counts_over_ranks(MPI_Comm comm, const CullStats &local, SceneStats *stats) {
+  int64_t in[6] = {local.drawn,      local.splatted,    local.frustum_culled,
+                   local.cut_culled, local.lod_dropped, local.occlusion_culled};
+  int64_t out[6] = {0, 0, 0, 0, 0, 0};
+  MPI_Allreduce(in, out, 6, MPI_INT64_T, MPI_SUM, comm);
+  stats->drawn = out[0];
+  stats->splatted = out[1];
+  stats->frustum_culled = out[2];
+  stats->cut_culled = out[3];
+  stats->lod_dropped = out[4];
+  stats->occlusion_culled = out[5];
+}
+
 std::string SceneStats::per_rank_line() const {
   if (!per_rank) return "";
   return "scene '" + name + "' per rank: " + spread_text("drawn", per_rank->drawn, "%.0f") + ", " +
@@ -27,6 +40,14 @@ std::string SceneStats::per_rank_line() const {
 nlohmann::json SceneStats::to_json() const {
   nlohmann::json j = counts_json();
   if (per_rank) j["per_rank"] = per_rank->to_json();
+  if (color_range) j["color_range"] = {(*color_range)[0], (*color_range)[1]};
+  if (movie) {
+    const MovieProgress &p = movie->progress;
+    j["movie"] = {{"file", p.file},         {"encoder", p.encoder},     {"frames", p.written},
+                  {"queued", p.queued},     {"dropped", p.dropped},     {"behind", movie->behind},
+                  {"ms", movie->submit_ms}, {"waited_ms", p.waited_ms}, {"encode_ms", p.encode_ms}};
+    if (!p.error.empty()) j["movie"]["error"] = p.error;
+  }
   if (probabilistic) {
     const ProbabilisticStats &p = *probabilistic;
     j["probabilistic"] = {{"iterations", p.iterations},

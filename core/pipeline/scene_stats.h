@@ -2,6 +2,9 @@
 // step's JSON stats line.
 #pragma once
 
+#include <mpi.h>
+
+#include <array>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -9,9 +12,17 @@
 #include <nlohmann/json.hpp>
 
 #include "core/culling/cull_stats.h"
+#include "core/output/movie/movie_writer.h"
 #include "core/pipeline/rank_spread.h"
 
 namespace lantern {
+
+// A scene's movie on one step (rank 0): JSON "movie".
+struct SceneMovieStats {
+  MovieProgress progress;  // after this step's frame was handed over
+  double submit_ms = 0.0;  // this step's cost: copying the frame into the queue (and any wait)
+  bool behind = false;     // this step's frame was dropped, or the step waited for the encoder
+};
 
 struct SceneStats {
   std::string name;
@@ -46,6 +57,11 @@ struct SceneStats {
   // occlusion: probabilistic: iterations and samples (the slowest rank), meshlets per class and
   // particles culled (summed over ranks). JSON "probabilistic".
   std::optional<ProbabilisticStats> probabilistic;
+  // output.movie: JSON "movie" {file, encoder, frames, queued, dropped, behind, ...}.
+  std::optional<SceneMovieStats> movie;
+  // color.by: scalar: the scalar range this frame's colours used (color.range). JSON
+  // "color_range": [lo, hi].
+  std::optional<std::array<double, 2>> color_range;
 
   nlohmann::json to_json() const;
   // One line for a log: the per-rank spread, e.g. "scene 'a' per rank: drawn 10..30 (imbalance
@@ -55,5 +71,10 @@ struct SceneStats {
  private:
   nlohmann::json counts_json() const;  // everything but per_rank
 };
+
+// Sums this rank's particle counts (`local`: drawn, splatted, and culled by frustum, cutting
+// planes, level of detail and occlusion) over the ranks of comm into *stats. Collective: one
+// reduction; every rank gets the sums.
+void sum_counts_over_ranks(MPI_Comm comm, const CullStats &local, SceneStats *stats);
 
 }  // namespace lantern

@@ -25,27 +25,28 @@ void CpuSpherePass::begin_strips(int count, const ViewGeometry &g, const Lightin
 }
 
 CullStats CpuSpherePass::run(const ParticleArrays &particles, const BrickSet &bricks,
-                             const SceneConfig &scene, const BrickSelection &sel,
-                             const InstanceRecipe &recipe, const uint8_t background[4],
-                             Frame *frame, DrawList *out, int64_t step, int threads) {
+                             const CullSettings &cull, const Lighting &lighting,
+                             const BrickSelection &sel, const InstanceRecipe &recipe,
+                             const uint8_t background[4], Frame *frame, DrawList *out, int64_t step,
+                             int threads) {
   if (sel.mode == OcclusionMode::kProbabilistic)
-    return run_probabilistic(particles, bricks, scene, sel, recipe, background, frame, out, step,
+    return run_probabilistic(particles, bricks, cull, sel, recipe, background, frame, out, step,
                              threads);
   CullStats st = sel.stats;
   out->clear();
   const ViewGeometry &g = sel.g;
   const bool occlusion = sel.mode == OcclusionMode::kHzb;
-  const bool point_path = scene.lod.point_path;
+  const bool point_path = cull.lod.point_path;
   const int count = split_strips(g.width, threads, &strips_);
   CpuSphereRaster::clear_target(g, background, frame);
-  begin_strips(count, g, &scene.lighting, frame);
+  begin_strips(count, g, &lighting, frame);
 
   const Frustum frustum(g);
-  const CutPlanes cuts(scene.cuts);
+  const CutPlanes cuts(cull.cuts);
   visit_positions(particles, [&](const auto &pos) {
     visit_radii(particles, sel.radius.per_particle, sel.radius.radius, [&](const auto &radius) {
       const CullPass<std::decay_t<decltype(pos)>, std::decay_t<decltype(radius)>> pass{
-          pos, radius, g, frustum, cuts, scene, bricks};
+          pos, radius, g, frustum, cuts, point_path, bricks};
       const auto strip = [&](int k) {
         CpuSphereRaster &raster = rasters_[size_t(k)];
         const auto covered = [&raster](const PixelRect &r, double z) {
@@ -85,22 +86,22 @@ CullStats CpuSpherePass::run(const ParticleArrays &particles, const BrickSet &br
 }
 
 CullStats CpuSpherePass::run_probabilistic(const ParticleArrays &particles, const BrickSet &bricks,
-                                           const SceneConfig &scene, const BrickSelection &sel,
+                                           const CullSettings &cull, const BrickSelection &sel,
                                            const InstanceRecipe &recipe,
                                            const uint8_t background[4], Frame *frame, DrawList *out,
                                            int64_t step, int threads) {
   CullStats st = sel.stats;
   out->clear();
-  st.probabilistic = probabilistic_.run(particles, bricks, scene, sel, step);
+  st.probabilistic = probabilistic_.run(particles, bricks, cull.probabilistic, sel, step);
   st.occlusion_culled = st.probabilistic.particles_culled;
   const ViewGeometry &g = sel.g;
-  const bool point_path = scene.lod.point_path;
+  const bool point_path = cull.lod.point_path;
   const int count = split_strips(g.width, threads, &strips_);
   CpuSphereRaster::clear_target(g, background, frame);
   begin_strips(count, g, nullptr, frame);  // the lighting the rasters last had (as before)
   const MeshletSet &ml = probabilistic_.meshlets();
   const Frustum frustum(g);
-  const CutPlanes cuts(scene.cuts);
+  const CutPlanes cuts(cull.cuts);
   for (const VisibleBrick &v : sel.visible) st.lod_dropped += bricks.bricks[v.brick].count - v.keep;
   visit_positions(particles, [&](const auto &pos) {
     visit_radii(particles, sel.radius.per_particle, sel.radius.radius, [&](const auto &radius) {

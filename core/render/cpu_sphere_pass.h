@@ -20,9 +20,10 @@
 #include "core/config/config.h"
 #include "core/culling/brick_selection.h"
 #include "core/culling/column_strips.h"
+#include "core/culling/cull_settings.h"
 #include "core/culling/cull_stats.h"
 #include "core/culling/draw_list.h"
-#include "core/culling/probabilistic_culler.h"
+#include "core/culling/probabilistic/probabilistic_culler.h"
 #include "core/particles/particle_arrays.h"
 #include "core/render/cpu_sphere_raster.h"
 #include "core/render/sphere_instances.h"
@@ -33,15 +34,15 @@ namespace lantern {
 class CpuSpherePass {
  public:
   // Clears `frame` to `background` (RGBA8) and draws into it the particles of `selection`
-  // (select_bricks for these particles, bricks and scene; its mode must be hzb, none or
-  // probabilistic), colored by `recipe`. `out` lists the spheres drawn (for the counts) and the
-  // points left to splat. `step` keys probabilistic culling's random numbers. Returns the
-  // selection's counts completed by this pass. `threads`: column strips drawn at once (the image
-  // and the lists are the same at any count).
-  CullStats run(const ParticleArrays &particles, const BrickSet &bricks, const SceneConfig &scene,
-                const BrickSelection &selection, const InstanceRecipe &recipe,
-                const uint8_t background[4], Frame *frame, DrawList *out, int64_t step = 0,
-                int threads = 2);
+  // (select_bricks for these particles, bricks and `cull`; its mode must be hzb, none or
+  // probabilistic), colored by `recipe` and lit by `lighting`. `out` lists the spheres drawn (for
+  // the counts) and the points left to splat. `step` keys probabilistic culling's random numbers.
+  // Returns the selection's counts completed by this pass. `threads`: column strips drawn at once
+  // (the image and the lists are the same at any count).
+  CullStats run(const ParticleArrays &particles, const BrickSet &bricks, const CullSettings &cull,
+                const Lighting &lighting, const BrickSelection &selection,
+                const InstanceRecipe &recipe, const uint8_t background[4], Frame *frame,
+                DrawList *out, int64_t step = 0, int threads = 2);
 
   // The meshlet classes of the last probabilistic run (tests).
   const ProbabilisticCuller &probabilistic() const { return probabilistic_; }
@@ -51,7 +52,7 @@ class CpuSpherePass {
   // visible set ray-cast exactly (no further occlusion test, so the culled share is the
   // method's own).
   CullStats run_probabilistic(const ParticleArrays &particles, const BrickSet &bricks,
-                              const SceneConfig &scene, const BrickSelection &selection,
+                              const CullSettings &cull, const BrickSelection &selection,
                               const InstanceRecipe &recipe, const uint8_t background[4],
                               Frame *frame, DrawList *out, int64_t step, int threads);
 

@@ -3,7 +3,7 @@
 // where llvmpipe spends most of its time on per-primitive setup and on fragments it cannot reject
 // early (the impostor shader writes depth).
 //
-// Each pixel centre gets the same ray as the OpenGL impostor shader (sphere_shaders.h), the hit
+// Each pixel centre gets the same ray as the OpenGL impostor shader (gl/sphere_shaders.h), the hit
 // depth as window depth in float, and the same headlight shading. Pixels are cast in tiles of
 // 8 x 8 (4 x 4, or one by one, for small spheres) by loops the compiler vectorises (an AVX2
 // clone is picked at load time where the CPU has it). Spheres wholly in front of the eye are

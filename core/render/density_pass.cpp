@@ -38,12 +38,12 @@ class DensityColors {
 
 }  // namespace
 
-void select_density_bricks(const BrickSet &bricks, const Camera &camera, const SceneConfig &scene,
+void select_density_bricks(const BrickSet &bricks, const Camera &camera, const CullSettings &cull,
                            const RadiusRule &radius, BrickSelection *out,
                            BrickCutCounts *cut_counts) {
-  SceneConfig all = scene;
-  all.culling.frustum = false;
-  all.culling.occlusion = OcclusionMode::kNone;
+  CullSettings all = cull;
+  all.frustum = false;
+  all.occlusion = OcclusionMode::kNone;
   select_bricks(bricks, camera, all, radius, out, cut_counts);
 }
 
@@ -52,14 +52,14 @@ int density_channels(ColorBy by) {
 }
 
 CullStats render_density(const ParticleArrays &particles, const BrickSet &bricks,
-                         const SceneConfig &scene, const BrickSelection &sel,
+                         const CullSettings &cull, const BrickSelection &sel,
                          const InstanceRecipe &recipe, DensityImage *image,
                          int64_t *pixels_written) {
   CullStats st = sel.stats;
   const ViewGeometry &g = sel.g;
   image->reset(g.width, g.height, density_channels(recipe.coloring.by));
   DensitySplatter splatter(g, image);
-  const CutPlanes cuts(scene.cuts);
+  const CutPlanes cuts(cull.cuts);
   const DensityColors colors(recipe, image->channels > 1);
   // A brick's kept particles are gathered first (positions, radii, colors: loads that do not
   // depend on each other, so the cache misses of a scattered published order overlap), then

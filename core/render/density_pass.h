@@ -14,6 +14,7 @@
 #include "core/camera/camera.h"
 #include "core/config/config.h"
 #include "core/culling/brick_selection.h"
+#include "core/culling/cull_settings.h"
 #include "core/culling/cull_stats.h"
 #include "core/particles/particle_arrays.h"
 #include "core/particles/radius_rule.h"
@@ -23,8 +24,8 @@
 namespace lantern {
 
 // select_bricks for a density scene: the scene's cutting planes and level of detail, every brick
-// otherwise (frustum off, occlusion none).
-void select_density_bricks(const BrickSet &bricks, const Camera &camera, const SceneConfig &scene,
+// otherwise (frustum off, occlusion none, whatever `cull` says).
+void select_density_bricks(const BrickSet &bricks, const Camera &camera, const CullSettings &cull,
                            const RadiusRule &radius, BrickSelection *out,
                            BrickCutCounts *cut_counts);
 
@@ -32,12 +33,13 @@ void select_density_bricks(const BrickSet &bricks, const Camera &camera, const S
 int density_channels(ColorBy by);
 
 // Resets `image` to the selection's size and `density_channels(recipe.coloring.by)` channels,
-// then splats the kept particles, colored by `recipe`. Counts: drawn = particles splatted onto
+// then splats the kept particles, colored by `recipe`, dropping those beyond `cull`'s cutting
+// planes in bricks the planes cut. Counts: drawn = particles splatted onto
 // the image, lod_dropped, cut_culled (by particle), frustum_culled = centre behind the near
 // plane or footprint wholly off the image. `pixels_written`, when given, receives the number of
 // pixel updates (the benchmark's memory traffic).
 CullStats render_density(const ParticleArrays &particles, const BrickSet &bricks,
-                         const SceneConfig &scene, const BrickSelection &selection,
+                         const CullSettings &cull, const BrickSelection &selection,
                          const InstanceRecipe &recipe, DensityImage *image,
                          int64_t *pixels_written = nullptr);
 

@@ -9,7 +9,7 @@
 // instance's alpha); the test (2 index + 1) x 255 < 32 x alpha8 is exact in integers and in
 // GLSL floats. Every 4 x 4 block of pixels (or of samples, when a scene is super-sampled)
 // therefore keeps exactly round-to-nearest(16 opacity) of its 16 fragments: opacity 0.5 keeps 8.
-// The GLSL copy lives in sphere_shaders.h (k_bayer); both must stay equal.
+// The GLSL copy lives in gl/sphere_shaders.h (k_bayer); both must stay equal.
 #pragma once
 
 #include <cstdint>

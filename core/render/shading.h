@@ -3,7 +3,7 @@
 //
 //   color = base * (kAmbient + kDiffuse * lambert) + kSpecular * lambert^kShininess,  clamped.
 //
-// Every renderer takes its constants from here - the OpenGL impostor shader (sphere_shaders.h,
+// Every renderer takes its constants from here - the OpenGL impostor shader (gl/sphere_shaders.h,
 // where they are injected into the GLSL source), the CPU ray-cast raster (cpu_sphere_raster.cpp)
 // and the CPU point splats (point_splats.cpp) - and all must use the same values, or their images
 // stop agreeing pixel for pixel. Change them here only.
@@ -47,7 +47,8 @@ static_assert(Lighting{}.ambient == kAmbient<double> && Lighting{}.diffuse == kD
               "Lighting's defaults (core/config/lighting.h) must be the headlight's constants");
 
 // A lighting that is not the default, in precision T (float: CPU raster; double: point splats;
-// the GLSL variant in sphere_shaders.h follows the same steps). Holds copies; thread-safe to use.
+// the GLSL variant in gl/sphere_shaders.h follows the same steps). Holds copies; thread-safe to
+// use.
 template <typename T>
 struct LightModel {
   explicit LightModel(const Lighting &l)

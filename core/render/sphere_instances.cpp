@@ -14,7 +14,7 @@ Coloring make_coloring(const ColorConfig &config, const Extent &global) {
   c.by = config.by;
   c.solid = to_rgb8(config.solid);
   c.palette = TypePalette(config.palette);
-  if (auto map = Colormap::named(config.colormap)) c.map = *map;
+  c.map = Colormap::choose(config.colormap, config.colormap_colors, config.reverse);
   if (config.range) {
     c.lo = (*config.range)[0];
     c.hi = (*config.range)[1];
@@ -25,19 +25,19 @@ Coloring make_coloring(const ColorConfig &config, const Extent &global) {
   return c;
 }
 
-InstanceRecipe make_recipe(const ParticleArrays &particles, const SceneConfig &scene,
+InstanceRecipe make_recipe(const ParticleArrays &particles, const ShadingSettings &shading,
                            const RadiusRule &radius, const Camera &camera, const Extent &global) {
   InstanceRecipe r;
   r.particles = &particles;
   r.origin = camera.origin;
   r.per_particle_radius = radius.per_particle;
   r.radius = float(radius.radius);
-  r.coloring = make_coloring(scene.color, global);
+  r.coloring = make_coloring(shading.color, global);
   // All opaque: no table, so alpha() costs one test (images without `opacity` are unchanged).
-  const bool see_through = std::any_of(scene.opacity.begin(), scene.opacity.end(),
+  const bool see_through = std::any_of(shading.opacity.begin(), shading.opacity.end(),
                                        [](double a) { return opacity_alpha8(a) < 255; });
   if (see_through)
-    for (const double a : scene.opacity) r.alpha_by_type.push_back(opacity_alpha8(a));
+    for (const double a : shading.opacity) r.alpha_by_type.push_back(opacity_alpha8(a));
   return r;
 }
 

@@ -11,8 +11,9 @@
 #include "core/particles/global_extent.h"
 #include "core/particles/particle_arrays.h"
 #include "core/particles/radius_rule.h"
+#include "core/render/gl/sphere_renderer.h"
 #include "core/render/object_occlusion.h"
-#include "core/render/sphere_renderer.h"
+#include "core/render/shading_settings.h"
 
 namespace lantern {
 
@@ -85,8 +86,8 @@ struct InstanceRecipe {
   }
 };
 
-// Colors from `scene.color` (ranges resolved against `global`), sizes by `radius`.
-InstanceRecipe make_recipe(const ParticleArrays &particles, const SceneConfig &scene,
+// Colors and opacity from `shading` (color ranges resolved against `global`), sizes by `radius`.
+InstanceRecipe make_recipe(const ParticleArrays &particles, const ShadingSettings &shading,
                            const RadiusRule &radius, const Camera &camera, const Extent &global);
 
 // Instances of every particle with finite coordinates, in published order.

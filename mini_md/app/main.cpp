@@ -1,6 +1,7 @@
 // mini_md: a Lennard-Jones molecular dynamics code with MPI domain decomposition that can drive
 // Lantern in situ. All physics lives in mini_md_lib; this file parses the command line, wires
 // the optional renderer and prints the summary.
+#include <lantern/lantern.h>
 #include <mpi.h>
 
 #include <cstdio>
@@ -90,6 +91,9 @@ int main(int argc, char **argv) {
     const CommandLine cl = parse_command_line(argc, argv);
     if (cl.help) {
       if (rank == 0) std::printf("%s", usage_text().c_str());
+    } else if (cl.version) {
+      // mini_md is versioned with the Lantern it is built in; the library it runs against says.
+      if (rank == 0) std::printf("mini_md (Lantern) %s\n", lantern_version());
     } else if (cl.dt_sweep) {
       code = run_sweep(cl, MPI_COMM_WORLD, rank, size);
     } else {

@@ -151,6 +151,8 @@ std::string usage_text() {
   --dt-sweep           NVE energy drift and wall time for dt in 0.001 .. 0.02
   --sweep-time T       simulated time per dt in the sweep (default 5)
   --csv FILE           write the sweep table as CSV too
+  --help               this text (also -h)
+  --version            mini_md's and Lantern's version
 )";
 }
 
@@ -174,6 +176,8 @@ CommandLine parse_command_line(int argc, const char *const *argv) {
     }
     if (opt == "--help" || opt == "-h")
       cl.help = true;
+    else if (opt == "--version")
+      cl.version = true;
     else if (opt == "--scene")
       r.scene = to_scene(value());
     else if (opt == "--shift")

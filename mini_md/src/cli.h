@@ -13,6 +13,7 @@ namespace mini_md {
 struct CommandLine {
   RunConfig run;
   bool help = false;
+  bool version = false;     // --version: print the version and run nothing
   bool dt_sweep = false;    // --dt-sweep: run the dt table instead of one simulation
   double sweep_time = 5.0;  // --sweep-time: simulated time per dt (LJ units)
   std::vector<double> sweep_dts{0.001, 0.002, 0.005, 0.01, 0.02};

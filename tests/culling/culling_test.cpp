@@ -14,9 +14,11 @@
 #include "core/bricks/brick_set.h"
 #include "core/camera/camera.h"
 #include "core/culling/cull_stage.h"
+#include "core/pipeline/rank_draw.h"
+#include "core/pipeline/scene_settings.h"
 #include "core/render/cpu_sphere_pass.h"
 #include "core/render/cpu_sphere_raster.h"
-#include "core/render/gl_session.h"
+#include "core/render/gl/gl_session.h"
 #include "core/render/point_splats.h"
 #include "core/render/sphere_instances.h"
 #include "tests/support/gl_test.h"
@@ -92,45 +94,40 @@ class CullingTest : public testing::GlTest {
     return f;
   }
 
-  // Renders brute force and culled; returns the culling stats and the number of differing
-  // pixels (color or depth).
+  // Renders brute force and the culled scene as the pipeline draws it with OpenGL; returns the
+  // culling stats and the number of differing pixels (color or depth).
   CullStats compare(const Cloud &c, const SceneConfig &s, const Camera &cam, int64_t *differ) {
     const ParticleArrays p = c.arrays();
-    const InstanceRecipe recipe = make_recipe(p, s, RadiusRule::of(s, p), cam, Extent{});
-    std::vector<SphereInstance> all, some;
+    const InstanceRecipe recipe =
+        make_recipe(p, shading_settings(s), radius_rule(s, p), cam, Extent{});
+    std::vector<SphereInstance> all;
     build_all_instances(recipe, &all);
     const Frame brute = render(all, cam);
     const BrickSet bricks = build_bricks(p, BrickOptions{});
-    Culler culler;
-    DrawList draw;
-    const CullStats st = culler.run(p, bricks, cam, s, &draw);
-    if (draw.everything)
-      build_all_instances(recipe, &some);
-    else
-      build_selected_instances(recipe, draw.spheres, &some);
-    const Frame culled = render(some, cam);
-    *differ = 0;
-    for (size_t i = 0; i < brute.pixel_count(); ++i)
-      if (brute.depth[i] != culled.depth[i] ||
-          std::memcmp(&brute.rgba[4 * i], &culled.rgba[4 * i], 4) != 0)
-        ++*differ;
-    return st;
+    SceneConfig on_gl = s;
+    on_gl.renderer = RendererChoice::kOpenGl;
+    RankScene scene(p, bricks, cam, on_gl);
+    scene.renderer = renderer_;
+    RankDrawScratch scratch;
+    Frame culled;
+    RankDraw drawn;
+    EXPECT_OK(draw_scene_on_rank(scene, &scratch, &culled, &drawn));
+    EXPECT_EQ(drawn.renderer, "opengl");
+    *differ = differing_pixels(brute, culled);
+    return drawn.cull;
   }
 
-  // The scene drawn by the CPU raster through the culler in s.culling.occlusion mode.
+  // The scene drawn by the CPU raster as the pipeline draws it without OpenGL, in
+  // s.culling.occlusion mode (one the CPU pass serves itself).
   Frame raster(const Cloud &c, const SceneConfig &s, const Camera &cam, CullStats *stats) {
     const ParticleArrays p = c.arrays();
-    const InstanceRecipe recipe = make_recipe(p, s, RadiusRule::of(s, p), cam, Extent{});
     const BrickSet bricks = build_bricks(p, BrickOptions{});
-    const Rgb8 bg = to_rgb8(s.background);
-    const uint8_t background[4] = {bg[0], bg[1], bg[2], 255};
-    BrickSelection selection;
-    select_bricks(bricks, cam, s, RadiusRule::of(s, p), &selection);
-    EXPECT_TRUE(cpu_pass_serves(selection.mode));
+    RankDrawScratch scratch;
     Frame frame;
-    CpuSpherePass pass;
-    DrawList draw;
-    *stats = pass.run(p, bricks, s, selection, recipe, background, &frame, &draw);
+    RankDraw drawn;
+    EXPECT_OK(draw_scene_on_rank(RankScene(p, bricks, cam, s), &scratch, &frame, &drawn));
+    EXPECT_EQ(drawn.cull.occlusion.find("no OpenGL"), std::string::npos) << drawn.cull.occlusion;
+    *stats = drawn.cull;
     return frame;
   }
 
@@ -255,7 +252,8 @@ TEST_F(CullingTest, CutPlanesDropParticlesOnThePositiveSide) {
   const BrickSet bricks = build_bricks(p, BrickOptions{});
   Culler culler;
   DrawList draw;
-  const CullStats st = culler.run(p, bricks, camera(s, c, orbit(30, 20)), s, &draw);
+  const CullStats st = culler.run(p, bricks, camera(s, c, orbit(30, 20)), cull_settings(s),
+                                  radius_rule(s, p), &draw);
   int64_t expect_kept = 0;
   for (size_t i = 0; i < c.xyz.size(); i += 3) expect_kept += c.xyz[i] <= 7.0;
   EXPECT_EQ(st.drawn, expect_kept);
@@ -271,7 +269,8 @@ TEST_F(CullingTest, BudgetIsServedFromBrickPrefixes) {
   const BrickSet bricks = build_bricks(p, BrickOptions{});
   Culler culler;
   DrawList draw;
-  const CullStats st = culler.run(p, bricks, camera(s, c, orbit(30, 20)), s, &draw);
+  const CullStats st = culler.run(p, bricks, camera(s, c, orbit(30, 20)), cull_settings(s),
+                                  radius_rule(s, p), &draw);
   EXPECT_LE(st.drawn, 4000 + int64_t(bricks.bricks.size()));
   EXPECT_GE(st.drawn, 3500);
   EXPECT_EQ(st.lod_dropped + st.drawn, st.candidates);
@@ -287,17 +286,18 @@ TEST_F(CullingTest, ScreenSpaceRuleAndPointPathTakeOverSubPixelSpheres) {
   Culler culler;
   DrawList draw;
   s.lod.min_pixels = 3.0;
-  CullStats st = culler.run(p, bricks, cam, s, &draw);
+  CullStats st = culler.run(p, bricks, cam, cull_settings(s), radius_rule(s, p), &draw);
   EXPECT_LT(st.drawn, st.candidates / 4);
   EXPECT_EQ(st.drawn + st.lod_dropped, st.candidates);
   s.lod.min_pixels = 0.0;
   s.lod.point_path = true;
-  st = culler.run(p, bricks, cam, s, &draw);
+  st = culler.run(p, bricks, cam, cull_settings(s), radius_rule(s, p), &draw);
   EXPECT_EQ(st.splatted, st.candidates);  // every sphere is below half a pixel here
   EXPECT_EQ(st.drawn, 0);
   // The splats land in the frame, nearest first.
   Frame f = render({}, cam);
-  const InstanceRecipe recipe = make_recipe(p, s, RadiusRule::of(s, p), cam, Extent{});
+  const InstanceRecipe recipe =
+      make_recipe(p, shading_settings(s), radius_rule(s, p), cam, Extent{});
   splat_points(
       p, false, s.radius, draw.points, culler.geometry(),
       [&recipe](int64_t i) { return recipe.color(i); }, &f);
@@ -385,7 +385,7 @@ TEST_F(CullingTest, CpuRasterCullsTheHiddenCrystalAndMatchesOpenGl) {
 
   const ParticleArrays p = c.arrays();
   std::vector<SphereInstance> all;
-  build_all_instances(make_recipe(p, s, RadiusRule::of(s, p), cam, Extent{}), &all);
+  build_all_instances(make_recipe(p, shading_settings(s), radius_rule(s, p), cam, Extent{}), &all);
   const Frame gl = render(all, cam);
   int64_t background_mismatch = 0, off_by_more = 0;
   double squared = 0.0;
@@ -468,7 +468,8 @@ TEST_F(CullingTest, OpenGlMatchesCpuRasterWithTheCameraInsideACrystal) {
     const Frame cpu = raster(c, s, cam, &st);
     const ParticleArrays p = c.arrays();
     std::vector<SphereInstance> all;
-    build_all_instances(make_recipe(p, s, RadiusRule::of(s, p), cam, Extent{}), &all);
+    build_all_instances(make_recipe(p, shading_settings(s), radius_rule(s, p), cam, Extent{}),
+                        &all);
     const Frame gl = render(all, cam);
     const RendererDifference d = renderer_difference(gl, cpu);
     // From outside the renderers differ in a pixel or two where intersecting spheres' float and
@@ -483,7 +484,8 @@ TEST_F(CullingTest, OpenGlMatchesCpuRasterWithTheCameraInsideACrystal) {
     const Camera far_cam = camera(s, c, orbit_cfg);
     const Frame cpu_out = raster(c, s, far_cam, &st);
     std::vector<SphereInstance> all_out;
-    build_all_instances(make_recipe(p, s, RadiusRule::of(s, p), far_cam, Extent{}), &all_out);
+    build_all_instances(make_recipe(p, shading_settings(s), radius_rule(s, p), far_cam, Extent{}),
+                        &all_out);
     outside.add(renderer_difference(render(all_out, far_cam), cpu_out));
   }
   std::printf(

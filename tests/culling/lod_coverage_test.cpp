@@ -13,8 +13,8 @@
 #include "core/bricks/brick_set.h"
 #include "core/camera/camera.h"
 #include "core/culling/brick_selection.h"
-#include "core/render/cpu_sphere_pass.h"
-#include "core/render/sphere_instances.h"
+#include "core/pipeline/rank_draw.h"
+#include "core/pipeline/scene_settings.h"
 #include "tests/support/bricked_particles.h"
 
 namespace lantern {
@@ -53,15 +53,11 @@ SceneConfig scene(double fraction, SceneStyle style = SceneStyle::kSpheres) {
 // Pixels the CPU raster (with hzb) covers, i.e. not left at the background.
 int64_t covered_pixels(const Cloud &c, const SceneConfig &s) {
   const Camera cam = c.camera(s);
-  const RadiusRule radius = RadiusRule::of(s, c.arrays);
-  const InstanceRecipe recipe = make_recipe(c.arrays, s, radius, cam, Extent{});
-  BrickSelection sel;
-  select_bricks(c.bricks, cam, s, radius, &sel);
-  const uint8_t background[4] = {0, 0, 0, 255};
+  RankDrawScratch scratch;
   Frame frame;
-  CpuSpherePass pass;
-  DrawList draw;
-  pass.run(c.arrays, c.bricks, s, sel, recipe, background, &frame, &draw);
+  RankDraw drawn;
+  EXPECT_TRUE(
+      draw_scene_on_rank(RankScene(c.arrays, c.bricks, cam, s), &scratch, &frame, &drawn).ok());
   int64_t covered = 0;
   for (size_t p = 0; p < frame.pixel_count(); ++p) covered += frame.depth[p] < kBackgroundDepth;
   return covered;
@@ -81,7 +77,7 @@ TEST(LodCoverage, GrowthBySquareRootOnlyForSubPixelOpaqueBricks) {
   const Cloud far_cloud(40000, 200.0), near_cloud(40000, 40.0);  // ~0.35 px and ~2 px spheres
   const auto growths = [](const Cloud &c, const SceneConfig &s) {
     BrickSelection sel;
-    select_bricks(c.bricks, c.camera(s), s, RadiusRule::of(s, c.arrays), &sel);
+    select_bricks(c.bricks, c.camera(s), cull_settings(s), radius_rule(s, c.arrays), &sel);
     std::vector<double> expected_exponent;  // log(scale) / log(n / keep) per reduced brick
     for (const VisibleBrick &v : sel.visible) {
       const double ratio = double(c.bricks.bricks[v.brick].count) / double(v.keep);

@@ -11,7 +11,8 @@
 #include "core/bricks/brick_set.h"
 #include "core/camera/camera.h"
 #include "core/culling/brick_selection.h"
-#include "core/render/cpu_sphere_pass.h"
+#include "core/pipeline/rank_draw.h"
+#include "core/pipeline/scene_settings.h"
 #include "core/render/density_pass.h"
 #include "core/render/sphere_instances.h"
 #include "tests/support/bricked_particles.h"
@@ -48,27 +49,24 @@ Camera camera_for(const SceneConfig &s) {
 
 Frame spheres(const Lattice &l, const SceneConfig &s, int64_t *lod_dropped) {
   const Camera cam = camera_for(s);
-  const RadiusRule radius = RadiusRule::of(s, l.arrays);
-  const InstanceRecipe recipe = make_recipe(l.arrays, s, radius, cam, Extent{});
-  BrickSelection sel;
-  select_bricks(l.bricks, cam, s, radius, &sel);
-  const uint8_t background[4] = {255, 255, 255, 255};
+  RankDrawScratch scratch;
   Frame frame;
-  CpuSpherePass pass;
-  DrawList draw;
-  *lod_dropped =
-      pass.run(l.arrays, l.bricks, s, sel, recipe, background, &frame, &draw).lod_dropped;
+  RankDraw drawn;
+  EXPECT_TRUE(
+      draw_scene_on_rank(RankScene(l.arrays, l.bricks, cam, s), &scratch, &frame, &drawn).ok());
+  *lod_dropped = drawn.cull.lod_dropped;
   return frame;
 }
 
 std::vector<int64_t> density(const Lattice &l, const SceneConfig &s, int64_t *lod_dropped) {
   const Camera cam = camera_for(s);
-  const RadiusRule radius = RadiusRule::of(s, l.arrays);
-  const InstanceRecipe recipe = make_recipe(l.arrays, s, radius, cam, Extent{});
+  const RadiusRule radius = radius_rule(s, l.arrays);
+  const InstanceRecipe recipe = make_recipe(l.arrays, shading_settings(s), radius, cam, Extent{});
   BrickSelection sel;
-  select_density_bricks(l.bricks, cam, s, radius, &sel, nullptr);
+  select_density_bricks(l.bricks, cam, cull_settings(s), radius, &sel, nullptr);
   DensityImage image;
-  *lod_dropped = render_density(l.arrays, l.bricks, s, sel, recipe, &image).lod_dropped;
+  *lod_dropped =
+      render_density(l.arrays, l.bricks, cull_settings(s), sel, recipe, &image).lod_dropped;
   return image.sum;
 }
 

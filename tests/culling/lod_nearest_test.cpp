@@ -18,8 +18,8 @@
 #include "core/culling/brick_selection.h"
 #include "core/culling/cull_pass.h"
 #include "core/culling/cull_stage.h"
-#include "core/render/cpu_sphere_pass.h"
-#include "core/render/sphere_instances.h"
+#include "core/pipeline/rank_draw.h"
+#include "core/pipeline/scene_settings.h"
 #include "tests/support/bricked_particles.h"
 
 namespace lantern {
@@ -77,14 +77,13 @@ struct Render {
 
 Render render(const Block &b, const SceneConfig &s) {
   const Camera cam = camera_for(b, s);
-  const RadiusRule radius = RadiusRule::of(s, b.arrays);
-  const InstanceRecipe recipe = make_recipe(b.arrays, s, radius, cam, Extent{});
   Render r;
-  select_bricks(b.bricks, cam, s, radius, &r.sel);
-  const uint8_t background[4] = {255, 255, 255, 255};
-  CpuSpherePass pass;
-  DrawList draw;
-  r.stats = pass.run(b.arrays, b.bricks, s, r.sel, recipe, background, &r.frame, &draw);
+  RankDrawScratch scratch;
+  RankDraw drawn;
+  EXPECT_TRUE(
+      draw_scene_on_rank(RankScene(b.arrays, b.bricks, cam, s), &scratch, &r.frame, &drawn).ok());
+  r.stats = drawn.cull;
+  r.sel = scratch.selection;
   return r;
 }
 
@@ -164,14 +163,15 @@ TEST(LodNearest, KeepsExactlyTheNearestKeepOfEachBrickDeterministically) {
   SceneConfig s = scene_of(0.5, LodSelect::kNearest, true);
   s.culling.occlusion = OcclusionMode::kNone;  // draws every kept particle: the selection itself
   const Camera cam = camera_for(block, s);
-  const RadiusRule radius = RadiusRule::of(s, block.arrays);
+  const RadiusRule radius = radius_rule(s, block.arrays);
   BrickSelection sel;
-  select_bricks(block.bricks, cam, s, radius, &sel);
+  const CullSettings cull = cull_settings(s);
+  select_bricks(block.bricks, cam, cull, radius, &sel);
   ASSERT_GT(nearest_bricks(sel), 0);
   Culler culler;
   DrawList first, second;
-  const CullStats st = culler.cull(block.arrays, block.bricks, s, sel, &first);
-  culler.cull(block.arrays, block.bricks, s, sel, &second);
+  const CullStats st = culler.cull(block.arrays, block.bricks, cull, sel, &first);
+  culler.cull(block.arrays, block.bricks, cull, sel, &second);
   EXPECT_EQ(first.spheres, second.spheres);
 
   std::set<uint32_t> drawn;

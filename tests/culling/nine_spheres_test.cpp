@@ -12,6 +12,7 @@
 #include "core/config/enum_names.h"
 #include "core/culling/cull_stage.h"
 #include "core/culling/nine_spheres.h"
+#include "core/pipeline/scene_settings.h"
 #include "core/render/cpu_sphere_raster.h"
 #include "tests/support/status_expect.h"
 
@@ -138,7 +139,8 @@ class NineSpheresEquivalentRadius : public ::testing::Test {
     s.culling.nine_spheres_radius = rule;
     Culler culler;
     DrawList draw;
-    culler.run(p, build_bricks(p, BrickOptions{}), camera_, s, &draw);
+    culler.run(p, build_bricks(p, BrickOptions{}), camera_, cull_settings(s), radius_rule(s, p),
+               &draw);
     EXPECT_FALSE(draw.everything);
     std::vector<bool> out(type_.size(), true);
     for (const uint64_t e : draw.spheres) out[entry_index(e)] = false;

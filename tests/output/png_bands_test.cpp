@@ -191,8 +191,10 @@ TEST(PngBands, IndependentBandsWithEveryFilterAndStrategy) {
           for (size_t b = 0; b < std::size(split); ++b) {
             const uint8_t *first = img.rgba.data() + size_t(y) * img.width * 4;
             const uint8_t *previous = with_previous_row && y > 0 ? first - img.width * 4 : nullptr;
-            bands.push_back(deflate_png_band(first, img.width, split[b], channels,
-                                             b + 1 == std::size(split), 6, previous, options));
+            bands.emplace_back();
+            ASSERT_OK(deflate_png_band(first, img.width, split[b], channels,
+                                       b + 1 == std::size(split), 6, &bands.back(), previous,
+                                       options));
             EXPECT_EQ(bands.back().raw_len, uint64_t(split[b]) * (1 + img.width * channels));
             y += split[b];
           }
@@ -267,7 +269,10 @@ TEST(PngBands, ContainerIsWellFormedWithMebibyteIdatChunks) {
 TEST(PngBands, MismatchedBandsAreRejectedWithAMessage) {
   const Image img = rendered_image(16, 8, 9);
   const auto band = [&](int y0, int rows, bool last, int channels = 4, int width = 16) {
-    return deflate_png_band(img.rgba.data() + size_t(y0) * 16 * 4, width, rows, channels, last, 1);
+    PngBand out;
+    EXPECT_OK(deflate_png_band(img.rgba.data() + size_t(y0) * 16 * 4, width, rows, channels, last,
+                               1, &out));
+    return out;
   };
   std::vector<uint8_t> png = {1, 2, 3};
   const auto rejected = [](const Status &s) {
@@ -298,12 +303,19 @@ TEST(PngBands, MismatchedBandsAreRejectedWithAMessage) {
 
 TEST(PngBands, BadArgumentsAreRejected) {
   const Image img = rendered_image(4, 4, 10);
-  EXPECT_THROW(deflate_png_band(img.rgba.data(), 0, 4, 4, true, 1), std::invalid_argument);
-  EXPECT_THROW(deflate_png_band(img.rgba.data(), 4, -1, 4, true, 1), std::invalid_argument);
-  EXPECT_THROW(deflate_png_band(img.rgba.data(), 4, 4, 2, true, 1), std::invalid_argument);
-  EXPECT_THROW(deflate_png_band(img.rgba.data(), 4, 4, 4, true, 10), std::invalid_argument);
-  EXPECT_THROW(deflate_png_band(nullptr, 4, 4, 4, true, 1), std::invalid_argument);
-  EXPECT_NO_THROW(deflate_png_band(nullptr, 4, 0, 4, true, 1));
+  PngBand band;
+  const auto refused = [&band](const Status &s) {
+    return s.code == StatusCode::kInvalidArgument && !s.message.empty() && band.bytes.empty() &&
+           band.rows == 0;
+  };
+  EXPECT_TRUE(refused(deflate_png_band(img.rgba.data(), 0, 4, 4, true, 1, &band)));
+  EXPECT_TRUE(refused(deflate_png_band(img.rgba.data(), 4, -1, 4, true, 1, &band)));
+  EXPECT_TRUE(refused(deflate_png_band(img.rgba.data(), 4, 4, 2, true, 1, &band)));
+  EXPECT_TRUE(refused(deflate_png_band(img.rgba.data(), 4, 4, 4, true, 10, &band)));
+  EXPECT_TRUE(refused(deflate_png_band(nullptr, 4, 4, 4, true, 1, &band)));
+  EXPECT_TRUE(refused(deflate_png_band(img.rgba.data(), 4, 4, 4, true, 1, nullptr)));
+  EXPECT_OK(deflate_png_band(nullptr, 4, 0, 4, true, 1, &band));
+  EXPECT_TRUE(band.last);
 
   const auto rejected = [](const Status &s, const std::vector<uint8_t> &png) {
     return s.code == StatusCode::kInvalidArgument && !s.message.empty() && png.empty();

@@ -9,8 +9,9 @@
 
 #include "core/bricks/brick_set.h"
 #include "core/camera/camera.h"
-#include "core/composite/density_transfer.h"
 #include "core/culling/brick_selection.h"
+#include "core/finish/density_transfer.h"
+#include "core/pipeline/scene_settings.h"
 #include "core/render/density_pass.h"
 #include "core/render/density_splat.h"
 #include "core/view/view_geometry.h"
@@ -234,13 +235,15 @@ struct Cloud : testing::BrickedParticles {
 double rendered_weight(const Cloud &cloud, const SceneConfig &scene, const Camera &camera,
                        int64_t *drawn) {
   BrickSelection sel;
-  const RadiusRule radius = RadiusRule::of(scene, cloud.arrays);
-  select_density_bricks(cloud.bricks, camera, scene, radius, &sel, nullptr);
+  const RadiusRule radius = radius_rule(scene, cloud.arrays);
+  select_density_bricks(cloud.bricks, camera, cull_settings(scene), radius, &sel, nullptr);
   Extent ext;
   ext.lo = {1, 1, 1}, ext.hi = {9, 9, 9};
-  const InstanceRecipe recipe = make_recipe(cloud.arrays, scene, radius, camera, ext);
+  const InstanceRecipe recipe =
+      make_recipe(cloud.arrays, shading_settings(scene), radius, camera, ext);
   DensityImage image;
-  const CullStats st = render_density(cloud.arrays, cloud.bricks, scene, sel, recipe, &image);
+  const CullStats st =
+      render_density(cloud.arrays, cloud.bricks, cull_settings(scene), sel, recipe, &image);
   *drawn = st.drawn;
   EXPECT_EQ(st.drawn + st.lod_dropped, 60000);
   return total_weight(image);

@@ -14,7 +14,7 @@
 #include <vector>
 
 #include "core/pipeline/runtime.h"
-#include "core/render/gl_session.h"
+#include "core/render/gl/gl_session.h"
 #include "tests/support/image_file.h"
 #include "tests/support/one_step_render.h"
 #include "tests/support/status_expect.h"

@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "core/pipeline/runtime.h"
-#include "core/render/gl_session.h"
+#include "core/render/gl/gl_session.h"
 #include "core/render/screen_door.h"
 #include "tests/support/image_file.h"
 #include "tests/support/one_step_render.h"

@@ -10,7 +10,7 @@
 #include <cstdio>
 
 #include "core/camera/camera.h"
-#include "core/composite/sample_downsampling.h"
+#include "core/finish/sample_downsampling.h"
 #include "core/render/cpu_sphere_raster.h"
 #include "core/view/view_geometry.h"
 #include "tests/support/status_expect.h"

@@ -5,7 +5,7 @@
 
 #include <memory>
 
-#include "core/render/gl_session.h"
+#include "core/render/gl/gl_session.h"
 #include "tests/support/status_expect.h"
 
 namespace lantern::testing {

@@ -31,19 +31,17 @@ int first_band(int w, int workers, int n) {
 // saying why not (the file cannot be produced).
 Status deflate_bands(const uint8_t *rows, int width, int height, int n, int b0, int b1, int level,
                      int channels, std::vector<PngBand> *out) {
-  try {
-    const size_t row_bytes = size_t(width) * kChannels;
-    const PngBandOptions options = png_options_for_level(level);
-    for (int b = b0; b < b1; ++b) {
-      const int first = first_row(b, n, height), count = first_row(b + 1, n, height) - first;
-      const uint8_t *p = rows + size_t(first - first_row(b0, n, height)) * row_bytes;
-      (*out)[size_t(b)] =
-          deflate_png_band(p, width, count, channels, b == n - 1, level, nullptr, options);
-    }
-    return {};
-  } catch (const std::exception &e) {
-    return {StatusCode::kIo, e.what()};
+  const size_t row_bytes = size_t(width) * kChannels;
+  const PngBandOptions options = png_options_for_level(level);
+  for (int b = b0; b < b1; ++b) {
+    const int first = first_row(b, n, height), count = first_row(b + 1, n, height) - first;
+    const uint8_t *p = rows + size_t(first - first_row(b0, n, height)) * row_bytes;
+    if (Status s = deflate_png_band(p, width, count, channels, b == n - 1, level,
+                                    &(*out)[size_t(b)], nullptr, options);
+        !s.ok())
+      return {StatusCode::kIo, s.message};
   }
+  return {};
 }
 
 // RGB when every pixel is opaque (Lantern's frames always are): a quarter less to compress.

@@ -84,11 +84,13 @@ PngBandOptions png_options_for_level(int level) {
   return PngBandOptions{PngFilter::kSub, level == 1 ? PngStrategy::kRuns : PngStrategy::kRle};
 }
 
-PngBand deflate_png_band(const uint8_t *rgba, int width, int rows, int channels_out, bool last_band,
-                         int level, const uint8_t *previous_row, const PngBandOptions &options) {
-  if (width < 1 || rows < 0 || (channels_out != 3 && channels_out != 4) || level < 0 || level > 9 ||
-      (!rgba && rows > 0))
-    throw std::invalid_argument("deflate_png_band: bad arguments");
+namespace {
+
+// deflate_png_band after its argument checks. Throws std::bad_alloc, or std::runtime_error when
+// zlib fails.
+PngBand deflate_checked_band(const uint8_t *rgba, int width, int rows, int channels_out,
+                             bool last_band, int level, const uint8_t *previous_row,
+                             const PngBandOptions &options) {
   const size_t src_stride = size_t(width) * 4;
   const size_t row_bytes = size_t(width) * size_t(channels_out);
   const size_t line_bytes = row_bytes + 1;
@@ -160,6 +162,27 @@ PngBand deflate_png_band(const uint8_t *rgba, int width, int rows, int channels_
   return band;
 }
 
+}  // namespace
+
+Status deflate_png_band(const uint8_t *rgba, int width, int rows, int channels_out, bool last_band,
+                        int level, PngBand *band, const uint8_t *previous_row,
+                        const PngBandOptions &options) {
+  if (!band) return {StatusCode::kInvalidArgument, "deflate_png_band: no output band"};
+  *band = PngBand();
+  if (width < 1 || rows < 0 || (channels_out != 3 && channels_out != 4) || level < 0 || level > 9 ||
+      (!rgba && rows > 0))
+    return {StatusCode::kInvalidArgument, "deflate_png_band: bad arguments"};
+  try {
+    *band = deflate_checked_band(rgba, width, rows, channels_out, last_band, level, previous_row,
+                                 options);
+    return {};
+  } catch (const std::bad_alloc &e) {
+    return {StatusCode::kOutOfMemory, std::string("deflate_png_band: ") + e.what()};
+  } catch (const std::exception &e) {  // zlib failed
+    return {StatusCode::kInternal, std::string("deflate_png_band: ") + e.what()};
+  }
+}
+
 Status encode_png(const uint8_t *rgba, int width, int height, int channels_out, int level,
                   int threads, std::vector<uint8_t> *file, const PngBandOptions &options) {
   if (!file) return {StatusCode::kInvalidArgument, "encode_png: no output buffer"};
@@ -170,17 +193,14 @@ Status encode_png(const uint8_t *rgba, int width, int height, int channels_out, 
     return {StatusCode::kInvalidArgument, "encode_png: channels_out must be 3 or 4 and level 0..9"};
   const int n = std::clamp(threads, 1, height);
   std::vector<PngBand> bands(static_cast<size_t>(n));
-  std::vector<std::exception_ptr> failures(static_cast<size_t>(n));
+  std::vector<Status> failures(static_cast<size_t>(n));
   const size_t stride = size_t(width) * 4;
   const auto compress = [&](int b) {
-    try {
-      const int y0 = int(int64_t(height) * b / n), y1 = int(int64_t(height) * (b + 1) / n);
-      const uint8_t *first = rgba + size_t(y0) * stride;
-      bands[size_t(b)] = deflate_png_band(first, width, y1 - y0, channels_out, b + 1 == n, level,
-                                          y0 > 0 ? first - stride : nullptr, options);
-    } catch (...) {
-      failures[size_t(b)] = std::current_exception();
-    }
+    const int y0 = int(int64_t(height) * b / n), y1 = int(int64_t(height) * (b + 1) / n);
+    const uint8_t *first = rgba + size_t(y0) * stride;
+    failures[size_t(b)] =
+        deflate_png_band(first, width, y1 - y0, channels_out, b + 1 == n, level, &bands[size_t(b)],
+                         y0 > 0 ? first - stride : nullptr, options);
   };
   std::vector<std::thread> workers;
   Status started;
@@ -194,20 +214,8 @@ Status encode_png(const uint8_t *rgba, int width, int height, int channels_out, 
   if (started.ok()) compress(0);
   for (std::thread &t : workers) t.join();
   if (!started.ok()) return started;
-  for (const std::exception_ptr &f : failures) {
-    if (!f) continue;
-    try {
-      std::rethrow_exception(f);
-    } catch (const std::invalid_argument &e) {
-      return {StatusCode::kInvalidArgument, std::string("encode_png: ") + e.what()};
-    } catch (const std::bad_alloc &e) {
-      return {StatusCode::kOutOfMemory, std::string("encode_png: ") + e.what()};
-    } catch (const std::exception &e) {  // zlib failed
-      return {StatusCode::kInternal, std::string("encode_png: ") + e.what()};
-    } catch (...) {
-      return {StatusCode::kInternal, "encode_png: unknown error"};
-    }
-  }
+  for (const Status &f : failures)
+    if (!f.ok()) return with_context("encode_png: ", f);
   return assemble_png(bands, width, height, channels_out, file);
 }
 

@@ -28,9 +28,7 @@
 //
 // Ownership: the functions read the caller's pixels during the call only and return buffers
 // the caller owns. Thread-safety: pure functions without shared state; call them from any
-// thread, concurrently. Errors: deflate_png_band throws std::invalid_argument for bad arguments
-// (and std::bad_alloc / std::runtime_error if zlib runs out of memory); encode_png never throws
-// and returns a Status.
+// thread, concurrently. Errors: both return a Status and never throw.
 #pragma once
 
 #include <cstdint>
@@ -64,11 +62,12 @@ PngBandOptions png_options_for_level(int level);
 // the pieces of consecutive bands, in order, form one deflate stream. `level` is the zlib
 // level 0..9. `previous_row`: the RGBA8 row just above the band (width * 4 bytes) or nullptr;
 // only Up / Average / Paeth use it. rows == 0 is allowed (an empty piece).
-// Throws std::invalid_argument if width < 1, rows < 0, channels_out is not 3 or 4, level is
-// outside 0..9 or rgba is null with rows > 0.
-PngBand deflate_png_band(const uint8_t *rgba, int width, int rows, int channels_out, bool last_band,
-                         int level, const uint8_t *previous_row = nullptr,
-                         const PngBandOptions &options = {});
+// Replaces *band and returns OK; else leaves *band empty and returns kInvalidArgument (width < 1,
+// rows < 0, channels_out not 3 or 4, level outside 0..9, rgba null with rows > 0, band null),
+// kOutOfMemory, or kInternal (zlib failed).
+Status deflate_png_band(const uint8_t *rgba, int width, int rows, int channels_out, bool last_band,
+                        int level, PngBand *band, const uint8_t *previous_row = nullptr,
+                        const PngBandOptions &options = {});
 
 // The whole image in one call: splits `rgba` (width x height RGBA8, top row first) into
 // min(threads, height) bands of near-equal row counts, compresses them on that many threads

@@ -8,13 +8,12 @@
 #include <chrono>
 #include <vector>
 
+#include "core/common/ms_since.h"
+
 namespace lantern::bench {
 
 using Clock = std::chrono::steady_clock;
-
-inline double ms_since(Clock::time_point t0) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
-}
+using lantern::ms_since;  // core/common/ms_since.h
 
 // CPU time of the calling thread: what a single-threaded stage costs per core, without the
 // waiting a loaded machine adds to wall-clock time.

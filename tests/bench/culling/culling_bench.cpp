@@ -45,8 +45,9 @@
 #include "core/culling/cull_stage.h"
 #include "core/culling/cut_planes.h"
 #include "core/particles/particle_scan.h"
+#include "core/pipeline/scene_settings.h"
 #include "core/render/cpu_sphere_pass.h"
-#include "core/render/gl_session.h"
+#include "core/render/gl/gl_session.h"
 #include "core/render/point_splats.h"
 #include "core/render/sphere_instances.h"
 #include "density_bench.h"
@@ -163,7 +164,7 @@ class Bench {
   void run_scene(const BenchScene &bs, std::ostream &csv, std::vector<PlotPoint> *plot) {
     const ParticleArrays p = bs.arrays();
     const Extent ext = scan_particles(p, bs.config.per_particle_radius, bs.config.radius);
-    const double max_radius = RadiusRule::of(bs.config, p).max_radius(ext);
+    const double max_radius = radius_rule(bs.config, p).max_radius(ext);
     // Bricks: once per step in Lantern; timed apart (median of 3 builds).
     std::vector<double> build;
     BrickSet bricks;
@@ -210,7 +211,7 @@ class Bench {
         return;
       }
       const InstanceRecipe recipe =
-          make_recipe(p, view.config, RadiusRule::of(view.config, p), cam, ext);
+          make_recipe(p, shading_settings(view.config), radius_rule(view.config, p), cam, ext);
       std::vector<Result> &results = per_view[size_t(k)];
       for (int run = 0; run < opt_.runs; ++run)
         for (size_t m = 0; m < all.size(); ++m)
@@ -234,14 +235,16 @@ class Bench {
     sc.culling.probabilistic = mode.probabilistic;
     sc.lod = mode.lod;
     sc.renderer = mode.cpu ? RendererChoice::kCpu : RendererChoice::kOpenGl;
+    const CullSettings cull = cull_settings(sc);  // resolved outside the timed work
     Frame &f = keep ? r->frame : scratch_frame_;
     if (mode.cpu) {  // one fused pass: culling and drawing
       const Rgb8 bg = to_rgb8(sc.background);
       const uint8_t background[4] = {bg[0], bg[1], bg[2], 255};
       const auto t0 = Clock::now();
       const double cpu0 = thread_cpu_ms();
-      select_bricks(bricks, cam, sc, RadiusRule::of(sc, p), &selection_);
-      r->stats = cpu_pass_.run(p, bricks, sc, selection_, recipe, background, &f, &draw_);
+      select_bricks(bricks, cam, cull, radius_rule(sc, p), &selection_);
+      r->stats =
+          cpu_pass_.run(p, bricks, cull, sc.lighting, selection_, recipe, background, &f, &draw_);
       r->drawn = r->stats.drawn;
       r->cull_cpu.push_back(thread_cpu_ms() - cpu0);
       r->cull.push_back(ms_since(t0));
@@ -255,7 +258,7 @@ class Bench {
       brute_force_instances(p, sc, recipe);
       r->drawn = int64_t(instances_.size());
     } else {
-      r->stats = culler_.run(p, bricks, cam, sc, &draw_);
+      r->stats = culler_.run(p, bricks, cam, cull, radius_rule(sc, p), &draw_);
       if (draw_.everything)
         build_all_instances(recipe, &instances_);
       else

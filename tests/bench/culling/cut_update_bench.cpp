@@ -17,6 +17,7 @@
 
 #include "bench_scenes.h"
 #include "core/bricks/brick_set.h"
+#include "core/common/ms_since.h"
 #include "core/culling/brick_cut_counts.h"
 #include "core/culling/cut_planes.h"
 
@@ -34,7 +35,7 @@ template <typename F>
 double time_ms(F &&f) {
   const auto t0 = Clock::now();
   f();
-  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+  return ms_since(t0);
 }
 
 // Classification from scratch; the sides go to *out so the work cannot be skipped.

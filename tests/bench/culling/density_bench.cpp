@@ -1,4 +1,5 @@
 #include "density_bench.h"
+#include "core/pipeline/scene_settings.h"
 
 #include <algorithm>
 #include <chrono>
@@ -11,7 +12,7 @@
 #include "bench_timing.h"
 #include "core/bricks/brick_set.h"
 #include "core/camera/camera.h"
-#include "core/composite/density_transfer.h"
+#include "core/finish/density_transfer.h"
 #include "core/particles/particle_scan.h"
 #include "core/particles/typed_access.h"
 #include "core/render/density_pass.h"
@@ -87,7 +88,7 @@ bool run_at(const BenchScene &bs, const ParticleArrays &p, const BrickSet &brick
   std::snprintf(label_text, sizeof label_text, "%s_%d@r%g", bs.name.c_str(), sc.width, sc.radius);
   const std::string name = label_text;
   const Extent ext = scan_particles(p, sc.per_particle_radius, sc.radius);
-  const RadiusRule radius = RadiusRule::of(sc, p);
+  const RadiusRule radius = radius_rule(sc, p);
   Camera cam;
   const glm::dvec3 lo{ext.lo[0], ext.lo[1], ext.lo[2]}, hi{ext.hi[0], ext.hi[1], ext.hi[2]};
   if (Status s = make_camera(sc.camera, lo, hi, radius.max_radius(ext), sc.width, sc.height, &cam);
@@ -95,7 +96,7 @@ bool run_at(const BenchScene &bs, const ParticleArrays &p, const BrickSet &brick
     std::printf("%s: camera: %s\n", name.c_str(), s.message.c_str());
     return true;
   }
-  const InstanceRecipe recipe = make_recipe(p, sc, radius, cam, ext);
+  const InstanceRecipe recipe = make_recipe(p, shading_settings(sc), radius, cam, ext);
   std::vector<Sample> samples;
   for (const double f : {1.0, 0.5, 0.25, 0.1, 0.01}) {
     const std::string pct = std::to_string(int(std::lround(f * 100))) + "%";
@@ -103,17 +104,18 @@ bool run_at(const BenchScene &bs, const ParticleArrays &p, const BrickSet &brick
     if (f < 1.0) samples.push_back({"random_" + pct, f, true, {}, {}, 0, 0, {}, {}});
   }
   BrickSelection sel;
+  const CullSettings cull = cull_settings(sc);
   // Run 0 warms up (first touch of every image's pages) and is not timed.
   for (int run = 0; run <= runs; ++run)
     for (Sample &s : samples) {
       const auto t0 = Clock::now();
       const double cpu0 = thread_cpu_ms();
       if (s.random) {
-        select_density_bricks(bricks, cam, sc, radius, &sel, nullptr);  // the geometry
+        select_density_bricks(bricks, cam, cull, radius, &sel, nullptr);  // the geometry
         s.drawn =
             render_random(p, bricks, sel.g, recipe, sc.radius, s.fraction, &s.image, &s.pixels);
       } else {
-        SceneConfig lod = sc;
+        CullSettings lod = cull;
         lod.lod.fraction = s.fraction;
         select_density_bricks(bricks, cam, lod, radius, &sel, nullptr);
         s.drawn = render_density(p, bricks, lod, sel, recipe, &s.image, &s.pixels).drawn;

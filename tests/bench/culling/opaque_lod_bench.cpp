@@ -1,4 +1,5 @@
 #include "opaque_lod_bench.h"
+#include "core/pipeline/scene_settings.h"
 
 #include <algorithm>
 #include <chrono>
@@ -76,9 +77,10 @@ class Renderer {
     sc.lod = lod;
     const Rgb8 bg = to_rgb8(sc.background);
     const uint8_t background[4] = {bg[0], bg[1], bg[2], 255};
-    select_bricks(d.bricks, cam, sc, RadiusRule::of(sc, d.arrays), &selection_);
-    const CullStats st =
-        pass_.run(d.arrays, d.bricks, sc, selection_, d.recipe, background, &s->frame, &draw_);
+    const CullSettings cull = cull_settings(sc);
+    select_bricks(d.bricks, cam, cull, radius_rule(sc, d.arrays), &selection_);
+    const CullStats st = pass_.run(d.arrays, d.bricks, cull, sc.lighting, selection_, d.recipe,
+                                   background, &s->frame, &draw_);
     if (!draw_.points.empty())
       splat_points(
           d.arrays, d.recipe.per_particle_radius, d.recipe.radius, draw_.points, selection_.g,
@@ -108,7 +110,7 @@ void run_opaque_lod_bench(const BenchScene &bs, int runs, std::ostream &csv,
                           std::vector<PlotPoint> *plot) {
   const ParticleArrays full_arrays = bs.arrays();
   const Extent ext = scan_particles(full_arrays, bs.config.per_particle_radius, bs.config.radius);
-  const double max_radius = RadiusRule::of(bs.config, full_arrays).max_radius(ext);
+  const double max_radius = radius_rule(bs.config, full_arrays).max_radius(ext);
   Camera cam;
   const glm::dvec3 lo{ext.lo[0], ext.lo[1], ext.lo[2]}, hi{ext.hi[0], ext.hi[1], ext.hi[2]};
   char label[96];
@@ -125,8 +127,8 @@ void run_opaque_lod_bench(const BenchScene &bs, int runs, std::ostream &csv,
     d->arrays = d->scene.arrays();
     d->bricks = build_bricks(d->arrays, BrickOptions{});
     // The full scene's extent: a sample is colored and framed as the whole.
-    d->recipe = make_recipe(d->arrays, d->scene.config, RadiusRule::of(d->scene.config, d->arrays),
-                            cam, ext);
+    d->recipe = make_recipe(d->arrays, shading_settings(d->scene.config),
+                            radius_rule(d->scene.config, d->arrays), cam, ext);
     return d;
   };
   const double fractions[] = {1.0, 0.5, 0.25, 0.1, 0.01};

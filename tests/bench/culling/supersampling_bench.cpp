@@ -1,4 +1,5 @@
 #include "supersampling_bench.h"
+#include "core/pipeline/scene_settings.h"
 
 #include <mpi.h>
 #include <sys/resource.h>
@@ -12,8 +13,8 @@
 #include "bench_timing.h"
 #include "core/bricks/brick_set.h"
 #include "core/camera/camera.h"
-#include "core/composite/sample_downsampling.h"
 #include "core/culling/brick_selection.h"
+#include "core/finish/sample_downsampling.h"
 #include "core/particles/particle_scan.h"
 #include "core/pipeline/runtime.h"
 #include "core/render/cpu_sphere_pass.h"
@@ -56,7 +57,7 @@ class SampledRenderer {
     sc.samples = 1;  // this class does the down-sampling itself
     sc.culling.occlusion = mode;
     sc.renderer = RendererChoice::kCpu;
-    const RadiusRule rule = RadiusRule::of(sc, p_);
+    const RadiusRule rule = radius_rule(sc, p_);
     Camera cam;
     const glm::dvec3 lo{ext_.lo[0], ext_.lo[1], ext_.lo[2]}, hi{ext_.hi[0], ext_.hi[1], ext_.hi[2]};
     if (Status st =
@@ -65,13 +66,15 @@ class SampledRenderer {
       std::printf("camera: %s\n", st.message.c_str());
       return;
     }
-    const InstanceRecipe recipe = make_recipe(p_, sc, rule, cam, ext_);
+    const InstanceRecipe recipe = make_recipe(p_, shading_settings(sc), rule, cam, ext_);
     const Rgb8 bg = to_rgb8(sc.background);
     const uint8_t background[4] = {bg[0], bg[1], bg[2], 255};
+    const CullSettings cull = cull_settings(sc);
     const auto t0 = Clock::now();
-    select_bricks(bricks_, cam, sc, rule, &selection_);
+    select_bricks(bricks_, cam, cull, rule, &selection_);
     Frame &target = s > 1 ? samples_ : out->frame;
-    out->stats = pass_.run(p_, bricks_, sc, selection_, recipe, background, &target, &draw_);
+    out->stats =
+        pass_.run(p_, bricks_, cull, sc.lighting, selection_, recipe, background, &target, &draw_);
     const auto t1 = Clock::now();
     if (s > 1) downsample_frame(samples_, s, &out->frame);
     out->downsample_ms.push_back(ms_since(t1));

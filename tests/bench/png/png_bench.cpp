@@ -24,6 +24,7 @@
 #include <string>
 #include <vector>
 
+#include "core/common/ms_since.h"
 #include "core/output/atomic_file.h"
 #include "core/output/image_writer.h"
 #include "core/output/png/png_bands.h"
@@ -45,8 +46,7 @@ double time_ms(int runs, const std::function<void()> &f) {
   for (int i = 0; i < runs; ++i) {
     const auto start = std::chrono::steady_clock::now();
     f();
-    t.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
-                    .count());
+    t.push_back(ms_since(start));
   }
   return median(t);
 }
@@ -293,8 +293,10 @@ int main(int argc, char **argv) {
       const int y0 = height * b / bands, y1 = height * (b + 1) / bands;
       const uint8_t *first = rgba + size_t(y0) * stride;
       const double ms = time_ms(runs, [&] {
-        pieces[size_t(b)] = deflate_png_band(first, width, y1 - y0, 4, b + 1 == bands, level,
-                                             y0 > 0 ? first - stride : nullptr);
+        if (Status s = deflate_png_band(first, width, y1 - y0, 4, b + 1 == bands, level,
+                                        &pieces[size_t(b)], y0 > 0 ? first - stride : nullptr);
+            !s.ok())
+          std::fprintf(stderr, "lantern-bench-png: %s\n", s.message.c_str());
       });
       slowest = std::max(slowest, ms);
       std::printf("  band %d (rows %4d..%4d): %6.2f ms, %7.1f KiB\n", b, y0, y1 - 1, ms,

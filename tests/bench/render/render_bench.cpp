@@ -13,8 +13,9 @@
 #include <vector>
 
 #include "core/camera/camera.h"
+#include "core/common/ms_since.h"
 #include "core/render/cpu_sphere_raster.h"
-#include "core/render/gl_session.h"
+#include "core/render/gl/gl_session.h"
 #include "core/view/view_geometry.h"
 
 using namespace lantern;
@@ -97,9 +98,7 @@ int main(int argc, char **argv) {
         RenderTimings t;
         const auto t0 = std::chrono::steady_clock::now();
         renderer->render(view, spheres.data(), spheres.size(), &f, &t);
-        total.push_back(
-            std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0)
-                .count());
+        total.push_back(ms_since(t0));
         draw.push_back(t.draw_ms);
         read.push_back(t.readback_ms);
       }
@@ -107,9 +106,7 @@ int main(int argc, char **argv) {
       for (int k = 0; k < runs; ++k) {
         const auto t0 = std::chrono::steady_clock::now();
         cpu_render(spheres);
-        cpu.push_back(
-            std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0)
-                .count());
+        cpu.push_back(ms_since(t0));
       }
       std::printf("%10d %10.1f %12.1f %10.1f %12.1f %14.3g %12.1f %10.1f\n", n, r * px_per_unit,
                   median(draw), median(read), median(total), n / (median(total) / 1000.0),

@@ -1,0 +1,70 @@
+#include "core/finish/density_transfer.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace lantern {
+namespace {
+
+constexpr double kLogDecades = 1e4;  // auto range of the log transfer: hi / 10^4 .. hi
+constexpr double kAsinhSoftening = 0.01;
+
+uint8_t to_byte(double v) {
+  return uint8_t(std::clamp(std::lround(v), 0L, 255L));
+}
+
+}  // namespace
+
+DensityRange density_range(const DensityImage &image, const DensityConfig &config) {
+  if (config.range) return {(*config.range)[0], (*config.range)[1]};
+  int64_t most = 0;
+  const size_t ch = size_t(image.channels);
+  for (size_t p = 0; p < image.pixel_count(); ++p) most = std::max(most, image.sum[p * ch]);
+  const double hi = double(most) / kDensityUnit;
+  return {config.transfer == DensityTransfer::kLog ? hi / kLogDecades : 0.0, hi};
+}
+
+double density_transfer(double w, DensityTransfer transfer, const DensityRange &r) {
+  if (!(r.hi > r.lo)) return 0.0;
+  double t = 0.0;
+  switch (transfer) {
+    case DensityTransfer::kLinear:
+      t = (w - r.lo) / (r.hi - r.lo);
+      break;
+    case DensityTransfer::kLog:
+      t = w <= r.lo ? 0.0 : std::log(w / r.lo) / std::log(r.hi / r.lo);
+      break;
+    case DensityTransfer::kAsinh: {
+      const double s = kAsinhSoftening * (r.hi - r.lo);
+      t = std::asinh(std::max(w - r.lo, 0.0) / s) / std::asinh((r.hi - r.lo) / s);
+      break;
+    }
+  }
+  return std::clamp(t, 0.0, 1.0);
+}
+
+void map_density(const DensityImage &image, const DensityConfig &config, const Colormap &colormap,
+                 const uint8_t background[4], Frame *frame) {
+  *frame = Frame(image.width, image.height);
+  frame->clear(background);
+  const DensityRange range = density_range(image, config);
+  const size_t ch = size_t(image.channels);
+  for (size_t p = 0; p < image.pixel_count(); ++p) {
+    const int64_t *s = image.sum.data() + p * ch;
+    if (s[0] == 0) continue;  // no footprint here: background
+    const double t = density_transfer(double(s[0]) / kDensityUnit, config.transfer, range);
+    uint8_t *out = frame->rgba.data() + 4 * p;
+    if (ch == 1) {
+      const Rgb8 c = colormap.at(t, 0.0, 1.0);
+      out[0] = c[0], out[1] = c[1], out[2] = c[2];
+      continue;
+    }
+    for (int k = 0; k < 3; ++k) {
+      // Colour channels hold weight x colour / 256 (core/render/density_splat.h).
+      const double mean = 256.0 * double(s[1 + k]) / double(s[0]);
+      out[k] = to_byte(background[k] + t * (mean - background[k]));
+    }
+  }
+}
+
+}  // namespace lantern

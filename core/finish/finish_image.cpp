@@ -1,0 +1,87 @@
+#include "core/finish/finish_image.h"
+
+#include <chrono>
+#include <utility>
+
+#include "core/common/ms_since.h"
+#include "core/composite/band_compositing.h"
+#include "core/composite/row_bands.h"
+#include "core/finish/sample_downsampling.h"
+#include "core/finish/screen_cues.h"
+
+namespace lantern {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+// The frames composited so that every rank ends with its own row band of the merged frame
+// (whole pixels, i.e. multiples of s sample rows), down-sampled (s > 1) into *band, which then
+// holds exactly the rank's row_band(height, ranks, rank) of the image. Fills *composite.
+Status composite_into_image_band(MPI_Comm comm, Frame &frame, int s, BandFrame *band,
+                                 CompositeStats *composite) {
+  RowBand rows;
+  if (Status st = composite_to_row_bands(comm, frame, s, &rows, composite); !st.ok()) return st;
+  band->first = rows.y0 / s;
+  band->owned = {rows.y0 / s, rows.y1 / s};
+  int ranks = 1;
+  MPI_Comm_size(comm, &ranks);
+  if (s > 1) {
+    downsample_band(frame, s, band->first, band->owned.rows(), &band->frame);
+  } else if (ranks == 1) {
+    band->frame = std::move(frame);  // the band is the frame: no copy
+  } else {
+    const size_t begin = size_t(rows.y0) * size_t(frame.width), end = size_t(rows.y1) * frame.width;
+    band->frame.width = frame.width;
+    band->frame.height = rows.rows();
+    band->frame.rgba.assign(frame.rgba.begin() + 4 * begin, frame.rgba.begin() + 4 * end);
+    band->frame.depth.assign(frame.depth.begin() + begin, frame.depth.begin() + end);
+  }
+  return {};
+}
+
+// The image's bands to root's *image (on one rank the band is the image: moved, not copied).
+Status assemble_image(MPI_Comm comm, BandFrame *band, int width, int height, Frame *image) {
+  int ranks = 1;
+  MPI_Comm_size(comm, &ranks);
+  if (ranks == 1) {
+    *image = std::move(band->frame);
+    return {};
+  }
+  return gather_row_bands(comm, 0, *band, width, height, image);
+}
+
+}  // namespace
+
+Status finish_image(MPI_Comm comm, Frame &frame, const FinishSettings &finish,
+                    const Camera &image_camera, double sphere_radius, Frame *image,
+                    FinishStats *stats) {
+  const int s = finish.samples_per_axis;
+  const bool cues = wants_screen_cues(finish.cues);
+  if (s == 1 && !cues) {  // nothing after compositing: straight to root's frame
+    if (Status st = composite_frames(comm, frame, 0, CompositeMethod::kAuto, 0, &stats->composite);
+        !st.ok())
+      return with_context("compositing: ", std::move(st));
+    return {};
+  }
+  auto t0 = Clock::now();
+  BandFrame band;
+  if (Status st = composite_into_image_band(comm, frame, s, &band, &stats->composite); !st.ok())
+    return with_context("compositing: ", std::move(st));
+  stats->downsample_ms = ms_since(t0) - stats->composite.milliseconds;
+  if (cues) {
+    // Each rank cues its band plus the halo rows its neighbours own.
+    t0 = Clock::now();
+    Status cued =
+        exchange_halo_rows(comm, finish.width, finish.height, screen_cue_halo(finish.cues), &band);
+    if (cued.ok()) cued = cue_band(comm, finish.cues, image_camera, sphere_radius, &band);
+    if (!cued.ok()) return with_context("screen cues: ", std::move(cued));
+    stats->cues_ms += ms_since(t0);
+  }
+  t0 = Clock::now();
+  if (Status st = assemble_image(comm, &band, finish.width, finish.height, image); !st.ok())
+    return with_context("gathering the image: ", std::move(st));
+  if (s > 1) stats->downsample_ms += ms_since(t0);
+  return {};
+}
+
+}  // namespace lantern

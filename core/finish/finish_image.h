@@ -1,0 +1,52 @@
+// From the ranks' frames of one scene to its finished image on root: the frames are depth-
+// composited over the communicator, then finished - super-sampling's down-sampling
+// (sample_downsampling.h) and the screen-space cues (screen_cues.h) - before root holds the image.
+//
+// Without a stage after compositing the frames are composited straight to root. With one, every
+// rank composites into its own row band of the image (whole pixels: multiples of s sample rows),
+// down-samples it, adds the halo rows the cues read from its neighbours and cues it, and root
+// gathers the finished bands: the merged frame is never gathered on one rank. The bands depend
+// only on (height, ranks) and each pixel only on its own samples and halo, so the bytes never
+// depend on the rank count.
+//
+// Collective over comm; every rank calls with the same settings and returns the same status.
+// Ownership: reads and consumes `frame` (this rank's frame); writes *image on root only.
+#pragma once
+
+#include <mpi.h>
+
+#include "core/camera/camera.h"
+#include "core/common/status.h"
+#include "core/composite/depth_compositor.h"
+#include "core/config/config.h"
+#include "core/finish/screen_cues.h"
+#include "core/view/frame.h"
+
+namespace lantern {
+
+// What finishing needs of one scene, resolved once by the pipeline from its configuration
+// (core/pipeline/scene_settings.h).
+struct FinishSettings {
+  int width = 0, height = 0;  // the image, pixels
+  int samples_per_axis = 1;   // s: the ranks' frames are s times the image's width and height
+  ScreenCueSettings cues;     // the screen-space cues on the final-resolution image
+  DensityConfig density;      // style: density - the transfer to colors (density_transfer.h)
+};
+
+struct FinishStats {
+  CompositeStats composite;  // the method run and this rank's milliseconds inside compositing
+  double downsample_ms = 0;  // samples > 1: down-sampling and gathering the bands
+  double cues_ms = 0;        // the screen-space cues, halo rows included
+};
+
+// `frame`: this rank's frame at s = finish.samples_per_axis times the image's width and height.
+// `image_camera`: the camera of the final-resolution image (the cues read view depths through
+// it); `sphere_radius`: the scene's largest drawn radius (the cues' unit). *image (root's image,
+// finish.width x finish.height) may be `frame` itself when s is 1.
+// Returns OK, or the failing step's status with "compositing: ", "screen cues: " or "gathering
+// the image: " in front of its message.
+Status finish_image(MPI_Comm comm, Frame &frame, const FinishSettings &finish,
+                    const Camera &image_camera, double sphere_radius, Frame *image,
+                    FinishStats *stats);
+
+}  // namespace lantern

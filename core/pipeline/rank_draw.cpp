@@ -1,0 +1,70 @@
+#include "core/pipeline/rank_draw.h"
+
+#include <chrono>
+
+#include "core/color/colormap.h"
+#include "core/common/ms_since.h"
+#include "core/pipeline/renderer_choice.h"
+#include "core/render/point_splats.h"
+#include "core/render/sphere_instances.h"
+
+namespace lantern {
+
+Status draw_scene_on_rank(const RankScene &in, RankDrawScratch *scratch, Frame *frame,
+                          RankDraw *out) {
+  using Clock = std::chrono::steady_clock;
+  const CullSettings &cull = in.settings.cull;
+  const ShadingSettings &shading = in.settings.shading;
+  const Camera &camera = *in.camera;
+  const ParticleArrays &particles = *in.particles;
+  *out = RankDraw();
+  // Bricks, culling and level of detail: what to draw.
+  auto t0 = Clock::now();
+  BrickSelection &selection = scratch->selection;
+  DrawList &draw = scratch->draw;
+  select_bricks(*in.bricks, camera, cull, in.radius, &selection, in.cut_counts);
+  InstanceRecipe recipe = make_recipe(particles, shading, in.radius, camera, in.global);
+  recipe.occlusion = in.occlusion;
+  const Rgb8 bg = to_rgb8(shading.background);
+  const uint8_t background[4] = {bg[0], bg[1], bg[2], 255};
+  const bool cpu = draws_on_cpu(in.settings.renderer, in.settings.finish.height, camera,
+                                in.radius.max_radius(in.global), in.renderer != nullptr,
+                                !recipe.alpha_by_type.empty(), &selection);
+  out->renderer = cpu ? "cpu" : "opengl";
+  out->cull = cpu ? scratch->cpu_pass.run(particles, *in.bricks, cull, shading.lighting, selection,
+                                          recipe, background, frame, &draw, in.step, in.threads)
+                  : scratch->culler.cull(particles, *in.bricks, cull, selection, &draw, in.threads);
+  out->cull_ms = ms_since(t0);
+
+  Status drawn;
+  if (!cpu) {
+    t0 = Clock::now();
+    if (draw.everything)
+      build_all_instances(recipe, &scratch->instances);
+    else
+      build_selected_instances(recipe, draw.spheres, &scratch->instances);
+    std::vector<uint64_t>().swap(draw.spheres);  // only the instances outlive this point
+    out->instances_ms = ms_since(t0);
+    RenderTimings timings;
+    RenderView view = camera.render_view(background);
+    view.lighting = shading.lighting;
+    drawn = in.renderer->render(view, scratch->instances.data(), scratch->instances.size(), frame,
+                                &timings);
+    out->draw_ms = timings.draw_ms;
+    out->readback_ms = timings.readback_ms;
+  }
+  if (!draw.points.empty()) {
+    t0 = Clock::now();
+    splat_points(
+        particles, recipe.per_particle_radius, recipe.radius, draw.points, selection.g,
+        [&recipe](int64_t i) { return recipe.color(i); }, frame,
+        recipe.alpha_by_type.empty() ? AlphaOf()
+                                     : AlphaOf([&recipe](int64_t i) { return recipe.alpha(i); }),
+        shading.lighting);
+    std::vector<uint64_t>().swap(draw.points);
+    out->draw_ms += ms_since(t0);
+  }
+  return drawn;
+}
+
+}  // namespace lantern

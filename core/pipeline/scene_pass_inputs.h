@@ -1,0 +1,67 @@
+// What a scene pass works with on one scheduled step: the inputs every scene of the step shares
+// (communicator, renderer, particles, their global extent, the step), the scratch the scenes
+// share between steps (bricks, culling buffers), and what each scene keeps between steps (its
+// frames, image writer, cut counts, density sums, remembered color range, movie). Read by the
+// sphere and density scene passes (scene_pass.h, density_scene_pass.h); owned by the Runtime.
+#pragma once
+
+#include <mpi.h>
+
+#include <memory>
+
+#include "core/bricks/brick_cache.h"
+#include "core/color/color_range.h"
+#include "core/culling/brick_cut_counts.h"
+#include "core/output/background_image_writer.h"
+#include "core/output/movie/movie_writer.h"
+#include "core/particles/global_extent.h"
+#include "core/particles/particle_arrays.h"
+#include "core/pipeline/rank_draw.h"
+#include "core/render/density_splat.h"
+#include "core/render/gl/sphere_renderer.h"
+#include "core/view/frame.h"
+
+namespace lantern {
+
+// What the scenes of one context share and keep between steps; owned by the Runtime.
+struct PassScratch {
+  BrickCache bricks;     // this step's bricks, refit on later steps
+  RankDrawScratch draw;  // selection, culling and drawing buffers (rank_draw.h)
+};
+
+// What a scene pass reads and reuses between steps (buffers are kept to avoid reallocation).
+struct ScenePassInputs {
+  MPI_Comm comm = MPI_COMM_NULL;
+  SphereRenderer *renderer = nullptr;  // null without OpenGL: every scene on the CPU raster
+  const ParticleArrays *particles = nullptr;
+  Extent global;  // reduced over ranks
+  int64_t step = 0;
+  double time = 0.0;
+  PassScratch *scratch = nullptr;
+  // Gather the per-rank spread of drawn, culled and milliseconds (SceneStats::per_rank): one
+  // small reduction per scene, run only when the stats line is written. Same on every rank.
+  bool per_rank_stats = false;
+  int threads = 1;                // for this rank's bricks, scan and CPU raster (`threads:`)
+  const Extent *local = nullptr;  // this rank's own scan (before the reduction), when known
+};
+
+// The brick options of a step: the rank's threads and, when known, its scan (saves a pass).
+inline BrickOptions brick_options(const ScenePassInputs &in) {
+  BrickOptions options;
+  options.threads = in.threads;
+  options.known_extent = in.local;
+  return options;
+}
+
+struct SceneBuffers {
+  Frame frame;    // the image (on root after compositing)
+  Frame samples;  // samples > 1: the sample-resolution frame, kept between steps like `frame`
+  BackgroundImageWriter writer;  // rank 0, with output.asynchronous
+  BrickCutCounts cut_counts;     // this scene's cutting planes per brick (edits are incremental)
+  DensityImage density;          // style: density - this rank's sums, then (rank 0) all ranks'
+  ColorRange color_range;        // the scalar range of the colours, remembered across steps
+  std::unique_ptr<MovieWriter> movie;  // rank 0, with output.movie (scene_movie.h)
+  bool movie_warned = false;           // the "encoder is behind" warning was printed
+};
+
+}  // namespace lantern

@@ -1,0 +1,40 @@
+// The small values each stage takes, resolved once per scene from the scene's configuration:
+// the stages below the pipeline never read a SceneConfig, only what they need of it.
+//
+// Plain value types; run_scene_pass resolves a SceneSettings once per scene and step and hands
+// each stage its part.
+#pragma once
+
+#include "core/config/config.h"
+#include "core/culling/cull_settings.h"
+#include "core/finish/finish_image.h"
+#include "core/particles/particle_arrays.h"
+#include "core/particles/radius_rule.h"
+#include "core/render/shading_settings.h"
+
+namespace lantern {
+
+// Every stage's values for one scene.
+struct SceneSettings {
+  CullSettings cull;        // culling
+  ShadingSettings shading;  // rendering
+  FinishSettings finish;    // finishing (cues, down-sampling, density transfer)
+  RendererChoice renderer = RendererChoice::kAuto;  // renderer: the pipeline's choice of renderer
+};
+
+SceneSettings scene_settings(const SceneConfig &scene);
+
+// How the scene sizes this rank's particles (`radius:`), for every stage that needs it.
+RadiusRule radius_rule(const SceneConfig &scene, const ParticleArrays &particles);
+
+// Culling's: frustum, occlusion, level of detail (and how it grows spheres for the style),
+// cutting planes.
+CullSettings cull_settings(const SceneConfig &scene);
+
+// Rendering's: colors, opacity, light, background.
+ShadingSettings shading_settings(const SceneConfig &scene);
+
+// Finishing's: the image's size, the samples per axis, the screen-space cues.
+FinishSettings finish_settings(const SceneConfig &scene);
+
+}  // namespace lantern

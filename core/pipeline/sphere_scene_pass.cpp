@@ -1,0 +1,75 @@
+#include "core/pipeline/sphere_scene_pass.h"
+
+#include <algorithm>
+#include <string>
+#include <utility>
+
+#include "core/common/collective_status.h"
+#include "core/common/ms_since.h"
+#include "core/finish/finish_image.h"
+#include "core/pipeline/rank_draw.h"
+#include "core/pipeline/rank_spread.h"
+
+namespace lantern {
+
+Status run_sphere_scene(const ScenePassInputs &in, const SceneSettings &settings,
+                        const std::string &where, const Camera &camera, const Camera &image_camera,
+                        const RadiusRule &radius, const OcclusionVolume *occlusion, Status local,
+                        std::chrono::steady_clock::time_point t_start, SceneBuffers *buffers,
+                        SceneStats *stats) {
+  // Super-sampling draws the same frustum at s times the width and height; every stage up to
+  // compositing sees sample pixels.
+  Frame &frame = settings.finish.samples_per_axis > 1 ? buffers->samples : buffers->frame;
+  CullStats cull;
+  if (local.ok()) {
+    const auto t0 = std::chrono::steady_clock::now();
+    double build_ms = 0.0;
+    const BrickSet &bricks = in.scratch->bricks.for_step(*in.particles, in.step, brick_options(in),
+                                                         &build_ms, &stats->bricks);
+    stats->bricks_ms = build_ms;
+    // A refit the runtime made ahead of the scan (BrickCache::refit_first) counts as culling too.
+    const double bricks_wall_ms = ms_since(t0);
+    const double ahead_ms = std::max(0.0, build_ms - bricks_wall_ms);
+    RankScene rank_scene(*in.particles, bricks, camera, settings, radius);
+    rank_scene.global = in.global;
+    rank_scene.step = in.step;
+    rank_scene.renderer = in.renderer;
+    rank_scene.occlusion = occlusion;
+    rank_scene.cut_counts = &buffers->cut_counts;
+    rank_scene.threads = in.threads;
+    RankDraw drawn;
+    local = with_context(where, draw_scene_on_rank(rank_scene, &in.scratch->draw, &frame, &drawn));
+    cull = drawn.cull;
+    stats->renderer = drawn.renderer;
+    stats->occlusion = cull.occlusion;
+    // Building (or refitting) the bricks counts as culling.
+    stats->cull_ms = bricks_wall_ms + ahead_ms + drawn.cull_ms;
+    stats->instances_ms = drawn.instances_ms;
+    stats->draw_ms = drawn.draw_ms;
+    stats->readback_ms = drawn.readback_ms;
+  }
+  const double own_ms = ms_since(t_start);  // this rank's work, before waiting on the others
+  if (Status s = agree_on_status(in.comm, local); !s.ok()) return s;
+  sum_counts_over_ranks(in.comm, cull, stats);
+  if (settings.cull.occlusion == OcclusionMode::kProbabilistic)  // the same on every rank
+    stats->probabilistic = reduce_probabilistic_stats(in.comm, cull.probabilistic);
+  stats->culled = in.global.finite_count - stats->drawn - stats->splatted;
+  if (in.per_rank_stats)
+    stats->per_rank = reduce_per_rank_stats(
+        in.comm, 0, double(cull.drawn), double(cull.candidates - cull.drawn - cull.splatted),
+        own_ms, in.local ? double(in.local->finite_count) : double(cull.candidates));
+
+  // The composited image, finished (down-sampling, screen-space cues), on rank 0.
+  FinishStats finished;
+  if (Status s = finish_image(in.comm, frame, settings.finish, image_camera,
+                              radius.max_radius(in.global), &buffers->frame, &finished);
+      !s.ok())
+    return with_context(where, std::move(s));
+  stats->downsample_ms = finished.downsample_ms;
+  stats->cues_ms += finished.cues_ms;
+  stats->composite_ms = finished.composite.milliseconds;
+  stats->composite_method = finished.composite.method;
+  return {};
+}
+
+}  // namespace lantern

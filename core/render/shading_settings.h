@@ -1,0 +1,27 @@
+// How a scene's particles look, as the renderers need it: colors (by type, scalar or solid), the
+// per-type opacity, the light and the background. Resolved once per scene by the pipeline from
+// the scene's configuration (core/pipeline/scene_settings.h), so rendering never reads the rest of
+// it.
+//
+// Plain value type. Colors are linear [0, 1] triples, as configured.
+#pragma once
+
+#include <array>
+#include <vector>
+
+#include "core/config/config.h"
+#include "core/config/lighting.h"
+
+namespace lantern {
+
+struct ShadingSettings {
+  // color: by, solid, palette, colormap (reverse), range. The pipeline resolves the automatic
+  // ranges (color.range: {auto: first | running} remember earlier steps, core/color/color_range.h)
+  // into `range`; absent: the step's global scalar range.
+  ColorConfig color;
+  std::vector<double> opacity;                      // opacity: per type (empty: all opaque)
+  Lighting lighting;                                // lighting: the light model
+  std::array<double, 3> background{1.0, 1.0, 1.0};  // background
+};
+
+}  // namespace lantern

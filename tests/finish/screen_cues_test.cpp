@@ -1,0 +1,275 @@
+// The screen-space cues (core/finish/screen_cues.h) on analytic frames: spheres seen by an
+// orthographic camera, drawn here with exact window depth, then cued through the collective
+// apply_screen_cues on every rank of MPI_COMM_WORLD (run at 1, 2, 3, 4 and 8 ranks).
+#include <gtest/gtest.h>
+
+#include <mpi.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <vector>
+
+#include <glm/mat4x4.hpp>
+#include <glm/matrix.hpp>
+#include <glm/vec2.hpp>
+#include <glm/vec4.hpp>
+
+#include "core/camera/camera.h"
+#include "core/finish/screen_cues.h"
+#include "tests/support/mpi_world.h"
+#include "tests/support/status_expect.h"
+
+namespace lantern::testing {
+namespace {
+
+constexpr int kWidth = 120, kHeight = 80;
+constexpr uint8_t kBg[4] = {250, 240, 230, 255};
+
+// Orthographic, looking down -z from (0, 0, 50), near 10, far 90: a sphere at world z = w is at
+// distance 50 - w from the eye.
+Camera test_camera() {
+  CameraConfig c;
+  c.projection = Projection::kOrthographic;
+  c.position = std::array<double, 3>{0, 0, 50};
+  c.look_at = {0, 0, 0};
+  c.up = {0, 1, 0};
+  c.near_plane = 10;
+  c.far_plane = 90;
+  Camera camera;
+  EXPECT_OK(make_camera(c, glm::dvec3(-6), glm::dvec3(6), 1.0, kWidth, kHeight, &camera));
+  return camera;
+}
+
+// View-space x, y of a pixel centre (independent of core/finish/view_positions.cpp).
+glm::dvec2 pixel_to_view(const Camera &camera, int x, int y) {
+  const glm::dmat4 inverse = glm::inverse(camera.projection);
+  const glm::dvec4 v = inverse * glm::dvec4(2.0 * (x + 0.5) / kWidth - 1.0,
+                                            1.0 - 2.0 * (y + 0.5) / kHeight, 0.0, 1.0);
+  return {v.x / v.w, v.y / v.w};
+}
+
+struct Ball {
+  double x, y, distance, radius;
+  uint8_t gray;
+};
+
+// Flat-coloured spheres with exact depth: per pixel the nearest hit.
+Frame draw(const Camera &camera, const std::vector<Ball> &balls) {
+  Frame f(kWidth, kHeight);
+  f.clear(kBg);
+  for (int y = 0; y < kHeight; ++y)
+    for (int x = 0; x < kWidth; ++x) {
+      const glm::dvec2 p = pixel_to_view(camera, x, y);
+      for (const Ball &b : balls) {
+        const double rho2 = (p.x - b.x) * (p.x - b.x) + (p.y - b.y) * (p.y - b.y);
+        if (rho2 >= b.radius * b.radius) continue;
+        const double z = b.distance - std::sqrt(b.radius * b.radius - rho2);
+        const float d = float((z - camera.near_plane) / (camera.far_plane - camera.near_plane));
+        const size_t i = f.index(x, y);
+        if (d >= f.depth[i]) continue;
+        f.depth[i] = d;
+        std::fill(&f.rgba[4 * i], &f.rgba[4 * i + 3], b.gray);
+      }
+    }
+  return f;
+}
+
+// The pixel nearest to view-space (vx, vy).
+std::pair<int, int> pixel_at(const Camera &camera, double vx, double vy) {
+  const glm::dvec4 c = camera.projection * glm::dvec4(vx, vy, -50.0, 1.0);
+  return {int(std::floor((c.x / c.w + 1.0) * 0.5 * kWidth)),
+          int(std::floor((1.0 - c.y / c.w) * 0.5 * kHeight))};
+}
+
+// Cues `frame` on every rank of the world (the frame matters on rank 0 only) and returns rank 0's.
+Frame cued(const ScreenCueSettings &cues, const Camera &camera, double radius, Frame frame) {
+  EXPECT_OK(apply_screen_cues(MPI_COMM_WORLD, 0, cues, kWidth, kHeight, camera, radius, &frame));
+  return frame;
+}
+
+// No cue on, the frames' background.
+ScreenCueSettings no_cues() {
+  ScreenCueSettings s;
+  s.background = {kBg[0] / 255.0, kBg[1] / 255.0, kBg[2] / 255.0};
+  return s;
+}
+
+TEST(ScreenCues, NoCueLeavesTheFrameAlone) {
+  const Camera camera = test_camera();
+  const Frame before = draw(camera, {{0, 0, 50, 3, 180}});
+  const Frame after = cued(no_cues(), camera, 3, before);
+  EXPECT_FALSE(wants_screen_cues(no_cues()));
+  if (world_rank() == 0) EXPECT_EQ(after.rgba, before.rgba);
+}
+
+// Two touching spheres: the crease between them darkens, their outer halves do not change.
+TEST(ScreenCues, AmbientOcclusionDarkensTheCreaseAndNotTheFarSide) {
+  const Camera camera = test_camera();
+  const double r = 3.0;
+  const Frame before = draw(camera, {{-r, 0, 50, r, 200}, {r, 0, 50, r, 200}});
+  ScreenCueSettings scene = no_cues();
+  scene.ambient_occlusion.enabled = true;
+  scene.ambient_occlusion.radius = 2.0 * r;
+  scene.ambient_occlusion.strength = 1.0;
+  const Frame after = cued(scene, camera, r, before);
+  if (world_rank() != 0) return;
+  // The crease: pixels within 0.2 r of the contact point, drawn in both images.
+  double crease_before = 0, crease_after = 0;
+  int crease = 0, far_side = 0, far_changed = 0;
+  for (int y = 0; y < kHeight; ++y)
+    for (int x = 0; x < kWidth; ++x) {
+      const size_t i = before.index(x, y);
+      const glm::dvec2 p = pixel_to_view(camera, x, y);
+      if (before.depth[i] == kBackgroundDepth) {
+        EXPECT_EQ(after.rgba[4 * i], before.rgba[4 * i]) << "background " << x << "," << y;
+        continue;
+      }
+      if (std::hypot(p.x, p.y) < 0.2 * r) {
+        ++crease;
+        crease_before += before.rgba[4 * i];
+        crease_after += after.rgba[4 * i];
+      }
+      // Outer halves, away from the silhouette (whose depth-derived normals are poorest).
+      for (const double cx : {-r, r}) {
+        const double dx = p.x - cx, rho = std::hypot(dx, p.y);
+        if (dx * cx > 0.3 * r * r && rho < 0.85 * r) {
+          ++far_side;
+          if (after.rgba[4 * i] != before.rgba[4 * i]) ++far_changed;
+        }
+      }
+    }
+  ASSERT_GT(crease, 4);
+  ASSERT_GT(far_side, 50);
+  EXPECT_LT(crease_after / crease, crease_before / crease - 20.0) << "the crease is not darker";
+  EXPECT_EQ(far_changed, 0) << "of " << far_side << " pixels on the far sides";
+}
+
+// An isolated sphere gets a closed ring: exactly the drawn pixels with a background pixel within
+// `width` pixels (a square), every boundary pixel included, and nothing else changes.
+TEST(ScreenCues, IsolatedSphereGetsAClosedOutlineOfTheConfiguredWidth) {
+  const Camera camera = test_camera();
+  const Frame before = draw(camera, {{0.3, -0.2, 50, 4.2, 180}});
+  ScreenCueSettings scene = no_cues();
+  scene.outline.enabled = true;
+  scene.outline.width = 2;
+  scene.outline.color = {1.0, 0.0, 0.0};
+  const Frame after = cued(scene, camera, 4.2, before);
+  if (world_rank() != 0) return;
+  int ring = 0;
+  for (int y = 0; y < kHeight; ++y)
+    for (int x = 0; x < kWidth; ++x) {
+      const size_t i = before.index(x, y);
+      bool near_background = false;
+      for (int dy = -2; dy <= 2; ++dy)
+        for (int dx = -2; dx <= 2; ++dx) {
+          const int nx = x + dx, ny = y + dy;
+          if (nx >= 0 && nx < kWidth && ny >= 0 && ny < kHeight &&
+              before.depth[before.index(nx, ny)] == kBackgroundDepth)
+            near_background = true;
+        }
+      const bool outlined = before.depth[i] != kBackgroundDepth && near_background;
+      ring += outlined;
+      const uint8_t expected[3] = {uint8_t(outlined ? 255 : before.rgba[4 * i]),
+                                   uint8_t(outlined ? 0 : before.rgba[4 * i + 1]),
+                                   uint8_t(outlined ? 0 : before.rgba[4 * i + 2])};
+      for (int c = 0; c < 3; ++c)
+        ASSERT_EQ(after.rgba[4 * i + c], expected[c]) << x << "," << y << " channel " << c;
+    }
+  EXPECT_GT(ring, 100);
+}
+
+// Two spheres that intersect at the same depth read as one structure: no line where they meet;
+// a sphere in front of a larger one gets a line where the depth jumps by more than the threshold.
+TEST(ScreenCues, OutlinesFollowDepthJumpsNotIntersections) {
+  const Camera camera = test_camera();
+  const double r = 3.0;
+  ScreenCueSettings scene = no_cues();
+  scene.outline.enabled = true;
+  const Frame joined = draw(camera, {{-0.6 * r, 0, 50, r, 200}, {0.6 * r, 0, 50, r, 200}});
+  const Frame joined_after = cued(scene, camera, r, joined);
+  const Frame stacked = draw(camera, {{0, 0, 30, r, 200}, {0, 0, 50, 3 * r, 100}});
+  const Frame stacked_after = cued(scene, camera, r, stacked);
+  if (world_rank() != 0) return;
+  // Along the seam x = 0, inside the union: unchanged.
+  const auto [seam_x, seam_y] = pixel_at(camera, 0.0, 0.0);
+  for (int dy = -3; dy <= 3; ++dy) {
+    const size_t i = joined.index(seam_x, seam_y + dy);
+    EXPECT_EQ(joined_after.rgba[4 * i], joined.rgba[4 * i]) << "seam row " << seam_y + dy;
+  }
+  // Just inside the small front sphere's rim (0.95 r from its centre): a line; its centre: none.
+  const auto [rim_x, rim_y] = pixel_at(camera, 0.95 * r, 0.0);
+  EXPECT_EQ(stacked_after.rgba[4 * stacked.index(rim_x, rim_y)], 0);
+  const auto [cx, cy] = pixel_at(camera, 0.0, 0.0);
+  EXPECT_EQ(stacked_after.rgba[4 * stacked.index(cx, cy)], 200);
+}
+
+// Two identical spheres at distances 40 and 60, depth cue from the near one's front to 40 units
+// beyond it: the far one's front pixel is exactly (60 - r - start) / 40 = 0.5 of the way to the
+// background colour, the near one's front unchanged.
+TEST(ScreenCues, DepthCueFadesTheFarSphereByTheConfiguredFraction) {
+  const Camera camera = test_camera();
+  const double r = 3.0;
+  const uint8_t gray = 40;
+  const Frame before = draw(camera, {{-6, 0, 40, r, gray}, {6, 0, 60, r, gray}});
+  ScreenCueSettings scene = no_cues();
+  scene.depth_cue.enabled = true;
+  scene.depth_cue.start = 40 - r;
+  scene.depth_cue.end = 40 - r + 40;
+  const Frame after = cued(scene, camera, r, before);
+  ScreenCueSettings to_black = scene;
+  to_black.depth_cue.color = std::array<double, 3>{0, 0, 0};
+  const Frame after_black = cued(to_black, camera, r, before);
+  // Automatic range: from the near sphere's front to the far one's back rim.
+  ScreenCueSettings automatic = no_cues();
+  automatic.depth_cue.enabled = true;
+  const Frame after_auto = cued(automatic, camera, r, before);
+  if (world_rank() != 0) return;
+  const auto [nx, ny] = pixel_at(camera, -6, 0);
+  const auto [fx, fy] = pixel_at(camera, 6, 0);
+  const size_t near_i = before.index(nx, ny), far_i = before.index(fx, fy);
+  // The pixel centres miss the sphere centres slightly: the expected fraction from their depth.
+  const double far_z = camera.window_depth_to_distance(before.depth[far_i]);
+  const double f = (far_z - *scene.depth_cue.start) / 40.0;
+  ASSERT_NEAR(f, 0.5, 0.01);
+  for (int c = 0; c < 3; ++c) {
+    EXPECT_NEAR(after.rgba[4 * far_i + c], gray + f * (kBg[c] - gray), 1.0) << c;
+    EXPECT_NEAR(after_black.rgba[4 * far_i + c], gray * (1 - f), 1.0) << c;
+    EXPECT_NEAR(after.rgba[4 * near_i + c], gray, 1.0) << c;
+  }
+  // The near sphere's front is (almost) the nearest drawn depth: (almost) unchanged; the far
+  // sphere's front, 20 of the range's 23 units beyond, is (z - nearest) / (farthest - nearest).
+  float nearest = 1.0f, farthest = 0.0f;
+  for (const float d : before.depth)
+    if (d != kBackgroundDepth) nearest = std::min(nearest, d), farthest = std::max(farthest, d);
+  const double z0 = camera.window_depth_to_distance(nearest);
+  const double z1 = camera.window_depth_to_distance(farthest);
+  const double f_auto = (far_z - z0) / (z1 - z0);
+  EXPECT_NEAR(after_auto.rgba[4 * near_i], gray, 1.0);
+  EXPECT_NEAR(after_auto.rgba[4 * far_i], gray + f_auto * (kBg[0] - gray), 1.0);
+}
+
+// Every cue at once gives the same bytes on every rank count as on one rank alone.
+TEST(ScreenCues, AllCuesGiveTheSameBytesOnOneRankAndOnAll) {
+  const Camera camera = test_camera();
+  std::vector<Ball> balls;
+  for (int k = 0; k < 40; ++k)
+    balls.push_back({-14.0 + 0.7 * k, 6.0 * std::sin(0.9 * k), 45.0 + 3.0 * std::cos(1.3 * k),
+                     1.0 + 0.05 * (k % 7), uint8_t(60 + 4 * k)});
+  const Frame before = draw(camera, balls);
+  ScreenCueSettings scene = no_cues();
+  scene.ambient_occlusion.enabled = true;
+  scene.outline.enabled = true;
+  scene.outline.width = 2;
+  scene.depth_cue.enabled = true;
+  const Frame all = cued(scene, camera, 1.3, before);
+  if (world_rank() != 0) return;
+  Frame alone = before;
+  ASSERT_OK(apply_screen_cues(MPI_COMM_SELF, 0, scene, kWidth, kHeight, camera, 1.3, &alone));
+  EXPECT_EQ(all.rgba, alone.rgba);
+  EXPECT_EQ(all.depth, before.depth);  // cues change colours only
+  EXPECT_NE(all.rgba, before.rgba);
+}
+
+}  // namespace
+}  // namespace lantern::testing
