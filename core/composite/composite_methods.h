@@ -13,8 +13,8 @@
 #include <string>
 
 #include "core/common/status.h"
+#include "core/common/uninitialized_buffer.h"
 #include "core/composite/depth_compositor.h"
-#include "core/composite/uninitialized_buffer.h"
 #include "core/view/frame.h"
 
 namespace lantern {

@@ -302,6 +302,10 @@ struct Config {
   // watch: re-read the configuration file when it changes (checked on rank 0 at scheduled steps,
   // applied on every rank at the same step; needs the configuration to come from a file).
   bool watch = false;
+  // threads: auto | N - the threads each rank may use for brick building and refitting, the
+  // particle scan and the CPU raster (images are the same at any count). 0 (auto): what
+  // OMP_NUM_THREADS or, without it, the process's CPU affinity gives (core/common/rank_threads.h).
+  int threads = 0;
 };
 
 inline constexpr int kMaxImageSize = 16384;

@@ -353,6 +353,8 @@ const Section<Config> kTop(
         {"egl_device", &Config::egl_device, default_if("auto", integer(0, 1023))},
         {"lammps", &Config::lammps, kLammps},
         {"watch", &Config::watch, boolean()},
+        // threads: 'auto' keeps 0, resolved per process (core/common/rank_threads.h).
+        {"threads", &Config::threads, default_if("auto", integer(1, 1024))},
         rule(config_has_work),
     },
     {"the configuration must be a mapping with keys (schedule, scenes, ...)", true});

@@ -32,8 +32,8 @@ Status draw_scene_on_rank(const RankScene &in, RankDrawScratch *scratch, Frame *
                                 !recipe.alpha_by_type.empty(), &selection);
   out->renderer = cpu ? "cpu" : "opengl";
   out->cull = cpu ? scratch->cpu_pass.run(particles, *in.bricks, cull, shading.lighting, selection,
-                                          recipe, background, frame, &draw, in.step)
-                  : scratch->culler.cull(particles, *in.bricks, cull, selection, &draw);
+                                          recipe, background, frame, &draw, in.step, in.threads)
+                  : scratch->culler.cull(particles, *in.bricks, cull, selection, &draw, in.threads);
   out->cull_ms = ms_since(t0);
 
   Status drawn;

@@ -45,6 +45,9 @@ struct RankScene {
   SphereRenderer *renderer = nullptr;          // null: no OpenGL, the CPU raster draws
   const OcclusionVolume *occlusion = nullptr;  // object-space ambient occlusion, or none
   BrickCutCounts *cut_counts = nullptr;        // the scene's, kept between frames, or none
+  // Threads for the CPU raster's and the hzb culler's column strips (the image and the counts
+  // are the same at any count; the pipeline passes `threads:`).
+  int threads = 2;
 
   RankScene() = default;
   RankScene(const ParticleArrays &p, const BrickSet &b, const Camera &c, SceneSettings s,

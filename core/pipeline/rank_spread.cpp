@@ -58,14 +58,17 @@ nlohmann::json RankSpread::to_json() const {
 }
 
 nlohmann::json PerRankStats::to_json() const {
-  return {{"drawn", drawn.to_json()}, {"culled", culled.to_json()}, {"ms", ms.to_json()}};
+  return {{"drawn", drawn.to_json()},
+          {"culled", culled.to_json()},
+          {"ms", ms.to_json()},
+          {"particles", particles.to_json()}};
 }
 
-PerRankStats reduce_per_rank_stats(MPI_Comm comm, int root, double drawn, double culled,
-                                   double ms) {
-  std::array<RankSpread, 3> spread;
-  reduce_rank_spreads<3>(comm, root, {drawn, culled, ms}, &spread);
-  return {spread[0], spread[1], spread[2]};
+PerRankStats reduce_per_rank_stats(MPI_Comm comm, int root, double drawn, double culled, double ms,
+                                   double particles) {
+  std::array<RankSpread, 4> spread;
+  reduce_rank_spreads<4>(comm, root, {drawn, culled, ms, particles}, &spread);
+  return {spread[0], spread[1], spread[2], spread[3]};
 }
 
 }  // namespace lantern

@@ -23,14 +23,16 @@ struct RankSpread {
 
 // The per-rank statistics of one scene on one step.
 struct PerRankStats {
-  RankSpread drawn;   // spheres each rank sent to its renderer (as the line's `drawn`)
-  RankSpread culled;  // the rank's finite particles not drawn
-  RankSpread ms;      // the rank's own work before compositing: camera, cull, draw, readback
+  RankSpread drawn;      // spheres each rank sent to its renderer (as the line's `drawn`)
+  RankSpread culled;     // the rank's finite particles not drawn
+  RankSpread ms;         // the rank's own work before compositing: camera, cull, draw, readback
+  RankSpread particles;  // the rank's finite particles: how evenly the host split the data
   nlohmann::json to_json() const;
 };
 
 // Collective over comm: one MPI_Reduce (a user-defined operation over four doubles per value)
-// brings the spread of this rank's three values to `root`; other ranks get an unspecified value.
-PerRankStats reduce_per_rank_stats(MPI_Comm comm, int root, double drawn, double culled, double ms);
+// brings the spread of this rank's four values to `root`; other ranks get an unspecified value.
+PerRankStats reduce_per_rank_stats(MPI_Comm comm, int root, double drawn, double culled, double ms,
+                                   double particles);
 
 }  // namespace lantern

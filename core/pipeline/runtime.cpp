@@ -14,6 +14,7 @@
 
 #include "core/common/collective_status.h"
 #include "core/common/ms_since.h"
+#include "core/common/rank_threads.h"
 #include "core/config/config_loader.h"
 #include "core/config/enum_names.h"
 #include "core/config/environment.h"
@@ -258,10 +259,19 @@ Status Runtime::execute(int64_t step, double time) {
     render_due = config_.schedule.due(step);
     if (!dump_due && !render_due) return {};
   }
-  // One scan and one reduction per step, for the dump and every scene.
+  // One scan and one reduction per step, for the dump and every scene. On a later step whose
+  // bricks refit, their bounds give the scan's result and the pass is left out (a dump step
+  // scans: it writes before the scenes run).
   const auto t_scan = Clock::now();
-  const Extent global =
-      reduce_extent(comm_, scan_particles(particles_, particles_.has_radius(), 0.0));
+  const int threads = config_.threads > 0 ? config_.threads : default_thread_count();
+  BrickOptions refit_options;
+  refit_options.threads = threads;
+  Extent local;
+  const bool from_bricks = render_due && !dump_due && !config_.scenes.empty() &&
+                           scratch_.bricks.refit_first(particles_, step, refit_options) &&
+                           extent_of_bricks(scratch_.bricks.bricks(), particles_, &local);
+  if (!from_bricks) local = scan_particles(particles_, particles_.has_radius(), 0.0, threads);
+  const Extent global = reduce_extent(comm_, local);
   const double scan_ms = ms_since(t_scan);
   // The dump has its own schedule; a dump error is returned unless rendering fails too.
   const Status dumped =
@@ -279,6 +289,8 @@ Status Runtime::execute(int64_t step, double time) {
     if (!first_error.ok()) stats.clear();  // no scene was drawn
     ScenePassInputs in{comm_, renderer, &particles_, global, step, time, &scratch_};
     in.per_rank_stats = !config_.stats_file.empty();  // the same configuration on every rank
+    in.threads = threads;
+    in.local = &local;
     for (size_t s = 0; s < stats.size(); ++s) {
       const Status st = run_scene_pass(in, config_.scenes[s], &buffers_[s], &stats[s]);
       if (!st.ok() && first_error.ok()) first_error = st;  // later scenes still render

@@ -41,7 +41,17 @@ struct ScenePassInputs {
   // Gather the per-rank spread of drawn, culled and milliseconds (SceneStats::per_rank): one
   // small reduction per scene, run only when the stats line is written. Same on every rank.
   bool per_rank_stats = false;
+  int threads = 1;                // for this rank's bricks, scan and CPU raster (`threads:`)
+  const Extent *local = nullptr;  // this rank's own scan (before the reduction), when known
 };
+
+// The brick options of a step: the rank's threads and, when known, its scan (saves a pass).
+inline BrickOptions brick_options(const ScenePassInputs &in) {
+  BrickOptions options;
+  options.threads = in.threads;
+  options.known_extent = in.local;
+  return options;
+}
 
 struct SceneBuffers {
   Frame frame;    // the image (on root after compositing)

@@ -33,7 +33,8 @@ std::string SceneStats::per_rank_line() const {
   if (!per_rank) return "";
   return "scene '" + name + "' per rank: " + spread_text("drawn", per_rank->drawn, "%.0f") + ", " +
          spread_text("culled", per_rank->culled, "%.0f") + ", " +
-         spread_text("ms", per_rank->ms, "%.1f");
+         spread_text("ms", per_rank->ms, "%.1f") + ", " +
+         spread_text("particles", per_rank->particles, "%.0f");
 }
 
 nlohmann::json SceneStats::to_json() const {

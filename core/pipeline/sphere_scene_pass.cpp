@@ -1,5 +1,6 @@
 #include "core/pipeline/sphere_scene_pass.h"
 
+#include <algorithm>
 #include <cstdint>
 #include <new>
 #include <string>
@@ -40,23 +41,27 @@ Status run_sphere_scene(const ScenePassInputs &in, const SceneSettings &settings
   if (local.ok()) try {
       const auto t0 = std::chrono::steady_clock::now();
       double build_ms = 0.0;
-      const BrickSet &bricks =
-          in.scratch->bricks.for_step(*in.particles, in.step, &build_ms, &stats->bricks);
+      const BrickSet &bricks = in.scratch->bricks.for_step(
+          *in.particles, in.step, brick_options(in), &build_ms, &stats->bricks);
       stats->bricks_ms = build_ms;
+      // A refit the runtime made ahead of the scan (BrickCache::refit_first) counts as culling.
       const double bricks_wall_ms = ms_since(t0);
+      const double ahead_ms = std::max(0.0, build_ms - bricks_wall_ms);
       RankScene rank_scene(*in.particles, bricks, camera, settings, radius);
       rank_scene.global = in.global;
       rank_scene.step = in.step;
       rank_scene.renderer = in.renderer;
       rank_scene.occlusion = occlusion;
       rank_scene.cut_counts = &buffers->cut_counts;
+      rank_scene.threads = in.threads;
       RankDraw drawn;
       local =
           with_context(where, draw_scene_on_rank(rank_scene, &in.scratch->draw, &frame, &drawn));
       cull = drawn.cull;
       stats->renderer = drawn.renderer;
       stats->occlusion = cull.occlusion;
-      stats->cull_ms = bricks_wall_ms + drawn.cull_ms;  // building the bricks counts as culling
+      // Building (or refitting) the bricks counts as culling.
+      stats->cull_ms = bricks_wall_ms + ahead_ms + drawn.cull_ms;
       stats->instances_ms = drawn.instances_ms;
       stats->draw_ms = drawn.draw_ms;
       stats->readback_ms = drawn.readback_ms;
@@ -70,9 +75,9 @@ Status run_sphere_scene(const ScenePassInputs &in, const SceneSettings &settings
     stats->probabilistic = reduce_probabilistic_stats(in.comm, cull.probabilistic);
   stats->culled = in.global.finite_count - stats->drawn - stats->splatted;
   if (in.per_rank_stats)
-    stats->per_rank =
-        reduce_per_rank_stats(in.comm, 0, double(cull.drawn),
-                              double(cull.candidates - cull.drawn - cull.splatted), own_ms);
+    stats->per_rank = reduce_per_rank_stats(
+        in.comm, 0, double(cull.drawn), double(cull.candidates - cull.drawn - cull.splatted),
+        own_ms, in.local ? double(in.local->finite_count) : double(cull.candidates));
 
   // The composited image, finished (down-sampling, screen-space cues), on rank 0.
   FinishStats finished;

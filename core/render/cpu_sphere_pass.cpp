@@ -14,24 +14,32 @@ constexpr double kRasterSlack = 0.05;
 
 }  // namespace
 
+void CpuSpherePass::begin_strips(int count, const ViewGeometry &g, const Lighting *lighting,
+                                 Frame *frame) {
+  if (int(rasters_.size()) < count) rasters_.resize(size_t(count));
+  for (int k = 0; k < count; ++k) {
+    CpuSphereRaster &raster = rasters_[size_t(k)];
+    raster.begin_strip(g, frame, strips_[size_t(k)].x0, strips_[size_t(k)].x1);
+    if (lighting) raster.set_lighting(*lighting);
+  }
+}
+
 CullStats CpuSpherePass::run(const ParticleArrays &particles, const BrickSet &bricks,
                              const CullSettings &cull, const Lighting &lighting,
                              const BrickSelection &sel, const InstanceRecipe &recipe,
-                             const uint8_t background[4], Frame *frame, DrawList *out,
-                             int64_t step) {
+                             const uint8_t background[4], Frame *frame, DrawList *out, int64_t step,
+                             int threads) {
   if (sel.mode == OcclusionMode::kProbabilistic)
-    return run_probabilistic(particles, bricks, cull, sel, recipe, background, frame, out, step);
+    return run_probabilistic(particles, bricks, cull, sel, recipe, background, frame, out, step,
+                             threads);
   CullStats st = sel.stats;
   out->clear();
   const ViewGeometry &g = sel.g;
   const bool occlusion = sel.mode == OcclusionMode::kHzb;
   const bool point_path = cull.lod.point_path;
-  const bool two = split_strips(g.width, strips_);
+  const int count = split_strips(g.width, threads, &strips_);
   CpuSphereRaster::clear_target(g, background, frame);
-  for (int k = 0; k < 2; ++k) {
-    rasters_[k].begin_strip(g, frame, strips_[k].x0, strips_[k].x1);
-    rasters_[k].set_lighting(lighting);
-  }
+  begin_strips(count, g, &lighting, frame);
 
   const Frustum frustum(g);
   const CutPlanes cuts(cull.cuts);
@@ -40,7 +48,7 @@ CullStats CpuSpherePass::run(const ParticleArrays &particles, const BrickSet &br
       const CullPass<std::decay_t<decltype(pos)>, std::decay_t<decltype(radius)>> pass{
           pos, radius, g, frustum, cuts, point_path, bricks};
       const auto strip = [&](int k) {
-        CpuSphereRaster &raster = rasters_[k];
+        CpuSphereRaster &raster = rasters_[size_t(k)];
         const auto covered = [&raster](const PixelRect &r, double z) {
           return raster.covered(r, z);
         };
@@ -62,13 +70,15 @@ CullStats CpuSpherePass::run(const ParticleArrays &particles, const BrickSet &br
           raster.draw(c.c, c.r, color.data(), r, recipe.alpha(c.index));
           s->out.spheres.push_back(draw_entry(c.index, c.scale));
         };
-        walk_strip(pass, sel.visible, occlusion, covered, visit, &strips_[k]);
+        // Splats skip the depth test (visit): a hidden bucket may still hold one to splat.
+        walk_strip(pass, sel.visible, occlusion, occlusion && !point_path, covered, visit,
+                   &strips_[size_t(k)]);
       };
-      run_strips(two, sel.visible, strip, strips_);
+      run_strips(count, strip);
     });
   });
   // The merged lists are already in published order (draw_list.h).
-  merge_strips(sel.visible, bricks, strips_, &scratch_, &st, out);
+  merge_strips(sel.visible, bricks, strips_, count, &scratch_, &st, out);
   std::vector<uint64_t>().swap(scratch_);  // per-frame scratch: keep nothing between frames
   st.drawn = int64_t(out->spheres.size());
   st.splatted = int64_t(out->points.size());
@@ -79,16 +89,16 @@ CullStats CpuSpherePass::run_probabilistic(const ParticleArrays &particles, cons
                                            const CullSettings &cull, const BrickSelection &sel,
                                            const InstanceRecipe &recipe,
                                            const uint8_t background[4], Frame *frame, DrawList *out,
-                                           int64_t step) {
+                                           int64_t step, int threads) {
   CullStats st = sel.stats;
   out->clear();
   st.probabilistic = probabilistic_.run(particles, bricks, cull.probabilistic, sel, step);
   st.occlusion_culled = st.probabilistic.particles_culled;
   const ViewGeometry &g = sel.g;
   const bool point_path = cull.lod.point_path;
-  const bool two = split_strips(g.width, strips_);
+  const int count = split_strips(g.width, threads, &strips_);
   CpuSphereRaster::clear_target(g, background, frame);
-  for (int k = 0; k < 2; ++k) rasters_[k].begin_strip(g, frame, strips_[k].x0, strips_[k].x1);
+  begin_strips(count, g, nullptr, frame);  // the lighting the rasters last had (as before)
   const MeshletSet &ml = probabilistic_.meshlets();
   const Frustum frustum(g);
   const CutPlanes cuts(cull.cuts);
@@ -97,7 +107,7 @@ CullStats CpuSpherePass::run_probabilistic(const ParticleArrays &particles, cons
     visit_radii(particles, sel.radius.per_particle, sel.radius.radius, [&](const auto &radius) {
       // Both strips walk the same particles; strip 0 alone records them and their counts.
       const auto strip = [&](int k) {
-        StripState &s = strips_[k];
+        StripState &s = strips_[size_t(k)];
         s.out.clear();
         CullStats counts;
         for (const VisibleBrick &v : sel.visible) {
@@ -130,13 +140,13 @@ CullStats CpuSpherePass::run_probabilistic(const ParticleArrays &particles, cons
               rect.x0 = std::max(rect.x0, s.x0), rect.x1 = std::min(rect.x1, s.x1);
               if (rect.empty()) continue;
               const Rgb8 color = recipe.color(i);
-              rasters_[k].draw(c, r, color.data(), rect);
+              rasters_[size_t(k)].draw(c, r, color.data(), rect);
             }
           }
         }
         if (k == 0) st.cut_culled += counts.cut_culled, st.frustum_culled += counts.frustum_culled;
       };
-      run_strips(two, sel.visible, strip, strips_);
+      run_strips(count, strip);
     });
   });
   // Published order (draw_list.h).

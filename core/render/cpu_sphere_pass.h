@@ -10,7 +10,7 @@
 // lod.point_path is on, for point_splats.h to draw afterwards.
 // Ownership: owns its strips' rasters and buffers (reused between frames); borrows the frame,
 // particles and bricks for one call. Thread-safety: one pass per thread; run() starts and joins its
-// own helper thread on images >= kTwoStripsFrom px wide.
+// own helper threads (up to `threads` column strips, none narrower than kMinStripWidth px).
 #pragma once
 
 #include <cstdint>
@@ -37,11 +37,12 @@ class CpuSpherePass {
   // (select_bricks for these particles, bricks and `cull`; its mode must be hzb, none or
   // probabilistic), colored by `recipe` and lit by `lighting`. `out` lists the spheres drawn (for
   // the counts) and the points left to splat. `step` keys probabilistic culling's random numbers.
-  // Returns the selection's counts completed by this pass.
+  // Returns the selection's counts completed by this pass. `threads`: column strips drawn at once
+  // (the image and the lists are the same at any count).
   CullStats run(const ParticleArrays &particles, const BrickSet &bricks, const CullSettings &cull,
                 const Lighting &lighting, const BrickSelection &selection,
                 const InstanceRecipe &recipe, const uint8_t background[4], Frame *frame,
-                DrawList *out, int64_t step = 0);
+                DrawList *out, int64_t step = 0, int threads = 2);
 
   // The meshlet classes of the last probabilistic run (tests).
   const ProbabilisticCuller &probabilistic() const { return probabilistic_; }
@@ -53,11 +54,14 @@ class CpuSpherePass {
   CullStats run_probabilistic(const ParticleArrays &particles, const BrickSet &bricks,
                               const CullSettings &cull, const BrickSelection &selection,
                               const InstanceRecipe &recipe, const uint8_t background[4],
-                              Frame *frame, DrawList *out, int64_t step);
+                              Frame *frame, DrawList *out, int64_t step, int threads);
+
+  // Gives the first `count` strips their rasters, begun on `frame`.
+  void begin_strips(int count, const ViewGeometry &g, const Lighting *lighting, Frame *frame);
 
   ProbabilisticCuller probabilistic_;
-  StripState strips_[2];
-  CpuSphereRaster rasters_[2];
+  std::vector<StripState> strips_;
+  std::vector<CpuSphereRaster> rasters_;
   std::vector<uint64_t> scratch_;
 };
 

@@ -5,6 +5,8 @@
 #            lantern-render renders that dump; the PNGs must be byte-identical. Then the dump is
 #            converted to H5MD (float64) and rendered again: identical too.
 # MODE h5py: lantern-render converts the dump to H5MD (float32); h5py_check.py reads it back.
+# MODE split: lantern-render renders the dump with --split rows and with --split space (the
+#            default): every image byte-identical, and the first scene equal to the C API's.
 # MODE varying: the particle count changes (3000, 2400, 3200): the C API helper renders and dumps
 #            H5MD in situ; lantern-render renders that H5MD and the LAMMPS text dump; all three
 #            sets of PNGs must be byte-identical, and h5py reads the H5MD back (counts, fills).
@@ -50,6 +52,21 @@ png)
   done
   [ "$n" -eq 2 ] || { echo "expected 2 images, found $n"; exit 1; }
   echo "identical: $n images (C API, LAMMPS dump, H5MD) at $ranks rank(s)"
+  ;;
+split)
+  cd "$work/tool" && run "$tool" "$src/split_config.yaml" ../particles.lammpstrj --split rows
+  cd "$work/h5" && run "$tool" "$src/split_config.yaml" ../particles.lammpstrj 2> split.log
+  cat split.log
+  if [ "$ranks" -gt 1 ]; then grep -q "spatial split" split.log; fi
+  cd "$work"
+  n=0
+  for f in tool/*.png; do
+    cmp "$f" "h5/$(basename "$f")"
+    n=$((n + 1))
+  done
+  for f in api/*.png; do cmp "$f" "h5/$(basename "$f")"; done
+  [ "$n" -eq 6 ] || { echo "expected 6 images, found $n"; exit 1; }
+  echo "identical: $n images split by rows and by space at $ranks rank(s)"
   ;;
 movie)
   cd "$work/h5" && run "$tool" "$src/movie_config.yaml" ../api/insitu.h5

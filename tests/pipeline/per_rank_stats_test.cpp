@@ -83,9 +83,15 @@ TEST(PerRankStats, SpreadsSumToTheTotalsAndNameTheBusiestRank) {
                      scene["particles"][what].get<double>())
         << what;
   }
+  // particles: each rank's finite particles, drawn + culled: 200 (r + 1) + 50 (size - r), the
+  // most on the last rank.
+  EXPECT_EQ(per_rank["particles"]["min"], 200.0 + 50.0 * n);
+  EXPECT_EQ(per_rank["particles"]["max"], 200.0 * n + 50.0);
+  EXPECT_EQ(per_rank["particles"]["max_rank"], size - 1);
+  EXPECT_NE(summary.find(", particles "), std::string::npos) << summary;
   EXPECT_EQ(scene["particles"]["drawn"], 100 * size * (size + 1));
   EXPECT_EQ(scene["particles"]["culled"], 25 * size * (size + 1));
-  for (const char *what : {"drawn", "culled", "ms"}) {
+  for (const char *what : {"drawn", "culled", "ms", "particles"}) {
     const nlohmann::json &s = per_rank[what];
     EXPECT_GE(s["imbalance"].get<double>(), 1.0) << what;
     EXPECT_GE(s["max_rank"].get<int>(), 0) << what;

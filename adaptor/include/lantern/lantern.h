@@ -210,8 +210,9 @@ LANTERN_API const char *lantern_error_message(const lantern_context *ctx);
 
 /*
  * How the last rendered step's work spread over the ranks, for a log at the end of a run: a
- * header line ("step N, R ranks:") and one line per scene with the particles drawn and culled
- * and the milliseconds of each rank's own work (before compositing) as min..max per rank, the
+ * header line ("step N, R ranks:") and one line per scene with the particles drawn and culled,
+ * the milliseconds of each rank's own work (before compositing) and the rank's finite particles
+ * as min..max per rank, the
  * imbalance (max over mean) and the rank holding the max. The same numbers are in the stats
  * line's "per_rank" object. Needs `stats:` in the configuration (the small reduction behind it
  * runs only then). On rank 0 of the context's communicator; "" on other ranks, before the first

@@ -2,7 +2,7 @@
 //
 //   lantern-bench [--scenes fcc1m,fcc10m,inside,void_impact,droplet] [--size 1024] [--runs 5]
 //                 [--md-cells 64] [--out DIR] [--images] [--modes hzb,cpu_raster+hzb]
-//                 [--azimuths K] [--density] [--opaque-lod]
+//                 [--azimuths K] [--density] [--opaque-lod] [--scale 10,38,100]
 //
 // --density: style: density at LOD 100/50/25/10/1 % against random samples instead of the sphere
 // modes (density_bench.h; DIR/density_bench.csv and .svg). Scene `clustered`: clustered_cloud.
@@ -55,6 +55,7 @@
 #include "image_metrics.h"
 #include "opaque_lod_bench.h"
 #include "probabilistic_modes.h"
+#include "scale_bench.h"
 #include "supersampling_bench.h"
 
 namespace lantern::bench {
@@ -74,6 +75,7 @@ struct Options {
   bool pipeline = false;  // --pipeline: with --samples, whole frames through the pipeline instead
   bool density = false;   // --density: style: density LOD against random samples (density_bench.h)
   bool opaque_lod = false;  // --opaque-lod: sphere LOD against random samples (opaque_lod_bench.h)
+  ScaleOptions scale;       // --scale 10,38,100: whole frames at millions of particles
 };
 
 struct Mode {
@@ -176,11 +178,10 @@ class Bench {
     std::printf("\n== %s: %s, %dx%d\n", bs.name.c_str(), bs.note.c_str(), bs.config.width,
                 bs.config.height);
     std::printf(
-        "   bricks: %zu (<= 1024 particles), built in %.1f ms median of 3 (keys %.1f, "
-        "sort %.1f, split %.1f, layout %.1f, bounds %.1f; last build); once per step, "
+        "   bricks: %zu (<= 1024 particles), built in %.1f ms median of 3 (bounds %.1f, "
+        "keys %.1f, scatter %.1f, cells %.1f; last build); once per step, "
         "shared by all scenes, not in the times below\n",
-        bricks.bricks.size(), median(build), bt.keys_ms, bt.sort_ms, bt.split_ms, bt.layout_ms,
-        bt.bounds_ms);
+        bricks.bricks.size(), median(build), bt.bounds_ms, bt.keys_ms, bt.scatter_ms, bt.cells_ms);
     std::vector<Mode> all = modes();
     if (!opt_.modes.empty())
       all.erase(std::remove_if(all.begin() + 1, all.end(),
@@ -437,12 +438,20 @@ bool parse(int argc, char **argv, Options *o) {
       o->density = true;
     } else if (a == "--opaque-lod") {
       o->opaque_lod = true;
+    } else if (a == "--scale") {
+      std::stringstream ss(value());
+      for (std::string s; std::getline(ss, s, ',');) o->scale.millions.push_back(std::stod(s));
+    } else if (a == "--scale-scenes") {
+      o->scale.scenes.clear();
+      std::stringstream ss(value());
+      for (std::string s; std::getline(ss, s, ',');) o->scale.scenes.push_back(s);
     } else {
       std::fprintf(stderr,
                    "usage: lantern-bench [--scenes fcc1m,fcc10m,inside,void_impact,droplet] "
                    "[--size 1024] [--runs 5] [--md-cells 64] [--out DIR] [--images] "
                    "[--modes hzb,cpu_raster+hzb,...] [--azimuths K] [--samples 1,4,16 "
-                   "[--pipeline]] [--density] [--opaque-lod]\n"
+                   "[--pipeline]] [--density] [--opaque-lod] [--scale 10,38,100 "
+                   "[--scale-scenes fcc,heterogeneous]]\n"
                    "  a scene name may end in :uniform or :bimodal (mixed radii)\n");
       return false;
     }
@@ -461,6 +470,12 @@ int run(int argc, char **argv) {
     std::fprintf(stderr, "lantern-bench: --out %s: cannot create the directory: %s\n",
                  opt.out.c_str(), ec.message().c_str());
     return 1;
+  }
+  if (!opt.scale.millions.empty()) {  // whole frames through the pipeline, under mpiexec
+    opt.scale.runs = opt.runs;
+    opt.scale.size = opt.size;
+    opt.scale.out = opt.out;
+    return run_scale_bench(opt.scale) ? 0 : 1;
   }
   const std::string table = opt.density           ? "density_bench"
                             : opt.opaque_lod      ? "opaque_lod_bench"
