@@ -9,8 +9,6 @@ constexpr int kFoldTag = 0x4c50;
 constexpr int kRoundTag = kFoldTag + 1;
 constexpr int kFinishTag = kFoldTag + 2;
 
-using Apply = RunLengthDecoder::Apply;
-
 }  // namespace
 
 Status run_active_pixel_plan(MPI_Comm comm, const ActivePixelPlan &plan, ActiveFrame &frame,
@@ -23,16 +21,33 @@ Status run_active_pixel_plan(MPI_Comm comm, const ActivePixelPlan &plan, ActiveF
   const PixelRange whole{0, frame.frame->pixel_count()};
   Status first_error;
   const auto run = [&](int tag, const std::vector<OutgoingRange> &out,
-                       const std::vector<IncomingRange> &in, Apply apply) {
-    Status st = exchange_active_pixels(comm, tag, out, in, apply, frame, scratch, traffic);
+                       const std::vector<IncomingRange> &in) {
+    Status st = exchange_active_pixels(comm, tag, out, in, frame, scratch, traffic);
     if (first_error.ok()) first_error = std::move(st);
   };
 
+  if (s.tree) {
+    // Binomial tree to the root, ranks counted from it: v hands its frame to v - 2^j in the round
+    // of its lowest set bit j, after taking those of v + 2^i for every i < j.
+    int ranks = 1;
+    MPI_Comm_size(comm, &ranks);
+    const int v = (rank - plan.root + ranks) % ranks;
+    const auto actual = [&](int u) { return (u + plan.root) % ranks; };
+    for (int bit = 1; bit < ranks && first_error.code != StatusCode::kMpi; bit <<= 1) {
+      if (v & bit) {
+        run(kRoundTag, {{actual(v - bit), whole}}, {});
+        break;
+      }
+      if (v + bit < ranks) run(kRoundTag, {}, {{actual(v + bit), whole}});
+    }
+    return first_error;
+  }
+
   // Fold: an extra rank's whole frame into its base rank.
   if (rank != base) {
-    run(kFoldTag, {{base, whole}}, {}, Apply::kMerge);
+    run(kFoldTag, {{base, whole}}, {});
   } else if (extra >= 0) {
-    run(kFoldTag, {}, {{extra, whole}}, Apply::kMerge);
+    run(kFoldTag, {}, {{extra, whole}});
   }
 
   // Rounds, among the base ranks.
@@ -48,12 +63,15 @@ Status run_active_pixel_plan(MPI_Comm comm, const ActivePixelPlan &plan, ActiveF
         out.push_back({r.partners[i], r.give[i]});
         in.push_back({r.partners[i], r.keep});
       }
-      run(kRoundTag, out, in, Apply::kMerge);
+      run(kRoundTag, out, in);
     }
   }
 
-  // Finish. A failed MPI call is fatal under MPI's default error handler; with MPI_ERRORS_RETURN
-  // this phase still runs so that no rank is left waiting in it.
+  // Finish. The receiver merges rather than overwrites: every value a rank holds is a minimum over
+  // some ranks, so its stale pixels there are never nearer than the final ones, and where nothing
+  // comes (the final pixel is empty) they are empty already. A failed MPI call is fatal under
+  // MPI's default error handler; with MPI_ERRORS_RETURN this phase still runs so that no rank is
+  // left waiting in it.
   std::vector<OutgoingRange> out;
   std::vector<IncomingRange> in;
   if (plan.bands.empty()) {
@@ -66,7 +84,7 @@ Status run_active_pixel_plan(MPI_Comm comm, const ActivePixelPlan &plan, ActiveF
   } else if (rank != base) {
     in.push_back({base, plan.bands[size_t(rank)]});
   }
-  run(kFinishTag, out, in, Apply::kWrite);
+  run(kFinishTag, out, in);
   return first_error;
 }
 

@@ -6,9 +6,9 @@
 // Phases, each an exchange_active_pixels (active_pixel_exchange.h) with its own tag:
 //   fold    extra ranks stream their whole frame to their group's base rank, which merges it;
 //   rounds  the base ranks run the schedule's rounds, merging in place;
-//   finish  to a root: every base rank streams its block to the root, which writes it (the gaps
-//           as the empty pixel); to bands: every base rank already holds its own band, and
-//           streams its extra rank's band back to it.
+//   finish  to a root: every base rank streams its block to the root, which merges it; to bands:
+//           every base rank already holds its own band, and streams its extra rank's band back.
+// The tree reduce (to a root only) is its rounds alone.
 // Bytes moved per rank follow what the ranks drew, not the frame: a rank that drew a tenth of the
 // image sends about a tenth of what dense binary swap sends in its first round.
 //

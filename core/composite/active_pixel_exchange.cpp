@@ -23,8 +23,7 @@ void ActivePixelScratch::prepare(size_t chunk_pixels, int ranks) {
 }
 
 Status exchange_active_pixels(MPI_Comm comm, int tag, const std::vector<OutgoingRange> &outgoing,
-                              const std::vector<IncomingRange> &incoming,
-                              RunLengthDecoder::Apply apply, ActiveFrame &frame,
+                              const std::vector<IncomingRange> &incoming, ActiveFrame &frame,
                               ActivePixelScratch &scratch, CompositeTraffic *traffic) {
   struct Out {
     int to;
@@ -56,7 +55,7 @@ Status exchange_active_pixels(MPI_Comm comm, int tag, const std::vector<Outgoing
     if (i.range.size() == 0) continue;
     const size_t capacity = share_of(scratch.receive.size(), receive_streams, i.range);
     ins.push_back(
-        {i.from, RunLengthDecoder(i.range, apply), scratch.receive.data() + receive_at, capacity});
+        {i.from, RunLengthDecoder(i.range), scratch.receive.data() + receive_at, capacity});
     receive_at += capacity;
   }
 

@@ -40,12 +40,11 @@ struct IncomingRange {
   PixelRange range;
 };
 
-// Streams every `outgoing` range of frame to its rank while applying every `incoming` range's
-// messages (`apply`). Empty ranges send nothing. Adds what moved to *traffic. OK, kMpi with the
+// Streams every `outgoing` range of frame to its rank while merging every `incoming` range's
+// messages into frame. Empty ranges send nothing. Adds what moved to *traffic. OK, kMpi with the
 // MPI error, or kInternal for a malformed message (the protocol still runs to its end).
 Status exchange_active_pixels(MPI_Comm comm, int tag, const std::vector<OutgoingRange> &outgoing,
-                              const std::vector<IncomingRange> &incoming,
-                              RunLengthDecoder::Apply apply, ActiveFrame &frame,
+                              const std::vector<IncomingRange> &incoming, ActiveFrame &frame,
                               ActivePixelScratch &scratch, CompositeTraffic *traffic);
 
 }  // namespace lantern

@@ -52,9 +52,18 @@ struct ActiveScan {
 };
 
 // Canonicalises frame's depths in place and returns its largest key, the bounding rectangle of
-// the other pixels and their count. One pass; runs of pixels equal to the running maximum are
-// compared 16 at a time.
+// the other pixels and their count. One pass; each row is first tallied against the running
+// maximum in one vectorised sweep, and only rows that may hold a new maximum or a depth to
+// rewrite are walked pixel by pixel.
 ActiveScan scan_active_pixels(Frame &frame);
+
+// The busiest rank's active pixels, for the cost model, from values agreed over the ranks: the
+// largest scan.max_key (the empty pixel), the smallest, and the largest scan.active. A rank whose
+// own maximum is below the empty pixel has no empty pixel: all `pixels` of its frame are active.
+inline size_t busiest_active_pixels(uint64_t empty_key, uint64_t least_max_key, size_t most_active,
+                                    size_t pixels) {
+  return least_max_key < empty_key ? pixels : most_active;
+}
 
 // The agreed empty pixel E (the largest key over every rank) as the frame stores it, for
 // comparisons without unpacking: depth bits and the 4 colour bytes as one word in memory order.

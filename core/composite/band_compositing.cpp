@@ -110,8 +110,9 @@ Status composite_to_row_bands(MPI_Comm comm, Frame &frame, int multiple, RowBand
   const size_t multiple_at = agree.equal(multiple);
   const size_t setup =
       agree.equal(static_cast<long long>(options.method) * 1000003 + static_cast<long long>(chunk));
-  const size_t model_at = agree.equal(cost_model_fingerprint(model, options.radices));
+  const size_t model_at = agree.equal(cost_model_fingerprint(model, options.schedule));
   const size_t max_key = agree.maximum(static_cast<long long>(scan.max_key));
+  const size_t min_key = agree.minimum(static_cast<long long>(scan.max_key));
   const size_t most_active = agree.maximum(static_cast<long long>(scan.active));
   const size_t ok_at = agree.all(consistent), allocated_at = agree.all(allocated);
   Status status = agree.reduce(comm);
@@ -137,13 +138,16 @@ Status composite_to_row_bands(MPI_Comm comm, Frame &frame, int multiple, RowBand
   if (dense) {
     status = direct_send_bands(comm, frame, bands, scratch, &stats.traffic);
   } else {
-    const size_t most = size_t(agree.max(most_active));
+    const size_t most =
+        busiest_active_pixels(uint64_t(agree.max(max_key)), uint64_t(agree.min(min_key)),
+                              size_t(agree.max(most_active)), stats.pixels);
     CostEstimate estimate;
     CompositingSchedule schedule;
-    if (options.radices.empty()) {
+    if (!options.schedule) {
       schedule = cheapest_schedule(ranks, stats.pixels, most, false, model, &estimate);
     } else {
-      schedule = {ranks, options.radices};
+      schedule = *options.schedule;
+      schedule.ranks = ranks;
       estimate = estimate_active_pixels(schedule, stats.pixels, most, false, model);
     }
     stats.schedule = schedule.name();
@@ -151,9 +155,11 @@ Status composite_to_row_bands(MPI_Comm comm, Frame &frame, int multiple, RowBand
     const uint64_t empty_key = uint64_t(agree.max(max_key));
     const bool own_empty = scan.max_key == empty_key;
     stats.active_pixels = own_empty ? scan.active : stats.pixels;
-    if (!schedule.valid()) {
-      status = {StatusCode::kMpi, "composite_to_row_bands: schedule " + schedule.name() +
-                                      " does not fit " + std::to_string(ranks) + " ranks"};
+    if (!schedule.valid() || schedule.tree) {
+      status = {StatusCode::kMpi,
+                "composite_to_row_bands: schedule " + schedule.name() +
+                    (schedule.tree ? " cannot end in row bands"
+                                   : " does not fit " + std::to_string(ranks) + " ranks")};
     } else if (stats.pixels > 0) {
       ActiveFrame active_frame{&frame, empty_pixel(empty_key),
                                own_empty ? scan.rect : PixelRect{0, 0, frame.width, frame.height}};

@@ -85,7 +85,8 @@ Status measure_cost_model(MPI_Comm comm, CompositeCostModel *model) {
   return {};
 }
 
-long long cost_model_fingerprint(const CompositeCostModel &model, const std::vector<int> &radices) {
+long long cost_model_fingerprint(const CompositeCostModel &model,
+                                 const std::optional<CompositingSchedule> &forced) {
   // FNV-1a over the figures' bits and the radices.
   uint64_t h = 1469598103934665603ull;
   const auto mix = [&h](uint64_t v) {
@@ -96,7 +97,10 @@ long long cost_model_fingerprint(const CompositeCostModel &model, const std::vec
   mix(bits);
   std::memcpy(&bits, &model.bytes_per_s, sizeof bits);
   mix(bits);
-  for (const int k : radices) mix(uint64_t(k));
+  if (forced) {
+    mix(forced->tree ? 1 : 2);
+    for (const int k : forced->radices) mix(uint64_t(k));
+  }
   return static_cast<long long>(h);
 }
 
@@ -106,6 +110,16 @@ CostEstimate estimate_active_pixels(const CompositingSchedule &schedule, size_t 
   const double per_byte = 1.0 / model.bytes_per_s;
   const auto covered = [&](double images) { return n > 0 ? std::min(1.0, images * a / n) : 0.0; };
   CostEstimate e;
+  if (schedule.tree) {
+    // Round j: the root takes a frame holding 2^j ranks' images.
+    for (double images = 1; images < double(schedule.ranks); images *= 2) {
+      const double bytes = kBytesPerPixel * n * covered(images);
+      e.seconds += model.latency_s + bytes * per_byte;
+      e.bytes_sent = bytes;  // the last sender's is the largest
+    }
+    e.messages_sent = 1;
+    return e;
+  }
   double images = 1.0;  // ranks' images merged into what a rank holds
   if (schedule.extras() > 0) {
     const double bytes = kBytesPerPixel * a;  // an extra rank's whole frame
@@ -152,7 +166,7 @@ CostEstimate estimate_reduce64(int ranks, size_t pixels, const CompositeCostMode
 
 CompositingSchedule cheapest_schedule(int ranks, size_t pixels, size_t active, bool to_root,
                                       const CompositeCostModel &model, CostEstimate *estimate) {
-  const std::vector<CompositingSchedule> candidates = candidate_schedules(ranks);
+  const std::vector<CompositingSchedule> candidates = candidate_schedules(ranks, to_root);
   size_t best = 0;
   CostEstimate best_estimate;
   for (size_t i = 0; i < candidates.size(); ++i) {

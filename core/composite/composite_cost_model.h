@@ -21,12 +21,15 @@
 //   message, bytes at the bandwidth, the busiest rank's bytes per round on the critical path;
 // - gathering on the root: q - 1 messages and (q - 1) / q of the merged frame's active pixels;
 //   handing the bands back after folding: one message;
+// - the tree reduce: one message per round on the root's path, round j's frame holding 2^j
+//   ranks' images;
 // - the CPU time of scanning, encoding and merging is not modelled (the bench measures it).
 #pragma once
 
 #include <mpi.h>
 
 #include <cstddef>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -47,9 +50,10 @@ CompositeCostModel default_cost_model();
 // rank, identical. Takes a few milliseconds on shared memory. OK or kMpi.
 Status measure_cost_model(MPI_Comm comm, CompositeCostModel *model);
 
-// A fingerprint of the model and of a forced radix list, for checking that every rank passed the
+// A fingerprint of the model and of a forced schedule, for checking that every rank passed the
 // same ones (schedules are chosen from them).
-long long cost_model_fingerprint(const CompositeCostModel &model, const std::vector<int> &radices);
+long long cost_model_fingerprint(const CompositeCostModel &model,
+                                 const std::optional<CompositingSchedule> &forced);
 
 // The busiest rank's predicted cost.
 struct CostEstimate {

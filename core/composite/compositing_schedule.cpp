@@ -60,6 +60,7 @@ PixelRange blocks_span(const std::vector<PixelRange> &blocks, int first, int cou
 }  // namespace
 
 int CompositingSchedule::base() const {
+  if (tree) return ranks;
   int q = 1;
   for (const int k : radices) q *= k;
   return q;
@@ -70,6 +71,7 @@ int CompositingSchedule::extras() const {
 }
 
 bool CompositingSchedule::valid() const {
+  if (tree) return radices.empty() && ranks >= 1;
   int64_t q = 1;
   for (const int k : radices) {
     if (k < 2) return false;
@@ -80,6 +82,7 @@ bool CompositingSchedule::valid() const {
 }
 
 std::string CompositingSchedule::name() const {
+  if (tree) return "tree_reduce";
   std::string text;
   const bool all_two = std::all_of(radices.begin(), radices.end(), [](int k) { return k == 2; });
   if (radices.empty()) {
@@ -110,10 +113,10 @@ int CompositingSchedule::extra_rank(int group) const {
   return group < extras() ? 2 * group + 1 : -1;
 }
 
-std::vector<CompositingSchedule> candidate_schedules(int ranks) {
+std::vector<CompositingSchedule> candidate_schedules(int ranks, bool to_root) {
   std::vector<CompositingSchedule> out;
   const auto add = [&](std::vector<int> radices) {
-    CompositingSchedule s{ranks, std::move(radices)};
+    CompositingSchedule s{ranks, std::move(radices), false};
     if (!s.valid()) return;
     for (const CompositingSchedule &seen : out)
       if (seen.radices == s.radices) return;
@@ -131,6 +134,7 @@ std::vector<CompositingSchedule> candidate_schedules(int ranks) {
       add(r);
     }
   }
+  if (to_root) out.push_back({ranks, {}, true});
   return out;
 }
 

@@ -16,6 +16,11 @@
 // exchanges every other part with the k_j - 1 groups that differ from it in digit j only. After
 // the last round, group g's base rank holds block g merged over every rank.
 //
+// Besides radix-k, a binomial tree reduce to one root ("tree_reduce"): in round j the ranks whose
+// lowest set bit (counted from the root) is j hand their whole frame to the rank 2^j below; one
+// message at 2 ranks, but the frames grow towards the root, so it pays only for few ranks or
+// sparse frames, and it cannot end in row bands.
+//
 // Everything here is a pure function of (p, radices, blocks): every rank computes the same plan
 // without communication. Plain values; no MPI.
 #pragma once
@@ -31,12 +36,14 @@ namespace lantern {
 struct CompositingSchedule {
   int ranks = 1;             // p
   std::vector<int> radices;  // k_1 .. k_m, each >= 2; their product is the base q (1 if empty)
+  bool tree = false;         // a binomial tree reduce to the root instead (radices empty)
 
   int base() const;    // q
   int extras() const;  // p - q: groups holding two ranks
-  // "binary_swap", "direct_send" or "radix_k 4x4x2", with " fold 3" when 3 ranks fold first.
+  // "binary_swap", "direct_send" or "radix_k 4x4x2", with " fold 3" when 3 ranks fold first;
+  // "tree_reduce".
   std::string name() const;
-  // A radix list is usable for p ranks when every k >= 2 and p / 2 <= q <= p.
+  // A radix list is usable for p ranks when every k >= 2 and p / 2 <= q <= p; a tree has none.
   bool valid() const;
 
   // The group a rank belongs to, and the rank that represents a group in the rounds.
@@ -50,8 +57,9 @@ struct CompositingSchedule {
 // The schedules worth considering for p ranks: direct send, binary swap, radix-k with radices
 // near 4, 8, 16, 32 and 64 in both orders, over the base p itself and, where p has a poor
 // factorisation, over the largest power of two and the largest 2^a 3^b at most p (folding the
-// rest). Deterministic and duplicate-free. p >= 2.
-std::vector<CompositingSchedule> candidate_schedules(int ranks);
+// rest); and, when the frame ends on one root, the tree reduce. Deterministic and duplicate-free.
+// p >= 2.
+std::vector<CompositingSchedule> candidate_schedules(int ranks, bool to_root);
 
 // The q blocks of a frame of `pixels` pixels when the merged frame is to be gathered on one rank:
 // equal contiguous shares.

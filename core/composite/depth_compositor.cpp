@@ -125,8 +125,9 @@ Status composite_frames(MPI_Comm comm, Frame &frame, int root, const CompositeOp
   const size_t root_at = agree.equal(root);
   const size_t setup =
       agree.equal(static_cast<long long>(options.method) * 1000003 + static_cast<long long>(chunk));
-  const size_t model_at = agree.equal(cost_model_fingerprint(model, options.radices));
+  const size_t model_at = agree.equal(cost_model_fingerprint(model, options.schedule));
   const size_t max_key = agree.maximum(static_cast<long long>(scan.max_key));
+  const size_t min_key = agree.minimum(static_cast<long long>(scan.max_key));
   const size_t most_active = agree.maximum(static_cast<long long>(scan.active));
   const size_t ok_at = agree.all(local_ok), allocated_at = agree.all(allocated);
   Status status = agree.reduce(comm);
@@ -149,11 +150,14 @@ Status composite_frames(MPI_Comm comm, Frame &frame, int root, const CompositeOp
   CostEstimate estimate;
   bool active = needs.active;
   if (status.ok() && active) {
-    const size_t most = size_t(agree.max(most_active));
-    if (options.radices.empty()) {
+    const size_t most =
+        busiest_active_pixels(uint64_t(agree.max(max_key)), uint64_t(agree.min(min_key)),
+                              size_t(agree.max(most_active)), stats.pixels);
+    if (!options.schedule) {
       schedule = cheapest_schedule(ranks, stats.pixels, most, true, model, &estimate);
     } else {
-      schedule = {ranks, options.radices};
+      schedule = *options.schedule;
+      schedule.ranks = ranks;
       estimate = estimate_active_pixels(schedule, stats.pixels, most, true, model);
       if (!schedule.valid())
         status = failed("schedule " + schedule.name() + " does not fit " + std::to_string(ranks) +

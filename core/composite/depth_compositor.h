@@ -27,12 +27,14 @@
 #include <mpi.h>
 
 #include <cstddef>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "core/common/status.h"
 #include "core/composite/composite_cost_model.h"
 #include "core/composite/composite_traffic.h"
+#include "core/composite/compositing_schedule.h"
 #include "core/view/frame.h"
 
 namespace lantern {
@@ -61,9 +63,9 @@ struct CompositeOptions {
   // The model schedules are chosen by; null: default_cost_model(). Must be the same on every rank
   // (measure_cost_model gives every rank the same one).
   const CompositeCostModel *model = nullptr;
-  // kActivePixels: run this radix list (compositing_schedule.h) instead of the model's choice
-  // (tests, benchmarks); empty: the model chooses.
-  std::vector<int> radices;
+  // kActivePixels: run this schedule (compositing_schedule.h) instead of the model's choice
+  // (tests, benchmarks); none: the model chooses.
+  std::optional<CompositingSchedule> schedule;
 };
 
 struct CompositeStats {

@@ -15,6 +15,11 @@ size_t RankAgreement::maximum(long long value) {
   return values_.size() - 1;
 }
 
+size_t RankAgreement::minimum(long long value) {
+  values_.push_back(value);
+  return values_.size() - 1;
+}
+
 size_t RankAgreement::all(bool value) {
   values_.push_back(value ? 1 : 0);
   return values_.size() - 1;

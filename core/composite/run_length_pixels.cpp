@@ -140,25 +140,15 @@ Status RunLengthDecoder::decode(const uint64_t *message, size_t words, ActiveFra
   float *depth = frame.depth.data();
   uint8_t *rgba = frame.rgba.data();
   const size_t width = size_t(frame.width);
-  const auto fill_empty = [&](size_t from, size_t to) {
-    for (size_t i = from; i < to; ++i) {
-      std::memcpy(depth + i, &f.empty.depth_bits, 4);
-      std::memcpy(rgba + 4 * i, &f.empty.rgba_word, 4);
-    }
-  };
   size_t cursor = next_;
   for (size_t w = 1; w < words;) {
     const size_t skip = size_t(message[w] >> 32), count = size_t(message[w] & 0xffffffffu);
     ++w;
     if (count > words - w || skip > end - cursor || count > end - cursor - skip)
       return corrupt("run");
-    if (apply_ == Apply::kWrite) fill_empty(cursor, cursor + skip);
     cursor += skip;
-    const uint64_t *keys = message + w;
-    if (apply_ == Apply::kWrite) {
-      for (size_t t = 0; t < count; ++t)
-        unpack_pixel(keys[t], depth + cursor + t, rgba + 4 * (cursor + t));
-    } else if (count > 0) {
+    if (count > 0) {
+      const uint64_t *keys = message + w;
       for (size_t t = 0; t < count; ++t) {
         const size_t i = cursor + t;
         uint32_t own_depth;
@@ -179,7 +169,6 @@ Status RunLengthDecoder::decode(const uint64_t *message, size_t words, ActiveFra
     cursor += count;
     w += count;
   }
-  if (apply_ == Apply::kWrite) fill_empty(cursor, end);
   next_ = end;
   done_ = last;
   return {};

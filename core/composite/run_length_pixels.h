@@ -44,24 +44,20 @@ class RunLengthEncoder {
   bool done_ = false;
 };
 
-// Applies one range's successive messages to a frame.
+// Merges one range's successive messages into a frame by compositing's rule: active pixels are
+// merged, empty ones leave the frame alone (min(x, E) = x).
 class RunLengthDecoder {
  public:
-  enum class Apply {
-    kMerge,  // merge the active pixels by compositing's rule; empty pixels leave the frame alone
-    kWrite,  // the range becomes the message: active pixels are written, empty ones set to empty
-  };
-  RunLengthDecoder(PixelRange range, Apply apply) : range_(range), next_(range.lo), apply_(apply) {}
+  explicit RunLengthDecoder(PixelRange range) : range_(range), next_(range.lo) {}
 
-  // Applies message[0, words) to frame's pixels; with kMerge, grows frame.rect by the pixels merged
-  // in. kInternal if the message does not fit the range (a bug or a corrupted message).
+  // Merges message[0, words) into frame's pixels and grows frame.rect by the pixels merged in.
+  // kInternal if the message does not fit the range (a bug or a corrupted message).
   Status decode(const uint64_t *message, size_t words, ActiveFrame &frame);
   bool done() const { return done_; }
 
  private:
   PixelRange range_;
   size_t next_;
-  Apply apply_;
   bool done_ = false;
 };
 

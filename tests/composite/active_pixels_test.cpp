@@ -78,7 +78,7 @@ std::string simulate(const CompositingSchedule &s, const std::vector<PixelRange>
 TEST(CompositingSchedule, EveryCandidateMergesEveryRankIntoEveryBlockOnce) {
   if (world_size() > 1) GTEST_SKIP() << "serial: runs in the one-rank job";
   for (int p = 2; p <= 70; ++p) {
-    const std::vector<CompositingSchedule> candidates = candidate_schedules(p);
+    const std::vector<CompositingSchedule> candidates = candidate_schedules(p, false);
     ASSERT_FALSE(candidates.empty()) << p;
     bool has_direct_send = false;
     for (const CompositingSchedule &s : candidates) {
@@ -89,6 +89,9 @@ TEST(CompositingSchedule, EveryCandidateMergesEveryRankIntoEveryBlockOnce) {
       EXPECT_EQ(simulate(s, blocks), "") << p << " ranks, " << s.name();
     }
     EXPECT_TRUE(has_direct_send) << p;
+    const std::vector<CompositingSchedule> to_root = candidate_schedules(p, true);
+    EXPECT_EQ(to_root.size(), candidates.size() + 1);
+    EXPECT_TRUE(to_root.back().tree);
   }
 }
 
@@ -97,6 +100,8 @@ TEST(CompositingSchedule, NamesSayWhatRuns) {
   EXPECT_EQ((CompositingSchedule{8, {8}}.name()), "direct_send");
   EXPECT_EQ((CompositingSchedule{8, {4, 2}}.name()), "radix_k 4x2");
   EXPECT_EQ((CompositingSchedule{7, {2, 2}}.name()), "binary_swap fold 3");
+  EXPECT_EQ((CompositingSchedule{7, {}, true}.name()), "tree_reduce");
+  EXPECT_TRUE((CompositingSchedule{7, {}, true}.valid()));
   EXPECT_EQ((CompositingSchedule{7, {2, 2}}.extras()), 3);
   EXPECT_FALSE((CompositingSchedule{9, {2, 2}}.valid()));  // 5 extras for 4 base ranks
   EXPECT_FALSE((CompositingSchedule{8, {3, 3}}.valid()));  // more than the ranks
@@ -114,20 +119,29 @@ TEST(CompositingSchedule, FoldedGroupsAreConsecutiveRanks) {
   EXPECT_EQ(s.extra_rank(3), -1);
 }
 
-TEST(CompositeCostModel, ChoosesFewerRoundsWhenLatencyDominatesAndIsDeterministic) {
+TEST(CompositeCostModel, ChoosesFewerMessagesWhenLatencyDominatesAndIsDeterministic) {
   CompositeCostModel slow_messages{1e-3, 1e12, true}, slow_bytes{1e-9, 1e6, true};
-  // Nothing drawn: only messages cost, and binary swap's log2(p) rounds need the fewest.
+  // Nothing drawn: only messages cost. To a root the tree reduce needs log2(p) of them on the
+  // root's path; into bands binary swap's log2(p) rounds are the fewest.
   CostEstimate e;
-  const CompositingSchedule a = cheapest_schedule(64, 1 << 20, 0, true, slow_messages, &e);
+  const CompositingSchedule tree = cheapest_schedule(64, 1 << 20, 0, true, slow_messages, &e);
+  EXPECT_EQ(tree.name(), "tree_reduce");
+  EXPECT_NEAR(e.seconds, 6e-3, 1e-9);
+  const CompositingSchedule a = cheapest_schedule(64, 1 << 20, 0, false, slow_messages, &e);
   EXPECT_EQ(a.name(), "binary_swap") << e.seconds;
-  EXPECT_NEAR(e.seconds, (6 + 63) * 1e-3, 1e-9);  // 6 rounds + the gather to root
-  const CompositingSchedule b = cheapest_schedule(64, 1 << 20, 0, true, slow_messages, nullptr);
+  EXPECT_NEAR(e.seconds, 6e-3, 1e-9);
+  const CompositingSchedule b = cheapest_schedule(64, 1 << 20, 0, false, slow_messages, nullptr);
   EXPECT_EQ(a.radices, b.radices);
+  // Binary swap to a root: 6 rounds and the gather's 63 messages.
+  EXPECT_NEAR(estimate_active_pixels(a, 1 << 20, 0, true, slow_messages).seconds, 69e-3, 1e-9);
   // Bytes: every radix-k moves the same (1 - 1/p) of a dense frame; active pixels move fewer.
   const CostEstimate dense = estimate_active_pixels(a, 1 << 20, 1 << 20, true, slow_bytes);
   const CostEstimate sparse = estimate_active_pixels(a, 1 << 20, (1 << 20) / 64, true, slow_bytes);
   EXPECT_LT(sparse.bytes_sent * 8, dense.bytes_sent);
   EXPECT_NEAR(dense.bytes_sent, 8.0 * (1 << 20) * (63.0 / 64 + 1.0 / 64), 1.0);
+  // The tree on dense frames: the root takes 6 whole frames.
+  EXPECT_NEAR(estimate_active_pixels(tree, 1 << 20, 1 << 20, true, slow_bytes).seconds,
+              6 * (1e-9 + 8.0 * (1 << 20) / 1e6), 1e-6);
 }
 
 // ---- the scan ----------------------------------------------------------------------------------
@@ -195,11 +209,11 @@ Frame drawn_frame(int width, int height, int seed) {
   return f;
 }
 
-// Encodes `range` of `from` in messages of `capacity` words and decodes them into `into`.
+// Encodes `range` of `from` in messages of `capacity` words and merges them into `into`.
 void stream(const ActiveFrame &from, PixelRange range, size_t capacity, ActiveFrame &into,
-            RunLengthDecoder::Apply apply, size_t *total_words, size_t *messages) {
+            size_t *total_words, size_t *messages) {
   RunLengthEncoder encoder(range);
-  RunLengthDecoder decoder(range, apply);
+  RunLengthDecoder decoder(range);
   std::vector<uint64_t> buffer(capacity);
   *total_words = 0;
   *messages = 0;
@@ -214,7 +228,8 @@ void stream(const ActiveFrame &from, PixelRange range, size_t capacity, ActiveFr
   EXPECT_TRUE(decoder.done());
 }
 
-TEST(RunLengthPixels, WriteRoundTripsEveryRangeAtEveryMessageSize) {
+// Merged into a frame of empty pixels, the messages rebuild the range exactly.
+TEST(RunLengthPixels, RoundTripsEveryRangeAtEveryMessageSize) {
   Frame original = drawn_frame(97, 41, 3);
   const ActiveScan scan = scan_active_pixels(original);
   const ActiveFrame from{&original, empty_pixel(scan.max_key), scan.rect};
@@ -223,17 +238,16 @@ TEST(RunLengthPixels, WriteRoundTripsEveryRangeAtEveryMessageSize) {
        {PixelRange{0, n}, PixelRange{5, 6}, PixelRange{100, 2000}, PixelRange{n - 333, n}}) {
     for (const size_t capacity : {size_t(3), size_t(4), size_t(17), size_t(1000), n + 2}) {
       Frame copy = blank_frame(97, 41);
-      for (float &d : copy.depth) d = 0.125f;  // garbage the write must replace
       ActiveFrame into{&copy, from.empty, {}};
       size_t words = 0, messages = 0;
-      stream(from, range, capacity, into, RunLengthDecoder::Apply::kWrite, &words, &messages);
+      stream(from, range, capacity, into, &words, &messages);
       for (size_t i = range.lo; i < range.hi; ++i) {
         ASSERT_EQ(copy.depth[i], original.depth[i]) << i << " capacity " << capacity;
         ASSERT_EQ(std::memcmp(&copy.rgba[4 * i], &original.rgba[4 * i], 4), 0) << i;
       }
       // Pixels outside the range are left alone.
-      if (range.lo > 0) EXPECT_EQ(copy.depth[range.lo - 1], 0.125f);
-      if (range.hi < n) EXPECT_EQ(copy.depth[range.hi], 0.125f);
+      for (size_t i = 0; i < n; ++i)
+        if (i < range.lo || i >= range.hi) ASSERT_EQ(copy.depth[i], kBackgroundDepth) << i;
       if (capacity >= range.size() + 2) {
         // One message, at most 8 bytes per pixel plus a header and one pair.
         EXPECT_EQ(messages, 1u);
@@ -243,18 +257,18 @@ TEST(RunLengthPixels, WriteRoundTripsEveryRangeAtEveryMessageSize) {
   }
 }
 
-TEST(RunLengthPixels, AFrameWithNothingDrawnTakesOneWordPerRange) {
+TEST(RunLengthPixels, AFrameWithNothingDrawnTakesOneWordPerRangeAndChangesNothing) {
   Frame empty = blank_frame(300, 200);
   const ActiveScan scan = scan_active_pixels(empty);
   const ActiveFrame from{&empty, empty_pixel(scan.max_key), scan.rect};
   Frame copy = drawn_frame(300, 200, 1);
+  const Frame before = copy;
   ActiveFrame into{&copy, from.empty, {}};
   size_t words = 0, messages = 0;
-  stream(from, {0, empty.pixel_count()}, 1000, into, RunLengthDecoder::Apply::kWrite, &words,
-         &messages);
+  stream(from, {0, empty.pixel_count()}, 1000, into, &words, &messages);
   EXPECT_EQ(words, 1u);
   EXPECT_EQ(messages, 1u);
-  EXPECT_EQ(describe_difference(copy, empty), "");
+  EXPECT_EQ(describe_difference(copy, before), "");
 }
 
 TEST(RunLengthPixels, MergeKeepsTheNearerPixelAndGrowsTheRectangle) {
@@ -265,7 +279,7 @@ TEST(RunLengthPixels, MergeKeepsTheNearerPixelAndGrowsTheRectangle) {
   ActiveFrame from{&b, empty_pixel(sb.max_key), sb.rect};
   ActiveFrame into{&a, empty_pixel(sa.max_key), sa.rect};
   size_t words = 0, messages = 0;
-  stream(from, {0, a.pixel_count()}, 50, into, RunLengthDecoder::Apply::kMerge, &words, &messages);
+  stream(from, {0, a.pixel_count()}, 50, into, &words, &messages);
   EXPECT_EQ(describe_difference(a, expected), "");
   PixelRect both = sa.rect;
   both.add(sb.rect);
@@ -278,10 +292,10 @@ TEST(RunLengthPixels, MergeKeepsTheNearerPixelAndGrowsTheRectangle) {
 TEST(RunLengthPixels, AMessageThatDoesNotFitTheRangeIsRefused) {
   Frame f = blank_frame(10, 10);
   ActiveFrame into{&f, empty_pixel(pack_pixel(kBackgroundDepth, kBackground)), {}};
-  RunLengthDecoder decoder({0, 10}, RunLengthDecoder::Apply::kWrite);
+  RunLengthDecoder decoder({0, 10});
   const uint64_t too_long[] = {uint64_t(11) | (uint64_t(1) << 63)};
   EXPECT_EQ(decoder.decode(too_long, 1, into).code, StatusCode::kInternal);
-  RunLengthDecoder other({0, 10}, RunLengthDecoder::Apply::kWrite);
+  RunLengthDecoder other({0, 10});
   const uint64_t run_past_end[] = {
       uint64_t(10) | (uint64_t(1) << 63), uint64_t(8) << 32 | 5, 0, 0, 0, 0, 0};
   EXPECT_EQ(other.decode(run_past_end, 7, into).code, StatusCode::kInternal);

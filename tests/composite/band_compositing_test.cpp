@@ -27,10 +27,10 @@ std::vector<CompositeOptions> band_options() {
   dense.method = CompositeMethod::kDirectSend;
   all.push_back(dense);
   if (world_size() > 1)
-    for (const CompositingSchedule &s : candidate_schedules(world_size())) {
+    for (const CompositingSchedule &s : candidate_schedules(world_size(), false)) {
       CompositeOptions o;
       o.method = CompositeMethod::kActivePixels;
-      o.radices = s.radices;
+      o.schedule = s;
       o.chunk_pixels = 61;
       all.push_back(o);
     }
@@ -62,8 +62,7 @@ TEST(BandCompositing, EveryRanksBandIsTheSerialMergesRows) {
         EXPECT_EQ(stats.method, ranks == 1 ? "none"
                                 : dense    ? "direct_send_bands"
                                            : "active_pixels_bands");
-        if (!options.radices.empty())
-          EXPECT_EQ(stats.schedule, (CompositingSchedule{ranks, options.radices}.name()));
+        if (options.schedule) EXPECT_EQ(stats.schedule, options.schedule->name());
         int64_t differing = 0;
         for (int y = owned.y0; y < owned.y1; ++y)
           for (int x = 0; x < width; ++x) {
@@ -81,9 +80,15 @@ TEST(BandCompositing, MethodsThatCannotEndInBandsAreRefusedOnEveryRank) {
   RowBand owned;
   CompositeOptions o;
   o.method = CompositeMethod::kReduce64;
-  const Status s = composite_to_row_bands(MPI_COMM_WORLD, frame, 2, &owned, o);
+  Status s = composite_to_row_bands(MPI_COMM_WORLD, frame, 2, &owned, o);
   EXPECT_EQ(s.code, StatusCode::kInvalidArgument);
   EXPECT_NE(s.message.find("reduce64"), std::string::npos) << s.message;
+  if (world_size() == 1) return;
+  o.method = CompositeMethod::kActivePixels;
+  o.schedule = CompositingSchedule{world_size(), {}, true};
+  s = composite_to_row_bands(MPI_COMM_WORLD, frame, 2, &owned, o);
+  EXPECT_EQ(s.code, StatusCode::kMpi);
+  EXPECT_NE(s.message.find("cannot end in row bands"), std::string::npos) << s.message;
 }
 
 TEST(BandCompositing, FramesOfDifferentSizesFailOnEveryRankWithoutDeadlock) {

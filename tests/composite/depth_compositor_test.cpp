@@ -240,32 +240,66 @@ TEST(Composite, StatsNameTheMethodThatRan) {
   EXPECT_GE(stats.milliseconds, 0.0);
 }
 
-// Under the default model one MPI_Reduce wins only where latency is all there is (a handful of
-// pixels); everywhere else active pixels run, along the schedule the model picks.
+// kAuto runs what the default model says is cheapest for the frame it sees: active pixels along
+// the model's schedule, or one MPI_Reduce where no schedule is cheaper. On frames where nothing
+// is drawn only messages cost, and the tree reduce's log2(p) of them beat MPI_Reduce's (which
+// moves the whole frame); where every rank but the last covers every pixel the tree moves whole
+// frames too, ties with MPI_Reduce, and the tie goes to MPI_Reduce (no scan to run).
 TEST(Composite, AutoPicksTheModelsCheapestAndSaysWhich) {
-  const bool alone = world_size() == 1;
-  Frame tiny = blank_frame(4, 4), large = blank_frame(640, 480);
-  CompositeStats t, l;
-  EXPECT_OK(composite_frames(MPI_COMM_WORLD, tiny, 0, CompositeMethod::kAuto, 0, &t));
-  EXPECT_OK(composite_frames(MPI_COMM_WORLD, large, 0, CompositeMethod::kAuto, 0, &l));
-  EXPECT_EQ(t.method, alone ? "none" : "reduce64");
-  EXPECT_EQ(l.method, alone ? "none" : "active_pixels");
+  const int ranks = world_size(), rank = world_rank();
+  const bool alone = ranks == 1;
+  // Covered: rank r draws every pixel at depth 0.5 + r / 64 (the last rank's pixels are the
+  // frames' largest key, so every other rank's are all active).
+  const auto covered = [&](int width, int height) {
+    Frame f = blank_frame(width, height);
+    std::fill(f.depth.begin(), f.depth.end(), 0.5f + float(rank) / 64.0f);
+    std::fill(f.rgba.begin(), f.rgba.end(), uint8_t(40 + rank));
+    return f;
+  };
+  struct Expect {
+    const char *what;
+    Frame frame;
+    size_t most_active;  // the busiest rank's active pixels
+  };
+  std::vector<Expect> cases;
+  cases.push_back({"tiny blank", blank_frame(4, 4), 0});
+  cases.push_back({"large blank", blank_frame(640, 480), 0});
+  cases.push_back({"tiny covered", covered(4, 4), alone ? 0u : 16u});
+  cases.push_back({"large covered", covered(640, 480), alone ? 0u : 640u * 480u});
+  std::vector<CompositeStats> stats(cases.size());
+  for (size_t i = 0; i < cases.size(); ++i)
+    EXPECT_OK(
+        composite_frames(MPI_COMM_WORLD, cases[i].frame, 0, CompositeMethod::kAuto, 0, &stats[i]));
+  for (size_t i = 0; i < cases.size(); ++i) {
+    const CompositeStats &st = stats[i];
+    if (alone) {
+      EXPECT_EQ(st.method, "none") << cases[i].what;
+      continue;
+    }
+    const size_t n = cases[i].frame.pixel_count();
+    CostEstimate best;
+    const CompositingSchedule s =
+        cheapest_schedule(ranks, n, cases[i].most_active, true, default_cost_model(), &best);
+    const CostEstimate reduce = estimate_reduce64(ranks, n, default_cost_model());
+    const bool reduce_wins = reduce.seconds <= best.seconds;
+    EXPECT_EQ(st.method, reduce_wins ? "reduce64" : "active_pixels") << cases[i].what;
+    EXPECT_EQ(st.schedule, reduce_wins ? "" : s.name()) << cases[i].what;
+    EXPECT_DOUBLE_EQ(st.model_ms, (reduce_wins ? reduce : best).seconds * 1e3) << cases[i].what;
+  }
   if (alone) return;
-  CostEstimate expected;
-  const CompositingSchedule s =
-      cheapest_schedule(world_size(), 640 * 480, 0, true, default_cost_model(), &expected);
-  EXPECT_EQ(l.schedule, s.name());
-  EXPECT_DOUBLE_EQ(l.model_ms, expected.seconds * 1e3);
+  EXPECT_EQ(stats[0].schedule, "tree_reduce");
+  EXPECT_EQ(stats[1].method, "active_pixels");
+  EXPECT_EQ(stats[2].method, "reduce64");
 }
 
 // Every schedule the model could choose for this rank count, with messages small enough that
 // every stream is cut into many: bit-identical to the serial merge, for every root.
 TEST(ActivePixels, EveryCandidateScheduleMatchesSerialMerge) {
   if (world_size() == 1) GTEST_SKIP() << "needs two ranks";
-  for (const CompositingSchedule &s : candidate_schedules(world_size())) {
+  for (const CompositingSchedule &s : candidate_schedules(world_size(), true)) {
     CompositeOptions o;
     o.method = CompositeMethod::kActivePixels;
-    o.radices = s.radices;
+    o.schedule = s;
     o.chunk_pixels = 97;
     Case c;
     c.seed = 8;
@@ -323,7 +357,7 @@ TEST(ActivePixels, DifferentCostModelsOrSchedulesFailOnEveryRankWithoutDeadlock)
   EXPECT_NE(s.message.find("cost models"), std::string::npos) << s.message;
   CompositeOptions bad;
   bad.method = CompositeMethod::kActivePixels;
-  bad.radices = {world_size() + 1};
+  bad.schedule = CompositingSchedule{world_size(), {world_size() + 1}, false};
   s = composite_frames(MPI_COMM_WORLD, frame, 0, bad);
   EXPECT_EQ(s.code, StatusCode::kMpi);
   EXPECT_NE(s.message.find("does not fit"), std::string::npos) << s.message;
