@@ -7,6 +7,8 @@
 
 #include <mpi.h>
 
+#include <vector>
+
 #include <nlohmann/json.hpp>
 
 namespace lantern {
@@ -32,5 +34,10 @@ struct PerRankStats {
 // Collective over comm: one MPI_Reduce (a user-defined operation over four doubles per value)
 // brings the spread of this rank's three values to `root`; other ranks get an unspecified value.
 PerRankStats reduce_per_rank_stats(MPI_Comm comm, int root, double drawn, double culled, double ms);
+
+// The same for any number of values (the same count on every rank): one RankSpread per value, at
+// root.
+std::vector<RankSpread> reduce_rank_spreads(MPI_Comm comm, int root,
+                                            const std::vector<double> &local);
 
 }  // namespace lantern
