@@ -62,6 +62,10 @@ inline constexpr EnumName<DensityTransfer> kDensityTransferNames[] = {
 
 inline constexpr EnumName<LodSelect> kLodSelectNames[] = {{LodSelect::kUniform, "uniform"},
                                                           {LodSelect::kNearest, "nearest"}};
+inline constexpr EnumName<AutoRange> kAutoRangeNames[] = {
+    {AutoRange::kFrame, "frame"}, {AutoRange::kFirst, "first"}, {AutoRange::kRunning, "running"}};
+inline constexpr EnumName<MovieWhenBehind> kMovieWhenBehindNames[] = {
+    {MovieWhenBehind::kDrop, "drop"}, {MovieWhenBehind::kWait, "wait"}};
 
 // The table of each enum, so that name_of / value_of / names_of need only the enum type.
 inline constexpr const auto &names_table(OcclusionMode) {
@@ -93,6 +97,12 @@ inline constexpr const auto &names_table(DensityTransfer) {
 }
 inline constexpr const auto &names_table(LodSelect) {
   return kLodSelectNames;
+}
+inline constexpr const auto &names_table(AutoRange) {
+  return kAutoRangeNames;
+}
+inline constexpr const auto &names_table(MovieWhenBehind) {
+  return kMovieWhenBehindNames;
 }
 
 // The canonical name of `value` ("?" for a value missing from its table: a bug).

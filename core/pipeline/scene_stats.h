@@ -4,6 +4,7 @@
 
 #include <mpi.h>
 
+#include <array>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -13,6 +14,7 @@
 #include "core/composite/composite_cost_model.h"
 #include "core/composite/depth_compositor.h"
 #include "core/culling/cull_stats.h"
+#include "core/output/movie/movie_writer.h"
 #include "core/pipeline/rank_spread.h"
 
 namespace lantern {
@@ -32,6 +34,13 @@ struct CompositeSummary {
 // Collective over comm: the spread of this rank's compositing statistics, at rank 0.
 CompositeSummary summarize_composite(MPI_Comm comm, const CompositeStats &local,
                                      const CompositeCostModel *model);
+
+// A scene's movie on one step (rank 0): JSON "movie".
+struct SceneMovieStats {
+  MovieProgress progress;  // after this step's frame was handed over
+  double submit_ms = 0.0;  // this step's cost: copying the frame into the queue (and any wait)
+  bool behind = false;     // this step's frame was dropped, or the step waited for the encoder
+};
 
 struct SceneStats {
   std::string name;
@@ -68,6 +77,11 @@ struct SceneStats {
   std::optional<ProbabilisticStats> probabilistic;
   // Compositing's traffic over the ranks (rank 0; with stats on, two or more ranks).
   std::optional<CompositeSummary> composite;
+  // output.movie: JSON "movie" {file, encoder, frames, queued, dropped, behind, ...}.
+  std::optional<SceneMovieStats> movie;
+  // color.by: scalar: the scalar range this frame's colours used (color.range). JSON
+  // "color_range": [lo, hi].
+  std::optional<std::array<double, 2>> color_range;
 
   nlohmann::json to_json() const;
   // One line for a log: the per-rank spread, e.g. "scene 'a' per rank: drawn 10..30 (imbalance
