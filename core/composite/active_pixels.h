@@ -13,13 +13,14 @@
 // depths as +0, NaN as background), which is what a merged pixel holds, so that a pixel that no
 // message touches ends up with the same bits as one that went through the merge.
 //
-// Plain functions over one frame; no MPI.
+// Plain functions over one frame; no MPI calls (ScanAgreement only adds to a RankAgreement).
 #pragma once
 
 #include <algorithm>
 #include <cstddef>
 #include <cstdint>
 
+#include "core/composite/rank_agreement.h"
 #include "core/view/frame.h"
 
 namespace lantern {
@@ -57,13 +58,25 @@ struct ActiveScan {
 // rewrite are walked pixel by pixel.
 ActiveScan scan_active_pixels(Frame &frame);
 
-// The busiest rank's active pixels, for the cost model, from values agreed over the ranks: the
-// largest scan.max_key (the empty pixel), the smallest, and the largest scan.active. A rank whose
-// own maximum is below the empty pixel has no empty pixel: all `pixels` of its frame are active.
-inline size_t busiest_active_pixels(uint64_t empty_key, uint64_t least_max_key, size_t most_active,
-                                    size_t pixels) {
-  return least_max_key < empty_key ? pixels : most_active;
-}
+// What compositing must agree on about the ranks' scans, in the one RankAgreement it reduces
+// (rank_agreement.h): the largest scan.max_key (the empty pixel E), the smallest, and the largest
+// scan.active.
+struct ScanAgreement {
+  size_t max_key, min_key, most_active;
+  ScanAgreement(RankAgreement &agree, const ActiveScan &scan)
+      : max_key(agree.maximum(static_cast<long long>(scan.max_key))),
+        min_key(agree.minimum(static_cast<long long>(scan.max_key))),
+        most_active(agree.maximum(static_cast<long long>(scan.active))) {}
+
+  // After agree.reduce().
+  uint64_t empty_key(const RankAgreement &agree) const { return uint64_t(agree.max(max_key)); }
+  // The busiest rank's active pixels, for the cost model. A rank whose own maximum is below E has
+  // no empty pixel: all `pixels` of its frame are active.
+  size_t busiest(const RankAgreement &agree, size_t pixels) const {
+    return uint64_t(agree.min(min_key)) < empty_key(agree) ? pixels
+                                                           : size_t(agree.max(most_active));
+  }
+};
 
 // The agreed empty pixel E (the largest key over every rank) as the frame stores it, for
 // comparisons without unpacking: depth bits and the 4 colour bytes as one word in memory order.

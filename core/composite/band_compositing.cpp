@@ -111,9 +111,7 @@ Status composite_to_row_bands(MPI_Comm comm, Frame &frame, int multiple, RowBand
   const size_t setup =
       agree.equal(static_cast<long long>(options.method) * 1000003 + static_cast<long long>(chunk));
   const size_t model_at = agree.equal(cost_model_fingerprint(model, options.schedule));
-  const size_t max_key = agree.maximum(static_cast<long long>(scan.max_key));
-  const size_t min_key = agree.minimum(static_cast<long long>(scan.max_key));
-  const size_t most_active = agree.maximum(static_cast<long long>(scan.active));
+  const ScanAgreement scans(agree, scan);
   const size_t ok_at = agree.all(consistent), allocated_at = agree.all(allocated);
   Status status = agree.reduce(comm);
   if (status.ok() && !agree.holds(ok_at))
@@ -138,9 +136,7 @@ Status composite_to_row_bands(MPI_Comm comm, Frame &frame, int multiple, RowBand
   if (dense) {
     status = direct_send_bands(comm, frame, bands, scratch, &stats.traffic);
   } else {
-    const size_t most =
-        busiest_active_pixels(uint64_t(agree.max(max_key)), uint64_t(agree.min(min_key)),
-                              size_t(agree.max(most_active)), stats.pixels);
+    const size_t most = scans.busiest(agree, stats.pixels);
     CostEstimate estimate;
     CompositingSchedule schedule;
     if (!options.schedule) {
@@ -152,7 +148,7 @@ Status composite_to_row_bands(MPI_Comm comm, Frame &frame, int multiple, RowBand
     }
     stats.schedule = schedule.name();
     stats.model_ms = estimate.seconds * 1e3;
-    const uint64_t empty_key = uint64_t(agree.max(max_key));
+    const uint64_t empty_key = scans.empty_key(agree);
     const bool own_empty = scan.max_key == empty_key;
     stats.active_pixels = own_empty ? scan.active : stats.pixels;
     if (!schedule.valid() || schedule.tree) {

@@ -126,9 +126,7 @@ Status composite_frames(MPI_Comm comm, Frame &frame, int root, const CompositeOp
   const size_t setup =
       agree.equal(static_cast<long long>(options.method) * 1000003 + static_cast<long long>(chunk));
   const size_t model_at = agree.equal(cost_model_fingerprint(model, options.schedule));
-  const size_t max_key = agree.maximum(static_cast<long long>(scan.max_key));
-  const size_t min_key = agree.minimum(static_cast<long long>(scan.max_key));
-  const size_t most_active = agree.maximum(static_cast<long long>(scan.active));
+  const ScanAgreement scans(agree, scan);
   const size_t ok_at = agree.all(local_ok), allocated_at = agree.all(allocated);
   Status status = agree.reduce(comm);
   if (status.ok() && !agree.holds(ok_at))
@@ -150,9 +148,7 @@ Status composite_frames(MPI_Comm comm, Frame &frame, int root, const CompositeOp
   CostEstimate estimate;
   bool active = needs.active;
   if (status.ok() && active) {
-    const size_t most =
-        busiest_active_pixels(uint64_t(agree.max(max_key)), uint64_t(agree.min(min_key)),
-                              size_t(agree.max(most_active)), stats.pixels);
+    const size_t most = scans.busiest(agree, stats.pixels);
     if (!options.schedule) {
       schedule = cheapest_schedule(ranks, stats.pixels, most, true, model, &estimate);
     } else {
@@ -174,7 +170,7 @@ Status composite_frames(MPI_Comm comm, Frame &frame, int root, const CompositeOp
   if (active) {
     stats.method = to_string(CompositeMethod::kActivePixels);
     stats.schedule = schedule.name();
-    const uint64_t empty_key = uint64_t(agree.max(max_key));
+    const uint64_t empty_key = scans.empty_key(agree);
     // A rank whose own maximum is below everyone's has no empty pixel: all of it is active.
     const bool own_empty = scan.max_key == empty_key;
     stats.active_pixels = own_empty ? scan.active : stats.pixels;
