@@ -20,9 +20,11 @@ Status run_active_pixel_plan(MPI_Comm comm, const ActivePixelPlan &plan, ActiveF
   const int base = s.base_rank(group), extra = s.extra_rank(group);
   const PixelRange whole{0, frame.frame->pixel_count()};
   Status first_error;
-  const auto run = [&](int tag, const std::vector<OutgoingRange> &out,
+  // `streams`: the phase's stream count from the plan, the same on every rank, so that both ends
+  // of every stream bound its messages alike (active_pixel_exchange.h).
+  const auto run = [&](int tag, size_t streams, const std::vector<OutgoingRange> &out,
                        const std::vector<IncomingRange> &in) {
-    Status st = exchange_active_pixels(comm, tag, out, in, frame, scratch, traffic);
+    Status st = exchange_active_pixels(comm, tag, streams, out, in, frame, scratch, traffic);
     if (first_error.ok()) first_error = std::move(st);
   };
 
@@ -35,19 +37,19 @@ Status run_active_pixel_plan(MPI_Comm comm, const ActivePixelPlan &plan, ActiveF
     const auto actual = [&](int u) { return (u + plan.root) % ranks; };
     for (int bit = 1; bit < ranks && first_error.code != StatusCode::kMpi; bit <<= 1) {
       if (v & bit) {
-        run(kRoundTag, {{actual(v - bit), whole}}, {});
+        run(kRoundTag, 1, {{actual(v - bit), whole}}, {});
         break;
       }
-      if (v + bit < ranks) run(kRoundTag, {}, {{actual(v + bit), whole}});
+      if (v + bit < ranks) run(kRoundTag, 1, {}, {{actual(v + bit), whole}});
     }
     return first_error;
   }
 
   // Fold: an extra rank's whole frame into its base rank.
   if (rank != base) {
-    run(kFoldTag, {{base, whole}}, {});
+    run(kFoldTag, 1, {{base, whole}}, {});
   } else if (extra >= 0) {
-    run(kFoldTag, {}, {{extra, whole}});
+    run(kFoldTag, 1, {}, {{extra, whole}});
   }
 
   // Rounds, among the base ranks.
@@ -63,7 +65,7 @@ Status run_active_pixel_plan(MPI_Comm comm, const ActivePixelPlan &plan, ActiveF
         out.push_back({r.partners[i], r.give[i]});
         in.push_back({r.partners[i], r.keep});
       }
-      run(kRoundTag, out, in);
+      run(kRoundTag, size_t(s.radices[size_t(round)] - 1), out, in);
     }
   }
 
@@ -72,8 +74,11 @@ Status run_active_pixel_plan(MPI_Comm comm, const ActivePixelPlan &plan, ActiveF
   // comes (the final pixel is empty) they are empty already. A failed MPI call is fatal under
   // MPI's default error handler; with MPI_ERRORS_RETURN this phase still runs so that no rank is
   // left waiting in it.
+  // To a root, the root receives up to q streams (q - 1 when it is a base rank itself) while each
+  // sender sends one: the root's count bounds every stream. Bands: one stream per extra rank.
   std::vector<OutgoingRange> out;
   std::vector<IncomingRange> in;
+  const size_t finish_streams = plan.bands.empty() ? size_t(s.base()) : 1;
   if (plan.bands.empty()) {
     if (rank == base && rank != plan.root) out.push_back({plan.root, plan.blocks[size_t(group)]});
     if (rank == plan.root)
@@ -84,7 +89,7 @@ Status run_active_pixel_plan(MPI_Comm comm, const ActivePixelPlan &plan, ActiveF
   } else if (rank != base) {
     in.push_back({base, plan.bands[size_t(rank)]});
   }
-  run(kFinishTag, out, in);
+  run(kFinishTag, finish_streams, out, in);
   return first_error;
 }
 

@@ -20,9 +20,11 @@ void ActivePixelScratch::prepare(size_t chunk_pixels, int ranks) {
   const size_t words = std::max(chunk_pixels + 2, size_t(ranks) * kMinMessageWords);
   if (send.size() < words) send.resize(words);
   if (receive.size() < words) receive.resize(words);
+  pool_words = words;
 }
 
-Status exchange_active_pixels(MPI_Comm comm, int tag, const std::vector<OutgoingRange> &outgoing,
+Status exchange_active_pixels(MPI_Comm comm, int tag, size_t streams,
+                              const std::vector<OutgoingRange> &outgoing,
                               const std::vector<IncomingRange> &incoming, ActiveFrame &frame,
                               ActivePixelScratch &scratch, CompositeTraffic *traffic) {
   struct Out {
@@ -41,19 +43,24 @@ Status exchange_active_pixels(MPI_Comm comm, int tag, const std::vector<Outgoing
   };
   std::vector<Out> outs;
   std::vector<In> ins;
+  // Both ends of a stream size its messages from the same agreed numbers (see the header): a
+  // root receiving from q - 1 ranks, each of which sends to it alone, must not have its senders
+  // fill a whole pool each.
   size_t send_streams = 0, receive_streams = 0;
   for (const OutgoingRange &o : outgoing) send_streams += o.range.size() > 0;
   for (const IncomingRange &i : incoming) receive_streams += i.range.size() > 0;
+  const size_t shares = std::max({streams, send_streams, receive_streams});
+  const size_t pool = std::min({scratch.pool_words, scratch.send.size(), scratch.receive.size()});
   size_t send_at = 0, receive_at = 0;
   for (const OutgoingRange &o : outgoing) {
     if (o.range.size() == 0) continue;
-    const size_t capacity = share_of(scratch.send.size(), send_streams, o.range);
+    const size_t capacity = share_of(pool, shares, o.range);
     outs.push_back({o.to, RunLengthEncoder(o.range), scratch.send.data() + send_at, capacity});
     send_at += capacity;
   }
   for (const IncomingRange &i : incoming) {
     if (i.range.size() == 0) continue;
-    const size_t capacity = share_of(scratch.receive.size(), receive_streams, i.range);
+    const size_t capacity = share_of(pool, shares, i.range);
     ins.push_back(
         {i.from, RunLengthDecoder(i.range), scratch.receive.data() + receive_at, capacity});
     receive_at += capacity;

@@ -7,6 +7,12 @@
 //
 // The matching call on the other side must name the same range: a receiver's incoming range is
 // its sender's outgoing range. Messages use the tag given; callers give each phase its own tag.
+//
+// A stream's message bound must be the same on both of its ends, or the sender's message would
+// overflow the receiver's buffer (MPI_ERR_TRUNCATE). So it is never derived from what one rank
+// sees locally (its own stream count, its scratch's capacity, which only grows): it is the share
+// of the agreed pool (ActivePixelScratch::pool_words) for the phase's agreed stream count, capped
+// by the stream's range - the same numbers on sender and receiver.
 #pragma once
 
 #include <mpi.h>
@@ -23,11 +29,14 @@
 
 namespace lantern {
 
-// Message buffers, carved per phase among the streams: `words` each for sending and receiving.
+// Message buffers, carved per phase among the streams: pool_words each for sending and receiving.
 struct ActivePixelScratch {
-  UninitializedBuffer<uint64_t> send, receive;
-  // Sizes both pools to hold about chunk_pixels encoded pixels and at least a minimal message for
-  // each of `ranks` streams. May throw std::bad_alloc.
+  UninitializedBuffer<uint64_t> send, receive;  // at least pool_words each (kept between calls)
+  // This call's pool: a function of (chunk_pixels, ranks) only, so the same on every rank once
+  // those are agreed, however large the buffers grew in earlier calls.
+  size_t pool_words = 0;
+  // Sets pool_words to about chunk_pixels encoded pixels and at least a minimal message for each
+  // of `ranks` streams, and grows both buffers to hold it. May throw std::bad_alloc.
   void prepare(size_t chunk_pixels, int ranks);
 };
 
@@ -41,9 +50,15 @@ struct IncomingRange {
 };
 
 // Streams every `outgoing` range of frame to its rank while merging every `incoming` range's
-// messages into frame. Empty ranges send nothing. Adds what moved to *traffic. OK, kMpi with the
-// MPI error, or kInternal for a malformed message (the protocol still runs to its end).
-Status exchange_active_pixels(MPI_Comm comm, int tag, const std::vector<OutgoingRange> &outgoing,
+// messages into frame. Empty ranges send nothing. `streams` is the phase's stream count, the same
+// on every rank: at least the outgoing and the incoming ranges of any one rank in this phase
+// (each stream's messages are at most max(kMinMessageWords, pool_words / streams) words, and
+// at most its range's size + 2; a plan that gives one rank more streams than `streams` has its
+// messages cut for that rank's count, so scratch is never overrun). Adds what moved to *traffic.
+// OK, kMpi with the MPI error, or kInternal for a malformed message (the protocol still runs to
+// its end).
+Status exchange_active_pixels(MPI_Comm comm, int tag, size_t streams,
+                              const std::vector<OutgoingRange> &outgoing,
                               const std::vector<IncomingRange> &incoming, ActiveFrame &frame,
                               ActivePixelScratch &scratch, CompositeTraffic *traffic);
 

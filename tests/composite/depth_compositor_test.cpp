@@ -43,6 +43,9 @@ struct Case {
   // rank's share of the frame: then no background pixel is neutral any more, and active pixels
   // must still merge exactly.
   bool beyond_background = false;
+  // Every rank also draws one sphere over the whole frame (at its own depth): no pixel is empty
+  // anywhere, so every active-pixel message is as long as its bound allows.
+  bool covered = false;
 };
 
 bool rank_is_empty(const Case &c, int rank, int ranks) {
@@ -64,6 +67,17 @@ Frame frame_of_rank(const Case &c, int rank, int ranks) {
   if (rank_is_empty(c, rank, ranks)) return f;
   for (int k = 0; k < c.spheres_per_rank; ++k)
     draw_sphere(sphere_for_rank(rank, c.seed * 16 + k, c.width, c.height, c.flat), f);
+  if (c.covered) {
+    Sphere all;
+    all.cx = 0.5 * c.width;
+    all.cy = 0.5 * c.height;
+    all.radius = 2.0 * (c.width + c.height);
+    all.depth = 0.7f + 0.01f * float(rank % 16);
+    all.depth_radius = 0.05f;
+    all.rgba[0] = uint8_t(40 + 50 * (rank % 4));
+    all.rgba[1] = uint8_t(200 - 30 * (rank % 5));
+    draw_sphere(all, f);
+  }
   if (c.beyond_background && rank == ranks - 1)  // one such pixel in every rank's share
     for (int k = 0; k < ranks; ++k)
       f.depth[std::min(f.pixel_count() - 1, f.pixel_count() * size_t(k) / size_t(ranks) + 1)] =
@@ -310,6 +324,33 @@ TEST(ActivePixels, EveryCandidateScheduleMatchesSerialMerge) {
     ties.flat = true;
     ties.empty = Empty::kEvenRanks;
     expect_matches(composite_case(ties, o, 0));
+  }
+}
+
+// Frames drawn everywhere, so that every stream's messages fill their bound. When the root takes
+// the blocks of several ranks at once, each sender sends to it alone: the senders must still cut
+// their messages to the root's share of its receive pool (a sender filling its whole pool once
+// overflowed the root's buffer, MPI_ERR_TRUNCATE, at three ranks and more). Every schedule, both
+// ends of the rank range as root, a pool of a few dozen pixels so that every stream is cut into
+// many messages; and the default chunk, where a stream is one large message.
+TEST(ActivePixels, FullyDrawnFramesMatchSerialMergeForEveryScheduleAndRoot) {
+  if (world_size() == 1) GTEST_SKIP() << "needs two ranks";
+  Case c;
+  c.width = 97;
+  c.height = 61;
+  c.covered = true;
+  for (const size_t chunk : {size_t(61), size_t(0)}) {
+    for (const CompositingSchedule &s : candidate_schedules(world_size(), true)) {
+      for (const int root : {0, world_size() - 1}) {
+        CompositeOptions o;
+        o.method = CompositeMethod::kActivePixels;
+        o.schedule = s;
+        o.chunk_pixels = chunk;
+        const Outcome out = composite_case(c, o, root);
+        expect_matches(out);
+        EXPECT_EQ(out.stats.schedule, s.name());
+      }
+    }
   }
 }
 
