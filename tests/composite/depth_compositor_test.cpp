@@ -354,6 +354,38 @@ TEST(ActivePixels, FullyDrawnFramesMatchSerialMergeForEveryScheduleAndRoot) {
   }
 }
 
+// Scratch is kept between calls and only grows, so ranks that composited with a larger chunk
+// before (here ranks 0 and 1 among themselves) hold larger buffers than the others. Message
+// bounds must follow this call's agreed chunk, not the buffers: otherwise ranks 0 and 1 send
+// messages the others cannot receive.
+TEST(ActivePixels, ScratchGrownByEarlierCallsOnSomeRanksLeavesMessageBoundsAgreed) {
+  if (world_size() < 3) GTEST_SKIP() << "needs three ranks";
+  Case c;
+  c.width = 97;
+  c.height = 61;
+  c.covered = true;
+  MPI_Comm pair = MPI_COMM_NULL;
+  MPI_Comm_split(MPI_COMM_WORLD, world_rank() < 2 ? 0 : 1, world_rank(), &pair);
+  int pair_rank = 0, pair_size = 1;
+  MPI_Comm_rank(pair, &pair_rank);
+  MPI_Comm_size(pair, &pair_size);
+  CompositeOptions large;
+  large.method = CompositeMethod::kActivePixels;
+  large.chunk_pixels = 8192;
+  Frame first = frame_of_rank(c, pair_rank, pair_size);
+  const Status first_status = composite_frames(pair, first, 0, large, nullptr);
+  MPI_Comm_free(&pair);
+  EXPECT_OK(first_status);
+  for (const CompositingSchedule &s : candidate_schedules(world_size(), true)) {
+    CompositeOptions o;
+    o.method = CompositeMethod::kActivePixels;
+    o.schedule = s;
+    o.chunk_pixels = 61;
+    const Outcome out = composite_case(c, o, world_size() - 1);
+    expect_matches(out);
+  }
+}
+
 // A rank sends what it drew: with one small sphere per rank, active pixels move a fraction of
 // what dense binary swap moves, and the stats count both sides of every message.
 TEST(ActivePixels, BytesFollowWhatWasDrawnAndAreCounted) {
