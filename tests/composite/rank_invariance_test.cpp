@@ -415,23 +415,33 @@ std::string sequence_config(const std::string &directory, const std::string &pre
          scene("custom", "{by: scalar, colormap: [[0, 0, 0.5], [1, 1, 0], [1, 0, 0]]}");
 }
 
-// Renders steps 0..steps-1 in one context on comm: at step k the scalars are scaled by 1 + k.
-Render render_sequence(MPI_Comm comm, const std::string &config, Particles mine, int steps) {
+// Renders `steps` in order in one context on comm; with `grow_scalars`, the scalars at step k
+// are scaled by 1 + k.
+Render render_steps(MPI_Comm comm, const std::string &config, Particles mine,
+                    const std::vector<int> &steps, bool grow_scalars = false) {
   Render r;
   lantern_context *ctx = nullptr;
   r.status = lantern_open(config.c_str(), MPI_Comm_c2f(comm), &ctx);
   const std::vector<double> scalar = mine.scalar;
-  for (int step = 0; step < steps && r.status == LANTERN_OK; ++step) {
-    for (size_t i = 0; i < scalar.size(); ++i) mine.scalar[i] = scalar[i] * (1.0 + step);
+  for (size_t k = 0; k < steps.size() && r.status == LANTERN_OK; ++k) {
+    if (grow_scalars)
+      for (size_t i = 0; i < scalar.size(); ++i) mine.scalar[i] = scalar[i] * (1.0 + steps[k]);
     const lantern_particles d = describe(mine);
     r.status = lantern_publish(ctx, &d);
-    const lantern_status executed = lantern_execute(ctx, step, double(step));
+    const lantern_status executed = lantern_execute(ctx, steps[k], double(steps[k]));
     if (r.status == LANTERN_OK) r.status = executed;
   }
   r.error = lantern_error_message(ctx);
   const lantern_status closed = lantern_close(ctx);
   if (r.status == LANTERN_OK) r.status = closed;
   return r;
+}
+
+// Renders steps 0..steps-1 in one context on comm: at step k the scalars are scaled by 1 + k.
+Render render_sequence(MPI_Comm comm, const std::string &config, const Particles &mine, int steps) {
+  std::vector<int> all(size_t(steps), 0);
+  for (int k = 0; k < steps; ++k) all[size_t(k)] = k;
+  return render_steps(comm, config, mine, all, true);
 }
 
 TEST(RankInvariance, RememberedColorRangesColormapsAndMoviesAreTheSameForEveryRankCount) {
@@ -507,24 +517,6 @@ std::string moving_camera_config(const std::string &directory, const std::string
                "{degrees_per_step: 3}}",
                "") +
          scene("path_cues", path, "    samples: 4\n    outline: {width: 2}\n");
-}
-
-// Renders `steps` in order in one context on comm.
-Render render_steps(MPI_Comm comm, const std::string &config, const Particles &mine,
-                    const std::vector<int> &steps) {
-  Render r;
-  lantern_context *ctx = nullptr;
-  r.status = lantern_open(config.c_str(), MPI_Comm_c2f(comm), &ctx);
-  for (size_t k = 0; k < steps.size() && r.status == LANTERN_OK; ++k) {
-    const lantern_particles d = describe(mine);
-    r.status = lantern_publish(ctx, &d);
-    const lantern_status executed = lantern_execute(ctx, steps[k], double(steps[k]));
-    if (r.status == LANTERN_OK) r.status = executed;
-  }
-  r.error = lantern_error_message(ctx);
-  const lantern_status closed = lantern_close(ctx);
-  if (r.status == LANTERN_OK) r.status = closed;
-  return r;
 }
 
 TEST(RankInvariance, MovingCameraIsTheSameForEveryRankCountAndSplitAndMovesWithTheStep) {
