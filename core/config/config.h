@@ -26,8 +26,28 @@ struct Schedule {
 
 enum class Projection { kPerspective, kOrthographic };
 
+// camera.path[i]: the automatic camera at one step. A key a keyframe leaves out carries the
+// previous keyframe's value (the first keyframe's: the camera's own azimuth/elevation/zoom), so
+// after loading every value is set. Between keyframes the camera moves smoothly
+// (core/camera/camera_path.h).
+struct CameraKeyframe {
+  int64_t step = 0;                 // step: the simulation step of this view, >= 0 (required)
+  std::optional<double> azimuth;    // azimuth: degrees, as the camera's; the difference to the
+                                    // previous keyframe is the turn taken (|difference| < 360)
+  std::optional<double> elevation;  // elevation: degrees in [-90, 90]
+  std::optional<double> zoom;       // zoom: > 0
+};
+
+// camera.orbit: the short form of a path: the automatic camera turns about the up axis by
+// degrees_per_step every step, from the camera's azimuth at step 0.
+struct CameraOrbit {
+  bool enabled = false;           // the section is present
+  double degrees_per_step = 0.0;  // degrees_per_step: in [-360, 360]
+};
+
 // camera: either automatic (fit to the global particle bounds, then azimuth/elevation/zoom)
-// or explicit (position + look_at + up). Giving `position` switches to explicit.
+// or explicit (position + look_at + up). Giving `position` switches to explicit. `path` or
+// `orbit` move the automatic camera with the step.
 struct CameraConfig {
   Projection projection = Projection::kPerspective;  // projection: perspective | orthographic
   double fov_y = 30.0;                               // fov: vertical field of view, degrees
@@ -39,6 +59,9 @@ struct CameraConfig {
   std::array<double, 3> up{0, 0, 1};              // up: [x, y, z]
   std::optional<double> near_plane;               // near / far: clip distances; auto by default
   std::optional<double> far_plane;
+  std::vector<CameraKeyframe> path;  // path: [{step, azimuth, elevation, zoom}, ...], by step
+  CameraOrbit orbit;                 // orbit: {degrees_per_step: d}
+  bool moves() const { return !path.empty() || orbit.enabled; }
 };
 
 enum class ColorBy { kSolid, kType, kScalar };

@@ -166,6 +166,24 @@ const Section<Schedule> kSchedule({
                            "must list at least one step (omit it for every step)"))},
 });
 
+// camera.path[i]: `step` is required; the other keys carry over (camera_path_is_ordered).
+const Section<CameraKeyframe> kKeyframe(
+    {
+        rule(keyframe_has_step),
+        {"step", &CameraKeyframe::step, integer(0, kMaxInt)},
+        {"azimuth", &CameraKeyframe::azimuth, finite()},
+        {"elevation", &CameraKeyframe::elevation, number_in('[', -90, 90, ']')},
+        {"zoom", &CameraKeyframe::zoom, above(0)},
+    },
+    {"each keyframe must be a mapping {step, azimuth, elevation, zoom}"});
+
+const Section<CameraOrbit> kOrbit(
+    {
+        rule(orbit_has_rate),
+        {"degrees_per_step", &CameraOrbit::degrees_per_step, number_in('[', -360, 360, ']')},
+    },
+    {"must be a mapping {degrees_per_step: d}"}, &CameraOrbit::enabled);
+
 const Section<CameraConfig> kCamera({
     {"projection", &CameraConfig::projection, one_of<Projection>()},
     {"fov", &CameraConfig::fov_y, number_in('(', 0, 180, ')')},
@@ -178,6 +196,9 @@ const Section<CameraConfig> kCamera({
     {"near", &CameraConfig::near_plane, above(0)},
     {"far", read_far},
     rule(camera_looks_away),
+    {"path", &CameraConfig::path, list_of(kKeyframe)},
+    {"orbit", &CameraConfig::orbit, kOrbit},
+    rule(camera_path_is_ordered),
 });
 
 const Section<ColorConfig> kColor({

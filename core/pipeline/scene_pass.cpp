@@ -134,7 +134,9 @@ Status run_scene_pass(const ScenePassInputs &in, const SceneConfig &scene, Scene
   stats->samples = scene.samples;
   stats->sample_width = scene.width * s_axis;
   stats->sample_height = scene.height * s_axis;
-  if (Status s = make_camera(scene.camera, lo, hi, max_radius, scene.width * s_axis,
+  // A moving camera is where its path puts it at this step.
+  const CameraConfig camera_config = camera_settings(scene, in.step);
+  if (Status s = make_camera(camera_config, lo, hi, max_radius, scene.width * s_axis,
                              scene.height * s_axis, &camera, radius_source);
       !s.ok())
     return with_context(where, std::move(s));
@@ -186,7 +188,7 @@ Status run_scene_pass(const ScenePassInputs &in, const SceneConfig &scene, Scene
   // depths).
   Camera image_camera = camera;
   if (s_axis > 1 && wants_screen_cues(settings.finish.cues))
-    (void)make_camera(scene.camera, lo, hi, max_radius, scene.width, scene.height, &image_camera,
+    (void)make_camera(camera_config, lo, hi, max_radius, scene.width, scene.height, &image_camera,
                       radius_source);  // succeeded above at s times the size
   if (Status s = run_sphere_scene(in, settings, where, camera, image_camera, radius,
                                   object_ao ? &occlusion : nullptr, std::move(local), t_start,

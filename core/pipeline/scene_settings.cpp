@@ -1,6 +1,12 @@
 #include "core/pipeline/scene_settings.h"
 
+#include "core/camera/camera_path.h"
+
 namespace lantern {
+
+CameraConfig camera_settings(const SceneConfig &scene, int64_t step) {
+  return camera_at_step(scene.camera, step);
+}
 
 RadiusRule radius_rule(const SceneConfig &scene, const ParticleArrays &particles) {
   return RadiusRule::of(scene.per_particle_radius, scene.radius, particles);

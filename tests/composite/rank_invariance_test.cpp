@@ -1,7 +1,8 @@
 // Rank-count invariance of the whole pipeline through the C API: the same particles, rendered on
 // one rank (rank 0 alone, MPI_COMM_SELF) and on every rank of MPI_COMM_WORLD under several
 // splits (all on one rank, round robin, blocks, slabs, hashed), give pixel-identical images in
-// both projections and every coloring. Run under mpiexec with 1, 2, 3, 4 and 8 ranks.
+// both projections and every coloring, and with a camera that moves with the step. Run under
+// mpiexec with 1, 2, 3, 4 and 8 ranks.
 #include <gtest/gtest.h>
 
 #include <mpi.h>
@@ -426,23 +427,33 @@ std::string sequence_config(const std::string &directory, const std::string &pre
          scene("custom", "{by: scalar, colormap: [[0, 0, 0.5], [1, 1, 0], [1, 0, 0]]}");
 }
 
-// Renders steps 0..steps-1 in one context on comm: at step k the scalars are scaled by 1 + k.
-Render render_sequence(MPI_Comm comm, const std::string &config, Particles mine, int steps) {
+// Renders `steps` in order in one context on comm; with `grow_scalars`, the scalars at step k
+// are scaled by 1 + k.
+Render render_steps(MPI_Comm comm, const std::string &config, Particles mine,
+                    const std::vector<int> &steps, bool grow_scalars = false) {
   Render r;
   lantern_context *ctx = nullptr;
   r.status = lantern_open(config.c_str(), MPI_Comm_c2f(comm), &ctx);
   const std::vector<double> scalar = mine.scalar;
-  for (int step = 0; step < steps && r.status == LANTERN_OK; ++step) {
-    for (size_t i = 0; i < scalar.size(); ++i) mine.scalar[i] = scalar[i] * (1.0 + step);
+  for (size_t k = 0; k < steps.size() && r.status == LANTERN_OK; ++k) {
+    if (grow_scalars)
+      for (size_t i = 0; i < scalar.size(); ++i) mine.scalar[i] = scalar[i] * (1.0 + steps[k]);
     const lantern_particles d = describe(mine);
     r.status = lantern_publish(ctx, &d);
-    const lantern_status executed = lantern_execute(ctx, step, double(step));
+    const lantern_status executed = lantern_execute(ctx, steps[k], double(steps[k]));
     if (r.status == LANTERN_OK) r.status = executed;
   }
   r.error = lantern_error_message(ctx);
   const lantern_status closed = lantern_close(ctx);
   if (r.status == LANTERN_OK) r.status = closed;
   return r;
+}
+
+// Renders steps 0..steps-1 in one context on comm: at step k the scalars are scaled by 1 + k.
+Render render_sequence(MPI_Comm comm, const std::string &config, const Particles &mine, int steps) {
+  std::vector<int> all(size_t(steps), 0);
+  for (int k = 0; k < steps; ++k) all[size_t(k)] = k;
+  return render_steps(comm, config, mine, all, true);
 }
 
 TEST(RankInvariance, RememberedColorRangesColormapsAndMoviesAreTheSameForEveryRankCount) {
@@ -486,6 +497,78 @@ TEST(RankInvariance, RememberedColorRangesColormapsAndMoviesAreTheSameForEveryRa
               "");
     EXPECT_NE(compare_images(file_of(dir, "ref", "first_turbo", kSteps - 1),
                              file_of(dir, "ref", "frame_turbo", kSteps - 1)),
+              "");
+    std::system(("rm -rf '" + dir + "'").c_str());
+  }
+  MPI_Barrier(MPI_COMM_WORLD);
+}
+
+// A camera that moves with the step (camera.path, camera.orbit): resolved from the configuration
+// and the step alone, so the same on every rank. A keyframed path in perspective, the orbit in
+// orthographic, and a path with four samples and outlines (the final image's camera is built a
+// second time there). Steps between keyframes, at one, at the last and after it.
+const char *const kMovingScenes[] = {"path_persp", "orbit_ortho", "path_cues"};
+const int kMovingSteps[] = {0, 25, 40, 70, 100, 130};
+
+std::string moving_camera_config(const std::string &directory, const std::string &prefix) {
+  const std::string pattern = directory + "/" + prefix + "_{scene}_{step:06d}.png";
+  const std::string path =
+      "{path: [{step: 0, azimuth: 10, elevation: 10, zoom: 1}, "
+      "{step: 40, azimuth: 150, elevation: 45, zoom: 1.8}, {step: 100, azimuth: 260, "
+      "elevation: -20, zoom: 1.2}]}";
+  const auto scene = [&](const std::string &name, const std::string &camera,
+                         const std::string &extra) {
+    return "  - name: " + name +
+           "\n    width: 120\n    height: 90\n    background: [0.1, 0.2, 0.3]\n"
+           "    radius: per_particle\n    camera: " +
+           camera + "\n    color: {by: type}\n    output: {pattern: '" + pattern + "'}\n" + extra;
+  };
+  return "scenes:\n" + scene("path_persp", path, "") +
+         scene("orbit_ortho",
+               "{projection: orthographic, azimuth: 35, elevation: 25, zoom: 1.3, orbit: "
+               "{degrees_per_step: 3}}",
+               "") +
+         scene("path_cues", path, "    samples: 4\n    outline: {width: 2}\n");
+}
+
+TEST(RankInvariance, MovingCameraIsTheSameForEveryRankCountAndSplitAndMovesWithTheStep) {
+  const Particles all = make_particles(1200);
+  const std::vector<int> steps(std::begin(kMovingSteps), std::end(kMovingSteps));
+  const std::string dir = shared_directory();
+  ASSERT_FALSE(dir.empty());
+  const int rank = world_rank(), ranks = world_size();
+  if (rank == 0) {
+    const Render ref = render_steps(MPI_COMM_SELF, moving_camera_config(dir, "ref"), all, steps);
+    EXPECT_EQ(ref.status, LANTERN_OK) << ref.error;
+  }
+  const Split splits[] = {Split::kRoundRobin, Split::kSlabsByX, Split::kAllOnLast};
+  for (const Split split : splits) {
+    const Render r = render_steps(MPI_COMM_WORLD, moving_camera_config(dir, split_name(split)),
+                                  owned_by(split, all, rank, ranks), steps);
+    EXPECT_EQ(r.status, LANTERN_OK) << split_name(split) << ": " << r.error;
+  }
+  if (rank == 0) {
+    for (const Split split : splits)
+      for (const char *scene : kMovingScenes)
+        for (const int step : steps)
+          EXPECT_EQ(compare_images(file_of(dir, "ref", scene, step),
+                                   file_of(dir, split_name(split), scene, step)),
+                    "")
+              << split_name(split) << ", scene " << scene << ", step " << step << ", " << ranks
+              << " ranks";
+    // The camera moves: every frame up to the path's last keyframe differs from the one before;
+    // after it the path holds its end (the orbit goes on turning).
+    for (const char *scene : kMovingScenes)
+      for (size_t k = 1; k + 1 < steps.size(); ++k)
+        EXPECT_NE(compare_images(file_of(dir, "ref", scene, steps[k - 1]),
+                                 file_of(dir, "ref", scene, steps[k])),
+                  "")
+            << "scene " << scene << ": steps " << steps[k - 1] << " and " << steps[k];
+    EXPECT_EQ(compare_images(file_of(dir, "ref", "path_persp", 100),
+                             file_of(dir, "ref", "path_persp", 130)),
+              "");
+    EXPECT_NE(compare_images(file_of(dir, "ref", "orbit_ortho", 100),
+                             file_of(dir, "ref", "orbit_ortho", 130)),
               "");
     std::system(("rm -rf '" + dir + "'").c_str());
   }

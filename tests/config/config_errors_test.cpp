@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <fstream>
+#include <string>
 
 #include "core/config/config_loader.h"
 #include "tests/support/config_error_expect.h"
@@ -118,6 +119,56 @@ TEST(ConfigErrors, Camera) {
   expect_config_error("scenes:\n  - camera: {up: [0, 0, 0]}\n", {"scenes[0].camera.up", "zero"});
   expect_config_error("scenes:\n  - camera: {near: 10, far: 5}\n",
                       {"scenes[0].camera.far", "> 10"});
+}
+
+TEST(ConfigErrors, CameraPath) {
+  const std::string scene = "scenes:\n  - camera:\n      path:\n";
+  expect_config_error(scene + "        - {step: 0}\n        - {step: 500, azimuth: 90}\n" +
+                          "        - {step: 200, azimuth: 180}\n",
+                      {"scenes[0].camera.path[2]", "line 6", "step 200",
+                       "previous keyframe's step 500", "increasing step order"});
+  expect_config_error(scene + "        - {step: 10}\n        - {step: 10, zoom: 2}\n",
+                      {"scenes[0].camera.path[1]", "step 10 is not after"});
+  expect_config_error(scene + "        - {step: 0, azimth: 10}\n",
+                      {"scenes[0].camera.path[0].azimth", "line 4", "did you mean 'azimuth'?",
+                       "step, azimuth, elevation, zoom"});
+  expect_config_error(scene + "        - {step: 0, azimuth: .nan}\n",
+                      {"scenes[0].camera.path[0].azimuth", "finite"});
+  expect_config_error(scene + "        - {step: 0, zoom: .inf}\n",
+                      {"scenes[0].camera.path[0].zoom", "> 0"});
+  expect_config_error(scene + "        - {step: 0, elevation: 95}\n",
+                      {"scenes[0].camera.path[0].elevation", "[-90, 90]"});
+  expect_config_error(scene + "        - {step: -1}\n", {"scenes[0].camera.path[0].step"});
+  expect_config_error(scene + "        - {azimuth: 10}\n",
+                      {"scenes[0].camera.path[0]", "needs 'step'"});
+  expect_config_error(scene + "        - 5\n", {"scenes[0].camera.path[0]", "mapping"});
+  expect_config_error("scenes:\n  - camera: {path: []}\n",
+                      {"scenes[0].camera.path", "at least one keyframe"});
+  expect_config_error(
+      scene + "        - {step: 0, azimuth: 0}\n        - {step: 9, azimuth: 360}\n",
+      {"scenes[0].camera.path[1].azimuth", "line 5", "turns 360 degrees",
+       "add a keyframe in between"});
+  expect_config_error("scenes:\n  - camera:\n      position: [0, 0, 9]\n      path: [{step: 0}]\n",
+                      {"scenes[0].camera.path", "line 4", "explicit camera"});
+  expect_config_error(
+      "scenes:\n  - camera:\n      path: [{step: 0}]\n      orbit: {degrees_per_step: 1}\n",
+      {"scenes[0].camera.orbit", "line 4", "not both"});
+}
+
+TEST(ConfigErrors, CameraOrbit) {
+  expect_config_error("scenes:\n  - camera: {orbit: {}}\n",
+                      {"scenes[0].camera.orbit", "needs 'degrees_per_step'"});
+  expect_config_error("scenes:\n  - camera: {orbit: {degrees_per_step: 400}}\n",
+                      {"scenes[0].camera.orbit.degrees_per_step", "[-360, 360]"});
+  expect_config_error("scenes:\n  - camera: {orbit: {degrees_per_step: .nan}}\n",
+                      {"scenes[0].camera.orbit.degrees_per_step", "finite"});
+  expect_config_error(
+      "scenes:\n  - camera: {orbit: {degrees_per_stp: 1}}\n",
+      {"scenes[0].camera.orbit.degrees_per_stp", "did you mean 'degrees_per_step'?"});
+  expect_config_error("scenes:\n  - camera: {orbit: 2}\n",
+                      {"scenes[0].camera.orbit", "{degrees_per_step: d}"});
+  expect_config_error("scenes:\n  - camera: {position: [1, 1, 1], orbit: {degrees_per_step: 1}}\n",
+                      {"scenes[0].camera.orbit", "explicit camera"});
 }
 
 TEST(ConfigErrors, Color) {

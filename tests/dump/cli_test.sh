@@ -4,6 +4,10 @@
 # MODE png:  the C API helper renders particles and writes them as a LAMMPS text dump;
 #            lantern-render renders that dump; the PNGs must be byte-identical. Then the dump is
 #            converted to H5MD (float64) and rendered again: identical too.
+# MODE orbit: the C API helper renders with a camera on an orbit (the step turns it);
+#            lantern-render renders the dump with the same configuration (the step is the dump's
+#            timestep): byte-identical PNGs. Against the still camera: the same at step 0, turned
+#            at step 10.
 # MODE h5py: lantern-render converts the dump to H5MD (float32); h5py_check.py reads it back.
 # MODE split: lantern-render renders the dump with --split rows and with --split space (the
 #            default): every image byte-identical, and the first scene equal to the C API's.
@@ -18,6 +22,8 @@ run() { $mpiexec -n "$ranks" "$@"; }
 rm -rf "$work" && mkdir -p "$work/api" "$work/tool" "$work/h5"
 if [ "$mode" = varying ] || [ "$mode" = movie ]; then
   cd "$work/api" && run "$helper" "$src/varying_config.yaml" ../particles.lammpstrj varying
+elif [ "$mode" = orbit ]; then
+  cd "$work/api" && run "$helper" "$src/orbit_config.yaml" ../particles.lammpstrj
 else
   cd "$work/api" && run "$helper" "$src/image_config.yaml" ../particles.lammpstrj
 fi
@@ -78,6 +84,23 @@ movie)
     [ "$frames" = "ffv1,3" ] || { echo "$movie: expected ffv1,3 (codec, frames), got $frames"; exit 1; }
   done
   echo "movies: 3 frames each from the H5MD and the LAMMPS dump at $ranks rank(s)"
+  ;;
+orbit)
+  cd "$work/tool" && run "$tool" "$src/orbit_config.yaml" ../particles.lammpstrj
+  cd "$work/h5" && run "$tool" "$src/image_config.yaml" ../particles.lammpstrj
+  cd "$work"
+  n=0
+  for f in api/*.png; do
+    cmp "$f" "tool/$(basename "$f")"
+    n=$((n + 1))
+  done
+  [ "$n" -eq 2 ] || { echo "expected 2 images, found $n"; exit 1; }
+  cmp api/cmp_000000.png h5/cmp_000000.png
+  if cmp -s api/cmp_000010.png h5/cmp_000010.png; then
+    echo "step 10: the orbiting camera rendered the still camera's image"
+    exit 1
+  fi
+  echo "orbit: $n identical images (C API, LAMMPS dump) at $ranks rank(s); step 10 turned"
   ;;
 h5py)
   cd "$work/h5" && run "$tool" "$src/convert_config.yaml" ../particles.lammpstrj
