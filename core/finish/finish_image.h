@@ -34,7 +34,7 @@ struct FinishSettings {
 };
 
 struct FinishStats {
-  CompositeStats composite;  // the method run and this rank's milliseconds inside compositing
+  CompositeStats composite;  // the method run, this rank's milliseconds and traffic
   double downsample_ms = 0;  // samples > 1: down-sampling and gathering the bands
   double cues_ms = 0;        // the screen-space cues, halo rows included
 };
@@ -42,11 +42,12 @@ struct FinishStats {
 // `frame`: this rank's frame at s = finish.samples_per_axis times the image's width and height.
 // `image_camera`: the camera of the final-resolution image (the cues read view depths through
 // it); `sphere_radius`: the scene's largest drawn radius (the cues' unit). *image (root's image,
-// finish.width x finish.height) may be `frame` itself when s is 1.
+// finish.width x finish.height) may be `frame` itself when s is 1. `model`: compositing's cost
+// model (the same on every rank), or null for default_cost_model().
 // Returns OK, or the failing step's status with "compositing: ", "screen cues: " or "gathering
 // the image: " in front of its message.
 Status finish_image(MPI_Comm comm, Frame &frame, const FinishSettings &finish,
-                    const Camera &image_camera, double sphere_radius, Frame *image,
-                    FinishStats *stats);
+                    const Camera &image_camera, double sphere_radius,
+                    const CompositeCostModel *model, Frame *image, FinishStats *stats);
 
 }  // namespace lantern

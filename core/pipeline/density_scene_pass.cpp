@@ -78,6 +78,16 @@ Status run_density_scene(const ScenePassInputs &in, const SceneSettings &setting
   }
   stats->composite_ms = ms_since(t0);
   stats->composite_method = "sum (int64)";
+  int ranks = 1;
+  MPI_Comm_size(in.comm, &ranks);
+  if (in.per_rank_stats && ranks > 1) {
+    // MPI_Reduce: what this rank hands to MPI, and root gets back (the tree's traffic is MPI's).
+    CompositeStats sum;
+    const uint64_t bytes = 8 * uint64_t(image.sum.size());
+    (rank == 0 ? sum.traffic.bytes_received : sum.traffic.bytes_sent) = bytes;
+    (rank == 0 ? sum.traffic.messages_received : sum.traffic.messages_sent) = 1;
+    stats->composite = summarize_composite(in.comm, sum, nullptr);
+  }
   return {};
 }
 

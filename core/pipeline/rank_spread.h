@@ -7,6 +7,8 @@
 
 #include <mpi.h>
 
+#include <vector>
+
 #include <nlohmann/json.hpp>
 
 namespace lantern {
@@ -34,5 +36,10 @@ struct PerRankStats {
 // brings the spread of this rank's four values to `root`; other ranks get an unspecified value.
 PerRankStats reduce_per_rank_stats(MPI_Comm comm, int root, double drawn, double culled, double ms,
                                    double particles);
+
+// The same for any number of values (the same count on every rank): one RankSpread per value, at
+// root.
+std::vector<RankSpread> reduce_rank_spreads(MPI_Comm comm, int root,
+                                            const std::vector<double> &local);
 
 }  // namespace lantern

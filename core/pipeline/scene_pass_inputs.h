@@ -8,9 +8,11 @@
 #include <mpi.h>
 
 #include <memory>
+#include <optional>
 
 #include "core/bricks/brick_cache.h"
 #include "core/color/color_range.h"
+#include "core/composite/composite_cost_model.h"
 #include "core/culling/brick_cut_counts.h"
 #include "core/output/background_image_writer.h"
 #include "core/output/movie/movie_writer.h"
@@ -27,6 +29,9 @@ namespace lantern {
 struct PassScratch {
   BrickCache bricks;     // this step's bricks, refit on later steps
   RankDrawScratch draw;  // selection, culling and drawing buffers (rank_draw.h)
+  // Compositing's cost model, measured at the context's first compositing on two or more ranks
+  // (composite_cost_model.h) and kept: the same on every rank.
+  std::optional<CompositeCostModel> composite_model;
 };
 
 // What a scene pass reads and reuses between steps (buffers are kept to avoid reallocation).

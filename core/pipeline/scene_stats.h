@@ -11,11 +11,29 @@
 
 #include <nlohmann/json.hpp>
 
+#include "core/composite/composite_cost_model.h"
+#include "core/composite/depth_compositor.h"
 #include "core/culling/cull_stats.h"
 #include "core/output/movie/movie_writer.h"
 #include "core/pipeline/rank_spread.h"
 
 namespace lantern {
+
+// Compositing on every rank (with stats on): what moved, spread over the ranks. JSON "composite".
+struct CompositeSummary {
+  std::string schedule;  // active pixels: the schedule run ("binary_swap", "radix_k 4x2", ...)
+  double model_ms = 0;   // the cost model's estimate for the busiest rank
+  std::optional<CompositeCostModel> model;  // the model the schedule was chosen by, if any
+  // Per rank: bytes and messages handed to MPI and received, active pixels before compositing,
+  // and the CPU time of the rank's own compositing work (scan, encode, merge; not MPI waits).
+  RankSpread bytes_sent, bytes_received, messages_sent, messages_received, active_pixels,
+      work_cpu_ms;
+  nlohmann::json to_json() const;
+};
+
+// Collective over comm: the spread of this rank's compositing statistics, at rank 0.
+CompositeSummary summarize_composite(MPI_Comm comm, const CompositeStats &local,
+                                     const CompositeCostModel *model);
 
 // A scene's movie on one step (rank 0): JSON "movie".
 struct SceneMovieStats {
@@ -57,6 +75,8 @@ struct SceneStats {
   // occlusion: probabilistic: iterations and samples (the slowest rank), meshlets per class and
   // particles culled (summed over ranks). JSON "probabilistic".
   std::optional<ProbabilisticStats> probabilistic;
+  // Compositing's traffic over the ranks (rank 0; with stats on, two or more ranks).
+  std::optional<CompositeSummary> composite;
   // output.movie: JSON "movie" {file, encoder, frames, queued, dropped, behind, ...}.
   std::optional<SceneMovieStats> movie;
   // color.by: scalar: the scalar range this frame's colours used (color.range). JSON

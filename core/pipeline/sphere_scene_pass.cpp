@@ -79,16 +79,29 @@ Status run_sphere_scene(const ScenePassInputs &in, const SceneSettings &settings
         in.comm, 0, double(cull.drawn), double(cull.candidates - cull.drawn - cull.splatted),
         own_ms, in.local ? double(in.local->finite_count) : double(cull.candidates));
 
+  // Compositing's cost model: measured once per context, on every rank alike.
+  int ranks = 1;
+  MPI_Comm_size(in.comm, &ranks);
+  std::optional<CompositeCostModel> &model = in.scratch->composite_model;
+  if (ranks > 1 && !model) {
+    CompositeCostModel measured;
+    if (Status s = measure_cost_model(in.comm, &measured); !s.ok())
+      return with_context(where + "compositing: ", std::move(s));
+    model = measured;
+  }
   // The composited image, finished (down-sampling, screen-space cues), on rank 0.
   FinishStats finished;
-  if (Status s = finish_image(in.comm, frame, settings.finish, image_camera,
-                              radius.max_radius(in.global), &buffers->frame, &finished);
+  if (Status s =
+          finish_image(in.comm, frame, settings.finish, image_camera, radius.max_radius(in.global),
+                       model ? &*model : nullptr, &buffers->frame, &finished);
       !s.ok())
     return with_context(where, std::move(s));
   stats->downsample_ms = finished.downsample_ms;
   stats->cues_ms += finished.cues_ms;
   stats->composite_ms = finished.composite.milliseconds;
   stats->composite_method = finished.composite.method;
+  if (in.per_rank_stats && ranks > 1)
+    stats->composite = summarize_composite(in.comm, finished.composite, model ? &*model : nullptr);
   return {};
 }
 

@@ -1,0 +1,50 @@
+// One phase of active-pixel compositing: this rank streams ranges of its frame, run-length
+// encoded (run_length_pixels.h), to some ranks while receiving ranges from others and merging
+// (or writing) them into its frame. Every stream is cut into messages of bounded size; all of a
+// rank's streams advance in lockstep, one message each per step under one MPI_Waitall, so no
+// rank waits for a message its partner has not reached, and scratch stays bounded whatever the
+// frame size.
+//
+// The matching call on the other side must name the same range: a receiver's incoming range is
+// its sender's outgoing range. Messages use the tag given; callers give each phase its own tag.
+#pragma once
+
+#include <mpi.h>
+
+#include <cstdint>
+#include <vector>
+
+#include "core/common/status.h"
+#include "core/composite/active_pixels.h"
+#include "core/composite/composite_traffic.h"
+#include "core/composite/pixel_range.h"
+#include "core/composite/run_length_pixels.h"
+#include "core/common/uninitialized_buffer.h"
+
+namespace lantern {
+
+// Message buffers, carved per phase among the streams: `words` each for sending and receiving.
+struct ActivePixelScratch {
+  UninitializedBuffer<uint64_t> send, receive;
+  // Sizes both pools to hold about chunk_pixels encoded pixels and at least a minimal message for
+  // each of `ranks` streams. May throw std::bad_alloc.
+  void prepare(size_t chunk_pixels, int ranks);
+};
+
+struct OutgoingRange {
+  int to = 0;
+  PixelRange range;
+};
+struct IncomingRange {
+  int from = 0;
+  PixelRange range;
+};
+
+// Streams every `outgoing` range of frame to its rank while merging every `incoming` range's
+// messages into frame. Empty ranges send nothing. Adds what moved to *traffic. OK, kMpi with the
+// MPI error, or kInternal for a malformed message (the protocol still runs to its end).
+Status exchange_active_pixels(MPI_Comm comm, int tag, const std::vector<OutgoingRange> &outgoing,
+                              const std::vector<IncomingRange> &incoming, ActiveFrame &frame,
+                              ActivePixelScratch &scratch, CompositeTraffic *traffic);
+
+}  // namespace lantern
