@@ -15,11 +15,11 @@
 #include <vector>
 
 #include "core/common/status.h"
+#include "core/common/uninitialized_buffer.h"
 #include "core/composite/active_pixels.h"
 #include "core/composite/composite_traffic.h"
 #include "core/composite/pixel_range.h"
 #include "core/composite/run_length_pixels.h"
-#include "core/common/uninitialized_buffer.h"
 
 namespace lantern {
 
