@@ -1,9 +1,9 @@
-// The z-order multi-level layout inside a brick (seed 001 §3.5, Fig. 3): the brick's particles,
-// already in z-order, are re-laid so that level 0 (the first particle) comes first and each next
-// level refines the previous one. We visit z-order positions in bit-reversed order (0, n/2, n/4,
-// 3n/4, n/8, ...): at a level boundary this is exactly Fig. 3's layout, and inside a level the
-// bit reversal spreads the partial level over the whole brick, so ANY prefix - not only whole
-// levels - is a spatially uniform sample of the brick.
+// The z-order multi-level layout inside a brick (Rizzi et al. 2015, §3.5, Fig. 3): the brick's
+// particles, already in z-order, are re-laid so that level 0 (the first particle) comes first and
+// each next level refines the previous one. We visit z-order positions in bit-reversed order (0,
+// n/2, n/4, 3n/4, n/8, ...): at a level boundary this is exactly Fig. 3's layout, and inside a
+// level the bit reversal spreads the partial level over the whole brick, so ANY prefix - not only
+// whole levels - is a spatially uniform sample of the brick.
 #pragma once
 
 #include <cstdint>

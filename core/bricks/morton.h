@@ -1,6 +1,6 @@
 // Morton (z-order) keys: 21 bits per axis interleaved into a 63-bit key, x the most significant
 // bit of each triple. Sorting by key orders particles along the z-order curve, so every run of
-// keys sharing a 3l-bit prefix is one cell of an octree of depth l (seed 001 §3.5).
+// keys sharing a 3l-bit prefix is one cell of an octree of depth l (Rizzi et al. 2015, §3.5).
 #pragma once
 
 #include <algorithm>

@@ -140,18 +140,19 @@ struct OutputConfig {
 // on screen (where it measured faster), opengl elsewhere.
 enum class RendererChoice { kAuto, kOpenGl, kCpu };
 
-// probabilistic: seed 004's confidence-map culling (core/culling/probabilistic/); an approximate
-// mode served by the CPU raster only, never chosen by auto.
+// probabilistic: Ibrahim et al.'s confidence-map culling (core/culling/probabilistic/); an
+// approximate mode served by the CPU raster only, never chosen by auto.
 enum class OcclusionMode { kAuto, kNone, kNineSpheres, kNineSpheresSorted, kHzb, kProbabilistic };
 
 // The radius the nine-spheres rule compares (a sphere is hidden only by nearer spheres that are
-// not smaller). world: the drawn radius, as seed 000 states the rule. equivalent: seed 003's
-// equivalent radius, the radius of the sphere moved towards the eye onto the near plane and
-// scaled to keep its projected size (r * near / depth in perspective, r in orthographic), so a
-// near small sphere can hide a far large one that looks smaller on screen.
+// not smaller). world: the drawn radius, as the nine-spheres paper states the rule. equivalent: the
+// equivalent radius of the nine-spheres paper's conference version, the radius of the sphere moved
+// towards the eye onto the near plane and scaled to keep its projected size (r * near / depth in
+// perspective, r in orthographic), so a near small sphere can hide a far large one that looks
+// smaller on screen.
 enum class NineSpheresRadius { kWorld, kEquivalent };
 
-// Seed 004's probabilistic occlusion culling (occlusion: probabilistic), culling.* keys.
+// Ibrahim et al.'s probabilistic occlusion culling (occlusion: probabilistic), culling.* keys.
 struct ProbabilisticConfig {
   double confidence = 0.95;  // confidence: C_occ in (0, 1), occluded-class threshold
   int budget = 2;            // probabilistic_budget: occluder meshlets sampled per node per pass
@@ -160,12 +161,12 @@ struct ProbabilisticConfig {
   // paper's "random 50%" baseline of Table 4.
   bool random_acceptance = false;
   // No YAML key (lantern-bench only): converged when at most this share of the open meshlets
-  // changed class; 0 is seed 004's §5.3 to the letter ("no meshlet changes"). See
+  // changed class; 0 is Ibrahim et al. 2022, §5.3 to the letter ("no meshlet changes"). See
   // probabilistic_culler.h for why the default tolerates 1%.
   double quiet_share = 0.01;
 };
 
-// culling: (issue 5 fills the algorithms; the keys exist from the start)
+// culling: which particles are skipped before drawing, and how
 struct CullingConfig {
   bool frustum = true;  // frustum: true|false
   OcclusionMode occlusion =
@@ -192,14 +193,14 @@ struct LodConfig {
   LodSelect select = LodSelect::kUniform;  // select: uniform | nearest (style: spheres)
 };
 
-// A cutting plane (issue: cross-sections): particles with dot(n, x) > offset are dropped.
+// A cutting plane (the cross-sections paper): particles with dot(n, x) > offset are dropped.
 struct CutPlane {
   std::array<double, 3> normal{0, 0, 1};  // normal: [nx, ny, nz]
   double offset = 0.0;                    // offset: plane is dot(normal, x) = offset
   bool enabled = true;  // enabled: false keeps the plane in the list but cuts nothing (toggle)
 };
 
-// Depth cues (issue 13), each off unless its section is present. The screen-space ones (screen
+// Depth cues, each off unless its section is present. The screen-space ones (screen
 // ambient occlusion, outline, depth cue) run on the final-resolution composited frame, after
 // any down-sampling and before the image is written (core/finish/screen_cues.h).
 enum class AmbientOcclusionMethod { kScreen, kObject };
@@ -238,7 +239,7 @@ struct DepthCueConfig {
 };
 
 // style: what a particle is in the picture. spheres: opaque shaded spheres (depth-composited).
-// density: a screen-aligned Gaussian footprint, summed over particles (seed 001 §3.4;
+// density: a screen-aligned Gaussian footprint, summed over particles (Rizzi et al. 2015, §3.4;
 // core/render/density_splat.h), then mapped to colors by `density:`.
 enum class SceneStyle { kSpheres, kDensity };
 enum class DensityTransfer { kLinear, kLog, kAsinh };
@@ -275,7 +276,7 @@ struct SceneConfig {
   DepthCueConfig depth_cue;                  // depth_cue: {...}
   SceneStyle style = SceneStyle::kSpheres;   // style: spheres | density
   DensityConfig density;                     // density: {...}
-  // opacity: [a0, a1, ...] per type, each in [0, 1] (screen-door transparency, issue 13); types
+  // opacity: [a0, a1, ...] per type, each in [0, 1] (screen-door transparency); types
   // beyond the list, and every type when it is empty (the default), are opaque.
   std::vector<double> opacity;
   Lighting lighting;  // lighting: {direction, ambient, diffuse, specular, shininess} (lighting.h)
@@ -287,7 +288,7 @@ struct SceneConfig {
 // it.
 enum class DumpMode { kCreate, kAppend, kOverwrite };
 
-// dump: (HDF5 / H5MD particle dumps; issue 6)
+// dump: (HDF5 / H5MD particle dumps)
 struct DumpConfig {
   bool enabled = false;  // true when the `dump:` section is present (enabled: false turns it off)
   std::string file = "lantern_particles.h5";  // file:

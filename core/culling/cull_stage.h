@@ -64,7 +64,7 @@ class Culler {
   std::vector<StripState> strips_ = std::vector<StripState>(1);
   std::vector<Hzb> hzb_ = std::vector<Hzb>(1);
   NineSpheresGrid nine_;
-  bool nine_equivalent_ = false;  // nine-spheres compares equivalent radii (seed 003), not world
+  bool nine_equivalent_ = false;  // nine-spheres compares equivalent radii, not world
   std::vector<uint64_t> scratch_;
 };
 

@@ -10,7 +10,7 @@
 namespace lantern {
 namespace {
 
-// The reference pixel of seed 000: the pixel the projected centre falls in.
+// The reference pixel of the nine-spheres paper: the pixel the projected centre falls in.
 bool reference_pixel(const ViewGeometry &g, const glm::dvec3 &c, int *x, int *y) {
   double px, py;
   if (!g.pixel_position(c, &px, &py)) return false;

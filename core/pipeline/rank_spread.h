@@ -1,6 +1,6 @@
 // How a per-rank quantity (particles drawn, culled, milliseconds) spreads over the ranks: least,
 // greatest, mean, imbalance and the rank holding the greatest - the per-process statistics of
-// seed 000's Fig. 5, so that load imbalance shows in the stats line.
+// the nine-spheres paper's Fig. 5, so that load imbalance shows in the stats line.
 //
 // Plain value types; reduce_rank_spreads is collective.
 #pragma once

@@ -50,7 +50,7 @@ struct SceneStats {
   std::string bricks;    // "built", "refit" (kept z-order, new bounds) or "cached" (same step)
   double camera_ms = 0, cull_ms = 0, instances_ms = 0, draw_ms = 0, readback_ms = 0,
          composite_ms = 0, write_ms = 0, total_ms = 0;
-  // Depth cues (issue 13): object AO's density volume plus the screen-space cues after
+  // Depth cues: object AO's density volume plus the screen-space cues after
   // compositing (0 when none is on).
   double cues_ms = 0;
   // Particle counts summed over ranks.

@@ -48,7 +48,7 @@ class CpuSpherePass {
   const ProbabilisticCuller &probabilistic() const { return probabilistic_; }
 
  private:
-  // occlusion: probabilistic: seed 004's culling, then every particle of the potentially
+  // occlusion: probabilistic: Ibrahim et al.'s culling, then every particle of the potentially
   // visible set ray-cast exactly (no further occlusion test, so the culled share is the
   // method's own).
   CullStats run_probabilistic(const ParticleArrays &particles, const BrickSet &bricks,

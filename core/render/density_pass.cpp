@@ -188,7 +188,8 @@ CullStats render_density(const ParticleArrays &particles, const BrickSet &bricks
           for (uint32_t k = 0; k < next.keep; ++k) prefetch(ahead[k]);
         }
         st.lod_dropped += int64_t(b.count) - int64_t(v.keep);
-        // Each kept particle stands for count / keep of them (seed 001's brightness rule).
+        // Each kept particle stands for count / keep of them (the brightness rule of Rizzi et al.
+        // 2015).
         const double weight = double(b.count) / double(v.keep);
         const uint32_t *index = bricks.order.data() + b.first;
         const int n = int(v.keep);

@@ -2,7 +2,7 @@
 // the visible bricks of a selection, each brick's level-of-detail prefix (the first `keep`
 // particles of its z-order level layout, core/bricks/level_layout.h), every kept particle
 // weighted by count / keep so that the brick's total weight - its brightness - is preserved
-// (seed 001 §3.5, §4.2). Cutting planes drop particles by centre, as for spheres.
+// (Rizzi et al. 2015, §3.5, §4.2). Cutting planes drop particles by centre, as for spheres.
 //
 // How: without level of detail (every brick kept whole) the particles are read in published
 // order, a sequential stream, and their footprints binned by image tile before they are

@@ -1,4 +1,4 @@
-// Density rendering (seed 001 §3.4, `style: density`): every particle is a screen-aligned
+// Density rendering (Rizzi et al. 2015, §3.4, `style: density`): every particle is a screen-aligned
 // Gaussian footprint, summed into a fixed-point image. The sum over ranks is then an integer sum
 // (core/composite/density_sum.h), so the image does not depend on the order of the particles,
 // on the ranks or on the split, bit for bit.

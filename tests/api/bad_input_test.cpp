@@ -124,7 +124,7 @@ TEST_F(BadInput, UnwritableOutputFailsThatStepAndLaterStepsRetry) {
   EXPECT_EQ(files, 1);
 }
 
-// Issue #17 item 2: values too large to frame used to fail as "camera.near/far: need 0 < near <
+// Values too large to frame used to fail as "camera.near/far: need 0 < near <
 // far", a key the user never set. Each now names its source, with the status that fits: data
 // (published positions or radii) is an invalid argument, a configured value a configuration error.
 TEST_F(BadInput, ValuesTooLargeToFrameNameTheirSource) {

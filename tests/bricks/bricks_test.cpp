@@ -254,7 +254,7 @@ TEST(Bricks, RefitRepairsWrappedAndMigratedParticles) {
   expect_valid_bricks(shrunk, borrow(fewer));
 }
 
-TEST(LevelLayout, MatchesFigure3OfSeed001) {
+TEST(LevelLayout, MatchesFigure3OfRizzi2015) {
   // Eight particles in z-order 0..7: L0 = {0}, L1 = {4}, L2 = {2, 6}, L3 = {1, 5, 3, 7}.
   std::vector<uint32_t> items{0, 1, 2, 3, 4, 5, 6, 7}, scratch;
   apply_level_layout(items.data(), 8, &scratch);

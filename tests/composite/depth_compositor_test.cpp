@@ -482,7 +482,7 @@ TEST(PackedPixel, KeysOrderByDepthThenColorAndRoundTrip) {
   EXPECT_EQ(std::vector<uint8_t>(rgba, rgba + 4), std::vector<uint8_t>(red, red + 4));
 }
 
-// 6144 x 3072 (the tiled-display size of seed 001); run at 2 ranks.
+// 6144 x 3072 (the tiled-display size of Rizzi et al. 2015); run at 2 ranks.
 TEST(LargeImage, TiledDisplaySizeMatchesSerialMerge) {
   Case c;
   c.width = 6144;

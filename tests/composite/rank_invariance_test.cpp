@@ -271,7 +271,7 @@ TEST(RankInvariance, SameImagesWithSixteenSamples) {
   expect_rank_invariant(make_particles(1500), "ssaa16", "", "    samples: 16\n");
 }
 
-// Every depth cue at once (issue 13): screen ambient occlusion, outlines and depth cueing run on
+// Every depth cue at once: screen ambient occlusion, outlines and depth cueing run on
 // row bands of the composited frame, which must not show in the image; see-through types are
 // dithered on the image's pixel grid, whoever draws them.
 TEST(RankInvariance, SameImagesWithEveryDepthCue) {

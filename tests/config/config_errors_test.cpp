@@ -252,7 +252,7 @@ TEST(ConfigErrors, TopLevelTypes) {
                       {"dump.fields[1]", "position, type, scalar, radius, id"});
 }
 
-// Issue #17 item 3a: a NUL inside a string ("\0" in a double-quoted YAML string) used to be
+// A NUL inside a string ("\0" in a double-quoted YAML string) used to be
 // accepted, and the operating system cut the file name there (every step wrote "o/a").
 TEST(ConfigErrors, NulCharacterInAStringIsRejectedNamingTheKey) {
   expect_config_error(
@@ -263,7 +263,7 @@ TEST(ConfigErrors, NulCharacterInAStringIsRejectedNamingTheKey) {
   expect_config_error("scenes:\n  - name: \"a\\0b\"\n", {"scenes[0].name", "line 2"});
 }
 
-// Issue #17 item 3b: a second document used to be ignored without a word.
+// A second document used to be ignored without a word.
 TEST(ConfigErrors, SecondYamlDocumentIsAnError) {
   expect_config_error("scenes: [{}]\n---\nscenes: [{width: 8}]\n",
                       {"second YAML document", "line 3", "one document"});
@@ -273,7 +273,7 @@ TEST(ConfigErrors, SecondYamlDocumentIsAnError) {
   EXPECT_TRUE(load_config("---\nscenes: [{}]\n...\n", &c).ok());
 }
 
-// Issue #17 item 5: a binary file read as configuration gave a message carrying its raw bytes.
+// A binary file read as configuration gave a message carrying its raw bytes.
 TEST(ConfigErrors, BinaryContentIsEscapedAndCutShort) {
   std::string bytes;
   uint32_t x = 12345;
@@ -304,8 +304,9 @@ TEST(ConfigErrors, BinaryContentIsEscapedAndCutShort) {
   expect_config_error("\"\\x01\": 1\n", {"unknown key '\\x01'"});
 }
 
-// Seed 004's keys: C_occ strictly inside (0, 1), the budget and patience whole numbers in range,
-// and a renderer that can serve probabilistic culling (only the CPU raster can).
+// The probabilistic culling keys (Ibrahim et al. 2022): C_occ strictly inside (0, 1), the budget
+// and patience whole numbers in range, and a renderer that can serve probabilistic culling (only
+// the CPU raster can).
 TEST(ConfigErrors, ProbabilisticCulling) {
   for (const char *bad : {"0", "1", "1.5", "x"})
     expect_config_error(

@@ -1,4 +1,4 @@
-// The depth-cue keys (issue 13): off by default, bare sections on with defaults, and bad values
+// The depth-cue keys: off by default, bare sections on with defaults, and bad values
 // rejected naming key, line and the allowed range.
 #include <gtest/gtest.h>
 

@@ -1,4 +1,4 @@
-// A dump failure on one rank of several (issue 17, item 10): one rank's HDF5 step fails (an
+// A dump failure on one rank of several: one rank's HDF5 step fails (an
 // injected fault: as root, permissions cannot make one rank's view unwritable), and every rank
 // must return the same error naming the file instead of waiting in a collective call that the
 // failing rank skipped. CTest runs this at 3 ranks with a timeout, so a hang fails the test.

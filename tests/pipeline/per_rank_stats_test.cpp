@@ -1,8 +1,8 @@
-// Per-rank statistics (seed 000's Fig. 5) in the stats line and lantern_load_summary, through the
-// C API under mpiexec at 2 and 3 ranks: every rank publishes a different load, so the spread,
-// the imbalance and the rank of the max are known exactly, and the per-rank means times the rank
-// count must give the line's totals. Compositing's bytes and messages per rank balance over the
-// ranks.
+// Per-rank statistics (the nine-spheres paper's Fig. 5) in the stats line and lantern_load_summary,
+// through the C API under mpiexec at 2 and 3 ranks: every rank publishes a different load, so the
+// spread, the imbalance and the rank of the max are known exactly, and the per-rank means times the
+// rank count must give the line's totals. Compositing's bytes and messages per rank balance over
+// the ranks.
 #include <gtest/gtest.h>
 
 #include <mpi.h>

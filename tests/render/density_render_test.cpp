@@ -48,7 +48,7 @@ TEST(DensitySplat, OneFootprintIntegratesToItsWeight) {
       image.reset(g.width, g.height, 1);
       DensitySplatter splat(g, &image);
       ASSERT_TRUE(splat.splat(g.to_view({5.013, 4.971, 5.0}), r, weight, {0, 0, 0}));
-      EXPECT_NEAR(total_weight(image), weight, 0.01 * weight) << "r " << r;  // the 1 %
+      EXPECT_NEAR(total_weight(image), weight, 0.01 * weight) << "r " << r;  // within 1 %
       // Tighter: the kernel's own normalisation leaves only the fixed-point rounding (sigma < 8
       // px: the taps are summed) or the analytic integral's 0.1 % (r = 4: sigma ~ 27 px).
       EXPECT_NEAR(total_weight(image), weight, (r < 1.0 ? 1e-5 : 1e-3) * weight) << "r " << r;

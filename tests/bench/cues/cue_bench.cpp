@@ -1,4 +1,4 @@
-// lantern-bench-cues: the frame time of each depth cue (issue 13) against the same scene without
+// lantern-bench-cues: the frame time of each depth cue against the same scene without
 // it, through the whole pipeline (core/pipeline/runtime.h: bricks, culling, drawing, compositing,
 // cues, PNG writing), every variant rendered at every step so the machine's noise hits them alike.
 //

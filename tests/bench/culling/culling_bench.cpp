@@ -10,9 +10,9 @@
 // mode (opaque_lod_bench.h; DIR/opaque_lod_bench.csv and .svg).
 // A scene name may end in :uniform or :bimodal to give the particles mixed radii (assign_radii
 // in bench_scenes.h), e.g. --scenes fcc1m:uniform,inside:bimodal. --azimuths K renders every
-// scene from K azimuths evenly spaced about its vertical axis (same elevation and distance; seed
-// 003's viewpoint-stability experiment, its Fig. 7) and ends each scene with min / median / max
-// over the views of every mode's time and culled share.
+// scene from K azimuths evenly spaced about its vertical axis (same elevation and distance; the
+// viewpoint-stability experiment of the nine-spheres paper's conference version, its Fig. 7) and
+// ends each scene with min / median / max over the views of every mode's time and culled share.
 //
 // Per scene: the bricks are built once (as once per step in Lantern) and timed apart; then every
 // mode runs `runs` times, modes interleaved run by run so that the machine's noise hits all of
@@ -98,7 +98,7 @@ std::vector<Mode> modes() {
   for (const OcclusionMode nine :
        {OcclusionMode::kNineSpheres, OcclusionMode::kNineSpheresSorted}) {
     Mode eq{std::string(name_of(nine)) + "+equivalent", false, nine, true, {}};
-    eq.nine_radius = NineSpheresRadius::kEquivalent;  // seed 003's equivalent radius
+    eq.nine_radius = NineSpheresRadius::kEquivalent;  // the conference version's radius
     m.push_back(eq);
   }
   m.push_back({"hzb", false, OcclusionMode::kHzb, true, {}});
@@ -119,7 +119,7 @@ std::vector<Mode> modes() {
   Mode points{"auto+point_path", false, OcclusionMode::kAuto, true, {}};
   points.lod.point_path = true;
   m.push_back(points);
-  for (const ProbabilisticMode &p : probabilistic_modes()) {  // seed 004 (CPU raster)
+  for (const ProbabilisticMode &p : probabilistic_modes()) {  // Ibrahim et al. 2022 (CPU raster)
     Mode prob{p.name, false, OcclusionMode::kProbabilistic, true, {}, true};
     prob.probabilistic = p.config;
     m.push_back(prob);
@@ -301,8 +301,8 @@ class Bench {
     }
   }
 
-  // Seed 003's Fig. 7: per mode, min / median / max over the views of the frame time and the
-  // culled share, and the worst error of any view.
+  // Fig. 7 of the nine-spheres paper's conference version: per mode, min / median / max over the
+  // views of the frame time and the culled share, and the worst error of any view.
   static void print_stability(const std::vector<Mode> &all,
                               const std::vector<std::vector<Result>> &per_view, int64_t n) {
     std::printf(
