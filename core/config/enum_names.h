@@ -67,6 +67,12 @@ inline constexpr EnumName<AutoRange> kAutoRangeNames[] = {
 inline constexpr EnumName<MovieWhenBehind> kMovieWhenBehindNames[] = {
     {MovieWhenBehind::kDrop, "drop"}, {MovieWhenBehind::kWait, "wait"}};
 
+inline constexpr EnumName<OverlayCorner> kOverlayCornerNames[] = {
+    {OverlayCorner::kTopLeft, "top_left"},
+    {OverlayCorner::kTopRight, "top_right"},
+    {OverlayCorner::kBottomLeft, "bottom_left"},
+    {OverlayCorner::kBottomRight, "bottom_right"}};
+
 // The table of each enum, so that name_of / value_of / names_of need only the enum type.
 inline constexpr const auto &names_table(OcclusionMode) {
   return kOcclusionModeNames;
@@ -103,6 +109,10 @@ inline constexpr const auto &names_table(AutoRange) {
 }
 inline constexpr const auto &names_table(MovieWhenBehind) {
   return kMovieWhenBehindNames;
+}
+
+inline constexpr const auto &names_table(OverlayCorner) {
+  return kOverlayCornerNames;
 }
 
 // The canonical name of `value` ("?" for a value missing from its table: a bug).

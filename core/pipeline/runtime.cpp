@@ -13,6 +13,7 @@
 #include "core/output/stats_writer.h"
 #include "core/particles/particle_scan.h"
 #include "core/pipeline/scene_movie.h"
+#include "core/pipeline/scene_overlays.h"
 
 namespace lantern {
 namespace {
@@ -89,6 +90,7 @@ Status Runtime::open(const std::string &config_text, MPI_Comm comm, std::unique_
 
   Status local = rt->load_first_config(config_text);
   if (local.ok()) local = check_scene_movies(rt->config_.scenes);
+  if (local.ok()) local = check_scene_overlays(rt->config_.scenes);
   if (Status s = agree_on_status(rt->comm_, local); !s.ok()) return s;
   if (Status s = rt->agree_on_first_config(); !s.ok()) return s;
   if (!rt->config_.scenes.empty())
@@ -181,6 +183,8 @@ Status Runtime::execute(int64_t step, double time) {
     if (!first_error.ok()) stats.clear();  // no scene was drawn
     ScenePassInputs in{comm_, renderer, &particles_, global, step, time, &scratch_};
     in.per_rank_stats = !config_.stats_file.empty();  // the same configuration on every rank
+    in.box = box_ ? &*box_ : nullptr;
+    if (!config_.lammps.scalar.empty()) in.scalar_name = config_.lammps.scalar;
     for (size_t s = 0; s < stats.size(); ++s) {
       const Status st = run_scene_pass(in, config_.scenes[s], &buffers_[s], &stats[s]);
       if (!st.ok() && first_error.ok()) first_error = st;  // later scenes still render

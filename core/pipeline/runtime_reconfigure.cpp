@@ -19,6 +19,7 @@
 #include "core/config/live_change.h"
 #include "core/pipeline/runtime.h"
 #include "core/pipeline/scene_movie.h"
+#include "core/pipeline/scene_overlays.h"
 
 namespace lantern {
 namespace {
@@ -93,6 +94,7 @@ Status Runtime::switch_config(const std::string &text, const std::string &path, 
   if (local.ok()) local = check_watch_source(next, path);
   if (local.ok()) local = check_live_change(config_, next);
   if (local.ok()) local = check_scene_movies(next.scenes);
+  if (local.ok()) local = check_scene_overlays(next.scenes);
   // Without OpenGL (tried, and absent on every rank alike) a scene may not insist on it.
   for (const SceneConfig &scene : next.scenes)
     if (local.ok() && gl_tried_ && !gl_ && scene.renderer == RendererChoice::kOpenGl)

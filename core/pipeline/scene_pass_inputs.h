@@ -8,10 +8,13 @@
 #include <mpi.h>
 
 #include <memory>
+#include <string>
 
 #include "core/bricks/brick_cache.h"
 #include "core/color/color_range.h"
 #include "core/culling/brick_cut_counts.h"
+#include "core/dump/box.h"
+#include "core/finish/overlays/overlays.h"
 #include "core/output/background_image_writer.h"
 #include "core/output/movie/movie_writer.h"
 #include "core/particles/global_extent.h"
@@ -41,6 +44,10 @@ struct ScenePassInputs {
   // Gather the per-rank spread of drawn, culled and milliseconds (SceneStats::per_rank): one
   // small reduction per scene, run only when the stats line is written. Same on every rank.
   bool per_rank_stats = false;
+  // The overlays' simulation box: lantern_set_box's on rank 0 (null: the particles' bounds), and
+  // the scalar's name (the legend's default title).
+  const Box *box = nullptr;
+  std::string scalar_name = "scalar";
 };
 
 struct SceneBuffers {
@@ -50,8 +57,9 @@ struct SceneBuffers {
   BrickCutCounts cut_counts;     // this scene's cutting planes per brick (edits are incremental)
   DensityImage density;          // style: density - this rank's sums, then (rank 0) all ranks'
   ColorRange color_range;        // the scalar range of the colours, remembered across steps
-  std::unique_ptr<MovieWriter> movie;  // rank 0, with output.movie (scene_movie.h)
-  bool movie_warned = false;           // the "encoder is behind" warning was printed
+  std::unique_ptr<MovieWriter> movie;        // rank 0, with output.movie (scene_movie.h)
+  bool movie_warned = false;                 // the "encoder is behind" warning was printed
+  std::unique_ptr<OverlayPainter> overlays;  // rank 0, for a scene with overlays
 };
 
 }  // namespace lantern
