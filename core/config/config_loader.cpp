@@ -330,10 +330,7 @@ const Section<LegendConfig> kLegend(
         {"width", &LegendConfig::width, integer(2, 1024)},
         {"font_size", &LegendConfig::font_size, integer(4, 512)},
         {"color", &LegendConfig::color, rgb()},
-        {"title", &LegendConfig::title,
-         [](const YamlReader &r, const YAML::Node &n, const std::string &p) {
-           return r.read_string(n, p);
-         }},
+        {"title", &LegendConfig::title, text()},
         {"ticks", &LegendConfig::ticks, integer(2, 20)},
         {"type_names", &LegendConfig::type_names,
          list_of(text(), "must list at least one name (type 0 first)")},

@@ -14,6 +14,9 @@
 
 #include "lantern/lantern.h"
 #include "tests/support/image_file.h"
+#if LANTERN_TEST_MOVIES
+#include "tests/support/movie_file.h"
+#endif
 
 namespace lantern::testing {
 namespace {
@@ -101,6 +104,55 @@ TEST(BoxOverlay, HiddenBehindASphereInFrontAndDrawnOverOneBehind) {
   EXPECT_GT(over_background_dark, 10) << "the edge is drawn over the background";
   std::system(("rm -rf '" + dir + "'").c_str());
 }
+
+#if LANTERN_TEST_MOVIES && LANTERN_TEST_TEXT
+// The movie encodes the finished image: its lossless frames are the PNGs, overlays included (a
+// label whose step changes, and a legend whose running range grows).
+TEST(Overlays, AppearInTheMovie) {
+  const std::string dir = scratch_directory();
+  ASSERT_FALSE(dir.empty());
+  const std::string config =
+      "scenes:\n  - name: m\n    width: 96\n    height: 80\n    radius: 0.6\n"
+      "    color: {by: scalar, range: {auto: running}}\n"
+      "    labels: [{text: 'step {step}', size: 12}]\n"
+      "    legend: {font_size: 9, length: 40, width: 6}\n    box: {}\n"
+      "    output: {pattern: '" +
+      dir + "/m_{step}.png', movie: {file: '" + dir + "/m.mkv', codec: ffv1, when_behind: wait}}\n";
+  lantern_context *ctx = nullptr;
+  ASSERT_EQ(lantern_open(config.c_str(), MPI_Comm_c2f(MPI_COMM_SELF), &ctx), LANTERN_OK)
+      << lantern_error_message(ctx);
+  std::vector<double> x, y, z, scalar;
+  for (int i = 0; i < 27; ++i) x.push_back(i % 3), y.push_back(i / 3 % 3), z.push_back(i / 9);
+  for (int step = 0; step < 3; ++step) {
+    scalar.clear();
+    for (int i = 0; i < 27; ++i) scalar.push_back(i * (1.0 + step));
+    lantern_particles d{};
+    d.count = 27;
+    d.position_x = {x.data(), LANTERN_FLOAT64, 0};
+    d.position_y = {y.data(), LANTERN_FLOAT64, 0};
+    d.position_z = {z.data(), LANTERN_FLOAT64, 0};
+    d.scalar = {scalar.data(), LANTERN_FLOAT64, 0};
+    ASSERT_EQ(lantern_publish(ctx, &d), LANTERN_OK);
+    ASSERT_EQ(lantern_execute(ctx, step, 0.5 * step), LANTERN_OK) << lantern_error_message(ctx);
+  }
+  ASSERT_EQ(lantern_close(ctx), LANTERN_OK);
+  const MovieFrames movie = read_movie(dir + "/m.mkv");
+  ASSERT_EQ(movie.error, "");
+  ASSERT_EQ(movie.rgb.size(), 3u);
+  std::vector<uint8_t> previous;
+  for (int step = 0; step < 3; ++step) {
+    const ImagePixels png = read_image(dir + "/m_" + std::to_string(step) + ".png");
+    ASSERT_EQ(png.error, "");
+    std::vector<uint8_t> rgb;
+    for (size_t i = 0; i < png.pixels.size(); i += size_t(png.channels))
+      rgb.insert(rgb.end(), png.pixels.begin() + long(i), png.pixels.begin() + long(i) + 3);
+    EXPECT_TRUE(movie.rgb[size_t(step)] == rgb) << "movie frame " << step << " is not the PNG";
+    EXPECT_NE(rgb, previous) << "the label and legend change with the step";
+    previous = rgb;
+  }
+  std::system(("rm -rf '" + dir + "'").c_str());
+}
+#endif
 
 TEST(OverlayKeys, ErrorsAtOpenNameTheKeyOrTheFont) {
   const std::string head = "scenes:\n  - output: {pattern: '/tmp/lantern_overlays_unused.png'}\n";
