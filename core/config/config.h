@@ -251,6 +251,55 @@ struct DensityConfig {
   std::string colormap = "grayscale";          // colormap: of the intensity (color.by: solid)
 };
 
+// Overlays: drawn on rank 0 over the finished image (core/finish/overlays/), each off unless
+// given. A place on the image: one of its corners (with a margin), or `at`, the overlay's
+// top-left pixel counted from the image's top-left corner.
+enum class OverlayCorner { kTopLeft, kTopRight, kBottomLeft, kBottomRight };
+struct OverlayPlace {
+  OverlayCorner corner = OverlayCorner::kTopLeft;
+  std::optional<std::array<int, 2>> at;  // position: [x, y] pixels (instead of a corner)
+  bool operator==(const OverlayPlace &o) const { return corner == o.corner && at == o.at; }
+};
+
+// labels: [{text, position, size, color}, ...]; text is a template with {step}, {step:06d},
+// {time}, {time:.2f} and {scene} (core/config/label_template.h).
+struct LabelConfig {
+  std::string text;                      // text: the template (required)
+  OverlayPlace position;                 // position: corner | [x, y]
+  int size = 24;                         // size: font size, pixels 4..512
+  std::array<double, 3> color{0, 0, 0};  // color: [r, g, b]
+};
+
+// legend: a colour bar (color.by: scalar) or a key of type names (color.by: type).
+struct LegendConfig {
+  bool enabled = false;                                              // the section is present
+  OverlayPlace position{OverlayCorner::kBottomRight, std::nullopt};  // position: corner | [x, y]
+  std::optional<int> length;             // length: the bar's length, pixels; absent = 40% of height
+  int width = 16;                        // width: the bar's width (the key's swatches), pixels
+  int font_size = 16;                    // font_size: pixels 4..512
+  std::array<double, 3> color{0, 0, 0};  // color: text, ticks and frame [r, g, b]
+  // title: above the bar; absent = the scalar's name (lammps.scalar, else "scalar"); none for
+  // the type key unless given.
+  std::optional<std::string> title;
+  int ticks = 5;                        // ticks: about this many labelled values, 2..20
+  std::vector<std::string> type_names;  // type_names: [Ni, flyer] - the key's entries, type 0..
+};
+
+// box: the simulation box's twelve edges, hidden where particles are in front of them.
+struct BoxOverlayConfig {
+  bool enabled = false;                  // the section is present
+  std::array<double, 3> color{0, 0, 0};  // color: [r, g, b]
+  double width = 1.5;                    // width: line width, pixels (0, 16]
+};
+
+// axes: a small x/y/z triad showing the camera's orientation.
+struct AxesConfig {
+  bool enabled = false;                                             // the section is present
+  OverlayPlace position{OverlayCorner::kBottomLeft, std::nullopt};  // position: corner | [x, y]
+  int size = 80;                                                    // size: pixels 16..1024
+  int font_size = 14;                                               // font_size: pixels 4..512
+};
+
 struct SceneConfig {
   std::string name = "scene";  // name: used in stats and in {scene} of the pattern
   int width = 1024;            // width: pixels, 1..kMaxImageSize
@@ -280,6 +329,15 @@ struct SceneConfig {
   // beyond the list, and every type when it is empty (the default), are opaque.
   std::vector<double> opacity;
   Lighting lighting;  // lighting: {direction, ambient, diffuse, specular, shininess} (lighting.h)
+  std::vector<LabelConfig> labels;  // labels: [{text, ...}, ...]
+  LegendConfig legend;              // legend: {...}
+  BoxOverlayConfig box;             // box: {...}
+  AxesConfig axes;                  // axes: {...}
+  // font: the overlays' font - a file (a path with '/') or a fontconfig family name; "" =
+  // fontconfig's DejaVu Sans.
+  std::string font;
+  bool has_text() const { return !labels.empty() || legend.enabled || axes.enabled; }
+  bool has_overlays() const { return has_text() || box.enabled; }
 };
 
 // dump.mode: what the first dump does with a file already at dump.file. create: refuse it (a

@@ -29,6 +29,7 @@
 #include "core/config/config_rules.h"
 #include "core/config/file_pattern.h"
 #include "core/config/key_table.h"
+#include "core/config/label_template.h"
 #include "core/config/value_readers.h"
 #include "core/config/yaml_guard.h"
 #include "core/config/yaml_reader.h"
@@ -148,6 +149,29 @@ std::string movie_file(const YamlReader &r, const YAML::Node &n, const std::stri
                " needs a movie extension: .mp4, .mov (fragmented MPEG-4), .mkv (Matroska) or "
                ".webm");
   return file;
+}
+
+// Overlay positions: a corner's name, or [x, y], the overlay's top-left pixel from the image's
+// top-left corner.
+OverlayPlace overlay_place(const YamlReader &r, const YAML::Node &n, const std::string &p) {
+  OverlayPlace place;
+  if (n.IsSequence()) {
+    if (n.size() != 2)
+      r.fail(n, p, "must be a corner (top_left, top_right, bottom_left, bottom_right) or [x, y]");
+    place.at = std::array<int, 2>{int(r.read_int(n[0], index_path(p, 0), 0, kMaxImageSize)),
+                                  int(r.read_int(n[1], index_path(p, 1), 0, kMaxImageSize))};
+    return place;
+  }
+  place.corner = one_of<OverlayCorner>()(r, n, p);
+  return place;
+}
+
+// labels[].text: a template whose fields are checked now (label_template.h).
+std::string label_text(const YamlReader &r, const YAML::Node &n, const std::string &p) {
+  const std::string text = r.read_string(n, p);
+  const Status problem = validate_label_template(text);
+  if (!problem.ok()) r.fail(n, p, quoted_text(text) + ": " + problem.message);
+  return text;
 }
 
 const std::vector<std::string> kDumpFields = {"position", "type", "scalar", "radius", "id"};
@@ -314,6 +338,45 @@ const Section<Lighting> kLighting(
     },
     {"must be a mapping ({} for the defaults)"});
 
+const Section<LabelConfig> kLabel(
+    {
+        rule(label_has_text),
+        {"text", &LabelConfig::text, label_text},
+        {"position", &LabelConfig::position, overlay_place},
+        {"size", &LabelConfig::size, integer(4, 512)},
+        {"color", &LabelConfig::color, rgb()},
+    },
+    {"each label must be a mapping {text: 'step {step}', ...}"});
+
+const Section<LegendConfig> kLegend(
+    {
+        {"position", &LegendConfig::position, overlay_place},
+        {"length", &LegendConfig::length, default_if("auto", integer(16, kMaxImageSize))},
+        {"width", &LegendConfig::width, integer(2, 1024)},
+        {"font_size", &LegendConfig::font_size, integer(4, 512)},
+        {"color", &LegendConfig::color, rgb()},
+        {"title", &LegendConfig::title, text()},
+        {"ticks", &LegendConfig::ticks, integer(2, 20)},
+        {"type_names", &LegendConfig::type_names,
+         list_of(text(), "must list at least one name (type 0 first)")},
+    },
+    kCue, &LegendConfig::enabled);
+
+const Section<BoxOverlayConfig> kBoxOverlay(
+    {
+        {"color", &BoxOverlayConfig::color, rgb()},
+        {"width", &BoxOverlayConfig::width, number_in('(', 0, 16, ']')},
+    },
+    kCue, &BoxOverlayConfig::enabled);
+
+const Section<AxesConfig> kAxes(
+    {
+        {"position", &AxesConfig::position, overlay_place},
+        {"size", &AxesConfig::size, integer(16, 1024)},
+        {"font_size", &AxesConfig::font_size, integer(4, 512)},
+    },
+    kCue, &AxesConfig::enabled);
+
 const Section<SceneConfig> kScene(
     {
         {"name", &SceneConfig::name, scene_name},
@@ -339,6 +402,12 @@ const Section<SceneConfig> kScene(
         {"opacity", &SceneConfig::opacity,
          list_of(number_in('[', 0, 1, ']'), "must list at least one opacity (omit it for opaque)")},
         {"lighting", &SceneConfig::lighting, kLighting},
+        {"labels", &SceneConfig::labels, list_of(kLabel)},
+        {"legend", &SceneConfig::legend, kLegend},
+        {"box", &SceneConfig::box, kBoxOverlay},
+        {"axes", &SceneConfig::axes, kAxes},
+        {"font", &SceneConfig::font, text()},
+        rule(legend_has_colors),
         rule(renderer_serves_occlusion),
         rule(density_scene_has_no_depth),
     },

@@ -75,6 +75,27 @@ void movie_has_file(const YamlReader &r, const YAML::Node &movie, const std::str
     r.fail(movie, path, "needs 'file' (e.g. file: 'out/{scene}.mp4')");
 }
 
+void label_has_text(const YamlReader &r, const YAML::Node &label, const std::string &path,
+                    LabelConfig &) {
+  const YAML::Node text = key_node(label, "text");
+  if (!text.IsDefined() || text.IsNull())
+    r.fail(label, path, "needs 'text' (e.g. text: 'step {step}  t = {time:.2f}')");
+}
+
+void legend_has_colors(const YamlReader &r, const YAML::Node &scene, const std::string &path,
+                       SceneConfig &s) {
+  if (!s.legend.enabled) return;
+  const YAML::Node legend = key_node(scene, "legend");
+  const std::string at = child_path(path, "legend");
+  if (s.color.by == ColorBy::kSolid)
+    r.fail(legend, at,
+           "explains colors by scalar (a colour bar) or by type (a key); this scene's color.by "
+           "is solid");
+  if (s.color.by == ColorBy::kType && s.legend.type_names.empty())
+    r.fail(legend, at,
+           "with color.by: type needs type_names: [name of type 0, name of type 1, ...]");
+}
+
 void lossless_has_no_quality(const YamlReader &r, const YAML::Node &movie, const std::string &path,
                              MovieConfig &m) {
   if (m.lossless && m.quality)

@@ -61,6 +61,12 @@ void renderer_serves_occlusion(const YamlReader &r, const YAML::Node &scene,
 // scenes[i]: style: density has no surface: samples 1, and no depth cues.
 void density_scene_has_no_depth(const YamlReader &r, const YAML::Node &scene,
                                 const std::string &path, SceneConfig &s);
+// labels[i]: `text` is required.
+void label_has_text(const YamlReader &r, const YAML::Node &label, const std::string &path,
+                    LabelConfig &l);
+// scenes[i]: a legend explains color.by scalar (a bar) or type (a key, which needs type_names).
+void legend_has_colors(const YamlReader &r, const YAML::Node &scene, const std::string &path,
+                       SceneConfig &s);
 // top level: scene names are unique, and scenes do not write the same files (images or movies).
 void scenes_are_distinct(const YamlReader &r, const YAML::Node &top, const std::string &path,
                          Config &config);

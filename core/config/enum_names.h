@@ -70,6 +70,12 @@ inline constexpr EnumName<DumpMode> kDumpModeNames[] = {{DumpMode::kCreate, "cre
                                                         {DumpMode::kAppend, "append"},
                                                         {DumpMode::kOverwrite, "overwrite"}};
 
+inline constexpr EnumName<OverlayCorner> kOverlayCornerNames[] = {
+    {OverlayCorner::kTopLeft, "top_left"},
+    {OverlayCorner::kTopRight, "top_right"},
+    {OverlayCorner::kBottomLeft, "bottom_left"},
+    {OverlayCorner::kBottomRight, "bottom_right"}};
+
 // The table of each enum, so that name_of / value_of / names_of need only the enum type.
 inline constexpr const auto &names_table(OcclusionMode) {
   return kOcclusionModeNames;
@@ -109,6 +115,10 @@ inline constexpr const auto &names_table(MovieWhenBehind) {
 }
 inline constexpr const auto &names_table(DumpMode) {
   return kDumpModeNames;
+}
+
+inline constexpr const auto &names_table(OverlayCorner) {
+  return kOverlayCornerNames;
 }
 
 // The canonical name of `value` ("?" for a value missing from its table: a bug).

@@ -19,6 +19,7 @@
 #include "core/common/status.h"
 #include "core/composite/depth_compositor.h"
 #include "core/config/config.h"
+#include "core/finish/overlays/overlays.h"
 #include "core/finish/screen_cues.h"
 #include "core/view/frame.h"
 
@@ -31,6 +32,7 @@ struct FinishSettings {
   int samples_per_axis = 1;   // s: the ranks' frames are s times the image's width and height
   ScreenCueSettings cues;     // the screen-space cues on the final-resolution image
   DensityConfig density;      // style: density - the transfer to colors (density_transfer.h)
+  OverlaySettings overlays;   // box, labels, legend, axes: drawn on root after finish_image
 };
 
 struct FinishStats {

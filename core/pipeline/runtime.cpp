@@ -25,6 +25,7 @@
 #include "core/particles/particle_scan.h"
 #include "core/pipeline/memory_budget.h"
 #include "core/pipeline/scene_movie.h"
+#include "core/pipeline/scene_overlays.h"
 
 namespace lantern {
 namespace {
@@ -147,6 +148,7 @@ Status Runtime::open(const std::string &config_text, MPI_Comm comm, std::unique_
 
   Status local = caller.ok() ? rt->load_first_config(config_text) : caller;
   if (local.ok()) local = check_scene_movies(rt->config_.scenes);
+  if (local.ok()) local = check_scene_overlays(rt->config_.scenes);
   if (Status s = agree_on_status(rt->comm_, local); !s.ok()) return s;
   if (Status s = rt->agree_on_first_config(); !s.ok()) return s;
   const MemoryShare share = node_memory_share(rt->comm_);  // collective
@@ -291,6 +293,8 @@ Status Runtime::execute(int64_t step, double time) {
     in.per_rank_stats = !config_.stats_file.empty();  // the same configuration on every rank
     in.threads = threads;
     in.local = &local;
+    in.box = box_ ? &*box_ : nullptr;
+    if (!config_.lammps.scalar.empty()) in.scalar_name = config_.lammps.scalar;
     for (size_t s = 0; s < stats.size(); ++s) {
       const Status st = run_scene_pass(in, config_.scenes[s], &buffers_[s], &stats[s]);
       if (!st.ok() && first_error.ok()) first_error = st;  // later scenes still render

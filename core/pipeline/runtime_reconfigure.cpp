@@ -21,6 +21,7 @@
 #include "core/pipeline/memory_budget.h"
 #include "core/pipeline/runtime.h"
 #include "core/pipeline/scene_movie.h"
+#include "core/pipeline/scene_overlays.h"
 
 namespace lantern {
 namespace {
@@ -130,6 +131,7 @@ Status Runtime::switch_config(const std::string &text, const std::string &path, 
   const MemoryShare share = node_memory_share(comm_);  // collective: on every rank
   if (local.ok()) local = check_scene_memory(estimate_scene_memory(next), share);
   if (local.ok()) local = check_scene_movies(next.scenes);
+  if (local.ok()) local = check_scene_overlays(next.scenes);
   // Without OpenGL (tried, and absent on every rank alike) a scene may not insist on it.
   for (const SceneConfig &scene : next.scenes)
     if (local.ok() && gl_tried_ && !gl_ && scene.renderer == RendererChoice::kOpenGl)

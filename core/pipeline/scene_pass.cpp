@@ -17,6 +17,7 @@
 #include "core/output/png/png_across_ranks.h"
 #include "core/pipeline/density_scene_pass.h"
 #include "core/pipeline/scene_movie.h"
+#include "core/pipeline/scene_overlays.h"
 #include "core/pipeline/scene_settings.h"
 #include "core/pipeline/sphere_scene_pass.h"
 #include "core/render/object_occlusion.h"
@@ -181,6 +182,8 @@ Status run_scene_pass(const ScenePassInputs &in, const SceneConfig &scene, Scene
                                      stats);
         !s.ok())
       return s;
+    if (Status s = draw_scene_overlays(in, settings, camera, scene, buffers, stats); !s.ok())
+      return s;
     return write_scene_image(in, scene, camera, t_start, buffers, stats);
   }
   // The screen-space cues read view depths through the final image's camera: with
@@ -194,6 +197,8 @@ Status run_scene_pass(const ScenePassInputs &in, const SceneConfig &scene, Scene
                                   object_ao ? &occlusion : nullptr, std::move(local), t_start,
                                   buffers, stats);
       !s.ok())
+    return s;
+  if (Status s = draw_scene_overlays(in, settings, camera, scene, buffers, stats); !s.ok())
     return s;
   return write_scene_image(in, scene, camera, t_start, buffers, stats);
 }

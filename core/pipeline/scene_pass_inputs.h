@@ -9,11 +9,14 @@
 
 #include <memory>
 #include <optional>
+#include <string>
 
 #include "core/bricks/brick_cache.h"
 #include "core/color/color_range.h"
 #include "core/composite/composite_cost_model.h"
 #include "core/culling/brick_cut_counts.h"
+#include "core/dump/box.h"
+#include "core/finish/overlays/overlays.h"
 #include "core/output/background_image_writer.h"
 #include "core/output/movie/movie_writer.h"
 #include "core/particles/global_extent.h"
@@ -48,6 +51,10 @@ struct ScenePassInputs {
   bool per_rank_stats = false;
   int threads = 1;                // for this rank's bricks, scan and CPU raster (`threads:`)
   const Extent *local = nullptr;  // this rank's own scan (before the reduction), when known
+  // The overlays' simulation box: lantern_set_box's on rank 0 (null: the particles' bounds), and
+  // the scalar's name (the legend's default title).
+  const Box *box = nullptr;
+  std::string scalar_name = "scalar";
 };
 
 // The brick options of a step: the rank's threads and, when known, its scan (saves a pass).
@@ -65,9 +72,12 @@ struct SceneBuffers {
   BrickCutCounts cut_counts;     // this scene's cutting planes per brick (edits are incremental)
   DensityImage density;          // style: density - this rank's sums, then (rank 0) all ranks'
   ColorRange color_range;        // the scalar range of the colours, remembered across steps
-  std::unique_ptr<MovieWriter> movie;  // rank 0, with output.movie (scene_movie.h)
-  bool movie_warned = false;           // the "encoder is behind" warning was printed
-  bool warned_point_bounds = false;    // rank 0 warned that the camera had a point to frame
+  std::unique_ptr<MovieWriter> movie;        // rank 0, with output.movie (scene_movie.h)
+  bool movie_warned = false;                 // the "encoder is behind" warning was printed
+  bool warned_point_bounds = false;          // rank 0 warned that the camera had a point to frame
+  std::unique_ptr<MovieWriter> movie;        // rank 0, with output.movie (scene_movie.h)
+  bool movie_warned = false;                 // the "encoder is behind" warning was printed
+  std::unique_ptr<OverlayPainter> overlays;  // rank 0, for a scene with overlays
 };
 
 }  // namespace lantern

@@ -39,6 +39,9 @@ CullSettings cull_settings(const SceneConfig &scene);
 // Rendering's: colors, opacity, light, background.
 ShadingSettings shading_settings(const SceneConfig &scene);
 
+// The overlays': labels, legend (with the scene's colours), box, axes, font.
+OverlaySettings overlay_settings(const SceneConfig &scene);
+
 // Finishing's: the image's size, the samples per axis, the screen-space cues.
 FinishSettings finish_settings(const SceneConfig &scene);
 

@@ -69,6 +69,9 @@ struct SceneStats {
   int samples = 1;
   int sample_width = 0, sample_height = 0;
   double downsample_ms = 0;
+  // Overlays (box, labels, legend, axes) drawn on rank 0; JSON ms.overlays, only for a scene
+  // that has them.
+  std::optional<double> overlays_ms;
   // How drawn, culled and the ranks' own milliseconds spread over the ranks (rank 0; with stats
   // on): JSON "per_rank".
   std::optional<PerRankStats> per_rank;

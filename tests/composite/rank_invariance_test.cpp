@@ -135,23 +135,28 @@ std::string scene_yaml(const std::string &name, const std::string &projection,
          "\n    output: {pattern: \"" + pattern + "\"}\n";
 }
 
-// `top`: extra top-level keys; `each`: extra keys for every scene (indented by four spaces).
+// `top`: extra top-level keys; `each`: extra keys for every scene (indented by four spaces);
+// `colored`: extra keys for the scenes colored by type or scalar (not solid).
 std::string config_yaml(const std::string &directory, const std::string &prefix,
-                        const std::string &top = "", const std::string &each = "") {
+                        const std::string &top = "", const std::string &each = "",
+                        const std::string &colored = "") {
   const std::string pattern = directory + "/" + prefix + "_{scene}_{step:06d}.png";
   const auto scene_yaml = [&each](auto &&...args) {
     return ::lantern::testing::scene_yaml(args...) + each;
   };
   return top + "scenes:\n" + scene_yaml("persp_type", "perspective", "{by: type}", "0.4", pattern) +
+         colored +
          scene_yaml("persp_scalar", "perspective", "{by: scalar, colormap: viridis}",
                     "per_particle", pattern) +
+         colored +
          scene_yaml("persp_solid", "perspective", "{by: solid, solid: [0.9, 0.5, 0.1]}", "0.4",
                     pattern) +
-         scene_yaml("ortho_type", "orthographic", "{by: type}", "per_particle", pattern) +
+         scene_yaml("ortho_type", "orthographic", "{by: type}", "per_particle", pattern) + colored +
          scene_yaml("ortho_scalar", "orthographic",
                     "{by: scalar, colormap: coolwarm, range: [-5, 5]}", "0.4", pattern) +
+         colored +
          scene_yaml("ortho_solid", "orthographic", "{by: solid}", "per_particle", pattern) +
-         scene_yaml("persp_zoom", "perspective", "{by: type}", "0.4", pattern, 6.0);
+         scene_yaml("persp_zoom", "perspective", "{by: type}", "0.4", pattern, 6.0) + colored;
 }
 
 std::string file_of(const std::string &directory, const std::string &prefix,
@@ -205,6 +210,12 @@ Render render_once(MPI_Comm comm, const std::string &config, const Particles &mi
   lantern_context *ctx = nullptr;
   r.status = lantern_open(config.c_str(), MPI_Comm_c2f(comm), &ctx);
   if (r.status == LANTERN_OK) {
+    // The simulation box (the overlays' box: rank 0's is drawn), the same on every rank.
+    const double low[3] = {-0.5, -0.5, -0.5}, high[3] = {10.5, 10.5, 10.5};
+    const int periodic[3] = {1, 1, 0};
+    r.status = lantern_set_box(ctx, low, high, periodic);
+  }
+  if (r.status == LANTERN_OK) {
     const lantern_particles d = describe(mine);
     r.status = lantern_publish(ctx, &d);
     // Publishing is local: every rank must still enter the collective execute.
@@ -218,16 +229,17 @@ Render render_once(MPI_Comm comm, const std::string &config, const Particles &mi
 
 // Renders `all` on rank 0 alone, then under every split on all ranks; compares on rank 0.
 void expect_rank_invariant(const Particles &all, const std::string &label,
-                           const std::string &top = "", const std::string &each = "") {
+                           const std::string &top = "", const std::string &each = "",
+                           const std::string &colored = "") {
   const std::string dir = shared_directory();
   ASSERT_FALSE(dir.empty());
   const int rank = world_rank(), ranks = world_size();
   if (rank == 0) {
     const Render ref =
-        render_once(MPI_COMM_SELF, config_yaml(dir, label + "_ref", top, each), all, 0);
+        render_once(MPI_COMM_SELF, config_yaml(dir, label + "_ref", top, each, colored), all, 0);
     EXPECT_EQ(ref.status, LANTERN_OK) << ref.error;
   }
-  const std::string config = config_yaml(dir, label, top, each);
+  const std::string config = config_yaml(dir, label, top, each, colored);
   for (size_t s = 0; s < std::size(kSplits); ++s) {
     const Render r =
         render_once(MPI_COMM_WORLD, config, owned_by(kSplits[s], all, rank, ranks), int(s));
@@ -294,6 +306,29 @@ TEST(RankInvariance, SameImagesWithFullResolutionAmbientOcclusion) {
 TEST(RankInvariance, SameImagesWithAmbientOcclusionOnFourSamples) {
   expect_rank_invariant(make_particles(1500), "ao_ssaa4", "",
                         "    samples: 4\n    ambient_occlusion: {method: screen, radius: 1.2}\n");
+}
+
+// Overlays, drawn on rank 0 over the finished image: labels in two corners, the simulation box
+// (depth-tested against the composited depth, which every split must give alike), the axis
+// triad, and a legend (colour bar or type key) in every coloured scene; with four samples too
+// (the overlays go over the down-sampled image).
+TEST(RankInvariance, SameImagesWithOverlays) {
+  const std::string box = "    box: {color: [0.9, 0.9, 0.9], width: 1.5}\n";
+#if LANTERN_TEST_TEXT
+  const std::string overlays =
+      box +
+      "    labels: [{text: 'scene {scene}', size: 14}, {text: 'Lantern', position: top_right, "
+      "size: 12, color: [1, 1, 0]}]\n"
+      "    axes: {size: 40, font_size: 10}\n";
+  const std::string legend =
+      "    legend: {font_size: 10, length: 60, width: 8, color: [1, 1, 1], "
+      "type_names: [a, b, c, d, e]}\n";
+#else
+  const std::string overlays = box, legend;
+#endif
+  expect_rank_invariant(make_particles(1500), "overlays", "", overlays, legend);
+  expect_rank_invariant(make_particles(1500), "overlays_ssaa4", "", overlays + "    samples: 4\n",
+                        legend);
 }
 
 // Object-space ambient occlusion: a density volume summed over ranks, per-particle colours.
