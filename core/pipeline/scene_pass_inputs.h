@@ -75,8 +75,6 @@ struct SceneBuffers {
   std::unique_ptr<MovieWriter> movie;        // rank 0, with output.movie (scene_movie.h)
   bool movie_warned = false;                 // the "encoder is behind" warning was printed
   bool warned_point_bounds = false;          // rank 0 warned that the camera had a point to frame
-  std::unique_ptr<MovieWriter> movie;        // rank 0, with output.movie (scene_movie.h)
-  bool movie_warned = false;                 // the "encoder is behind" warning was printed
   std::unique_ptr<OverlayPainter> overlays;  // rank 0, for a scene with overlays
 };
 
