@@ -4,6 +4,8 @@
 #include <cstdio>
 #include <optional>
 
+#include "core/config/brace_template.h"
+
 namespace lantern {
 
 namespace {
@@ -40,58 +42,20 @@ std::string format_step(int64_t step, int width) {
   return buffer;
 }
 
-// Walks the pattern once. With `error` set, stops at the first problem and describes it there
-// (kConfig); otherwise expands (copying malformed parts through).
 std::string walk(const std::string &pattern, int64_t step, const std::string &scene,
                  Status *error) {
-  std::string out;
-  for (size_t i = 0; i < pattern.size(); ++i) {
-    const char c = pattern[i];
-    if ((c == '{' || c == '}') && i + 1 < pattern.size() && pattern[i + 1] == c) {
-      out += c;
-      ++i;
-      continue;
-    }
-    if (c == '}') {
-      if (error) {
-        *error = {StatusCode::kConfig,
-                  "unmatched '}' at position " + std::to_string(i) + " (write '}}' for a brace)"};
-        return "";
-      }
-      out += c;
-      continue;
-    }
-    if (c != '{') {
-      out += c;
-      continue;
-    }
-    const size_t close = pattern.find('}', i);
-    if (close == std::string::npos) {
-      if (error) {
-        *error = {StatusCode::kConfig, "unclosed '{' at position " + std::to_string(i)};
-        return "";
-      }
-      out += pattern.substr(i);
-      break;
-    }
-    const std::string body = pattern.substr(i + 1, close - i - 1);
+  const BraceField field = [&](const std::string &body,
+                               std::string *why) -> std::optional<std::string> {
     const std::optional<Placeholder> placeholder = parse_placeholder(body);
     if (!placeholder) {
-      if (error) {
-        *error = {StatusCode::kConfig,
-                  "unknown placeholder '{" + body +
-                      "}'; allowed: {step}, {step:0Nd} (N = 1..20, e.g. {step:06d}), {scene}"};
-        return "";
-      }
-      out += pattern.substr(i, close - i + 1);
-    } else if (placeholder->kind == Placeholder::kScene) {
-      out += scene;
-    } else {
-      out += format_step(step, placeholder->width);
+      *why = "unknown placeholder '{" + body +
+             "}'; allowed: {step}, {step:0Nd} (N = 1..20, e.g. {step:06d}), {scene}";
+      return std::nullopt;
     }
-    i = close;
-  }
-  return out;
+    if (placeholder->kind == Placeholder::kScene) return scene;
+    return format_step(step, placeholder->width);
+  };
+  return expand_braces(pattern, field, error);
 }
 
 }  // namespace

@@ -4,6 +4,8 @@
 #include <cstdio>
 #include <optional>
 
+#include "core/config/brace_template.h"
+
 namespace lantern {
 namespace {
 
@@ -104,56 +106,15 @@ std::string format_field(const Field &f, int64_t step, double time, const std::s
   return buffer;
 }
 
-// Walks the template once. With `error` set, stops at the first problem and describes it
-// (kConfig); otherwise expands, copying malformed parts through.
 std::string walk(const std::string &text, int64_t step, double time, const std::string &scene,
                  Status *error) {
-  std::string out;
-  for (size_t i = 0; i < text.size(); ++i) {
-    const char c = text[i];
-    if ((c == '{' || c == '}') && i + 1 < text.size() && text[i + 1] == c) {
-      out += c;
-      ++i;
-      continue;
-    }
-    if (c == '}') {
-      if (error) {
-        *error = {StatusCode::kConfig,
-                  "unmatched '}' at position " + std::to_string(i) + " (write '}}' for a brace)"};
-        return "";
-      }
-      out += c;
-      continue;
-    }
-    if (c != '{') {
-      out += c;
-      continue;
-    }
-    const size_t close = text.find('}', i + 1);
-    if (close == std::string::npos) {
-      if (error) {
-        *error = {StatusCode::kConfig,
-                  "unmatched '{' at position " + std::to_string(i) + " (write '{{' for a brace)"};
-        return "";
-      }
-      out += text.substr(i);
-      break;
-    }
-    const std::string body = text.substr(i + 1, close - i - 1);
-    std::string why;
-    const std::optional<Field> field = parse_field(body, &why);
-    if (!field) {
-      if (error) {
-        *error = {StatusCode::kConfig, why};
-        return "";
-      }
-      out += text.substr(i, close - i + 1);
-    } else {
-      out += format_field(*field, step, time, scene);
-    }
-    i = close;
-  }
-  return out;
+  const BraceField field = [&](const std::string &body,
+                               std::string *why) -> std::optional<std::string> {
+    const std::optional<Field> f = parse_field(body, why);
+    if (!f) return std::nullopt;
+    return format_field(*f, step, time, scene);
+  };
+  return expand_braces(text, field, error);
 }
 
 }  // namespace
