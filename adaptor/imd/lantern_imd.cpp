@@ -26,6 +26,7 @@
 #include <vector>
 
 #include "atom_table.h"
+#include "command_line/usage_reply.h"
 #include "frame_receiver.h"
 #include "lantern/lantern.h"
 #include "spatial_split.h"
@@ -372,18 +373,9 @@ int main(int argc, char **argv) {
   Options options;
   const std::string usage_error = parse(argc, argv, &options);
   // --help and --version answer on stdout without starting MPI; a usage error goes to stderr.
-  if (usage_error == "help") {
-    std::fputs(kUsage, stdout);
-    return 0;
-  }
-  if (usage_error == "version") {
-    std::printf("lantern-imd (Lantern) %s\n", lantern_version());
-    return 0;
-  }
-  if (!usage_error.empty()) {
-    std::fprintf(stderr, "lantern-imd: %s\n%s", usage_error.c_str(), kUsage);
-    return 2;
-  }
+  if (const std::optional<int> code =
+          lantern_tools::reply_to_usage("lantern-imd", usage_error, kUsage))
+    return *code;
   // The receiving thread does no MPI: only the main thread calls it.
   int provided = 0;
   MPI_Init_thread(&argc, &argv, MPI_THREAD_FUNNELED, &provided);

@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "c_translation.h"
+#include "command_line/usage_reply.h"
 #include "core/config/config_loader.h"
 #include "frame_source.h"
 #include "lantern/lantern.h"
@@ -189,18 +190,9 @@ int main(int argc, char **argv) {
   Options opt;
   const std::string usage_error = parse_options(argc, argv, &opt);
   // --help and --version answer on stdout without starting MPI; a usage error goes to stderr.
-  if (usage_error == "help") {
-    std::fputs(kUsage, stdout);
-    return 0;
-  }
-  if (usage_error == "version") {
-    std::printf("lantern-render (Lantern) %s\n", lantern_version());
-    return 0;
-  }
-  if (!usage_error.empty()) {
-    std::fprintf(stderr, "lantern-render: %s\n%s", usage_error.c_str(), kUsage);
-    return 2;
-  }
+  if (const std::optional<int> code =
+          lantern_tools::reply_to_usage("lantern-render", usage_error, kUsage))
+    return *code;
   // Offline, nothing waits on the encoder but this tool: every frame goes into a movie (unless
   // the caller's environment says otherwise).
   setenv("LANTERN_MOVIE_WHEN_BEHIND", "wait", /*overwrite=*/0);
