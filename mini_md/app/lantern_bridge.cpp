@@ -36,6 +36,12 @@ void LanternBridge::report(const char *call, lantern_status status) {
                static_cast<int>(status), lantern_error_message(ctx_));
 }
 
+void LanternBridge::set_box(const Box &box) {
+  const int periodic[3] = {box.periodic[0], box.periodic[1], box.periodic[2]};
+  const lantern_status status = lantern_set_box(ctx_, box.lo.data(), box.hi.data(), periodic);
+  if (status != LANTERN_OK) report("lantern_set_box", status);
+}
+
 void LanternBridge::on_publish(const Atoms &atoms) {
   lantern_particles p{};
   p.count = atoms.nlocal;  // owned atoms only: ghosts follow them in x but are not passed

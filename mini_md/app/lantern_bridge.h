@@ -8,6 +8,7 @@
 
 #include <string>
 
+#include "box.h"
 #include "step_observer.h"
 
 namespace mini_md {
@@ -21,6 +22,10 @@ class LanternBridge : public StepObserver {
   LanternBridge(const LanternBridge &) = delete;
   LanternBridge &operator=(const LanternBridge &) = delete;
 
+  // Tells Lantern the simulation box (lantern_set_box): the `box:` overlay draws it, dumps record
+  // it and bonds use its periodic axes. mini_md's box never changes during a run, so once is
+  // enough. Local; every rank passes the same box.
+  void set_box(const Box &box);
   void on_publish(const Atoms &atoms) override;
   void on_step(int64_t step, double time) override;
   int failures() const { return failures_; }

@@ -40,6 +40,7 @@ int run_simulation(const CommandLine &cl, MPI_Comm comm, int rank, int size) {
   if (!cl.run.render_config.empty()) {
     const double t0 = MPI_Wtime();
     bridge = std::make_unique<LanternBridge>(cl.run.render_config, comm);
+    bridge->set_box(sim.scene().box);
     sim.set_observer(bridge.get());
     if (rank == 0) std::printf("mini_md: Lantern opened in %.3f s\n", MPI_Wtime() - t0);
   }
