@@ -86,6 +86,15 @@ example)  # examples/lammps/in.lj at CI size (256 atoms), images and an H5MD dum
   [ -s lj.h5 ] || { echo "no H5MD dump"; exit 1; }
   echo "example: 3 images and an H5MD dump"
   ;;
+example_movie)  # the same example as the README's LAMMPS movie (config/lammps_movie.yaml)
+  run "$ll" -in "$src/../../examples/lammps/in.lj" -lantern "$src/../../config/lammps_movie.yaml" \
+    -log none -var cells 4 -var every 10 -var steps 60 || exit 1
+  # ffprobe, an independent reader, decodes and counts the frames: steps 0, 10, ..., 60.
+  frames=$(ffprobe -v error -count_frames -select_streams v:0 \
+    -show_entries stream=nb_read_frames,width,height -of csv=p=0 images/melt.mp4)
+  [ "$frames" = "960,720,7" ] || { echo "images/melt.mp4: '$frames', expected 960,720,7"; exit 1; }
+  echo "example_movie: images/melt.mp4 holds 7 frames of 960x720"
+  ;;
 quit)  # quit N: lantern-lammps exits with LAMMPS's status N (literal, variable, in an include)
   script all > in.base
   printf 'variable code equal 4\nquit ${code}\nrun 10\n' > quit.inc
