@@ -114,10 +114,22 @@ Runtime::~Runtime() {
 Status Runtime::publish(const ParticleDescription &particles) {
   ParticleArrays validated;
   particles_ =
-      ParticleArrays();  // a failed publish leaves no particles (lantern_publish in the C API)
+      ParticleArrays();   // a failed publish leaves no particles (lantern_publish in the C API)
+  bonds_ = BondArrays();  // their indices referred to the arrays being replaced
+  ++bonds_serial_;
   if (Status s = ParticleArrays::validate(particles, &validated); !s.ok()) return s;
   if (Status s = check_radii(validated); !s.ok()) return s;
   particles_ = validated;
+  return {};
+}
+
+Status Runtime::publish_bonds(const BondDescription &bonds) {
+  BondArrays validated;
+  bonds_ = BondArrays();  // a failed publish leaves no bonds (lantern_publish_bonds)
+  ++bonds_serial_;
+  if (Status s = BondArrays::validate(bonds, particles_, &validated); !s.ok()) return s;
+  if (Status s = check_bonds(validated, particles_); !s.ok()) return s;
+  bonds_ = validated;
   return {};
 }
 
@@ -142,6 +154,12 @@ void Runtime::warn_nonfinite_once(int64_t count, int64_t step) {
 Status Runtime::set_box(const Box &box) {
   if (Status s = validate_box(box); !s.ok()) return with_context("box: ", std::move(s));
   box_ = box;
+  PeriodicBox periodic;
+  for (int a = 0; a < 3; ++a) {
+    periodic.length[a] = box.high[a] - box.low[a];
+    periodic.periodic[a] = box.periodic[a];
+  }
+  periodic_box_ = periodic;
   return {};
 }
 
