@@ -180,6 +180,20 @@ struct DensityConfig {
   std::string colormap = "grayscale";          // colormap: of the intensity (color.by: solid)
 };
 
+// bonds: published bonds (lantern_publish_bonds) drawn as cylinders, each split at its midpoint
+// into two half-bonds; off unless the section is present. color: by_atom gives each half its
+// atom's sphere color (as LAMMPS's dump image and OVITO split a bond), by_type the color of the
+// bond's type from `palette`, solid one `solid` color.
+enum class BondColorBy { kAtom, kType, kSolid };
+
+struct BondsConfig {
+  bool enabled = false;                        // the section is present
+  double radius = 0.15;                        // radius: > 0, the simulation's length unit
+  BondColorBy color = BondColorBy::kAtom;      // color: by_atom | by_type | solid
+  std::array<double, 3> solid{0.6, 0.6, 0.6};  // solid: [r, g, b] (color: solid)
+  std::vector<std::array<double, 3>> palette;  // palette: per bond type; empty = built-in
+};
+
 struct SceneConfig {
   std::string name = "scene";  // name: used in stats and in {scene} of the pattern
   int width = 1024;            // width: pixels, 1..kMaxImageSize
@@ -209,6 +223,7 @@ struct SceneConfig {
   // beyond the list, and every type when it is empty (the default), are opaque.
   std::vector<double> opacity;
   Lighting lighting;  // lighting: {direction, ambient, diffuse, specular, shininess} (lighting.h)
+  BondsConfig bonds;  // bonds: {radius, color, solid, palette}
 };
 
 // dump: (HDF5 / H5MD particle dumps; issue 6)

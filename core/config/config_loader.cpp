@@ -209,6 +209,16 @@ const Section<Lighting> kLighting(
     },
     {"must be a mapping ({} for the defaults)"});
 
+const Section<BondsConfig> kBonds(
+    {
+        {"radius", &BondsConfig::radius, above(0)},
+        {"color", &BondsConfig::color, one_of<BondColorBy>()},
+        {"solid", &BondsConfig::solid, rgb()},
+        {"palette", &BondsConfig::palette,
+         list_of(rgb(), "must list at least one color (omit it for the default)")},
+    },
+    kCue, &BondsConfig::enabled);
+
 const Section<SceneConfig> kScene(
     {
         {"name", &SceneConfig::name, scene_name},
@@ -234,6 +244,7 @@ const Section<SceneConfig> kScene(
         {"opacity", &SceneConfig::opacity,
          list_of(number_in('[', 0, 1, ']'), "must list at least one opacity (omit it for opaque)")},
         {"lighting", &SceneConfig::lighting, kLighting},
+        {"bonds", &SceneConfig::bonds, kBonds},
         rule(renderer_serves_occlusion),
         rule(density_scene_has_no_depth),
     },

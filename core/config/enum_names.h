@@ -63,6 +63,10 @@ inline constexpr EnumName<DensityTransfer> kDensityTransferNames[] = {
 inline constexpr EnumName<LodSelect> kLodSelectNames[] = {{LodSelect::kUniform, "uniform"},
                                                           {LodSelect::kNearest, "nearest"}};
 
+inline constexpr EnumName<BondColorBy> kBondColorByNames[] = {{BondColorBy::kAtom, "by_atom"},
+                                                              {BondColorBy::kType, "by_type"},
+                                                              {BondColorBy::kSolid, "solid"}};
+
 // The table of each enum, so that name_of / value_of / names_of need only the enum type.
 inline constexpr const auto &names_table(OcclusionMode) {
   return kOcclusionModeNames;
@@ -93,6 +97,9 @@ inline constexpr const auto &names_table(DensityTransfer) {
 }
 inline constexpr const auto &names_table(LodSelect) {
   return kLodSelectNames;
+}
+inline constexpr const auto &names_table(BondColorBy) {
+  return kBondColorByNames;
 }
 
 // The canonical name of `value` ("?" for a value missing from its table: a bug).

@@ -36,6 +36,7 @@ const std::map<std::string, std::string> kReadmeAnchors = {
     {"scenes[].depth_cue", "`depth_cue`:"},
     {"scenes[].density", "### `style: density` and `density`"},
     {"scenes[].lighting", "### `lighting`: the light of the spheres"},
+    {"scenes[].bonds", "### `bonds`: cylinders between bonded atoms"},
     {"dump", "## `dump`"},
     {"lammps", "## `lammps`"},
 };
