@@ -1,5 +1,6 @@
 #include "core/pipeline/runtime.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -192,10 +193,21 @@ Status Runtime::execute(int64_t step, double time) {
     first_error = agree_on_status(comm_, made_current);
     if (!first_error.ok()) stats.clear();  // no scene was drawn
     ScenePassInputs in{comm_, renderer, &particles_, global, step, time, &scratch_};
+    in.bonds = &bonds_;
+    in.bonds_serial = bonds_serial_;
+    in.box = periodic_box_ ? &*periodic_box_ : nullptr;
     in.per_rank_stats = !config_.stats_file.empty();  // the same configuration on every rank
     for (size_t s = 0; s < stats.size(); ++s) {
       const Status st = run_scene_pass(in, config_.scenes[s], &buffers_[s], &stats[s]);
       if (!st.ok() && first_error.ok()) first_error = st;  // later scenes still render
+    }
+    // Bonds that went bad since they were published were left out of the images; say which.
+    // Collective where some scene draws bonds (the same configuration on every rank).
+    const bool any_bonds = std::any_of(config_.scenes.begin(), config_.scenes.end(),
+                                       [](const SceneConfig &c) { return c.bonds.enabled; });
+    if (any_bonds) {
+      const Status bonds = agree_on_status(comm_, scratch_.bonds.status(step));
+      if (!bonds.ok() && first_error.ok()) first_error = bonds;
     }
   }
   const double total_ms = scan_ms + ms_since(t0);

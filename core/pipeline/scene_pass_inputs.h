@@ -7,11 +7,14 @@
 
 #include <mpi.h>
 
+#include "core/bricks/brick_bonds.h"
 #include "core/bricks/brick_cache.h"
 #include "core/culling/brick_cut_counts.h"
 #include "core/output/background_image_writer.h"
+#include "core/particles/bond_arrays.h"
 #include "core/particles/global_extent.h"
 #include "core/particles/particle_arrays.h"
+#include "core/particles/periodic_box.h"
 #include "core/pipeline/rank_draw.h"
 #include "core/render/density_splat.h"
 #include "core/render/gl/sphere_renderer.h"
@@ -22,6 +25,7 @@ namespace lantern {
 // What the scenes of one context share and keep between steps; owned by the Runtime.
 struct PassScratch {
   BrickCache bricks;     // this step's bricks, refit on later steps
+  BondCache bonds;       // this step's half-bonds by brick, for the scenes that draw bonds
   RankDrawScratch draw;  // selection, culling and drawing buffers (rank_draw.h)
 };
 
@@ -34,6 +38,9 @@ struct ScenePassInputs {
   int64_t step = 0;
   double time = 0.0;
   PassScratch *scratch = nullptr;
+  const BondArrays *bonds = nullptr;  // this rank's published bonds (count 0: none)
+  uint64_t bonds_serial = 0;          // changes with every publication (BondCache)
+  const PeriodicBox *box = nullptr;   // lantern_set_box's, for bonds' minimum image; or none
   // Gather the per-rank spread of drawn, culled and milliseconds (SceneStats::per_rank): one
   // small reduction per scene, run only when the stats line is written. Same on every rank.
   bool per_rank_stats = false;

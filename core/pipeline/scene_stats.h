@@ -48,6 +48,9 @@ struct SceneStats {
   // occlusion: probabilistic: iterations and samples (the slowest rank), meshlets per class and
   // particles culled (summed over ranks). JSON "probabilistic".
   std::optional<ProbabilisticStats> probabilistic;
+  // Scenes with bonds: half-bonds (two per bond) drawn and culled, summed over ranks. JSON
+  // "bonds".
+  std::optional<BondCounts> bonds;
 
   nlohmann::json to_json() const;
   // One line for a log: the per-rank spread, e.g. "scene 'a' per rank: drawn 10..30 (imbalance
@@ -62,5 +65,7 @@ struct SceneStats {
 // planes, level of detail and occlusion) over the ranks of comm into *stats. Collective: one
 // reduction; every rank gets the sums.
 void sum_counts_over_ranks(MPI_Comm comm, const CullStats &local, SceneStats *stats);
+// The same for the half-bond counts, into stats->bonds. Collective: one reduction.
+void sum_bond_counts_over_ranks(MPI_Comm comm, const BondCounts &local, SceneStats *stats);
 
 }  // namespace lantern

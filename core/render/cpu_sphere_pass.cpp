@@ -14,13 +14,61 @@ constexpr double kRasterSlack = 0.05;
 
 }  // namespace
 
+template <typename Positions>
+void CpuSpherePass::draw_bonds(int k, const Positions &pos, const ViewGeometry &g,
+                               const CutPlanes &cuts, bool occlusion, const BondDrawing &bonds) {
+  CpuSphereRaster &raster = rasters_[k];
+  const BondRecipe &recipe = *bonds.recipe;
+  const BrickBonds &halves = *recipe.halves;
+  const double radius = bonds.selection->radius;
+  const uint8_t bit = uint8_t(1u << k);
+  // A bond is hidden in this strip when its part of the strip is covered (or empty); the other
+  // strip judges the rest (column_strips.h).
+  const auto hidden = [&](const PixelRect &r, double z) {
+    PixelRect in_strip = r;
+    in_strip.x0 = std::max(in_strip.x0, strips_[k].x0);
+    in_strip.x1 = std::min(in_strip.x1, strips_[k].x1);
+    return in_strip.empty() || (occlusion && raster.covered(in_strip, z));
+  };
+  const auto visit = [&](const HalfBondView &v) {
+    const HalfBond &h = halves.halves[v.index];
+    const Rgb8 color = recipe.color(h);
+    raster.draw_bond(v.a, v.b, radius, color.data(), v.rect, recipe.alpha(h));
+    bond_marks_[v.index] |= bit;
+  };
+  visit_bond_halves(halves, *bonds.selection, pos, recipe.box, g, cuts, hidden, visit,
+                    &bond_drops_[k]);
+}
+
+BondCounts CpuSpherePass::count_bonds(const BondDrawing &bonds, bool two) {
+  int64_t drawn = 0;
+  for (const uint8_t m : bond_marks_) drawn += m != 0;
+  std::vector<uint8_t>().swap(bond_marks_);  // per-frame scratch
+  const BondDrops *passes[2] = {&bond_drops_[0], &bond_drops_[1]};
+  return bond_counts(*bonds.recipe->halves, *bonds.selection, passes, two ? 2 : 1, drawn);
+}
+
 CullStats CpuSpherePass::run(const ParticleArrays &particles, const BrickSet &bricks,
                              const CullSettings &cull, const Lighting &lighting,
                              const BrickSelection &sel, const InstanceRecipe &recipe,
-                             const uint8_t background[4], Frame *frame, DrawList *out,
-                             int64_t step) {
-  if (sel.mode == OcclusionMode::kProbabilistic)
-    return run_probabilistic(particles, bricks, cull, sel, recipe, background, frame, out, step);
+                             const uint8_t background[4], Frame *frame, DrawList *out, int64_t step,
+                             const BondDrawing *bonds) {
+  if (bonds) bond_marks_.assign(bonds->recipe->halves->half_count(), 0);
+  if (sel.mode == OcclusionMode::kProbabilistic) {
+    CullStats st =
+        run_probabilistic(particles, bricks, cull, sel, recipe, background, frame, out, step);
+    if (!bonds) return st;
+    // The probabilistic culler judges particles only; bonds are culled exactly, against the
+    // depth the raster drew.
+    const bool two = split_strips(sel.g.width, strips_);
+    const CutPlanes cuts(cull.cuts);
+    visit_positions(particles, [&](const auto &pos) {
+      run_strips(
+          two, sel.visible, [&](int k) { draw_bonds(k, pos, sel.g, cuts, true, *bonds); }, strips_);
+    });
+    st.bonds = count_bonds(*bonds, two);
+    return st;
+  }
   CullStats st = sel.stats;
   out->clear();
   const ViewGeometry &g = sel.g;
@@ -63,6 +111,7 @@ CullStats CpuSpherePass::run(const ParticleArrays &particles, const BrickSet &br
           s->out.spheres.push_back(draw_entry(c.index, c.scale));
         };
         walk_strip(pass, sel.visible, occlusion, covered, visit, &strips_[k]);
+        if (bonds) draw_bonds(k, pos, g, cuts, occlusion, *bonds);
       };
       run_strips(two, sel.visible, strip, strips_);
     });
@@ -72,6 +121,7 @@ CullStats CpuSpherePass::run(const ParticleArrays &particles, const BrickSet &br
   std::vector<uint64_t>().swap(scratch_);  // per-frame scratch: keep nothing between frames
   st.drawn = int64_t(out->spheres.size());
   st.splatted = int64_t(out->points.size());
+  if (bonds) st.bonds = count_bonds(*bonds, two);
   return st;
 }
 
