@@ -216,10 +216,15 @@ LANTERN_API lantern_status lantern_set_box(lantern_context *ctx, const double lo
  *    that lists it draws both halves, each at the position it holds for that atom - a ghost's half
  *    at the ghost's position (LAMMPS lists the ghost image closest to the owned atom, so the bond
  *    stays whole on that atom's side of the box).
- *  - LANTERN_BONDS_LISTED_BY_BOTH: a bond between atoms of two ranks is in both ranks' lists
- *    (LAMMPS with newton_bond off; codes that keep a bond table per atom). Each rank draws only
- *    the halves of the atoms it owns (index < count); the other half is its owner's.
- * Either way a bond needs at least one atom the listing rank owns. Images with bonds do not
+ *  - LANTERN_BONDS_LISTED_BY_BOTH: every rank lists the bonds of each atom it owns, with that
+ *    atom's own index (LAMMPS with newton_bond off; codes that keep a bond table per atom), so a
+ *    bond between atoms of two ranks is in both lists. Each entry gives the halves of its owned
+ *    atoms (index < count) only; the other half is its owner's. A bond between two atoms of one
+ *    rank is listed once with both own indices, or once from each side (LAMMPS does so when one
+ *    side is a periodic image: (i, image of j) and (j, image of i)).
+ * Either way a bond needs at least one atom the listing rank owns, and each half-bond must come
+ * from one entry (a half listed twice is drawn twice over itself: the image is the same, the
+ * stats count it twice). Images with bonds do not
  * depend on the rank count or split as long as each half-bond is computed from the same two
  * positions: an owned atom's own, and its partner's as a copy or the image the host made of it.
  * (A ghost made as x + L of an atom at x may differ from it in the last bit; that can move a
