@@ -12,6 +12,7 @@
 
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <memory>
 #include <string>
 #include <vector>
@@ -162,6 +163,9 @@ int main(int argc, char **argv) {
     std::fprintf(stderr, "lantern-render: %s\n%s", usage_error.c_str(), kUsage);
     return 2;
   }
+  // Offline, nothing waits on the encoder but this tool: every frame goes into a movie (unless
+  // the caller's environment says otherwise).
+  setenv("LANTERN_MOVIE_WHEN_BEHIND", "wait", /*overwrite=*/0);
   MPI_Init(&argc, &argv);
   int rank = 0, size = 1;
   MPI_Comm_rank(MPI_COMM_WORLD, &rank);

@@ -1,4 +1,4 @@
-// Scalar -> color through a named colormap, and integer type -> color through a palette.
+// Scalar -> color through a colormap, and integer type -> color through a palette.
 // Thread-safety: immutable after construction. Colors are RGB8.
 #pragma once
 
@@ -16,11 +16,29 @@ using Rgb8 = std::array<uint8_t, 3>;
 // Converts [r, g, b] in [0, 1] to RGB8 (rounded, clamped).
 Rgb8 to_rgb8(const std::array<double, 3> &rgb);
 
+// A 256-entry table: entry i is the map's colour at t = i / 255. Named maps come from their
+// published definitions (colormap_data.h); a custom map from control points.
 class Colormap {
  public:
-  // "viridis", "plasma", "coolwarm", "grayscale"; std::nullopt for an unknown name.
+  using Table = std::array<Rgb8, 256>;
+
+  // One of names(); std::nullopt for an unknown name.
   static std::optional<Colormap> named(const std::string &name);
+  // viridis, plasma, inferno, magma, cividis (perceptually uniform), turbo (rainbow), coolwarm,
+  // RdBu, seismic (diverging), grayscale.
   static const std::vector<std::string> &names();
+  // Control points in [0, 1] (at least two), evenly spaced over the map and interpolated
+  // linearly in sRGB, as matplotlib's ListedColormap / from_list do; 256 points are the table.
+  static Colormap from_colors(const std::vector<std::array<double, 3>> &colors);
+
+  // A scene's map: colors (control points) when not empty, else the named map (viridis for an
+  // unknown name); run backwards when `reverse`.
+  static Colormap choose(const std::string &name, const std::vector<std::array<double, 3>> &colors,
+                         bool reverse);
+
+  // The same map run backwards (high values get the low end's colour).
+  Colormap reversed() const;
+  const Table &table() const { return table_; }
 
   // Maps value in [lo, hi] linearly onto the map; values outside clamp to the ends. A NaN value
   // or an empty range (lo >= hi) maps to the middle of the map.
@@ -28,12 +46,12 @@ class Colormap {
     double t = 0.5;
     if (hi > lo && !std::isnan(value)) t = (value - lo) / (hi - lo);
     t = t < 0.0 ? 0.0 : (t > 1.0 ? 1.0 : t);
-    return (*table_)[static_cast<size_t>(t * 255.0 + 0.5)];
+    return table_[static_cast<size_t>(t * 255.0 + 0.5)];
   }
 
  private:
-  explicit Colormap(const std::array<Rgb8, 256> *table) : table_(table) {}
-  const std::array<Rgb8, 256> *table_;
+  explicit Colormap(const Table &table) : table_(table) {}
+  Table table_;
 };
 
 // Color of an integer particle type: palette[type mod size] (negative types wrap too). An empty

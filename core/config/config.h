@@ -43,18 +43,61 @@ struct CameraConfig {
 
 enum class ColorBy { kSolid, kType, kScalar };
 
+// range: auto re-fits the scalar range every frame (frame); {auto: first} keeps the range of the
+// first rendered frame that had one; {auto: running} the union of every frame's range so far.
+// The frame ranges are reduced over ranks, so each mode is rank-invariant.
+enum class AutoRange { kFrame, kFirst, kRunning };
+
 struct ColorConfig {
   ColorBy by = ColorBy::kType;                 // by: solid | type | scalar
   std::array<double, 3> solid{0.8, 0.8, 0.8};  // solid: [r, g, b] in [0, 1]
   std::vector<std::array<double, 3>> palette;  // palette: [[r,g,b], ...]; empty = built-in
-  std::string colormap = "viridis";            // colormap: viridis|plasma|coolwarm|grayscale
+  // colormap: a name of Colormap::names() (core/color/colormap.h), or a custom map: a list
+  // [[r,g,b], ...] or {file: PATH}; then the name is "custom" and colormap_colors holds the
+  // control points (evenly spaced, components in [0, 1]).
+  std::string colormap = "viridis";
+  std::vector<std::array<double, 3>> colormap_colors;
+  bool reverse = false;                        // reverse: run the colormap from its high end
   std::optional<std::array<double, 2>> range;  // range: [min, max]; absent = auto (global)
+  AutoRange auto_range = AutoRange::kFrame;    // range: auto | {auto: frame | first | running}
 };
 
 enum class ImageFormat { kPng, kJpeg, kTiff, kExr };
 
+// movie: when a frame arrives while `queue` frames already wait for the encoder. drop: the frame
+// is left out of the movie (counted in the stats line; the step never waits); wait: the step
+// waits for the encoder (the stats line says how long).
+enum class MovieWhenBehind { kDrop, kWait };
+
+// output.movie: one movie file per scene, every rendered frame encoded on rank 0 by a background
+// thread (core/output/movie/movie_writer.h) through FFmpeg's libraries.
+struct MovieConfig {
+  bool enabled = false;  // the section is present
+  // file: the movie's path; {scene} is the scene name. The extension picks the container: .mp4
+  // and .mov (fragmented), .mkv (Matroska), .webm.
+  std::string file;
+  double fps = 24.0;           // fps: frames per second of the movie, (0, 1000]
+  std::string codec = "auto";  // codec: auto | h264 | hevc | vp9 | av1 | ffv1
+  // quality: the codec's constant-quality value (CRF: lower is better; h264 and hevc 0..51,
+  // vp9 and av1 0..63); absent = the codec's default. Not with ffv1 or lossless.
+  std::optional<int> quality;
+  bool lossless = false;  // lossless: RGB frames, bit-exact (h264, hevc, vp9; ffv1 always is)
+  int queue = 8;          // queue: frames that may wait for the encoder, 1..256
+  MovieWhenBehind when_behind = MovieWhenBehind::kDrop;  // when_behind: drop | wait
+  int threads = 1;  // threads: the encoder's threads, 1..16 (it shares rank 0's cores)
+  bool operator==(const MovieConfig &o) const {
+    return enabled == o.enabled && file == o.file && fps == o.fps && codec == o.codec &&
+           quality == o.quality && lossless == o.lossless && queue == o.queue &&
+           when_behind == o.when_behind && threads == o.threads;
+  }
+  bool operator!=(const MovieConfig &o) const { return !(*this == o); }
+};
+
 struct OutputConfig {
   std::string pattern = "lantern_{step:06d}.png";  // pattern: file name with {step} / {step:06d}
+  // false when the section has a movie but no pattern: then no image files are written.
+  bool images = true;
+  MovieConfig movie;                       // movie: {...}
   ImageFormat format = ImageFormat::kPng;  // format: png|jpeg|tiff|exr (default: from pattern)
   int jpeg_quality = 95;                   // jpeg_quality: 1..100
   // compression_level: zlib level 0..9 of PNG and TIFF. 1 (fastest) by default: in situ, the

@@ -11,6 +11,7 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <algorithm>
 #include <cctype>
 #include <cerrno>
 #include <cmath>
@@ -21,6 +22,8 @@
 #include <set>
 #include <sstream>
 
+#include "core/color/colormap.h"
+#include "core/color/colormap_file.h"
 #include "core/common/quoted_text.h"
 #include "core/config/config_rules.h"
 #include "core/config/file_pattern.h"
@@ -87,7 +90,64 @@ std::array<double, 3> light_direction(const YamlReader &r, const YAML::Node &n,
   return {d[0] / length, d[1] / length, d[2] / length};
 }
 
-const std::vector<std::string> kColormaps = {"viridis", "plasma", "coolwarm", "grayscale"};
+// colormap: a name, a list of control points [[r,g,b], ...] or {file: PATH} (colormap_file.h);
+// a list or a file makes the name "custom".
+void read_colormap(const YamlReader &r, const YAML::Node &n, const std::string &p, ColorConfig &c) {
+  if (n.IsScalar()) {
+    c.colormap = r.read_choice(n, p, Colormap::names());
+    return;
+  }
+  c.colormap = "custom";
+  if (n.IsSequence()) {
+    if (n.size() < 2 || n.size() > kMaxColormapColors)
+      r.fail(n, p,
+             "a custom colormap lists 2 to " + std::to_string(kMaxColormapColors) +
+                 " colors [[r,g,b], ...] (components in [0, 1]), got " + std::to_string(n.size()));
+    for (size_t i = 0; i < n.size(); ++i)
+      c.colormap_colors.push_back(r.read_rgb(n[i], index_path(p, i)));
+    return;
+  }
+  if (!n.IsMap()) r.fail(n, p, "must be a colormap name, a list [[r,g,b], ...] or {file: PATH}");
+  r.check_map(n, p, {"file"});
+  if (!n["file"].IsDefined()) r.fail(n, p, "{file: PATH} needs the key 'file'");
+  const std::string file = r.read_string(n["file"], child_path(p, "file"));
+  const Status read = read_colormap_file(file, &c.colormap_colors);
+  if (!read.ok()) r.fail(n["file"], child_path(p, "file"), read.message);
+}
+
+// color.range: 'auto' (= {auto: frame}), {auto: frame | first | running} (color_range.h) or a
+// fixed [min, max].
+void read_color_range(const YamlReader &r, const YAML::Node &n, const std::string &p,
+                      ColorConfig &c) {
+  if (n.IsMap()) {
+    r.check_map(n, p, {"auto"});
+    if (!n["auto"].IsDefined()) r.fail(n, p, "must be {auto: frame | first | running}");
+    c.auto_range = one_of<AutoRange>()(r, n["auto"], child_path(p, "auto"));
+    return;
+  }
+  if (!(n.IsScalar() && n.Scalar() == "auto") && !(n.IsSequence() && n.size() == 2))
+    r.fail(n, p, "must be 'auto', {auto: frame | first | running} or [min, max] with min < max");
+  c.range = auto_or_range("min", "max")(r, n, p);
+}
+
+// output.movie.file: one file for the whole run, with a movie container's extension.
+std::string movie_file(const YamlReader &r, const YAML::Node &n, const std::string &p) {
+  const std::string file = image_pattern(r, n, p);
+  if (expand_pattern(file, 0, "") != expand_pattern(file, 1, ""))
+    r.fail(n, p,
+           quoted_text(file, kPathShown) +
+               ": a movie is one file for the whole run; {step} has no place in its name");
+  std::string extension = std::filesystem::path(file).extension().string();
+  std::transform(extension.begin(), extension.end(), extension.begin(),
+                 [](unsigned char c) { return char(std::tolower(c)); });
+  if (extension != ".mp4" && extension != ".mov" && extension != ".mkv" && extension != ".webm")
+    r.fail(n, p,
+           quoted_text(file, kPathShown) +
+               " needs a movie extension: .mp4, .mov (fragmented MPEG-4), .mkv (Matroska) or "
+               ".webm");
+  return file;
+}
+
 const std::vector<std::string> kDumpFields = {"position", "type", "scalar", "radius", "id"};
 
 // ambient_occlusion, outline, depth_cue: a section that is present turns its cue on; `outline:`
@@ -123,9 +183,27 @@ const Section<ColorConfig> kColor({
     {"solid", &ColorConfig::solid, rgb()},
     {"palette", &ColorConfig::palette,
      list_of(rgb(), "must list at least one color (omit it for the default)")},
-    {"colormap", &ColorConfig::colormap, one_of(kColormaps)},
-    {"range", &ColorConfig::range, auto_or_range("min", "max")},
+    {"colormap", read_colormap},
+    {"range", read_color_range},
+    {"reverse", &ColorConfig::reverse, boolean()},
 });
+
+// output.movie: codec names and quality ranges are checked against this build's encoders when
+// the context opens (core/output/movie/movie_encoder.h).
+const Section<MovieConfig> kMovie(
+    {
+        rule(movie_has_file),
+        {"file", &MovieConfig::file, movie_file},
+        {"fps", &MovieConfig::fps, number_in('(', 0, 1000, ']')},
+        {"codec", &MovieConfig::codec, text()},
+        {"quality", &MovieConfig::quality, integer(0, 63)},
+        {"lossless", &MovieConfig::lossless, boolean()},
+        {"queue", &MovieConfig::queue, integer(1, 256)},
+        {"when_behind", &MovieConfig::when_behind, one_of<MovieWhenBehind>()},
+        {"threads", &MovieConfig::threads, integer(1, 16)},
+        rule(lossless_has_no_quality),
+    },
+    {"must be a mapping {file: 'out/{scene}.mp4', ...}"}, &MovieConfig::enabled);
 
 const Section<OutputConfig> kOutput({
     {"pattern", &OutputConfig::pattern, image_pattern},
@@ -135,6 +213,8 @@ const Section<OutputConfig> kOutput({
     {"compression_level", &OutputConfig::compression_level, integer(0, 9)},
     {"asynchronous", &OutputConfig::asynchronous, boolean()},
     {"exr_color", &OutputConfig::exr_half, one_of<bool>({{"half", true}, {"float", false}})},
+    {"movie", &OutputConfig::movie, kMovie},
+    rule(movie_replaces_images),
 });
 
 const Section<CullingConfig> kCulling({
@@ -195,7 +275,7 @@ const Section<DepthCueConfig> kDepthCue(
 const Section<DensityConfig> kDensity({
     {"transfer", &DensityConfig::transfer, one_of<DensityTransfer>()},
     {"range", &DensityConfig::range, auto_or_range("lo", "hi")},
-    {"colormap", &DensityConfig::colormap, one_of(kColormaps)},
+    {"colormap", &DensityConfig::colormap, one_of(Colormap::names())},
     rule(log_range_is_positive),
 });
 

@@ -53,6 +53,26 @@ void format_agrees_with_pattern(const YamlReader &r, const YAML::Node &output,
   o.format = *from_extension;
 }
 
+void movie_replaces_images(const YamlReader &, const YAML::Node &output, const std::string &,
+                           OutputConfig &o) {
+  const YAML::Node pattern = key_node(output, "pattern");
+  if (o.movie.enabled && !(pattern.IsDefined() && !pattern.IsNull())) o.images = false;
+}
+
+void movie_has_file(const YamlReader &r, const YAML::Node &movie, const std::string &path,
+                    MovieConfig &) {
+  const YAML::Node file = key_node(movie, "file");
+  if (!file.IsDefined() || file.IsNull())
+    r.fail(movie, path, "needs 'file' (e.g. file: 'out/{scene}.mp4')");
+}
+
+void lossless_has_no_quality(const YamlReader &r, const YAML::Node &movie, const std::string &path,
+                             MovieConfig &m) {
+  if (m.lossless && m.quality)
+    r.fail(key_node(movie, "quality"), child_path(path, "quality"),
+           "does not apply with lossless: true (remove one of the two)");
+}
+
 void camera_looks_away(const YamlReader &r, const YAML::Node &camera, const std::string &path,
                        CameraConfig &c) {
   if (c.position && c.look_at == *c.position)  // look_at defaulted to the origin
@@ -116,6 +136,7 @@ void scenes_are_distinct(const YamlReader &r, const YAML::Node &top, const std::
   const std::string scenes_path = child_path(path, "scenes");
   std::map<std::string, size_t> by_name;
   std::map<std::string, size_t> by_pattern;  // patterns without {scene}
+  std::map<std::string, size_t> by_movie;    // movie files, {scene} expanded
   for (size_t i = 0; i < config.scenes.size(); ++i) {
     const SceneConfig &s = config.scenes[i];
     const std::string scene_path = index_path(scenes_path, i);
@@ -124,7 +145,17 @@ void scenes_are_distinct(const YamlReader &r, const YAML::Node &top, const std::
       r.fail(scenes[i], child_path(scene_path, "name"),
              "scene name " + quoted_text(s.name) + " is already used by " +
                  index_path(scenes_path, named->second));
-    if (pattern_uses_scene(s.output.pattern)) continue;
+    if (s.output.movie.enabled) {
+      const std::string file = expand_pattern(s.output.movie.file, 0, s.name);
+      const auto [same, fresh_movie] = by_movie.emplace(file, i);
+      if (!fresh_movie)
+        r.fail(key_node(key_node(key_node(scenes[i], "output"), "movie"), "file"),
+               child_path(scene_path, "output.movie.file"),
+               quoted_text(file, kPathShown) + " is also the movie of " +
+                   index_path(scenes_path, same->second) +
+                   "; the scenes would write one file (add {scene})");
+    }
+    if (!s.output.images || pattern_uses_scene(s.output.pattern)) continue;
     const auto [same, fresh_pattern] = by_pattern.emplace(s.output.pattern, i);
     if (!fresh_pattern)
       r.fail(scenes[i], child_path(scene_path, "output.pattern"),

@@ -25,6 +25,16 @@ inline constexpr size_t kPathShown = 256;
 // decides (and must be an image extension).
 void format_agrees_with_pattern(const YamlReader &r, const YAML::Node &output,
                                 const std::string &path, OutputConfig &o);
+// output: a movie without a pattern replaces the images (OutputConfig::images); with one, both
+// are written.
+void movie_replaces_images(const YamlReader &r, const YAML::Node &output, const std::string &path,
+                           OutputConfig &o);
+// output.movie: `file` is required.
+void movie_has_file(const YamlReader &r, const YAML::Node &movie, const std::string &path,
+                    MovieConfig &m);
+// output.movie: `quality` has no meaning with `lossless: true`.
+void lossless_has_no_quality(const YamlReader &r, const YAML::Node &movie, const std::string &path,
+                             MovieConfig &m);
 // camera: an explicit camera must not sit on its look_at point (the default [0, 0, 0] too).
 void camera_looks_away(const YamlReader &r, const YAML::Node &camera, const std::string &path,
                        CameraConfig &c);
@@ -40,7 +50,7 @@ void renderer_serves_occlusion(const YamlReader &r, const YAML::Node &scene,
 // scenes[i]: style: density has no surface: samples 1, no depth cues and no bonds.
 void density_scene_has_no_depth(const YamlReader &r, const YAML::Node &scene,
                                 const std::string &path, SceneConfig &s);
-// top level: scene names are unique, and scenes do not write the same files.
+// top level: scene names are unique, and scenes do not write the same files (images or movies).
 void scenes_are_distinct(const YamlReader &r, const YAML::Node &top, const std::string &path,
                          Config &config);
 // top level: at least one scene, or a dump.

@@ -62,6 +62,10 @@ inline constexpr EnumName<DensityTransfer> kDensityTransferNames[] = {
 
 inline constexpr EnumName<LodSelect> kLodSelectNames[] = {{LodSelect::kUniform, "uniform"},
                                                           {LodSelect::kNearest, "nearest"}};
+inline constexpr EnumName<AutoRange> kAutoRangeNames[] = {
+    {AutoRange::kFrame, "frame"}, {AutoRange::kFirst, "first"}, {AutoRange::kRunning, "running"}};
+inline constexpr EnumName<MovieWhenBehind> kMovieWhenBehindNames[] = {
+    {MovieWhenBehind::kDrop, "drop"}, {MovieWhenBehind::kWait, "wait"}};
 
 inline constexpr EnumName<BondColorBy> kBondColorByNames[] = {{BondColorBy::kAtom, "by_atom"},
                                                               {BondColorBy::kType, "by_type"},
@@ -100,6 +104,12 @@ inline constexpr const auto &names_table(LodSelect) {
 }
 inline constexpr const auto &names_table(BondColorBy) {
   return kBondColorByNames;
+}
+inline constexpr const auto &names_table(AutoRange) {
+  return kAutoRangeNames;
+}
+inline constexpr const auto &names_table(MovieWhenBehind) {
+  return kMovieWhenBehindNames;
 }
 
 // The canonical name of `value` ("?" for a value missing from its table: a bug).

@@ -37,6 +37,13 @@ Status apply_environment(Config *config) {
       config->egl_device = int(n);
     }
   }
+  if (const char *v = std::getenv("LANTERN_MOVIE_WHEN_BEHIND"); v && *v) {
+    const std::optional<MovieWhenBehind> when = value_of<MovieWhenBehind>(v);
+    if (!when)
+      return {StatusCode::kConfig, std::string("LANTERN_MOVIE_WHEN_BEHIND: '") + v +
+                                       "' is not one of " + joined(names_of<MovieWhenBehind>())};
+    for (SceneConfig &scene : config->scenes) scene.output.movie.when_behind = *when;
+  }
   return {};
 }
 

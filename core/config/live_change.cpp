@@ -3,6 +3,7 @@
 #include <string>
 
 #include "core/config/enum_names.h"
+#include "core/config/file_pattern.h"
 
 namespace lantern {
 namespace {
@@ -20,9 +21,32 @@ std::string joined(const std::vector<std::string> &words) {
   return "[" + out + "]";
 }
 
+// A movie file being written keeps its codec and frame size: a scene may start a new file, not
+// change the one it writes.
+Status check_movie_change(const SceneConfig &a, const SceneConfig &b) {
+  const MovieConfig &m = a.output.movie, &n = b.output.movie;
+  if (!m.enabled || !n.enabled) return {};
+  const std::string file = expand_pattern(m.file, 0, a.name);
+  if (file != expand_pattern(n.file, 0, b.name)) return {};
+  const auto size = [](const SceneConfig &s) {
+    return std::to_string(s.width) + " x " + std::to_string(s.height);
+  };
+  if (m != n || size(a) != size(b))
+    return {StatusCode::kConfig,
+            "scenes '" + b.name + "': output.movie: '" + file +
+                "' cannot change its settings or frame size while it is written (running " +
+                m.codec + " " + size(a) + ", new " + n.codec + " " + size(b) +
+                "): give output.movie.file a new name to start another movie"};
+  return {};
+}
+
 }  // namespace
 
 Status check_live_change(const Config &running, const Config &next) {
+  for (const SceneConfig &b : next.scenes)
+    for (const SceneConfig &a : running.scenes)
+      if (a.name == b.name)
+        if (Status s = check_movie_change(a, b); !s.ok()) return s;
   if (running.gl != next.gl)
     return fixed("gl", name_of(running.gl), name_of(next.gl),
                  "the OpenGL back end is chosen at lantern_open");

@@ -13,6 +13,7 @@
 #include "core/config/environment.h"
 #include "core/output/stats_writer.h"
 #include "core/particles/particle_scan.h"
+#include "core/pipeline/scene_movie.h"
 
 namespace lantern {
 namespace {
@@ -87,12 +88,15 @@ Status Runtime::open(const std::string &config_text, MPI_Comm comm, std::unique_
   MPI_Comm_rank(rt->comm_, &rt->rank_);
   MPI_Comm_size(rt->comm_, &rt->size_);
 
-  const Status local = rt->load_first_config(config_text);
+  Status local = rt->load_first_config(config_text);
+  if (local.ok()) local = check_scene_movies(rt->config_.scenes);
   if (Status s = agree_on_status(rt->comm_, local); !s.ok()) return s;
   if (Status s = rt->agree_on_first_config(); !s.ok()) return s;
   if (!rt->config_.scenes.empty())
     if (Status s = rt->open_gl(); !s.ok()) return s;
   rt->buffers_.resize(rt->config_.scenes.size());
+  // Movie files are opened now, so an unwritable path fails here rather than at the first frame.
+  if (Status s = open_scene_movies(rt->comm_, rt->config_.scenes, &rt->buffers_); !s.ok()) return s;
   if (rt->config_.dump.enabled) rt->dump_ = std::make_unique<DumpStage>(rt->config_.dump);
   *out = std::move(rt);
   return {};
@@ -139,7 +143,9 @@ Status Runtime::finish() {
   for (size_t s = 0; s < buffers_.size(); ++s)
     if (Status st = buffers_[s].writer.wait(); !st.ok() && local.ok())
       local = with_context("scenes '" + config_.scenes[s].name + "': ", std::move(st));
-  return broadcast_status(comm_, local, 0);
+  const Status images = broadcast_status(comm_, local, 0);
+  const Status movies = finish_scene_movies(comm_, config_.scenes, &buffers_);
+  return images.ok() ? movies : images;
 }
 
 void Runtime::warn_nonfinite_once(int64_t count, int64_t step) {

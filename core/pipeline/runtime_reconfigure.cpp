@@ -18,6 +18,7 @@
 #include "core/config/environment.h"
 #include "core/config/live_change.h"
 #include "core/pipeline/runtime.h"
+#include "core/pipeline/scene_movie.h"
 
 namespace lantern {
 namespace {
@@ -91,6 +92,7 @@ Status Runtime::switch_config(const std::string &text, const std::string &path, 
   if (local.ok()) local = apply_environment(&next);
   if (local.ok()) local = check_watch_source(next, path);
   if (local.ok()) local = check_live_change(config_, next);
+  if (local.ok()) local = check_scene_movies(next.scenes);
   // Without OpenGL (tried, and absent on every rank alike) a scene may not insist on it.
   for (const SceneConfig &scene : next.scenes)
     if (local.ok() && gl_tried_ && !gl_ && scene.renderer == RendererChoice::kOpenGl)
@@ -123,12 +125,20 @@ Status Runtime::switch_config(const std::string &text, const std::string &path, 
       kept.emplace_back();
     }
   }
-  for (size_t j = 0; j < buffers_.size(); ++j)
-    if (!taken[j])
-      if (Status s = buffers_[j].writer.wait(); !s.ok() && rank_ == 0)
+  for (size_t j = 0; j < buffers_.size(); ++j) {
+    if (taken[j]) continue;
+    if (Status s = buffers_[j].writer.wait(); !s.ok() && rank_ == 0)
+      std::fprintf(stderr, "lantern: warning: scenes '%s' (removed by a reconfiguration): %s\n",
+                   previous.scenes[j].name.c_str(), s.message.c_str());
+    if (buffers_[j].movie)
+      if (Status s = buffers_[j].movie->finish(); !s.ok())
         std::fprintf(stderr, "lantern: warning: scenes '%s' (removed by a reconfiguration): %s\n",
                      previous.scenes[j].name.c_str(), s.message.c_str());
+  }
   buffers_.swap(kept);
+  // Movies follow their scenes: new ones open, changed or dropped ones are finished. The new
+  // configuration stands even if a movie cannot be opened (its scene renders without it).
+  const Status movies = open_scene_movies(comm_, config_.scenes, &buffers_);
 
   if (dump_) dump_->set_schedule(config_.dump.schedule);
   if (config_.watch)
@@ -138,7 +148,9 @@ Status Runtime::switch_config(const std::string &text, const std::string &path, 
   config_path_ = path;
   config_hash_ = hash;
   ++config_changes_;
-  return {};
+  return movies.ok() ? Status()
+                     : Status(movies.code,
+                              movies.message + " (the new configuration took effect without it)");
 }
 
 bool Runtime::follow_config_file(int64_t step) {

@@ -1,6 +1,8 @@
 #include "core/pipeline/scene_pass.h"
 
+#include <array>
 #include <chrono>
+#include <optional>
 #include <string>
 #include <utility>
 
@@ -12,6 +14,7 @@
 #include "core/output/image_writer.h"
 #include "core/output/png/png_across_ranks.h"
 #include "core/pipeline/density_scene_pass.h"
+#include "core/pipeline/scene_movie.h"
 #include "core/pipeline/scene_settings.h"
 #include "core/pipeline/sphere_scene_pass.h"
 #include "core/render/object_occlusion.h"
@@ -41,9 +44,15 @@ Status check_scene_needs(const SceneConfig &scene, const RadiusRule &radius,
   return {};
 }
 
+// The frame's own scalar range (reduced over ranks), if any particle had a finite scalar.
+std::optional<std::array<double, 2>> scalar_range_of(const Extent &global) {
+  if (!global.has_scalar_range()) return std::nullopt;
+  return std::array<double, 2>{global.scalar_min, global.scalar_max};
+}
+
 // The composited image (rank 0's frame) to the scene's file. Collective; same status everywhere.
-Status write_scene_image(const ScenePassInputs &in, const SceneConfig &scene, const Camera &camera,
-                         Clock::time_point t_start, SceneBuffers *buffers, SceneStats *stats) {
+Status write_image_file(const ScenePassInputs &in, const SceneConfig &scene, const Camera &camera,
+                        Clock::time_point t_start, SceneBuffers *buffers, SceneStats *stats) {
   int rank = 0;
   MPI_Comm_rank(in.comm, &rank);
   const std::string where = "scenes '" + scene.name + "': ";
@@ -77,12 +86,37 @@ Status write_scene_image(const ScenePassInputs &in, const SceneConfig &scene, co
   return broadcast_status(in.comm, written, 0);
 }
 
+// The composited image to the scene's movie (rank 0, before the image file may take the frame
+// over) and to its image file. Collective; same status everywhere: the image's error, else the
+// movie's (once, when it stopped; later images go on without it).
+Status write_scene_image(const ScenePassInputs &in, const SceneConfig &scene, const Camera &camera,
+                         Clock::time_point t_start, SceneBuffers *buffers, SceneStats *stats) {
+  if (!scene.output.movie.enabled)
+    return write_image_file(in, scene, camera, t_start, buffers, stats);
+  int rank = 0;
+  MPI_Comm_rank(in.comm, &rank);
+  const Status movie =
+      rank == 0 ? send_frame_to_movie(scene, buffers->frame, buffers, stats) : Status();
+  Status image;
+  if (scene.output.images)
+    image = write_image_file(in, scene, camera, t_start, buffers, stats);
+  else
+    stats->total_ms = ms_since(t_start);
+  const Status movie_everywhere = broadcast_status(in.comm, movie, 0);
+  return image.ok() ? movie_everywhere : image;
+}
+
 }  // namespace
 
 Status run_scene_pass(const ScenePassInputs &in, const SceneConfig &scene, SceneBuffers *buffers,
                       SceneStats *stats) {
   const auto t_start = Clock::now();
   stats->name = scene.name;
+  // The colours' scalar range: the same on every rank (from the reduced extent), updated on
+  // every rank at every scheduled step so that the remembered ranges stay in step.
+  const std::optional<std::array<double, 2>> color_range =
+      buffers->color_range.update(scene.color, scalar_range_of(in.global));
+  if (scene.color.by == ColorBy::kScalar) stats->color_range = color_range;
 
   // Every rank has the same inputs here, so these outcomes agree without communication.
   auto t0 = Clock::now();
@@ -126,7 +160,9 @@ Status run_scene_pass(const ScenePassInputs &in, const SceneConfig &scene, Scene
   }
 
   // Every stage's values, resolved once from the configuration; the passes hand each its part.
-  const SceneSettings settings = scene_settings(scene);
+  // The colours use this frame's range (fixed, or remembered across steps).
+  SceneSettings settings = scene_settings(scene);
+  settings.shading.color.range = color_range;
   Status local = check_scene_needs(scene, radius, *in.particles, in.bonds);
   if (scene.style == SceneStyle::kDensity) {
     if (Status s = run_density_scene(in, settings, where, camera, radius, std::move(local), buffers,

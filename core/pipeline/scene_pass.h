@@ -1,6 +1,6 @@
 // One scene on one scheduled step, on every rank: the camera, object-space ambient occlusion, the
 // style's pass (sphere_scene_pass.h or density_scene_pass.h: drawing, compositing, finishing), and
-// the image file. Collective over the communicator.
+// the image file and movie frame (scene_movie.h). Collective over the communicator.
 #pragma once
 
 #include "core/common/status.h"
@@ -10,7 +10,8 @@
 
 namespace lantern {
 
-// Renders `scene` and writes its image. Every rank returns the same status.
+// Renders `scene` and writes its image (and hands the frame to its movie). Every rank returns the
+// same status.
 Status run_scene_pass(const ScenePassInputs &in, const SceneConfig &scene, SceneBuffers *buffers,
                       SceneStats *stats);
 

@@ -1,16 +1,20 @@
 // What a scene pass works with on one scheduled step: the inputs every scene of the step shares
 // (communicator, renderer, particles, their global extent, the step), the scratch the scenes
 // share between steps (bricks, culling buffers), and what each scene keeps between steps (its
-// frames, image writer, cut counts, density sums). Read by the sphere and density scene passes
-// (scene_pass.h, density_scene_pass.h); owned by the Runtime.
+// frames, image writer, cut counts, density sums, remembered color range, movie). Read by the
+// sphere and density scene passes (scene_pass.h, density_scene_pass.h); owned by the Runtime.
 #pragma once
 
 #include <mpi.h>
 
+#include <memory>
+
 #include "core/bricks/brick_bonds.h"
 #include "core/bricks/brick_cache.h"
+#include "core/color/color_range.h"
 #include "core/culling/brick_cut_counts.h"
 #include "core/output/background_image_writer.h"
+#include "core/output/movie/movie_writer.h"
 #include "core/particles/bond_arrays.h"
 #include "core/particles/global_extent.h"
 #include "core/particles/particle_arrays.h"
@@ -52,6 +56,9 @@ struct SceneBuffers {
   BackgroundImageWriter writer;  // rank 0, with output.asynchronous
   BrickCutCounts cut_counts;     // this scene's cutting planes per brick (edits are incremental)
   DensityImage density;          // style: density - this rank's sums, then (rank 0) all ranks'
+  ColorRange color_range;        // the scalar range of the colours, remembered across steps
+  std::unique_ptr<MovieWriter> movie;  // rank 0, with output.movie (scene_movie.h)
+  bool movie_warned = false;           // the "encoder is behind" warning was printed
 };
 
 }  // namespace lantern

@@ -57,6 +57,14 @@ nlohmann::json SceneStats::to_json() const {
                   {"cut_culled", bonds->cut_culled},
                   {"lod_dropped", bonds->lod_dropped},
                   {"occlusion_culled", bonds->occlusion_culled}};
+  if (color_range) j["color_range"] = {(*color_range)[0], (*color_range)[1]};
+  if (movie) {
+    const MovieProgress &p = movie->progress;
+    j["movie"] = {{"file", p.file},         {"encoder", p.encoder},     {"frames", p.written},
+                  {"queued", p.queued},     {"dropped", p.dropped},     {"behind", movie->behind},
+                  {"ms", movie->submit_ms}, {"waited_ms", p.waited_ms}, {"encode_ms", p.encode_ms}};
+    if (!p.error.empty()) j["movie"]["error"] = p.error;
+  }
   if (probabilistic) {
     const ProbabilisticStats &p = *probabilistic;
     j["probabilistic"] = {{"iterations", p.iterations},

@@ -4,6 +4,7 @@
 
 #include <mpi.h>
 
+#include <array>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -11,9 +12,17 @@
 #include <nlohmann/json.hpp>
 
 #include "core/culling/cull_stats.h"
+#include "core/output/movie/movie_writer.h"
 #include "core/pipeline/rank_spread.h"
 
 namespace lantern {
+
+// A scene's movie on one step (rank 0): JSON "movie".
+struct SceneMovieStats {
+  MovieProgress progress;  // after this step's frame was handed over
+  double submit_ms = 0.0;  // this step's cost: copying the frame into the queue (and any wait)
+  bool behind = false;     // this step's frame was dropped, or the step waited for the encoder
+};
 
 struct SceneStats {
   std::string name;
@@ -51,6 +60,11 @@ struct SceneStats {
   // Scenes with bonds: half-bonds (two per bond) drawn and culled, summed over ranks. JSON
   // "bonds".
   std::optional<BondCounts> bonds;
+  // output.movie: JSON "movie" {file, encoder, frames, queued, dropped, behind, ...}.
+  std::optional<SceneMovieStats> movie;
+  // color.by: scalar: the scalar range this frame's colours used (color.range). JSON
+  // "color_range": [lo, hi].
+  std::optional<std::array<double, 2>> color_range;
 
   nlohmann::json to_json() const;
   // One line for a log: the per-rank spread, e.g. "scene 'a' per rank: drawn 10..30 (imbalance

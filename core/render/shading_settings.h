@@ -15,7 +15,10 @@
 namespace lantern {
 
 struct ShadingSettings {
-  ColorConfig color;                                // color: by, solid, palette, colormap, range
+  // color: by, solid, palette, colormap (reverse), range. The pipeline resolves the automatic
+  // ranges (color.range: {auto: first | running} remember earlier steps, core/color/color_range.h)
+  // into `range`; absent: the step's global scalar range.
+  ColorConfig color;
   std::vector<double> opacity;                      // opacity: per type (empty: all opaque)
   Lighting lighting;                                // lighting: the light model
   std::array<double, 3> background{1.0, 1.0, 1.0};  // background

@@ -14,7 +14,7 @@ Coloring make_coloring(const ColorConfig &config, const Extent &global) {
   c.by = config.by;
   c.solid = to_rgb8(config.solid);
   c.palette = TypePalette(config.palette);
-  if (auto map = Colormap::named(config.colormap)) c.map = *map;
+  c.map = Colormap::choose(config.colormap, config.colormap_colors, config.reverse);
   if (config.range) {
     c.lo = (*config.range)[0];
     c.hi = (*config.range)[1];

@@ -25,6 +25,9 @@
 #include "tests/support/hash_noise.h"
 #include "tests/support/image_file.h"
 #include "tests/support/mpi_world.h"
+#if LANTERN_TEST_MOVIES
+#include "tests/support/movie_file.h"
+#endif
 
 namespace lantern::testing {
 namespace {
@@ -390,6 +393,97 @@ TEST(RankInvariance, CoincidentParticlesShowTheSmallerColorForEveryRankCountSpli
           << "split " << labels[s] << ", scene " << scene << ", " << ranks << " ranks";
   }
   std::system(("rm -rf '" + dir + "'").c_str());
+}
+
+// Several steps in one context, with scalars that grow with the step so that remembered colour
+// ranges ({auto: first}, {auto: running}) differ from each frame's own; the newer colormaps
+// (turbo, RdBu reversed, a custom list); and, in builds with movies, a lossless movie of every
+// scene, whose decoded frames must be equal at every rank count too.
+const char *const kSequenceScenes[] = {"first_turbo", "frame_turbo", "running_rdbu", "custom"};
+
+std::string sequence_config(const std::string &directory, const std::string &prefix) {
+  const std::string pattern = directory + "/" + prefix + "_{scene}_{step:06d}.png";
+  const std::string movie = LANTERN_TEST_MOVIES
+                                ? ", movie: {file: '" + directory + "/" + prefix +
+                                      "_{scene}.mkv', codec: ffv1, when_behind: wait}"
+                                : "";
+  const auto scene = [&](const std::string &name, const std::string &color) {
+    return "  - name: " + name +
+           "\n    width: 121\n    height: 91\n    radius: per_particle\n    camera: {azimuth: 35, "
+           "elevation: 25, zoom: 1.3}\n    color: " +
+           color + "\n    output: {pattern: '" + pattern + "'" + movie + "}\n";
+  };
+  return "scenes:\n" + scene("first_turbo", "{by: scalar, colormap: turbo, range: {auto: first}}") +
+         scene("frame_turbo", "{by: scalar, colormap: turbo, range: auto}") +
+         scene("running_rdbu",
+               "{by: scalar, colormap: RdBu, reverse: true, range: {auto: running}}") +
+         scene("custom", "{by: scalar, colormap: [[0, 0, 0.5], [1, 1, 0], [1, 0, 0]]}");
+}
+
+// Renders steps 0..steps-1 in one context on comm: at step k the scalars are scaled by 1 + k.
+Render render_sequence(MPI_Comm comm, const std::string &config, Particles mine, int steps) {
+  Render r;
+  lantern_context *ctx = nullptr;
+  r.status = lantern_open(config.c_str(), MPI_Comm_c2f(comm), &ctx);
+  const std::vector<double> scalar = mine.scalar;
+  for (int step = 0; step < steps && r.status == LANTERN_OK; ++step) {
+    for (size_t i = 0; i < scalar.size(); ++i) mine.scalar[i] = scalar[i] * (1.0 + step);
+    const lantern_particles d = describe(mine);
+    r.status = lantern_publish(ctx, &d);
+    const lantern_status executed = lantern_execute(ctx, step, double(step));
+    if (r.status == LANTERN_OK) r.status = executed;
+  }
+  r.error = lantern_error_message(ctx);
+  const lantern_status closed = lantern_close(ctx);
+  if (r.status == LANTERN_OK) r.status = closed;
+  return r;
+}
+
+TEST(RankInvariance, RememberedColorRangesColormapsAndMoviesAreTheSameForEveryRankCount) {
+  constexpr int kSteps = 3;
+  const Particles all = make_particles(1200);
+  const std::string dir = shared_directory();
+  ASSERT_FALSE(dir.empty());
+  const int rank = world_rank(), ranks = world_size();
+  if (rank == 0) {
+    const Render ref = render_sequence(MPI_COMM_SELF, sequence_config(dir, "ref"), all, kSteps);
+    EXPECT_EQ(ref.status, LANTERN_OK) << ref.error;
+  }
+  const Split splits[] = {Split::kRoundRobin, Split::kSlabsByX};
+  for (const Split split : splits) {
+    const Render r = render_sequence(MPI_COMM_WORLD, sequence_config(dir, split_name(split)),
+                                     owned_by(split, all, rank, ranks), kSteps);
+    EXPECT_EQ(r.status, LANTERN_OK) << split_name(split) << ": " << r.error;
+  }
+  if (rank == 0) {
+    for (const Split split : splits)
+      for (const char *scene : kSequenceScenes) {
+        for (int step = 0; step < kSteps; ++step)
+          EXPECT_EQ(compare_images(file_of(dir, "ref", scene, step),
+                                   file_of(dir, split_name(split), scene, step)),
+                    "")
+              << split_name(split) << ", scene " << scene << ", step " << step << ", " << ranks
+              << " ranks";
+#if LANTERN_TEST_MOVIES
+        const MovieFrames ref = read_movie(dir + "/ref_" + scene + ".mkv");
+        const MovieFrames got = read_movie(dir + "/" + split_name(split) + "_" + scene + ".mkv");
+        EXPECT_EQ(ref.error, "");
+        EXPECT_EQ(got.error, "");
+        EXPECT_EQ(ref.rgb.size(), size_t(kSteps));
+        EXPECT_TRUE(ref.rgb == got.rgb) << "decoded movie frames differ: " << split_name(split)
+                                        << ", scene " << scene << ", " << ranks << " ranks";
+#endif
+      }
+    // The remembered range is the frame's own at the first step only.
+    EXPECT_EQ(compare_images(file_of(dir, "ref", "first_turbo", 0),
+                             file_of(dir, "ref", "frame_turbo", 0)),
+              "");
+    EXPECT_NE(compare_images(file_of(dir, "ref", "first_turbo", kSteps - 1),
+                             file_of(dir, "ref", "frame_turbo", kSteps - 1)),
+              "");
+    std::system(("rm -rf '" + dir + "'").c_str());
+  }
+  MPI_Barrier(MPI_COMM_WORLD);
 }
 
 TEST(RankInvariance, NoParticlesAnywhereGivesTheBackgroundEverywhere) {

@@ -28,6 +28,7 @@ const std::map<std::string, std::string> kReadmeAnchors = {
     {"scenes[].camera", "### `camera`"},
     {"scenes[].color", "### `color`"},
     {"scenes[].output", "### `output`"},
+    {"scenes[].output.movie", "#### `output.movie`: a movie written while the simulation runs"},
     {"scenes[].culling", "### `culling`"},
     {"scenes[].lod", "### `lod`"},
     {"scenes[].cut_planes[]", "### `cut_planes[j]`"},

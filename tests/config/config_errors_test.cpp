@@ -123,7 +123,9 @@ TEST(ConfigErrors, Camera) {
 TEST(ConfigErrors, Color) {
   expect_config_error(
       "scenes:\n  - color: {colormap: jet}\n",
-      {"scenes[0].color.colormap", "line 2", "viridis, plasma, coolwarm, grayscale", "'jet'"});
+      {"scenes[0].color.colormap", "line 2",
+       "viridis, plasma, inferno, magma, cividis, turbo, coolwarm, RdBu, seismic, grayscale",
+       "'jet'"});
   expect_config_error("scenes:\n  - color: {by: velocity}\n",
                       {"scenes[0].color.by", "solid, type, scalar"});
   expect_config_error("scenes:\n  - color: {range: [2, 1]}\n",

@@ -45,7 +45,7 @@ TEST(DensityConfig, BadValuesNameKeyLineAndChoices) {
   expect_config_error("scenes:\n  - density: {transfer: sqrt}\n",
                       {"scenes[0].density.transfer", "line 2", "linear, log, asinh"});
   expect_config_error("scenes:\n  - density: {colormap: jet}\n",
-                      {"scenes[0].density.colormap", "line 2", "viridis, plasma, coolwarm"});
+                      {"scenes[0].density.colormap", "line 2", "viridis, plasma, inferno"});
   expect_config_error("scenes:\n  - density: {range: [3, 1]}\n",
                       {"scenes[0].density.range", "lo < hi"});
   expect_config_error("scenes:\n  - density: {transfer: log, range: [0, 10]}\n",

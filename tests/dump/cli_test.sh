@@ -8,11 +8,13 @@
 # MODE varying: the particle count changes (3000, 2400, 3200): the C API helper renders and dumps
 #            H5MD in situ; lantern-render renders that H5MD and the LAMMPS text dump; all three
 #            sets of PNGs must be byte-identical, and h5py reads the H5MD back (counts, fills).
+# MODE movie: as varying, then lantern-render writes a movie from the H5MD and from the LAMMPS
+#            text dump; ffprobe counts one frame per dumped step in each.
 set -euo pipefail
 mode=$1 mpiexec=$2 ranks=$3 helper=$4 tool=$5 src=$6 work=$7
 run() { $mpiexec -n "$ranks" "$@"; }
 rm -rf "$work" && mkdir -p "$work/api" "$work/tool" "$work/h5"
-if [ "$mode" = varying ]; then
+if [ "$mode" = varying ] || [ "$mode" = movie ]; then
   cd "$work/api" && run "$helper" "$src/varying_config.yaml" ../particles.lammpstrj varying
 else
   cd "$work/api" && run "$helper" "$src/image_config.yaml" ../particles.lammpstrj
@@ -48,6 +50,17 @@ png)
   done
   [ "$n" -eq 2 ] || { echo "expected 2 images, found $n"; exit 1; }
   echo "identical: $n images (C API, LAMMPS dump, H5MD) at $ranks rank(s)"
+  ;;
+movie)
+  cd "$work/h5" && run "$tool" "$src/movie_config.yaml" ../api/insitu.h5
+  cd "$work/tool" && run "$tool" "$src/movie_config.yaml" ../particles.lammpstrj
+  cd "$work"
+  for movie in h5/cmp.mkv tool/cmp.mkv; do
+    frames=$(ffprobe -v error -count_frames -select_streams v:0 \
+      -show_entries stream=nb_read_frames,codec_name -of csv=p=0 "$movie")
+    [ "$frames" = "ffv1,3" ] || { echo "$movie: expected ffv1,3 (codec, frames), got $frames"; exit 1; }
+  done
+  echo "movies: 3 frames each from the H5MD and the LAMMPS dump at $ranks rank(s)"
   ;;
 h5py)
   cd "$work/h5" && run "$tool" "$src/convert_config.yaml" ../particles.lammpstrj

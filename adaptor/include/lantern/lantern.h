@@ -315,8 +315,9 @@ LANTERN_API const char *lantern_load_summary(const lantern_context *ctx);
  */
 LANTERN_API const char *lantern_status_string(lantern_status status);
 
-/* Flushes outputs (waits for images written in the background, see output.asynchronous) and
- * frees the context. Returns LANTERN_ERR_IO if such an image could not be written. Safe on NULL.
+/* Flushes outputs (waits for images written in the background, see output.asynchronous, and for
+ * the movie frames still queued, then completes the movie files, see output.movie) and frees the
+ * context. Returns LANTERN_ERR_IO if such an image or movie could not be written. Safe on NULL.
  * Collective. */
 LANTERN_API lantern_status lantern_close(lantern_context *ctx);
 
