@@ -1,11 +1,13 @@
-// lantern-render CONFIG.yaml INPUT [--steps a,b,c | --steps a:b]
+// lantern-render CONFIG.yaml INPUT [--steps a,b,c | --steps a:b] [--bonds DATA]
 //
 // Renders particle dumps after the run through the same pipeline as in situ: it is a client of
 // the public C API (open, publish, set_box, execute with the dump's step and time, close), so a
 // configuration gives the same images offline as in the simulation. MPI-parallel: each rank
 // reads only its share of every frame (hyperslabs for H5MD, its rows for LAMMPS text dumps).
 // The configuration's `schedule:` still applies to the dump's steps; to render every selected
-// frame, give a configuration without a schedule.
+// frame, give a configuration without a schedule. --bonds DATA takes the bonds from a LAMMPS data
+// file (bond_topology.h) for the scenes with a `bonds:` section; every rank then reads every
+// frame whole, to find the ghost atoms its bonds end at.
 //
 // Exit codes: 0 success, 1 bad input or a failed step (message on stderr), 2 usage.
 #include <mpi.h>
@@ -17,6 +19,7 @@
 #include <string>
 #include <vector>
 
+#include "bond_topology.h"
 #include "c_translation.h"
 #include "frame_source.h"
 #include "lantern/lantern.h"
@@ -25,12 +28,13 @@
 namespace {
 
 constexpr const char *kUsage =
-    "usage: lantern-render CONFIG.yaml INPUT [--steps a,b,c | --steps a:b]\n"
+    "usage: lantern-render CONFIG.yaml INPUT [--steps a,b,c | --steps a:b] [--bonds DATA]\n"
     "       lantern-render --help | --version\n"
-    "  INPUT: an H5MD file (Lantern's dump: output) or a LAMMPS text dump (dump atom/custom)\n";
+    "  INPUT: an H5MD file (Lantern's dump: output) or a LAMMPS text dump (dump atom/custom)\n"
+    "  DATA: a LAMMPS data file whose Bonds section gives the bonds (by atom id)\n";
 
 struct Options {
-  std::string config, input, steps;
+  std::string config, input, steps, bonds;
 };
 
 // "" and *out, "help" or "version" when asked, or a usage error.
@@ -43,6 +47,9 @@ std::string parse_options(int argc, char **argv, Options *out) {
       out->steps = argv[++i];
     } else if (arg.rfind("--steps=", 0) == 0) {
       out->steps = arg.substr(8);
+    } else if (arg == "--bonds") {
+      if (i + 1 >= argc) return "--bonds needs a LAMMPS data file";
+      out->bonds = argv[++i];
     } else if (arg == "-h" || arg == "--help") {
       return "help";
     } else if (arg == "--version") {
@@ -84,29 +91,61 @@ struct ContextCloser {
 };
 using Context = std::unique_ptr<lantern_context, ContextCloser>;
 
-// Reads, publishes and renders one frame. "" or an error (the same on every rank).
+// This rank's bonds of `share` as lantern_bonds, borrowing its vectors.
+lantern_bonds bonds_of(const lantern::BondedShare &share) {
+  lantern_bonds b{};
+  b.count = static_cast<int64_t>(share.first.size());
+  b.first = {share.first.data(), LANTERN_INT64, 0};
+  b.second = {share.second.data(), LANTERN_INT64, 0};
+  b.type = {share.type.data(), LANTERN_INT64, 0};
+  b.ghost_count = share.frame.count() - share.owned;
+  b.listing = LANTERN_BONDS_LISTED_ONCE;
+  return b;
+}
+
+// Reads, publishes and renders one frame, with the bonds of `topology` if given. "" or an error
+// (the same on every rank).
 std::string render_frame(lantern_context *ctx, const lantern::FrameSource &source, size_t index,
-                         const std::string &input, int rank, int size) {
+                         const std::string &input, const lantern::BondTopology *topology, int rank,
+                         int size) {
   const lantern::FrameInfo &info = source.frames()[index];
   if (info.count == 0) return input + ": step " + std::to_string(info.step) + " has zero particles";
   const auto [begin, end] = lantern::rank_share(info.count, rank, size);
   lantern::ParticleFrame frame;
-  if (auto e = agree(source.read(index, begin, end, &frame)); !e.empty()) return e;
-  const lantern_particles particles = lantern::to_c(frame.view());
+  lantern::BondedShare share;
+  const std::string where = input + ": step " + std::to_string(info.step) + ": ";
+  if (topology) {  // the whole frame, for the ghosts of this rank's bonds
+    lantern::ParticleFrame all;
+    std::string e = source.read(index, 0, info.count, &all);
+    if (e.empty()) e = lantern::share_with_bonds(all, begin, end, *topology, &share);
+    if (auto agreed = agree(e.empty() ? e : where + e); !agreed.empty()) return agreed;
+    if (rank == 0 && share.skipped > 0)
+      std::fprintf(stderr,
+                   "lantern-render: %sleft out %lld bonds whose atoms are not in the frame\n",
+                   where.c_str(), static_cast<long long>(share.skipped));
+  } else if (auto e = agree(source.read(index, begin, end, &frame)); !e.empty()) {
+    return e;
+  }
+  const lantern::ParticleFrame &published = topology ? share.frame : frame;
+  lantern_particles particles = lantern::to_c(published.view());
+  if (topology) particles.count = share.owned;  // the ghosts follow, uncounted
   lantern_status st = lantern_publish(ctx, &particles);
-  std::string local = st == LANTERN_OK ? ""
-                                       : input + ": step " + std::to_string(info.step) + ": " +
-                                             lantern_error_message(ctx);
-  if (local.empty() && frame.box) {
-    const int periodic[3] = {frame.box->periodic[0], frame.box->periodic[1],
-                             frame.box->periodic[2]};
-    if (lantern_set_box(ctx, frame.box->low.data(), frame.box->high.data(), periodic) != LANTERN_OK)
-      local = input + ": step " + std::to_string(info.step) + ": " + lantern_error_message(ctx);
+  if (st == LANTERN_OK && topology) {
+    const lantern_bonds bonds = bonds_of(share);
+    st = lantern_publish_bonds(ctx, &bonds);
+  }
+  std::string local = st == LANTERN_OK ? "" : where + lantern_error_message(ctx);
+  if (local.empty() && published.box) {
+    const lantern::Box &box = *published.box;
+    const int periodic[3] = {box.periodic[0], box.periodic[1], box.periodic[2]};
+    if (lantern_set_box(ctx, box.low.data(), box.high.data(), periodic) != LANTERN_OK)
+      local = where + lantern_error_message(ctx);
   }
   if (auto e = agree(local); !e.empty()) return e;
-  st = lantern_execute(ctx, frame.step, frame.time);  // collective; same status on every rank
+  // Collective; the same status on every rank.
+  st = lantern_execute(ctx, published.step, published.time);
   if (st != LANTERN_OK)
-    return "step " + std::to_string(frame.step) + ": " + lantern_error_message(ctx);
+    return "step " + std::to_string(published.step) + ": " + lantern_error_message(ctx);
   return {};
 }
 
@@ -121,6 +160,10 @@ int run(const Options &opt, int rank, int size) {
   std::vector<size_t> selected;
   if (auto e = lantern::select_frames(opt.steps, source->frames(), &selected); !e.empty())
     return fail(e);
+  lantern::BondTopology topology;
+  if (!opt.bonds.empty())
+    if (auto e = agree(lantern::read_bond_topology(opt.bonds, &topology)); !e.empty())
+      return fail(e);
 
   lantern_context *raw = nullptr;
   const lantern_status opened =
@@ -131,7 +174,9 @@ int run(const Options &opt, int rank, int size) {
   const auto start = std::chrono::steady_clock::now();
   for (size_t k = 0; k < selected.size(); ++k) {
     const auto t0 = std::chrono::steady_clock::now();
-    if (auto e = render_frame(ctx.get(), *source, selected[k], opt.input, rank, size); !e.empty())
+    if (auto e = render_frame(ctx.get(), *source, selected[k], opt.input,
+                              opt.bonds.empty() ? nullptr : &topology, rank, size);
+        !e.empty())
       return fail(e);
     if (rank == 0)
       std::fprintf(stderr, "[%zu/%zu] step %lld: %lld particles, %.2f s (total %.1f s)\n", k + 1,

@@ -1,0 +1,120 @@
+#include "bond_topology.h"
+
+#include <array>
+#include <cmath>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <unordered_map>
+
+namespace lantern {
+namespace {
+
+std::string without_comment(const std::string &line) {
+  const size_t hash = line.find('#');
+  return hash == std::string::npos ? line : line.substr(0, hash);
+}
+
+bool blank(const std::string &line) {
+  return line.find_first_not_of(" \t\r") == std::string::npos;
+}
+
+// Appends row `r` of `all` to `out`, its position replaced by `x`.
+void copy_row(const ParticleFrame &all, int64_t r, const double x[3], ParticleFrame *out) {
+  out->position.insert(out->position.end(), {x[0], x[1], x[2]});
+  if (!all.type.empty()) out->type.push_back(all.type[size_t(r)]);
+  out->id.push_back(all.id[size_t(r)]);
+  if (!all.scalar.empty()) out->scalar.push_back(all.scalar[size_t(r)]);
+  if (!all.radius.empty()) out->radius.push_back(all.radius[size_t(r)]);
+}
+
+}  // namespace
+
+std::string read_bond_topology(const std::string &path, BondTopology *out) {
+  std::ifstream in(path);
+  if (!in) return path + ": cannot read the bond data file";
+  *out = BondTopology{};
+  std::string line;
+  int64_t declared = -1, number = 0;
+  // The header: "N bonds"; then sections, each a title line, a blank line and its rows.
+  while (std::getline(in, line)) {
+    ++number;
+    std::istringstream words(without_comment(line));
+    std::string first, second;
+    words >> first >> second;
+    if (second == "bonds" && number > 1) declared = std::stoll(first);
+    if (first == "Bonds" && second.empty()) break;
+  }
+  if (!in) return path + ": no 'Bonds' section (is it a LAMMPS data file of a molecular system?)";
+  while (std::getline(in, line)) {
+    ++number;
+    const std::string text = without_comment(line);
+    if (blank(text)) {
+      if (!out->first_id.empty()) break;  // the blank line after the section
+      continue;
+    }
+    std::istringstream words(text);
+    int64_t id = 0, type = 0, a = 0, b = 0;
+    if (!(words >> id >> type >> a >> b))
+      return path + ":" + std::to_string(number) +
+             ": a Bonds line must be 'bond-id type atom-id atom-id'";
+    out->first_id.push_back(a);
+    out->second_id.push_back(b);
+    out->type.push_back(type);
+  }
+  if (declared >= 0 && declared != int64_t(out->first_id.size()))
+    return path + ": the header declares " + std::to_string(declared) +
+           " bonds, the Bonds section has " + std::to_string(out->first_id.size());
+  return {};
+}
+
+std::string share_with_bonds(const ParticleFrame &all, int64_t begin, int64_t end,
+                             const BondTopology &topology, BondedShare *out) {
+  if (all.id.empty()) return "bonds need the atom ids of the dump (dump custom ... id ...)";
+  *out = BondedShare{};
+  out->frame.step = all.step, out->frame.time = all.time, out->frame.box = all.box;
+  out->frame.global_count = all.global_count;
+  std::unordered_map<int64_t, int64_t> row_of;
+  row_of.reserve(all.id.size());
+  for (size_t r = 0; r < all.id.size(); ++r) row_of.emplace(all.id[r], int64_t(r));
+  for (int64_t r = begin; r < end; ++r) copy_row(all, r, &all.position[size_t(3 * r)], &out->frame);
+  out->owned = end - begin;
+
+  std::map<std::array<int64_t, 4>, int64_t> ghost_of;  // (row, image shift per axis) -> local row
+  for (size_t k = 0; k < topology.first_id.size(); ++k) {
+    const auto a = row_of.find(topology.first_id[k]), b = row_of.find(topology.second_id[k]);
+    if (a == row_of.end() || b == row_of.end()) {
+      ++out->skipped;
+      continue;
+    }
+    if (a->second < begin || a->second >= end) continue;  // another rank's bond
+    const double *xa = &all.position[size_t(3 * a->second)];
+    double xb[3];
+    std::array<int64_t, 4> key{b->second, 0, 0, 0};
+    for (int axis = 0; axis < 3; ++axis) {
+      xb[axis] = all.position[size_t(3 * b->second + axis)];
+      if (!all.box || !all.box->periodic[size_t(axis)]) continue;
+      const double length = all.box->high[size_t(axis)] - all.box->low[size_t(axis)];
+      const double shift = std::nearbyint((xa[axis] - xb[axis]) / length);
+      key[size_t(axis + 1)] = int64_t(shift);
+      if (shift != 0.0) xb[axis] += shift * length;  // the closest image, as LAMMPS's ghost
+    }
+    int64_t partner = 0;
+    const bool plain = key[1] == 0 && key[2] == 0 && key[3] == 0;
+    if (plain && b->second >= begin && b->second < end) {
+      partner = b->second - begin;
+    } else if (const auto g = ghost_of.find(key); g != ghost_of.end()) {
+      partner = g->second;
+    } else {
+      partner = out->frame.count();
+      copy_row(all, b->second, xb, &out->frame);
+      ghost_of.emplace(key, partner);
+    }
+    out->first.push_back(a->second - begin);
+    out->second.push_back(partner);
+    out->type.push_back(topology.type[k]);
+  }
+  return {};
+}
+
+}  // namespace lantern

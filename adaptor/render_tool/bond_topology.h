@@ -1,0 +1,45 @@
+// Bonds for lantern-render: the bond list of a LAMMPS data file (its `Bonds` section: bond id,
+// type, atom id, atom id) and, per frame, this rank's share of the particles with the bonds it
+// draws and the ghost atoms those bonds end at.
+//
+// Which rank draws a bond, and where: the rank that reads the bond's first atom (as the data file
+// lists it) draws the whole bond, from that atom to the image of the second atom closest to it
+// along the box's periodic axes - as LAMMPS holds a bond (newton_bond on: on its first atom, with
+// the partner's closest image as a ghost) and draws it in `dump image`. A second atom read by
+// another rank, or an image of it across a periodic face, is a ghost row after the owned ones
+// (lantern_bonds.ghost_count). So lantern-render draws a LAMMPS dump's bonds as lantern-lammps drew
+// them in the run, bit for bit, at any rank count. Bonds whose atoms are not both in the frame
+// (a dump of a group) are left out and counted.
+//
+// Ownership: plain values. Thread-safety: none needed (one thread).
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "core/dump/particle_frame.h"
+
+namespace lantern {
+
+struct BondTopology {
+  std::vector<int64_t> first_id, second_id, type;  // per bond, as the data file lists it
+};
+
+// Reads the `Bonds` section of the LAMMPS data file at `path`. "" or a message naming the file
+// and line.
+std::string read_bond_topology(const std::string &path, BondTopology *out);
+
+struct BondedShare {
+  ParticleFrame frame;  // the owned rows, then the ghost rows (frame.count() counts both)
+  int64_t owned = 0;    // rows that are particles; the rest are ghosts
+  std::vector<int64_t> first, second, type;  // this rank's bonds: local row indices, bond type
+  int64_t skipped = 0;  // bonds with an atom missing from the frame (over all of it)
+};
+
+// This rank's rows [begin, end) of the whole frame `all`, with its bonds and their ghosts. Needs
+// the frame's atom ids. "" or an error.
+std::string share_with_bonds(const ParticleFrame &all, int64_t begin, int64_t end,
+                             const BondTopology &topology, BondedShare *out);
+
+}  // namespace lantern
