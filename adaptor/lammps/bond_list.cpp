@@ -35,6 +35,8 @@ std::string BondList::describe(void *handle, lantern_bonds *out) {
   count_ = 0;
   source_ = Source::kNone;
   if (!atom.molecular || !atom.num_bond || !atom.bond_atom) return "";  // no bonds in this style
+  // A rank without atoms lists no bonds, and publishes no arrays its ghosts could follow.
+  if (atom.nlocal == 0) return "";
   out->ghost_count = atom.nghost;
   const bool newton_bond = lmp->force->newton_bond != 0;
   out->listing = newton_bond ? LANTERN_BONDS_LISTED_ONCE : LANTERN_BONDS_LISTED_BY_BOTH;
