@@ -28,12 +28,52 @@ void copy_row(const ParticleFrame &all, int64_t r, const double x[3], ParticleFr
   if (!all.radius.empty()) out->radius.push_back(all.radius[size_t(r)]);
 }
 
-}  // namespace
+// A `dump local` of bonds: per step, the rows of its ITEM: ENTRIES.
+std::string read_dump_local(std::istream &in, const std::string &path, BondSource *out) {
+  out->per_step = true;
+  std::string line;
+  int64_t number = 0, step = -1;
+  auto where = [&]() { return path + ":" + std::to_string(number) + ": "; };
+  while (std::getline(in, line)) {
+    ++number;
+    if (line.rfind("ITEM: TIMESTEP", 0) == 0) {
+      if (!std::getline(in, line)) return where() + "file ends after ITEM: TIMESTEP";
+      ++number;
+      step = std::stoll(line);
+      out->by_step[step];  // a step may have no bonds
+      continue;
+    }
+    if (line.rfind("ITEM: ENTRIES", 0) != 0) continue;  // NUMBER OF ENTRIES, BOX BOUNDS, ...
+    if (step < 0) return where() + "ITEM: ENTRIES before ITEM: TIMESTEP";
+    std::istringstream names(line.substr(std::string("ITEM: ENTRIES").size()));
+    std::vector<int> columns;  // the atom-id columns, then the type's, skipping `index`
+    std::string name;
+    for (int k = 0; names >> name; ++k)
+      if (name != "index") columns.push_back(k);
+    if (columns.size() < 2)
+      return where() +
+             "a dump local of bonds needs two atom-id columns (c_ID[1] c_ID[2] of "
+             "compute property/local batom1 batom2)";
+    BondTopology &bonds = out->by_step[step];
+    while (in.peek() != 'I' && std::getline(in, line)) {
+      ++number;
+      if (blank(line)) continue;
+      std::istringstream words(line);
+      std::vector<double> v;
+      for (double x; words >> x;) v.push_back(x);
+      if (v.size() <= size_t(columns[1]))
+        return where() + "short line: " + std::to_string(v.size()) + " columns";
+      bonds.first_id.push_back(int64_t(v[size_t(columns[0])]));
+      bonds.second_id.push_back(int64_t(v[size_t(columns[1])]));
+      bonds.type.push_back(
+          columns.size() > 2 && v.size() > size_t(columns[2]) ? int64_t(v[size_t(columns[2])]) : 0);
+    }
+  }
+  if (out->by_step.empty()) return path + ": no ITEM: TIMESTEP (not a LAMMPS dump local)";
+  return {};
+}
 
-std::string read_bond_topology(const std::string &path, BondTopology *out) {
-  std::ifstream in(path);
-  if (!in) return path + ": cannot read the bond data file";
-  *out = BondTopology{};
+std::string read_data_file(std::istream &in, const std::string &path, BondTopology *out) {
   std::string line;
   int64_t declared = -1, number = 0;
   // The header: "N bonds"; then sections, each a title line, a blank line and its rows.
@@ -66,6 +106,31 @@ std::string read_bond_topology(const std::string &path, BondTopology *out) {
     return path + ": the header declares " + std::to_string(declared) +
            " bonds, the Bonds section has " + std::to_string(out->first_id.size());
   return {};
+}
+
+}  // namespace
+
+const BondTopology *BondSource::at(int64_t step) const {
+  if (!per_step) return &fixed;
+  const auto found = by_step.find(step);
+  return found == by_step.end() ? nullptr : &found->second;
+}
+
+std::string read_bond_source(const std::string &path, BondSource *out) {
+  std::ifstream in(path);
+  if (!in) return path + ": cannot read the bond file";
+  *out = BondSource{};
+  std::string first;
+  while (std::getline(in, first) && blank(first)) {
+  }
+  in.clear();
+  in.seekg(0);
+  try {
+    if (first.rfind("ITEM: TIMESTEP", 0) == 0) return read_dump_local(in, path, out);
+    return read_data_file(in, path, &out->fixed);
+  } catch (const std::exception &) {  // std::stoll on a malformed number
+    return path + ": not a LAMMPS data file or dump local (a number could not be read)";
+  }
 }
 
 std::string share_with_bonds(const ParticleFrame &all, int64_t begin, int64_t end,

@@ -1,6 +1,8 @@
 // Bonds for lantern-render: the bond list of a LAMMPS data file (its `Bonds` section: bond id,
-// type, atom id, atom id) and, per frame, this rank's share of the particles with the bonds it
-// draws and the ghost atoms those bonds end at.
+// type, atom id, atom id), or per step from a LAMMPS `dump local` of the bonds' atom ids (e.g.
+// `compute b all property/local batom1 batom2 btype` dumped as `c_b[1] c_b[2] c_b[3]`: the first
+// two columns other than `index` are the atom ids, a third the bond type), and, per frame, this
+// rank's share of the particles with the bonds it draws and the ghost atoms those bonds end at.
 //
 // Which rank draws a bond, and where: the rank that reads the bond's first atom (as the data file
 // lists it) draws the whole bond, from that atom to the image of the second atom closest to it
@@ -15,6 +17,7 @@
 #pragma once
 
 #include <cstdint>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -26,9 +29,18 @@ struct BondTopology {
   std::vector<int64_t> first_id, second_id, type;  // per bond, as the data file lists it
 };
 
-// Reads the `Bonds` section of the LAMMPS data file at `path`. "" or a message naming the file
-// and line.
-std::string read_bond_topology(const std::string &path, BondTopology *out);
+// The bonds of a run: one list for every frame (a data file) or one per step (a dump local).
+struct BondSource {
+  BondTopology fixed;
+  std::map<int64_t, BondTopology> by_step;
+  bool per_step = false;
+  // The bonds of `step`, or null when a dump local has none for it.
+  const BondTopology *at(int64_t step) const;
+};
+
+// Reads the LAMMPS data file or dump local at `path` (a file starting with `ITEM: TIMESTEP` is a
+// dump). "" or a message naming the file and line.
+std::string read_bond_source(const std::string &path, BondSource *out);
 
 struct BondedShare {
   ParticleFrame frame;  // the owned rows, then the ghost rows (frame.count() counts both)

@@ -6,8 +6,8 @@
 // reads only its share of every frame (hyperslabs for H5MD, its rows for LAMMPS text dumps).
 // The configuration's `schedule:` still applies to the dump's steps; to render every selected
 // frame, give a configuration without a schedule. --bonds DATA takes the bonds from a LAMMPS data
-// file (bond_topology.h) for the scenes with a `bonds:` section; every rank then reads every
-// frame whole, to find the ghost atoms its bonds end at.
+// file or dump local (bond_topology.h) for the scenes with a `bonds:` section; every rank then
+// reads every frame whole, to find the ghost atoms its bonds end at.
 //
 // Exit codes: 0 success, 1 bad input or a failed step (message on stderr), 2 usage.
 #include <mpi.h>
@@ -31,7 +31,8 @@ constexpr const char *kUsage =
     "usage: lantern-render CONFIG.yaml INPUT [--steps a,b,c | --steps a:b] [--bonds DATA]\n"
     "       lantern-render --help | --version\n"
     "  INPUT: an H5MD file (Lantern's dump: output) or a LAMMPS text dump (dump atom/custom)\n"
-    "  DATA: a LAMMPS data file whose Bonds section gives the bonds (by atom id)\n";
+    "  DATA: a LAMMPS data file whose Bonds section gives the bonds (by atom id), or a dump\n"
+    "  local of the bonds' atom ids per step (compute property/local batom1 batom2 [btype])\n";
 
 struct Options {
   std::string config, input, steps, bonds;
@@ -103,10 +104,10 @@ lantern_bonds bonds_of(const lantern::BondedShare &share) {
   return b;
 }
 
-// Reads, publishes and renders one frame, with the bonds of `topology` if given. "" or an error
+// Reads, publishes and renders one frame, with the bonds of `bonds` if given. "" or an error
 // (the same on every rank).
 std::string render_frame(lantern_context *ctx, const lantern::FrameSource &source, size_t index,
-                         const std::string &input, const lantern::BondTopology *topology, int rank,
+                         const std::string &input, const lantern::BondSource *bonds, int rank,
                          int size) {
   const lantern::FrameInfo &info = source.frames()[index];
   if (info.count == 0) return input + ": step " + std::to_string(info.step) + " has zero particles";
@@ -114,6 +115,8 @@ std::string render_frame(lantern_context *ctx, const lantern::FrameSource &sourc
   lantern::ParticleFrame frame;
   lantern::BondedShare share;
   const std::string where = input + ": step " + std::to_string(info.step) + ": ";
+  const lantern::BondTopology *topology = bonds ? bonds->at(info.step) : nullptr;
+  if (bonds && !topology) return "the bond file has no bonds for step " + std::to_string(info.step);
   if (topology) {  // the whole frame, for the ghosts of this rank's bonds
     lantern::ParticleFrame all;
     std::string e = source.read(index, 0, info.count, &all);
@@ -160,10 +163,9 @@ int run(const Options &opt, int rank, int size) {
   std::vector<size_t> selected;
   if (auto e = lantern::select_frames(opt.steps, source->frames(), &selected); !e.empty())
     return fail(e);
-  lantern::BondTopology topology;
+  lantern::BondSource bonds;
   if (!opt.bonds.empty())
-    if (auto e = agree(lantern::read_bond_topology(opt.bonds, &topology)); !e.empty())
-      return fail(e);
+    if (auto e = agree(lantern::read_bond_source(opt.bonds, &bonds)); !e.empty()) return fail(e);
 
   lantern_context *raw = nullptr;
   const lantern_status opened =
@@ -175,7 +177,7 @@ int run(const Options &opt, int rank, int size) {
   for (size_t k = 0; k < selected.size(); ++k) {
     const auto t0 = std::chrono::steady_clock::now();
     if (auto e = render_frame(ctx.get(), *source, selected[k], opt.input,
-                              opt.bonds.empty() ? nullptr : &topology, rank, size);
+                              opt.bonds.empty() ? nullptr : &bonds, rank, size);
         !e.empty())
       return fail(e);
     if (rank == 0)

@@ -137,9 +137,14 @@ bonds)
   done
   mkdir render && (cd render && timeout 300 $mpiexec -n 2 "$lr" "$src/bonds.yaml" \
     ../chain_on_3/positions.lammpstrj --bonds ../chain.data > /dev/null) || exit 1
+  # The same with the bonds from LAMMPS's `dump local` of compute property/local.
+  mkdir render_local && (cd render_local && timeout 300 $mpiexec -n 2 "$lr" "$src/bonds.yaml" \
+    ../chain_on_3/positions.lammpstrj --bonds ../chain_on_3/bonds.local > /dev/null) || exit 1
   for s in 000000 000010; do
-    cmp "chain_on_3/mol_$s.png" "render/mol_$s.png" ||
-      { echo "lantern-render of the dump differs from lantern-lammps at step $s"; exit 1; }
+    for r in render render_local; do
+      cmp "chain_on_3/mol_$s.png" "$r/mol_$s.png" ||
+        { echo "$r: lantern-render of the dump differs from lantern-lammps at step $s"; exit 1; }
+    done
   done
   case_run chain_nobonds 1 in.chain_on ../nobonds.yaml -var steps 10
   ! cmp -s chain_on_1/mol_000000.png chain_nobonds/mol_000000.png ||
