@@ -62,7 +62,8 @@ PYBIND11_MODULE(lantern, m) {
           "cannot be borrowed as it is; lantern.Error reports what Lantern refused.")
       .def("set_box", &Context::set_box, py::arg("low"), py::arg("high"),
            py::arg("periodic") = py::none(),
-           "Records the simulation box (corners low, high; periodic: three bools) for dumps.")
+           "Records the simulation box (corners low, high; periodic: three bools) for dumps "
+           "and for the minimum image of bonds along periodic axes.")
       .def("execute", &Context::execute, py::arg("step"), py::arg("time") = 0.0,
            "The simulation reached `step` at `time`: renders on the steps the schedule picks.")
       .def("close", &Context::close, "Flushes outputs and frees the context (collective).")
