@@ -591,10 +591,11 @@ contains
                lantern_array(c_loc(first), LANTERN_INT32, stride_bytes), .false.)
   end subroutine set_strided_field_i4
 
-  ! Puts a bond list into the set: pairs (2, m) seen as two strided columns, the ghost count and
-  ! the listing (LANTERN_BONDS_LISTED_ONCE when absent).
-  subroutine bond_list(set, m, first, element_bytes, datatype, ghost_count, listing)
+  ! Puts a bond list into the set: pairs (rows, m), which must be (2, m), seen as two strided
+  ! columns from `first`, the ghost count and the listing (LANTERN_BONDS_LISTED_ONCE when absent).
+  subroutine bond_list(set, rows, m, first, element_bytes, datatype, ghost_count, listing)
     type(lantern_particle_set), intent(inout) :: set
+    integer, intent(in) :: rows
     integer(c_int64_t), intent(in) :: m
     type(c_ptr), intent(in) :: first
     integer(c_int64_t), intent(in) :: element_bytes
@@ -602,6 +603,11 @@ contains
     integer, intent(in), optional :: ghost_count
     integer(c_int), intent(in), optional :: listing
     type(c_ptr) :: second
+    if (rows /= 2) then
+      call fail(set, 'bonds: pairs has '//int_text(int(rows, c_int64_t))// &
+                ' rows, not 2 (give pairs(2, m))')
+      return
+    end if
     set%has_bonds = .true.
     set%bonds%count = m
     second = c_null_ptr
@@ -622,15 +628,10 @@ contains
     integer, intent(in), optional :: ghost_count
     integer(c_int), intent(in), optional :: listing
     type(c_ptr) :: first
-    if (size(pairs, 1) /= 2) then
-      call fail(set, 'bonds: pairs has '//int_text(int(size(pairs, 1), c_int64_t))// &
-                ' rows, not 2 (give pairs(2, m))')
-      return
-    end if
     first = c_null_ptr
     if (size(pairs) > 0) first = c_loc(pairs(1, 1))
-    call bond_list(set, int(size(pairs, 2), c_int64_t), first, c_sizeof(0_c_int32_t), &
-                   LANTERN_INT32, ghost_count, listing)
+    call bond_list(set, size(pairs, 1), int(size(pairs, 2), c_int64_t), first, &
+                   c_sizeof(0_c_int32_t), LANTERN_INT32, ghost_count, listing)
   end subroutine set_bonds_i4
 
   subroutine set_bonds_i8(set, pairs, ghost_count, listing)
@@ -639,15 +640,10 @@ contains
     integer, intent(in), optional :: ghost_count
     integer(c_int), intent(in), optional :: listing
     type(c_ptr) :: first
-    if (size(pairs, 1) /= 2) then
-      call fail(set, 'bonds: pairs has '//int_text(int(size(pairs, 1), c_int64_t))// &
-                ' rows, not 2 (give pairs(2, m))')
-      return
-    end if
     first = c_null_ptr
     if (size(pairs) > 0) first = c_loc(pairs(1, 1))
-    call bond_list(set, int(size(pairs, 2), c_int64_t), first, c_sizeof(0_c_int64_t), &
-                   LANTERN_INT64, ghost_count, listing)
+    call bond_list(set, size(pairs, 1), int(size(pairs, 2), c_int64_t), first, &
+                   c_sizeof(0_c_int64_t), LANTERN_INT64, ghost_count, listing)
   end subroutine set_bonds_i8
 
   subroutine bond_types(set, m, a)
