@@ -3,7 +3,7 @@
 # builds every target with -DLANTERN_SANITIZE=address,undefined into build-sanitize, runs ctest.
 # Usage: bash tests/run_sanitized.sh [build-dir [cmake options...]]   (default: build-sanitize)
 #   e.g. bash tests/run_sanitized.sh build-sanitize -DCMAKE_CXX_COMPILER_LAUNCHER=ccache
-# Slow: well over CI's 30-minute budget on 2 cores (README, "Sanitizer build"), so .ci/run does
+# Slow: well over CI's 30-minute budget on 2 cores (docs/design.md, "Sanitizer build"), so .ci/run does
 # not run it.
 set -euo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)

@@ -1,6 +1,7 @@
 #include "lammps_session.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <fstream>
@@ -77,7 +78,7 @@ void Session::execute_file(const std::string &path, int depth) {
   for (const ScriptCommand &c : split_commands(text)) {
     const std::string where = path + ":" + std::to_string(c.line) + ": ";
     execute(c, where, depth);
-    if (command_words(c.text).front() == "quit") return;
+    if (quit_status_) return;  // `quit`, here or in an included file, ends the whole script
   }
 }
 
@@ -97,12 +98,34 @@ void Session::execute(const ScriptCommand &command, const std::string &where, in
                   "'jump' cannot run through the LAMMPS library, which lantern-lammps "
                   "drives command by command: write the loop out (or use 'run N every "
                   "M ...')");
-  if (verb == "quit") return;  // the end of the script: Lantern still closes its outputs
+  if (verb == "quit") {  // the end of the script: Lantern still closes its outputs
+    quit_status_ = evaluate_quit_status(words, where);
+    return;
+  }
   if (verb == "run" || verb == "minimize" || verb == "rerun") before_run(where);
   inside_lammps_ = true;
   lammps_command(lmp_, command.text.c_str());
   inside_lammps_ = false;
   after_command(words, where);
+}
+
+int Session::evaluate_quit_status(const std::vector<std::string> &words, const std::string &where) {
+  if (words.size() < 2) return 0;
+  if (words.size() > 2) throw Failure(where + "'quit' takes at most one argument (the status)");
+  // LAMMPS expands $x, ${name} and $(expression) in a command before running it: an equal-style
+  // variable made of the word gets the status as lmp would see it.
+  const std::string name = "lantern_quit_status";
+  inside_lammps_ = true;
+  lammps_command(lmp_, ("variable " + name + " equal " + words[1]).c_str());
+  inside_lammps_ = false;
+  double *value = static_cast<double *>(lammps_extract_variable(lmp_, name.c_str(), nullptr));
+  if (!value) throw Failure(where + "'quit " + words[1] + "': the status is not a number");
+  const double status = *value;
+  lammps_free(value);
+  lammps_command(lmp_, ("variable " + name + " delete").c_str());
+  if (!(status == std::floor(status)) || std::abs(status) > 1e9)
+    throw Failure(where + "'quit " + words[1] + "': the status must be an integer");
+  return static_cast<int>(status);
 }
 
 void Session::after_command(const std::vector<std::string> &words, const std::string &where) {

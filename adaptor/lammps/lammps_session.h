@@ -28,6 +28,7 @@
 #include <cstdint>
 #include <map>
 #include <memory>
+#include <optional>
 #include <set>
 #include <stdexcept>
 #include <string>
@@ -66,6 +67,9 @@ class Session {
   // and it must not be closed (only MPI finalised).
   bool inside_lammps() const { return inside_lammps_; }
   int64_t images() const { return rendered_; }  // callbacks that called lantern_execute
+  // The status of the script's `quit N` (0 for a bare `quit`), once one was executed: the exit
+  // code lmp would give.
+  std::optional<int> quit_status() const { return quit_status_; }
   // Seconds of each lantern_execute() on this rank, in call order (the same calls on every rank).
   const std::vector<double> &execute_seconds() const { return execute_seconds_; }
 
@@ -88,6 +92,8 @@ class Session {
   int64_t group_bits(const std::string &group, const std::string &where) const;
   void before_run(const std::string &where);
   void zero_external_forces(const std::string &fix) const;
+  // `quit [status]`: the status as LAMMPS evaluates it (a number, or variables LAMMPS expands).
+  int evaluate_quit_status(const std::vector<std::string> &words, const std::string &where);
   std::string fixes_seen() const;
 
   void callback(const Attachment &a, int64_t step, int nlocal, const void *ids, double **x,
@@ -110,6 +116,7 @@ class Session {
   bool groups_deleted_ = false;
   bool inside_lammps_ = false;
   bool ran_ = false;
+  std::optional<int> quit_status_;  // set by `quit`: no command runs after it
   int64_t last_step_ = -1;  // the step last rendered: a run's set-up repeats the previous end
   int64_t rendered_ = 0;
   std::vector<double> execute_seconds_;

@@ -8,8 +8,8 @@
 // only the one named by the YAML's `lammps: {fix: ID}`. `lammps: {scalar: c_ke}` publishes a
 // per-atom quantity as Lantern's scalar. Every other option goes to LAMMPS unchanged (-var,
 // -log, -screen, -echo, -suffix, ...; LAMMPS's own -h lists its styles). --help and --version
-// answer for lantern-lammps. Exit code: 0, 1 on any error (the message names the file and line,
-// the fix, or the key at fault), 2 on a usage error.
+// answer for lantern-lammps. Exit code: 0 (or N after the script's `quit N`, as lmp), 1 on any
+// error (the message names the file and line, the fix, or the key at fault), 2 on a usage error.
 #include <mpi.h>
 
 #define LAMMPS_LIB_MPI 1
@@ -143,6 +143,7 @@ int run(const Arguments &args, int rank) {
       throw;
     }
     print_timing(session.execute_seconds(), rank);
+    code = session.quit_status().value_or(0);  // `quit N`: LAMMPS's exit status, as lmp's
   } catch (const lantern_lammps::Failure &e) {
     code = report(rank, e.what(), 1);
   }

@@ -105,7 +105,8 @@ BorrowedBuffer BorrowedBuffer::from_buffer_protocol(py::handle object, const std
                          dtype_text(object, "with format '" + format + "'"));
   b.itemsize_ = view->itemsize;
   b.data_ = static_cast<const char *>(view->buf);
-  if (!view->shape) {  // allowed for one-dimensional buffers: len bytes of items
+  if (view->ndim == 0) {      // a 0-d array (a NumPy scalar's buffer): no axes at all
+  } else if (!view->shape) {  // allowed for one-dimensional buffers: len bytes of items
     b.shape_.push_back(view->len / view->itemsize);
   } else {
     b.shape_.assign(view->shape, view->shape + view->ndim);
@@ -121,14 +122,28 @@ BorrowedBuffer BorrowedBuffer::from_buffer_protocol(py::handle object, const std
 
 BorrowedBuffer BorrowedBuffer::from_array_interface(py::handle object, const std::string &name,
                                                     ElementKind kind) {
+  try {
+    return read_array_interface(object, name, kind);
+  } catch (const py::cast_error &e) {
+    // A field of the wrong type (a shape that is not a tuple of ints, an integer too large for
+    // int64): pybind11 would raise RuntimeError with its own words.
+    throw py::value_error(name + ": __array_interface__ is malformed (" + e.what() + ")");
+  }
+}
+
+BorrowedBuffer BorrowedBuffer::read_array_interface(py::handle object, const std::string &name,
+                                                    ElementKind kind) {
   const py::dict ai = object.attr("__array_interface__");
   BorrowedBuffer b;
   b.name_ = name;
   b.owner_ = py::reinterpret_borrow<py::object>(object);
   const std::string typestr = py::str(ai["typestr"]);
-  if (typestr.size() < 3)
+  // "<f8": byte order, kind, item size in bytes (digits; NumPy's largest is 64).
+  const std::string digits = typestr.size() >= 3 ? typestr.substr(2) : "";
+  if (digits.empty() || digits.size() > 3 ||
+      digits.find_first_not_of("0123456789") != std::string::npos)
     throw py::value_error(name + ": __array_interface__ typestr '" + typestr + "' is malformed");
-  b.itemsize_ = std::stoll(typestr.substr(2));
+  b.itemsize_ = std::stoll(digits);
   b.type_ = element_type(typestr[1], b.itemsize_, typestr[0], name, kind,
                          dtype_text(object, "'" + typestr + "'"));
   if (!ai.contains("data") || !py::isinstance<py::tuple>(ai["data"]))

@@ -52,6 +52,8 @@ class BorrowedBuffer {
                                              std::unique_ptr<BufferExport> exported);
   static BorrowedBuffer from_array_interface(pybind11::handle object, const std::string &name,
                                              ElementKind kind);
+  static BorrowedBuffer read_array_interface(pybind11::handle object, const std::string &name,
+                                             ElementKind kind);
 
   std::string name_;
   pybind11::object owner_;                // keeps the caller's array alive

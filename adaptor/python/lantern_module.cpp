@@ -1,5 +1,6 @@
-// The Python module `lantern`: Lantern's C API for Python codes (NumPy, ASE, LAMMPS's Python
-// interface), borrowing their arrays without copying. See README.md, "Python".
+// The compiled part of the Python package `lantern` (lantern/_lantern): Lantern's C API for Python
+// codes (NumPy, ASE, LAMMPS's Python interface), borrowing their arrays without copying. The
+// package (adaptor/python/lantern/__init__.py) re-exports it. See README.md, "Python".
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
@@ -11,7 +12,7 @@ namespace py = pybind11;
 using lantern_python::Context;
 using lantern_python::PublishArguments;
 
-PYBIND11_MODULE(lantern, m) {
+PYBIND11_MODULE(_lantern, m) {
   m.doc() =
       "Lantern: in-situ rendering of particle simulations. Context(config, comm=None) opens a "
       "context; publish() borrows NumPy arrays (never copied); execute(step, time) renders on "
@@ -74,7 +75,8 @@ PYBIND11_MODULE(lantern, m) {
       .def(
           "__enter__", [](Context &self) -> Context & { return self; },
           py::return_value_policy::reference)
-      .def("__exit__", [](Context &self, const py::args &) { self.close(); });
+      .def("__exit__", [](Context &self, const py::object &type, const py::object &,
+                          const py::object &) { return self.exit(type); });
 
   // Contexts left open are closed at exit, before mpi4py finalizes MPI (Python's atexit
   // handlers run before those registered with Py_AtExit).

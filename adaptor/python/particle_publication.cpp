@@ -6,6 +6,7 @@ namespace lantern_python {
 namespace {
 
 std::string shape_text(const std::vector<int64_t> &shape) {
+  if (shape.empty()) return "() (a 0-d array: one number, not an array of particles)";
   std::string s = "(";
   for (size_t axis = 0; axis < shape.size(); ++axis)
     s += (axis ? ", " : "") + std::to_string(shape[axis]);

@@ -32,6 +32,12 @@ int fortran_handle(const py::object &comm) {
 
 Context::Context(const py::object &config, const py::object &comm) {
   const std::string text = py::module_::import("os").attr("fspath")(config).cast<std::string>();
+  // The C API reads a NUL-terminated string: whatever follows a NUL would be silently ignored.
+  if (const size_t nul = text.find('\0'); nul != std::string::npos)
+    throw py::value_error("config: a NUL character at offset " + std::to_string(nul) + " (of " +
+                          std::to_string(text.size()) +
+                          "); a configuration or its path holds no NUL, and Lantern would ignore "
+                          "everything after it");
   lantern_context *ctx = nullptr;
   const lantern_status status = lantern_open(text.c_str(), fortran_handle(comm), &ctx);
   if (status != LANTERN_OK) {
@@ -88,6 +94,24 @@ void Context::execute(int64_t step, double time) {
   check(lantern_execute(open_context("execute"), step, time));
 }
 
+bool Context::exit(const py::object &exception_type) {
+  if (exception_type.is_none()) {
+    close();
+    return false;
+  }
+  // An exception is leaving the `with` block: it stays the one the caller sees. A failure to
+  // close (an image written in the background that could not be) is a warning next to it.
+  try {
+    close();
+  } catch (py::error_already_set &e) {
+    const std::string text =
+        std::string("lantern: closing the context while an exception propagates failed: ") +
+        e.what();
+    if (PyErr_WarnEx(PyExc_RuntimeWarning, text.c_str(), 1) != 0) PyErr_Clear();
+  }
+  return false;
+}
+
 void Context::close() {
   if (closed()) return;
   lantern_context *ctx = ctx_;
@@ -96,8 +120,12 @@ void Context::close() {
   open.erase(std::remove(open.begin(), open.end(), this), open.end());
   const lantern_status status = lantern_close(ctx);
   published_.reset();  // Lantern no longer borrows the arrays
-  if (status != LANTERN_OK)
-    raise_error(status, "Context.close: an image could not be written (see the message above)");
+  // The context and its message are gone: lantern_close printed the details on stderr.
+  if (status != LANTERN_OK) {
+    const std::string what = lantern_status_string(status);
+    raise_error(status, "Context.close: " + what.substr(what.find(": ") + 2) +
+                            " (lantern_close printed the details above)");
+  }
 }
 
 py::dict Context::published_pointers() const {

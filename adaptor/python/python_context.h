@@ -4,7 +4,9 @@
 // Ownership: the Context owns its lantern_context and closes it in close(), on leaving a `with`
 // block, when it is garbage collected, or (for contexts still open) at interpreter exit, before
 // mpi4py finalizes MPI. It holds every published array (see ParticlePublication) until the next
-// publish or close, so an array dropped by the caller stays valid while Lantern borrows it.
+// publish or close, so an array dropped by the caller stays valid while Lantern borrows it. A
+// limit: holding the array does not stop `a.resize(..., refcheck=False)` from moving its memory
+// (refcheck=False skips NumPy's own check for references); Lantern would then read freed memory.
 // Closing is collective: close on every rank in the same order.
 // Thread-safety: like the C API, one thread at a time (calls hold the GIL).
 #pragma once
@@ -37,6 +39,9 @@ class Context {
   // image written in the background could not be written.
   void close();
   bool closed() const { return ctx_ == nullptr; }
+  // __exit__: closes; when the block raised (exception_type not None), a close error becomes a
+  // RuntimeWarning so the block's exception stays the one raised. Returns false (never swallows).
+  bool exit(const pybind11::object &exception_type);
   // Field name -> address of the data handed to lantern_publish (the zero-copy check).
   pybind11::dict published_pointers() const;
 

@@ -1,9 +1,12 @@
-// lantern-render CONFIG.yaml INPUT [--steps a,b,c | --steps a:b] [--bonds DATA]
+// lantern-render CONFIG.yaml INPUT [--steps a,b,c | --steps a:b] [--split space|rows]
+//                [--bonds DATA]
 //
 // Renders particle dumps after the run through the same pipeline as in situ: it is a client of
 // the public C API (open, publish, set_box, execute with the dump's step and time, close), so a
 // configuration gives the same images offline as in the simulation. MPI-parallel: each rank
-// reads only its share of every frame (hyperslabs for H5MD, its rows for LAMMPS text dumps).
+// reads only its share of every frame (hyperslabs for H5MD, its rows for LAMMPS text dumps);
+// then, by default, the ranks trade particles so that each renders one contiguous run of the
+// frame's z-order curve (spatial_split.h) instead of its rows of the file.
 // The configuration's `schedule:` still applies to the dump's steps; to render every selected
 // frame, give a configuration without a schedule. --bonds DATA takes the bonds from a LAMMPS data
 // file or dump local (bond_topology.h) for the scenes with a `bonds:` section; every rank then
@@ -21,21 +24,28 @@
 
 #include "bond_topology.h"
 #include "c_translation.h"
+#include "core/config/config_loader.h"
 #include "frame_source.h"
 #include "lantern/lantern.h"
+#include "spatial_split.h"
 #include "step_selection.h"
 
 namespace {
 
 constexpr const char *kUsage =
-    "usage: lantern-render CONFIG.yaml INPUT [--steps a,b,c | --steps a:b] [--bonds DATA]\n"
+    "usage: lantern-render CONFIG.yaml INPUT [--steps a,b,c | --steps a:b] [--split space|rows]\n"
+    "                      [--bonds DATA]\n"
     "       lantern-render --help | --version\n"
     "  INPUT: an H5MD file (Lantern's dump: output) or a LAMMPS text dump (dump atom/custom)\n"
+    "  --split: space gives each rank a contiguous run of the frame's z-order curve (the default,\n"
+    "           unless the configuration writes a dump or --bonds is given: those keep the file's\n"
+    "           order); rows gives each rank its rows of the file as read\n"
     "  DATA: a LAMMPS data file whose Bonds section gives the bonds (by atom id), or a dump\n"
     "  local of the bonds' atom ids per step (compute property/local batom1 batom2 [btype])\n";
 
 struct Options {
   std::string config, input, steps, bonds;
+  std::string split;  // --split: space, rows, or "" (space, unless the configuration dumps)
 };
 
 // "" and *out, "help" or "version" when asked, or a usage error.
@@ -51,6 +61,17 @@ std::string parse_options(int argc, char **argv, Options *out) {
     } else if (arg == "--bonds") {
       if (i + 1 >= argc) return "--bonds needs a LAMMPS data file";
       out->bonds = argv[++i];
+    } else if (arg == "--split" || arg.rfind("--split=", 0) == 0) {
+      std::string value;
+      if (arg == "--split") {
+        if (i + 1 >= argc) return "--split needs a value (space or rows)";
+        value = argv[++i];
+      } else {
+        value = arg.substr(8);
+      }
+      if (value != "space" && value != "rows")
+        return "--split must be space or rows, not '" + value + "'";
+      out->split = value;
     } else if (arg == "-h" || arg == "--help") {
       return "help";
     } else if (arg == "--version") {
@@ -106,9 +127,11 @@ lantern_bonds bonds_of(const lantern::BondedShare &share) {
 
 // Reads, publishes and renders one frame, with the bonds of `bonds` if given. "" or an error
 // (the same on every rank).
+// With `spatial`, the particles go through the spatial split, whose spread of particles over the
+// ranks goes to *split (not with bonds: their ghosts are found among the file's rows).
 std::string render_frame(lantern_context *ctx, const lantern::FrameSource &source, size_t index,
                          const std::string &input, const lantern::BondSource *bonds, int rank,
-                         int size) {
+                         int size, bool spatial, lantern::SplitStats *split) {
   const lantern::FrameInfo &info = source.frames()[index];
   if (info.count == 0) return input + ": step " + std::to_string(info.step) + " has zero particles";
   const auto [begin, end] = lantern::rank_share(info.count, rank, size);
@@ -126,8 +149,11 @@ std::string render_frame(lantern_context *ctx, const lantern::FrameSource &sourc
       std::fprintf(stderr,
                    "lantern-render: %sleft out %lld bonds whose atoms are not in the frame\n",
                    where.c_str(), static_cast<long long>(share.skipped));
-  } else if (auto e = agree(source.read(index, begin, end, &frame)); !e.empty()) {
-    return e;
+  } else {
+    if (auto e = agree(source.read(index, begin, end, &frame)); !e.empty()) return e;
+    if (spatial)
+      if (auto e = lantern::split_spatially(MPI_COMM_WORLD, &frame, split); !e.empty())
+        return where + e;
   }
   const lantern::ParticleFrame &published = topology ? share.frame : frame;
   lantern_particles particles = lantern::to_c(published.view());
@@ -173,18 +199,34 @@ int run(const Options &opt, int rank, int size) {
   const Context ctx(raw);
   if (opened != LANTERN_OK) return fail(lantern_error_message(ctx.get()));
 
+  // The spatial split reorders particles between ranks: a conversion (a configuration with a
+  // dump) keeps the file's order unless asked otherwise. The configuration loaded fine above.
+  lantern::Config config;
+  const bool dumps = lantern::load_config(opt.config, &config).ok() && config.dump.enabled;
+  // With bonds, each rank takes its rows of the file and the ghosts of its bonds from the whole
+  // frame (bond_topology.h): the spatial split does not apply.
+  if (!opt.bonds.empty() && opt.split == "space")
+    return fail("--split space does not go with --bonds (bonded frames are split by rows)");
+  const bool spatial = opt.bonds.empty() && (opt.split == "space" || (opt.split.empty() && !dumps));
   const auto start = std::chrono::steady_clock::now();
   for (size_t k = 0; k < selected.size(); ++k) {
     const auto t0 = std::chrono::steady_clock::now();
+    lantern::SplitStats split;
     if (auto e = render_frame(ctx.get(), *source, selected[k], opt.input,
-                              opt.bonds.empty() ? nullptr : &bonds, rank, size);
+                              opt.bonds.empty() ? nullptr : &bonds, rank, size, spatial, &split);
         !e.empty())
       return fail(e);
-    if (rank == 0)
-      std::fprintf(stderr, "[%zu/%zu] step %lld: %lld particles, %.2f s (total %.1f s)\n", k + 1,
+    if (rank == 0) {
+      char spread[96] = "";
+      if (spatial && size > 1)
+        std::snprintf(spread, sizeof spread, ", spatial split %lld..%lld per rank (imbalance %.2f)",
+                      static_cast<long long>(split.least), static_cast<long long>(split.most),
+                      split.imbalance());
+      std::fprintf(stderr, "[%zu/%zu] step %lld: %lld particles%s, %.2f s (total %.1f s)\n", k + 1,
                    selected.size(), static_cast<long long>(source->frames()[selected[k]].step),
-                   static_cast<long long>(source->frames()[selected[k]].count), seconds_since(t0),
-                   seconds_since(start));
+                   static_cast<long long>(source->frames()[selected[k]].count), spread,
+                   seconds_since(t0), seconds_since(start));
+    }
   }
   // Rank 0, when the configuration writes stats: how the last frame's work spread over the ranks.
   if (const std::string load = lantern_load_summary(ctx.get()); !load.empty())

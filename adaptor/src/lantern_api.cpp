@@ -54,23 +54,31 @@ const char *lantern_version(void) {
 }
 
 lantern_status lantern_open(const char *config, int mpi_comm_f, lantern_context **out) {
-  if (!out) return LANTERN_ERR_NULL_ARGUMENT;
-  *out = nullptr;
-  lantern_context *ctx = nullptr;
+  if (out) *out = nullptr;
+  std::unique_ptr<lantern_context> ctx;
   try {
-    ctx = std::make_unique<lantern_context>().release();  // owned by the caller until close
+    ctx = std::make_unique<lantern_context>();
   } catch (...) {
     return LANTERN_ERR_OUT_OF_MEMORY;
   }
-  *out = ctx;
-  return guarded(ctx, "lantern_open", [&]() -> lantern_status {
-    if (!config)
-      return fail(ctx, LANTERN_ERR_NULL_ARGUMENT, "config: NULL (give a YAML path or document)");
+  const lantern_status status = guarded(ctx.get(), "lantern_open", [&]() -> lantern_status {
     MPI_Comm comm = MPI_COMM_NULL;
+    // Without a usable communicator there is no one to agree with: this rank alone fails.
     if (auto e = lantern::acquire_mpi(mpi_comm_f, &comm); !e.empty())
-      return fail(ctx, LANTERN_ERR_MPI, e);
-    return report(ctx, lantern::Runtime::open(config, comm, &ctx->runtime));
+      return fail(ctx.get(), LANTERN_ERR_MPI, e);
+    // A NULL argument on one rank still takes part in the collective open, so the ranks that
+    // passed good ones are not left waiting for it: every rank returns the first failure.
+    lantern::Status caller;
+    if (!config)
+      caller = {lantern::StatusCode::kNullArgument, "config: NULL (give a YAML path or document)"};
+    else if (!out)
+      caller = {lantern::StatusCode::kNullArgument,
+                "out: NULL (give the address of a lantern_context pointer)"};
+    return report(ctx.get(),
+                  lantern::Runtime::open(config ? config : "", comm, &ctx->runtime, caller));
   });
+  if (out) *out = ctx.release();  // owned by the caller until lantern_close
+  return status;
 }
 
 lantern_status lantern_publish(lantern_context *ctx, const lantern_particles *particles) {

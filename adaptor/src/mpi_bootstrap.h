@@ -9,7 +9,8 @@
 namespace lantern {
 
 // Ensures MPI is usable and resolves the Fortran handle (or LANTERN_COMM_WORLD) to a
-// communicator. Returns "" or an error naming mpi_comm_f.
+// communicator. Returns "" or an error naming mpi_comm_f: MPI finalized, a handle that is not a
+// communicator (checked without MPI's fatal error handler), or an intercommunicator. Local.
 std::string acquire_mpi(int mpi_comm_f, MPI_Comm *comm);
 
 }  // namespace lantern

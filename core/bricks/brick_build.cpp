@@ -1,6 +1,18 @@
+// The brick build: the particles sorted along the z-order curve by (key, index), cut into octree
+// cells of at most max_particles, each laid out in levels and bounded.
+//
+// How, in few passes over memory: a first pass computes every particle's 32-bit key prefix and
+// counts the particles of each of the 4096 octree cells of level 4 (its top 12 bits); a second
+// pass scatters (prefix, index) words straight into those cells, in index order. Everything after
+// that happens one top cell at a time, in cache: sorting the cell's words, breaking ties by the
+// full key, the octree split below it (above it, the split reads the cells' counts) and the level
+// layout. The top cells are independent, so threads take contiguous runs of them. Each particle's
+// brick is noted on the way, in the keys' array; the runs of consecutive indices it yields let the
+// bounds come from one streaming pass over the positions (index_runs.h).
 #include "core/bricks/brick_set.h"
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <chrono>
 #include <limits>
@@ -9,10 +21,12 @@
 #include <glm/common.hpp>
 
 #include "core/bricks/brick_steps.h"
-#include "core/bricks/level_layout.h"
+#include "core/bricks/index_runs.h"
 #include "core/bricks/morton.h"
-#include "core/bricks/radix_sort.h"
 #include "core/common/ms_since.h"
+#include "core/common/rank_threads.h"
+#include "core/common/uninitialized_buffer.h"
+#include "core/particles/global_extent.h"
 #include "core/particles/typed_access.h"
 
 namespace lantern {
@@ -22,6 +36,13 @@ using namespace brick_steps;
 namespace {
 
 using Clock = std::chrono::steady_clock;
+
+// The octree levels the scatter pass resolves: 8^4 = 4096 top cells (a 16 KiB count table per
+// thread; at 10-100 M particles a cell holds a few thousand, sorted in cache).
+constexpr int kTopLevels = 4;
+constexpr int kTopShift = 32 - 3 * kTopLevels;  // a prefix's top cell is prefix >> kTopShift
+constexpr size_t kTopCells = size_t(1) << (3 * kTopLevels);
+using CellCounts = std::vector<uint32_t>;
 
 // Bounds, finite and non-finite counts of the kept centres in [begin, end) (particles outside the
 // group are in neither count: no brick ever holds them).
@@ -49,15 +70,216 @@ RangeBounds find_bounds(const Positions &pos, const Keep &keep, int64_t begin, i
   return r;
 }
 
-// Key words of the kept finite particles of [begin, end), written from `out` on.
+// The bounds of all kept particles, in parts merged in part order: min and max keep the first of
+// equal values, so the result is the one-thread result bit for bit (even for -0 and +0).
 template <typename Positions, typename Keep>
-void fill_words(const Positions &pos, const Keep &keep, int64_t begin, int64_t end,
-                const MortonQuantiser &q, uint64_t *out) {
-  for (int64_t i = begin; i < end; ++i) {
-    if (!keep.get(i)) continue;
-    const glm::dvec3 p = pos.get(i);
-    if (finite(p)) *out++ = make_word(q.key(p), uint32_t(i));
+RangeBounds bounds_in_parts(const Positions &pos, const Keep &keep, int64_t n, int threads) {
+  const int parts = parts_for(threads, n, kParticlesPerThread);
+  std::vector<RangeBounds> part(static_cast<size_t>(parts));
+  run_in_parts(parts, n, [&](int p, int64_t b, int64_t e) {
+    part[size_t(p)] = find_bounds(pos, keep, b, e);
+  });
+  RangeBounds all = part[0];
+  for (size_t p = 1; p < part.size(); ++p) {
+    all.lo = glm::min(all.lo, part[p].lo);
+    all.hi = glm::max(all.hi, part[p].hi);
+    all.finite += part[p].finite;
+    all.nonfinite += part[p].nonfinite;
   }
+  return all;
+}
+
+// Which particles get a brick: every one (no bit set) unless some are outside the group or not
+// finite; then a bit per particle, set for those left out.
+struct LeftOut {
+  std::vector<uint64_t> bits;  // empty: none left out
+  bool test(int64_t i) const { return !bits.empty() && (bits[size_t(i >> 6)] >> (i & 63) & 1); }
+};
+
+// Pass 1 over particles [64 block_begin, 64 block_end): key prefixes into keys[i], the top cells'
+// counts into *counts, left-out particles marked (blocks of 64 so parts share no mask word).
+template <typename Positions, typename Keep>
+void key_pass(const Positions &pos, const Keep &keep, const MortonQuantiser &q, int64_t n,
+              int64_t block_begin, int64_t block_end, uint32_t *keys, LeftOut *left_out,
+              CellCounts *counts) {
+  counts->assign(kTopCells, 0);
+  uint32_t *c = counts->data();
+  const int64_t begin = 64 * block_begin, end = std::min(n, 64 * block_end);
+  if (left_out->bits.empty()) {  // every particle kept and finite: no test in the loop
+    for (int64_t i = begin; i < end; ++i) {
+      const uint32_t k = q.prefix(pos.get(i));
+      keys[i] = k;
+      ++c[k >> kTopShift];
+    }
+    return;
+  }
+  for (int64_t i = begin; i < end; ++i) {
+    const glm::dvec3 p = pos.get(i);
+    if (!keep.get(i) || !finite(p)) {
+      left_out->bits[size_t(i >> 6)] |= uint64_t(1) << (i & 63);
+      continue;
+    }
+    const uint32_t k = q.prefix(p);
+    keys[i] = k;
+    ++c[k >> kTopShift];
+  }
+}
+
+// Pass 2: the words of particles [begin, end) to their top cells, from `at` (this part's first
+// slot in each cell) on; in index order, so every cell lists its particles by index.
+void scatter_pass(const uint32_t *keys, const LeftOut &left_out, int64_t begin, int64_t end,
+                  CellCounts at, uint64_t *words) {
+  uint32_t *slot = at.data();
+  if (left_out.bits.empty()) {
+    for (int64_t i = begin; i < end; ++i)
+      words[slot[keys[i] >> kTopShift]++] = uint64_t(keys[i]) << 32 | uint32_t(i);
+    return;
+  }
+  for (int64_t i = begin; i < end; ++i)
+    if (!left_out.test(i))
+      words[slot[keys[i] >> kTopShift]++] = uint64_t(keys[i]) << 32 | uint32_t(i);
+}
+
+// After the scatter, the keys are spent and their array becomes the owners' (index_runs.h): each
+// kept particle's brick, written brick by brick. Left-out particles are in no brick.
+void clear_left_out_owners(const LeftOut &left_out, int64_t begin, int64_t end, uint32_t *owner) {
+  if (left_out.bits.empty()) return;
+  for (int64_t i = begin; i < end; ++i)
+    if (left_out.test(i)) owner[i] = kNoBrick;
+}
+
+// A run of top cells handled as one: either one brick already (a cell above level 4 with at most
+// max_particles, covering top cells [cell_begin, cell_end)), or one top cell to split further.
+struct Unit {
+  uint32_t a, b;                  // its words
+  uint32_t cell_begin, cell_end;  // its top cells
+  bool one_brick;
+};
+
+// The octree split above level kTopLevels, read from the top cells' first slots `start`
+// (kTopCells + 1 entries): the same cells split_cells would cut, since a cell's words are exactly
+// its top cells' words.
+void plan_units(const std::vector<uint32_t> &start, int level, uint32_t cell, uint32_t max,
+                std::vector<Unit> *out) {
+  const int below = 3 * (kTopLevels - level);  // top-cell bits below this cell's
+  const uint32_t c0 = cell << below, c1 = (cell + 1) << below;
+  const uint32_t a = start[c0], b = start[c1];
+  if (b - a <= max || level == kTopLevels) {
+    out->push_back({a, b, c0, c1, b - a <= max});
+    return;
+  }
+  for (uint32_t child = 0; child < 8; ++child) {
+    const uint32_t k = cell * 8 + child;
+    const int child_below = below - 3;
+    if (start[(k + 1) << child_below] > start[k << child_below])
+      plan_units(start, level + 1, k, max, out);
+  }
+}
+
+// Sorts words [a, b) of one top cell - all share its top prefix bits and are in index order - by
+// value, i.e. by (prefix, index): an LSD radix sort on the 20 prefix bits below the top cell's,
+// in cache, skipping digits every word shares; std::sort for a few words.
+void sort_top_cell(uint64_t *w, size_t n, UninitializedBuffer<uint64_t> *scratch) {
+  if (n < 64) {
+    std::sort(w, w + n);
+    return;
+  }
+  constexpr int kDigit = 10;
+  constexpr size_t kBuckets = size_t(1) << kDigit;
+  scratch->resize(std::max(scratch->size(), n));
+  std::array<uint32_t, kBuckets> count;
+  uint64_t *src = w, *dst = scratch->data();
+  for (int shift = 32; shift < 32 + kTopShift; shift += kDigit) {
+    count.fill(0);
+    for (size_t i = 0; i < n; ++i) ++count[(src[i] >> shift) & (kBuckets - 1)];
+    if (count[(src[0] >> shift) & (kBuckets - 1)] == n) continue;  // every word shares the digit
+    uint32_t sum = 0;
+    for (uint32_t &c : count) {
+      const uint32_t k = c;
+      c = sum;
+      sum += k;
+    }
+    for (size_t i = 0; i < n; ++i) dst[count[(src[i] >> shift) & (kBuckets - 1)]++] = src[i];
+    std::swap(src, dst);
+  }
+  if (src != w) std::copy(src, src + n, w);
+}
+
+// One thread's share of the units: sorted, split into bricks (appended to *bricks in curve order)
+// and laid out; each particle's owner set to its brick's first slot, a number every thread knows.
+template <typename Positions>
+void build_units(const Positions &pos, const MortonQuantiser &q, const std::vector<uint32_t> &start,
+                 const Unit *units, size_t count, const BrickOptions &options, uint64_t *words,
+                 uint32_t *order, uint32_t *owner, std::vector<Brick> *bricks) {
+  UninitializedBuffer<uint64_t> scratch;
+  std::vector<std::pair<uint64_t, uint64_t>> run;
+  const uint32_t max = std::max<uint32_t>(1, options.max_particles);
+  for (size_t u = 0; u < count; ++u) {
+    const Unit &unit = units[u];
+    for (uint32_t c = unit.cell_begin; c < unit.cell_end; ++c)
+      sort_top_cell(words + start[c], start[c + 1] - start[c], &scratch);
+    break_ties(pos, q, words, unit.a, unit.b, &run);
+    const size_t first_new = bricks->size();
+    if (unit.one_brick) {
+      Brick br;
+      br.first = unit.a;
+      br.count = unit.b - unit.a;
+      bricks->push_back(br);
+    } else {
+      split_cells(words, unit.a, unit.b, kTopLevels, max, bricks);
+    }
+    for (size_t k = first_new; k < bricks->size(); ++k) {
+      const Brick &br = (*bricks)[k];
+      lay_out_brick(words, br, options.level_layout, order);
+      for (uint32_t j = 0; j < br.count; ++j) owner[order[br.first + j]] = br.first;
+    }
+  }
+}
+
+// Every brick's bounds and largest radius: streaming the positions through set->runs where the
+// set has them, else brick by brick.
+template <typename Positions, typename Radii>
+void bound_bricks(const Positions &pos, const Radii &radius, int threads, BrickSet *set) {
+  const auto by_brick = [&](size_t b) {
+    Brick &br = set->bricks[b];
+    bound_brick(pos, radius, set->has_radius, set->order.data() + br.first, br.count, &br);
+  };
+  if (set->runs.empty()) {
+    const int parts = parts_for(threads, set->particle_count(), kParticlesPerThread);
+    run_in_parts(parts, int64_t(set->bricks.size()), [&](int, int64_t b, int64_t e) {
+      for (int64_t k = b; k < e; ++k) by_brick(size_t(k));
+    });
+    return;
+  }
+  const std::vector<BrickScan> scans = scan_runs(
+      pos, radius, KeepAll{}, set->has_radius, std::numeric_limits<int64_t>::max(), *set, threads);
+  for (size_t b = 0; b < scans.size(); ++b) {
+    if (has_zero_bound(scans[b])) {  // -0 or +0: the brick's own order decides, as it always did
+      by_brick(b);
+      continue;
+    }
+    Brick &br = set->bricks[b];
+    br.lo = scans[b].lo, br.hi = scans[b].hi, br.max_radius = scans[b].r;
+  }
+}
+
+// Replaces each run's owner - its brick's first slot - by the brick's number. Neighbouring runs
+// come back to the same few bricks (a brick's rows follow each other in the host's arrays), so a
+// small table of recent answers spares most of the binary searches.
+void number_bricks(const std::vector<Brick> &bricks, std::vector<IndexRun> *runs) {
+  constexpr size_t kRecent = 1024;
+  std::vector<std::pair<uint32_t, uint32_t>> recent(kRecent, {kNoBrick, 0});
+  const auto number = [&](uint32_t *owner) {
+    if (*owner == kNoBrick) return;
+    auto &hit = recent[(*owner * 2654435761u >> 16) % kRecent];
+    if (hit.first != *owner) {
+      const auto at = std::lower_bound(bricks.begin(), bricks.end(), *owner,
+                                       [](const Brick &b, uint32_t f) { return b.first < f; });
+      hit = {*owner, uint32_t(at - bricks.begin())};
+    }
+    *owner = hit.second;
+  };
+  for (IndexRun &r : *runs) number(&r.brick), number(&r.other);
 }
 
 }  // namespace
@@ -65,10 +287,9 @@ void fill_words(const Positions &pos, const Keep &keep, int64_t begin, int64_t e
 namespace brick_steps {
 
 // Described in brick_steps.h (refit_bricks cuts its strays' words with it too).
-void split_cells(const std::vector<uint64_t> &words, uint32_t a, uint32_t b, int level,
-                 uint32_t max, std::vector<Brick> *out) {
-  constexpr int kMaxLevel = 10;  // 30 of the 32 prefix bits: cells of 1/1024 of the box
-  if (b - a <= max || level >= kMaxLevel) {
+void split_cells(const uint64_t *words, uint32_t a, uint32_t b, int level, uint32_t max,
+                 std::vector<Brick> *out) {
+  if (b - a <= max || level >= kMaxSplitLevel) {
     for (uint32_t s = a; s < b; s += max) {  // a crowded finest cell: cut it linearly
       Brick br;
       br.first = s;
@@ -81,9 +302,9 @@ void split_cells(const std::vector<uint64_t> &words, uint32_t a, uint32_t b, int
   const auto digit = [&](uint64_t w) { return (word_prefix(w) >> shift) & 7u; };
   uint32_t start = a;
   for (uint32_t child = 0; child < 8 && start < b; ++child) {
-    const auto end = std::partition_point(words.begin() + start, words.begin() + b,
-                                          [&](uint64_t w) { return digit(w) <= child; });
-    const auto stop = uint32_t(end - words.begin());
+    const uint64_t *end = std::partition_point(words + start, words + b,
+                                               [&](uint64_t w) { return digit(w) <= child; });
+    const auto stop = uint32_t(end - words);
     if (stop > start) split_cells(words, start, stop, level + 1, max, out);
     start = stop;
   }
@@ -96,78 +317,102 @@ BrickSet build_bricks(const ParticleArrays &particles, const BrickOptions &optio
   BrickBuildTimings t;
   BrickSet set;
   const int64_t n = particles.count();
+  const int threads = std::max(1, options.threads);
   set.has_radius = particles.has_radius();
   auto t0 = Clock::now();
-  std::vector<uint64_t> words;
+  UninitializedBuffer<uint64_t> words;
+  UninitializedBuffer<uint32_t> keys;  // each particle's key prefix, then its brick (its owner)
+  std::vector<uint32_t> start(kTopCells + 1, 0);  // each top cell's first word
   MortonQuantiser q;
   visit_positions(particles, [&](const auto &pos) {
     visit_kept(particles, [&](const auto &keep) {
-      RangeBounds half[2];
-      const bool two = n >= kTwoThreadsFrom;
-      in_two(
-          n, [&](int part, int64_t b, int64_t e) { half[part] = find_bounds(pos, keep, b, e); },
-          two);
-      set.lo = glm::min(half[0].lo, half[1].lo);
-      set.hi = glm::max(half[0].hi, half[1].hi);
-      set.nonfinite = half[0].nonfinite + half[1].nonfinite;
-      words.resize(size_t(half[0].finite + half[1].finite));
+      int64_t finite_count = 0;
+      if (const Extent *e = options.known_extent) {
+        set.lo = {e->lo[0], e->lo[1], e->lo[2]};
+        set.hi = {e->hi[0], e->hi[1], e->hi[2]};
+        set.nonfinite = e->nonfinite_count;
+        finite_count = e->finite_count;
+      } else {
+        const RangeBounds all = bounds_in_parts(pos, keep, n, threads);
+        set.lo = all.lo, set.hi = all.hi, set.nonfinite = all.nonfinite;
+        finite_count = all.finite;
+      }
+      t.bounds_ms = ms_since(t0);
+      t0 = Clock::now();
       q = MortonQuantiser::for_bounds(set.lo, set.hi);
-      // The second half's words start after the first half's kept finite particles.
-      in_two(
-          n,
-          [&](int part, int64_t b, int64_t e) {
-            fill_words(pos, keep, b, e, q, words.data() + (part == 0 ? 0 : half[0].finite));
-          },
-          two);
+      // Pass 1: key prefixes and the top cells' counts.
+      keys.resize(static_cast<size_t>(n));
+      LeftOut left_out;
+      if (finite_count < n) left_out.bits.assign(size_t((n + 63) / 64), 0);
+      const int64_t blocks = (n + 63) / 64;
+      const int parts = parts_for(threads, n, kParticlesPerThread);
+      std::vector<CellCounts> counts(static_cast<size_t>(parts));
+      run_in_parts(parts, blocks, [&](int p, int64_t b, int64_t e) {
+        key_pass(pos, keep, q, n, b, e, keys.data(), &left_out, &counts[size_t(p)]);
+      });
+      t.keys_ms = ms_since(t0);
+      t0 = Clock::now();
+      // Pass 2: each part scatters from its own slots, after the earlier parts' particles of the
+      // same cell: the cells list their particles in index order whatever the thread count.
+      uint32_t sum = 0;
+      for (size_t c = 0; c < kTopCells; ++c) {
+        start[c] = sum;
+        for (int p = 0; p < parts; ++p) {
+          const uint32_t k = counts[size_t(p)][c];
+          counts[size_t(p)][c] = sum;
+          sum += k;
+        }
+      }
+      start[kTopCells] = sum;
+      words.resize(sum);
+      run_in_parts(parts, blocks, [&](int p, int64_t b, int64_t e) {
+        scatter_pass(keys.data(), left_out, 64 * b, std::min(n, 64 * e), counts[size_t(p)],
+                     words.data());
+        clear_left_out_owners(left_out, 64 * b, std::min(n, 64 * e), keys.data());
+      });
+      t.scatter_ms = ms_since(t0);
     });
   });
-  t.keys_ms = ms_since(t0);
-
   t0 = Clock::now();
-  {
-    std::vector<uint64_t> scratch;
-    radix_sort_words(&words, &scratch, 32, 64);
-  }  // scratch freed before the permutation is allocated: the peak stays at 16 B/particle
-  visit_positions(particles, [&](const auto &pos) { break_ties(pos, q, &words); });
-  t.sort_ms = ms_since(t0);
-
-  t0 = Clock::now();
-  const uint32_t max = std::max<uint32_t>(1, options.max_particles);
-  if (!words.empty()) split_cells(words, 0, uint32_t(words.size()), 0, max, &set.bricks);
   set.order.resize(words.size());
-  for (size_t i = 0; i < words.size(); ++i) set.order[i] = word_index(words[i]);
-  std::vector<uint64_t>().swap(words);
-  t.split_ms = ms_since(t0);
-
-  t0 = Clock::now();
-  const auto bricks = int64_t(set.bricks.size());
-  const bool two = int64_t(set.order.size()) >= kTwoThreadsFrom;
-  if (options.level_layout) {
-    in_two(
-        bricks,
-        [&](int, int64_t first, int64_t last) {
-          std::vector<uint32_t> scratch;
-          for (int64_t k = first; k < last; ++k) {
-            const Brick &br = set.bricks[size_t(k)];
-            apply_level_layout(set.order.data() + br.first, br.count, &scratch);
-          }
-        },
-        two);
+  if (!words.empty()) {
+    std::vector<Unit> units;
+    plan_units(start, 0, 0, std::max<uint32_t>(1, options.max_particles), &units);
+    // Threads take contiguous runs of units of about equal word counts.
+    const int parts = parts_for(threads, int64_t(words.size()), kParticlesPerThread);
+    std::vector<std::vector<Brick>> part(static_cast<size_t>(parts));
+    visit_positions(particles, [&](const auto &pos) {
+      run_in_parts(parts, int64_t(words.size()), [&](int p, int64_t b, int64_t e) {
+        const auto first = [&](int64_t at) {
+          return size_t(std::lower_bound(units.begin(), units.end(), at,
+                                         [](const Unit &u, int64_t x) { return u.a < x; }) -
+                        units.begin());
+        };
+        const size_t u0 = p == 0 ? 0 : first(b), u1 = p + 1 == parts ? units.size() : first(e);
+        build_units(pos, q, start, units.data() + u0, u1 - u0, options, words.data(),
+                    set.order.data(), keys.data(), &part[size_t(p)]);
+      });
+    });
+    UninitializedBuffer<uint64_t>().swap(words);  // before the bricks grow: keep the peak low
+    size_t total = 0;
+    for (const std::vector<Brick> &b : part) total += b.size();
+    set.bricks.reserve(total);
+    for (std::vector<Brick> &b : part) {
+      set.bricks.insert(set.bricks.end(), b.begin(), b.end());
+      std::vector<Brick>().swap(b);
+    }
+    // The owners are the bricks' first slots: runs in index order, then brick numbers.
+    set.runs = runs_of_owners(keys.data(), n, set.particle_count(), &set.in_other);
+    number_bricks(set.bricks, &set.runs);
   }
-  t.layout_ms = ms_since(t0);
-
+  UninitializedBuffer<uint32_t>().swap(keys);
+  t.cells_ms = ms_since(t0);
   t0 = Clock::now();
   visit_positions(particles, [&](const auto &pos) {
-    visit_radii(particles, true, 0.0, [&](const auto &radius) {
-      in_two(
-          bricks,
-          [&](int, int64_t first, int64_t last) {
-            brick_bounds(pos, radius, set.has_radius, first, last, &set);
-          },
-          two);
-    });
+    visit_radii(particles, true, 0.0,
+                [&](const auto &radius) { bound_bricks(pos, radius, threads, &set); });
   });
-  t.bounds_ms = ms_since(t0);
+  t.bounds_ms += ms_since(t0);
   set.spread_at_build = set.spread();
   set.generation = next_brick_generation();
   if (timings) *timings = t;

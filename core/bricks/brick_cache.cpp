@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cstring>
+#include <utility>
 
 #include "core/common/content_hash.h"
 #include "core/common/ms_since.h"
@@ -46,32 +47,82 @@ void BrickCache::remember(const ParticleArrays &p, int64_t step, uint64_t finger
   fingerprint_ = fingerprint;
 }
 
-const BrickSet &BrickCache::for_step(const ParticleArrays &p, int64_t step, double *build_ms,
+bool BrickCache::is_cached(const ParticleArrays &p, int64_t step, uint64_t fingerprint) const {
+  return count_ == p.count() && step_ == step && positions_ == p.position_array(0).data() &&
+         radii_ == p.radius_array().data() && mask_ == p.mask_array().data() &&
+         mask_bits_ == p.mask_bits() && fingerprint_ == fingerprint;
+}
+
+bool BrickCache::refit_first(const ParticleArrays &p, int64_t step, const BrickOptions &options) {
+  const uint64_t fingerprint = sample_fingerprint(p);
+  if (count_ < 0 || is_cached(p, step, fingerprint)) return false;
+  const auto t0 = Clock::now();
+  if (!refit_bricks(p, kMaxSpreadGrowth, &set_, options)) {
+    set_ = BrickSet();  // unusable: for_step builds
+    count_ = -1;
+    return false;
+  }
+  ++refits_;
+  remember(p, step, fingerprint);
+  pending_how_ = "refit";
+  pending_ms_ = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+  return true;
+}
+
+const BrickSet &BrickCache::for_step(const ParticleArrays &p, int64_t step,
+                                     const BrickOptions &options, double *build_ms,
                                      std::string *how) {
   const uint64_t fingerprint = sample_fingerprint(p);
-  if (count_ == p.count() && step_ == step && positions_ == p.position_array(0).data() &&
-      radii_ == p.radius_array().data() && mask_ == p.mask_array().data() &&
-      mask_bits_ == p.mask_bits() && fingerprint_ == fingerprint) {
-    *how = "cached";
+  if (is_cached(p, step, fingerprint)) {
+    *how = pending_how_.empty() ? "cached" : std::exchange(pending_how_, std::string());
+    *build_ms += std::exchange(pending_ms_, 0.0);
     return set_;
   }
+  pending_how_.clear(), pending_ms_ = 0.0;
   const auto t0 = Clock::now();
   // A later step: particles moved a little, so keep the z-order and refit the bounds. The host
   // may have moved its arrays (LAMMPS reallocates when its ghost count grows), wrapped, dropped
   // or added particles (migration): refit_bricks re-sorts only the strays, recomputes every
   // bound from the particles themselves - culling stays exact whatever the indices now hold -
   // and asks for a rebuild when too much changed.
-  if (count_ >= 0 && refit_bricks(p, kMaxSpreadGrowth, &set_)) {
+  if (count_ >= 0 && refit_bricks(p, kMaxSpreadGrowth, &set_, options)) {
     ++refits_;
     *how = "refit";
   } else {
     set_ = BrickSet();  // free the old permutation before building: keeps the peak low
-    set_ = build_bricks(p, BrickOptions{});
+    set_ = build_bricks(p, options);
     *how = "built";
   }
   remember(p, step, fingerprint);
   *build_ms += ms_since(t0);
   return set_;
+}
+
+}  // namespace lantern
+
+namespace lantern {
+
+bool extent_of_bricks(const BrickSet &bricks, const ParticleArrays &particles, Extent *out) {
+  if (particles.has_scalar() || bricks.nonfinite != 0) return false;
+  Extent e;
+  e.finite_count = bricks.particle_count();
+  e.nonfinite_count = 0;  // a refit keeps no brick with a non-finite position
+  for (int k = 0; k < 3; ++k) {
+    e.lo[size_t(k)] = bricks.lo[k], e.hi[size_t(k)] = bricks.hi[k];
+    if (e.finite_count > 0 && (bricks.lo[k] == 0.0 || bricks.hi[k] == 0.0)) return false;
+  }
+  if (e.finite_count > 0) {
+    // The scan's largest radius: the radius array's over the finite kept particles (the bricks
+    // hold exactly those), else the scan's own radius argument, 0.
+    double r = 0.0;
+    if (particles.has_radius()) {
+      for (const Brick &b : bricks.bricks) r = std::max(r, b.max_radius);
+      if (r == 0.0) return false;
+    }
+    e.max_radius = r;
+  }
+  *out = e;
+  return true;
 }
 
 }  // namespace lantern

@@ -13,6 +13,7 @@
 #include <string>
 
 #include "core/bricks/brick_set.h"
+#include "core/particles/global_extent.h"
 #include "core/particles/particle_arrays.h"
 
 namespace lantern {
@@ -20,15 +21,26 @@ namespace lantern {
 class BrickCache {
  public:
   // The bricks of `particles` at `step`: the cached set when this step's bricks were already made
-  // from the same arrays (same addresses, count and sampled contents), else refit or rebuilt.
-  // Adds the time spent to *build_ms and says "cached", "refit" or "built" in *how.
-  const BrickSet &for_step(const ParticleArrays &particles, int64_t step, double *build_ms,
-                           std::string *how);
+  // from the same arrays (same addresses, count and sampled contents), else refit or rebuilt
+  // with `options` (threads, and the rank's scanned extent when known). Adds the time spent to
+  // *build_ms - including a refit refit_first() made for this step - and says "cached", "refit"
+  // or "built" in *how.
+  const BrickSet &for_step(const ParticleArrays &particles, int64_t step,
+                           const BrickOptions &options, double *build_ms, std::string *how);
+
+  // Refits the bricks for `step` before anything else of the step, when it can: then the rank's
+  // extent comes from the bricks' bounds instead of a pass of its own (extent_of_bricks) and the
+  // step's first for_step() reports this refit ("refit", its time). False - and nothing kept, so
+  // for_step() builds - when there is nothing to refit or the refit asks for a rebuild, or when
+  // `step`'s bricks are already made.
+  bool refit_first(const ParticleArrays &particles, int64_t step, const BrickOptions &options);
+  const BrickSet &bricks() const { return set_; }
 
   int64_t refits() const { return refits_; }  // steps served by a refit instead of a rebuild
 
  private:
   void remember(const ParticleArrays &particles, int64_t step, uint64_t fingerprint);
+  bool is_cached(const ParticleArrays &particles, int64_t step, uint64_t fingerprint) const;
 
   int64_t step_ = 0;
   int64_t count_ = -1;  // -1: nothing built yet
@@ -39,7 +51,16 @@ class BrickCache {
   uint64_t fingerprint_ = 0;
   int64_t refits_ = 0;
   BrickSet set_;
+  // refit_first's refit, reported by the step's first for_step(): "" when none is pending.
+  std::string pending_how_;
+  double pending_ms_ = 0.0;
 };
+
+// The rank's extent (bounds, counts, largest radius) from bricks just refit for `particles`,
+// bit for bit what scan_particles(particles, particles.has_radius(), 0.0) gives; false where the
+// bricks cannot tell: a scalar array (its range needs a pass), a bound or radius of exactly zero
+// (-0 and +0 depend on the order particles are met in).
+bool extent_of_bricks(const BrickSet &bricks, const ParticleArrays &particles, Extent *out);
 
 // A cheap guard against arrays rewritten in place under the same step number: a hash of the raw
 // bytes of up to 4096 evenly spaced positions and radii (and whether they are in the group).

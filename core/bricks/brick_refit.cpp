@@ -9,9 +9,11 @@
 #include <glm/common.hpp>
 
 #include "core/bricks/brick_steps.h"
+#include "core/bricks/index_runs.h"
 #include "core/bricks/level_layout.h"
 #include "core/bricks/morton.h"
 #include "core/bricks/radix_sort.h"
+#include "core/common/rank_threads.h"
 #include "core/particles/typed_access.h"
 
 namespace lantern {
@@ -57,46 +59,58 @@ bool sort_out(const Positions &pos, const Radii &radius, const Keep &keep, bool 
   return true;
 }
 
-// First pass of a refit, read-only and branch-free on the data so loads overlap: each brick's
-// bounds over its particles with index below `count` and in the group, and whether the brick
-// still fits - every index below `count` and in the group, and the new bounds finite and inside the
-// old ones grown by a quarter (the common case between two host re-neighbourings).
+// Brick `b`'s particles with index below `count` and in the group, gathered in the brick's order.
+template <typename Positions, typename Radii, typename Keep>
+BrickScan scan_brick(const Positions &pos, const Radii &radius, const Keep &keep, int64_t count,
+                     const BrickSet &set, size_t b) {
+  BrickScan s;
+  const Brick &br = set.bricks[b];
+  const uint32_t *idx = set.order.data() + br.first;
+  for (uint32_t j = 0; j < br.count; ++j) {
+    if (int64_t(idx[j]) >= count || !keep.get(idx[j])) {
+      s.all_published = false;
+      continue;
+    }
+    const glm::dvec3 x = pos.get(idx[j]);
+    s.finite &= (x.x - x.x == 0.0) & (x.y - x.y == 0.0) & (x.z - x.z == 0.0);
+    s.lo = glm::min(s.lo, x), s.hi = glm::max(s.hi, x);
+    if (set.has_radius) s.r = std::max(s.r, radius.get(idx[j]));
+  }
+  return s;
+}
+
+// First pass of a refit, read-only: each brick's bounds over its particles with index below
+// `count` and in the group, and whether the brick still fits - every index below `count` and in
+// the group, and the new bounds finite and inside the old ones grown by a quarter (the common case
+// between two host re-neighbourings). Streams the positions through the set's runs where it has
+// them, else gathers brick by brick; the bounds are the same bits either way (index_runs.h).
 template <typename Positions, typename Radii, typename Keep>
 void fresh_bounds(const Positions &pos, const Radii &radius, const Keep &keep, int64_t count,
-                  const BrickSet &set, std::vector<Brick> *fresh, std::vector<uint8_t> *fits) {
+                  const BrickSet &set, int threads, std::vector<Brick> *fresh,
+                  std::vector<uint8_t> *fits) {
   *fresh = set.bricks;
   fits->assign(set.bricks.size(), 0);
-  in_two(
-      int64_t(fresh->size()),
-      [&](int, int64_t first, int64_t last) {
-        for (int64_t k = first; k < last; ++k) {
-          Brick &f = (*fresh)[size_t(k)];
-          glm::dvec3 lo(std::numeric_limits<double>::infinity()), hi(-lo);
-          double r = 0.0, sum = 0.0;  // sum: NaN or inf anywhere makes it non-finite
-          bool all_published = true;
-          const uint32_t *idx = set.order.data() + f.first;
-          for (uint32_t j = 0; j < f.count; ++j) {
-            if (int64_t(idx[j]) >= count || !keep.get(idx[j])) {
-              all_published = false;
-              continue;
-            }
-            const glm::dvec3 x = pos.get(idx[j]);
-            sum += x.x + x.y + x.z;
-            lo = glm::min(lo, x), hi = glm::max(hi, x);
-            if (set.has_radius) r = std::max(r, radius.get(idx[j]));
-          }
-          const Brick &old = set.bricks[size_t(k)];
-          const glm::dvec3 grow = 0.25 * (old.hi - old.lo);
-          // Written so that NaN (skipped by min/max, or a NaN bound) fails the test.
-          const bool inside = lo.x >= old.lo.x - grow.x && lo.y >= old.lo.y - grow.y &&
-                              lo.z >= old.lo.z - grow.z && hi.x <= old.hi.x + grow.x &&
-                              hi.y <= old.hi.y + grow.y && hi.z <= old.hi.z + grow.z &&
-                              std::isfinite(r) && std::isfinite(sum);
-          (*fits)[size_t(k)] = all_published && inside;
-          f.lo = lo, f.hi = hi, f.max_radius = r;
-        }
-      },
-      set.particle_count() >= kTwoThreadsFrom);
+  std::vector<BrickScan> scans;
+  if (!set.runs.empty()) scans = scan_runs(pos, radius, keep, set.has_radius, count, set, threads);
+  const int parts = parts_for(threads, set.particle_count(), kParticlesPerThread);
+  run_in_parts(parts, int64_t(fresh->size()), [&](int, int64_t first, int64_t last) {
+    for (int64_t k = first; k < last; ++k) {
+      const size_t b = size_t(k);
+      const BrickScan s = scans.empty() || has_zero_bound(scans[b])
+                              ? scan_brick(pos, radius, keep, count, set, b)
+                              : scans[b];
+      const Brick &old = set.bricks[b];
+      const glm::dvec3 grow = 0.25 * (old.hi - old.lo);
+      // Written so that NaN (a NaN bound) fails the test.
+      const bool inside = s.lo.x >= old.lo.x - grow.x && s.lo.y >= old.lo.y - grow.y &&
+                          s.lo.z >= old.lo.z - grow.z && s.hi.x <= old.hi.x + grow.x &&
+                          s.hi.y <= old.hi.y + grow.y && s.hi.z <= old.hi.z + grow.z &&
+                          std::isfinite(s.r) && s.finite;
+      (*fits)[b] = s.all_published && inside;
+      Brick &f = (*fresh)[b];
+      f.lo = s.lo, f.hi = s.hi, f.max_radius = s.r;
+    }
+  });
 }
 
 }  // namespace
@@ -105,6 +119,7 @@ bool refit_bricks(const ParticleArrays &particles, double max_growth, BrickSet *
                   const BrickOptions &options) {
   set->generation = next_brick_generation();  // the bounds change below, whatever the outcome
   const int64_t count = particles.count();
+  const int threads = std::max(1, options.threads);
   if (set->nonfinite != 0 || particles.has_radius() != set->has_radius ||
       count >= (int64_t(1) << 32) || count == 0)
     return false;
@@ -116,7 +131,7 @@ bool refit_bricks(const ParticleArrays &particles, double max_growth, BrickSet *
   visit_positions(particles, [&](const auto &pos) {
     visit_radii(particles, true, 0.0, [&](const auto &radius) {
       visit_kept(particles, [&](const auto &keep) {
-        fresh_bounds(pos, radius, keep, count, *set, &fresh, &fits);
+        fresh_bounds(pos, radius, keep, count, *set, threads, &fresh, &fits);
       });
     });
   });
@@ -129,11 +144,14 @@ bool refit_bricks(const ParticleArrays &particles, double max_growth, BrickSet *
     return set->spread() <= max_growth * set->spread_at_build;
   }
   const int64_t known = set->particle_count();
-  // Each half of the bricks (two threads for large sets) sorts out its strays in place.
-  struct Half {
+  // Each part of the bricks (one per thread) sorts out its strays in place; their lists are joined
+  // in part order, so the result does not depend on the thread count.
+  struct Part {
     std::vector<uint32_t> outliers;
     bool finite = true;
-  } half[2];
+  };
+  const int parts = parts_for(threads, known, kParticlesPerThread);
+  std::vector<Part> part(static_cast<size_t>(parts));
   std::vector<uint32_t> outliers;
   bool finite_all = true;
   size_t kept_bricks = 0;
@@ -142,24 +160,22 @@ bool refit_bricks(const ParticleArrays &particles, double max_growth, BrickSet *
       visit_kept(particles, [&](const auto &keep) {
         // Particles that left their brick (moved far, wrapped through a periodic boundary, or an
         // index the host now uses for another particle) and new indices become outliers.
-        in_two(
-            int64_t(set->bricks.size()),
-            [&](int part, int64_t first, int64_t last) {
-              Half &h = half[part];
-              for (int64_t k = first; k < last && h.finite; ++k) {
-                Brick &br = set->bricks[size_t(k)];
-                if (fits[size_t(k)])
-                  br = fresh[size_t(k)];  // still fits: the first pass's bounds stand
-                else
-                  h.finite = sort_out(pos, radius, keep, set->has_radius, count,
-                                      set->order.data() + br.first, &br, &h.outliers);
-              }
-            },
-            known >= kTwoThreadsFrom);
-        if (!half[0].finite || !half[1].finite) {
-          finite_all = false;
-          return;
-        }
+        run_in_parts(parts, int64_t(set->bricks.size()), [&](int p, int64_t first, int64_t last) {
+          Part &h = part[size_t(p)];
+          for (int64_t k = first; k < last && h.finite; ++k) {
+            Brick &br = set->bricks[size_t(k)];
+            if (fits[size_t(k)])
+              br = fresh[size_t(k)];  // still fits: the first pass's bounds stand
+            else
+              h.finite = sort_out(pos, radius, keep, set->has_radius, count,
+                                  set->order.data() + br.first, &br, &h.outliers);
+          }
+        });
+        for (const Part &h : part)
+          if (!h.finite) {
+            finite_all = false;
+            return;
+          }
         // Close the gaps the strays left: kept slices move down, empty bricks go.
         uint32_t at = 0;
         size_t out = 0;
@@ -175,8 +191,10 @@ bool refit_bricks(const ParticleArrays &particles, double max_growth, BrickSet *
         set->bricks.resize(out);
         set->order.resize(at);
         kept_bricks = out;
-        outliers = std::move(half[0].outliers);
-        outliers.insert(outliers.end(), half[1].outliers.begin(), half[1].outliers.end());
+        for (Part &h : part) {
+          outliers.insert(outliers.end(), h.outliers.begin(), h.outliers.end());
+          std::vector<uint32_t>().swap(h.outliers);
+        }
         for (int64_t i = known; i < count; ++i) {
           if (!keep.get(i)) continue;
           if (!finite(pos.get(i))) {
@@ -200,28 +218,31 @@ bool refit_bricks(const ParticleArrays &particles, double max_growth, BrickSet *
         for (size_t k = 0; k < outliers.size(); ++k)
           words[k] = make_word(q.key(pos.get(outliers[k])), outliers[k]);
         radix_sort_words(&words, &scratch, 32, 64);
-        break_ties(pos, q, &words);
+        std::vector<std::pair<uint64_t, uint64_t>> run;
+        break_ties(pos, q, words.data(), 0, words.size(), &run);
         std::vector<Brick> extra;
-        split_cells(words, 0, uint32_t(words.size()), 0,
+        split_cells(words.data(), 0, uint32_t(words.size()), 0,
                     std::max<uint32_t>(1, options.max_particles), &extra);
         const auto offset = uint32_t(set->order.size());
-        for (const uint64_t w : words) set->order.push_back(word_index(w));
-        std::vector<uint32_t> layout_scratch;
+        set->order.resize(offset + words.size());
         for (Brick e : extra) {
+          lay_out_brick(words.data(), e, options.level_layout, set->order.data() + offset);
           e.first += offset;
-          if (options.level_layout)
-            apply_level_layout(set->order.data() + e.first, e.count, &layout_scratch);
           set->bricks.push_back(e);
         }
       });
     });
   });
   if (!finite_all || set->particle_count() != kept_total) return false;
+  // Particles moved between bricks: the runs are listed again (none where too short to pay).
+  list_runs(count, set);
   // Kept bricks got their bounds while sorting out; the strays' bricks get theirs here.
   visit_positions(particles, [&](const auto &pos) {
     visit_radii(particles, true, 0.0, [&](const auto &radius) {
-      brick_bounds(pos, radius, set->has_radius, int64_t(kept_bricks), int64_t(set->bricks.size()),
-                   set);
+      for (size_t k = kept_bricks; k < set->bricks.size(); ++k) {
+        Brick &b = set->bricks[k];
+        bound_brick(pos, radius, set->has_radius, set->order.data() + b.first, b.count, &b);
+      }
     });
   });
   glm::dvec3 lo(std::numeric_limits<double>::infinity()), hi(-lo);

@@ -2,10 +2,12 @@
 // count, each with its bounds; the unit of culling and of level of detail.
 //
 // The simulation's arrays are never moved: a BrickSet holds a permutation of uint32 indices into
-// them (4 bytes per particle, the only per-particle memory kept between scenes) and a few dozen
-// bytes per brick. Building it peaks at 16 bytes per particle (a packed key|index word and its
-// radix-sort scratch). Bricks depend only on the particles, not on a camera: build once per step
-// and reuse for every scene of that step.
+// them (4 bytes per particle), the runs of consecutive indices per brick when they are long enough
+// to pay (12 bytes a run and a bit per particle, at most 1.6 bytes per particle; index_runs.h)
+// and a few dozen bytes per brick.
+// Building it peaks at 16 bytes per particle (each particle's key, later its brick; the packed
+// key|index words; the permutation). Bricks depend only on the particles, not on a camera: build
+// once per step and reuse for every scene of that step.
 //
 // Brick size: octree leaves of at most 1024 particles (uniform data: 128..1024). Smaller bricks
 // cull more finely at the brick level (a thinner shell of per-particle tests behind the visible
@@ -27,6 +29,8 @@
 
 namespace lantern {
 
+struct Extent;  // core/particles/global_extent.h
+
 struct Brick {
   uint32_t first = 0;  // offset into BrickSet::order
   uint32_t count = 0;
@@ -34,14 +38,30 @@ struct Brick {
   double max_radius = 0.0;      // largest published radius in the brick (0 without radius array)
 };
 
+// The start of a stretch of consecutive particle indices whose particles belong to one or two
+// bricks (`other` ~0u: one; else BrickSet::in_other says which), or to none (brick ~0u); it ends
+// where the next run starts (index_runs.h).
+struct IndexRun {
+  uint32_t first = 0, brick = 0, other = ~0u;
+};
+
 struct BrickOptions {
   uint32_t max_particles = 1024;  // a brick never holds more (see the note on BrickSet)
   bool level_layout = true;       // z-order level layout inside bricks (prefix = uniform sample)
+  int threads = 1;                // threads the build or refit may use (the result is the same)
+  // The bounds and finite count of the kept particles when the caller already scanned them
+  // (scan_particles of this rank, as the pipeline does every step): saves the build a pass.
+  const Extent *known_extent = nullptr;
 };
 
 struct BrickSet {
   std::vector<uint32_t> order;  // particle indices, brick after brick
   std::vector<Brick> bricks;    // in z-order along the curve
+  // The bricks' particles as runs of consecutive indices, in index order and closed by a run of
+  // no brick, for refits that stream the positions (index_runs.h); empty where runs would be too
+  // short to pay. in_other: a bit per index, set where a run's particle is in its `other` brick.
+  std::vector<IndexRun> runs;
+  std::vector<uint64_t> in_other;
   glm::dvec3 lo{0.0}, hi{0.0};  // bounds of the finite centres (lo > hi when there are none)
   int64_t nonfinite = 0;        // kept particles left out for a NaN or infinite coordinate
   bool has_radius = false;      // bricks carry max_radius from the published radius array
@@ -59,9 +79,12 @@ struct BrickSet {
 // A fresh BrickSet::generation, never 0 and never the same twice in a process; thread-safe.
 uint64_t next_brick_generation();
 
-// Timings of one build, milliseconds.
+// Timings of one build, milliseconds: the passes that bound the set (none with a known extent)
+// and its bricks, the pass that computes the keys and counts the top octree cells, the pass that
+// scatters the particles to those cells, and the work inside the cells (sorting, splitting, level
+// layout, runs).
 struct BrickBuildTimings {
-  double keys_ms = 0, sort_ms = 0, split_ms = 0, layout_ms = 0, bounds_ms = 0;
+  double bounds_ms = 0, keys_ms = 0, scatter_ms = 0, cells_ms = 0;
 };
 
 // Builds the bricks of `particles` (count must be < 2^32). Particles with a non-finite

@@ -3,43 +3,44 @@
 #include <algorithm>
 #include <array>
 #include <cstddef>
-#include <thread>
+#include <vector>
+
+#include "core/common/rank_threads.h"
 
 namespace lantern {
 namespace {
 
 constexpr int kDigitBits = 11;
 constexpr size_t kBuckets = size_t(1) << kDigitBits;
-constexpr size_t kTwoThreadsFrom = 200000;  // words; below, a helper thread does not pay
+constexpr int64_t kWordsPerThread = 100000;  // below, a helper thread does not pay
 using Counts = std::array<uint32_t, kBuckets>;
 
 // One stable counting pass on the digit (w >> shift) & mask. `offsets` holds the exclusive
-// prefix sums of the digit's counts over all of src. With two threads, the first half's counts
-// give the second half its own start offsets, so both halves scatter at once, still stably.
+// prefix sums of the digit's counts over all of src. In parts, each part's start offsets are the
+// earlier parts' counts on top, so all parts scatter at once, still stably.
 void scatter(const uint64_t *src, uint64_t *dst, size_t n, int shift, uint64_t mask,
-             const Counts &offsets) {
-  const auto run = [=](size_t begin, size_t end, Counts at) {
-    for (size_t i = begin; i < end; ++i) {
-      const uint64_t w = src[i];
-      dst[at[(w >> shift) & mask]++] = w;
-    }
-  };
-  if (n < kTwoThreadsFrom) {
-    run(0, n, offsets);
-    return;
+             const Counts &offsets, int threads) {
+  const int parts = parts_for(threads, int64_t(n), kWordsPerThread);
+  std::vector<Counts> at(size_t(parts), offsets);
+  for (int p = 1; p < parts; ++p) {
+    at[size_t(p)] = at[size_t(p - 1)];
+    for (int64_t i = part_begin(p - 1, parts, int64_t(n)); i < part_begin(p, parts, int64_t(n));
+         ++i)
+      ++at[size_t(p)][(src[i] >> shift) & mask];
   }
-  const size_t mid = n / 2;
-  Counts second = offsets;
-  for (size_t i = 0; i < mid; ++i) ++second[(src[i] >> shift) & mask];
-  std::thread helper(run, mid, n, second);
-  run(0, mid, offsets);
-  helper.join();
+  run_in_parts(parts, int64_t(n), [&](int p, int64_t begin, int64_t end) {
+    Counts &a = at[size_t(p)];
+    for (int64_t i = begin; i < end; ++i) {
+      const uint64_t w = src[i];
+      dst[a[(w >> shift) & mask]++] = w;
+    }
+  });
 }
 
 }  // namespace
 
 void radix_sort_words(std::vector<uint64_t> *words, std::vector<uint64_t> *scratch, int lo_bit,
-                      int hi_bit) {
+                      int hi_bit, int threads) {
   const size_t n = words->size();
   scratch->resize(n);
   if (n < 2) return;
@@ -75,7 +76,7 @@ void radix_sort_words(std::vector<uint64_t> *words, std::vector<uint64_t> *scrat
       c[b] = sum;
       sum += k;
     }
-    scatter(words->data(), scratch->data(), n, shift, mask, c);
+    scatter(words->data(), scratch->data(), n, shift, mask, c, threads);
     words->swap(*scratch);
   }
 }

@@ -168,7 +168,10 @@ Status make_camera(const CameraConfig &config, const glm::dvec3 &lo_in, const gl
   lo -= glm::dvec3(max_radius);
   hi += glm::dvec3(max_radius);
   const glm::dvec3 centre = 0.5 * (lo + hi);
-  const double extent = std::max(0.5 * glm::length(hi - lo), 1e-12);
+  const double smallest = kMinFramedExtent * std::max(1.0, glm::length(centre));
+  const double span = 0.5 * glm::length(hi - lo);
+  const double extent = std::max(span, smallest);
+  cam.point_bounds = !empty && !config.position && span < smallest;
   cam.origin = centre;
   const double aspect = double(width) / double(height);
   const double zoom = config.zoom;
@@ -211,7 +214,7 @@ Status make_camera(const CameraConfig &config, const glm::dvec3 &lo_in, const gl
     if (aspect < 1.0) half_h /= aspect;
     const double half_w = half_h * aspect;
     cam.projection = glm::ortho(-half_w, half_w, -half_h, half_h, cam.near_plane, cam.far_plane);
-    // Only the zoom can shrink the view this far (extent >= 1e-12).
+    // Only the zoom can shrink the view this far (extent >= kMinFramedExtent).
     if (!all_finite(cam.projection) || !(half_w > 0.0))
       return {StatusCode::kConfig, "camera.zoom: " + number_text(zoom) +
                                        " shrinks the orthographic view to a width of " +

@@ -24,6 +24,8 @@ struct Camera {
   bool orthographic = false;
   double near_plane = 0.01, far_plane = 100.0;
   int width = 1, height = 1;
+  // The automatic camera had (nearly) a point to frame and framed kMinFramedExtent around it.
+  bool point_bounds = false;
 
   // The float, scene-relative view the renderer takes.
   RenderView render_view(const uint8_t background[4]) const;
@@ -38,9 +40,15 @@ enum class RadiusSource { kConfig, kParticles };
 // Positions (and radii) larger than this in magnitude cannot be framed: fitting the camera squares
 // lengths in double precision, which overflows near 1e154. Lengths in the simulation's unit.
 constexpr double kMaxFramedLength = 1e150;
+// The smallest half-extent the automatic camera frames, relative to the bounds' distance from the
+// origin (and at least this, absolutely): bounds that are a point (every particle at one place,
+// radius 0) put the eye 1e-12 from them and the particles before the near plane, a blank image.
+// Such bounds are framed as a sphere of this radius, and Camera::point_bounds says so.
+constexpr double kMinFramedExtent = 1e-9;
 
 // Builds the camera for `config` and the global particle bounds [lo, hi] (centres), whose
-// spheres reach at most `max_radius` beyond them. Empty bounds (lo > hi) frame the unit cube.
+// spheres reach at most `max_radius` beyond them. Empty bounds (lo > hi) frame the unit cube;
+// bounds smaller than kMinFramedExtent x max(1, distance from the origin) are framed at that size.
 // Returns OK, or an error naming the input at fault: kConfig for a camera key (e.g. position ==
 // look_at, a zoom so large that the eye meets its target in double precision) or a configured
 // radius above kMaxFramedLength; kInvalidArgument for particles (positions or per-particle radii

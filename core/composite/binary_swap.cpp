@@ -35,15 +35,17 @@ PixelRange owned_range(int index, int base, size_t pixels) {
 
 // Extra ranks (>= base) hand their whole image to rank - base, which merges it.
 Status fold_extra_ranks(MPI_Comm comm, int rank, int ranks, int base, Frame &frame,
-                        MethodScratch &scratch) {
+                        MethodScratch &scratch, CompositeTraffic *traffic) {
   const PixelRange all{0, frame.pixel_count()}, none{};
-  if (rank >= base) return exchange_and_merge(comm, rank - base, all, rank, none, frame, scratch);
+  if (rank >= base)
+    return exchange_and_merge(comm, rank - base, all, rank, none, frame, scratch, traffic);
   if (rank + base < ranks)
-    return exchange_and_merge(comm, rank, none, rank + base, all, frame, scratch);
+    return exchange_and_merge(comm, rank, none, rank + base, all, frame, scratch, traffic);
   return {};
 }
 
-Status swap_rounds(MPI_Comm comm, int rank, int base, Frame &frame, MethodScratch &scratch) {
+Status swap_rounds(MPI_Comm comm, int rank, int base, Frame &frame, MethodScratch &scratch,
+                   CompositeTraffic *traffic) {
   PixelRange r{0, frame.pixel_count()};
   for (int bit = 1; bit < base; bit <<= 1) {
     const size_t mid = r.lo + r.size() / 2;
@@ -51,7 +53,8 @@ Status swap_rounds(MPI_Comm comm, int rank, int base, Frame &frame, MethodScratc
     const PixelRange keep = upper ? PixelRange{mid, r.hi} : PixelRange{r.lo, mid};
     const PixelRange give = upper ? PixelRange{r.lo, mid} : PixelRange{mid, r.hi};
     const int partner = rank ^ bit;
-    if (Status s = exchange_and_merge(comm, partner, give, partner, keep, frame, scratch); !s.ok())
+    if (Status s = exchange_and_merge(comm, partner, give, partner, keep, frame, scratch, traffic);
+        !s.ok())
       return s;
     r = keep;
   }
@@ -60,18 +63,19 @@ Status swap_rounds(MPI_Comm comm, int rank, int base, Frame &frame, MethodScratc
 
 }  // namespace
 
-Status composite_binary_swap(MPI_Comm comm, Frame &frame, int root, MethodScratch &scratch) {
+Status composite_binary_swap(MPI_Comm comm, Frame &frame, int root, MethodScratch &scratch,
+                             CompositeTraffic *traffic) {
   int rank = 0, ranks = 1;
   MPI_Comm_rank(comm, &rank);
   MPI_Comm_size(comm, &ranks);
   const int base = largest_power_of_two_at_most(ranks);
-  Status error = fold_extra_ranks(comm, rank, ranks, base, frame, scratch);
-  if (error.ok() && rank < base) error = swap_rounds(comm, rank, base, frame, scratch);
+  Status error = fold_extra_ranks(comm, rank, ranks, base, frame, scratch, traffic);
+  if (error.ok() && rank < base) error = swap_rounds(comm, rank, base, frame, scratch, traffic);
   std::vector<PixelRange> owned(static_cast<size_t>(ranks));  // extra ranks own nothing
   for (int i = 0; i < base; ++i) owned[size_t(i)] = owned_range(i, base, frame.pixel_count());
   // A failed MPI call is fatal under MPI's default error handler; with MPI_ERRORS_RETURN we still
   // enter the gather so that no rank is left waiting in it.
-  Status gather_error = gather_ranges(comm, root, owned, frame);
+  Status gather_error = gather_ranges(comm, root, owned, frame, traffic);
   return error.ok() ? gather_error : error;
 }
 

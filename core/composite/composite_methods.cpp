@@ -35,25 +35,27 @@ void prepare_scratch(CompositeMethod method, size_t pixels, int ranks, size_t ch
       break;
     }
     case CompositeMethod::kAuto:
+    case CompositeMethod::kActivePixels:
       break;
   }
 }
 
 Status run_method(CompositeMethod method, MPI_Comm comm, Frame &frame, int root,
-                  size_t /*chunk_pixels*/, MethodScratch &scratch) {
+                  size_t /*chunk_pixels*/, MethodScratch &scratch, CompositeTraffic *traffic) {
   switch (method) {
     case CompositeMethod::kReduce64:
-      return composite_reduce64(comm, frame, root, scratch);
+      return composite_reduce64(comm, frame, root, scratch, traffic);
     case CompositeMethod::kReduceScatter:
-      return composite_reduce_scatter(comm, frame, root, scratch);
+      return composite_reduce_scatter(comm, frame, root, scratch, traffic);
     case CompositeMethod::kBinarySwap:
-      return composite_binary_swap(comm, frame, root, scratch);
+      return composite_binary_swap(comm, frame, root, scratch, traffic);
     case CompositeMethod::kDirectSend:
-      return composite_direct_send(comm, frame, root, scratch);
+      return composite_direct_send(comm, frame, root, scratch, traffic);
     case CompositeMethod::kAuto:
+    case CompositeMethod::kActivePixels:
       break;
   }
-  return {StatusCode::kInternal, "composite: kAuto must be resolved before run_method"};
+  return {StatusCode::kInternal, "composite: run_method runs the dense methods only"};
 }
 
 Status mpi_error(int code, const char *what) {

@@ -13,8 +13,9 @@
 #include <string>
 
 #include "core/common/status.h"
+#include "core/common/uninitialized_buffer.h"
+#include "core/composite/composite_traffic.h"
 #include "core/composite/depth_compositor.h"
-#include "core/composite/uninitialized_buffer.h"
 #include "core/view/frame.h"
 
 namespace lantern {
@@ -32,14 +33,19 @@ void prepare_scratch(CompositeMethod method, size_t pixels, int ranks, size_t ch
                      MethodScratch &scratch);
 
 // Runs one concrete method. Returns OK, kMpi with the MPI error message, or kInternal for kAuto.
+// Adds what moved to *traffic.
 Status run_method(CompositeMethod method, MPI_Comm comm, Frame &frame, int root,
-                  size_t chunk_pixels, MethodScratch &scratch);
+                  size_t chunk_pixels, MethodScratch &scratch, CompositeTraffic *traffic);
 
 // The methods: OK or kMpi with the MPI error message.
-Status composite_reduce64(MPI_Comm comm, Frame &frame, int root, MethodScratch &scratch);
-Status composite_reduce_scatter(MPI_Comm comm, Frame &frame, int root, MethodScratch &scratch);
-Status composite_binary_swap(MPI_Comm comm, Frame &frame, int root, MethodScratch &scratch);
-Status composite_direct_send(MPI_Comm comm, Frame &frame, int root, MethodScratch &scratch);
+Status composite_reduce64(MPI_Comm comm, Frame &frame, int root, MethodScratch &scratch,
+                          CompositeTraffic *traffic);
+Status composite_reduce_scatter(MPI_Comm comm, Frame &frame, int root, MethodScratch &scratch,
+                                CompositeTraffic *traffic);
+Status composite_binary_swap(MPI_Comm comm, Frame &frame, int root, MethodScratch &scratch,
+                             CompositeTraffic *traffic);
+Status composite_direct_send(MPI_Comm comm, Frame &frame, int root, MethodScratch &scratch,
+                             CompositeTraffic *traffic);
 
 // OK for MPI_SUCCESS, else kMpi with "<what>: <MPI error string>".
 Status mpi_error(int code, const char *what);

@@ -3,8 +3,9 @@
 #include <climits>
 #include <new>
 
+#include "core/composite/active_pixel_compositing.h"
 #include "core/composite/composite_methods.h"
-#include "core/composite/method_table.h"
+#include "core/composite/rank_agreement.h"
 
 namespace lantern {
 namespace {
@@ -14,32 +15,32 @@ bool frame_is_consistent(const Frame &frame) {
          frame.depth.size() == frame.pixel_count();
 }
 
-// What every rank must agree on, laid out for one MPI_MIN: x and -x give both min and max.
-struct Agreement {
-  enum { kWidth, kHeight, kRoot, kMethod, kChunk, kCount };
-  long long value[2 * kCount + 2];  // pairs (x, -x), then local_ok, allocated
-
-  // OK, or kMpi: the ranks cannot run the collective together.
-  Status check(int ranks) const {
-    const auto agreed = [&](int k) { return value[2 * k] == -value[2 * k + 1]; };
-    const auto failed = [](std::string what) {
-      return Status(StatusCode::kMpi, "composite: " + what);
-    };
-    if (value[2 * kCount] == 0)
-      return failed(
-          "a rank has an inconsistent frame, more than INT_MAX / 4 pixels, or a root outside [0, " +
-          std::to_string(ranks) + ")");
-    if (!agreed(kWidth) || !agreed(kHeight)) return failed("frame sizes differ between ranks");
-    if (!agreed(kRoot)) return failed("ranks passed different roots");
-    if (!agreed(kMethod) || !agreed(kChunk))
-      return failed("ranks passed different methods or chunk sizes");
-    if (value[2 * kCount + 1] == 0) return failed("a rank could not allocate scratch memory");
-    return {};
-  }
-};
-
 double elapsed_ms(double start) {
   return (MPI_Wtime() - start) * 1e3;
+}
+
+Status failed(const std::string &what) {
+  return {StatusCode::kMpi, "composite: " + what};
+}
+
+// Whether the methods that may run need the active-pixel scan and scratch, and the dense scratch.
+struct Needs {
+  bool active = false;
+  bool dense = false;
+};
+
+Needs needs_of(const CompositeOptions &o, int ranks, size_t pixels,
+               const CompositeCostModel &model) {
+  if (o.method == CompositeMethod::kActivePixels) return {true, false};
+  if (o.method != CompositeMethod::kAuto) return {false, true};
+  // kAuto: one MPI_Reduce of the whole frame against active pixels at their best (nothing
+  // drawn) and at their worst (everything drawn): only frames so small that latency decides
+  // skip the scan; only frames that small keep reduce64's scratch.
+  const double reduce = estimate_reduce64(ranks, pixels, model).seconds;
+  CostEstimate best, worst;
+  cheapest_schedule(ranks, pixels, 0, true, model, &best);
+  cheapest_schedule(ranks, pixels, pixels, true, model, &worst);
+  return {best.seconds < reduce, worst.seconds >= reduce};
 }
 
 }  // namespace
@@ -56,14 +57,16 @@ const char *to_string(CompositeMethod method) {
       return "binary_swap";
     case CompositeMethod::kDirectSend:
       return "direct_send";
+    case CompositeMethod::kActivePixels:
+      return "active_pixels";
   }
   return "unknown";
 }
 
 bool parse_composite_method(const std::string &name, CompositeMethod *method) {
-  for (const CompositeMethod m :
-       {CompositeMethod::kAuto, CompositeMethod::kReduce64, CompositeMethod::kReduceScatter,
-        CompositeMethod::kBinarySwap, CompositeMethod::kDirectSend}) {
+  for (const CompositeMethod m : {CompositeMethod::kAuto, CompositeMethod::kReduce64,
+                                  CompositeMethod::kReduceScatter, CompositeMethod::kBinarySwap,
+                                  CompositeMethod::kDirectSend, CompositeMethod::kActivePixels}) {
     if (name == to_string(m)) {
       *method = m;
       return true;
@@ -72,8 +75,8 @@ bool parse_composite_method(const std::string &name, CompositeMethod *method) {
   return false;
 }
 
-Status composite_frames(MPI_Comm comm, Frame &frame, int root, CompositeMethod method,
-                        size_t chunk_pixels, CompositeStats *stats_out) {
+Status composite_frames(MPI_Comm comm, Frame &frame, int root, const CompositeOptions &options,
+                        CompositeStats *stats_out) {
   const double start = MPI_Wtime();
   int rank = 0, ranks = 1;
   MPI_Comm_rank(comm, &rank);
@@ -93,36 +96,95 @@ Status composite_frames(MPI_Comm comm, Frame &frame, int root, CompositeMethod m
     return {};
   }
 
-  const size_t chunk = chunk_pixels == 0 ? kDefaultCompositeChunkPixels : chunk_pixels;
-  const CompositeMethod chosen =
-      method == CompositeMethod::kAuto ? auto_composite_method(ranks, stats.pixels) : method;
+  const size_t chunk =
+      options.chunk_pixels == 0 ? kDefaultCompositeChunkPixels : options.chunk_pixels;
+  const CompositeCostModel model = options.model ? *options.model : default_cost_model();
+  const Needs needs = local_ok ? needs_of(options, ranks, stats.pixels, model) : Needs{};
+  ActiveScan scan;
+  if (needs.active) {
+    const double t0 = thread_cpu_ms();
+    scan = scan_active_pixels(frame);
+    stats.traffic.work_cpu_ms += thread_cpu_ms() - t0;
+  }
+  const CompositeMethod dense =
+      options.method == CompositeMethod::kAuto ? CompositeMethod::kReduce64 : options.method;
   // Kept between frames so steady-state frames neither allocate nor page-fault; bounded by about
   // two chunks whatever the frame size. thread_local: concurrent callers never share it.
   thread_local MethodScratch scratch;
+  thread_local ActivePixelScratch active_scratch;
   bool allocated = true;
-  if (local_ok) {
-    try {
-      prepare_scratch(chosen, stats.pixels, ranks, chunk, scratch);
-    } catch (const std::bad_alloc &) {
-      allocated = false;  // reported collectively below, so no rank enters the method alone
-    }
+  try {
+    if (needs.active) active_scratch.prepare(chunk, ranks);
+    if (needs.dense) prepare_scratch(dense, stats.pixels, ranks, chunk, scratch);
+  } catch (const std::bad_alloc &) {
+    allocated = false;  // reported collectively below, so no rank enters the method alone
   }
-  const long long fields[] = {frame.width, frame.height, root, static_cast<long long>(chosen),
-                              static_cast<long long>(chunk)};
-  Agreement agreement{};
-  for (int k = 0; k < Agreement::kCount; ++k) {
-    agreement.value[2 * k] = fields[k];
-    agreement.value[2 * k + 1] = -fields[k];
-  }
-  agreement.value[2 * Agreement::kCount] = local_ok;
-  agreement.value[2 * Agreement::kCount + 1] = allocated;
-  MPI_Allreduce(MPI_IN_PLACE, agreement.value, 2 * Agreement::kCount + 2, MPI_LONG_LONG, MPI_MIN,
-                comm);
 
-  stats.method = to_string(chosen);
-  Status status = agreement.check(ranks);
-  if (status.ok() && stats.pixels > 0)
-    status = run_method(chosen, comm, frame, root, chunk, scratch);
+  RankAgreement agree;
+  const size_t width = agree.equal(frame.width), height = agree.equal(frame.height);
+  const size_t root_at = agree.equal(root);
+  const size_t setup =
+      agree.equal(static_cast<long long>(options.method) * 1000003 + static_cast<long long>(chunk));
+  const size_t model_at = agree.equal(cost_model_fingerprint(model, options.schedule));
+  const ScanAgreement scans(agree, scan);
+  const size_t ok_at = agree.all(local_ok), allocated_at = agree.all(allocated);
+  Status status = agree.reduce(comm);
+  if (status.ok() && !agree.holds(ok_at))
+    status = failed(
+        "a rank has an inconsistent frame, more than INT_MAX / 4 pixels, or a root outside [0, " +
+        std::to_string(ranks) + ")");
+  if (status.ok() && (!agree.agreed(width) || !agree.agreed(height)))
+    status = failed("frame sizes differ between ranks");
+  if (status.ok() && !agree.agreed(root_at)) status = failed("ranks passed different roots");
+  if (status.ok() && !agree.agreed(setup))
+    status = failed("ranks passed different methods or chunk sizes");
+  if (status.ok() && !agree.agreed(model_at))
+    status = failed("ranks passed different cost models or schedules");
+  if (status.ok() && !agree.holds(allocated_at))
+    status = failed("a rank could not allocate scratch memory");
+
+  // What runs: a pure function of agreed values, so the same on every rank.
+  CompositingSchedule schedule;
+  CostEstimate estimate;
+  bool active = needs.active;
+  if (status.ok() && active) {
+    const size_t most = scans.busiest(agree, stats.pixels);
+    if (!options.schedule) {
+      schedule = cheapest_schedule(ranks, stats.pixels, most, true, model, &estimate);
+    } else {
+      schedule = *options.schedule;
+      schedule.ranks = ranks;
+      estimate = estimate_active_pixels(schedule, stats.pixels, most, true, model);
+      if (!schedule.valid())
+        status = failed("schedule " + schedule.name() + " does not fit " + std::to_string(ranks) +
+                        " ranks");
+    }
+    if (needs.dense) {  // kAuto on a frame small enough for one MPI_Reduce to compete
+      const CostEstimate reduce = estimate_reduce64(ranks, stats.pixels, model);
+      if (reduce.seconds <= estimate.seconds) active = false, estimate = reduce;
+    }
+  } else if (status.ok() && dense == CompositeMethod::kReduce64) {
+    estimate = estimate_reduce64(ranks, stats.pixels, model);
+  }
+  stats.model_ms = estimate.seconds * 1e3;
+  if (active) {
+    stats.method = to_string(CompositeMethod::kActivePixels);
+    stats.schedule = schedule.name();
+    const uint64_t empty_key = scans.empty_key(agree);
+    // A rank whose own maximum is below everyone's has no empty pixel: all of it is active.
+    const bool own_empty = scan.max_key == empty_key;
+    stats.active_pixels = own_empty ? scan.active : stats.pixels;
+    if (status.ok() && stats.pixels > 0) {
+      ActiveFrame active_frame{&frame, empty_pixel(empty_key),
+                               own_empty ? scan.rect : PixelRect{0, 0, frame.width, frame.height}};
+      ActivePixelPlan plan{schedule, equal_blocks(stats.pixels, schedule.base()), root, {}};
+      status = run_active_pixel_plan(comm, plan, active_frame, active_scratch, &stats.traffic);
+    }
+  } else {
+    stats.method = to_string(dense);
+    if (status.ok() && stats.pixels > 0)
+      status = run_method(dense, comm, frame, root, chunk, scratch, &stats.traffic);
+  }
   stats.milliseconds = elapsed_ms(start);
   return status;
 }

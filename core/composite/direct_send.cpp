@@ -11,7 +11,8 @@
 
 namespace lantern {
 
-Status composite_direct_send(MPI_Comm comm, Frame &frame, int root, MethodScratch &scratch) {
+Status composite_direct_send(MPI_Comm comm, Frame &frame, int root, MethodScratch &scratch,
+                             CompositeTraffic *traffic) {
   int rank = 0, ranks = 1;
   MPI_Comm_rank(comm, &rank);
   MPI_Comm_size(comm, &ranks);
@@ -22,9 +23,9 @@ Status composite_direct_send(MPI_Comm comm, Frame &frame, int root, MethodScratc
   for (int step = 1; step < ranks && error.ok(); ++step) {
     const int to = (rank + step) % ranks, from = (rank - step + ranks) % ranks;
     error = exchange_and_merge(comm, to, blocks[size_t(to)], from, blocks[size_t(rank)], frame,
-                               scratch);
+                               scratch, traffic);
   }
-  Status gather_error = gather_ranges(comm, root, blocks, frame);
+  Status gather_error = gather_ranges(comm, root, blocks, frame, traffic);
   return error.ok() ? gather_error : error;
 }
 

@@ -20,7 +20,8 @@ size_t segments_of(size_t count, size_t segment) {
 }  // namespace
 
 Status exchange_and_merge(MPI_Comm comm, int send_to, PixelRange give, int recv_from,
-                          PixelRange keep, Frame &frame, MethodScratch &scratch) {
+                          PixelRange keep, Frame &frame, MethodScratch &scratch,
+                          CompositeTraffic *traffic) {
   const size_t segment = scratch.depth.size();
   // Segment k of give and segment k of keep travel together. Every rank waits at step k only for
   // partners' step k, which they reach because both sides cut the same range the same way: no
@@ -48,13 +49,21 @@ Status exchange_and_merge(MPI_Comm comm, int send_to, PixelRange give, int recv_
     }
     const int rc = MPI_Waitall(posted, requests.data(), MPI_STATUSES_IGNORE);
     if (rc != MPI_SUCCESS) return mpi_error(rc, "compositing: exchange");
+    // A pixel is 8 bytes: its depth and its colour travel as two messages.
+    traffic->bytes_sent += 8 * uint64_t(send_count);
+    traffic->messages_sent += send_count > 0 ? 2 : 0;
+    traffic->bytes_received += 8 * uint64_t(recv_count);
+    traffic->messages_received += recv_count > 0 ? 2 : 0;
+    const double t0 = thread_cpu_ms();
     merge_pixels(scratch.depth.data(), scratch.rgba.data(), size_t(recv_count),
                  frame.depth.data() + recv_first, frame.rgba.data() + 4 * recv_first);
+    traffic->work_cpu_ms += thread_cpu_ms() - t0;
   }
   return {};
 }
 
-Status gather_ranges(MPI_Comm comm, int root, const std::vector<PixelRange> &owned, Frame &frame) {
+Status gather_ranges(MPI_Comm comm, int root, const std::vector<PixelRange> &owned, Frame &frame,
+                     CompositeTraffic *traffic) {
   // Point-to-point rather than two MPI_Gatherv (depth, color): root receives every piece of both
   // arrays under one MPI_Waitall, one synchronisation instead of two, which matters when ranks
   // share cores. Open MPI's gatherv is linear at these sizes anyway.
@@ -66,6 +75,8 @@ Status gather_ranges(MPI_Comm comm, int root, const std::vector<PixelRange> &own
     float *depth = frame.depth.data() + r.lo;
     uint8_t *rgba = frame.rgba.data() + 4 * r.lo;
     const int count = int(r.size());
+    (receive ? traffic->bytes_received : traffic->bytes_sent) += 8 * uint64_t(count);
+    (receive ? traffic->messages_received : traffic->messages_sent) += 2;
     requests.emplace_back();
     if (receive) {
       MPI_Irecv(depth, count, MPI_FLOAT, peer, kGatherDepthTag, comm, &requests.back());

@@ -13,27 +13,23 @@
 
 #include "core/common/status.h"
 #include "core/composite/composite_methods.h"
+#include "core/composite/pixel_range.h"
 #include "core/view/frame.h"
 
 namespace lantern {
-
-// Pixels [lo, hi) of a frame in row-major order.
-struct PixelRange {
-  size_t lo = 0;
-  size_t hi = 0;
-  size_t size() const { return hi - lo; }
-};
 
 // Sends the pixels `give` of frame to rank send_to (if give is not empty) while receiving rank
 // recv_from's pixels for `keep` (if keep is not empty) and merging them into frame. The matching
 // call on the other side must use the same range: its keep is our give. Ranges are cut into
 // scratch-sized segments that move in lockstep, one segment pair in flight at a time.
-// OK or kMpi.
+// Adds the messages and bytes to *traffic. OK or kMpi.
 Status exchange_and_merge(MPI_Comm comm, int send_to, PixelRange give, int recv_from,
-                          PixelRange keep, Frame &frame, MethodScratch &scratch);
+                          PixelRange keep, Frame &frame, MethodScratch &scratch,
+                          CompositeTraffic *traffic);
 
 // Gathers owned[i] from every rank i into root's frame; root's own range is already in place.
-// OK or kMpi.
-Status gather_ranges(MPI_Comm comm, int root, const std::vector<PixelRange> &owned, Frame &frame);
+// Adds the messages and bytes to *traffic. OK or kMpi.
+Status gather_ranges(MPI_Comm comm, int root, const std::vector<PixelRange> &owned, Frame &frame,
+                     CompositeTraffic *traffic);
 
 }  // namespace lantern

@@ -9,7 +9,8 @@
 
 namespace lantern {
 
-Status composite_reduce64(MPI_Comm comm, Frame &frame, int root, MethodScratch &scratch) {
+Status composite_reduce64(MPI_Comm comm, Frame &frame, int root, MethodScratch &scratch,
+                          CompositeTraffic *traffic) {
   int rank = 0;
   MPI_Comm_rank(comm, &rank);
   const size_t pixels = frame.pixel_count();
@@ -23,6 +24,9 @@ Status composite_reduce64(MPI_Comm comm, Frame &frame, int root, MethodScratch &
     const int rc = MPI_Reduce(send, buffer, int(count), MPI_UINT64_T, MPI_MIN, root, comm);
     if (rc != MPI_SUCCESS) return mpi_error(rc, "MPI_Reduce");
     if (rank == root) unpack_pixels(buffer, first, count, frame);
+    // What this rank hands to MPI and gets back (the tree's own traffic is MPI's).
+    (rank == root ? traffic->bytes_received : traffic->bytes_sent) += 8 * uint64_t(count);
+    ++(rank == root ? traffic->messages_received : traffic->messages_sent);
   }
   return {};
 }

@@ -10,7 +10,8 @@
 
 namespace lantern {
 
-Status composite_reduce_scatter(MPI_Comm comm, Frame &frame, int root, MethodScratch &scratch) {
+Status composite_reduce_scatter(MPI_Comm comm, Frame &frame, int root, MethodScratch &scratch,
+                                CompositeTraffic *traffic) {
   int rank = 0, ranks = 1;
   MPI_Comm_rank(comm, &rank);
   MPI_Comm_size(comm, &ranks);
@@ -35,6 +36,13 @@ Status composite_reduce_scatter(MPI_Comm comm, Frame &frame, int root, MethodScr
     }
     if (rc != MPI_SUCCESS) return mpi_error(rc, "MPI_Gather");
     if (rank == root) unpack_pixels(packed, first, count, frame);
+    // What this rank hands to MPI and gets back (the collectives' own traffic is MPI's): its
+    // chunk in, its reduced block out, then the block to root (root: every block back).
+    traffic->bytes_sent +=
+        8 * uint64_t(block_size * size_t(ranks) + (rank == root ? 0 : block_size));
+    traffic->bytes_received += 8 * uint64_t(block_size * (rank == root ? size_t(ranks) : 1));
+    traffic->messages_sent += rank == root ? 1 : 2;
+    traffic->messages_received += rank == root ? 2 : 1;
   }
   return {};
 }

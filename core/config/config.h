@@ -26,8 +26,28 @@ struct Schedule {
 
 enum class Projection { kPerspective, kOrthographic };
 
+// camera.path[i]: the automatic camera at one step. A key a keyframe leaves out carries the
+// previous keyframe's value (the first keyframe's: the camera's own azimuth/elevation/zoom), so
+// after loading every value is set. Between keyframes the camera moves smoothly
+// (core/camera/camera_path.h).
+struct CameraKeyframe {
+  int64_t step = 0;                 // step: the simulation step of this view, >= 0 (required)
+  std::optional<double> azimuth;    // azimuth: degrees, as the camera's; the difference to the
+                                    // previous keyframe is the turn taken (|difference| < 360)
+  std::optional<double> elevation;  // elevation: degrees in [-90, 90]
+  std::optional<double> zoom;       // zoom: > 0
+};
+
+// camera.orbit: the short form of a path: the automatic camera turns about the up axis by
+// degrees_per_step every step, from the camera's azimuth at step 0.
+struct CameraOrbit {
+  bool enabled = false;           // the section is present
+  double degrees_per_step = 0.0;  // degrees_per_step: in [-360, 360]
+};
+
 // camera: either automatic (fit to the global particle bounds, then azimuth/elevation/zoom)
-// or explicit (position + look_at + up). Giving `position` switches to explicit.
+// or explicit (position + look_at + up). Giving `position` switches to explicit. `path` or
+// `orbit` move the automatic camera with the step.
 struct CameraConfig {
   Projection projection = Projection::kPerspective;  // projection: perspective | orthographic
   double fov_y = 30.0;                               // fov: vertical field of view, degrees
@@ -39,6 +59,9 @@ struct CameraConfig {
   std::array<double, 3> up{0, 0, 1};              // up: [x, y, z]
   std::optional<double> near_plane;               // near / far: clip distances; auto by default
   std::optional<double> far_plane;
+  std::vector<CameraKeyframe> path;  // path: [{step, azimuth, elevation, zoom}, ...], by step
+  CameraOrbit orbit;                 // orbit: {degrees_per_step: d}
+  bool moves() const { return !path.empty() || orbit.enabled; }
 };
 
 enum class ColorBy { kSolid, kType, kScalar };
@@ -117,18 +140,19 @@ struct OutputConfig {
 // on screen (where it measured faster), opengl elsewhere.
 enum class RendererChoice { kAuto, kOpenGl, kCpu };
 
-// probabilistic: seed 004's confidence-map culling (core/culling/probabilistic/); an approximate
-// mode served by the CPU raster only, never chosen by auto.
+// probabilistic: Ibrahim et al.'s confidence-map culling (core/culling/probabilistic/); an
+// approximate mode served by the CPU raster only, never chosen by auto.
 enum class OcclusionMode { kAuto, kNone, kNineSpheres, kNineSpheresSorted, kHzb, kProbabilistic };
 
 // The radius the nine-spheres rule compares (a sphere is hidden only by nearer spheres that are
-// not smaller). world: the drawn radius, as seed 000 states the rule. equivalent: seed 003's
-// equivalent radius, the radius of the sphere moved towards the eye onto the near plane and
-// scaled to keep its projected size (r * near / depth in perspective, r in orthographic), so a
-// near small sphere can hide a far large one that looks smaller on screen.
+// not smaller). world: the drawn radius, as the nine-spheres paper states the rule. equivalent: the
+// equivalent radius of the nine-spheres paper's conference version, the radius of the sphere moved
+// towards the eye onto the near plane and scaled to keep its projected size (r * near / depth in
+// perspective, r in orthographic), so a near small sphere can hide a far large one that looks
+// smaller on screen.
 enum class NineSpheresRadius { kWorld, kEquivalent };
 
-// Seed 004's probabilistic occlusion culling (occlusion: probabilistic), culling.* keys.
+// Ibrahim et al.'s probabilistic occlusion culling (occlusion: probabilistic), culling.* keys.
 struct ProbabilisticConfig {
   double confidence = 0.95;  // confidence: C_occ in (0, 1), occluded-class threshold
   int budget = 2;            // probabilistic_budget: occluder meshlets sampled per node per pass
@@ -137,12 +161,12 @@ struct ProbabilisticConfig {
   // paper's "random 50%" baseline of Table 4.
   bool random_acceptance = false;
   // No YAML key (lantern-bench only): converged when at most this share of the open meshlets
-  // changed class; 0 is seed 004's §5.3 to the letter ("no meshlet changes"). See
+  // changed class; 0 is Ibrahim et al. 2022, §5.3 to the letter ("no meshlet changes"). See
   // probabilistic_culler.h for why the default tolerates 1%.
   double quiet_share = 0.01;
 };
 
-// culling: (issue 5 fills the algorithms; the keys exist from the start)
+// culling: which particles are skipped before drawing, and how
 struct CullingConfig {
   bool frustum = true;  // frustum: true|false
   OcclusionMode occlusion =
@@ -169,29 +193,33 @@ struct LodConfig {
   LodSelect select = LodSelect::kUniform;  // select: uniform | nearest (style: spheres)
 };
 
-// A cutting plane (issue: cross-sections): particles with dot(n, x) > offset are dropped.
+// A cutting plane (the cross-sections paper): particles with dot(n, x) > offset are dropped.
 struct CutPlane {
   std::array<double, 3> normal{0, 0, 1};  // normal: [nx, ny, nz]
   double offset = 0.0;                    // offset: plane is dot(normal, x) = offset
   bool enabled = true;  // enabled: false keeps the plane in the list but cuts nothing (toggle)
 };
 
-// Depth cues (issue 13), each off unless its section is present. The screen-space ones (screen
+// Depth cues, each off unless its section is present. The screen-space ones (screen
 // ambient occlusion, outline, depth cue) run on the final-resolution composited frame, after
 // any down-sampling and before the image is written (core/finish/screen_cues.h).
 enum class AmbientOcclusionMethod { kScreen, kObject };
+// Where screen ambient occlusion is estimated: on every other pixel of every other row, then
+// blurred and brought back to every pixel by depth-aware upsampling (half), or at every pixel.
+enum class AoResolution { kHalf, kFull };
 
 // The default ambient_occlusion.radius, in sphere radii (the scene's largest): about the first
 // neighbour shell of a dense packing.
 inline constexpr double kDefaultAoRadiusInSphereRadii = 4.0;
 
-// ambient_occlusion: {method, radius, samples, strength}
+// ambient_occlusion: {method, radius, samples, strength, resolution}
 struct AmbientOcclusionConfig {
   bool enabled = false;                                             // the section is present
   AmbientOcclusionMethod method = AmbientOcclusionMethod::kScreen;  // method: screen | object
   std::optional<double> radius;  // radius: > 0, simulation units; absent = 4 x sphere radius
-  int samples = 16;              // samples: 1..64 (screen: samples per pixel)
+  int samples = 16;              // samples: 1..64 (screen: samples per estimate)
   double strength = 0.6;         // strength: [0, 1], 0 = no darkening
+  AoResolution resolution = AoResolution::kHalf;  // resolution: half | full (method: screen)
 };
 
 // outline: {width, color, depth_threshold}
@@ -211,7 +239,7 @@ struct DepthCueConfig {
 };
 
 // style: what a particle is in the picture. spheres: opaque shaded spheres (depth-composited).
-// density: a screen-aligned Gaussian footprint, summed over particles (seed 001 §3.4;
+// density: a screen-aligned Gaussian footprint, summed over particles (Rizzi et al. 2015, §3.4;
 // core/render/density_splat.h), then mapped to colors by `density:`.
 enum class SceneStyle { kSpheres, kDensity };
 enum class DensityTransfer { kLinear, kLog, kAsinh };
@@ -235,6 +263,55 @@ struct BondsConfig {
   BondColorBy color = BondColorBy::kAtom;      // color: by_atom | by_type | solid
   std::array<double, 3> solid{0.6, 0.6, 0.6};  // solid: [r, g, b] (color: solid)
   std::vector<std::array<double, 3>> palette;  // palette: per bond type; empty = built-in
+};
+
+// Overlays: drawn on rank 0 over the finished image (core/finish/overlays/), each off unless
+// given. A place on the image: one of its corners (with a margin), or `at`, the overlay's
+// top-left pixel counted from the image's top-left corner.
+enum class OverlayCorner { kTopLeft, kTopRight, kBottomLeft, kBottomRight };
+struct OverlayPlace {
+  OverlayCorner corner = OverlayCorner::kTopLeft;
+  std::optional<std::array<int, 2>> at;  // position: [x, y] pixels (instead of a corner)
+  bool operator==(const OverlayPlace &o) const { return corner == o.corner && at == o.at; }
+};
+
+// labels: [{text, position, size, color}, ...]; text is a template with {step}, {step:06d},
+// {time}, {time:.2f} and {scene} (core/config/label_template.h).
+struct LabelConfig {
+  std::string text;                      // text: the template (required)
+  OverlayPlace position;                 // position: corner | [x, y]
+  int size = 24;                         // size: font size, pixels 4..512
+  std::array<double, 3> color{0, 0, 0};  // color: [r, g, b]
+};
+
+// legend: a colour bar (color.by: scalar) or a key of type names (color.by: type).
+struct LegendConfig {
+  bool enabled = false;                                              // the section is present
+  OverlayPlace position{OverlayCorner::kBottomRight, std::nullopt};  // position: corner | [x, y]
+  std::optional<int> length;             // length: the bar's length, pixels; absent = 40% of height
+  int width = 16;                        // width: the bar's width (the key's swatches), pixels
+  int font_size = 16;                    // font_size: pixels 4..512
+  std::array<double, 3> color{0, 0, 0};  // color: text, ticks and frame [r, g, b]
+  // title: above the bar; absent = the scalar's name (lammps.scalar, else "scalar"); none for
+  // the type key unless given.
+  std::optional<std::string> title;
+  int ticks = 5;                        // ticks: about this many labelled values, 2..20
+  std::vector<std::string> type_names;  // type_names: [Ni, flyer] - the key's entries, type 0..
+};
+
+// box: the simulation box's twelve edges, hidden where particles are in front of them.
+struct BoxOverlayConfig {
+  bool enabled = false;                  // the section is present
+  std::array<double, 3> color{0, 0, 0};  // color: [r, g, b]
+  double width = 1.5;                    // width: line width, pixels (0, 16]
+};
+
+// axes: a small x/y/z triad showing the camera's orientation.
+struct AxesConfig {
+  bool enabled = false;                                             // the section is present
+  OverlayPlace position{OverlayCorner::kBottomLeft, std::nullopt};  // position: corner | [x, y]
+  int size = 80;                                                    // size: pixels 16..1024
+  int font_size = 14;                                               // font_size: pixels 4..512
 };
 
 struct SceneConfig {
@@ -262,20 +339,36 @@ struct SceneConfig {
   DepthCueConfig depth_cue;                  // depth_cue: {...}
   SceneStyle style = SceneStyle::kSpheres;   // style: spheres | density
   DensityConfig density;                     // density: {...}
-  // opacity: [a0, a1, ...] per type, each in [0, 1] (screen-door transparency, issue 13); types
+  // opacity: [a0, a1, ...] per type, each in [0, 1] (screen-door transparency); types
   // beyond the list, and every type when it is empty (the default), are opaque.
   std::vector<double> opacity;
   Lighting lighting;  // lighting: {direction, ambient, diffuse, specular, shininess} (lighting.h)
   BondsConfig bonds;  // bonds: {radius, color, solid, palette}
+  std::vector<LabelConfig> labels;  // labels: [{text, ...}, ...]
+  LegendConfig legend;              // legend: {...}
+  BoxOverlayConfig box;             // box: {...}
+  AxesConfig axes;                  // axes: {...}
+  // font: the overlays' font - a file (a path with '/') or a fontconfig family name; "" =
+  // fontconfig's DejaVu Sans.
+  std::string font;
+  bool has_text() const { return !labels.empty() || legend.enabled || axes.enabled; }
+  bool has_overlays() const { return has_text() || box.enabled; }
 };
 
-// dump: (HDF5 / H5MD particle dumps; issue 6)
+// dump.mode: what the first dump does with a file already at dump.file. create: refuse it (a
+// message naming the key; nothing is touched); append: continue its time series (a restarted
+// run), when it is one of Lantern's files with the same fields and precision; overwrite: replace
+// it.
+enum class DumpMode { kCreate, kAppend, kOverwrite };
+
+// dump: (HDF5 / H5MD particle dumps)
 struct DumpConfig {
   bool enabled = false;  // true when the `dump:` section is present (enabled: false turns it off)
   std::string file = "lantern_particles.h5";  // file:
   Schedule schedule;                          // schedule: {...}
   std::vector<std::string> fields;            // fields: [position, type, scalar, radius, id]
   bool single_precision = false;              // precision: float32 | float64
+  DumpMode mode = DumpMode::kCreate;          // mode: create | append | overwrite
 };
 
 // gl: the OpenGL back end (core/render/gl/gl_context.h). auto: EGL, then OSMesa, then none; none:
@@ -306,6 +399,10 @@ struct Config {
   // watch: re-read the configuration file when it changes (checked on rank 0 at scheduled steps,
   // applied on every rank at the same step; needs the configuration to come from a file).
   bool watch = false;
+  // threads: auto | N - the threads each rank may use for brick building and refitting, the
+  // particle scan and the CPU raster (images are the same at any count). 0 (auto): what
+  // OMP_NUM_THREADS or, without it, the process's CPU affinity gives (core/common/rank_threads.h).
+  int threads = 0;
 };
 
 inline constexpr int kMaxImageSize = 16384;

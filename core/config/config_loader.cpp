@@ -25,10 +25,13 @@
 #include "core/color/colormap.h"
 #include "core/color/colormap_file.h"
 #include "core/common/quoted_text.h"
+#include "core/config/config_file.h"
 #include "core/config/config_rules.h"
 #include "core/config/file_pattern.h"
 #include "core/config/key_table.h"
+#include "core/config/label_template.h"
 #include "core/config/value_readers.h"
+#include "core/config/yaml_guard.h"
 #include "core/config/yaml_reader.h"
 
 namespace lantern {
@@ -148,6 +151,29 @@ std::string movie_file(const YamlReader &r, const YAML::Node &n, const std::stri
   return file;
 }
 
+// Overlay positions: a corner's name, or [x, y], the overlay's top-left pixel from the image's
+// top-left corner.
+OverlayPlace overlay_place(const YamlReader &r, const YAML::Node &n, const std::string &p) {
+  OverlayPlace place;
+  if (n.IsSequence()) {
+    if (n.size() != 2)
+      r.fail(n, p, "must be a corner (top_left, top_right, bottom_left, bottom_right) or [x, y]");
+    place.at = std::array<int, 2>{int(r.read_int(n[0], index_path(p, 0), 0, kMaxImageSize)),
+                                  int(r.read_int(n[1], index_path(p, 1), 0, kMaxImageSize))};
+    return place;
+  }
+  place.corner = one_of<OverlayCorner>()(r, n, p);
+  return place;
+}
+
+// labels[].text: a template whose fields are checked now (label_template.h).
+std::string label_text(const YamlReader &r, const YAML::Node &n, const std::string &p) {
+  const std::string text = r.read_string(n, p);
+  const Status problem = validate_label_template(text);
+  if (!problem.ok()) r.fail(n, p, quoted_text(text) + ": " + problem.message);
+  return text;
+}
+
 const std::vector<std::string> kDumpFields = {"position", "type", "scalar", "radius", "id"};
 
 // ambient_occlusion, outline, depth_cue: a section that is present turns its cue on; `outline:`
@@ -164,6 +190,24 @@ const Section<Schedule> kSchedule({
                            "must list at least one step (omit it for every step)"))},
 });
 
+// camera.path[i]: `step` is required; the other keys carry over (camera_path_is_ordered).
+const Section<CameraKeyframe> kKeyframe(
+    {
+        rule(keyframe_has_step),
+        {"step", &CameraKeyframe::step, integer(0, kMaxInt)},
+        {"azimuth", &CameraKeyframe::azimuth, finite()},
+        {"elevation", &CameraKeyframe::elevation, number_in('[', -90, 90, ']')},
+        {"zoom", &CameraKeyframe::zoom, above(0)},
+    },
+    {"each keyframe must be a mapping {step, azimuth, elevation, zoom}"});
+
+const Section<CameraOrbit> kOrbit(
+    {
+        rule(orbit_has_rate),
+        {"degrees_per_step", &CameraOrbit::degrees_per_step, number_in('[', -360, 360, ']')},
+    },
+    {"must be a mapping {degrees_per_step: d}"}, &CameraOrbit::enabled);
+
 const Section<CameraConfig> kCamera({
     {"projection", &CameraConfig::projection, one_of<Projection>()},
     {"fov", &CameraConfig::fov_y, number_in('(', 0, 180, ')')},
@@ -176,6 +220,9 @@ const Section<CameraConfig> kCamera({
     {"near", &CameraConfig::near_plane, above(0)},
     {"far", read_far},
     rule(camera_looks_away),
+    {"path", &CameraConfig::path, list_of(kKeyframe)},
+    {"orbit", &CameraConfig::orbit, kOrbit},
+    rule(camera_path_is_ordered),
 });
 
 const Section<ColorConfig> kColor({
@@ -253,6 +300,8 @@ const Section<AmbientOcclusionConfig> kAmbientOcclusion(
         {"radius", &AmbientOcclusionConfig::radius, above(0)},
         {"samples", &AmbientOcclusionConfig::samples, integer(1, 64)},
         {"strength", &AmbientOcclusionConfig::strength, number_in('[', 0, 1, ']')},
+        {"resolution", &AmbientOcclusionConfig::resolution,
+         one_of<AoResolution>({{"half", AoResolution::kHalf}, {"full", AoResolution::kFull}})},
     },
     kCue, &AmbientOcclusionConfig::enabled);
 
@@ -298,6 +347,44 @@ const Section<BondsConfig> kBonds(
          list_of(rgb(), "must list at least one color (omit it for the default)")},
     },
     kCue, &BondsConfig::enabled);
+const Section<LabelConfig> kLabel(
+    {
+        rule(label_has_text),
+        {"text", &LabelConfig::text, label_text},
+        {"position", &LabelConfig::position, overlay_place},
+        {"size", &LabelConfig::size, integer(4, 512)},
+        {"color", &LabelConfig::color, rgb()},
+    },
+    {"each label must be a mapping {text: 'step {step}', ...}"});
+
+const Section<LegendConfig> kLegend(
+    {
+        {"position", &LegendConfig::position, overlay_place},
+        {"length", &LegendConfig::length, default_if("auto", integer(16, kMaxImageSize))},
+        {"width", &LegendConfig::width, integer(2, 1024)},
+        {"font_size", &LegendConfig::font_size, integer(4, 512)},
+        {"color", &LegendConfig::color, rgb()},
+        {"title", &LegendConfig::title, text()},
+        {"ticks", &LegendConfig::ticks, integer(2, 20)},
+        {"type_names", &LegendConfig::type_names,
+         list_of(text(), "must list at least one name (type 0 first)")},
+    },
+    kCue, &LegendConfig::enabled);
+
+const Section<BoxOverlayConfig> kBoxOverlay(
+    {
+        {"color", &BoxOverlayConfig::color, rgb()},
+        {"width", &BoxOverlayConfig::width, number_in('(', 0, 16, ']')},
+    },
+    kCue, &BoxOverlayConfig::enabled);
+
+const Section<AxesConfig> kAxes(
+    {
+        {"position", &AxesConfig::position, overlay_place},
+        {"size", &AxesConfig::size, integer(16, 1024)},
+        {"font_size", &AxesConfig::font_size, integer(4, 512)},
+    },
+    kCue, &AxesConfig::enabled);
 
 const Section<SceneConfig> kScene(
     {
@@ -325,6 +412,12 @@ const Section<SceneConfig> kScene(
          list_of(number_in('[', 0, 1, ']'), "must list at least one opacity (omit it for opaque)")},
         {"lighting", &SceneConfig::lighting, kLighting},
         {"bonds", &SceneConfig::bonds, kBonds},
+        {"labels", &SceneConfig::labels, list_of(kLabel)},
+        {"legend", &SceneConfig::legend, kLegend},
+        {"box", &SceneConfig::box, kBoxOverlay},
+        {"axes", &SceneConfig::axes, kAxes},
+        {"font", &SceneConfig::font, text()},
+        rule(legend_has_colors),
         rule(renderer_serves_occlusion),
         rule(density_scene_has_no_depth),
     },
@@ -338,6 +431,7 @@ const Section<DumpConfig> kDump(
         {"fields", &DumpConfig::fields, distinct_list_of(one_of(kDumpFields))},
         {"precision", &DumpConfig::single_precision,
          one_of<bool>({{"float32", true}, {"float64", false}})},
+        {"mode", &DumpConfig::mode, one_of<DumpMode>()},
     },
     {}, &DumpConfig::enabled);
 
@@ -359,6 +453,8 @@ const Section<Config> kTop(
         {"egl_device", &Config::egl_device, default_if("auto", integer(0, 1023))},
         {"lammps", &Config::lammps, kLammps},
         {"watch", &Config::watch, boolean()},
+        // threads: 'auto' keeps 0, resolved per process (core/common/rank_threads.h).
+        {"threads", &Config::threads, default_if("auto", integer(1, 1024))},
         rule(config_has_work),
     },
     {"the configuration must be a mapping with keys (schedule, scenes, ...)", true});
@@ -395,21 +491,11 @@ bool is_inline_document(const std::string &s) {
   return s.find('\n') != std::string::npos || (first != std::string::npos && s[first] == '{');
 }
 
-// Reads the whole file. On failure kConfig (a configuration that cannot be read is a
-// configuration error, LANTERN_ERROR_CONFIG in the C API) naming the file and the OS reason.
+// Reads the whole file (config_file.h). On failure kConfig (a configuration that cannot be read
+// is a configuration error, LANTERN_ERROR_CONFIG in the C API) naming the file and the reason.
 Status read_file(const std::string &path, std::string *text) {
-  const auto unreadable = [&](const std::string &reason) {
-    return Status(StatusCode::kConfig, "cannot read config file '" + path + "': " + reason);
-  };
-  std::error_code ec;
-  if (std::filesystem::is_directory(path, ec)) return unreadable(std::strerror(EISDIR));
-  errno = 0;
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return unreadable(std::strerror(errno != 0 ? errno : ENOENT));
-  std::ostringstream buffer;
-  buffer << in.rdbuf();
-  if (in.bad()) return unreadable("read error");
-  *text = buffer.str();
+  if (const std::string why = read_config_file(path, text); !why.empty())
+    return {StatusCode::kConfig, "cannot read config file '" + path + "': " + why};
   return {};
 }
 
@@ -444,6 +530,8 @@ Status load_config_text(const std::string &text, const std::string &source, Conf
     return Status(StatusCode::kConfig, escaped_text(message));
   };
   try {
+    if (const std::string loop = check_yaml_text(text); !loop.empty())
+      return invalid(source + " " + loop);
     // All documents, so that a second one (after '---') is an error instead of silently ignored.
     const std::vector<YAML::Node> documents = YAML::LoadAll(text);
     if (documents.size() > 1) {
@@ -460,8 +548,10 @@ Status load_config_text(const std::string &text, const std::string &source, Conf
   } catch (const ConfigError &e) {
     return invalid(e.what());
   } catch (const YAML::ParserException &e) {
+    const std::string explained = explain_yaml_error(text, e.mark, e.msg);
     return invalid(source + " line " + std::to_string(e.mark.line + 1) + ", column " +
-                   std::to_string(e.mark.column + 1) + ": malformed YAML: " + e.msg);
+                   std::to_string(e.mark.column + 1) +
+                   ": malformed YAML: " + (explained.empty() ? e.msg : explained));
   } catch (const YAML::Exception &e) {
     return invalid(source + ": " + e.what());
   } catch (const std::exception &e) {

@@ -1,10 +1,12 @@
 #include "core/config/config_rules.h"
 
 #include <cctype>
+#include <cmath>
 #include <filesystem>
 #include <limits>
 #include <map>
 #include <optional>
+#include <sstream>
 
 #include "core/common/quoted_text.h"
 #include "core/config/enum_names.h"
@@ -30,6 +32,13 @@ std::optional<ImageFormat> format_of_extension(const std::string &pattern) {
 // The value of `key` in a section's mapping; undefined (no line in messages) when absent.
 YAML::Node key_node(const YAML::Node &section, const char *key) {
   return section.IsMap() ? section[key] : YAML::Node(YAML::NodeType::Undefined);
+}
+
+// Degrees as a person writes them: 400, not 400.000000.
+std::string degrees_text(double degrees) {
+  std::ostringstream s;
+  s << degrees;
+  return s.str();
 }
 
 }  // namespace
@@ -66,6 +75,27 @@ void movie_has_file(const YamlReader &r, const YAML::Node &movie, const std::str
     r.fail(movie, path, "needs 'file' (e.g. file: 'out/{scene}.mp4')");
 }
 
+void label_has_text(const YamlReader &r, const YAML::Node &label, const std::string &path,
+                    LabelConfig &) {
+  const YAML::Node text = key_node(label, "text");
+  if (!text.IsDefined() || text.IsNull())
+    r.fail(label, path, "needs 'text' (e.g. text: 'step {step}  t = {time:.2f}')");
+}
+
+void legend_has_colors(const YamlReader &r, const YAML::Node &scene, const std::string &path,
+                       SceneConfig &s) {
+  if (!s.legend.enabled) return;
+  const YAML::Node legend = key_node(scene, "legend");
+  const std::string at = child_path(path, "legend");
+  if (s.color.by == ColorBy::kSolid)
+    r.fail(legend, at,
+           "explains colors by scalar (a colour bar) or by type (a key); this scene's color.by "
+           "is solid");
+  if (s.color.by == ColorBy::kType && s.legend.type_names.empty())
+    r.fail(legend, at,
+           "with color.by: type needs type_names: [name of type 0, name of type 1, ...]");
+}
+
 void lossless_has_no_quality(const YamlReader &r, const YAML::Node &movie, const std::string &path,
                              MovieConfig &m) {
   if (m.lossless && m.quality)
@@ -78,6 +108,63 @@ void camera_looks_away(const YamlReader &r, const YAML::Node &camera, const std:
   if (c.position && c.look_at == *c.position)  // look_at defaulted to the origin
     r.fail(key_node(camera, "position"), child_path(path, "position"),
            "the explicit camera looks at look_at (default [0, 0, 0]); position must differ");
+}
+
+void keyframe_has_step(const YamlReader &r, const YAML::Node &keyframe, const std::string &path,
+                       CameraKeyframe &) {
+  const YAML::Node step = key_node(keyframe, "step");
+  if (!step.IsDefined() || step.IsNull())
+    r.fail(keyframe, path, "needs 'step' (the simulation step this view belongs to)");
+}
+
+void orbit_has_rate(const YamlReader &r, const YAML::Node &orbit, const std::string &path,
+                    CameraOrbit &) {
+  const YAML::Node rate = key_node(orbit, "degrees_per_step");
+  if (!rate.IsDefined() || rate.IsNull())
+    r.fail(orbit, path, "needs 'degrees_per_step' (e.g. orbit: {degrees_per_step: 0.5})");
+}
+
+// Keyframes are checked in the order written: the first one out of order is named. An azimuth
+// difference of a full turn or more has no single rotation on the sphere (0 and 360 are the
+// same view), so such a turn needs a keyframe in between.
+void camera_path_is_ordered(const YamlReader &r, const YAML::Node &camera, const std::string &path,
+                            CameraConfig &c) {
+  const YAML::Node path_node = key_node(camera, "path");
+  const std::string path_path = child_path(path, "path");
+  if (path_node.IsDefined() && !path_node.IsNull() && c.path.empty())
+    r.fail(path_node, path_path, "must list at least one keyframe {step, azimuth, ...}");
+  if (c.path.empty() && !c.orbit.enabled) return;
+  const YAML::Node moving = c.path.empty() ? key_node(camera, "orbit") : path_node;
+  const std::string moving_path = c.path.empty() ? child_path(path, "orbit") : path_path;
+  if (c.position)
+    r.fail(moving, moving_path,
+           "moves the automatic camera (azimuth, elevation, zoom); it cannot move an explicit "
+           "camera (camera.position): remove one of the two");
+  if (!c.path.empty() && c.orbit.enabled)
+    r.fail(key_node(camera, "orbit"), child_path(path, "orbit"),
+           "is the short form of a path: give camera.path or camera.orbit, not both");
+  double azimuth = c.azimuth, elevation = c.elevation, zoom = c.zoom;
+  for (size_t i = 0; i < c.path.size(); ++i) {
+    CameraKeyframe &k = c.path[i];
+    const std::string at = index_path(path_path, i);
+    if (i > 0 && k.step <= c.path[i - 1].step)
+      r.fail(path_node[i], at,
+             "step " + std::to_string(k.step) + " is not after the previous keyframe's step " +
+                 std::to_string(c.path[i - 1].step) +
+                 " (keyframes are listed in increasing step order)");
+    if (k.azimuth && i > 0 && !(std::abs(*k.azimuth - azimuth) < 360.0))
+      r.fail(key_node(path_node[i], "azimuth"), child_path(at, "azimuth"),
+             "turns " + degrees_text(*k.azimuth - azimuth) +
+                 " degrees from the previous keyframe's azimuth; a turn of 360 degrees or more is "
+                 "not one "
+                 "rotation: add a keyframe in between");
+    azimuth = k.azimuth.value_or(azimuth);
+    elevation = k.elevation.value_or(elevation);
+    zoom = k.zoom.value_or(zoom);
+    k.azimuth = azimuth;
+    k.elevation = elevation;
+    k.zoom = zoom;
+  }
 }
 
 // A fixed range under the log transfer must be positive: log(0) has no picture.

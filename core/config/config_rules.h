@@ -38,6 +38,17 @@ void lossless_has_no_quality(const YamlReader &r, const YAML::Node &movie, const
 // camera: an explicit camera must not sit on its look_at point (the default [0, 0, 0] too).
 void camera_looks_away(const YamlReader &r, const YAML::Node &camera, const std::string &path,
                        CameraConfig &c);
+// camera.path[i]: `step` is required.
+void keyframe_has_step(const YamlReader &r, const YAML::Node &keyframe, const std::string &path,
+                       CameraKeyframe &k);
+// camera.orbit: `degrees_per_step` is required.
+void orbit_has_rate(const YamlReader &r, const YAML::Node &orbit, const std::string &path,
+                    CameraOrbit &o);
+// camera: a path lists at least one keyframe, steps strictly increasing, each azimuth less than a
+// full turn from the previous; it and orbit move the automatic camera only (no position), and
+// not both at once. Fills in the keys each keyframe leaves out (CameraKeyframe).
+void camera_path_is_ordered(const YamlReader &r, const YAML::Node &camera, const std::string &path,
+                            CameraConfig &c);
 // density: transfer: log with a fixed range needs lo > 0.
 void log_range_is_positive(const YamlReader &r, const YAML::Node &density, const std::string &path,
                            DensityConfig &d);
@@ -50,6 +61,12 @@ void renderer_serves_occlusion(const YamlReader &r, const YAML::Node &scene,
 // scenes[i]: style: density has no surface: samples 1, no depth cues and no bonds.
 void density_scene_has_no_depth(const YamlReader &r, const YAML::Node &scene,
                                 const std::string &path, SceneConfig &s);
+// labels[i]: `text` is required.
+void label_has_text(const YamlReader &r, const YAML::Node &label, const std::string &path,
+                    LabelConfig &l);
+// scenes[i]: a legend explains color.by scalar (a bar) or type (a key, which needs type_names).
+void legend_has_colors(const YamlReader &r, const YAML::Node &scene, const std::string &path,
+                       SceneConfig &s);
 // top level: scene names are unique, and scenes do not write the same files (images or movies).
 void scenes_are_distinct(const YamlReader &r, const YAML::Node &top, const std::string &path,
                          Config &config);

@@ -66,6 +66,15 @@ inline constexpr EnumName<AutoRange> kAutoRangeNames[] = {
     {AutoRange::kFrame, "frame"}, {AutoRange::kFirst, "first"}, {AutoRange::kRunning, "running"}};
 inline constexpr EnumName<MovieWhenBehind> kMovieWhenBehindNames[] = {
     {MovieWhenBehind::kDrop, "drop"}, {MovieWhenBehind::kWait, "wait"}};
+inline constexpr EnumName<DumpMode> kDumpModeNames[] = {{DumpMode::kCreate, "create"},
+                                                        {DumpMode::kAppend, "append"},
+                                                        {DumpMode::kOverwrite, "overwrite"}};
+
+inline constexpr EnumName<OverlayCorner> kOverlayCornerNames[] = {
+    {OverlayCorner::kTopLeft, "top_left"},
+    {OverlayCorner::kTopRight, "top_right"},
+    {OverlayCorner::kBottomLeft, "bottom_left"},
+    {OverlayCorner::kBottomRight, "bottom_right"}};
 
 inline constexpr EnumName<BondColorBy> kBondColorByNames[] = {{BondColorBy::kAtom, "by_atom"},
                                                               {BondColorBy::kType, "by_type"},
@@ -110,6 +119,13 @@ inline constexpr const auto &names_table(AutoRange) {
 }
 inline constexpr const auto &names_table(MovieWhenBehind) {
   return kMovieWhenBehindNames;
+}
+inline constexpr const auto &names_table(DumpMode) {
+  return kDumpModeNames;
+}
+
+inline constexpr const auto &names_table(OverlayCorner) {
+  return kOverlayCornerNames;
 }
 
 // The canonical name of `value` ("?" for a value missing from its table: a bug).

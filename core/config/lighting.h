@@ -1,4 +1,4 @@
-// The light of a scene (issue 13, `lighting:`), a value shared by every renderer: the CPU ray-cast
+// The light of a scene (`lighting:`), a value shared by every renderer: the CPU ray-cast
 // raster, the point splats and the OpenGL impostor shader all shade from it.
 //
 // Model, for a hit with unit normal n, unit vector v towards the eye and unit light vector l:

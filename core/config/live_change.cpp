@@ -62,6 +62,9 @@ Status check_live_change(const Config &running, const Config &next) {
   if (a.fields != b.fields)
     return fixed("dump.fields", joined(a.fields), joined(b.fields),
                  "the file's datasets are made at the first dump");
+  if (a.mode != b.mode)
+    return fixed("dump.mode", name_of(a.mode), name_of(b.mode),
+                 "it applies when the file is opened");
   if (a.single_precision != b.single_precision)
     return fixed("dump.precision", a.single_precision ? "float32" : "float64",
                  b.single_precision ? "float32" : "float64",

@@ -2,7 +2,8 @@
 // that stand for resources opened once at lantern_open and held until lantern_close.
 //
 //  - gl, egl_device: the OpenGL back end and device (one GL session per context).
-//  - dump.enabled, dump.file, dump.fields, dump.precision: the H5MD file stays open and its
+//  - dump.enabled, dump.file, dump.fields, dump.precision, dump.mode: the H5MD file stays open and
+//  its
 //    datasets have the fields and precision of the first frame. dump.schedule may change.
 //
 // Everything else - scenes (added, removed, edited), schedule, stats, verbose, watch - may change.

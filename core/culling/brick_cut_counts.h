@@ -1,5 +1,6 @@
 // Cutting planes per brick, kept between frames so that adding, removing or toggling a plane
-// reclassifies only the bricks that plane touches (seed 002, §3.1-3.4: a counter per block).
+// reclassifies only the bricks that plane touches (the cross-sections paper, §3.1-3.4: a counter
+// per block).
 //
 // For every brick two counters: how many of the enabled planes cut it away entirely (`dropped`),
 // and how many pass through it (`crossed`). A brick is dropped when dropped > 0, needs a

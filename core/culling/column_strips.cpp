@@ -5,31 +5,36 @@
 namespace lantern {
 
 void merge_strips(const std::vector<VisibleBrick> &visible, const BrickSet &bricks,
-                  const StripState s[2], std::vector<uint64_t> *scratch, CullStats *st,
-                  DrawList *out) {
-  // Union of what either strip shows (a particle both show appears twice: same entry).
-  const auto merge = [scratch](const std::vector<uint64_t> &a, const std::vector<uint64_t> &b,
-                               std::vector<uint64_t> *merged) {
-    *merged = a;
-    merged->insert(merged->end(), b.begin(), b.end());
+                  const std::vector<StripState> &s, int count, std::vector<uint64_t> *scratch,
+                  CullStats *st, DrawList *out) {
+  // Union of what any strip shows (a particle two strips show appears twice: same entry).
+  const auto merge = [&](auto list, std::vector<uint64_t> *merged) {
+    merged->clear();
+    for (int k = 0; k < count; ++k) {
+      const std::vector<uint64_t> &l = list(s[size_t(k)]);
+      merged->insert(merged->end(), l.begin(), l.end());
+    }
     radix_sort_words(merged, scratch, 32, 64);
     merged->erase(std::unique(merged->begin(), merged->end()), merged->end());
   };
-  merge(s[0].out.spheres, s[1].out.spheres, &out->spheres);
-  merge(s[0].out.points, s[1].out.points, &out->points);
+  merge([](const StripState &x) -> const std::vector<uint64_t> & { return x.out.spheres; },
+        &out->spheres);
+  merge([](const StripState &x) -> const std::vector<uint64_t> & { return x.out.points; },
+        &out->points);
   int64_t judged = 0;
   for (size_t k = 0; k < visible.size(); ++k) {
     const VisibleBrick &v = visible[k];
     st->lod_dropped += bricks.bricks[v.brick].count - v.keep;
-    const int i = s[0].frustum_pp[k] >= 0 ? 0 : s[1].frustum_pp[k] >= 0 ? 1 : -1;
-    if (i < 0) {
+    int i = 0;
+    while (i < count && s[size_t(i)].frustum_pp[k] < 0) ++i;
+    if (i == count) {
       ++st->bricks_occluded;
       st->occlusion_culled += v.keep;
       continue;
     }
-    st->frustum_culled += s[i].frustum_pp[k];
-    st->cut_culled += s[i].cut_pp[k];
-    judged += v.keep - s[i].frustum_pp[k] - s[i].cut_pp[k];
+    st->frustum_culled += s[size_t(i)].frustum_pp[k];
+    st->cut_culled += s[size_t(i)].cut_pp[k];
+    judged += v.keep - s[size_t(i)].frustum_pp[k] - s[size_t(i)].cut_pp[k];
   }
   st->occlusion_culled += judged - int64_t(out->spheres.size() + out->points.size());
 }

@@ -1,30 +1,32 @@
-// Occlusion traversal in column strips: the image split into one or two strips of columns, each
-// walked by its own thread over every visible brick and particle in the same front-to-back
-// order, each with its own depth pyramid (the hzb culler's, or the CPU sphere raster's).
+// Occlusion traversal in column strips: the image split into strips of columns, one per thread,
+// each walked over every visible brick and particle in the same front-to-back order, each with
+// its own depth pyramid (the hzb culler's, or the CPU sphere raster's).
 //
 // Why that is exact, and the same decisions as one thread: a strip skips a brick or particle when
 // ITS part of the rectangle is covered, and keeps (and, for the raster, draws into its strip)
-// what its part shows. A particle shown in one strip but covered in the other is not drawn there
+// what its part shows. A particle shown in one strip but covered in another is not drawn there
 // - which changes nothing, since covered means every pixel of that part already holds something
 // nearer than the particle's nearest point. So each strip's pyramid equals the one-thread pyramid
 // on those columns, and "shown in some strip" equals "not covered over the whole rectangle". The
 // strips' particle lists are merged (union) afterwards.
 //
-// Ownership: a StripState owns its output lists. Thread-safety: run_strips runs the two strips
-// on two threads (the caller's and one helper, joined before it returns); nothing else is shared.
+// Ownership: a StripState owns its output lists. Thread-safety: run_strips runs strip 0 on the
+// calling thread and the others on helpers, joined before it returns; nothing else is shared.
 #pragma once
 
 #include <algorithm>
 #include <cstdint>
-#include <thread>
 #include <vector>
 
+#include "core/common/rank_threads.h"
 #include "core/culling/cull_pass.h"
 
 namespace lantern {
 
-// Image width from which the strips run on two threads.
-inline constexpr int kTwoStripsFrom = 256;
+// The narrowest strip: below twice this width an image is walked as one strip.
+inline constexpr int kMinStripWidth = 128;
+// Image width from which two threads split it into strips.
+inline constexpr int kTwoStripsFrom = 2 * kMinStripWidth;
 
 // What one strip kept, and the per-particle drops of each visible brick it gathered.
 struct StripState {
@@ -34,22 +36,29 @@ struct StripState {
   std::vector<int64_t> frustum_pp, cut_pp;  // per visible brick; -1: not gathered (covered)
 };
 
-// Splits columns [0, width) into the strips of s[0] and s[1] (s[1] empty below kTwoStripsFrom):
-// on a tile boundary of the pyramid levels up to 64 px, so no tile of those straddles it.
-inline bool split_strips(int width, StripState s[2]) {
-  const bool two = width >= kTwoStripsFrom;
-  const int split = two ? (width / 2) / 64 * 64 : width;
-  s[0].x0 = 0, s[0].x1 = split - 1;
-  s[1].x0 = split, s[1].x1 = width - 1;
-  return two;
+// Splits columns [0, width) into one strip per thread, none narrower than kMinStripWidth, at
+// multiples of 64 columns (so no tile of the pyramid levels up to 64 px straddles a boundary),
+// into (*s)[0, count). Returns the count (1 for narrow images or one thread).
+inline int split_strips(int width, int threads, std::vector<StripState> *s) {
+  const int count = std::max(1, std::min(threads, width / kMinStripWidth));
+  if (int(s->size()) < count) s->resize(size_t(count));
+  for (int k = 0; k < count; ++k) {
+    StripState &st = (*s)[size_t(k)];
+    st.x0 = k == 0 ? 0 : int(int64_t(width) * k / count) / 64 * 64;
+    st.x1 = k + 1 == count ? width - 1 : int(int64_t(width) * (k + 1) / count) / 64 * 64 - 1;
+  }
+  return count;
 }
 
-// Walks the visible bricks for one strip. `test` is the strip's depth pyramid: test.covered(rect,
-// depth) says the strip's part of rect holds something nearer than depth everywhere (bricks are
-// tested only when `bricks_first`); visit(candidate, state) judges and keeps one particle.
+// Walks the visible bricks for one strip. covered(rect, depth) says the strip's part of rect holds
+// something nearer than depth everywhere (the strip's depth pyramid); bricks are tested with it
+// when `bricks_first`, and a brick's depth buckets (bucket_hidden) when `buckets_first` - only
+// where visit() would find a covered particle hidden whatever else it is; visit(candidate,
+// state) judges and keeps one particle.
 template <typename Positions, typename Radii, typename Covered, typename Visit>
 void walk_strip(const CullPass<Positions, Radii> &pass, const std::vector<VisibleBrick> &visible,
-                bool bricks_first, const Covered &covered, Visit &&visit, StripState *s) {
+                bool bricks_first, bool buckets_first, const Covered &covered, Visit &&visit,
+                StripState *s) {
   s->out.clear();
   s->frustum_pp.assign(visible.size(), -1);
   s->cut_pp.assign(visible.size(), 0);
@@ -72,31 +81,24 @@ void walk_strip(const CullPass<Positions, Radii> &pass, const std::vector<Visibl
     s->frustum_pp[k] = brick.frustum_culled;
     s->cut_pp[k] = brick.cut_culled;
     order_front_to_back(&s->buffers);
-    for (const Candidate &c : s->buffers.sorted) visit(c, s);
+    for (const DepthBucket &d : s->buffers.buckets) {
+      if (buckets_first && bucket_hidden(pass.g, d, s->x0, s->x1, covered)) continue;
+      for (uint32_t k = d.begin; k < d.end; ++k) visit(s->buffers.sorted[k], s);
+    }
   }
 }
 
-// Runs strip(0) and, when `two`, strip(1) on a helper thread; a lone strip's partner is left
-// empty with nothing gathered.
+// Runs strip(k) for every k < count: strip 0 on the calling thread, the others on helpers.
 template <typename Strip>
-void run_strips(bool two, const std::vector<VisibleBrick> &visible, Strip &&strip,
-                StripState s[2]) {
-  if (two) {
-    std::thread helper([&] { strip(1); });
-    strip(0);
-    helper.join();
-  } else {
-    strip(0);
-    s[1].out.clear();
-    s[1].frustum_pp.assign(visible.size(), -1);
-  }
+void run_strips(int count, Strip &&strip) {
+  run_in_parts(count, count, [&strip](int k, int64_t, int64_t) { strip(k); });
 }
 
-// The union of what either strip kept, in published order (draw_list.h), and the counts: a brick
-// gathered by either strip had the same per-particle frustum and cut drops. `scratch` is the radix
-// sort's buffer.
+// The union of what strips s[0, count) kept, in published order (draw_list.h), and the counts: a
+// brick gathered by any strip had the same per-particle frustum and cut drops. `scratch` is the
+// radix sort's buffer.
 void merge_strips(const std::vector<VisibleBrick> &visible, const BrickSet &bricks,
-                  const StripState s[2], std::vector<uint64_t> *scratch, CullStats *stats,
-                  DrawList *out);
+                  const std::vector<StripState> &s, int count, std::vector<uint64_t> *scratch,
+                  CullStats *stats, DrawList *out);
 
 }  // namespace lantern

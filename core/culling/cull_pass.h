@@ -8,6 +8,7 @@
 // buffers.
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 #include <vector>
 
@@ -44,11 +45,20 @@ struct Candidate {
   float scale;  // level-of-detail radius scale
 };
 
+// A depth bucket of a brick's candidates (order_front_to_back): sorted[begin, end), and the
+// view-space box holding their spheres, nearest point first.
+struct DepthBucket {
+  uint32_t begin = 0, end = 0;
+  glm::dvec3 lo{0.0}, hi{0.0};  // bounds of c - r and c + r
+  double near = 0.0;            // least -c.z - r
+};
+
 // Buffers of one thread's pass, reused from brick to brick and frame to frame.
 struct CandidateBuffers {
   std::vector<Candidate> gathered, sorted;
   std::vector<uint32_t> bucket_counts;
-  FrontScratch front;  // lod.select: nearest (front_selection.h)
+  std::vector<DepthBucket> buckets;  // the non-empty ones, nearest first
+  FrontScratch front;                // lod.select: nearest (front_selection.h)
 };
 
 // Spheres whose projected radius is below this many pixels take the CPU point path (when on):
@@ -118,7 +128,25 @@ void gather(const CullPass<Positions, Radii> &pass, const VisibleBrick &v, bool 
 }
 
 // b->gathered -> b->sorted, nearest first by depth bucket (inside a brick a bucket sort suffices:
-// the order only makes occluders come early, it decides nothing exact).
+// the order only makes occluders come early, it decides nothing exact), and b->buckets.
 void order_front_to_back(CandidateBuffers *b);
+
+// True when the depth test `covered` (a strip's pyramid over columns [x0, x1]) proves every
+// sphere of bucket `d` hidden: the rectangle of the bucket's box holds every sphere's rectangle
+// (sphere_rect and sphere_rect_tight alike) and its nearest point is nearer than any sphere's,
+// so each sphere would have been found covered on its own, at its turn (the pyramid only gets
+// nearer). Skipping the bucket then decides exactly what testing each sphere would: in a brick
+// at the surface, the layers behind the first cost one test each instead of one per particle.
+template <typename Covered>
+bool bucket_hidden(const ViewGeometry &g, const DepthBucket &d, int x0, int x1,
+                   const Covered &covered) {
+  const glm::dvec3 lo = d.lo - g.eps, hi = d.hi + g.eps;
+  const glm::dvec3 corners[8] = {{lo.x, lo.y, lo.z}, {hi.x, lo.y, lo.z}, {lo.x, hi.y, lo.z},
+                                 {hi.x, hi.y, lo.z}, {lo.x, lo.y, hi.z}, {hi.x, lo.y, hi.z},
+                                 {lo.x, hi.y, hi.z}, {hi.x, hi.y, hi.z}};
+  PixelRect r = g.box_rect(corners);
+  r.x0 = std::max(r.x0, x0), r.x1 = std::min(r.x1, x1);
+  return r.empty() || covered(r, d.near - g.eps);
+}
 
 }  // namespace lantern

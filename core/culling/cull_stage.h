@@ -8,8 +8,8 @@
 // Exact modes (frustum, cuts, occlusion none/hzb, no LOD, no point path) produce a list whose
 // rendering is bit-identical to drawing every particle. Ownership: a Culler owns scratch buffers
 // reused from frame to frame; it borrows the particles and bricks for one call.
-// Thread-safety: one Culler per thread. hzb on images at least kTwoStripsFrom px wide runs on two
-// threads (column_strips.h), joined before cull() returns.
+// Thread-safety: one Culler per thread. hzb on images at least kTwoStripsFrom px wide runs on up
+// to `threads` threads, one column strip each (column_strips.h), joined before cull() returns.
 #pragma once
 
 #include <string>
@@ -35,9 +35,11 @@ class Culler {
  public:
   // Fills `out` with what to draw of `particles` (whose bricks are `bricks`) for a scene culled by
   // `settings` seen by `selection` (made by select_bricks for the same particles, bricks and
-  // settings). Returns the selection's counts completed by the per-particle pass.
+  // settings). Returns the selection's counts completed by the per-particle pass. `threads`: for
+  // hzb's column strips (the list is the same at any count).
   CullStats cull(const ParticleArrays &particles, const BrickSet &bricks,
-                 const CullSettings &settings, const BrickSelection &selection, DrawList *out);
+                 const CullSettings &settings, const BrickSelection &selection, DrawList *out,
+                 int threads = 2);
 
   // select_bricks and cull in one call, the selection kept inside (tests and benchmarks).
   CullStats run(const ParticleArrays &particles, const BrickSet &bricks, const Camera &camera,
@@ -55,18 +57,19 @@ class Culler {
                DrawList *out);
   template <typename Positions, typename Radii>
   void process_strips(const CullPass<Positions, Radii> &pass, const BrickSelection &sel,
-                      CullStats *st, DrawList *out);
+                      int threads, CullStats *st, DrawList *out);
   template <typename Positions, typename Radii>
   void process_sorted(const CullPass<Positions, Radii> &pass, const BrickSelection &sel,
                       CullStats *st, DrawList *out);
   bool occluded(OcclusionMode mode, const ViewGeometry &g, const Candidate &c, int strip);
 
   BrickSelection selection_;  // run()'s
-  StripState strips_[2];      // hzb: one per column strip (one strip outside process_strips)
-  Hzb hzb_[2];                // the strips' pyramids
+  // hzb: one per column strip (one strip outside process_strips), and the strips' pyramids.
+  std::vector<StripState> strips_ = std::vector<StripState>(1);
+  std::vector<Hzb> hzb_ = std::vector<Hzb>(1);
   NineSpheresGrid nine_;
-  bool nine_equivalent_ = false;  // nine-spheres compares equivalent radii (seed 003), not world
-  int hzb_strips_ = 0;            // the last cull()'s hzb pyramids: 0 (not hzb), 1 or 2 strips
+  bool nine_equivalent_ = false;  // nine-spheres compares equivalent radii, not world
+  int hzb_strips_ = 0;            // the last cull()'s hzb pyramids: 0 (not hzb), else its strips
   std::vector<uint64_t> scratch_;
 };
 

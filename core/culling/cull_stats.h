@@ -9,8 +9,8 @@
 
 namespace lantern {
 
-// Seed 004's probabilistic culling on one rank (occlusion: probabilistic). Meshlet classes after
-// convergence, indexed by OcclusionClass.
+// Ibrahim et al.'s probabilistic culling on one rank (occlusion: probabilistic). Meshlet classes
+// after convergence, indexed by OcclusionClass.
 struct ProbabilisticStats {
   int64_t iterations = 0;  // until no class changed for `patience` iterations (or the cap)
   int64_t samples = 0;     // depth samples per pixel taken until then (passes)

@@ -1,4 +1,4 @@
-// Level of detail, lod.select: nearest (issue 14 item 3): which `keep` particles an opaque brick
+// Level of detail, lod.select: nearest: which `keep` particles an opaque brick
 // keeps. What an opaque brick shows is its front, so it keeps the particles it shows first, then
 // the nearest of the rest, all at their own radius (the dropped ones are behind them).
 //

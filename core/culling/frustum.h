@@ -1,5 +1,6 @@
-// View-frustum culling (seed 000 §3.1, "patch filtering"): bricks wholly outside are dropped,
-// bricks wholly inside skip per-particle work, and only straddling bricks test each particle.
+// View-frustum culling (the nine-spheres paper, §3.1, "patch filtering"): bricks wholly outside are
+// dropped, bricks wholly inside skip per-particle work, and only straddling bricks test each
+// particle.
 //
 // Tests run in view space in double with the ViewGeometry tolerance on the "keep" side, so a
 // sphere the GPU could still rasterise (in float) is never dropped. "Inside" means the sphere

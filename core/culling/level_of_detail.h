@@ -1,5 +1,5 @@
-// Level of detail from brick prefixes (seed 001 §3.5): since a brick's particles are in the
-// z-order level layout, its first m particles are a spatially uniform sample of it. Two rules
+// Level of detail from brick prefixes (Rizzi et al. 2015, §3.5): since a brick's particles are in
+// the z-order level layout, its first m particles are a spatially uniform sample of it. Two rules
 // pick m per brick and the smaller wins:
 //   - a budget (particles per frame) or a fraction, shared out in proportion to brick size;
 //   - the screen-space rule: when the brick's particle spacing projects below `min_pixels`,

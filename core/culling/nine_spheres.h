@@ -1,4 +1,4 @@
-// The nine-spheres occluding rule of seed 000 §3.2, an APPROXIMATE occlusion test.
+// The nine-spheres occluding rule (the nine-spheres paper, §3.2), an APPROXIMATE occlusion test.
 //
 // An auxiliary grid over the image holds, per pixel, an occupancy tag T (some drawn sphere's
 // centre projects into it), the least depth D of those spheres, the smallest radius R among them
@@ -13,8 +13,9 @@
 // smaller" but stores no radius.) Thread-safety: none (one culling thread owns it).
 //
 // Which radius R and r are is the caller's choice (culling.nine_spheres_radius): the drawn
-// radius, or seed 003's equivalent radius (equivalent_radius below). With equal equivalent radii
-// the spheres project to equal circles, the setting of the paper's nine-circles covering theorem.
+// radius, or the equivalent radius of the nine-spheres paper's conference version
+// (equivalent_radius below). With equal equivalent radii the spheres project to equal circles, the
+// setting of the paper's nine-circles covering theorem.
 #pragma once
 
 #include <algorithm>
@@ -25,11 +26,11 @@
 
 namespace lantern {
 
-// Seed 003's equivalent radius of a sphere of radius r at view depth d: the radius of the sphere
-// moved along the line of sight onto the near plane and scaled so that its projected size stays
-// the same, r * near / d under perspective (the projected radius in pixels divided by the near
-// plane's pixels per unit); r under an orthographic projection, where depth does not scale.
-// Units: the simulation's length unit.
+// The equivalent radius (the nine-spheres paper's conference version) of a sphere of radius r at
+// view depth d: the radius of the sphere moved along the line of sight onto the near plane and
+// scaled so that its projected size stays the same, r * near / d under perspective (the projected
+// radius in pixels divided by the near plane's pixels per unit); r under an orthographic
+// projection, where depth does not scale. Units: the simulation's length unit.
 inline double equivalent_radius(const ViewGeometry &g, double d, double r) {
   return g.orthographic ? r : r * g.near_plane / std::max(d, g.near_plane);
 }

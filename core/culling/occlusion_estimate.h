@@ -1,7 +1,7 @@
 // What `occlusion: auto` decides on, per scene and frame, before any per-particle work: a cheap
-// estimate of how much of the visible particles is hidden, in the spirit of seed 004's
-// confidence maps but on bricks. Bricks are splatted front to back onto a coarse grid that keeps
-// a transmittance per cell; a brick's spheres cover a share 1 - exp(-a) of its footprint
+// estimate of how much of the visible particles is hidden, in the spirit of the confidence
+// maps of Ibrahim et al. 2022 but on bricks. Bricks are splatted front to back onto a coarse grid
+// that keeps a transmittance per cell; a brick's spheres cover a share 1 - exp(-a) of its footprint
 // (a = summed sphere area / footprint area, spheres placed at random), and the particles expected
 // to show are those reached by the remaining transmittance. Thread-safety: pure function.
 #pragma once

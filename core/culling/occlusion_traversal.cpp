@@ -10,7 +10,7 @@
 namespace lantern {
 namespace {
 
-// The reference pixel of seed 000: the pixel the projected centre falls in.
+// The reference pixel of the nine-spheres paper: the pixel the projected centre falls in.
 bool reference_pixel(const ViewGeometry &g, const glm::dvec3 &c, int *x, int *y) {
   double px, py;
   if (!g.pixel_position(c, &px, &py)) return false;
@@ -45,7 +45,8 @@ CullStats Culler::run(const ParticleArrays &particles, const BrickSet &bricks, c
 }
 
 CullStats Culler::cull(const ParticleArrays &particles, const BrickSet &bricks,
-                       const CullSettings &settings, const BrickSelection &sel, DrawList *out) {
+                       const CullSettings &settings, const BrickSelection &sel, DrawList *out,
+                       int threads) {
   CullStats st = sel.stats;
   out->clear();
   const OcclusionMode mode = sel.mode;
@@ -56,7 +57,7 @@ CullStats Culler::cull(const ParticleArrays &particles, const BrickSet &bricks,
   if (nine_equivalent_ &&
       (mode == OcclusionMode::kNineSpheres || mode == OcclusionMode::kNineSpheresSorted))
     st.occlusion += " (equivalent radius)";
-  hzb_strips_ = mode != OcclusionMode::kHzb ? 0 : sel.g.width >= kTwoStripsFrom ? 2 : 1;
+  hzb_strips_ = mode == OcclusionMode::kHzb ? 1 : 0;  // process_strips sets its strip count
   if (trivial(settings, sel)) {
     out->everything = true;  // nothing to cull: brute force order, no per-particle pass
     st.drawn = st.candidates;
@@ -70,8 +71,8 @@ CullStats Culler::cull(const ParticleArrays &particles, const BrickSet &bricks,
           pos, radius, sel.g, frustum, cuts, settings.lod.point_path, bricks};
       if (mode == OcclusionMode::kNineSpheresSorted)
         process_sorted(pass, sel, &st, out);
-      else if (mode == OcclusionMode::kHzb && sel.g.width >= kTwoStripsFrom)
-        process_strips(pass, sel, &st, out);
+      else if (mode == OcclusionMode::kHzb && threads > 1 && sel.g.width >= kTwoStripsFrom)
+        process_strips(pass, sel, threads, &st, out);
       else
         process(pass, sel, &st, out);
     });
@@ -89,7 +90,7 @@ bool Culler::covered(const PixelRect &rect, double z) const {
   if (hzb_strips_ == 0 || rect.empty()) return false;
   for (int k = 0; k < hzb_strips_; ++k) {
     PixelRect part = rect;
-    if (hzb_strips_ == 2)
+    if (hzb_strips_ > 1)
       part.x0 = std::max(part.x0, strips_[k].x0), part.x1 = std::min(part.x1, strips_[k].x1);
     if (!part.empty() && !hzb_[k].covered(part, z)) return false;
   }
@@ -99,9 +100,10 @@ bool Culler::covered(const PixelRect &rect, double z) const {
 bool Culler::occluded(OcclusionMode mode, const ViewGeometry &g, const Candidate &cand, int strip) {
   if (mode == OcclusionMode::kHzb) {
     PixelRect rect = g.sphere_rect(cand.c, cand.r);
-    rect.x0 = std::max(rect.x0, strips_[strip].x0), rect.x1 = std::min(rect.x1, strips_[strip].x1);
-    if (hzb_[strip].covered(rect, -cand.c.z - cand.r - g.eps)) return true;
-    hzb_[strip].add_occluder(cand.c, cand.r, rect);
+    const StripState &s = strips_[size_t(strip)];
+    rect.x0 = std::max(rect.x0, s.x0), rect.x1 = std::min(rect.x1, s.x1);
+    if (hzb_[size_t(strip)].covered(rect, -cand.c.z - cand.r - g.eps)) return true;
+    hzb_[size_t(strip)].add_occluder(cand.c, cand.r, rect);
     return false;
   }
   int x, y;
@@ -135,38 +137,49 @@ void Culler::process(const CullPass<Positions, Radii> &pass, const BrickSelectio
     gather(pass, v, occlusion, hidden, &s.buffers, st, out);
     if (!occlusion) continue;
     order_front_to_back(&s.buffers);
-    for (const Candidate &c : s.buffers.sorted) {
-      if (occluded(sel.mode, sel.g, c, 0))
-        ++st->occlusion_culled;
-      else
-        accept(sel.g, c, pass.point_path, out);
+    const Hzb &hzb = hzb_[0];
+    const auto covered = [&hzb](const PixelRect &r, double z) { return hzb.covered(r, z); };
+    for (const DepthBucket &d : s.buffers.buckets) {
+      if (sel.mode == OcclusionMode::kHzb && bucket_hidden(sel.g, d, s.x0, s.x1, covered)) {
+        st->occlusion_culled += d.end - d.begin;
+        continue;
+      }
+      for (uint32_t k = d.begin; k < d.end; ++k) {
+        const Candidate &c = s.buffers.sorted[k];
+        if (occluded(sel.mode, sel.g, c, 0))
+          ++st->occlusion_culled;
+        else
+          accept(sel.g, c, pass.point_path, out);
+      }
     }
   }
 }
 
-// hzb on two threads, one column strip each (column_strips.h).
+// hzb on several threads, one column strip each (column_strips.h).
 template <typename Positions, typename Radii>
 void Culler::process_strips(const CullPass<Positions, Radii> &pass, const BrickSelection &sel,
-                            CullStats *st, DrawList *out) {
+                            int threads, CullStats *st, DrawList *out) {
   const ViewGeometry &g = sel.g;
-  const bool two = split_strips(g.width, strips_);
-  hzb_[1].reset(g);
+  const int count = split_strips(g.width, threads, &strips_);
+  hzb_strips_ = count;
+  if (int(hzb_.size()) < count) hzb_.resize(size_t(count));
+  for (int k = 1; k < count; ++k) hzb_[size_t(k)].reset(g);
   const bool point_path = pass.point_path;
   const auto strip = [&](int k) {
-    const Hzb &hzb = hzb_[k];
+    const Hzb &hzb = hzb_[size_t(k)];
     const auto covered = [&hzb](const PixelRect &r, double z) { return hzb.covered(r, z); };
     const auto visit = [&](const Candidate &c, StripState *s) {
       PixelRect r = g.sphere_rect(c.c, c.r);
       r.x0 = std::max(r.x0, s->x0), r.x1 = std::min(r.x1, s->x1);
       if (r.empty()) return;
-      if (hzb_[k].covered(r, -c.c.z - c.r - g.eps)) return;
-      hzb_[k].add_occluder(c.c, c.r, r);
+      if (hzb_[size_t(k)].covered(r, -c.c.z - c.r - g.eps)) return;
+      hzb_[size_t(k)].add_occluder(c.c, c.r, r);
       accept(g, c, point_path, &s->out);
     };
-    walk_strip(pass, sel.visible, true, covered, visit, &strips_[k]);
+    walk_strip(pass, sel.visible, true, true, covered, visit, &strips_[size_t(k)]);
   };
-  run_strips(two, sel.visible, strip, strips_);
-  merge_strips(sel.visible, pass.bricks, strips_, &scratch_, st, out);
+  run_strips(count, strip);
+  merge_strips(sel.visible, pass.bricks, strips_, count, &scratch_, st, out);
 }
 
 // nine_spheres_sorted: every candidate first (as the paper sorts all particles), then one global

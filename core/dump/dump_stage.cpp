@@ -1,9 +1,12 @@
 #include "core/dump/dump_stage.h"
 
+#include <cstdio>
 #include <filesystem>
 #include <vector>
 
 #include "core/common/collective_status.h"
+#include "core/dump/existing_dump.h"
+#include "core/dump/frame_cut_back.h"
 
 namespace lantern {
 namespace {
@@ -91,12 +94,106 @@ Box frame_box(MPI_Comm comm, const Extent &global, const std::optional<Box> &box
   return b;  // only rank 0's copy is written
 }
 
+std::string mode_key(const DumpConfig &config) {
+  return "'" + config.file + "' (dump.mode: append)";
+}
+
+// The configuration against an existing file (rank 0): "" or a message naming the key.
+std::string append_problem(const DumpConfig &config, const ExistingDump &file, int fields) {
+  if (!file.problem.empty()) return "dump.file: " + mode_key(config) + " " + file.problem;
+  if (file.single_precision != config.single_precision)
+    return std::string("dump.precision: ") + (config.single_precision ? "float32" : "float64") +
+           ", but " + mode_key(config) + " holds " +
+           (file.single_precision ? "float32" : "float64") +
+           " positions (a restarted run appends in the file's precision)";
+  if (fields >= 0 && to_fields(fields) != file.fields)
+    return "dump.fields: the run writes [" + fields_text(to_fields(fields)) + "], but " +
+           mode_key(config) + " holds [" + fields_text(file.fields) + "]";
+  return {};
+}
+
 }  // namespace
+
+Status DumpStage::check_existing_file(MPI_Comm comm) const {
+  int rank = 0;
+  MPI_Comm_rank(comm, &rank);
+  Status local;
+  std::error_code ec;
+  if (rank == 0 && config_.enabled && std::filesystem::exists(config_.file, ec)) {
+    if (config_.mode == DumpMode::kCreate)
+      local = {StatusCode::kConfig,
+               "dump.file: '" + config_.file +
+                   "' exists, and dump.mode: create (the default) does not replace a file: "
+                   "give mode: append to continue its time series (a restarted run), mode: "
+                   "overwrite to replace it, or another file"};
+    else if (config_.mode == DumpMode::kAppend) {
+      int listed = -1;  // the configured fields, when listed (else the published ones, later)
+      if (!config_.fields.empty()) {
+        listed = 0;
+        for (const auto &f : config_.fields) listed |= bit_of(f);
+      }
+      if (const std::string problem =
+              append_problem(config_, inspect_dump_file(config_.file), listed);
+          !problem.empty())
+        local = {StatusCode::kConfig, problem};
+    }
+  }
+  return broadcast_status(comm, local, 0);
+}
+
+Status DumpStage::append_to_existing(MPI_Comm comm, int fields, int64_t first_count, int64_t step) {
+  int rank = 0;
+  MPI_Comm_rank(comm, &rank);
+  const std::string where = "dump.file: " + config_.file + ": step " + std::to_string(step) + ": ";
+  // Rank 0 reads the file (serial HDF5) and cuts back a frame a killed or failed run left
+  // part-way, before every rank opens it.
+  ExistingDump file;
+  Status local;
+  if (rank == 0) {
+    file = inspect_dump_file(config_.file);
+    if (const std::string problem = append_problem(config_, file, fields); !problem.empty())
+      local = {StatusCode::kConfig, problem};
+    else
+      local = with_context(where + "cutting back a partial frame: ",
+                           cut_back_frames(config_.file, file.frames, file.rows));
+  }
+  if (Status s = broadcast_status(comm, local, 0); !s.ok()) return s;
+  int64_t numbers[4] = {file.frames, file.rows, file.last_step, file.last_count};
+  MPI_Bcast(numbers, 4, MPI_INT64_T, 0, comm);
+  int periodic[3] = {file.periodic[0], file.periodic[1], file.periodic[2]};
+  MPI_Bcast(periodic, 3, MPI_INT, 0, comm);
+  DumpLayout layout;
+  layout.first_count = first_count;
+  layout.single_precision = config_.single_precision;
+  layout.fields = to_fields(fields);
+  for (int a = 0; a < 3; ++a) layout.periodic[size_t(a)] = periodic[a] != 0;
+  local = with_context(where, H5mdWriter::open_existing(comm, config_.file, layout, numbers[0],
+                                                        numbers[1], &writer_));
+  Status agreed = agree_on_status(comm, local);
+  if (!agreed.ok()) {
+    writer_.reset();
+    return agreed;
+  }
+  if (numbers[0] > 0) {
+    appended_after_step_ = numbers[2];
+    appended_after_count_ = numbers[3];
+  }
+  return {};
+}
 
 Status DumpStage::open_writer(MPI_Comm comm, const ParticleArrays &particles, const Box &box,
                               int64_t first_count, int64_t step) {
   int fields = 0;
   if (Status s = choose_fields(comm, config_, particles, &fields); !s.ok()) return s;
+  if (config_.mode == DumpMode::kAppend) {
+    int exists = 0;
+    std::error_code ec;
+    int rank = 0;
+    MPI_Comm_rank(comm, &rank);
+    if (rank == 0) exists = std::filesystem::exists(config_.file, ec);
+    MPI_Bcast(&exists, 1, MPI_INT, 0, comm);
+    if (exists) return append_to_existing(comm, fields, first_count, step);
+  }
   DumpLayout layout;
   layout.first_count = first_count;
   layout.single_precision = config_.single_precision;
@@ -118,7 +215,8 @@ Status DumpStage::open_writer(MPI_Comm comm, const ParticleArrays &particles, co
   }
   if (Status s = agree_on_status(comm, local); !s.ok()) return s;
   local = with_context("dump.file: " + config_.file + ": step " + std::to_string(step) + ": ",
-                       H5mdWriter::create(comm, config_.file, layout, &writer_));
+                       H5mdWriter::create(comm, config_.file, layout, &writer_,
+                                          /*replace=*/config_.mode == DumpMode::kOverwrite));
   Status agreed = agree_on_status(comm, local);
   if (!agreed.ok()) writer_.reset();
   return agreed;
@@ -145,6 +243,24 @@ Status DumpStage::write(MPI_Comm comm, const ParticleArrays &particles, const Ex
   const Box b = frame_box(comm, global, box);
   if (!writer_)
     if (Status s = open_writer(comm, particles, b, total, step); !s.ok()) return s;
+  if (appended_after_step_) {
+    // The same on every rank (broadcast when the file was opened). A restarted run that dumps a
+    // step the file already holds would make its steps go back: that step is refused, and the
+    // dump carries on from the next step after the file's last.
+    if (step <= *appended_after_step_)
+      return {StatusCode::kInvalidArgument,
+              where + "dump.mode: append, and " + config_.file +
+                  " already holds frames up to step " + std::to_string(*appended_after_step_) +
+                  "; frames are appended after it (this step is not dumped)"};
+    if (rank == 0 && total != appended_after_count_)
+      std::fprintf(stderr,
+                   "lantern: warning: dump.file: %s: step %lld: %lld particles, appended after a "
+                   "frame of %lld (step %lld): a restarted run normally has the same particles\n",
+                   config_.file.c_str(), static_cast<long long>(step),
+                   static_cast<long long>(total), static_cast<long long>(appended_after_count_),
+                   static_cast<long long>(*appended_after_step_));
+    appended_after_step_.reset();
+  }
   if (Status s =
           agree_on_status(comm, check_local_fields(writer_->layout().fields, particles, step));
       !s.ok())
@@ -154,13 +270,19 @@ Status DumpStage::write(MPI_Comm comm, const ParticleArrays &particles, const Ex
       with_context(where, writer_->append({&particles, particles.has_mask() ? &rows : nullptr,
                                            offset, total, step, time, b}));
   if (appended.ok()) return appended;
-  // Agreed by the writer: every rank closes the file here, together, and stops dumping.
-  const int64_t kept = writer_->frames();
+  // Agreed by the writer: every rank closes the file here, together, and stops dumping; then rank
+  // 0 cuts the failed frame back from every time series (serially, on the closed file).
+  const int64_t kept = writer_->frames(), kept_rows = writer_->rows();
   writer_.reset();
   stopped_ = true;
-  return {appended.code, appended.message + " (dump stopped for the rest of the run; " +
-                             config_.file + " keeps its " + std::to_string(kept) +
-                             " earlier frame" + (kept == 1 ? "" : "s") + ")"};
+  const Status cut = broadcast_status(
+      comm, rank == 0 ? cut_back_frames(config_.file, kept, kept_rows) : Status(), 0);
+  return {appended.code,
+          appended.message + " (dump stopped for the rest of the run; " + config_.file +
+              " keeps its " + std::to_string(kept) + " earlier frame" + (kept == 1 ? "" : "s") +
+              (cut.ok() ? ")"
+                        : "; cutting the failed frame back failed: " + cut.message +
+                              ", so some datasets may be one frame longer than their step)")};
 }
 
 }  // namespace lantern

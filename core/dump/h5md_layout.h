@@ -19,9 +19,10 @@
 // axis is extensible: a frame of n < N particles holds them in rows [0, n) and the dataset's
 // fill value after them (NaN in real fields, -1 in species and id; an id equal to the fill
 // value is H5MD's "no particle", which lets a particle number vary in time).
-// A frame's datasets are extended in the order above, particle_count last: after a dump that
-// failed mid-frame, the length of particle_count/time is the number of complete frames (other
-// datasets may be one frame longer).
+// A frame's datasets are extended in the order above, particle_count last. A frame that fails
+// part-way is cut back from every dataset once the file is closed (frame_cut_back.h), so every
+// element then has as many frames as particle_count/time: the complete ones. Only if cutting
+// back failed too (the dump's error says so) may other datasets stay one frame longer.
 #pragma once
 
 namespace lantern::h5md {

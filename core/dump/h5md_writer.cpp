@@ -73,15 +73,74 @@ std::string author_name() {
 }  // namespace
 
 Status H5mdWriter::create(MPI_Comm comm, const std::string &path, const DumpLayout &layout,
-                          std::unique_ptr<H5mdWriter> *out) {
+                          std::unique_ptr<H5mdWriter> *out, bool replace) {
   std::unique_ptr<H5mdWriter> writer(new H5mdWriter(comm, path, layout));  // private constructor
   try {
-    writer->create_file(comm);
+    writer->create_file(comm, replace);
   } catch (const Hdf5Error &e) {
     return {StatusCode::kIo, e.what()};  // the same on every rank: the writer closes collectively
   }
   *out = std::move(writer);
   return {};
+}
+
+Status H5mdWriter::open_existing(MPI_Comm comm, const std::string &path, const DumpLayout &layout,
+                                 int64_t frames, int64_t rows, std::unique_ptr<H5mdWriter> *out) {
+  std::unique_ptr<H5mdWriter> writer(new H5mdWriter(comm, path, layout));
+  writer->frames_ = hsize_t(frames);
+  writer->particles_ = hsize_t(rows);
+  try {
+    writer->open_file(comm);
+  } catch (const Hdf5Error &e) {
+    return {StatusCode::kIo, e.what()};
+  }
+  *out = std::move(writer);
+  return {};
+}
+
+H5Handle H5mdWriter::file_access(MPI_Comm comm) {
+  H5Handle fapl;
+  calls_.collective("file access list", [&] {  // collective: the MPI-IO driver dups comm
+    fapl = own_plist(H5Pcreate(H5P_FILE_ACCESS), "file access list");
+    h5_check(H5Pset_fapl_mpio(fapl.get(), comm, MPI_INFO_NULL), "MPI-IO driver");
+    // Metadata written collectively by all ranks instead of many small independent writes.
+    h5_check(H5Pset_coll_metadata_write(fapl.get(), true), "collective metadata");
+  });
+  return fapl;
+}
+
+void H5mdWriter::open_file(MPI_Comm comm) {
+  silence_hdf5_errors();
+  MPI_Comm_rank(comm, &rank_);
+  MPI_Comm_size(comm, &size_);
+  calls_.local("transfer list", [&] {
+    dxpl_ = own_plist(H5Pcreate(H5P_DATASET_XFER), "transfer list");
+    h5_check(H5Pset_dxpl_mpio(dxpl_.get(), H5FD_MPIO_COLLECTIVE), "collective transfers");
+  });
+  const H5Handle fapl = file_access(comm);
+  calls_.collective("open", [&] {
+    file_ = own_file(H5Fopen(path_.c_str(), H5F_ACC_RDWR, fapl.get()), "cannot open the file");
+  });
+  H5Handle box, observables;
+  calls_.collective("groups", [&] {
+    const std::string all = std::string(h5md::kParticles) + "/" + h5md::kGroupName;
+    particles_group_ = own_group(H5Gopen2(file_.get(), all.c_str(), H5P_DEFAULT), all);
+    box = own_group(H5Gopen2(particles_group_.get(), h5md::kBox, H5P_DEFAULT), all + "/box");
+    observables =
+        own_group(H5Gopen2(file_.get(), h5md::kObservables, H5P_DEFAULT), h5md::kObservables);
+  });
+  const TimeSeries::Existing existing;
+  const hid_t group = particles_group_.get();
+  edges_.emplace(existing, calls_, box.get(), "edges", false);
+  offset_.emplace(existing, calls_, box.get(), "offset", false);
+  count_.emplace(existing, calls_, observables.get(), h5md::kParticleCountName, false);
+  position_.emplace(existing, calls_, group, h5md::kPosition, true);
+  const DumpFields &f = layout_.fields;
+  if (f.species) species_.emplace(existing, calls_, group, h5md::kSpecies, true);
+  if (f.id) id_.emplace(existing, calls_, group, h5md::kId, true);
+  if (f.scalar) scalar_.emplace(existing, calls_, group, h5md::kScalar, true);
+  if (f.radius) radius_.emplace(existing, calls_, group, h5md::kRadius, true);
+  calls_.settle();
 }
 
 Status H5mdWriter::append(const DumpFrame &frame) {
@@ -94,7 +153,7 @@ Status H5mdWriter::append(const DumpFrame &frame) {
   return {};
 }
 
-void H5mdWriter::create_file(MPI_Comm comm) {
+void H5mdWriter::create_file(MPI_Comm comm, bool replace) {
   silence_hdf5_errors();
   MPI_Comm_rank(comm, &rank_);
   MPI_Comm_size(comm, &size_);
@@ -109,15 +168,11 @@ void H5mdWriter::create_file(MPI_Comm comm) {
     dxpl_ = own_plist(H5Pcreate(H5P_DATASET_XFER), "transfer list");
     h5_check(H5Pset_dxpl_mpio(dxpl_.get(), H5FD_MPIO_COLLECTIVE), "collective transfers");
   });
-  calls_.collective("file access list", [&] {  // collective: the MPI-IO driver dups comm
-    fapl = own_plist(H5Pcreate(H5P_FILE_ACCESS), "file access list");
-    h5_check(H5Pset_fapl_mpio(fapl.get(), comm, MPI_INFO_NULL), "MPI-IO driver");
-    // Metadata written collectively by all ranks instead of many small independent writes.
-    h5_check(H5Pset_coll_metadata_write(fapl.get(), true), "collective metadata");
-  });
+  fapl = file_access(comm);
   calls_.collective("create", [&] {
-    file_ = own_file(H5Fcreate(path_.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, fapl.get()),
-                     "cannot create the file");
+    file_ = own_file(
+        H5Fcreate(path_.c_str(), replace ? H5F_ACC_TRUNC : H5F_ACC_EXCL, H5P_DEFAULT, fapl.get()),
+        replace ? "cannot create the file" : "cannot create the file (or it exists)");
   });
   calls_.collective("metadata", [&] { write_metadata(); });
   create_elements();

@@ -15,10 +15,9 @@
 // message (the Hdf5Error of hdf5_handle.h stays inside the writer). After a failed frame the
 // caller should destroy the writer (collective close) and write no more: the file keeps every
 // completed frame, and the failed one may have left some datasets one frame longer than their
-// `step` (H5mdReader ignores such a trailing partial frame; shrinking the datasets back is not
-// done, because shrinking chunked datasets in parallel HDF5 can itself leave ranks in different
-// collective calls). After every frame the file is flushed, so a crash later leaves a valid
-// file with every completed frame.
+// `step`, which the caller then cuts back on one rank (frame_cut_back.h: shrinking chunked
+// datasets in parallel HDF5 can itself leave ranks in different collective calls). After every
+// frame the file is flushed, so a crash later leaves a valid file with every completed frame.
 #pragma once
 
 #include <mpi.h>
@@ -45,6 +44,10 @@ struct DumpFields {
   bool id = false;
   bool scalar = false;
   bool radius = false;
+  bool operator==(const DumpFields &o) const {
+    return species == o.species && id == o.id && scalar == o.scalar && radius == o.radius;
+  }
+  bool operator!=(const DumpFields &o) const { return !(*this == o); }
 };
 
 // What is fixed when the file is created.
@@ -71,8 +74,14 @@ class H5mdWriter {
  public:
   // Collective. Creates `path` (replacing an existing file) and its H5MD structure, into *out.
   // On failure returns kIo and leaves *out alone.
+  // With `replace` false an existing file is an error (dump.mode: create) instead of replaced.
   static Status create(MPI_Comm comm, const std::string &path, const DumpLayout &layout,
-                       std::unique_ptr<H5mdWriter> *out);
+                       std::unique_ptr<H5mdWriter> *out, bool replace = true);
+  // Collective. Opens `path`, one of Lantern's files with `frames` complete frames of at most
+  // `rows` particles in `layout` (existing_dump.h says so; a failed frame cut back first), to
+  // append after them (dump.mode: append). On failure returns kIo and leaves *out alone.
+  static Status open_existing(MPI_Comm comm, const std::string &path, const DumpLayout &layout,
+                              int64_t frames, int64_t rows, std::unique_ptr<H5mdWriter> *out);
   H5mdWriter(const H5mdWriter &) = delete;
   H5mdWriter &operator=(const H5mdWriter &) = delete;
 
@@ -82,12 +91,16 @@ class H5mdWriter {
   const DumpLayout &layout() const { return layout_; }
   const std::string &path() const { return path_; }
   int64_t frames() const { return static_cast<int64_t>(frames_); }
+  // N_max of the complete frames: the rows of the per-particle datasets before a failed frame.
+  int64_t rows() const { return static_cast<int64_t>(particles_); }
 
  private:
   H5mdWriter(MPI_Comm comm, const std::string &path, const DumpLayout &layout)
       : path_(path), layout_(layout), calls_(comm) {}
   // The steps of create() and append(); they throw Hdf5Error (the same on every rank).
-  void create_file(MPI_Comm comm);
+  void create_file(MPI_Comm comm, bool replace);
+  void open_file(MPI_Comm comm);
+  H5Handle file_access(MPI_Comm comm);  // MPI-IO, collective metadata writes; collective
   void write_frame(const DumpFrame &frame);
   void write_metadata();
   void create_elements();

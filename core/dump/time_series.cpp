@@ -104,6 +104,24 @@ TimeSeries::TimeSeries(CollectiveCalls &calls, hid_t parent, const std::string &
   });
 }
 
+TimeSeries::TimeSeries(Existing, CollectiveCalls &calls, hid_t parent, const std::string &name,
+                       bool per_particle)
+    : name_(name), per_particle_(per_particle) {
+  calls.collective(name + ": open", [&] {
+    group_ = own_group(H5Gopen2(parent, name.c_str(), H5P_DEFAULT), name + ": open group");
+    value_ = own_dataset(H5Dopen2(group_.get(), "value", H5P_DEFAULT), name + "/value: open");
+    step_ = own_dataset(H5Dopen2(group_.get(), "step", H5P_DEFAULT), name + "/step: open");
+    time_ = own_dataset(H5Dopen2(group_.get(), "time", H5P_DEFAULT), name + "/time: open");
+    const H5Handle space = own_space(H5Dget_space(value_.get()), name + "/value: dataspace");
+    const int rank = h5_check(H5Sget_simple_extent_ndims(space.get()), name + "/value: rank");
+    std::vector<hsize_t> dims(static_cast<size_t>(std::max(rank, 1)), 0);
+    H5Sget_simple_extent_dims(space.get(), dims.data(), nullptr);
+    inner_.assign(dims.begin() + 1, dims.end());
+    const H5Handle type = own_type(H5Dget_type(value_.get()), name + "/value: type");
+    integer_ = H5Tget_class(type.get()) == H5T_INTEGER;
+  });
+}
+
 hsize_t TimeSeries::row_size() const {
   return std::accumulate(inner_.begin() + (inner_.empty() ? 0 : 1), inner_.end(), hsize_t{1},
                          std::multiplies<hsize_t>());

@@ -32,6 +32,13 @@ class TimeSeries {
   TimeSeries(CollectiveCalls &calls, hid_t parent, const std::string &name,
              std::vector<hsize_t> inner, hid_t file_type, hsize_t chunk_rows, bool per_particle);
 
+  // Opens the element `name` under `parent` as an earlier run wrote it (dump.mode: append), to
+  // append after its frames; the inner dimensions and the fill (integer or real) come from the
+  // file. Collective.
+  struct Existing {};
+  TimeSeries(Existing, CollectiveCalls &calls, hid_t parent, const std::string &name,
+             bool per_particle);
+
   // Grows the element to frame + 1 frames (and a per-particle element to `particles` rows, when
   // that is more than it has: earlier frames get fill rows) and writes rows [row_offset,
   // row_offset + rows) of that frame from `data` (rows * the other inner dims elements of

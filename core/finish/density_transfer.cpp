@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <sstream>
 
 namespace lantern {
 namespace {
@@ -11,6 +12,14 @@ constexpr double kAsinhSoftening = 0.01;
 
 uint8_t to_byte(double v) {
   return uint8_t(std::clamp(std::lround(v), 0L, 255L));
+}
+
+// (w - lo) / (hi - lo), also where hi - lo overflows (a range like [-1e308, 1e308]): then in
+// halves. A width below the smallest normal double gives +inf for w > lo, clamped to 1 below.
+double fraction_of_range(double w, const DensityRange &r) {
+  const double width = r.hi - r.lo;
+  if (std::isfinite(width)) return (w - r.lo) / width;
+  return (0.5 * w - 0.5 * r.lo) / (0.5 * r.hi - 0.5 * r.lo);
 }
 
 }  // namespace
@@ -24,23 +33,44 @@ DensityRange density_range(const DensityImage &image, const DensityConfig &confi
   return {config.transfer == DensityTransfer::kLog ? hi / kLogDecades : 0.0, hi};
 }
 
+std::string density_range_problem(const DensityConfig &config) {
+  if (!config.range) return {};
+  const double lo = (*config.range)[0], hi = (*config.range)[1];
+  std::ostringstream range;
+  range << "density.range [" << lo << ", " << hi << "]";
+  if (!std::isfinite(hi - lo))
+    return range.str() +
+           " is wider than a double can hold (hi - lo overflows): every pixel maps to about "
+           "the same color";
+  if (hi - lo < 1.0 / kDensityUnit)
+    return range.str() +
+           " is narrower than the summed weight's resolution (2^-24 of a particle): every pixel "
+           "a footprint reached maps to the top of the range";
+  return {};
+}
+
 double density_transfer(double w, DensityTransfer transfer, const DensityRange &r) {
   if (!(r.hi > r.lo)) return 0.0;
+  const double u = fraction_of_range(w, r);
   double t = 0.0;
   switch (transfer) {
     case DensityTransfer::kLinear:
-      t = (w - r.lo) / (r.hi - r.lo);
+      t = u;
       break;
     case DensityTransfer::kLog:
       t = w <= r.lo ? 0.0 : std::log(w / r.lo) / std::log(r.hi / r.lo);
       break;
     case DensityTransfer::kAsinh: {
-      const double s = kAsinhSoftening * (r.hi - r.lo);
-      t = std::asinh(std::max(w - r.lo, 0.0) / s) / std::asinh((r.hi - r.lo) / s);
+      const double width = r.hi - r.lo, s = kAsinhSoftening * width;
+      if (std::isfinite(width) && std::isnormal(s))
+        t = std::asinh(std::max(w - r.lo, 0.0) / s) / std::asinh(width / s);
+      else  // the same with u, where the width under- or overflows into 0 / 0 or inf / inf
+        t = std::asinh(std::max(u, 0.0) / kAsinhSoftening) / std::asinh(1.0 / kAsinhSoftening);
       break;
     }
   }
-  return std::clamp(t, 0.0, 1.0);
+  // Clamped to [0, 1]; NaN (which std::clamp passes through) is 0.
+  return t >= 0.0 ? std::min(t, 1.0) : 0.0;
 }
 
 void map_density(const DensityImage &image, const DensityConfig &config, const Colormap &colormap,

@@ -22,6 +22,7 @@
 
 #include <array>
 #include <cstdint>
+#include <string>
 
 #include "core/color/colormap.h"
 #include "core/config/config.h"
@@ -37,8 +38,15 @@ struct DensityRange {
 // The range the transfer uses for `image` (see above). hi <= lo means an empty image.
 DensityRange density_range(const DensityImage &image, const DensityConfig &config);
 
-// The transfer alone: t in [0, 1] of a summed weight w.
+// The transfer alone: t in [0, 1] of a summed weight w. Ranges whose width over- or underflows a
+// double still give t in [0, 1] (never NaN; a NaN is 0): see density_range_problem.
 double density_transfer(double w, DensityTransfer transfer, const DensityRange &range);
+
+// What is wrong with a fixed density.range that the transfer can only clamp, for a warning: ""
+// when fine (or auto), else e.g. "density.range [0, 5e-324] is narrower than the summed
+// weight's resolution ...: every pixel a footprint reached maps to the top of the range" or
+// "... is wider than a double can hold ...".
+std::string density_range_problem(const DensityConfig &config);
 
 // Maps `image` into `frame` (resized to the image): colors as above, alpha 255, background depth.
 void map_density(const DensityImage &image, const DensityConfig &config, const Colormap &colormap,

@@ -17,10 +17,12 @@ using Clock = std::chrono::steady_clock;
 // The frames composited so that every rank ends with its own row band of the merged frame
 // (whole pixels, i.e. multiples of s sample rows), down-sampled (s > 1) into *band, which then
 // holds exactly the rank's row_band(height, ranks, rank) of the image. Fills *composite.
-Status composite_into_image_band(MPI_Comm comm, Frame &frame, int s, BandFrame *band,
+Status composite_into_image_band(MPI_Comm comm, Frame &frame, int s,
+                                 const CompositeOptions &options, BandFrame *band,
                                  CompositeStats *composite) {
   RowBand rows;
-  if (Status st = composite_to_row_bands(comm, frame, s, &rows, composite); !st.ok()) return st;
+  if (Status st = composite_to_row_bands(comm, frame, s, &rows, options, composite); !st.ok())
+    return st;
   band->first = rows.y0 / s;
   band->owned = {rows.y0 / s, rows.y1 / s};
   int ranks = 1;
@@ -53,19 +55,21 @@ Status assemble_image(MPI_Comm comm, BandFrame *band, int width, int height, Fra
 }  // namespace
 
 Status finish_image(MPI_Comm comm, Frame &frame, const FinishSettings &finish,
-                    const Camera &image_camera, double sphere_radius, Frame *image,
-                    FinishStats *stats) {
+                    const Camera &image_camera, double sphere_radius,
+                    const CompositeCostModel *model, Frame *image, FinishStats *stats) {
   const int s = finish.samples_per_axis;
   const bool cues = wants_screen_cues(finish.cues);
+  CompositeOptions options;
+  options.model = model;
   if (s == 1 && !cues) {  // nothing after compositing: straight to root's frame
-    if (Status st = composite_frames(comm, frame, 0, CompositeMethod::kAuto, 0, &stats->composite);
-        !st.ok())
+    if (Status st = composite_frames(comm, frame, 0, options, &stats->composite); !st.ok())
       return with_context("compositing: ", std::move(st));
     return {};
   }
   auto t0 = Clock::now();
   BandFrame band;
-  if (Status st = composite_into_image_band(comm, frame, s, &band, &stats->composite); !st.ok())
+  if (Status st = composite_into_image_band(comm, frame, s, options, &band, &stats->composite);
+      !st.ok())
     return with_context("compositing: ", std::move(st));
   stats->downsample_ms = ms_since(t0) - stats->composite.milliseconds;
   if (cues) {

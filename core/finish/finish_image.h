@@ -19,6 +19,7 @@
 #include "core/common/status.h"
 #include "core/composite/depth_compositor.h"
 #include "core/config/config.h"
+#include "core/finish/overlays/overlays.h"
 #include "core/finish/screen_cues.h"
 #include "core/view/frame.h"
 
@@ -31,10 +32,11 @@ struct FinishSettings {
   int samples_per_axis = 1;   // s: the ranks' frames are s times the image's width and height
   ScreenCueSettings cues;     // the screen-space cues on the final-resolution image
   DensityConfig density;      // style: density - the transfer to colors (density_transfer.h)
+  OverlaySettings overlays;   // box, labels, legend, axes: drawn on root after finish_image
 };
 
 struct FinishStats {
-  CompositeStats composite;  // the method run and this rank's milliseconds inside compositing
+  CompositeStats composite;  // the method run, this rank's milliseconds and traffic
   double downsample_ms = 0;  // samples > 1: down-sampling and gathering the bands
   double cues_ms = 0;        // the screen-space cues, halo rows included
 };
@@ -42,11 +44,12 @@ struct FinishStats {
 // `frame`: this rank's frame at s = finish.samples_per_axis times the image's width and height.
 // `image_camera`: the camera of the final-resolution image (the cues read view depths through
 // it); `sphere_radius`: the scene's largest drawn radius (the cues' unit). *image (root's image,
-// finish.width x finish.height) may be `frame` itself when s is 1.
+// finish.width x finish.height) may be `frame` itself when s is 1. `model`: compositing's cost
+// model (the same on every rank), or null for default_cost_model().
 // Returns OK, or the failing step's status with "compositing: ", "screen cues: " or "gathering
 // the image: " in front of its message.
 Status finish_image(MPI_Comm comm, Frame &frame, const FinishSettings &finish,
-                    const Camera &image_camera, double sphere_radius, Frame *image,
-                    FinishStats *stats);
+                    const Camera &image_camera, double sphere_radius,
+                    const CompositeCostModel *model, Frame *image, FinishStats *stats);
 
 }  // namespace lantern

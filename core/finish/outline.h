@@ -1,7 +1,7 @@
-// Outlines of a composited band: dark lines at silhouettes and depth jumps (seed 002's structure
-// edges). A drawn pixel becomes `color` where some pixel within `width` pixels (a square
-// neighbourhood) lies farther than it by more than `depth_threshold` x the sphere radius, the
-// background counting as infinitely far. Spheres that intersect meet at continuous depth and so
+// Outlines of a composited band: dark lines at silhouettes and depth jumps (the cross-sections
+// paper's structure edges). A drawn pixel becomes `color` where some pixel within `width` pixels (a
+// square neighbourhood) lies farther than it by more than `depth_threshold` x the sphere radius,
+// the background counting as infinitely far. Spheres that intersect meet at continuous depth and so
 // read as one structure; lines fall on the near side of each jump, `width` pixels thick.
 //
 // Reads only distances (view_positions.h), never colours, so it can run after another cue on

@@ -1,9 +1,11 @@
-// Screen-space ambient occlusion of a composited band (seed 004 section 7.1): each drawn pixel is
-// darkened by how much of the hemisphere above it the surrounding composited surface covers.
+// Screen-space ambient occlusion of a composited band (Kozlikova et al., "Visualization of
+// Biomolecular Structures: State of the Art Revisited", CGF 2017, for its use on molecular
+// data): each drawn pixel is darkened by how much of the hemisphere above it the surrounding
+// composited surface covers.
 //
-// For a pixel at view-space point P with normal n (reconstructed from the depth of its
-// neighbours, on each axis the side with the smaller depth step so that normals do not bend over
-// silhouettes), `samples` pixels are read on a fixed golden-angle spiral of radius `radius`
+// The estimate at a pixel at view-space point P with normal n (reconstructed from the depth of
+// its neighbours, on each axis the side with the smaller depth step so that normals do not bend
+// over silhouettes): `samples` pixels are read on a fixed golden-angle spiral of radius `radius`
 // projected to pixels (at most kMaxAoPixels), turned by an angle that depends only on the
 // pixel's image position (x mod 4, y mod 4): no random state, so every rank computes the same.
 // A sample at view-space point Q occludes by max(0, cos(n, Q - P) - kAoBias) x
@@ -11,8 +13,21 @@
 // 1 - strength x min(1, 2 x mean occlusion). A convex surface (one lone sphere) never occludes
 // itself: every chord points below its tangent plane.
 //
+// Resolution (`half_resolution`):
+//   - full: the estimate at every pixel.
+//   - half (the default): the estimate at the pixels of even column and even row only (a
+//     quarter of them, with the turn of (x/2 mod 4, y/2 mod 4)), computed 8 pixels at a time in
+//     vector registers; then blurred over 5 x 5 of those estimates with the separable weights
+//     1 2 2 2 1 (every one of the 4 turns of a row or column weighs the same), skipping
+//     estimates whose depth differs from the centre's by more than kAoDepthTolerance x radius;
+//     then brought back to every pixel from the 1, 2 or 4 nearest estimates (bilinear) whose
+//     depth is within kAoDepthTolerance x radius of the pixel's own. A pixel with no such
+//     estimate (a sliver of surface narrower than two pixels) gets the full-resolution estimate.
+//     Measured against full: lantern-bench-cues.
+//
 // Reads only distances (view_positions.h); writes the colour of the band's owned rows. Needs a
-// halo of kMaxAoPixels rows.
+// halo of screen_ambient_occlusion_halo() rows, from which every value is computed: the same
+// bytes whatever the band.
 #pragma once
 
 #include "core/composite/row_bands.h"
@@ -20,20 +35,32 @@
 
 namespace lantern {
 
-// The largest sampling radius in pixels, and so the halo of rows each band needs: bounds the
-// work per pixel and the rows exchanged, whatever radius and zoom ask for.
+// The largest sampling radius in pixels: bounds the work per pixel and the rows exchanged,
+// whatever radius and zoom ask for.
 inline constexpr int kMaxAoPixels = 32;
 // Cosine below which a neighbour does not occlude: absorbs the error of normals reconstructed
 // from 8-bit-free but float depth on curved surfaces.
 inline constexpr float kAoBias = 0.1f;
+// Half resolution: estimates further apart in depth than this many radii are not mixed.
+inline constexpr float kAoDepthTolerance = 0.25f;
 
 struct AmbientOcclusionStyle {
   float radius = 1.0f;    // sampling radius, simulation units, > 0
   int samples = 16;       // 1..64
   float strength = 0.6f;  // [0, 1]
+  bool half_resolution = true;
 };
 
+// The rows of halo above and below a band that the style reads.
+int screen_ambient_occlusion_halo(const AmbientOcclusionStyle &style);
+
+// The instruction set of the half-resolution pass: kAuto takes AVX-512 or AVX2 where the
+// processor has it; kAvx2 (where present) and kPortable (the baseline: SSE2 on x86-64) force one,
+// for tests. All give the same bits: the same IEEE operations in the same order, lane by lane.
+enum class AoVectorPath { kAuto, kAvx2, kPortable };
+
 void apply_screen_ambient_occlusion(const ViewPositions &positions,
-                                    const AmbientOcclusionStyle &style, BandFrame *band);
+                                    const AmbientOcclusionStyle &style, BandFrame *band,
+                                    AoVectorPath path = AoVectorPath::kAuto);
 
 }  // namespace lantern

@@ -44,6 +44,17 @@ Status drawn_depth_range(MPI_Comm comm, const ViewPositions &v, const RowBand &o
   return {};
 }
 
+// The screen ambient occlusion of a scene, `sphere_radius` the unit of its default radius.
+AmbientOcclusionStyle ao_style(const ScreenCueSettings &cues, double sphere_radius) {
+  AmbientOcclusionStyle style;
+  style.radius =
+      float(cues.ambient_occlusion.radius.value_or(kDefaultAoRadiusInSphereRadii * sphere_radius));
+  style.samples = cues.ambient_occlusion.samples;
+  style.strength = float(cues.ambient_occlusion.strength);
+  style.half_resolution = cues.ambient_occlusion.resolution == AoResolution::kHalf;
+  return style;
+}
+
 }  // namespace
 
 bool wants_screen_cues(const ScreenCueSettings &cues) {
@@ -52,7 +63,7 @@ bool wants_screen_cues(const ScreenCueSettings &cues) {
 
 int screen_cue_halo(const ScreenCueSettings &cues) {
   int halo = 0;
-  if (screen_ao(cues)) halo = kMaxAoPixels;
+  if (screen_ao(cues)) halo = screen_ambient_occlusion_halo(ao_style(cues, 1.0));
   if (cues.outline.enabled) halo = std::max(halo, cues.outline.width);
   return halo;
 }
@@ -75,14 +86,8 @@ Status cue_band(MPI_Comm comm, const ScreenCueSettings &cues, const Camera &came
   ViewPositions positions;
   positions.build(band, camera);
 
-  if (screen_ao(cues)) {
-    AmbientOcclusionStyle style;
-    style.radius = float(
-        cues.ambient_occlusion.radius.value_or(kDefaultAoRadiusInSphereRadii * sphere_radius));
-    style.samples = cues.ambient_occlusion.samples;
-    style.strength = float(cues.ambient_occlusion.strength);
-    apply_screen_ambient_occlusion(positions, style, &band);
-  }
+  if (screen_ao(cues))
+    apply_screen_ambient_occlusion(positions, ao_style(cues, sphere_radius), &band);
   if (cues.outline.enabled) {
     OutlineStyle style;
     style.width = cues.outline.width;

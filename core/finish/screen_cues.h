@@ -1,4 +1,4 @@
-// The screen-space depth cues of a scene (issue 13), applied to the composited frame before it
+// The screen-space depth cues of a scene, applied to the composited frame before it
 // is written: screen ambient occlusion, then outlines, then depth cueing.
 //
 // They run on the final-resolution composited frame, in parallel: root's frame is handed out in

@@ -26,11 +26,22 @@ class ViewPositions {
 
   // Distance along the view axis at image pixel (x, y), y an image row held by the band.
   float z(int x, int y) const { return z_[size_t(y - first_) * size_t(width_) + size_t(x)]; }
+  // The distances of held row y, `width()` of them (for vectorised readers).
+  const float *row(int y) const { return &z_[size_t(y - first_) * size_t(width_)]; }
   // View-space x and y of image pixel (x, y)'s centre at distance z.
   float view_x(int x, float z) const { return (x_scale_ * (float(x) + 0.5f) + x_offset_) * at(z); }
   float view_y(int y, float z) const { return (y_scale_ * (float(y) + 0.5f) + y_offset_) * at(z); }
   // Pixels per simulation unit at distance z (the same horizontally and vertically).
   float pixels_per_unit(float z) const { return orthographic_ ? ppu_ : ppu_ / z; }
+
+  // The terms of view_x, view_y and pixels_per_unit, for vectorised readers that must compute
+  // exactly what those do: view_x = (x_scale (x + 0.5) + x_offset) at(z), at(z) = z in
+  // perspective and 1 in orthographic projection.
+  struct Terms {
+    float x_scale, x_offset, y_scale, y_offset, ppu;
+    bool orthographic;
+  };
+  Terms terms() const { return {x_scale_, x_offset_, y_scale_, y_offset_, ppu_, orthographic_}; }
 
   int width() const { return width_; }
   int height() const { return height_; }

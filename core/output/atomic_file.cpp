@@ -1,6 +1,8 @@
 #include "core/output/atomic_file.h"
 
 #include <fcntl.h>
+#include <signal.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <atomic>
@@ -8,6 +10,8 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <limits>
+#include <regex>
 #include <system_error>
 
 namespace lantern {
@@ -99,6 +103,30 @@ Status write_atomically(const std::string &final_path, const std::string &extens
             "cannot rename '" + temp + "' to '" + final_path + "': " + os_reason(reason)};
   }
   return {};
+}
+
+std::vector<std::string> remove_stale_temporaries(const std::string &directory,
+                                                  std::time_t started) {
+  // ".<name>.tmp<pid>-<counter>" and an optional extension (temporary_path_for).
+  static const std::regex temporary(R"(^\..+\.tmp([0-9]{1,10})-[0-9]{1,20}(\.[A-Za-z0-9]{1,8})?$)");
+  std::vector<std::string> removed;
+  std::error_code ec;
+  for (fs::directory_iterator it(directory.empty() ? "." : directory, ec), end; !ec && it != end;
+       it.increment(ec)) {
+    const std::string name = it->path().filename().string();
+    std::smatch match;
+    if (!std::regex_match(name, match, temporary)) continue;
+    struct stat st {};
+    if (::lstat(it->path().c_str(), &st) != 0 || !S_ISREG(st.st_mode) || st.st_mtime >= started)
+      continue;
+    const long pid = std::stol(match[1].str());
+    if (pid > 0 && pid <= std::numeric_limits<pid_t>::max() &&
+        (::kill(pid_t(pid), 0) == 0 || errno == EPERM))
+      continue;  // that process still runs here: maybe writing it now
+    std::error_code ignored;
+    if (fs::remove(it->path(), ignored)) removed.push_back(it->path().string());
+  }
+  return removed;
 }
 
 Status write_bytes_atomically(const std::string &final_path, const void *data, size_t size) {

@@ -7,8 +7,10 @@
 #pragma once
 
 #include <cstddef>
+#include <ctime>
 #include <functional>
 #include <string>
+#include <vector>
 
 #include "core/common/status.h"
 
@@ -34,5 +36,12 @@ Status write_atomically(const std::string &final_path, const std::string &extens
 // Convenience: atomically writes `size` bytes from `data` (not owned; read during the call).
 // OK or kIo.
 Status write_bytes_atomically(const std::string &final_path, const void *data, size_t size);
+
+// Removes from `directory` the temporary files a killed process left there: only names of the
+// form temporary_path_for makes (".<name>.tmp<pid>-<n>[.ext]"), only regular files modified
+// before `started`, and only when no process <pid> runs on this host (a run writing into the same
+// folder keeps its files). Best effort: errors are ignored. Returns the names removed.
+std::vector<std::string> remove_stale_temporaries(const std::string &directory,
+                                                  std::time_t started);
 
 }  // namespace lantern

@@ -1,5 +1,6 @@
 #include "core/output/image_writer.h"
 
+#include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/half.h>
 #include <OpenImageIO/imageio.h>
 
@@ -116,11 +117,15 @@ Prepared prepare(const Frame &frame, const OutputConfig &out, const DepthToDista
   }
 }
 
-// Writes the prepared pixels to `file` (format from `file`'s extension). OK or kIo with OIIO's
-// message.
-Status write_with_oiio(const Prepared &p, const std::string &file) {
+// Writes the prepared pixels to `file` (format from `file`'s extension), or, given `memory`,
+// into that proxy (`file` then only names the format). OK or kIo with OIIO's message.
+Status write_with_oiio(const Prepared &p, const std::string &file,
+                       OIIO::Filesystem::IOProxy *memory = nullptr) {
   std::unique_ptr<OIIO::ImageOutput> output = OIIO::ImageOutput::create(file);
   if (!output) return {StatusCode::kIo, "OpenImageIO cannot create a writer: " + OIIO::geterror()};
+  if (memory && !(output->supports("ioproxy") && output->set_ioproxy(memory)))
+    return {StatusCode::kIo, std::string("OpenImageIO's ") + output->format_name() +
+                                 " writer cannot write to memory"};
   OIIO::ImageSpec spec = p.spec;
   // Deterministic files: no wall-clock or host metadata, whatever a plugin would add.
   // TIFF and OpenEXR writers stamp the current time when DateTime is absent; an empty value
@@ -169,6 +174,17 @@ Status write_image(const Frame &frame, const OutputConfig &out, const std::strin
     // PNG: zlib in row bands (png_across_ranks.h), ~2.6x faster than libpng's single stream.
     if (out.format == ImageFormat::kPng) return write_png(frame, out.compression_level, path, 1);
     const Prepared prepared = prepare(frame, out, depth_to_distance);
+    if (out.format == ImageFormat::kJpeg) {
+      // libjpeg's default error handler, which OpenImageIO's JPEG writer keeps, calls exit() when
+      // a write fails (a full disk): the whole simulation would end. Encoded into memory, where
+      // no write fails, the file is then written by write_bytes_atomically, which reports the
+      // OS error like any other format.
+      std::vector<unsigned char> encoded;
+      OIIO::Filesystem::IOVecOutput memory(encoded);
+      if (Status s = write_with_oiio(prepared, "memory.jpg", &memory); !s.ok())
+        return with_context("cannot write '" + path + "': ", std::move(s));
+      return write_bytes_atomically(path, encoded.data(), encoded.size());
+    }
     // The temporary file carries the format's extension, so OIIO picks the right writer.
     return write_atomically(path, image_format_extension(out.format), [&](const std::string &temp) {
       return write_with_oiio(prepared, temp);

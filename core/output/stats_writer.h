@@ -2,7 +2,9 @@
 //
 // Each append() formats the whole line first and hands it to the OS in one write() on a file
 // opened with O_APPEND, so lines are never interleaved or half-written by concurrent appenders
-// (up to the OS's atomic append size) and a reader can tail the file while the run goes on.
+// (up to the OS's atomic append size) and a reader can tail the file while the run goes on. A write
+// cut short (a full disk) is truncated back to the start of its line: a line is in the file whole
+// or not at all.
 // A StatsWriter is not thread-safe; use one per writing thread (normally rank 0 only).
 #pragma once
 
@@ -31,6 +33,8 @@ class StatsWriter {
   const std::string &path() const { return path_; }
 
  private:
+  Status fail(const char *what, int reason, const std::string &more = "");
+
   std::string path_;
   int fd_ = -1;  // owned; -1 = not open
 };

@@ -4,18 +4,11 @@
 
 #include <cerrno>
 #include <cstring>
-#include <fstream>
-#include <sstream>
 
 #include "core/common/content_hash.h"
+#include "core/config/config_file.h"
 
 namespace lantern {
-namespace {
-
-// A configuration is a few kilobytes; the cap keeps the broadcast's int count far from overflow.
-constexpr int64_t kMaxBytes = int64_t(16) << 20;
-
-}  // namespace
 
 void ConfigWatch::start(const std::string &path, uint64_t text_hash) {
   if (path != path_) {
@@ -41,16 +34,15 @@ bool ConfigWatch::look(std::string *text, std::string *problem) {
   const int64_t mtime = int64_t(st.st_mtim.tv_sec) * 1000000000 + st.st_mtim.tv_nsec;
   if (mtime == mtime_ns_ && int64_t(st.st_size) == size_ && uint64_t(st.st_ino) == inode_)
     return false;
-  if (st.st_size > kMaxBytes) return unreadable("is larger than 16 MiB (not a configuration?)");
-  errno = 0;
-  std::ifstream in(path_, std::ios::binary);
-  std::ostringstream buffer;
-  if (!in || !(buffer << in.rdbuf()) || in.bad())
-    return unreadable(std::string("cannot be read: ") +
-                      (errno != 0 ? std::strerror(errno) : "read error"));
+  std::string read;
+  if (const std::string why = read_config_file(path_, &read); !why.empty())
+    return unreadable((why.rfind("is ", 0) == 0 ? "" : "cannot be read: ") + why);
+  // An editor that truncates, then writes, can be caught in between; an empty configuration is
+  // never valid, so it is not applied (and it is read again at the next look).
+  if (read.empty()) return unreadable("is empty");
   mtime_ns_ = mtime, size_ = int64_t(st.st_size), inode_ = uint64_t(st.st_ino);
   reported_.clear();
-  *text = buffer.str();
+  *text = std::move(read);
   const uint64_t hash = content_hash(*text);
   if (hash == seen_hash_) return false;  // touched or rewritten with the same text
   seen_hash_ = hash;

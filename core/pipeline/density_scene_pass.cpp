@@ -1,6 +1,8 @@
 #include "core/pipeline/density_scene_pass.h"
 
+#include <algorithm>
 #include <chrono>
+#include <new>
 #include <string>
 
 #include "core/color/colormap.h"
@@ -30,24 +32,33 @@ Status run_density_scene(const ScenePassInputs &in, const SceneSettings &setting
   stats->occlusion = "none (density)";
   CullStats counts;
   DensityImage &image = buffers->density;
-  if (local.ok()) {
-    auto t0 = Clock::now();
-    double build_ms = 0.0;
-    const BrickSet &bricks =
-        in.scratch->bricks.for_step(*in.particles, in.step, &build_ms, &stats->bricks);
-    stats->bricks_ms = build_ms;
-    BrickSelection &selection = in.scratch->draw.selection;
-    select_density_bricks(bricks, camera, settings.cull, radius, &selection, &buffers->cut_counts);
-    stats->cull_ms = ms_since(t0);
-    t0 = Clock::now();
-    const InstanceRecipe recipe =
-        make_recipe(*in.particles, settings.shading, radius, camera, in.global);
-    counts = render_density(*in.particles, bricks, settings.cull, selection, recipe, &image);
-    stats->draw_ms = ms_since(t0);
-  } else {
-    image.reset(settings.finish.width, settings.finish.height,
-                density_channels(settings.shading.color.by));
-  }
+  // Allocations of this rank's sums: running out of memory is agreed below like any failure (a
+  // rank that failed returns there, so its image is never used).
+  if (local.ok()) try {
+      auto t0 = Clock::now();
+      double build_ms = 0.0;
+      const BrickSet &bricks = in.scratch->bricks.for_step(
+          *in.particles, in.step, brick_options(in), &build_ms, &stats->bricks);
+      stats->bricks_ms = build_ms;
+      // A refit the runtime made ahead of the scan (BrickCache::refit_first) counts as culling too.
+      const double ahead_ms = std::max(0.0, build_ms - ms_since(t0));
+      BrickSelection &selection = in.scratch->draw.selection;
+      select_density_bricks(bricks, camera, settings.cull, radius, &selection,
+                            &buffers->cut_counts);
+      stats->cull_ms = ms_since(t0) + ahead_ms;
+      t0 = Clock::now();
+      const InstanceRecipe recipe =
+          make_recipe(*in.particles, settings.shading, radius, camera, in.global);
+      counts = render_density(*in.particles, bricks, settings.cull, selection, recipe, &image);
+      stats->draw_ms = ms_since(t0);
+    } catch (const std::bad_alloc &) {
+      const int64_t bytes = int64_t(settings.finish.width) * settings.finish.height *
+                            density_channels(settings.shading.color.by) * int64_t(sizeof(int64_t));
+      local = {StatusCode::kOutOfMemory,
+               where + "out of memory summing " + std::to_string(settings.finish.width) + " x " +
+                   std::to_string(settings.finish.height) + " pixels (" + std::to_string(bytes) +
+                   " bytes of sums on this rank)"};
+    }
   if (Status s = agree_on_status(in.comm, local); !s.ok()) return s;
   sum_counts_over_ranks(in.comm, counts, stats);  // splatted and occlusion_culled: 0 here
   stats->culled = in.global.finite_count - stats->drawn;
@@ -67,6 +78,16 @@ Status run_density_scene(const ScenePassInputs &in, const SceneSettings &setting
   }
   stats->composite_ms = ms_since(t0);
   stats->composite_method = "sum (int64)";
+  int ranks = 1;
+  MPI_Comm_size(in.comm, &ranks);
+  if (in.per_rank_stats && ranks > 1) {
+    // MPI_Reduce: what this rank hands to MPI, and root gets back (the tree's traffic is MPI's).
+    CompositeStats sum;
+    const uint64_t bytes = 8 * uint64_t(image.sum.size());
+    (rank == 0 ? sum.traffic.bytes_received : sum.traffic.bytes_sent) = bytes;
+    (rank == 0 ? sum.traffic.messages_received : sum.traffic.messages_sent) = 1;
+    stats->composite = summarize_composite(in.comm, sum, nullptr);
+  }
   return {};
 }
 

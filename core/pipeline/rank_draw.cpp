@@ -44,9 +44,9 @@ Status draw_scene_on_rank(const RankScene &in, RankDrawScratch *scratch, Frame *
     bond_drawing = {&scratch->bond_selection, &bond_recipe};
   }
   out->cull = cpu ? scratch->cpu_pass.run(particles, *in.bricks, cull, shading.lighting, selection,
-                                          recipe, background, frame, &draw, in.step,
+                                          recipe, background, frame, &draw, in.step, in.threads,
                                           bonds ? &bond_drawing : nullptr)
-                  : scratch->culler.cull(particles, *in.bricks, cull, selection, &draw);
+                  : scratch->culler.cull(particles, *in.bricks, cull, selection, &draw, in.threads);
   if (bonds && !cpu) {
     // After the spheres: their hzb, if any, proves half-bonds hidden exactly.
     std::vector<uint32_t> &kept = scratch->bond_kept;

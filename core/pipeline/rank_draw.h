@@ -54,6 +54,9 @@ struct RankScene {
   const BondArrays *bonds = nullptr;
   const BrickBonds *bond_halves = nullptr;
   const PeriodicBox *box = nullptr;
+  // Threads for the CPU raster's and the hzb culler's column strips (the image and the counts
+  // are the same at any count; the pipeline passes `threads:`).
+  int threads = 2;
 
   RankScene() = default;
   RankScene(const ParticleArrays &p, const BrickSet &b, const Camera &c, SceneSettings s,

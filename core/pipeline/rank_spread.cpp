@@ -1,7 +1,6 @@
 #include "core/pipeline/rank_spread.h"
 
 #include <algorithm>
-#include <array>
 
 namespace lantern {
 namespace {
@@ -24,29 +23,6 @@ void combine(void *in, void *inout, int *len, MPI_Datatype *) {
   }
 }
 
-// The spread of each of this rank's N values, at root.
-template <size_t N>
-void reduce_rank_spreads(MPI_Comm comm, int root, const std::array<double, N> &local,
-                         std::array<RankSpread, N> *out) {
-  int rank = 0, size = 1;
-  MPI_Comm_rank(comm, &rank);
-  MPI_Comm_size(comm, &size);
-  std::array<Partial, N> mine{}, all{};
-  for (size_t i = 0; i < N; ++i) mine[i] = {local[i], local[i], double(rank), local[i]};
-  // Created per call: a few microseconds, and nothing global to free at MPI_Finalize.
-  MPI_Datatype type;
-  MPI_Type_contiguous(4, MPI_DOUBLE, &type);
-  MPI_Type_commit(&type);
-  MPI_Op op;
-  MPI_Op_create(&combine, 1, &op);
-  MPI_Reduce(mine.data(), all.data(), int(N), type, op, root, comm);
-  MPI_Op_free(&op);
-  MPI_Type_free(&type);
-  if (rank != root) return;
-  for (size_t i = 0; i < N; ++i)
-    (*out)[i] = {all[i].min, all[i].max, all[i].sum / size, int(all[i].max_rank)};
-}
-
 }  // namespace
 
 nlohmann::json RankSpread::to_json() const {
@@ -58,14 +34,41 @@ nlohmann::json RankSpread::to_json() const {
 }
 
 nlohmann::json PerRankStats::to_json() const {
-  return {{"drawn", drawn.to_json()}, {"culled", culled.to_json()}, {"ms", ms.to_json()}};
+  return {{"drawn", drawn.to_json()},
+          {"culled", culled.to_json()},
+          {"ms", ms.to_json()},
+          {"particles", particles.to_json()}};
 }
 
-PerRankStats reduce_per_rank_stats(MPI_Comm comm, int root, double drawn, double culled,
-                                   double ms) {
-  std::array<RankSpread, 3> spread;
-  reduce_rank_spreads<3>(comm, root, {drawn, culled, ms}, &spread);
-  return {spread[0], spread[1], spread[2]};
+std::vector<RankSpread> reduce_rank_spreads(MPI_Comm comm, int root,
+                                            const std::vector<double> &local) {
+  int rank = 0, size = 1;
+  MPI_Comm_rank(comm, &rank);
+  MPI_Comm_size(comm, &size);
+  const size_t n = local.size();
+  std::vector<Partial> mine(n), all(n);
+  for (size_t i = 0; i < n; ++i) mine[i] = {local[i], local[i], double(rank), local[i]};
+  // Created per call: a few microseconds, and nothing global to free at MPI_Finalize.
+  MPI_Datatype type;
+  MPI_Type_contiguous(4, MPI_DOUBLE, &type);
+  MPI_Type_commit(&type);
+  MPI_Op op;
+  MPI_Op_create(&combine, 1, &op);
+  MPI_Reduce(mine.data(), all.data(), int(n), type, op, root, comm);
+  MPI_Op_free(&op);
+  MPI_Type_free(&type);
+  std::vector<RankSpread> out(n);
+  if (rank != root) return out;
+  for (size_t i = 0; i < n; ++i)
+    out[i] = {all[i].min, all[i].max, all[i].sum / size, int(all[i].max_rank)};
+  return out;
+}
+
+PerRankStats reduce_per_rank_stats(MPI_Comm comm, int root, double drawn, double culled, double ms,
+                                   double particles) {
+  const std::vector<RankSpread> spread =
+      reduce_rank_spreads(comm, root, {drawn, culled, ms, particles});
+  return {spread[0], spread[1], spread[2], spread[3]};
 }
 
 }  // namespace lantern

@@ -1,11 +1,13 @@
 // How a per-rank quantity (particles drawn, culled, milliseconds) spreads over the ranks: least,
 // greatest, mean, imbalance and the rank holding the greatest - the per-process statistics of
-// seed 000's Fig. 5, so that load imbalance shows in the stats line.
+// the nine-spheres paper's Fig. 5, so that load imbalance shows in the stats line.
 //
 // Plain value types; reduce_rank_spreads is collective.
 #pragma once
 
 #include <mpi.h>
+
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -23,14 +25,21 @@ struct RankSpread {
 
 // The per-rank statistics of one scene on one step.
 struct PerRankStats {
-  RankSpread drawn;   // spheres each rank sent to its renderer (as the line's `drawn`)
-  RankSpread culled;  // the rank's finite particles not drawn
-  RankSpread ms;      // the rank's own work before compositing: camera, cull, draw, readback
+  RankSpread drawn;      // spheres each rank sent to its renderer (as the line's `drawn`)
+  RankSpread culled;     // the rank's finite particles not drawn
+  RankSpread ms;         // the rank's own work before compositing: camera, cull, draw, readback
+  RankSpread particles;  // the rank's finite particles: how evenly the host split the data
   nlohmann::json to_json() const;
 };
 
 // Collective over comm: one MPI_Reduce (a user-defined operation over four doubles per value)
-// brings the spread of this rank's three values to `root`; other ranks get an unspecified value.
-PerRankStats reduce_per_rank_stats(MPI_Comm comm, int root, double drawn, double culled, double ms);
+// brings the spread of this rank's four values to `root`; other ranks get an unspecified value.
+PerRankStats reduce_per_rank_stats(MPI_Comm comm, int root, double drawn, double culled, double ms,
+                                   double particles);
+
+// The same for any number of values (the same count on every rank): one RankSpread per value, at
+// root.
+std::vector<RankSpread> reduce_rank_spreads(MPI_Comm comm, int root,
+                                            const std::vector<double> &local);
 
 }  // namespace lantern

@@ -1,19 +1,31 @@
 #include "core/pipeline/runtime.h"
 
+#include <unistd.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <ctime>
+#include <fstream>
+#include <set>
+#include <sstream>
 #include <utility>
 
 #include "core/common/collective_status.h"
 #include "core/common/ms_since.h"
+#include "core/common/rank_threads.h"
 #include "core/config/config_loader.h"
 #include "core/config/enum_names.h"
 #include "core/config/environment.h"
+#include "core/config/file_pattern.h"
+#include "core/finish/density_transfer.h"
+#include "core/output/atomic_file.h"
 #include "core/output/stats_writer.h"
 #include "core/particles/particle_scan.h"
+#include "core/pipeline/memory_budget.h"
 #include "core/pipeline/scene_movie.h"
+#include "core/pipeline/scene_overlays.h"
 
 namespace lantern {
 namespace {
@@ -46,7 +58,52 @@ int node_local_rank(MPI_Comm comm) {
   return rank;
 }
 
+// When this process started (from /proc), or 0 where unknown: an output's temporary file
+// modified before it was left by an earlier run.
+std::time_t process_start_time() {
+  std::ifstream self("/proc/self/stat"), system("/proc/stat");
+  std::string line;
+  if (!std::getline(self, line)) return 0;
+  const size_t comm_end = line.rfind(')');  // the command name may hold spaces
+  if (comm_end == std::string::npos) return 0;
+  std::istringstream fields(line.substr(comm_end + 1));
+  std::string field;
+  unsigned long long ticks = 0;
+  for (int k = 3; k <= 22 && fields >> field; ++k)
+    if (k == 22) ticks = std::strtoull(field.c_str(), nullptr, 10);
+  for (std::string key; system >> key;)
+    if (key == "btime") {
+      long long boot = 0;
+      system >> boot;
+      return std::time_t(boot + ticks / std::max(1L, sysconf(_SC_CLK_TCK)));
+    }
+  return 0;
+}
+
 }  // namespace
+
+void Runtime::remove_stale_temporaries_of_outputs() const {
+  if (rank_ != 0) return;
+  const std::time_t started = process_start_time();
+  if (started == 0) return;
+  std::set<std::string> directories;
+  for (const SceneConfig &scene : config_.scenes) {
+    const std::string &pattern = scene.output.pattern;
+    const size_t slash = pattern.rfind('/');
+    const std::string folder = slash == std::string::npos ? "" : pattern.substr(0, slash);
+    if (folder.find("{step") != std::string::npos) continue;  // a folder per step: not scanned
+    directories.insert(expand_pattern(folder, 0, scene.name));
+  }
+  for (const std::string &directory : directories) {
+    const std::vector<std::string> removed = remove_stale_temporaries(directory, started);
+    if (!removed.empty())
+      std::fprintf(stderr,
+                   "lantern: removed %zu temporary file(s) an earlier run left in '%s' (e.g. "
+                   "'%s')\n",
+                   removed.size(), directory.empty() ? "." : directory.c_str(),
+                   removed.front().c_str());
+  }
+}
 
 Status Runtime::open_gl() {
   gl_tried_ = true;
@@ -81,23 +138,36 @@ Status Runtime::open_gl() {
   return {};
 }
 
-Status Runtime::open(const std::string &config_text, MPI_Comm comm, std::unique_ptr<Runtime> *out) {
+Status Runtime::open(const std::string &config_text, MPI_Comm comm, std::unique_ptr<Runtime> *out,
+                     const Status &caller) {
   std::unique_ptr<Runtime> rt(new Runtime());
   if (MPI_Comm_dup(comm, &rt->comm_) != MPI_SUCCESS)
     return {StatusCode::kMpi, "mpi_comm_f: MPI_Comm_dup failed on this communicator"};
   MPI_Comm_rank(rt->comm_, &rt->rank_);
   MPI_Comm_size(rt->comm_, &rt->size_);
 
-  Status local = rt->load_first_config(config_text);
+  Status local = caller.ok() ? rt->load_first_config(config_text) : caller;
   if (local.ok()) local = check_scene_movies(rt->config_.scenes);
+  if (local.ok()) local = check_scene_overlays(rt->config_.scenes);
   if (Status s = agree_on_status(rt->comm_, local); !s.ok()) return s;
   if (Status s = rt->agree_on_first_config(); !s.ok()) return s;
+  const MemoryShare share = node_memory_share(rt->comm_);  // collective
+  if (Status s =
+          agree_on_status(rt->comm_, check_scene_memory(estimate_scene_memory(rt->config_), share));
+      !s.ok())
+    return s;
   if (!rt->config_.scenes.empty())
     if (Status s = rt->open_gl(); !s.ok()) return s;
   rt->buffers_.resize(rt->config_.scenes.size());
-  // Movie files are opened now, so an unwritable path fails here rather than at the first frame.
+  rt->warn_about_scenes();
+  rt->remove_stale_temporaries_of_outputs();
+  if (rt->config_.dump.enabled) {
+    rt->dump_ = std::make_unique<DumpStage>(rt->config_.dump);
+    if (Status s = rt->dump_->check_existing_file(rt->comm_); !s.ok()) return s;
+  }
+  // Movie files are opened now (after the checks that may refuse the open, so a refused open
+  // leaves no movie file), so an unwritable path fails here rather than at the first frame.
   if (Status s = open_scene_movies(rt->comm_, rt->config_.scenes, &rt->buffers_); !s.ok()) return s;
-  if (rt->config_.dump.enabled) rt->dump_ = std::make_unique<DumpStage>(rt->config_.dump);
   *out = std::move(rt);
   return {};
 }
@@ -138,14 +208,43 @@ Status Runtime::publish_bonds(const BondDescription &bonds) {
   return {};
 }
 
+Status Runtime::mpi_usable(const char *function) const {
+  int finalized = 0;
+  MPI_Finalized(&finalized);
+  if (!finalized) return {};
+  return {StatusCode::kMpi,
+          std::string(function) +
+              ": MPI was finalized (MPI_Finalize) while this context was open; close Lantern "
+              "contexts before MPI_Finalize (mpi4py finalizes MPI at exit, after them)"};
+}
+
 Status Runtime::finish() {
   Status local;
   for (size_t s = 0; s < buffers_.size(); ++s)
     if (Status st = buffers_[s].writer.wait(); !st.ok() && local.ok())
       local = with_context("scenes '" + config_.scenes[s].name + "': ", std::move(st));
+  // Rank 0's movies are completed before anything collective, so that they are whole even
+  // after the host's MPI_Finalize.
+  const Status movies = finish_movies_on_this_rank(config_.scenes, &buffers_);
+  // After MPI_Finalize nothing collective can run: this rank's images and movies were waited
+  // for, the context is released without the others (the destructor leaves the dump file to
+  // HDF5, which closed it in MPI_Finalize).
+  if (Status s = mpi_usable("lantern_close"); !s.ok()) {
+    const Status &first = local.ok() ? movies : local;
+    return first.ok() ? s : Status(s.code, s.message + "; and " + first.message);
+  }
   const Status images = broadcast_status(comm_, local, 0);
-  const Status movies = finish_scene_movies(comm_, config_.scenes, &buffers_);
-  return images.ok() ? movies : images;
+  const Status movies_everywhere = broadcast_status(comm_, movies, 0);
+  return images.ok() ? movies_everywhere : images;
+}
+
+void Runtime::warn_about_scenes() const {
+  if (rank_ != 0) return;
+  for (const SceneConfig &scene : config_.scenes)
+    if (scene.style == SceneStyle::kDensity)
+      if (const std::string problem = density_range_problem(scene.density); !problem.empty())
+        std::fprintf(stderr, "lantern: warning: scenes '%s': %s\n", scene.name.c_str(),
+                     problem.c_str());
 }
 
 void Runtime::warn_nonfinite_once(int64_t count, int64_t step) {
@@ -174,15 +273,25 @@ Status Runtime::execute(int64_t step, double time) {
   bool dump_due = dump_ && dump_->due(step);
   bool render_due = config_.schedule.due(step);
   if (!dump_due && !render_due) return {};
+  if (Status s = mpi_usable("lantern_execute"); !s.ok()) return s;
   if (watch_.active() && follow_config_file(step)) {  // the edited file rules from this step on
     dump_due = dump_ && dump_->due(step);
     render_due = config_.schedule.due(step);
     if (!dump_due && !render_due) return {};
   }
-  // One scan and one reduction per step, for the dump and every scene.
+  // One scan and one reduction per step, for the dump and every scene. On a later step whose
+  // bricks refit, their bounds give the scan's result and the pass is left out (a dump step
+  // scans: it writes before the scenes run).
   const auto t_scan = Clock::now();
-  const Extent global =
-      reduce_extent(comm_, scan_particles(particles_, particles_.has_radius(), 0.0));
+  const int threads = config_.threads > 0 ? config_.threads : default_thread_count();
+  BrickOptions refit_options;
+  refit_options.threads = threads;
+  Extent local;
+  const bool from_bricks = render_due && !dump_due && !config_.scenes.empty() &&
+                           scratch_.bricks.refit_first(particles_, step, refit_options) &&
+                           extent_of_bricks(scratch_.bricks.bricks(), particles_, &local);
+  if (!from_bricks) local = scan_particles(particles_, particles_.has_radius(), 0.0, threads);
+  const Extent global = reduce_extent(comm_, local);
   const double scan_ms = ms_since(t_scan);
   // The dump has its own schedule; a dump error is returned unless rendering fails too.
   const Status dumped =
@@ -201,8 +310,12 @@ Status Runtime::execute(int64_t step, double time) {
     ScenePassInputs in{comm_, renderer, &particles_, global, step, time, &scratch_};
     in.bonds = &bonds_;
     in.bonds_serial = bonds_serial_;
-    in.box = periodic_box_ ? &*periodic_box_ : nullptr;
+    in.periodic_box = periodic_box_ ? &*periodic_box_ : nullptr;
     in.per_rank_stats = !config_.stats_file.empty();  // the same configuration on every rank
+    in.threads = threads;
+    in.local = &local;
+    in.box = box_ ? &*box_ : nullptr;
+    if (!config_.lammps.scalar.empty()) in.scalar_name = config_.lammps.scalar;
     for (size_t s = 0; s < stats.size(); ++s) {
       const Status st = run_scene_pass(in, config_.scenes[s], &buffers_[s], &stats[s]);
       if (!st.ok() && first_error.ok()) first_error = st;  // later scenes still render

@@ -29,7 +29,10 @@ namespace lantern {
 class Runtime {
  public:
   // Collective over comm. On failure returns the (agreed) status and leaves *out empty.
-  static Status open(const std::string &config, MPI_Comm comm, std::unique_ptr<Runtime> *out);
+  // `caller`: a failure of this rank's own arguments (a NULL from the C API), agreed with the
+  // others like a configuration error, so that no rank returns before the collective open.
+  static Status open(const std::string &config, MPI_Comm comm, std::unique_ptr<Runtime> *out,
+                     const Status &caller = Status());
   ~Runtime();
   Runtime(const Runtime &) = delete;
   Runtime &operator=(const Runtime &) = delete;
@@ -61,7 +64,17 @@ class Runtime {
   // The GL session the configuration and environment ask for, or none (then the CPU raster
   // draws); collective, with the outcome agreed. Warns once on rank 0 when it falls back.
   Status open_gl();
+  // OK while MPI runs; kMpi once the host called MPI_Finalize with this context still open
+  // (then no collective call may be made: MPI would abort). Local.
+  Status mpi_usable(const char *function) const;
   void warn_nonfinite_once(int64_t count, int64_t step);
+  // Rank 0: what the configuration's scenes ask that Lantern can only clamp (a density.range
+  // beyond double precision), once per configuration (at open and at each change).
+  void warn_about_scenes() const;
+  // Rank 0, at open: the hidden temporary files a killed earlier run left in the scenes' output
+  // folders are removed (atomic_file.h: only Lantern's temporary names, only files older than
+  // this process, only of processes not running here).
+  void remove_stale_temporaries_of_outputs() const;
   // Live configuration (runtime_reconfigure.cpp). load_first_config: lantern_open's config into
   // config_ (local). switch_config: collective, `text` the same on every rank. follow_config_file:
   // collective, on scheduled steps while watching; true when a new configuration took effect.

@@ -8,6 +8,7 @@
 // lazily by the next pass (a frame of a new size, the counts of a new scene). What may not change
 // is in core/config/live_change.h.
 #include <cstdio>
+#include <filesystem>
 #include <string>
 #include <utility>
 #include <vector>
@@ -17,8 +18,10 @@
 #include "core/config/config_loader.h"
 #include "core/config/environment.h"
 #include "core/config/live_change.h"
+#include "core/pipeline/memory_budget.h"
 #include "core/pipeline/runtime.h"
 #include "core/pipeline/scene_movie.h"
+#include "core/pipeline/scene_overlays.h"
 
 namespace lantern {
 namespace {
@@ -51,6 +54,31 @@ Status check_watch_source(const Config &config, const std::string &path) {
   return {};
 }
 
+// True when `output` names the file at `source` (the same file through any path or link).
+bool same_file(const std::string &output, const std::string &source) {
+  std::error_code ec;
+  if (std::filesystem::equivalent(output, source, ec)) return true;
+  const auto normal = [](const std::string &p) {
+    std::error_code ignored;
+    return std::filesystem::weakly_canonical(p, ignored).lexically_normal();
+  };
+  return normal(output) == normal(source);
+}
+
+// The stats file or the dump pointing at the configuration's own file would append JSON lines to
+// the configuration (or replace it by HDF5), which a watch then reads back as a broken edit.
+Status check_outputs_spare_the_source(const Config &config, const std::string &path) {
+  if (path.empty()) return {};
+  if (!config.stats_file.empty() && same_file(config.stats_file, path))
+    return {StatusCode::kConfig, "stats: '" + config.stats_file +
+                                     "' is the configuration file itself; Lantern would append "
+                                     "its stats lines to the configuration (give another path)"};
+  if (config.dump.enabled && same_file(config.dump.file, path))
+    return {StatusCode::kConfig, "dump.file: '" + config.dump.file +
+                                     "' is the configuration file itself (give another path)"};
+  return {};
+}
+
 const char *source_name(const std::string &path) {
   return path.empty() ? "inline config" : path.c_str();
 }
@@ -63,6 +91,7 @@ Status Runtime::load_first_config(const std::string &path_or_document) {
   if (Status s = load_config_text(text, source_name(config_path_), &config_); !s.ok()) return s;
   if (Status s = apply_environment(&config_); !s.ok()) return s;
   if (Status s = check_watch_source(config_, config_path_); !s.ok()) return s;
+  if (Status s = check_outputs_spare_the_source(config_, config_path_); !s.ok()) return s;
   config_hash_ = content_hash(text);
   if (config_.watch) watch_.start(config_path_, config_hash_);
   return {};
@@ -73,6 +102,7 @@ Status Runtime::agree_on_first_config() {
 }
 
 Status Runtime::reconfigure(const std::optional<std::string> &config) {
+  if (Status s = mpi_usable("lantern_reconfigure"); !s.ok()) return s;
   std::string text, path;
   const Status read =
       config ? read_config_text(*config, &text, &path)
@@ -85,14 +115,23 @@ Status Runtime::reconfigure(const std::optional<std::string> &config) {
 }
 
 Status Runtime::switch_config(const std::string &text, const std::string &path, uint64_t hash) {
-  // The same text from the same place: nothing to parse, nothing to rebuild.
-  if (hash == config_hash_ && path == config_path_) return {};
+  // The same text from the same place: nothing to parse, nothing to rebuild. Agreed, because the
+  // place may differ between ranks with the same text (a path on rank 0, the document inline on
+  // the others): a rank that returned here would leave the others waiting in the collectives
+  // below.
+  int unchanged = hash == config_hash_ && path == config_path_;
+  MPI_Allreduce(MPI_IN_PLACE, &unchanged, 1, MPI_INT, MPI_LAND, comm_);
+  if (unchanged) return {};
   Config next;
   Status local = load_config_text(text, source_name(path), &next);
   if (local.ok()) local = apply_environment(&next);
   if (local.ok()) local = check_watch_source(next, path);
+  if (local.ok()) local = check_outputs_spare_the_source(next, path);
   if (local.ok()) local = check_live_change(config_, next);
+  const MemoryShare share = node_memory_share(comm_);  // collective: on every rank
+  if (local.ok()) local = check_scene_memory(estimate_scene_memory(next), share);
   if (local.ok()) local = check_scene_movies(next.scenes);
+  if (local.ok()) local = check_scene_overlays(next.scenes);
   // Without OpenGL (tried, and absent on every rank alike) a scene may not insist on it.
   for (const SceneConfig &scene : next.scenes)
     if (local.ok() && gl_tried_ && !gl_ && scene.renderer == RendererChoice::kOpenGl)
@@ -140,6 +179,7 @@ Status Runtime::switch_config(const std::string &text, const std::string &path, 
   // configuration stands even if a movie cannot be opened (its scene renders without it).
   const Status movies = open_scene_movies(comm_, config_.scenes, &buffers_);
 
+  warn_about_scenes();
   if (dump_) dump_->set_schedule(config_.dump.schedule);
   if (config_.watch)
     watch_.start(path, hash);

@@ -82,8 +82,8 @@ Status send_frame_to_movie(const SceneConfig &scene, const Frame &frame, SceneBu
   return sent;
 }
 
-Status finish_scene_movies(MPI_Comm comm, const std::vector<SceneConfig> &scenes,
-                           std::vector<SceneBuffers> *buffers) {
+Status finish_movies_on_this_rank(const std::vector<SceneConfig> &scenes,
+                                  std::vector<SceneBuffers> *buffers) {
   Status first;
   for (size_t i = 0; i < buffers->size(); ++i) {
     std::unique_ptr<MovieWriter> &movie = (*buffers)[i].movie;
@@ -92,7 +92,12 @@ Status finish_scene_movies(MPI_Comm comm, const std::vector<SceneConfig> &scenes
     if (!s.ok() && first.ok())
       first = with_context(i < scenes.size() ? where(scenes[i]) : std::string(), s);
   }
-  return broadcast_status(comm, first, 0);
+  return first;
+}
+
+Status finish_scene_movies(MPI_Comm comm, const std::vector<SceneConfig> &scenes,
+                           std::vector<SceneBuffers> *buffers) {
+  return broadcast_status(comm, finish_movies_on_this_rank(scenes, buffers), 0);
 }
 
 }  // namespace lantern

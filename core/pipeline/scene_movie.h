@@ -35,7 +35,13 @@ Status open_scene_movies(MPI_Comm comm, const std::vector<SceneConfig> &scenes,
 Status send_frame_to_movie(const SceneConfig &scene, const Frame &frame, SceneBuffers *buffers,
                            SceneStats *stats);
 
-// Collective: encodes what is queued and completes every movie file (lantern_close). Same status
+// Local: encodes what is queued and completes every movie file this rank holds (rank 0's; none
+// elsewhere). OK, or the first movie's error, naming its scene. No MPI call: lantern_close after
+// the host's MPI_Finalize still completes the files.
+Status finish_movies_on_this_rank(const std::vector<SceneConfig> &scenes,
+                                  std::vector<SceneBuffers> *buffers);
+
+// Collective: finish_movies_on_this_rank, then its status shared (lantern_close). Same status
 // on every rank: the first movie's error, naming its scene.
 Status finish_scene_movies(MPI_Comm comm, const std::vector<SceneConfig> &scenes,
                            std::vector<SceneBuffers> *buffers);

@@ -1,7 +1,9 @@
 #include "core/pipeline/scene_pass.h"
 
+#include <algorithm>
 #include <array>
 #include <chrono>
+#include <cstdio>
 #include <optional>
 #include <string>
 #include <utility>
@@ -15,6 +17,7 @@
 #include "core/output/png/png_across_ranks.h"
 #include "core/pipeline/density_scene_pass.h"
 #include "core/pipeline/scene_movie.h"
+#include "core/pipeline/scene_overlays.h"
 #include "core/pipeline/scene_settings.h"
 #include "core/pipeline/sphere_scene_pass.h"
 #include "core/render/object_occlusion.h"
@@ -137,11 +140,26 @@ Status run_scene_pass(const ScenePassInputs &in, const SceneConfig &scene, Scene
   stats->samples = scene.samples;
   stats->sample_width = scene.width * s_axis;
   stats->sample_height = scene.height * s_axis;
-  if (Status s = make_camera(scene.camera, lo, hi, max_radius, scene.width * s_axis,
+  // A moving camera is where its path puts it at this step.
+  const CameraConfig camera_config = camera_settings(scene, in.step);
+  if (Status s = make_camera(camera_config, lo, hi, max_radius, scene.width * s_axis,
                              scene.height * s_axis, &camera, radius_source);
       !s.ok())
     return with_context(where, std::move(s));
   stats->camera_ms = ms_since(t0);
+  if (camera.point_bounds && !buffers->warned_point_bounds) {
+    buffers->warned_point_bounds = true;
+    int rank = 0;
+    MPI_Comm_rank(in.comm, &rank);
+    if (rank == 0)
+      std::fprintf(stderr,
+                   "lantern: warning: scenes '%s': step %lld: every particle is at one point "
+                   "(%g, %g, %g) with radius %g; the automatic camera frames a sphere of radius "
+                   "%g around it (warned once)\n",
+                   scene.name.c_str(), static_cast<long long>(in.step), 0.5 * (lo.x + hi.x),
+                   0.5 * (lo.y + hi.y), 0.5 * (lo.z + hi.z), max_radius,
+                   kMinFramedExtent * std::max(1.0, glm::length(0.5 * (lo + hi))));
+  }
 
   // Object-space ambient occlusion: a density volume reduced over every rank (collective, so
   // before anything a rank may skip); colours are scaled as particles are drawn.
@@ -150,9 +168,9 @@ Status run_scene_pass(const ScenePassInputs &in, const SceneConfig &scene, Scene
   OcclusionVolume occlusion;
   if (object_ao) {
     t0 = Clock::now();
-    const double cell =
+    const double radius_ao =
         scene.ambient_occlusion.radius.value_or(kDefaultAoRadiusInSphereRadii * max_radius);
-    if (Status s = occlusion.build(in.comm, *in.particles, in.global, scene.cuts, cell,
+    if (Status s = occlusion.build(in.comm, *in.particles, in.global, scene.cuts, radius_ao,
                                    scene.ambient_occlusion.strength);
         !s.ok())
       return with_context(where, std::move(s));
@@ -169,6 +187,8 @@ Status run_scene_pass(const ScenePassInputs &in, const SceneConfig &scene, Scene
                                      stats);
         !s.ok())
       return s;
+    if (Status s = draw_scene_overlays(in, settings, camera, scene, buffers, stats); !s.ok())
+      return s;
     return write_scene_image(in, scene, camera, t_start, buffers, stats);
   }
   // The screen-space cues read view depths through the final image's camera: with
@@ -176,12 +196,14 @@ Status run_scene_pass(const ScenePassInputs &in, const SceneConfig &scene, Scene
   // depths).
   Camera image_camera = camera;
   if (s_axis > 1 && wants_screen_cues(settings.finish.cues))
-    (void)make_camera(scene.camera, lo, hi, max_radius, scene.width, scene.height, &image_camera,
+    (void)make_camera(camera_config, lo, hi, max_radius, scene.width, scene.height, &image_camera,
                       radius_source);  // succeeded above at s times the size
   if (Status s = run_sphere_scene(in, settings, where, camera, image_camera, radius,
                                   object_ao ? &occlusion : nullptr, std::move(local), t_start,
                                   buffers, stats);
       !s.ok())
+    return s;
+  if (Status s = draw_scene_overlays(in, settings, camera, scene, buffers, stats); !s.ok())
     return s;
   return write_scene_image(in, scene, camera, t_start, buffers, stats);
 }

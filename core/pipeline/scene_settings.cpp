@@ -1,6 +1,12 @@
 #include "core/pipeline/scene_settings.h"
 
+#include "core/camera/camera_path.h"
+
 namespace lantern {
+
+CameraConfig camera_settings(const SceneConfig &scene, int64_t step) {
+  return camera_at_step(scene.camera, step);
+}
 
 RadiusRule radius_rule(const SceneConfig &scene, const ParticleArrays &particles) {
   return RadiusRule::of(scene.per_particle_radius, scene.radius, particles);
@@ -36,6 +42,22 @@ ShadingSettings shading_settings(const SceneConfig &scene) {
   return s;
 }
 
+OverlaySettings overlay_settings(const SceneConfig &scene) {
+  OverlaySettings o;
+  o.scene_name = scene.name;
+  o.labels = scene.labels;
+  o.legend = scene.legend;
+  o.legend_colors.by = scene.color.by;
+  o.legend_colors.colormap = scene.color.colormap;
+  o.legend_colors.colormap_colors = scene.color.colormap_colors;
+  o.legend_colors.reverse = scene.color.reverse;
+  o.legend_colors.palette = scene.color.palette;
+  o.box = scene.box;
+  o.axes = scene.axes;
+  o.font = scene.font;
+  return o;
+}
+
 FinishSettings finish_settings(const SceneConfig &scene) {
   FinishSettings f;
   f.width = scene.width;
@@ -51,6 +73,7 @@ FinishSettings finish_settings(const SceneConfig &scene) {
   f.cues.depth_cue = scene.depth_cue;
   f.cues.background = scene.background;
   f.density = scene.density;
+  f.overlays = overlay_settings(scene);
   return f;
 }
 

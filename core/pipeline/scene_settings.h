@@ -24,6 +24,11 @@ struct SceneSettings {
 
 SceneSettings scene_settings(const SceneConfig &scene);
 
+// The camera of the scene at `step`: a moving camera (camera.path, camera.orbit) resolved to the
+// static camera it is at that step (core/camera/camera_path.h), from the configuration and the
+// step alone, so the same on every rank. Resolved once per scene and frame.
+CameraConfig camera_settings(const SceneConfig &scene, int64_t step);
+
 // How the scene sizes this rank's particles (`radius:`), for every stage that needs it.
 RadiusRule radius_rule(const SceneConfig &scene, const ParticleArrays &particles);
 
@@ -33,6 +38,9 @@ CullSettings cull_settings(const SceneConfig &scene);
 
 // Rendering's: colors, opacity, light, background.
 ShadingSettings shading_settings(const SceneConfig &scene);
+
+// The overlays': labels, legend (with the scene's colours), box, axes, font.
+OverlaySettings overlay_settings(const SceneConfig &scene);
 
 // Finishing's: the image's size, the samples per axis, the screen-space cues.
 FinishSettings finish_settings(const SceneConfig &scene);

@@ -40,11 +40,44 @@ void sum_bond_counts_over_ranks(MPI_Comm comm, const BondCounts &local, SceneSta
   stats->bonds = c;
 }
 
+CompositeSummary summarize_composite(MPI_Comm comm, const CompositeStats &local,
+                                     const CompositeCostModel *model) {
+  const CompositeTraffic &t = local.traffic;
+  const std::vector<RankSpread> s = reduce_rank_spreads(
+      comm, 0,
+      {double(t.bytes_sent), double(t.bytes_received), double(t.messages_sent),
+       double(t.messages_received), double(local.active_pixels), t.work_cpu_ms});
+  CompositeSummary c;
+  c.schedule = local.schedule;
+  c.model_ms = local.model_ms;
+  if (model && !local.schedule.empty()) c.model = *model;
+  c.bytes_sent = s[0], c.bytes_received = s[1], c.messages_sent = s[2];
+  c.messages_received = s[3], c.active_pixels = s[4], c.work_cpu_ms = s[5];
+  return c;
+}
+
+nlohmann::json CompositeSummary::to_json() const {
+  nlohmann::json j = {{"schedule", schedule},
+                      {"model_ms", model_ms},
+                      {"bytes_sent", bytes_sent.to_json()},
+                      {"bytes_received", bytes_received.to_json()},
+                      {"messages_sent", messages_sent.to_json()},
+                      {"messages_received", messages_received.to_json()},
+                      {"active_pixels", active_pixels.to_json()},
+                      {"work_cpu_ms", work_cpu_ms.to_json()}};
+  if (model)
+    j["cost_model"] = {{"latency_us", model->latency_s * 1e6},
+                       {"gb_per_s", model->bytes_per_s * 1e-9},
+                       {"measured", model->measured}};
+  return j;
+}
+
 std::string SceneStats::per_rank_line() const {
   if (!per_rank) return "";
   return "scene '" + name + "' per rank: " + spread_text("drawn", per_rank->drawn, "%.0f") + ", " +
          spread_text("culled", per_rank->culled, "%.0f") + ", " +
-         spread_text("ms", per_rank->ms, "%.1f");
+         spread_text("ms", per_rank->ms, "%.1f") + ", " +
+         spread_text("particles", per_rank->particles, "%.0f");
 }
 
 nlohmann::json SceneStats::to_json() const {
@@ -57,6 +90,7 @@ nlohmann::json SceneStats::to_json() const {
                   {"cut_culled", bonds->cut_culled},
                   {"lod_dropped", bonds->lod_dropped},
                   {"occlusion_culled", bonds->occlusion_culled}};
+  if (composite) j["composite"] = composite->to_json();
   if (color_range) j["color_range"] = {(*color_range)[0], (*color_range)[1]};
   if (movie) {
     const MovieProgress &p = movie->progress;
@@ -80,34 +114,36 @@ nlohmann::json SceneStats::to_json() const {
 }
 
 nlohmann::json SceneStats::counts_json() const {
-  return {{"scene", name},
-          {"file", file},
-          {"ms",
-           {{"camera", camera_ms},
-            {"cull", cull_ms},
-            {"bricks", bricks_ms},
-            {"instances", instances_ms},
-            {"draw", draw_ms},
-            {"readback", readback_ms},
-            {"composite", composite_ms},
-            {"downsample", downsample_ms},
-            {"write", write_ms},
-            {"cues", cues_ms},
-            {"total", total_ms}}},
-          {"particles",
-           {{"drawn", drawn},
-            {"splatted", splatted},
-            {"culled", culled},
-            {"frustum_culled", frustum_culled},
-            {"cut_culled", cut_culled},
-            {"lod_dropped", lod_dropped},
-            {"occlusion_culled", occlusion_culled}}},
-          {"composite_method", composite_method},
-          {"occlusion", occlusion},
-          {"renderer", renderer},
-          {"samples", samples},
-          {"sample_frame", {sample_width, sample_height}},
-          {"bricks", bricks}};
+  nlohmann::json j = {{"scene", name},
+                      {"file", file},
+                      {"ms",
+                       {{"camera", camera_ms},
+                        {"cull", cull_ms},
+                        {"bricks", bricks_ms},
+                        {"instances", instances_ms},
+                        {"draw", draw_ms},
+                        {"readback", readback_ms},
+                        {"composite", composite_ms},
+                        {"downsample", downsample_ms},
+                        {"write", write_ms},
+                        {"cues", cues_ms},
+                        {"total", total_ms}}},
+                      {"particles",
+                       {{"drawn", drawn},
+                        {"splatted", splatted},
+                        {"culled", culled},
+                        {"frustum_culled", frustum_culled},
+                        {"cut_culled", cut_culled},
+                        {"lod_dropped", lod_dropped},
+                        {"occlusion_culled", occlusion_culled}}},
+                      {"composite_method", composite_method},
+                      {"occlusion", occlusion},
+                      {"renderer", renderer},
+                      {"samples", samples},
+                      {"sample_frame", {sample_width, sample_height}},
+                      {"bricks", bricks}};
+  if (overlays_ms) j["ms"]["overlays"] = *overlays_ms;
+  return j;
 }
 
 }  // namespace lantern

@@ -11,11 +11,29 @@
 
 #include <nlohmann/json.hpp>
 
+#include "core/composite/composite_cost_model.h"
+#include "core/composite/depth_compositor.h"
 #include "core/culling/cull_stats.h"
 #include "core/output/movie/movie_writer.h"
 #include "core/pipeline/rank_spread.h"
 
 namespace lantern {
+
+// Compositing on every rank (with stats on): what moved, spread over the ranks. JSON "composite".
+struct CompositeSummary {
+  std::string schedule;  // active pixels: the schedule run ("binary_swap", "radix_k 4x2", ...)
+  double model_ms = 0;   // the cost model's estimate for the busiest rank
+  std::optional<CompositeCostModel> model;  // the model the schedule was chosen by, if any
+  // Per rank: bytes and messages handed to MPI and received, active pixels before compositing,
+  // and the CPU time of the rank's own compositing work (scan, encode, merge; not MPI waits).
+  RankSpread bytes_sent, bytes_received, messages_sent, messages_received, active_pixels,
+      work_cpu_ms;
+  nlohmann::json to_json() const;
+};
+
+// Collective over comm: the spread of this rank's compositing statistics, at rank 0.
+CompositeSummary summarize_composite(MPI_Comm comm, const CompositeStats &local,
+                                     const CompositeCostModel *model);
 
 // A scene's movie on one step (rank 0): JSON "movie".
 struct SceneMovieStats {
@@ -32,7 +50,7 @@ struct SceneStats {
   std::string bricks;    // "built", "refit" (kept z-order, new bounds) or "cached" (same step)
   double camera_ms = 0, cull_ms = 0, instances_ms = 0, draw_ms = 0, readback_ms = 0,
          composite_ms = 0, write_ms = 0, total_ms = 0;
-  // Depth cues (issue 13): object AO's density volume plus the screen-space cues after
+  // Depth cues: object AO's density volume plus the screen-space cues after
   // compositing (0 when none is on).
   double cues_ms = 0;
   // Particle counts summed over ranks.
@@ -51,6 +69,9 @@ struct SceneStats {
   int samples = 1;
   int sample_width = 0, sample_height = 0;
   double downsample_ms = 0;
+  // Overlays (box, labels, legend, axes) drawn on rank 0; JSON ms.overlays, only for a scene
+  // that has them.
+  std::optional<double> overlays_ms;
   // How drawn, culled and the ranks' own milliseconds spread over the ranks (rank 0; with stats
   // on): JSON "per_rank".
   std::optional<PerRankStats> per_rank;
@@ -60,6 +81,8 @@ struct SceneStats {
   // Scenes with bonds: half-bonds (two per bond) drawn and culled, summed over ranks. JSON
   // "bonds".
   std::optional<BondCounts> bonds;
+  // Compositing's traffic over the ranks (rank 0; with stats on, two or more ranks).
+  std::optional<CompositeSummary> composite;
   // output.movie: JSON "movie" {file, encoder, frames, queued, dropped, behind, ...}.
   std::optional<SceneMovieStats> movie;
   // color.by: scalar: the scalar range this frame's colours used (color.range). JSON

@@ -1,5 +1,8 @@
 #include "core/pipeline/sphere_scene_pass.h"
 
+#include <algorithm>
+#include <cstdint>
+#include <new>
 #include <string>
 #include <utility>
 
@@ -10,6 +13,19 @@
 #include "core/pipeline/rank_spread.h"
 
 namespace lantern {
+namespace {
+
+// kOutOfMemory naming the scene (`where`) and the size of its frame on this rank.
+Status out_of_memory(const FinishSettings &finish, const std::string &where, const char *what) {
+  const int64_t s = finish.samples_per_axis;
+  const int64_t width = int64_t(finish.width) * s, height = int64_t(finish.height) * s;
+  return {StatusCode::kOutOfMemory, where + "out of memory " + what + " " + std::to_string(width) +
+                                        " x " + std::to_string(height) + " pixels (" +
+                                        std::to_string(width * height * 8) +
+                                        " bytes for the frame on this rank)"};
+}
+
+}  // namespace
 
 Status run_sphere_scene(const ScenePassInputs &in, const SceneSettings &settings,
                         const std::string &where, const Camera &camera, const Camera &image_camera,
@@ -20,37 +36,46 @@ Status run_sphere_scene(const ScenePassInputs &in, const SceneSettings &settings
   // compositing sees sample pixels.
   Frame &frame = settings.finish.samples_per_axis > 1 ? buffers->samples : buffers->frame;
   CullStats cull;
-  if (local.ok()) {
-    const auto t0 = std::chrono::steady_clock::now();
-    double build_ms = 0.0;
-    const BrickSet &bricks =
-        in.scratch->bricks.for_step(*in.particles, in.step, &build_ms, &stats->bricks);
-    // The step's half-bonds by brick, built with the bricks (once per step, for every scene).
-    const BrickBonds *halves = nullptr;
-    if (settings.cull.bonds && in.bonds && in.bonds->count() > 0)
-      halves = &in.scratch->bonds.for_step(*in.particles, *in.bonds, in.bonds_serial, bricks,
-                                           in.box, in.step, &build_ms);
-    stats->bricks_ms = build_ms;
-    const double bricks_wall_ms = ms_since(t0);
-    RankScene rank_scene(*in.particles, bricks, camera, settings, radius);
-    rank_scene.bonds = in.bonds;
-    rank_scene.bond_halves = halves;
-    rank_scene.box = in.box;
-    rank_scene.global = in.global;
-    rank_scene.step = in.step;
-    rank_scene.renderer = in.renderer;
-    rank_scene.occlusion = occlusion;
-    rank_scene.cut_counts = &buffers->cut_counts;
-    RankDraw drawn;
-    local = with_context(where, draw_scene_on_rank(rank_scene, &in.scratch->draw, &frame, &drawn));
-    cull = drawn.cull;
-    stats->renderer = drawn.renderer;
-    stats->occlusion = cull.occlusion;
-    stats->cull_ms = bricks_wall_ms + drawn.cull_ms;  // building the bricks counts as culling
-    stats->instances_ms = drawn.instances_ms;
-    stats->draw_ms = drawn.draw_ms;
-    stats->readback_ms = drawn.readback_ms;
-  }
+  // This rank's drawing allocates (the frame, bricks, instances): running out of memory here is
+  // this rank's failure, agreed below like any other, so no rank skips the collectives alone.
+  if (local.ok()) try {
+      const auto t0 = std::chrono::steady_clock::now();
+      double build_ms = 0.0;
+      const BrickSet &bricks = in.scratch->bricks.for_step(
+          *in.particles, in.step, brick_options(in), &build_ms, &stats->bricks);
+      // The step's half-bonds by brick, built with the bricks (once per step, for every scene).
+      const BrickBonds *halves = nullptr;
+      if (settings.cull.bonds && in.bonds && in.bonds->count() > 0)
+        halves = &in.scratch->bonds.for_step(*in.particles, *in.bonds, in.bonds_serial, bricks,
+                                             in.periodic_box, in.step, &build_ms);
+      stats->bricks_ms = build_ms;
+      // A refit the runtime made ahead of the scan (BrickCache::refit_first) counts as culling.
+      const double bricks_wall_ms = ms_since(t0);
+      const double ahead_ms = std::max(0.0, build_ms - bricks_wall_ms);
+      RankScene rank_scene(*in.particles, bricks, camera, settings, radius);
+      rank_scene.bonds = in.bonds;
+      rank_scene.bond_halves = halves;
+      rank_scene.box = in.periodic_box;
+      rank_scene.global = in.global;
+      rank_scene.step = in.step;
+      rank_scene.renderer = in.renderer;
+      rank_scene.occlusion = occlusion;
+      rank_scene.cut_counts = &buffers->cut_counts;
+      rank_scene.threads = in.threads;
+      RankDraw drawn;
+      local =
+          with_context(where, draw_scene_on_rank(rank_scene, &in.scratch->draw, &frame, &drawn));
+      cull = drawn.cull;
+      stats->renderer = drawn.renderer;
+      stats->occlusion = cull.occlusion;
+      // Building (or refitting) the bricks counts as culling.
+      stats->cull_ms = bricks_wall_ms + ahead_ms + drawn.cull_ms;
+      stats->instances_ms = drawn.instances_ms;
+      stats->draw_ms = drawn.draw_ms;
+      stats->readback_ms = drawn.readback_ms;
+    } catch (const std::bad_alloc &) {
+      local = out_of_memory(settings.finish, where, "drawing");
+    }
   const double own_ms = ms_since(t_start);  // this rank's work, before waiting on the others
   if (Status s = agree_on_status(in.comm, local); !s.ok()) return s;
   sum_counts_over_ranks(in.comm, cull, stats);
@@ -59,20 +84,33 @@ Status run_sphere_scene(const ScenePassInputs &in, const SceneSettings &settings
     stats->probabilistic = reduce_probabilistic_stats(in.comm, cull.probabilistic);
   stats->culled = in.global.finite_count - stats->drawn - stats->splatted;
   if (in.per_rank_stats)
-    stats->per_rank =
-        reduce_per_rank_stats(in.comm, 0, double(cull.drawn),
-                              double(cull.candidates - cull.drawn - cull.splatted), own_ms);
+    stats->per_rank = reduce_per_rank_stats(
+        in.comm, 0, double(cull.drawn), double(cull.candidates - cull.drawn - cull.splatted),
+        own_ms, in.local ? double(in.local->finite_count) : double(cull.candidates));
 
+  // Compositing's cost model: measured once per context, on every rank alike.
+  int ranks = 1;
+  MPI_Comm_size(in.comm, &ranks);
+  std::optional<CompositeCostModel> &model = in.scratch->composite_model;
+  if (ranks > 1 && !model) {
+    CompositeCostModel measured;
+    if (Status s = measure_cost_model(in.comm, &measured); !s.ok())
+      return with_context(where + "compositing: ", std::move(s));
+    model = measured;
+  }
   // The composited image, finished (down-sampling, screen-space cues), on rank 0.
   FinishStats finished;
-  if (Status s = finish_image(in.comm, frame, settings.finish, image_camera,
-                              radius.max_radius(in.global), &buffers->frame, &finished);
+  if (Status s =
+          finish_image(in.comm, frame, settings.finish, image_camera, radius.max_radius(in.global),
+                       model ? &*model : nullptr, &buffers->frame, &finished);
       !s.ok())
     return with_context(where, std::move(s));
   stats->downsample_ms = finished.downsample_ms;
   stats->cues_ms += finished.cues_ms;
   stats->composite_ms = finished.composite.milliseconds;
   stats->composite_method = finished.composite.method;
+  if (in.per_rank_stats && ranks > 1)
+    stats->composite = summarize_composite(in.comm, finished.composite, model ? &*model : nullptr);
   return {};
 }
 

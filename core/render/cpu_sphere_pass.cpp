@@ -14,59 +14,83 @@ constexpr double kRasterSlack = 0.05;
 
 }  // namespace
 
+void CpuSpherePass::begin_bonds(const BondDrawing &bonds, int count) {
+  if (int(bond_drops_.size()) < count) bond_drops_.resize(size_t(count));
+  if (int(bond_marks_.size()) < count) bond_marks_.resize(size_t(count));
+  for (int k = 0; k < count; ++k)
+    bond_marks_[size_t(k)].assign(bonds.recipe->halves->half_count(), 0);
+}
+
 template <typename Positions>
 void CpuSpherePass::draw_bonds(int k, const Positions &pos, const ViewGeometry &g,
                                const CutPlanes &cuts, bool occlusion, const BondDrawing &bonds) {
-  CpuSphereRaster &raster = rasters_[k];
+  CpuSphereRaster &raster = rasters_[size_t(k)];
+  const StripState &strip = strips_[size_t(k)];
+  std::vector<uint8_t> &marks = bond_marks_[size_t(k)];
   const BondRecipe &recipe = *bonds.recipe;
   const BrickBonds &halves = *recipe.halves;
   const double radius = bonds.selection->radius;
-  const uint8_t bit = uint8_t(1u << k);
   // A bond is hidden in this strip when its part of the strip is covered (or empty); the other
-  // strip judges the rest (column_strips.h).
+  // strips judge the rest (column_strips.h).
   const auto hidden = [&](const PixelRect &r, double z) {
     PixelRect in_strip = r;
-    in_strip.x0 = std::max(in_strip.x0, strips_[k].x0);
-    in_strip.x1 = std::min(in_strip.x1, strips_[k].x1);
+    in_strip.x0 = std::max(in_strip.x0, strip.x0);
+    in_strip.x1 = std::min(in_strip.x1, strip.x1);
     return in_strip.empty() || (occlusion && raster.covered(in_strip, z));
   };
   const auto visit = [&](const HalfBondView &v) {
     const HalfBond &h = halves.halves[v.index];
     const Rgb8 color = recipe.color(h);
     raster.draw_bond(v.a, v.b, radius, color.data(), v.rect, recipe.alpha(h));
-    bond_marks_[v.index] |= bit;
+    marks[v.index] = 1;
   };
   visit_bond_halves(halves, *bonds.selection, pos, recipe.box, g, cuts, hidden, visit,
-                    &bond_drops_[k]);
+                    &bond_drops_[size_t(k)]);
 }
 
-BondCounts CpuSpherePass::count_bonds(const BondDrawing &bonds, bool two) {
+BondCounts CpuSpherePass::count_bonds(const BondDrawing &bonds, int count) {
+  // A half-bond is drawn when some strip drew its part of it.
+  const size_t n = bonds.recipe->halves->half_count();
   int64_t drawn = 0;
-  for (const uint8_t m : bond_marks_) drawn += m != 0;
-  std::vector<uint8_t>().swap(bond_marks_);  // per-frame scratch
-  const BondDrops *passes[2] = {&bond_drops_[0], &bond_drops_[1]};
-  return bond_counts(*bonds.recipe->halves, *bonds.selection, passes, two ? 2 : 1, drawn);
+  for (size_t i = 0; i < n; ++i) {
+    bool any = false;
+    for (int k = 0; k < count && !any; ++k) any = bond_marks_[size_t(k)][i] != 0;
+    drawn += any;
+  }
+  for (std::vector<uint8_t> &m : bond_marks_) std::vector<uint8_t>().swap(m);  // per-frame scratch
+  std::vector<const BondDrops *> passes(static_cast<size_t>(count));
+  for (int k = 0; k < count; ++k) passes[size_t(k)] = &bond_drops_[size_t(k)];
+  return bond_counts(*bonds.recipe->halves, *bonds.selection, passes.data(), count, drawn);
+}
+
+void CpuSpherePass::begin_strips(int count, const ViewGeometry &g, const Lighting *lighting,
+                                 Frame *frame) {
+  if (int(rasters_.size()) < count) rasters_.resize(size_t(count));
+  for (int k = 0; k < count; ++k) {
+    CpuSphereRaster &raster = rasters_[size_t(k)];
+    raster.begin_strip(g, frame, strips_[size_t(k)].x0, strips_[size_t(k)].x1);
+    if (lighting) raster.set_lighting(*lighting);
+  }
 }
 
 CullStats CpuSpherePass::run(const ParticleArrays &particles, const BrickSet &bricks,
                              const CullSettings &cull, const Lighting &lighting,
                              const BrickSelection &sel, const InstanceRecipe &recipe,
                              const uint8_t background[4], Frame *frame, DrawList *out, int64_t step,
-                             const BondDrawing *bonds) {
-  if (bonds) bond_marks_.assign(bonds->recipe->halves->half_count(), 0);
+                             int threads, const BondDrawing *bonds) {
   if (sel.mode == OcclusionMode::kProbabilistic) {
-    CullStats st =
-        run_probabilistic(particles, bricks, cull, sel, recipe, background, frame, out, step);
+    CullStats st = run_probabilistic(particles, bricks, cull, sel, recipe, background, frame, out,
+                                     step, threads);
     if (!bonds) return st;
     // The probabilistic culler judges particles only; bonds are culled exactly, against the
-    // depth the raster drew.
-    const bool two = split_strips(sel.g.width, strips_);
+    // depth the raster drew (the strips run_probabilistic split, with their rasters).
+    const int count = split_strips(sel.g.width, threads, &strips_);
+    begin_bonds(*bonds, count);
     const CutPlanes cuts(cull.cuts);
     visit_positions(particles, [&](const auto &pos) {
-      run_strips(
-          two, sel.visible, [&](int k) { draw_bonds(k, pos, sel.g, cuts, true, *bonds); }, strips_);
+      run_strips(count, [&](int k) { draw_bonds(k, pos, sel.g, cuts, true, *bonds); });
     });
-    st.bonds = count_bonds(*bonds, two);
+    st.bonds = count_bonds(*bonds, count);
     return st;
   }
   CullStats st = sel.stats;
@@ -74,12 +98,10 @@ CullStats CpuSpherePass::run(const ParticleArrays &particles, const BrickSet &br
   const ViewGeometry &g = sel.g;
   const bool occlusion = sel.mode == OcclusionMode::kHzb;
   const bool point_path = cull.lod.point_path;
-  const bool two = split_strips(g.width, strips_);
+  const int count = split_strips(g.width, threads, &strips_);
   CpuSphereRaster::clear_target(g, background, frame);
-  for (int k = 0; k < 2; ++k) {
-    rasters_[k].begin_strip(g, frame, strips_[k].x0, strips_[k].x1);
-    rasters_[k].set_lighting(lighting);
-  }
+  begin_strips(count, g, &lighting, frame);
+  if (bonds) begin_bonds(*bonds, count);
 
   const Frustum frustum(g);
   const CutPlanes cuts(cull.cuts);
@@ -88,7 +110,7 @@ CullStats CpuSpherePass::run(const ParticleArrays &particles, const BrickSet &br
       const CullPass<std::decay_t<decltype(pos)>, std::decay_t<decltype(radius)>> pass{
           pos, radius, g, frustum, cuts, point_path, bricks};
       const auto strip = [&](int k) {
-        CpuSphereRaster &raster = rasters_[k];
+        CpuSphereRaster &raster = rasters_[size_t(k)];
         const auto covered = [&raster](const PixelRect &r, double z) {
           return raster.covered(r, z);
         };
@@ -110,18 +132,20 @@ CullStats CpuSpherePass::run(const ParticleArrays &particles, const BrickSet &br
           raster.draw(c.c, c.r, color.data(), r, recipe.alpha(c.index));
           s->out.spheres.push_back(draw_entry(c.index, c.scale));
         };
-        walk_strip(pass, sel.visible, occlusion, covered, visit, &strips_[k]);
+        // Splats skip the depth test (visit): a hidden bucket may still hold one to splat.
+        walk_strip(pass, sel.visible, occlusion, occlusion && !point_path, covered, visit,
+                   &strips_[size_t(k)]);
         if (bonds) draw_bonds(k, pos, g, cuts, occlusion, *bonds);
       };
-      run_strips(two, sel.visible, strip, strips_);
+      run_strips(count, strip);
     });
   });
   // The merged lists are already in published order (draw_list.h).
-  merge_strips(sel.visible, bricks, strips_, &scratch_, &st, out);
+  merge_strips(sel.visible, bricks, strips_, count, &scratch_, &st, out);
   std::vector<uint64_t>().swap(scratch_);  // per-frame scratch: keep nothing between frames
   st.drawn = int64_t(out->spheres.size());
   st.splatted = int64_t(out->points.size());
-  if (bonds) st.bonds = count_bonds(*bonds, two);
+  if (bonds) st.bonds = count_bonds(*bonds, count);
   return st;
 }
 
@@ -129,16 +153,16 @@ CullStats CpuSpherePass::run_probabilistic(const ParticleArrays &particles, cons
                                            const CullSettings &cull, const BrickSelection &sel,
                                            const InstanceRecipe &recipe,
                                            const uint8_t background[4], Frame *frame, DrawList *out,
-                                           int64_t step) {
+                                           int64_t step, int threads) {
   CullStats st = sel.stats;
   out->clear();
   st.probabilistic = probabilistic_.run(particles, bricks, cull.probabilistic, sel, step);
   st.occlusion_culled = st.probabilistic.particles_culled;
   const ViewGeometry &g = sel.g;
   const bool point_path = cull.lod.point_path;
-  const bool two = split_strips(g.width, strips_);
+  const int count = split_strips(g.width, threads, &strips_);
   CpuSphereRaster::clear_target(g, background, frame);
-  for (int k = 0; k < 2; ++k) rasters_[k].begin_strip(g, frame, strips_[k].x0, strips_[k].x1);
+  begin_strips(count, g, nullptr, frame);  // the lighting the rasters last had (as before)
   const MeshletSet &ml = probabilistic_.meshlets();
   const Frustum frustum(g);
   const CutPlanes cuts(cull.cuts);
@@ -147,7 +171,7 @@ CullStats CpuSpherePass::run_probabilistic(const ParticleArrays &particles, cons
     visit_radii(particles, sel.radius.per_particle, sel.radius.radius, [&](const auto &radius) {
       // Both strips walk the same particles; strip 0 alone records them and their counts.
       const auto strip = [&](int k) {
-        StripState &s = strips_[k];
+        StripState &s = strips_[size_t(k)];
         s.out.clear();
         CullStats counts;
         for (const VisibleBrick &v : sel.visible) {
@@ -180,13 +204,13 @@ CullStats CpuSpherePass::run_probabilistic(const ParticleArrays &particles, cons
               rect.x0 = std::max(rect.x0, s.x0), rect.x1 = std::min(rect.x1, s.x1);
               if (rect.empty()) continue;
               const Rgb8 color = recipe.color(i);
-              rasters_[k].draw(c, r, color.data(), rect);
+              rasters_[size_t(k)].draw(c, r, color.data(), rect);
             }
           }
         }
         if (k == 0) st.cut_culled += counts.cut_culled, st.frustum_culled += counts.frustum_culled;
       };
-      run_strips(two, sel.visible, strip, strips_);
+      run_strips(count, strip);
     });
   });
   // Published order (draw_list.h).

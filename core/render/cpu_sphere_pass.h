@@ -10,7 +10,7 @@
 // lod.point_path is on, for point_splats.h to draw afterwards.
 // Ownership: owns its strips' rasters and buffers (reused between frames); borrows the frame,
 // particles and bricks for one call. Thread-safety: one pass per thread; run() starts and joins its
-// own helper thread on images >= kTwoStripsFrom px wide.
+// own helper threads (up to `threads` column strips, none narrower than kMinStripWidth px).
 #pragma once
 
 #include <cstdint>
@@ -49,35 +49,44 @@ class CpuSpherePass {
   // the counts) and the points left to splat. `step` keys probabilistic culling's random numbers.
   // `bonds` (or none): the half-bonds to draw too, after the spheres in each strip, culled
   // against the same depth (exactly, as the spheres are under hzb; not at all under none).
-  // Returns the selection's counts completed by this pass.
+  // Returns the selection's counts completed by this pass. `threads`: column strips drawn at once
+  // (the image and the lists are the same at any count).
   CullStats run(const ParticleArrays &particles, const BrickSet &bricks, const CullSettings &cull,
                 const Lighting &lighting, const BrickSelection &selection,
                 const InstanceRecipe &recipe, const uint8_t background[4], Frame *frame,
-                DrawList *out, int64_t step = 0, const BondDrawing *bonds = nullptr);
+                DrawList *out, int64_t step = 0, int threads = 2,
+                const BondDrawing *bonds = nullptr);
 
   // The meshlet classes of the last probabilistic run (tests).
   const ProbabilisticCuller &probabilistic() const { return probabilistic_; }
 
  private:
-  // occlusion: probabilistic: seed 004's culling, then every particle of the potentially
+  // occlusion: probabilistic: Ibrahim et al.'s culling, then every particle of the potentially
   // visible set ray-cast exactly (no further occlusion test, so the culled share is the
   // method's own).
   CullStats run_probabilistic(const ParticleArrays &particles, const BrickSet &bricks,
                               const CullSettings &cull, const BrickSelection &selection,
                               const InstanceRecipe &recipe, const uint8_t background[4],
-                              Frame *frame, DrawList *out, int64_t step);
-  // Strip k's half-bonds, drawn after its spheres; marks those it drew in bond_marks_.
+                              Frame *frame, DrawList *out, int64_t step, int threads);
+
+  // Gives the first `count` strips their rasters, begun on `frame`.
+  void begin_strips(int count, const ViewGeometry &g, const Lighting *lighting, Frame *frame);
+  // Strip k's half-bonds, drawn after its spheres; marks those it drew in bond_marks_[k].
   template <typename Positions>
   void draw_bonds(int k, const Positions &pos, const ViewGeometry &g, const CutPlanes &cuts,
                   bool occlusion, const BondDrawing &bonds);
-  // The bond counts of the last run's strips (two when `two`).
-  BondCounts count_bonds(const BondDrawing &bonds, bool two);
+  // The bond counts of the last run's first `count` strips.
+  BondCounts count_bonds(const BondDrawing &bonds, int count);
+  // Sizes the bond scratch for `count` strips of `bonds`.
+  void begin_bonds(const BondDrawing &bonds, int count);
 
   ProbabilisticCuller probabilistic_;
-  BondDrops bond_drops_[2];
-  std::vector<uint8_t> bond_marks_;  // per half-bond: drawn by strip 0 (bit 0) or 1 (bit 1)
-  StripState strips_[2];
-  CpuSphereRaster rasters_[2];
+  std::vector<StripState> strips_;
+  std::vector<CpuSphereRaster> rasters_;
+  // Per strip: its half-bonds' drops, and per half-bond whether it drew it (one byte vector per
+  // strip, so that the strips' threads never write the same memory).
+  std::vector<BondDrops> bond_drops_;
+  std::vector<std::vector<uint8_t>> bond_marks_;
   std::vector<uint64_t> scratch_;
 };
 

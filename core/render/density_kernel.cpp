@@ -73,20 +73,6 @@ const DensityKernelTable &DensityKernelTable::get() {
   return t;
 }
 
-int DensityKernelTable::index_of_variance(double sigma2) const {
-  const double x = 4.0 * sigma2;
-  if (!(x >= 1.0)) return 0;
-  if (!(x < 65536.0)) return kDensitySigmaCount;
-  uint64_t bits = 0;
-  std::memcpy(&bits, &x, sizeof bits);
-  const int octave = int(bits >> 52) - 1023;
-  const auto bin = size_t((bits >> 42) & 1023);
-  bits = (bits & ((uint64_t(1) << 52) - 1)) | (uint64_t(1023) << 52);  // the mantissa in [1, 2)
-  double m = 0.0;
-  std::memcpy(&m, &bits, sizeof m);
-  return kDensitySigmaSteps / 2 * octave + below_[bin] + (m >= next_[bin]);
-}
-
 bool density_computed_taps(double centre, double sigma, int size, std::vector<uint16_t> *scratch,
                            AxisTaps *out) {
   const double reach = kCutoffSigmas * sigma;

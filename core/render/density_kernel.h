@@ -29,6 +29,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <vector>
 
 namespace lantern {
@@ -55,22 +56,46 @@ class DensityKernelTable {
   // k of the header for a width of variance `sigma2` = sigma^2 (px^2): the number of
   // boundaries 2^((i - 0.5) / 16), i >= 1, at or below 4 sigma^2, which is round(32 log2(2 sigma))
   // found from the bits of 4 sigma^2, without a square root or a log; 0 below sigma 0.5;
-  // kDensitySigmaCount or more: beyond the table.
-  int index_of_variance(double sigma2) const;
+  // kDensitySigmaCount or more: beyond the table. Inline: it runs for every particle.
+  int index_of_variance(double sigma2) const {
+    const double x = 4.0 * sigma2;
+    if (!(x >= 1.0)) return 0;
+    if (!(x < 65536.0)) return kDensitySigmaCount;
+    uint64_t bits = 0;
+    std::memcpy(&bits, &x, sizeof bits);
+    const int octave = int(bits >> 52) - 1023;
+    const auto bin = size_t((bits >> 42) & 1023);
+    bits = (bits & ((uint64_t(1) << 52) - 1)) | (uint64_t(1023) << 52);  // mantissa in [1, 2)
+    double m = 0.0;
+    std::memcpy(&m, &bits, sizeof m);
+    return kDensitySigmaSteps / 2 * octave + below_[bin] + (m >= next_[bin]);
+  }
 
-  // The taps of entry (k, phase of `centre`) on [0, size); false when none lies there. `centre`
-  // must be finite and within 2^30 px of the image.
-  bool taps(double centre, int k, int size, AxisTaps *out) const {
+  // The pixel base floor(centre - 0.5) and sub-pixel phase j of `centre` (the header's b and
+  // j); `centre` must be finite and within 2^30 px of the image.
+  static void place(double centre, int *base, int *phase) {
     const double u = centre - 0.5, b = std::floor(u);
-    const int j = std::min(int((u - b) * kDensityPhases), kDensityPhases - 1);
-    const Entry &e = entries_[size_t(k) * kDensityPhases + size_t(j)];
-    const int lo = int(b) + e.first, hi = lo + int(e.count) - 1;
+    *phase = std::min(int((u - b) * kDensityPhases), kDensityPhases - 1);
+    *base = int(b);
+  }
+
+  // The taps of entry (k, phase) at pixel base `base` on [0, size); false when none lies there.
+  bool taps_at(int base, int phase, int k, int size, AxisTaps *out) const {
+    const Entry &e = entries_[size_t(k) * kDensityPhases + size_t(phase)];
+    const int lo = base + e.first, hi = lo + int(e.count) - 1;
     if (hi < 0 || lo > size - 1) return false;
     const int a = std::max(lo, 0), z = std::min(hi, size - 1);
     out->taps = taps_.data() + e.offset + (a - lo);
     out->first = a;
     out->count = z - a + 1;
     return true;
+  }
+
+  // The taps of entry (k, phase of `centre`) on [0, size): place() then taps_at().
+  bool taps(double centre, int k, int size, AxisTaps *out) const {
+    int base = 0, phase = 0;
+    place(centre, &base, &phase);
+    return taps_at(base, phase, k, size, out);
   }
 
  private:

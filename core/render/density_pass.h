@@ -2,7 +2,12 @@
 // the visible bricks of a selection, each brick's level-of-detail prefix (the first `keep`
 // particles of its z-order level layout, core/bricks/level_layout.h), every kept particle
 // weighted by count / keep so that the brick's total weight - its brightness - is preserved
-// (seed 001 §3.5, §4.2). Cutting planes drop particles by centre, as for spheres.
+// (Rizzi et al. 2015, §3.5, §4.2). Cutting planes drop particles by centre, as for spheres.
+//
+// How: without level of detail (every brick kept whole) the particles are read in published
+// order, a sequential stream, and their footprints binned by image tile before they are
+// deposited; with it, brick by brick (gathered with the next brick prefetched). Both give the
+// sums of splatting each particle on its own: integers, so any order gives the same bits.
 //
 // The selection must come from select_density_bricks(): no frustum culling of bricks (a
 // footprint reaches up to 1.5 px beyond its sphere, and only per-particle clipping is exact

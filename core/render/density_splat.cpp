@@ -1,5 +1,14 @@
 #include "core/render/density_splat.h"
 
+// No fused multiply-adds: project_all's vectorised projection must round every operation as the
+// baseline compilation (which has none) does, or the images would depend on the processor (GCC
+// contracts a * b + c wherever the target has FMA, and AVX-512 implies it).
+#if defined(__clang__)
+#pragma clang fp contract(off)
+#elif defined(__GNUC__)
+#pragma GCC optimize("fp-contract=off")
+#endif
+
 #include <algorithm>
 #include <cmath>
 
@@ -26,10 +35,11 @@ struct Factors {
 };
 
 // The pixel loops: per pixel p = tx ty (a 32-bit product), then per channel (M p + half) >>
-// shift, added into the int64 sums. The four channels of a pixel are one 256-bit vector (AVX2)
-// or two 128-bit ones (SSE2); integer arithmetic, so every path gives the same bits. With the
-// kernel table this replaced double products, float->int conversions and an exact rounded / 255
-// per colour channel: fcc 1 M at 1024^2, r 0.5, 175 -> 128 ms CPU for the two together.
+// shift, added into the int64 sums. The four channels of a pixel are one 256-bit vector (AVX2),
+// two 128-bit ones (SSE2), or half a 512-bit one (AVX-512, two pixels a register); integer
+// arithmetic, so every path gives the same bits. With the kernel table this replaced double
+// products, float->int conversions and an exact rounded / 255 per colour channel: fcc 1 M at
+// 1024^2, r 0.5, 175 -> 128 ms CPU for the two together.
 void add_scalar(int64_t *image, int width, int channels, const AxisTaps &ax, const AxisTaps &ay,
                 const Factors &f) {
   const uint64_t half = uint64_t(1) << (f.shift - 1);
@@ -44,21 +54,26 @@ void add_scalar(int64_t *image, int width, int channels, const AxisTaps &ax, con
   }
 }
 
+void add4_scalar(int64_t *image, int width, const AxisTaps &ax, const AxisTaps &ay,
+                 const uint64_t m[4], int shift) {
+  add_scalar(image, width, 4, ax, ay, Factors{{m[0], m[1], m[2], m[3]}, shift});
+}
+
 #ifdef LANTERN_DENSITY_X86
 void add4_sse2(int64_t *image, int width, const AxisTaps &ax, const AxisTaps &ay,
-               const Factors &f) {
-  const __m128i m01 = _mm_set_epi64x(int64_t(f.m[1]), int64_t(f.m[0]));
-  const __m128i m23 = _mm_set_epi64x(int64_t(f.m[3]), int64_t(f.m[2]));
-  const __m128i half = _mm_set1_epi64x(int64_t(1) << (f.shift - 1));
-  const __m128i shift = _mm_cvtsi32_si128(f.shift);
+               const uint64_t m[4], int shift) {
+  const __m128i m01 = _mm_set_epi64x(int64_t(m[1]), int64_t(m[0]));
+  const __m128i m23 = _mm_set_epi64x(int64_t(m[3]), int64_t(m[2]));
+  const __m128i half = _mm_set1_epi64x(int64_t(1) << (shift - 1));
+  const __m128i by = _mm_cvtsi32_si128(shift);
   for (int y = 0; y < ay.count; ++y) {
     auto *out = reinterpret_cast<__m128i *>(
         image + (size_t(ay.first + y) * size_t(width) + size_t(ax.first)) * 4);
     const uint32_t ty = ay.taps[y];
     for (int i = 0; i < ax.count; ++i, out += 2) {
       const __m128i p = _mm_set1_epi64x(int64_t(uint32_t(ax.taps[i]) * ty));
-      const __m128i a = _mm_srl_epi64(_mm_add_epi64(_mm_mul_epu32(m01, p), half), shift);
-      const __m128i b = _mm_srl_epi64(_mm_add_epi64(_mm_mul_epu32(m23, p), half), shift);
+      const __m128i a = _mm_srl_epi64(_mm_add_epi64(_mm_mul_epu32(m01, p), half), by);
+      const __m128i b = _mm_srl_epi64(_mm_add_epi64(_mm_mul_epu32(m23, p), half), by);
       _mm_storeu_si128(out, _mm_add_epi64(_mm_loadu_si128(out), a));
       _mm_storeu_si128(out + 1, _mm_add_epi64(_mm_loadu_si128(out + 1), b));
     }
@@ -66,43 +81,154 @@ void add4_sse2(int64_t *image, int width, const AxisTaps &ax, const AxisTaps &ay
 }
 
 __attribute__((target("avx2"))) void add4_avx2(int64_t *image, int width, const AxisTaps &ax,
-                                               const AxisTaps &ay, const Factors &f) {
-  const __m256i m =
-      _mm256_set_epi64x(int64_t(f.m[3]), int64_t(f.m[2]), int64_t(f.m[1]), int64_t(f.m[0]));
-  const __m256i half = _mm256_set1_epi64x(int64_t(1) << (f.shift - 1));
-  const __m128i shift = _mm_cvtsi32_si128(f.shift);
+                                               const AxisTaps &ay, const uint64_t m[4], int shift) {
+  const __m256i mv = _mm256_set_epi64x(int64_t(m[3]), int64_t(m[2]), int64_t(m[1]), int64_t(m[0]));
+  const __m256i half = _mm256_set1_epi64x(int64_t(1) << (shift - 1));
+  const __m128i by = _mm_cvtsi32_si128(shift);
   for (int y = 0; y < ay.count; ++y) {
     auto *out = reinterpret_cast<__m256i *>(
         image + (size_t(ay.first + y) * size_t(width) + size_t(ax.first)) * 4);
     const uint32_t ty = ay.taps[y];
     for (int i = 0; i < ax.count; ++i, ++out) {
       const __m256i p = _mm256_set1_epi64x(int64_t(uint32_t(ax.taps[i]) * ty));
-      const __m256i v = _mm256_srl_epi64(_mm256_add_epi64(_mm256_mul_epu32(m, p), half), shift);
+      const __m256i v = _mm256_srl_epi64(_mm256_add_epi64(_mm256_mul_epu32(mv, p), half), by);
       _mm256_storeu_si256(out, _mm256_add_epi64(_mm256_loadu_si256(out), v));
     }
   }
 }
 
+// GCC 12 warns that the undefined pass-through its AVX-512 intrinsics start from "may be used
+// uninitialized" (the intrinsics themselves, not this code).
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#endif
+// Footprints at most 4 pixels wide (every sub-pixel sphere: sigma under about 1.2 px), two
+// pixels per register: a row's 4 products tx ty in one multiply, each pair of pixels' four
+// channels in one, masked to the footprint (so nothing is read or written beyond it).
+__attribute__((target("avx512f,avx512vl,avx512dq,avx512bw"))) void add4_avx512(
+    int64_t *image, int width, const AxisTaps &ax, const AxisTaps &ay, const uint64_t m[4],
+    int shift) {
+  if (ax.count > 4) return add4_avx2(image, width, ax, ay, m, shift);
+  const __m512i mv = _mm512_set_epi64(int64_t(m[3]), int64_t(m[2]), int64_t(m[1]), int64_t(m[0]),
+                                      int64_t(m[3]), int64_t(m[2]), int64_t(m[1]), int64_t(m[0]));
+  const __m512i half = _mm512_set1_epi64(int64_t(1) << (shift - 1));
+  const __m128i by = _mm_cvtsi32_si128(shift);
+  // The row's taps, zero beyond the footprint (a masked load reads nothing past it).
+  const __m256i tx =
+      _mm256_cvtepu16_epi64(_mm_maskz_loadu_epi16(__mmask8((1u << ax.count) - 1), ax.taps));
+  const __m512i first_pair = _mm512_set_epi64(1, 1, 1, 1, 0, 0, 0, 0);
+  const __m512i second_pair = _mm512_set_epi64(3, 3, 3, 3, 2, 2, 2, 2);
+  const __mmask8 first = ax.count >= 2 ? 0xff : 0x0f;
+  const __mmask8 second = ax.count >= 4 ? 0xff : ax.count == 3 ? 0x0f : 0x00;
+  for (int y = 0; y < ay.count; ++y) {
+    int64_t *out = image + (size_t(ay.first + y) * size_t(width) + size_t(ax.first)) * 4;
+    // tx ty < 2^32: taps are below 2^16 (a single tap of the whole 2^16 never occurs).
+    const __m512i p =
+        _mm512_zextsi256_si512(_mm256_mul_epu32(tx, _mm256_set1_epi64x(int64_t(ay.taps[y]))));
+    const __m512i a = _mm512_srl_epi64(
+        _mm512_add_epi64(_mm512_mul_epu32(mv, _mm512_permutexvar_epi64(first_pair, p)), half), by);
+    _mm512_mask_storeu_epi64(out, first, _mm512_add_epi64(_mm512_maskz_loadu_epi64(first, out), a));
+    if (second == 0) continue;
+    const __m512i b = _mm512_srl_epi64(
+        _mm512_add_epi64(_mm512_mul_epu32(mv, _mm512_permutexvar_epi64(second_pair, p)), half), by);
+    _mm512_mask_storeu_epi64(out + 8, second,
+                             _mm512_add_epi64(_mm512_maskz_loadu_epi64(second, out + 8), b));
+  }
+}
+
 bool has_avx2() {
-  static const bool yes = __builtin_cpu_supports("avx2");
-  return yes;
+  return __builtin_cpu_supports("avx2");
+}
+bool has_avx512() {
+  return __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512vl") &&
+         __builtin_cpu_supports("avx512dq") && __builtin_cpu_supports("avx512bw");
 }
 #endif
 
-void add_footprint(DensityPixelLoop loop, int64_t *image, int width, int channels,
-                   const AxisTaps &ax, const AxisTaps &ay, const Factors &f) {
-#ifdef LANTERN_DENSITY_X86
-  if (channels == 4 && loop != DensityPixelLoop::kScalar)
-    return loop == DensityPixelLoop::kAuto && has_avx2() ? add4_avx2(image, width, ax, ay, f)
-                                                         : add4_sse2(image, width, ax, ay, f);
-#endif
-  add_scalar(image, width, channels, ax, ay, f);
+// The world -> view transform and project() of DensitySplatter, over arrays: written as one
+// loop without branches (the projection type is hoisted) so the compiler vectorises it, with
+// every operation in project()'s and glm's order (view = (m0 x + m1 y) + (m2 z + m3)), so the
+// same bits.
+template <bool kOrthographic>
+inline __attribute__((always_inline)) void project_loop(const ViewGeometry &g, const double *x,
+                                                        const double *y, const double *z,
+                                                        const double *r, double radius,
+                                                        double scale, int count,
+                                                        DensityFootprints *out) {
+  const glm::dmat4 &m = g.view;
+  const double ppu = 0.5 * g.height * g.sy, w = g.width, h = g.height, near = g.near_plane;
+  double *px = out->px.data(), *py = out->py.data(), *sigma2 = out->sigma2.data();
+  uint8_t *in_front = out->in_front.data();
+  for (int k = 0; k < count; ++k) {
+    const double cx = (m[0][0] * x[k] + m[1][0] * y[k]) + (m[2][0] * z[k] + m[3][0]);
+    const double cy = (m[0][1] * x[k] + m[1][1] * y[k]) + (m[2][1] * z[k] + m[3][1]);
+    const double cz = (m[0][2] * x[k] + m[1][2] * y[k]) + (m[2][2] * z[k] + m[3][2]);
+    const double d = -cz;
+    in_front[k] = d > near;
+    const double inv_d = kOrthographic ? 1.0 : 1.0 / d;
+    const double x_ndc = kOrthographic ? g.sx * cx + g.tx : g.sx * cx * inv_d;
+    const double y_ndc = kOrthographic ? g.sy * cy + g.ty : g.sy * cy * inv_d;
+    px[k] = 0.5 * (x_ndc + 1.0) * w;
+    py[k] = 0.5 * (1.0 - y_ndc) * h;
+    const double s = (r ? r[k] * scale : radius * scale) / 3.0 * ppu * inv_d;
+    sigma2[k] = s * s + 0.25;
+  }
 }
+
+void project_portable(const ViewGeometry &g, const double *x, const double *y, const double *z,
+                      const double *r, double radius, double scale, int count,
+                      DensityFootprints *out) {
+  if (g.orthographic)
+    project_loop<true>(g, x, y, z, r, radius, scale, count, out);
+  else
+    project_loop<false>(g, x, y, z, r, radius, scale, count, out);
+}
+
+#ifdef LANTERN_DENSITY_X86
+__attribute__((target("avx2"))) void project_avx2(const ViewGeometry &g, const double *x,
+                                                  const double *y, const double *z, const double *r,
+                                                  double radius, double scale, int count,
+                                                  DensityFootprints *out) {
+  if (g.orthographic)
+    project_loop<true>(g, x, y, z, r, radius, scale, count, out);
+  else
+    project_loop<false>(g, x, y, z, r, radius, scale, count, out);
+}
+#endif
 
 }  // namespace
 
 DensitySplatter::DensitySplatter(const ViewGeometry &g, DensityImage *image)
-    : g_(g), image_(image), table_(DensityKernelTable::get()) {}
+    : g_(g), image_(image), table_(DensityKernelTable::get()) {
+  set_pixel_loop(DensityPixelLoop::kAuto);
+}
+
+void DensitySplatter::set_pixel_loop(DensityPixelLoop loop) {
+  add4_ = add4_scalar;
+#ifdef LANTERN_DENSITY_X86
+  static const bool avx2 = has_avx2(), avx512 = has_avx512();
+  if (loop == DensityPixelLoop::kScalar) return;
+  add4_ = add4_sse2;
+  if (loop == DensityPixelLoop::kSse2 || !avx2) return;
+  add4_ = add4_avx2;
+  if (loop == DensityPixelLoop::kAvx2 || !avx512) return;
+  add4_ = add4_avx512;
+#else
+  (void)loop;
+#endif
+}
+
+void DensitySplatter::project_all(const double *x, const double *y, const double *z,
+                                  const double *r, double radius, double scale, int count,
+                                  DensityFootprints *out) const {
+  out->resize(size_t(count));
+#ifdef LANTERN_DENSITY_X86
+  static const bool avx2 = has_avx2();
+  if (avx2) return project_avx2(g_, x, y, z, r, radius, scale, count, out);
+#endif
+  project_portable(g_, x, y, z, r, radius, scale, count, out);
+}
 
 bool DensitySplatter::project(const glm::dvec3 &c, double r, DensityFootprint *out) const {
   const double d = -c.z;
@@ -125,6 +251,73 @@ bool DensitySplatter::splat(const glm::dvec3 &c, double r, double weight, const 
   return project(c, r, &f) && deposit(f, weight, color);
 }
 
+// W = weight 2^F in [2^23, 2^24): F = 23 - floor(log2 weight). Weights repeat (1, or n / keep
+// for a whole brick), so the factors are kept from the previous particle when they can be.
+void DensitySplatter::set_factors(double weight, const Rgb8 &color) {
+  // The colour packed in one word: comparing the arrays costs a library call.
+  const uint32_t packed = uint32_t(color[0]) | uint32_t(color[1]) << 8 | uint32_t(color[2]) << 16;
+  if (weight == last_weight_ && packed == last_color_) return;
+  const int f = kWeightMantissaBits - 1 - std::ilogb(weight);
+  // Rounded, but kept below 2^24 so that W 256 < 2^32.
+  const uint64_t w = std::min(uint64_t(std::ldexp(weight, f) + 0.5), (uint64_t(1) << 24) - 1);
+  factors_m_[0] = w << 8;
+  for (int k3 = 0; k3 < 3; ++k3) factors_m_[1 + k3] = w * color[size_t(k3)];
+  factors_shift_ = f + 2 * kDensityTapBits + 8 - kDensityFractionBits;
+  last_weight_ = weight, last_color_ = packed;
+}
+
+bool DensitySplatter::bin(const DensityFootprint &fp, const Rgb8 &color, DensityBins *bins) {
+  const int k = table_.index_of_variance(fp.sigma2);
+  if (k >= kDensitySigmaCount) return deposit(fp, 1.0, color);  // wide: no table entry
+  constexpr double kFar = double(1 << 30);                      // as deposit()
+  if (!(std::abs(fp.px) < kFar && std::abs(fp.py) < kFar)) return false;
+  DensityRecord r;
+  int base_x = 0, base_y = 0, phase_x = 0, phase_y = 0;
+  DensityKernelTable::place(fp.px, &base_x, &phase_x);
+  DensityKernelTable::place(fp.py, &base_y, &phase_y);
+  AxisTaps ax, ay;
+  if (!table_.taps_at(base_x, phase_x, k, g_.width, &ax) ||
+      !table_.taps_at(base_y, phase_y, k, g_.height, &ay))
+    return false;
+  // A footprint touching the image has its base within 26 px of it: int16 holds it
+  // (kMaxImageSize is 16384).
+  r.base_x = int16_t(base_x), r.base_y = int16_t(base_y);
+  r.k = uint8_t(k), r.phase_x = uint8_t(phase_x), r.phase_y = uint8_t(phase_y);
+  std::copy(color.begin(), color.end(), r.color);
+  bins->tiles[size_t(ay.first / kDensityTile) * size_t(bins->across) +
+              size_t(ax.first / kDensityTile)]
+      .push_back(r);
+  return true;
+}
+
+void DensitySplatter::deposit_bins(const DensityBins &bins) {
+  for (const std::vector<DensityRecord> &tile : bins.tiles)
+    for (const DensityRecord &r : tile) {
+      AxisTaps ax, ay;
+      table_.taps_at(r.base_x, r.phase_x, r.k, g_.width, &ax);
+      table_.taps_at(r.base_y, r.phase_y, r.k, g_.height, &ay);
+      pixels_written_ += int64_t(ax.count) * ay.count;
+      set_factors(1.0, {r.color[0], r.color[1], r.color[2]});
+      if (image_->channels == 4)
+        add4_(image_->sum.data(), g_.width, ax, ay, factors_m_, factors_shift_);
+      else
+        add_scalar(
+            image_->sum.data(), g_.width, image_->channels, ax, ay,
+            Factors{{factors_m_[0], factors_m_[1], factors_m_[2], factors_m_[3]}, factors_shift_});
+    }
+}
+
+int64_t DensitySplatter::deposit_all(const DensityFootprints &footprints, const uint8_t *skip,
+                                     const Rgb8 *color, int count, double weight) {
+  int64_t touched = 0;
+  for (int k = 0; k < count; ++k)
+    if (footprints.in_front[size_t(k)] && !skip[k])
+      touched += deposit(
+          {footprints.px[size_t(k)], footprints.py[size_t(k)], footprints.sigma2[size_t(k)]},
+          weight, color[k]);
+  return touched;
+}
+
 bool DensitySplatter::deposit(const DensityFootprint &fp, double weight, const Rgb8 &color) {
   if (!(weight >= kDensityMinWeight && weight < kDensityMaxWeight)) return false;
   const double px = fp.px, py = fp.py, sigma2 = fp.sigma2;
@@ -144,19 +337,13 @@ bool DensitySplatter::deposit(const DensityFootprint &fp, double weight, const R
       return false;
   }
   pixels_written_ += int64_t(ax.count) * ay.count;
-  // W = weight 2^F in [2^23, 2^24): F = 23 - floor(log2 weight). Weights repeat (1, or n / keep
-  // for a whole brick), so the factors are kept from the previous particle when they can be.
-  if (weight != last_weight_ || color != last_color_) {
-    const int f = kWeightMantissaBits - 1 - std::ilogb(weight);
-    // Rounded, but kept below 2^24 so that W 256 < 2^32.
-    const uint64_t w = std::min(uint64_t(std::ldexp(weight, f) + 0.5), (uint64_t(1) << 24) - 1);
-    factors_m_[0] = w << 8;
-    for (int k3 = 0; k3 < 3; ++k3) factors_m_[1 + k3] = w * color[size_t(k3)];
-    factors_shift_ = f + 2 * kDensityTapBits + 8 - kDensityFractionBits;
-    last_weight_ = weight, last_color_ = color;
-  }
-  const Factors fac{{factors_m_[0], factors_m_[1], factors_m_[2], factors_m_[3]}, factors_shift_};
-  add_footprint(loop_, image_->sum.data(), g_.width, image_->channels, ax, ay, fac);
+  set_factors(weight, color);
+  if (image_->channels == 4)
+    add4_(image_->sum.data(), g_.width, ax, ay, factors_m_, factors_shift_);
+  else
+    add_scalar(
+        image_->sum.data(), g_.width, image_->channels, ax, ay,
+        Factors{{factors_m_[0], factors_m_[1], factors_m_[2], factors_m_[3]}, factors_shift_});
   return true;
 }
 

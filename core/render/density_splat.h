@@ -1,4 +1,4 @@
-// Density rendering (seed 001 §3.4, `style: density`): every particle is a screen-aligned
+// Density rendering (Rizzi et al. 2015, §3.4, `style: density`): every particle is a screen-aligned
 // Gaussian footprint, summed into a fixed-point image. The sum over ranks is then an integer sum
 // (core/composite/density_sum.h), so the image does not depend on the order of the particles,
 // on the ranks or on the split, bit for bit.
@@ -77,10 +77,41 @@ struct DensityFootprint {
   double px = 0.0, py = 0.0, sigma2 = 0.0;
 };
 
-// The pixel loop of a four-channel image. kAuto: AVX2 where the processor has it, else SSE2 on
-// x86-64, else scalar; the others force one (SSE2 falls back to scalar off x86-64), for tests.
-// All give the same bits: the arithmetic is integer.
-enum class DensityPixelLoop { kAuto, kScalar, kSse2 };
+// The pixel loop of a four-channel image. kAuto: AVX-512 where the processor has it (footprints
+// of at most 4 pixels a row, two pixels per register; wider ones as AVX2), else AVX2, else SSE2
+// on x86-64, else scalar; the others force one (falling back to the next where the processor
+// lacks it), for tests. All give the same bits: the arithmetic is integer.
+enum class DensityPixelLoop { kAuto, kAvx2, kSse2, kScalar };
+
+// Footprints of a batch of particles, one array per quantity (see DensitySplatter::project_all).
+struct DensityFootprints {
+  std::vector<double> px, py, sigma2;
+  std::vector<uint8_t> in_front;  // project()'s result
+  void resize(size_t n) { px.resize(n), py.resize(n), sigma2.resize(n), in_front.resize(n); }
+};
+
+// A footprint of weight 1 waiting in its image tile's bin (DensitySplatter::bin): what the
+// kernel table needs to place it again, and its colour.
+struct DensityRecord {
+  int16_t base_x, base_y;  // floor(centre - 0.5) per axis (density_kernel.h)
+  uint8_t k;               // the table's width
+  uint8_t phase_x, phase_y;
+  uint8_t color[3];
+};
+
+// Footprints binned by the image tile (kDensityTile pixels square) of their first pixel, to be
+// deposited tile by tile: the image rows a tile's footprints touch stay in cache meanwhile.
+inline constexpr int kDensityTile = 128;
+struct DensityBins {
+  int across = 0, down = 0;
+  std::vector<std::vector<DensityRecord>> tiles;  // row by row
+  void reset(int width, int height) {
+    across = (width + kDensityTile - 1) / kDensityTile;
+    down = (height + kDensityTile - 1) / kDensityTile;
+    tiles.resize(size_t(across) * size_t(down));
+    for (std::vector<DensityRecord> &t : tiles) t.clear();
+  }
+};
 
 class DensitySplatter {
  public:
@@ -99,7 +130,25 @@ class DensitySplatter {
   bool project(const glm::dvec3 &c, double r, DensityFootprint *out) const;
   bool deposit(const DensityFootprint &f, double weight, const Rgb8 &color);
 
-  void set_pixel_loop(DensityPixelLoop loop) { loop_ = loop; }
+  // project(g.to_view(x), r * scale, ...) of `count` particles at WORLD positions (x[k], y[k],
+  // z[k]), radius r[k] (r null: `radius` for every one), into out[0, count): the same bits, the
+  // independent projections vectorised (AVX2 where the processor has it).
+  void project_all(const double *x, const double *y, const double *z, const double *r,
+                   double radius, double scale, int count, DensityFootprints *out) const;
+
+  // deposit(f, 1, color) in two steps, for a pass that visits the particles in an order that
+  // wanders over the image: bin() files a table footprint under its image tile (a wider one,
+  // beyond the table, is deposited at once) and returns whether it touches the image;
+  // deposit_bins() then deposits every bin, tile by tile. The same sums as deposit().
+  bool bin(const DensityFootprint &f, const Rgb8 &color, DensityBins *bins);
+  void deposit_bins(const DensityBins &bins);
+
+  // deposit(footprint k, weight, color[k]) for every k in [0, count) with in_front[k] and not
+  // skip[k]: returns how many touched a pixel.
+  int64_t deposit_all(const DensityFootprints &footprints, const uint8_t *skip, const Rgb8 *color,
+                      int count, double weight);
+
+  void set_pixel_loop(DensityPixelLoop loop);
 
   // Pixels written so far (for the benchmark's bytes per particle).
   int64_t pixels_written() const { return pixels_written_; }
@@ -109,12 +158,16 @@ class DensitySplatter {
   DensityImage *image_;
   const DensityKernelTable &table_;
   std::vector<uint16_t> scratch_x_, scratch_y_;  // taps of footprints beyond the kernel table
+  // The pixel loop for four channels, chosen once (set_pixel_loop).
+  void (*add4_)(int64_t *image, int width, const AxisTaps &ax, const AxisTaps &ay,
+                const uint64_t m[4], int shift) = nullptr;
   // The previous particle's weight and colour, and the factors made of them (see the .cpp).
+  // The factors of (weight, colour) into factors_m_ / factors_shift_, unless they are the last's.
+  void set_factors(double weight, const Rgb8 &color);
   double last_weight_ = -1.0;
-  Rgb8 last_color_{0, 0, 0};
+  uint32_t last_color_ = 0;  // packed r | g << 8 | b << 16
   uint64_t factors_m_[4] = {0, 0, 0, 0};
   int factors_shift_ = 1;
-  DensityPixelLoop loop_ = DensityPixelLoop::kAuto;
   int64_t pixels_written_ = 0;
 };
 

@@ -1,19 +1,34 @@
-// Object-space ambient occlusion (issue 13; Grottel et al. 2012's idea on seed 004's coarse
-// particle density volume): one darkening factor per particle, from how crowded the space around
-// it is, applied to its colour before drawing, so the CPU raster and OpenGL both show it and it
-// does not depend on the view.
+// Object-space ambient occlusion (after Grottel et al., "Object-Space Ambient Occlusion for
+// Molecular Dynamics", PacificVis 2012): one darkening factor per particle, from how much of the
+// space around it is filled, applied to its colour before drawing, so the CPU raster and OpenGL
+// both show it and it does not depend on the view.
 //
-// The volume: cubic cells of side `cell` (the ambient_occlusion radius) over the global particle
-// bounds, at most kMaxOcclusionCells per axis (cells grow beyond that). Every rank counts its
-// drawn particles (kept by the mask, not cut away by an enabled cut plane) per cell; the integer
-// counts are summed over ranks with MPI_Allreduce, so the volume - and every factor - is the same
-// for any split of the particles. A particle's occupancy o is the mean count of the 3 x 3 x 3
-// cells around it (interpolated trilinearly between cell centres, so it varies smoothly from
-// particle to particle) divided by the largest count of any cell (1 deep inside a solid, about
-// 2/3 on a flat face, less on edges and corners, more in creases and pits); its colour is scaled
-// by 1 - strength x clamp(2 o - 1, 0, 1): open corners and edges keep their colour, faces dim a
-// little, concave and buried particles darken most. Factors are computed on demand, for the
-// particles actually drawn.
+// The measure is the particle's occupancy o: the density of drawn particles around it, smoothed
+// over about half the ambient-occlusion radius, relative to the bulk density of the scene. A
+// particle deep inside a solid has o = 1; one on a flat open face sees half-space, o = o_face
+// (a little over 1/2: its own layer counts); in a crease, a step between blocks, a pit or on the
+// wall of a void more of the space around it is filled, o > o_face. Its colour is scaled by
+//   1 - strength x clamp((o - o_face) / (1 - o_face), 0, 1),
+// so flat faces, edges and corners keep their colour, a 90-degree crease darkens by about
+// o_face x strength, and buried particles by the full strength.
+//
+//   - The volume: nodes spaced `cell` = radius / 2 over the global particle bounds (larger where
+//     that would exceed kMaxOcclusionNodes nodes). Every rank deposits its drawn particles (kept
+//     by the mask, not cut away by an enabled cut plane) on the 8 nodes around each, with
+//     trilinear weights in 1/16 per axis (so a crystal's lattice does not alias against the
+//     nodes); the integer deposits are summed over ranks with MPI_Allreduce, so the volume, and
+//     every factor, is the same for any split of the particles.
+//   - Smoothing: the separable filter 1 2 1 along each axis (exact, in integers); a particle's
+//     value is the trilinear interpolation of the smoothed nodes at its centre.
+//   - The bulk density: the smoothed value below which kOcclusionBulkQuantile of the particles
+//     lie (a histogram of the nodes weighted by their deposits): the density inside the solid or
+//     liquid that most particles belong to, not the fullest node (which lattice aliasing and
+//     compressed regions push up, leaving every visible particle below a darkening threshold).
+//   - o_face: the same deposit, filter and interpolation applied in one dimension to layers of
+//     particles spaced by the bulk's mean spacing (density^(-1/3)), at the outermost layer,
+//     averaged over the layers' offset to the nodes: what a flat face of the bulk gives. The mean
+//     spacing is at least the layer spacing of a cubic, fcc or bcc crystal's common faces, so
+//     such faces come out at or below o_face: they do not darken.
 //
 // Units: simulation lengths. Ownership: a value. Thread-safety: factor() is const and may run
 // on several threads at once.
@@ -22,6 +37,7 @@
 #include <mpi.h>
 
 #include <array>
+#include <cstdint>
 #include <vector>
 
 #include <glm/vec3.hpp>
@@ -33,29 +49,52 @@
 
 namespace lantern {
 
-inline constexpr int kMaxOcclusionCells = 64;
+// Nodes of the volume at most (2^18 x 8 bytes: the 2 MiB every rank sums and smooths).
+inline constexpr int64_t kMaxOcclusionNodes = int64_t(1) << 18;
+// Node spacing, in ambient-occlusion radii (before kMaxOcclusionNodes widens it).
+inline constexpr double kOcclusionCellPerRadius = 0.5;
+// The share of particles whose surroundings are at most as dense as the bulk.
+inline constexpr double kOcclusionBulkQuantile = 0.8;
 
 class OcclusionVolume {
  public:
-  // Collective over comm: counts this rank's drawn particles and sums the counts over ranks.
-  // Returns OK or kMpi (the same on every rank).
+  // Collective over comm: deposits this rank's drawn particles and sums the deposits over
+  // ranks. `radius`: the ambient-occlusion radius (> 0). Returns OK or kMpi (the same on every
+  // rank).
   Status build(MPI_Comm comm, const ParticleArrays &particles, const Extent &global,
-               const std::vector<CutPlane> &cuts, double cell, double strength);
+               const std::vector<CutPlane> &cuts, double radius, double strength);
 
   // The colour factor in [1 - strength, 1] of a particle at x (a drawn one: inside the bounds).
   float factor(const glm::dvec3 &x) const;
+
+  // The occupancy o of a particle at x, and the terms of the factor (tests, diagnostics).
+  double occupancy(const glm::dvec3 &x) const;
+  double face_occupancy() const { return face_; }
+  double node_spacing() const { return cell_; }
+  // The bulk density, in particles per node cell (cell^3).
+  double bulk_per_cell() const { return bulk_; }
 
  private:
   size_t index(int x, int y, int z) const {
     return (size_t(z) * size_t(n_[1]) + size_t(y)) * size_t(n_[0]) + size_t(x);
   }
-  void set_grid(const Extent &global, double cell);
-  void sum_neighbourhoods(const std::vector<int32_t> &counts);
+  void set_grid(const Extent &global, double radius);
+  void deposit(const ParticleArrays &particles, const std::vector<CutPlane> &cuts,
+               std::vector<int64_t> *nodes) const;
+  void smooth(const std::vector<int64_t> &deposits);
+  void find_bulk(const std::vector<int64_t> &deposits);
+  float enclosure_at(const glm::dvec3 &x) const;
 
   glm::dvec3 lo_{0.0};
-  double cell_ = 1.0, strength_ = 0.0, full_ = 1.0;  // full_: 27 x the fullest cell's count
-  std::array<int, 3> n_{1, 1, 1};
-  std::vector<float> sums_;  // 3 x 3 x 3 neighbourhood counts per cell
+  double cell_ = 1.0, inverse_cell_ = 1.0;
+  float strength_ = 0.0f;
+  double bulk_ = 0.0;  // particles per cell^3 in the bulk (0: nothing drawn anywhere)
+  double face_ = 1.0;  // o_face (1: no darkening at all)
+  std::array<int, 3> n_{2, 2, 2};
+  std::vector<float> smoothed_;  // per node, in particles per cell^3 (while building)
+  // Per node: (smoothed / bulk - o_face) / (1 - o_face), the share of a flat face's open
+  // half-space that is filled; empty where nothing darkens.
+  std::vector<float> enclosure_;
 };
 
 }  // namespace lantern

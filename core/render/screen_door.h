@@ -1,4 +1,4 @@
-// Screen-door transparency (`opacity` per type, issue 13): a fragment of opacity alpha is kept
+// Screen-door transparency (`opacity` per type): a fragment of opacity alpha is kept
 // where the ordered-dither threshold of its pixel is below alpha, and discarded elsewhere, so
 // a see-through sphere stays an opaque depth sample wherever it is kept - compositing stays a
 // depth minimum and the image stays rank-invariant.

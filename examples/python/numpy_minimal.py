@@ -1,4 +1,4 @@
-"""The README's minimal example from Python: 100,000 particles (a 50x50x40 lattice) into
+"""The C API's minimal example from Python: 100,000 particles (a 50x50x40 lattice) into
 minimal_000000.png, the same image as examples/minimal.c. NumPy arrays are borrowed, not copied.
 
 Usage: python3 numpy_minimal.py [OUTPUT_DIR]   (PYTHONPATH: the folder holding the lantern module)

@@ -8,6 +8,7 @@
 #include "integrator.h"
 #include "langevin.h"
 #include "md_error.h"
+#include "memory_check.h"
 #include "migration.h"
 #include "relax.h"
 #include "stability.h"
@@ -18,6 +19,7 @@ Simulation::Simulation(const RunConfig &cfg, MPI_Comm comm) : cfg_(cfg), scene_(
   if (!(cfg_.dt > 0)) throw MdError("--dt must be positive");
   if (!(cfg_.cutoff > 0) || !(cfg_.skin >= 0)) throw MdError("--cutoff must be > 0, --skin >= 0");
   if (cfg_.neigh_every < 1) throw MdError("--neigh-every must be at least 1");
+  check_memory(cfg_, comm);  // before any atom is made
   dd_ = std::make_unique<DomainDecomposition>(comm, scene_.box, ghost_cut());
   is_root_ = dd_->rank() == 0;
   const double t0 = MPI_Wtime();

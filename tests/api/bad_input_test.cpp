@@ -1,6 +1,10 @@
 // Every bad input the C API can get returns its status and a message naming the problem, and
 // the context stays usable afterwards.
+#include <fcntl.h>
+#include <sys/stat.h>
+
 #include <cmath>
+#include <ctime>
 #include <fstream>
 #include <limits>
 
@@ -120,7 +124,7 @@ TEST_F(BadInput, UnwritableOutputFailsThatStepAndLaterStepsRetry) {
   EXPECT_EQ(files, 1);
 }
 
-// Issue #17 item 2: values too large to frame used to fail as "camera.near/far: need 0 < near <
+// Values too large to frame used to fail as "camera.near/far: need 0 < near <
 // far", a key the user never set. Each now names its source, with the status that fits: data
 // (published positions or radii) is an invalid argument, a configured value a configuration error.
 TEST_F(BadInput, ValuesTooLargeToFrameNameTheirSource) {
@@ -153,6 +157,21 @@ TEST_F(BadInput, ValuesTooLargeToFrameNameTheirSource) {
   ASSERT_EQ(open(scene_config("huge")), LANTERN_OK) << message();
   ASSERT_EQ(lantern_publish(ctx_, &p), LANTERN_OK) << message();
   EXPECT_EQ(lantern_execute(ctx_, 0, 0.0), LANTERN_OK) << message();
+}
+
+// A run killed while writing an image leaves a hidden temporary file; the next run's open removes
+// it (only Lantern's temporary names, only files older than the run).
+TEST_F(BadInput, OpenRemovesTemporaryFilesAKilledRunLeftInTheOutputFolder) {
+  const std::string stale = (dir_ / ".k_0007.png.tmp99999999-0.png").string();
+  const std::string mine = (dir_ / "k_0007.png").string();
+  for (const std::string &path : {stale, mine}) {
+    std::ofstream(path) << "half an image";
+    const timespec old[2] = {{::time(nullptr) - 3600, 0}, {::time(nullptr) - 3600, 0}};
+    ::utimensat(AT_FDCWD, path.c_str(), old, 0);
+  }
+  ASSERT_EQ(open(scene_config("k")), LANTERN_OK) << message();
+  EXPECT_FALSE(std::filesystem::exists(stale));
+  EXPECT_TRUE(std::filesystem::exists(mine));
 }
 
 }  // namespace

@@ -5,6 +5,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <thread>
 
 #include <nlohmann/json.hpp>
 
@@ -184,6 +185,17 @@ TEST_F(GlBackends, EveryExampleConfigurationRendersWithoutGl) {
   std::filesystem::current_path(cwd);
   EXPECT_GE(rendered, 7);
   EXPECT_GE(images, rendered);
+}
+
+// A context opened on one thread and executed on another: EGL refuses to make the GL context
+// current there (EGL_BAD_ACCESS, 0x3002), and the message says why instead of only the code.
+TEST_F(GlBackends, ExecutingFromAnotherThreadSaysTheContextBelongsToTheOpener) {
+  if (render("egl", "t", kScenes[0], 32, 32) != "egl") GTEST_SKIP() << "no EGL here";
+  lantern_status st = LANTERN_OK;
+  std::thread([&] { st = lantern_execute(ctx_, 1, 0.0); }).join();
+  EXPECT_EQ(st, LANTERN_ERR_GL);
+  EXPECT_NE(message().find("belongs to the thread that opened it"), std::string::npos) << message();
+  EXPECT_EQ(lantern_execute(ctx_, 2, 0.0), LANTERN_OK) << message();  // the opener still can
 }
 
 }  // namespace

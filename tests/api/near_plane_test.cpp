@@ -1,5 +1,5 @@
 // Spheres cut by the near plane through the C API: OpenGL draws the part beyond the plane, as the
-// CPU raster does (issue #17, item 1: OpenGL used to clip such spheres away).
+// CPU raster does (OpenGL used to clip such spheres away).
 #include <algorithm>
 #include <cstdlib>
 #include <fstream>

@@ -1,6 +1,6 @@
 // occlusion: probabilistic through the C API: a rerun (a new context, the same step) writes the
 // same bytes, another step draws other random numbers, the CPU raster serves it under
-// renderer: auto, and the stats line reports seed 004's counts.
+// renderer: auto, and the stats line reports the probabilistic culler's counts.
 #include <fstream>
 
 #include <nlohmann/json.hpp>

@@ -63,6 +63,18 @@ TEST(Morton, MatchesBitByBitInterleaving) {
   EXPECT_EQ(morton_encode(kMortonAxisMax, kMortonAxisMax, kMortonAxisMax), (uint64_t(1) << 63) - 1);
 }
 
+TEST(Morton, PrefixIsTheKeysTop32Bits) {
+  std::mt19937 rng(5);
+  for (int t = 0; t < 100000; ++t) {
+    const uint32_t x = rng() & kMortonAxisMax, y = rng() & kMortonAxisMax,
+                   z = rng() & kMortonAxisMax;
+    ASSERT_EQ(morton_prefix(x, y, z), uint32_t(reference_morton(x, y, z) >> 31))
+        << x << " " << y << " " << z;
+  }
+  EXPECT_EQ(morton_prefix(kMortonAxisMax, kMortonAxisMax, kMortonAxisMax), 0xffffffffu);
+  EXPECT_EQ(morton_prefix(1023, 1023, 2047), 0u);  // bits below the prefix's
+}
+
 TEST(RadixSort, MatchesStdSortOnFullAndPartialBitRanges) {
   std::mt19937_64 rng(2);
   for (const size_t n : {size_t(0), size_t(1), size_t(7), size_t(1000), size_t(200000)}) {
@@ -80,6 +92,11 @@ TEST(RadixSort, MatchesStdSortOnFullAndPartialBitRanges) {
     std::stable_sort(stable.begin(), stable.end(),
                      [](uint64_t a, uint64_t b) { return (a >> 32) < (b >> 32); });
     EXPECT_EQ(upper, stable);
+    for (const int threads : {2, 3, 5}) {  // parts scatter at once, still stably
+      std::vector<uint64_t> parted = words;
+      radix_sort_words(&parted, &scratch, 32, 64, threads);
+      EXPECT_EQ(parted, stable) << threads;
+    }
   }
 }
 
@@ -237,7 +254,7 @@ TEST(Bricks, RefitRepairsWrappedAndMigratedParticles) {
   expect_valid_bricks(shrunk, borrow(fewer));
 }
 
-TEST(LevelLayout, MatchesFigure3OfSeed001) {
+TEST(LevelLayout, MatchesFigure3OfRizzi2015) {
   // Eight particles in z-order 0..7: L0 = {0}, L1 = {4}, L2 = {2, 6}, L3 = {1, 5, 3, 7}.
   std::vector<uint32_t> items{0, 1, 2, 3, 4, 5, 6, 7}, scratch;
   apply_level_layout(items.data(), 8, &scratch);

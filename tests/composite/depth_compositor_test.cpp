@@ -6,11 +6,14 @@
 #include <gtest/gtest.h>
 #include <mpi.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <ostream>
 #include <vector>
 
+#include "core/composite/composite_cost_model.h"
+#include "core/composite/compositing_schedule.h"
 #include "core/composite/depth_compositor.h"
 #include "core/composite/packed_pixel.h"
 #include "synthetic_frames.h"
@@ -36,6 +39,13 @@ struct Case {
   bool flat = false;
   Empty empty = Empty::kNone;
   int spheres_per_rank = 3;
+  // The last rank holds pixels beyond the background (depth 2, not a window depth), one in every
+  // rank's share of the frame: then no background pixel is neutral any more, and active pixels
+  // must still merge exactly.
+  bool beyond_background = false;
+  // Every rank also draws one sphere over the whole frame (at its own depth): no pixel is empty
+  // anywhere, so every active-pixel message is as long as its bound allows.
+  bool covered = false;
 };
 
 bool rank_is_empty(const Case &c, int rank, int ranks) {
@@ -57,6 +67,21 @@ Frame frame_of_rank(const Case &c, int rank, int ranks) {
   if (rank_is_empty(c, rank, ranks)) return f;
   for (int k = 0; k < c.spheres_per_rank; ++k)
     draw_sphere(sphere_for_rank(rank, c.seed * 16 + k, c.width, c.height, c.flat), f);
+  if (c.covered) {
+    Sphere all;
+    all.cx = 0.5 * c.width;
+    all.cy = 0.5 * c.height;
+    all.radius = 2.0 * (c.width + c.height);
+    all.depth = 0.7f + 0.01f * float(rank % 16);
+    all.depth_radius = 0.05f;
+    all.rgba[0] = uint8_t(40 + 50 * (rank % 4));
+    all.rgba[1] = uint8_t(200 - 30 * (rank % 5));
+    draw_sphere(all, f);
+  }
+  if (c.beyond_background && rank == ranks - 1)  // one such pixel in every rank's share
+    for (int k = 0; k < ranks; ++k)
+      f.depth[std::min(f.pixel_count() - 1, f.pixel_count() * size_t(k) / size_t(ranks) + 1)] =
+          2.0f;
   return f;
 }
 
@@ -72,14 +97,21 @@ struct Outcome {
   std::string difference;  // root only: "" if the composite equals the serial merge
 };
 
-Outcome composite_case(const Case &c, CompositeMethod method, int root, size_t chunk = 0) {
+Outcome composite_case(const Case &c, const CompositeOptions &options, int root) {
   const int rank = world_rank(), ranks = world_size();
   Frame frame = frame_of_rank(c, rank, ranks);
   Outcome out;
-  out.status = composite_frames(MPI_COMM_WORLD, frame, root, method, chunk, &out.stats);
+  out.status = composite_frames(MPI_COMM_WORLD, frame, root, options, &out.stats);
   if (rank == root && out.status.ok())
     out.difference = describe_difference(frame, expected_image(c, ranks));
   return out;
+}
+
+Outcome composite_case(const Case &c, CompositeMethod method, int root, size_t chunk = 0) {
+  CompositeOptions options;
+  options.method = method;
+  options.chunk_pixels = chunk;
+  return composite_case(c, options, root);
 }
 
 void expect_matches(const Outcome &o) {
@@ -116,6 +148,13 @@ TEST_P(CompositeMethods, AllRanksEmptyGiveTheBackground) {
   expect_matches(o);
 }
 
+TEST_P(CompositeMethods, APixelBeyondTheBackgroundStillMergesExactly) {
+  Case c;
+  c.beyond_background = true;
+  expect_matches(composite_case(c, GetParam(), 0));
+  expect_matches(composite_case(c, GetParam(), world_size() - 1));  // on the rank that holds them
+}
+
 TEST_P(CompositeMethods, AnyRankCanBeRoot) {
   const int ranks = world_size();
   for (const int root : {ranks - 1, ranks / 2})
@@ -146,7 +185,8 @@ INSTANTIATE_TEST_SUITE_P(, CompositeMethods,
                          ::testing::Values(CompositeMethod::kAuto, CompositeMethod::kReduce64,
                                            CompositeMethod::kReduceScatter,
                                            CompositeMethod::kBinarySwap,
-                                           CompositeMethod::kDirectSend),
+                                           CompositeMethod::kDirectSend,
+                                           CompositeMethod::kActivePixels),
                          [](const ::testing::TestParamInfo<CompositeMethod> &info) {
                            return std::string(to_string(info.param));
                          });
@@ -157,8 +197,9 @@ TEST(Composite, AllMethodsAreBitIdentical) {
   c.width = 640;
   c.height = 480;
   std::vector<Frame> results;
-  for (const CompositeMethod m : {CompositeMethod::kReduce64, CompositeMethod::kReduceScatter,
-                                  CompositeMethod::kBinarySwap, CompositeMethod::kDirectSend}) {
+  for (const CompositeMethod m :
+       {CompositeMethod::kReduce64, CompositeMethod::kReduceScatter, CompositeMethod::kBinarySwap,
+        CompositeMethod::kDirectSend, CompositeMethod::kActivePixels}) {
     Frame frame = frame_of_rank(c, world_rank(), world_size());
     EXPECT_OK(composite_frames(MPI_COMM_WORLD, frame, 0, m));
     results.push_back(std::move(frame));
@@ -183,9 +224,9 @@ TEST(Composite, MismatchedFrameSizesFailOnEveryRankWithoutDeadlock) {
   if (world_size() < 2) GTEST_SKIP() << "needs two ranks";
   const int rank = world_rank();
   Frame frame = blank_frame(rank == 1 ? 33 : 32, 16);
-  for (const CompositeMethod m :
-       {CompositeMethod::kAuto, CompositeMethod::kReduce64, CompositeMethod::kReduceScatter,
-        CompositeMethod::kBinarySwap, CompositeMethod::kDirectSend}) {
+  for (const CompositeMethod m : {CompositeMethod::kAuto, CompositeMethod::kReduce64,
+                                  CompositeMethod::kReduceScatter, CompositeMethod::kBinarySwap,
+                                  CompositeMethod::kDirectSend, CompositeMethod::kActivePixels}) {
     const Status status = composite_frames(MPI_COMM_WORLD, frame, 0, m);
     EXPECT_EQ(status.code, StatusCode::kMpi) << status.message;
     EXPECT_NE(status.message.find("sizes differ"), std::string::npos) << status.message;
@@ -213,26 +254,215 @@ TEST(Composite, StatsNameTheMethodThatRan) {
   EXPECT_GE(stats.milliseconds, 0.0);
 }
 
-TEST(Composite, AutoPicksTheMeasuredMethodAndSaysWhich) {
-  const bool alone = world_size() == 1;
-  Frame small = blank_frame(64, 64), large = blank_frame(640, 480);
-  CompositeStats s, l;
-  EXPECT_OK(composite_frames(MPI_COMM_WORLD, small, 0, CompositeMethod::kAuto, 0, &s));
-  EXPECT_OK(composite_frames(MPI_COMM_WORLD, large, 0, CompositeMethod::kAuto, 0, &l));
-  EXPECT_EQ(s.method, alone ? "none" : "reduce64");  // latency-bound: one MPI_Reduce
-  EXPECT_EQ(l.method, alone ? "none" : "binary_swap");
+// kAuto runs what the default model says is cheapest for the frame it sees: active pixels along
+// the model's schedule, or one MPI_Reduce where no schedule is cheaper. On frames where nothing
+// is drawn only messages cost, and the tree reduce's log2(p) of them beat MPI_Reduce's (which
+// moves the whole frame); where every rank but the last covers every pixel the tree moves whole
+// frames too, ties with MPI_Reduce, and the tie goes to MPI_Reduce (no scan to run).
+TEST(Composite, AutoPicksTheModelsCheapestAndSaysWhich) {
+  const int ranks = world_size(), rank = world_rank();
+  const bool alone = ranks == 1;
+  // Covered: rank r draws every pixel at depth 0.5 + r / 64 (the last rank's pixels are the
+  // frames' largest key, so every other rank's are all active).
+  const auto covered = [&](int width, int height) {
+    Frame f = blank_frame(width, height);
+    std::fill(f.depth.begin(), f.depth.end(), 0.5f + float(rank) / 64.0f);
+    std::fill(f.rgba.begin(), f.rgba.end(), uint8_t(40 + rank));
+    return f;
+  };
+  struct Expect {
+    const char *what;
+    Frame frame;
+    size_t most_active;  // the busiest rank's active pixels
+  };
+  std::vector<Expect> cases;
+  cases.push_back({"tiny blank", blank_frame(4, 4), 0});
+  cases.push_back({"large blank", blank_frame(640, 480), 0});
+  cases.push_back({"tiny covered", covered(4, 4), alone ? 0u : 16u});
+  cases.push_back({"large covered", covered(640, 480), alone ? 0u : 640u * 480u});
+  std::vector<CompositeStats> stats(cases.size());
+  for (size_t i = 0; i < cases.size(); ++i)
+    EXPECT_OK(
+        composite_frames(MPI_COMM_WORLD, cases[i].frame, 0, CompositeMethod::kAuto, 0, &stats[i]));
+  for (size_t i = 0; i < cases.size(); ++i) {
+    const CompositeStats &st = stats[i];
+    if (alone) {
+      EXPECT_EQ(st.method, "none") << cases[i].what;
+      continue;
+    }
+    const size_t n = cases[i].frame.pixel_count();
+    CostEstimate best;
+    const CompositingSchedule s =
+        cheapest_schedule(ranks, n, cases[i].most_active, true, default_cost_model(), &best);
+    const CostEstimate reduce = estimate_reduce64(ranks, n, default_cost_model());
+    const bool reduce_wins = reduce.seconds <= best.seconds;
+    EXPECT_EQ(st.method, reduce_wins ? "reduce64" : "active_pixels") << cases[i].what;
+    EXPECT_EQ(st.schedule, reduce_wins ? "" : s.name()) << cases[i].what;
+    EXPECT_DOUBLE_EQ(st.model_ms, (reduce_wins ? reduce : best).seconds * 1e3) << cases[i].what;
+  }
+  if (alone) return;
+  EXPECT_EQ(stats[0].schedule, "tree_reduce");
+  EXPECT_EQ(stats[1].method, "active_pixels");
+  EXPECT_EQ(stats[2].method, "reduce64");
+}
+
+// Every schedule the model could choose for this rank count, with messages small enough that
+// every stream is cut into many: bit-identical to the serial merge, for every root.
+TEST(ActivePixels, EveryCandidateScheduleMatchesSerialMerge) {
+  if (world_size() == 1) GTEST_SKIP() << "needs two ranks";
+  for (const CompositingSchedule &s : candidate_schedules(world_size(), true)) {
+    CompositeOptions o;
+    o.method = CompositeMethod::kActivePixels;
+    o.schedule = s;
+    o.chunk_pixels = 97;
+    Case c;
+    c.seed = 8;
+    const Outcome out = composite_case(c, o, world_size() - 1);
+    expect_matches(out);
+    EXPECT_EQ(out.stats.schedule, s.name());
+    Case ties;
+    ties.flat = true;
+    ties.empty = Empty::kEvenRanks;
+    expect_matches(composite_case(ties, o, 0));
+  }
+}
+
+// Frames drawn everywhere, so that every stream's messages fill their bound. When the root takes
+// the blocks of several ranks at once, each sender sends to it alone: the senders must still cut
+// their messages to the root's share of its receive pool (a sender filling its whole pool once
+// overflowed the root's buffer, MPI_ERR_TRUNCATE, at three ranks and more). Every schedule, both
+// ends of the rank range as root, a pool of a few dozen pixels so that every stream is cut into
+// many messages; and the default chunk, where a stream is one large message.
+TEST(ActivePixels, FullyDrawnFramesMatchSerialMergeForEveryScheduleAndRoot) {
+  if (world_size() == 1) GTEST_SKIP() << "needs two ranks";
+  Case c;
+  c.width = 97;
+  c.height = 61;
+  c.covered = true;
+  for (const size_t chunk : {size_t(61), size_t(0)}) {
+    for (const CompositingSchedule &s : candidate_schedules(world_size(), true)) {
+      for (const int root : {0, world_size() - 1}) {
+        CompositeOptions o;
+        o.method = CompositeMethod::kActivePixels;
+        o.schedule = s;
+        o.chunk_pixels = chunk;
+        const Outcome out = composite_case(c, o, root);
+        expect_matches(out);
+        EXPECT_EQ(out.stats.schedule, s.name());
+      }
+    }
+  }
+}
+
+// Scratch is kept between calls and only grows, so ranks that composited with a larger chunk
+// before (here ranks 0 and 1 among themselves) hold larger buffers than the others. Message
+// bounds must follow this call's agreed chunk, not the buffers: otherwise ranks 0 and 1 send
+// messages the others cannot receive.
+TEST(ActivePixels, ScratchGrownByEarlierCallsOnSomeRanksLeavesMessageBoundsAgreed) {
+  if (world_size() < 3) GTEST_SKIP() << "needs three ranks";
+  Case c;
+  c.width = 97;
+  c.height = 61;
+  c.covered = true;
+  MPI_Comm pair = MPI_COMM_NULL;
+  MPI_Comm_split(MPI_COMM_WORLD, world_rank() < 2 ? 0 : 1, world_rank(), &pair);
+  int pair_rank = 0, pair_size = 1;
+  MPI_Comm_rank(pair, &pair_rank);
+  MPI_Comm_size(pair, &pair_size);
+  CompositeOptions large;
+  large.method = CompositeMethod::kActivePixels;
+  large.chunk_pixels = 8192;
+  Frame first = frame_of_rank(c, pair_rank, pair_size);
+  const Status first_status = composite_frames(pair, first, 0, large, nullptr);
+  MPI_Comm_free(&pair);
+  EXPECT_OK(first_status);
+  for (const CompositingSchedule &s : candidate_schedules(world_size(), true)) {
+    CompositeOptions o;
+    o.method = CompositeMethod::kActivePixels;
+    o.schedule = s;
+    o.chunk_pixels = 61;
+    const Outcome out = composite_case(c, o, world_size() - 1);
+    expect_matches(out);
+  }
+}
+
+// A rank sends what it drew: with one small sphere per rank, active pixels move a fraction of
+// what dense binary swap moves, and the stats count both sides of every message.
+TEST(ActivePixels, BytesFollowWhatWasDrawnAndAreCounted) {
+  if (world_size() == 1) GTEST_SKIP() << "needs two ranks";
+  Case c;
+  c.width = 400;
+  c.height = 300;
+  c.spheres_per_rank = 1;
+  c.seed = 9;
+  const int rank = world_rank();
+  Frame dense_frame = frame_of_rank(c, rank, world_size()), sparse_frame = dense_frame;
+  CompositeStats dense, sparse;
+  EXPECT_OK(
+      composite_frames(MPI_COMM_WORLD, dense_frame, 0, CompositeMethod::kBinarySwap, 0, &dense));
+  EXPECT_OK(composite_frames(MPI_COMM_WORLD, sparse_frame, 0, CompositeMethod::kActivePixels, 0,
+                             &sparse));
+  if (rank == 0) EXPECT_EQ(describe_difference(dense_frame, sparse_frame), "");
+  EXPECT_GT(sparse.active_pixels, 0u);
+  EXPECT_LT(sparse.active_pixels, c.width * c.height / 2u);
+  // Totals over the ranks: every byte sent was received.
+  uint64_t mine[4] = {sparse.traffic.bytes_sent, sparse.traffic.bytes_received,
+                      dense.traffic.bytes_sent, dense.traffic.bytes_received};
+  uint64_t total[4];
+  MPI_Allreduce(mine, total, 4, MPI_UINT64_T, MPI_SUM, MPI_COMM_WORLD);
+  EXPECT_EQ(total[0], total[1]);
+  EXPECT_EQ(total[2], total[3]);
+  EXPECT_GT(total[0], 0u);
+  // Dense binary swap sends (1 - 1/p) of the frame per rank plus the gather: 8 bytes a pixel.
+  EXPECT_LT(total[0] * 2, total[2]);
+  EXPECT_GT(sparse.traffic.messages_sent + sparse.traffic.messages_received, 0u);
+}
+
+TEST(ActivePixels, DifferentCostModelsOrSchedulesFailOnEveryRankWithoutDeadlock) {
+  if (world_size() == 1) GTEST_SKIP() << "needs two ranks";
+  Frame frame = blank_frame(32, 16);
+  CompositeCostModel model = default_cost_model();
+  if (world_rank() == 1) model.latency_s *= 2;
+  CompositeOptions o;
+  o.model = &model;
+  Status s = composite_frames(MPI_COMM_WORLD, frame, 0, o);
+  EXPECT_EQ(s.code, StatusCode::kMpi);
+  EXPECT_NE(s.message.find("cost models"), std::string::npos) << s.message;
+  CompositeOptions bad;
+  bad.method = CompositeMethod::kActivePixels;
+  bad.schedule = CompositingSchedule{world_size(), {world_size() + 1}, false};
+  s = composite_frames(MPI_COMM_WORLD, frame, 0, bad);
+  EXPECT_EQ(s.code, StatusCode::kMpi);
+  EXPECT_NE(s.message.find("does not fit"), std::string::npos) << s.message;
+  EXPECT_OK(composite_frames(MPI_COMM_WORLD, frame, 0));
+}
+
+TEST(CompositeCostModel, MeasuredModelIsTheSameOnEveryRank) {
+  CompositeCostModel model;
+  EXPECT_OK(measure_cost_model(MPI_COMM_WORLD, &model));
+  EXPECT_GT(model.latency_s, 0.0);
+  EXPECT_GT(model.bytes_per_s, 0.0);
+  EXPECT_EQ(model.measured, world_size() > 1);
+  double figures[2] = {model.latency_s, model.bytes_per_s}, low[2], high[2];
+  MPI_Allreduce(figures, low, 2, MPI_DOUBLE, MPI_MIN, MPI_COMM_WORLD);
+  MPI_Allreduce(figures, high, 2, MPI_DOUBLE, MPI_MAX, MPI_COMM_WORLD);
+  EXPECT_EQ(low[0], high[0]);
+  EXPECT_EQ(low[1], high[1]);
 }
 
 TEST(CompositeMethodNames, RoundTrip) {
-  for (const CompositeMethod m :
-       {CompositeMethod::kAuto, CompositeMethod::kReduce64, CompositeMethod::kReduceScatter,
-        CompositeMethod::kBinarySwap, CompositeMethod::kDirectSend}) {
+  for (const CompositeMethod m : {CompositeMethod::kAuto, CompositeMethod::kReduce64,
+                                  CompositeMethod::kReduceScatter, CompositeMethod::kBinarySwap,
+                                  CompositeMethod::kDirectSend, CompositeMethod::kActivePixels}) {
     CompositeMethod parsed = CompositeMethod::kAuto;
     EXPECT_TRUE(parse_composite_method(to_string(m), &parsed));
     EXPECT_EQ(parsed, m);
   }
   CompositeMethod untouched = CompositeMethod::kBinarySwap;
   EXPECT_FALSE(parse_composite_method("radix_k", &untouched));
+  EXPECT_TRUE(parse_composite_method("active_pixels", &untouched));
+  EXPECT_EQ(untouched, CompositeMethod::kActivePixels);
+  untouched = CompositeMethod::kBinarySwap;
   EXPECT_EQ(untouched, CompositeMethod::kBinarySwap);
 }
 
@@ -252,7 +482,7 @@ TEST(PackedPixel, KeysOrderByDepthThenColorAndRoundTrip) {
   EXPECT_EQ(std::vector<uint8_t>(rgba, rgba + 4), std::vector<uint8_t>(red, red + 4));
 }
 
-// 6144 x 3072 (the tiled-display size of seed 001); run at 2 ranks.
+// 6144 x 3072 (the tiled-display size of Rizzi et al. 2015); run at 2 ranks.
 TEST(LargeImage, TiledDisplaySizeMatchesSerialMerge) {
   Case c;
   c.width = 6144;
@@ -263,7 +493,8 @@ TEST(LargeImage, TiledDisplaySizeMatchesSerialMerge) {
   const Frame expected = rank == 0 ? expected_image(c, ranks) : Frame{};
   // One chunked MPI reduction and one point-to-point method (what kAuto runs): the other methods
   // share their loops, which the small-chunk tests cover.
-  for (const CompositeMethod m : {CompositeMethod::kReduce64, CompositeMethod::kBinarySwap}) {
+  for (const CompositeMethod m :
+       {CompositeMethod::kReduce64, CompositeMethod::kBinarySwap, CompositeMethod::kActivePixels}) {
     Frame frame = frame_of_rank(c, rank, ranks);
     EXPECT_OK(composite_frames(MPI_COMM_WORLD, frame, 0, m));
     if (rank == 0) EXPECT_EQ(describe_difference(frame, expected), "") << to_string(m);

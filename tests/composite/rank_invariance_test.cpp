@@ -1,8 +1,9 @@
 // Rank-count invariance of the whole pipeline through the C API: the same particles, rendered on
 // one rank (rank 0 alone, MPI_COMM_SELF) and on every rank of MPI_COMM_WORLD under several
 // splits (all on one rank, round robin, blocks, slabs, hashed), give pixel-identical images in
-// both projections and every coloring - with bonds too, in both listings, with ghosts and
-// periodic images. Run under mpiexec with 1, 2, 3, 4 and 8 ranks.
+// both projections and every coloring, with a camera that moves with the step, and with bonds
+// too, in both listings, with ghosts and periodic images. Run under mpiexec with 1, 2, 3, 4 and 8
+// ranks.
 #include <gtest/gtest.h>
 
 #include <mpi.h>
@@ -140,23 +141,28 @@ std::string scene_yaml(const std::string &name, const std::string &projection,
          "\n    output: {pattern: \"" + pattern + "\"}\n";
 }
 
-// `top`: extra top-level keys; `each`: extra keys for every scene (indented by four spaces).
+// `top`: extra top-level keys; `each`: extra keys for every scene (indented by four spaces);
+// `colored`: extra keys for the scenes colored by type or scalar (not solid).
 std::string config_yaml(const std::string &directory, const std::string &prefix,
-                        const std::string &top = "", const std::string &each = "") {
+                        const std::string &top = "", const std::string &each = "",
+                        const std::string &colored = "") {
   const std::string pattern = directory + "/" + prefix + "_{scene}_{step:06d}.png";
   const auto scene_yaml = [&each](auto &&...args) {
     return ::lantern::testing::scene_yaml(args...) + each;
   };
   return top + "scenes:\n" + scene_yaml("persp_type", "perspective", "{by: type}", "0.4", pattern) +
+         colored +
          scene_yaml("persp_scalar", "perspective", "{by: scalar, colormap: viridis}",
                     "per_particle", pattern) +
+         colored +
          scene_yaml("persp_solid", "perspective", "{by: solid, solid: [0.9, 0.5, 0.1]}", "0.4",
                     pattern) +
-         scene_yaml("ortho_type", "orthographic", "{by: type}", "per_particle", pattern) +
+         scene_yaml("ortho_type", "orthographic", "{by: type}", "per_particle", pattern) + colored +
          scene_yaml("ortho_scalar", "orthographic",
                     "{by: scalar, colormap: coolwarm, range: [-5, 5]}", "0.4", pattern) +
+         colored +
          scene_yaml("ortho_solid", "orthographic", "{by: solid}", "per_particle", pattern) +
-         scene_yaml("persp_zoom", "perspective", "{by: type}", "0.4", pattern, 6.0);
+         scene_yaml("persp_zoom", "perspective", "{by: type}", "0.4", pattern, 6.0) + colored;
 }
 
 std::string file_of(const std::string &directory, const std::string &prefix,
@@ -210,6 +216,12 @@ Render render_once(MPI_Comm comm, const std::string &config, const Particles &mi
   lantern_context *ctx = nullptr;
   r.status = lantern_open(config.c_str(), MPI_Comm_c2f(comm), &ctx);
   if (r.status == LANTERN_OK) {
+    // The simulation box (the overlays' box: rank 0's is drawn), the same on every rank.
+    const double low[3] = {-0.5, -0.5, -0.5}, high[3] = {10.5, 10.5, 10.5};
+    const int periodic[3] = {1, 1, 0};
+    r.status = lantern_set_box(ctx, low, high, periodic);
+  }
+  if (r.status == LANTERN_OK) {
     const lantern_particles d = describe(mine);
     r.status = lantern_publish(ctx, &d);
     // Publishing is local: every rank must still enter the collective execute.
@@ -223,16 +235,17 @@ Render render_once(MPI_Comm comm, const std::string &config, const Particles &mi
 
 // Renders `all` on rank 0 alone, then under every split on all ranks; compares on rank 0.
 void expect_rank_invariant(const Particles &all, const std::string &label,
-                           const std::string &top = "", const std::string &each = "") {
+                           const std::string &top = "", const std::string &each = "",
+                           const std::string &colored = "") {
   const std::string dir = shared_directory();
   ASSERT_FALSE(dir.empty());
   const int rank = world_rank(), ranks = world_size();
   if (rank == 0) {
     const Render ref =
-        render_once(MPI_COMM_SELF, config_yaml(dir, label + "_ref", top, each), all, 0);
+        render_once(MPI_COMM_SELF, config_yaml(dir, label + "_ref", top, each, colored), all, 0);
     EXPECT_EQ(ref.status, LANTERN_OK) << ref.error;
   }
-  const std::string config = config_yaml(dir, label, top, each);
+  const std::string config = config_yaml(dir, label, top, each, colored);
   for (size_t s = 0; s < std::size(kSplits); ++s) {
     const Render r =
         render_once(MPI_COMM_WORLD, config, owned_by(kSplits[s], all, rank, ranks), int(s));
@@ -276,7 +289,7 @@ TEST(RankInvariance, SameImagesWithSixteenSamples) {
   expect_rank_invariant(make_particles(1500), "ssaa16", "", "    samples: 16\n");
 }
 
-// Every depth cue at once (issue 13): screen ambient occlusion, outlines and depth cueing run on
+// Every depth cue at once: screen ambient occlusion, outlines and depth cueing run on
 // row bands of the composited frame, which must not show in the image; see-through types are
 // dithered on the image's pixel grid, whoever draws them.
 TEST(RankInvariance, SameImagesWithEveryDepthCue) {
@@ -287,6 +300,41 @@ TEST(RankInvariance, SameImagesWithEveryDepthCue) {
                         "    opacity: [0.5, 1, 0.25]\n"
                         "    lighting: {direction: [-0.5, 0.7, 0.5], ambient: 0.3, "
                         "specular: 0.5, shininess: 30}\n");
+}
+
+// Screen ambient occlusion at full resolution (the default, half, is in the test above), and at
+// half resolution on a super-sampled frame's down-sampled bands.
+TEST(RankInvariance, SameImagesWithFullResolutionAmbientOcclusion) {
+  expect_rank_invariant(make_particles(1500), "ao_full", "",
+                        "    ambient_occlusion: {method: screen, resolution: full}\n");
+}
+
+TEST(RankInvariance, SameImagesWithAmbientOcclusionOnFourSamples) {
+  expect_rank_invariant(make_particles(1500), "ao_ssaa4", "",
+                        "    samples: 4\n    ambient_occlusion: {method: screen, radius: 1.2}\n");
+}
+
+// Overlays, drawn on rank 0 over the finished image: labels in two corners, the simulation box
+// (depth-tested against the composited depth, which every split must give alike), the axis
+// triad, and a legend (colour bar or type key) in every coloured scene; with four samples too
+// (the overlays go over the down-sampled image).
+TEST(RankInvariance, SameImagesWithOverlays) {
+  const std::string box = "    box: {color: [0.9, 0.9, 0.9], width: 1.5}\n";
+#if LANTERN_TEST_TEXT
+  const std::string overlays =
+      box +
+      "    labels: [{text: 'scene {scene}', size: 14}, {text: 'Lantern', position: top_right, "
+      "size: 12, color: [1, 1, 0]}]\n"
+      "    axes: {size: 40, font_size: 10}\n";
+  const std::string legend =
+      "    legend: {font_size: 10, length: 60, width: 8, color: [1, 1, 1], "
+      "type_names: [a, b, c, d, e]}\n";
+#else
+  const std::string overlays = box, legend;
+#endif
+  expect_rank_invariant(make_particles(1500), "overlays", "", overlays, legend);
+  expect_rank_invariant(make_particles(1500), "overlays_ssaa4", "", overlays + "    samples: 4\n",
+                        legend);
 }
 
 // Object-space ambient occlusion: a density volume summed over ranks, per-particle colours.
@@ -420,23 +468,33 @@ std::string sequence_config(const std::string &directory, const std::string &pre
          scene("custom", "{by: scalar, colormap: [[0, 0, 0.5], [1, 1, 0], [1, 0, 0]]}");
 }
 
-// Renders steps 0..steps-1 in one context on comm: at step k the scalars are scaled by 1 + k.
-Render render_sequence(MPI_Comm comm, const std::string &config, Particles mine, int steps) {
+// Renders `steps` in order in one context on comm; with `grow_scalars`, the scalars at step k
+// are scaled by 1 + k.
+Render render_steps(MPI_Comm comm, const std::string &config, Particles mine,
+                    const std::vector<int> &steps, bool grow_scalars = false) {
   Render r;
   lantern_context *ctx = nullptr;
   r.status = lantern_open(config.c_str(), MPI_Comm_c2f(comm), &ctx);
   const std::vector<double> scalar = mine.scalar;
-  for (int step = 0; step < steps && r.status == LANTERN_OK; ++step) {
-    for (size_t i = 0; i < scalar.size(); ++i) mine.scalar[i] = scalar[i] * (1.0 + step);
+  for (size_t k = 0; k < steps.size() && r.status == LANTERN_OK; ++k) {
+    if (grow_scalars)
+      for (size_t i = 0; i < scalar.size(); ++i) mine.scalar[i] = scalar[i] * (1.0 + steps[k]);
     const lantern_particles d = describe(mine);
     r.status = lantern_publish(ctx, &d);
-    const lantern_status executed = lantern_execute(ctx, step, double(step));
+    const lantern_status executed = lantern_execute(ctx, steps[k], double(steps[k]));
     if (r.status == LANTERN_OK) r.status = executed;
   }
   r.error = lantern_error_message(ctx);
   const lantern_status closed = lantern_close(ctx);
   if (r.status == LANTERN_OK) r.status = closed;
   return r;
+}
+
+// Renders steps 0..steps-1 in one context on comm: at step k the scalars are scaled by 1 + k.
+Render render_sequence(MPI_Comm comm, const std::string &config, const Particles &mine, int steps) {
+  std::vector<int> all(size_t(steps), 0);
+  for (int k = 0; k < steps; ++k) all[size_t(k)] = k;
+  return render_steps(comm, config, mine, all, true);
 }
 
 TEST(RankInvariance, RememberedColorRangesColormapsAndMoviesAreTheSameForEveryRankCount) {
@@ -480,6 +538,78 @@ TEST(RankInvariance, RememberedColorRangesColormapsAndMoviesAreTheSameForEveryRa
               "");
     EXPECT_NE(compare_images(file_of(dir, "ref", "first_turbo", kSteps - 1),
                              file_of(dir, "ref", "frame_turbo", kSteps - 1)),
+              "");
+    std::system(("rm -rf '" + dir + "'").c_str());
+  }
+  MPI_Barrier(MPI_COMM_WORLD);
+}
+
+// A camera that moves with the step (camera.path, camera.orbit): resolved from the configuration
+// and the step alone, so the same on every rank. A keyframed path in perspective, the orbit in
+// orthographic, and a path with four samples and outlines (the final image's camera is built a
+// second time there). Steps between keyframes, at one, at the last and after it.
+const char *const kMovingScenes[] = {"path_persp", "orbit_ortho", "path_cues"};
+const int kMovingSteps[] = {0, 25, 40, 70, 100, 130};
+
+std::string moving_camera_config(const std::string &directory, const std::string &prefix) {
+  const std::string pattern = directory + "/" + prefix + "_{scene}_{step:06d}.png";
+  const std::string path =
+      "{path: [{step: 0, azimuth: 10, elevation: 10, zoom: 1}, "
+      "{step: 40, azimuth: 150, elevation: 45, zoom: 1.8}, {step: 100, azimuth: 260, "
+      "elevation: -20, zoom: 1.2}]}";
+  const auto scene = [&](const std::string &name, const std::string &camera,
+                         const std::string &extra) {
+    return "  - name: " + name +
+           "\n    width: 120\n    height: 90\n    background: [0.1, 0.2, 0.3]\n"
+           "    radius: per_particle\n    camera: " +
+           camera + "\n    color: {by: type}\n    output: {pattern: '" + pattern + "'}\n" + extra;
+  };
+  return "scenes:\n" + scene("path_persp", path, "") +
+         scene("orbit_ortho",
+               "{projection: orthographic, azimuth: 35, elevation: 25, zoom: 1.3, orbit: "
+               "{degrees_per_step: 3}}",
+               "") +
+         scene("path_cues", path, "    samples: 4\n    outline: {width: 2}\n");
+}
+
+TEST(RankInvariance, MovingCameraIsTheSameForEveryRankCountAndSplitAndMovesWithTheStep) {
+  const Particles all = make_particles(1200);
+  const std::vector<int> steps(std::begin(kMovingSteps), std::end(kMovingSteps));
+  const std::string dir = shared_directory();
+  ASSERT_FALSE(dir.empty());
+  const int rank = world_rank(), ranks = world_size();
+  if (rank == 0) {
+    const Render ref = render_steps(MPI_COMM_SELF, moving_camera_config(dir, "ref"), all, steps);
+    EXPECT_EQ(ref.status, LANTERN_OK) << ref.error;
+  }
+  const Split splits[] = {Split::kRoundRobin, Split::kSlabsByX, Split::kAllOnLast};
+  for (const Split split : splits) {
+    const Render r = render_steps(MPI_COMM_WORLD, moving_camera_config(dir, split_name(split)),
+                                  owned_by(split, all, rank, ranks), steps);
+    EXPECT_EQ(r.status, LANTERN_OK) << split_name(split) << ": " << r.error;
+  }
+  if (rank == 0) {
+    for (const Split split : splits)
+      for (const char *scene : kMovingScenes)
+        for (const int step : steps)
+          EXPECT_EQ(compare_images(file_of(dir, "ref", scene, step),
+                                   file_of(dir, split_name(split), scene, step)),
+                    "")
+              << split_name(split) << ", scene " << scene << ", step " << step << ", " << ranks
+              << " ranks";
+    // The camera moves: every frame up to the path's last keyframe differs from the one before;
+    // after it the path holds its end (the orbit goes on turning).
+    for (const char *scene : kMovingScenes)
+      for (size_t k = 1; k + 1 < steps.size(); ++k)
+        EXPECT_NE(compare_images(file_of(dir, "ref", scene, steps[k - 1]),
+                                 file_of(dir, "ref", scene, steps[k])),
+                  "")
+            << "scene " << scene << ": steps " << steps[k - 1] << " and " << steps[k];
+    EXPECT_EQ(compare_images(file_of(dir, "ref", "path_persp", 100),
+                             file_of(dir, "ref", "path_persp", 130)),
+              "");
+    EXPECT_NE(compare_images(file_of(dir, "ref", "orbit_ortho", 100),
+                             file_of(dir, "ref", "orbit_ortho", 130)),
               "");
     std::system(("rm -rf '" + dir + "'").c_str());
   }

@@ -153,6 +153,34 @@ scenes:
   EXPECT_EQ(s.cuts[0].offset, 2);
 }
 
+// A keyframe's left-out keys carry the previous keyframe's values, the first's the camera's.
+TEST(ConfigDefaults, CameraPathKeyframesCarryLeftOutKeys) {
+  const Config c = load_ok(R"(
+scenes:
+  - camera:
+      azimuth: 15
+      zoom: 2
+      path:
+        - {step: 0, elevation: 30}
+        - {step: 500, azimuth: 180}
+        - {step: 800, zoom: 4, elevation: -10}
+)");
+  const CameraConfig &cam = c.scenes[0].camera;
+  ASSERT_EQ(cam.path.size(), 3u);
+  EXPECT_TRUE(cam.moves());
+  const double expected[3][4] = {{0, 15, 30, 2}, {500, 180, 30, 2}, {800, 180, -10, 4}};
+  for (size_t i = 0; i < 3; ++i) {
+    EXPECT_EQ(cam.path[i].step, expected[i][0]) << i;
+    EXPECT_EQ(cam.path[i].azimuth, expected[i][1]) << i;
+    EXPECT_EQ(cam.path[i].elevation, expected[i][2]) << i;
+    EXPECT_EQ(cam.path[i].zoom, expected[i][3]) << i;
+  }
+  const Config orbit = load_ok("scenes:\n  - camera: {orbit: {degrees_per_step: -0.25}}\n");
+  EXPECT_TRUE(orbit.scenes[0].camera.orbit.enabled);
+  EXPECT_EQ(orbit.scenes[0].camera.orbit.degrees_per_step, -0.25);
+  EXPECT_FALSE(load_ok("scenes: [{}]\n").scenes[0].camera.moves());
+}
+
 TEST(ConfigDefaults, FormatFollowsPatternExtension) {
   const std::vector<std::pair<std::string, ImageFormat>> cases = {
       {"a.png", ImageFormat::kPng},  {"a.jpg", ImageFormat::kJpeg},  {"a.JPEG", ImageFormat::kJpeg},

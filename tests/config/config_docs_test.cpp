@@ -26,6 +26,8 @@ const std::map<std::string, std::string> kReadmeAnchors = {
     {"schedule", "## `schedule`"},
     {"scenes[]", "## `scenes[i]`"},
     {"scenes[].camera", "### `camera`"},
+    {"scenes[].camera.path[]", "#### `camera.path`: a camera that moves"},
+    {"scenes[].camera.orbit", "#### `camera.orbit`: a steady turn"},
     {"scenes[].color", "### `color`"},
     {"scenes[].output", "### `output`"},
     {"scenes[].output.movie", "#### `output.movie`: a movie written while the simulation runs"},
@@ -38,6 +40,10 @@ const std::map<std::string, std::string> kReadmeAnchors = {
     {"scenes[].density", "### `style: density` and `density`"},
     {"scenes[].lighting", "### `lighting`: the light of the spheres"},
     {"scenes[].bonds", "### `bonds`: cylinders between bonded atoms"},
+    {"scenes[].labels[]", "`labels[k]` (a list; several per scene):"},
+    {"scenes[].legend", "`legend`:"},
+    {"scenes[].box", "`box`:"},
+    {"scenes[].axes", "`axes`:"},
     {"dump", "## `dump`"},
     {"lammps", "## `lammps`"},
 };
@@ -177,9 +183,10 @@ TEST(ConfigDocs, SectionsAreTheLoadersOwn) {
   EXPECT_EQ(sections.front().label, "the top level");
   std::map<std::string, std::vector<std::string>> by_label;
   for (const ConfigSection &s : sections) by_label[s.label] = s.keys;
-  EXPECT_EQ(by_label["scenes[].camera"],
-            (std::vector<std::string>{"projection", "fov", "azimuth", "elevation", "zoom",
-                                      "position", "look_at", "up", "near", "far"}));
+  EXPECT_EQ(
+      by_label["scenes[].camera"],
+      (std::vector<std::string>{"projection", "fov", "azimuth", "elevation", "zoom", "position",
+                                "look_at", "up", "near", "far", "path", "orbit"}));
   EXPECT_EQ(by_label.count("dump.schedule"), 0u) << "dump.schedule is the top-level schedule";
   EXPECT_EQ(by_label.count("scenes[].cut_planes[]"), 1u);
 }

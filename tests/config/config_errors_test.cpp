@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <fstream>
+#include <string>
 
 #include "core/config/config_loader.h"
 #include "tests/support/config_error_expect.h"
@@ -67,7 +68,7 @@ TEST(ConfigErrors, MalformedYamlGivesLineAndColumn) {
 
 TEST(ConfigErrors, UnreadableFileIsNamed) {
   expect_config_error("/nonexistent/lantern.yaml", {"/nonexistent/lantern.yaml", "No such file"});
-  expect_config_error("/tmp", {"'/tmp'", "Is a directory"});
+  expect_config_error("/tmp", {"'/tmp'", "is a directory, not a regular file"});
 }
 
 TEST(ConfigErrors, NothingToDo) {
@@ -118,6 +119,56 @@ TEST(ConfigErrors, Camera) {
   expect_config_error("scenes:\n  - camera: {up: [0, 0, 0]}\n", {"scenes[0].camera.up", "zero"});
   expect_config_error("scenes:\n  - camera: {near: 10, far: 5}\n",
                       {"scenes[0].camera.far", "> 10"});
+}
+
+TEST(ConfigErrors, CameraPath) {
+  const std::string scene = "scenes:\n  - camera:\n      path:\n";
+  expect_config_error(scene + "        - {step: 0}\n        - {step: 500, azimuth: 90}\n" +
+                          "        - {step: 200, azimuth: 180}\n",
+                      {"scenes[0].camera.path[2]", "line 6", "step 200",
+                       "previous keyframe's step 500", "increasing step order"});
+  expect_config_error(scene + "        - {step: 10}\n        - {step: 10, zoom: 2}\n",
+                      {"scenes[0].camera.path[1]", "step 10 is not after"});
+  expect_config_error(scene + "        - {step: 0, azimth: 10}\n",
+                      {"scenes[0].camera.path[0].azimth", "line 4", "did you mean 'azimuth'?",
+                       "step, azimuth, elevation, zoom"});
+  expect_config_error(scene + "        - {step: 0, azimuth: .nan}\n",
+                      {"scenes[0].camera.path[0].azimuth", "finite"});
+  expect_config_error(scene + "        - {step: 0, zoom: .inf}\n",
+                      {"scenes[0].camera.path[0].zoom", "> 0"});
+  expect_config_error(scene + "        - {step: 0, elevation: 95}\n",
+                      {"scenes[0].camera.path[0].elevation", "[-90, 90]"});
+  expect_config_error(scene + "        - {step: -1}\n", {"scenes[0].camera.path[0].step"});
+  expect_config_error(scene + "        - {azimuth: 10}\n",
+                      {"scenes[0].camera.path[0]", "needs 'step'"});
+  expect_config_error(scene + "        - 5\n", {"scenes[0].camera.path[0]", "mapping"});
+  expect_config_error("scenes:\n  - camera: {path: []}\n",
+                      {"scenes[0].camera.path", "at least one keyframe"});
+  expect_config_error(
+      scene + "        - {step: 0, azimuth: 0}\n        - {step: 9, azimuth: 360}\n",
+      {"scenes[0].camera.path[1].azimuth", "line 5", "turns 360 degrees",
+       "add a keyframe in between"});
+  expect_config_error("scenes:\n  - camera:\n      position: [0, 0, 9]\n      path: [{step: 0}]\n",
+                      {"scenes[0].camera.path", "line 4", "explicit camera"});
+  expect_config_error(
+      "scenes:\n  - camera:\n      path: [{step: 0}]\n      orbit: {degrees_per_step: 1}\n",
+      {"scenes[0].camera.orbit", "line 4", "not both"});
+}
+
+TEST(ConfigErrors, CameraOrbit) {
+  expect_config_error("scenes:\n  - camera: {orbit: {}}\n",
+                      {"scenes[0].camera.orbit", "needs 'degrees_per_step'"});
+  expect_config_error("scenes:\n  - camera: {orbit: {degrees_per_step: 400}}\n",
+                      {"scenes[0].camera.orbit.degrees_per_step", "[-360, 360]"});
+  expect_config_error("scenes:\n  - camera: {orbit: {degrees_per_step: .nan}}\n",
+                      {"scenes[0].camera.orbit.degrees_per_step", "finite"});
+  expect_config_error(
+      "scenes:\n  - camera: {orbit: {degrees_per_stp: 1}}\n",
+      {"scenes[0].camera.orbit.degrees_per_stp", "did you mean 'degrees_per_step'?"});
+  expect_config_error("scenes:\n  - camera: {orbit: 2}\n",
+                      {"scenes[0].camera.orbit", "{degrees_per_step: d}"});
+  expect_config_error("scenes:\n  - camera: {position: [1, 1, 1], orbit: {degrees_per_step: 1}}\n",
+                      {"scenes[0].camera.orbit", "explicit camera"});
 }
 
 TEST(ConfigErrors, Color) {
@@ -196,11 +247,12 @@ TEST(ConfigErrors, TopLevelTypes) {
   expect_config_error("verbose: loud\nscenes: [{}]\n", {"verbose", "line 1", "true or false"});
   expect_config_error("stats: [a]\nscenes: [{}]\n", {"stats", "string"});
   expect_config_error("dump: {precision: float16}\n", {"dump.precision", "float32, float64"});
+  expect_config_error("dump: {mode: truncate}\n", {"dump.mode", "create, append, overwrite"});
   expect_config_error("dump: {fields: [position, velocity]}\n",
                       {"dump.fields[1]", "position, type, scalar, radius, id"});
 }
 
-// Issue #17 item 3a: a NUL inside a string ("\0" in a double-quoted YAML string) used to be
+// A NUL inside a string ("\0" in a double-quoted YAML string) used to be
 // accepted, and the operating system cut the file name there (every step wrote "o/a").
 TEST(ConfigErrors, NulCharacterInAStringIsRejectedNamingTheKey) {
   expect_config_error(
@@ -211,7 +263,7 @@ TEST(ConfigErrors, NulCharacterInAStringIsRejectedNamingTheKey) {
   expect_config_error("scenes:\n  - name: \"a\\0b\"\n", {"scenes[0].name", "line 2"});
 }
 
-// Issue #17 item 3b: a second document used to be ignored without a word.
+// A second document used to be ignored without a word.
 TEST(ConfigErrors, SecondYamlDocumentIsAnError) {
   expect_config_error("scenes: [{}]\n---\nscenes: [{width: 8}]\n",
                       {"second YAML document", "line 3", "one document"});
@@ -221,7 +273,7 @@ TEST(ConfigErrors, SecondYamlDocumentIsAnError) {
   EXPECT_TRUE(load_config("---\nscenes: [{}]\n...\n", &c).ok());
 }
 
-// Issue #17 item 5: a binary file read as configuration gave a message carrying its raw bytes.
+// A binary file read as configuration gave a message carrying its raw bytes.
 TEST(ConfigErrors, BinaryContentIsEscapedAndCutShort) {
   std::string bytes;
   uint32_t x = 12345;
@@ -252,8 +304,9 @@ TEST(ConfigErrors, BinaryContentIsEscapedAndCutShort) {
   expect_config_error("\"\\x01\": 1\n", {"unknown key '\\x01'"});
 }
 
-// Seed 004's keys: C_occ strictly inside (0, 1), the budget and patience whole numbers in range,
-// and a renderer that can serve probabilistic culling (only the CPU raster can).
+// The probabilistic culling keys (Ibrahim et al. 2022): C_occ strictly inside (0, 1), the budget
+// and patience whole numbers in range, and a renderer that can serve probabilistic culling (only
+// the CPU raster can).
 TEST(ConfigErrors, ProbabilisticCulling) {
   for (const char *bad : {"0", "1", "1.5", "x"})
     expect_config_error(

@@ -1,4 +1,4 @@
-// The depth-cue keys (issue 13): off by default, bare sections on with defaults, and bad values
+// The depth-cue keys: off by default, bare sections on with defaults, and bad values
 // rejected naming key, line and the allowed range.
 #include <gtest/gtest.h>
 
@@ -37,6 +37,7 @@ TEST(DepthCueKeys, BareSectionsTurnTheCuesOnWithDefaults) {
   EXPECT_EQ(s.ambient_occlusion.method, AmbientOcclusionMethod::kScreen);
   EXPECT_FALSE(s.ambient_occlusion.radius.has_value());
   EXPECT_EQ(s.ambient_occlusion.samples, 16);
+  EXPECT_EQ(s.ambient_occlusion.resolution, AoResolution::kHalf);
   EXPECT_TRUE(s.outline.enabled);
   EXPECT_EQ(s.outline.width, 1);
   EXPECT_EQ(s.outline.depth_threshold, 1.0);
@@ -49,7 +50,7 @@ TEST(DepthCueKeys, GivenValuesAreRead) {
   ASSERT_OK(
       load_config("scenes:\n"
                   "  - ambient_occlusion: {method: screen, radius: 2.5, samples: 32, "
-                  "strength: 0.25}\n"
+                  "strength: 0.25, resolution: full}\n"
                   "    outline: {width: 3, color: [1, 0, 0], depth_threshold: 0.5}\n"
                   "    depth_cue: {start: 5, end: 9, color: [0, 0, 1]}\n",
                   &c));
@@ -57,6 +58,7 @@ TEST(DepthCueKeys, GivenValuesAreRead) {
   EXPECT_EQ(*s.ambient_occlusion.radius, 2.5);
   EXPECT_EQ(s.ambient_occlusion.samples, 32);
   EXPECT_EQ(s.ambient_occlusion.strength, 0.25);
+  EXPECT_EQ(s.ambient_occlusion.resolution, AoResolution::kFull);
   EXPECT_EQ(s.outline.width, 3);
   EXPECT_EQ(s.outline.color, (std::array<double, 3>{1, 0, 0}));
   EXPECT_EQ(s.outline.depth_threshold, 0.5);
@@ -78,6 +80,8 @@ TEST(DepthCueKeys, BadValuesNameKeyLineAndRange) {
                       {"ambient_occlusion.samples", "64"});
   expect_config_error("scenes:\n  - ambient_occlusion: {method: volume}\n",
                       {"scenes[0].ambient_occlusion.method", "line 2", "screen", "object"});
+  expect_config_error("scenes:\n  - ambient_occlusion: {resolution: quarter}\n",
+                      {"scenes[0].ambient_occlusion.resolution", "line 2", "half", "full"});
   expect_config_error("scenes:\n  - outline: {width: 0}\n",
                       {"scenes[0].outline.width", "line 2", "16"});
   expect_config_error("scenes:\n  - outline: {depth_threshold: -1}\n",

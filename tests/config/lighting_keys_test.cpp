@@ -1,4 +1,4 @@
-// The lighting keys (issue 13, core/config/lighting.h): absent = the default headlight, given
+// The lighting keys (core/config/lighting.h): absent = the default headlight, given
 // values read (the direction normalised), bad values rejected naming key, line and range.
 #include <gtest/gtest.h>
 

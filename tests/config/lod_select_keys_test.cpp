@@ -1,4 +1,4 @@
-// lod.select (issue 14 item 3): uniform by default, nearest on request, anything else refused
+// lod.select: uniform by default, nearest on request, anything else refused
 // naming key, line and the allowed words.
 #include <gtest/gtest.h>
 

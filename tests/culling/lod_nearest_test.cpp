@@ -1,4 +1,4 @@
-// lod.select: nearest (issue 14 item 3): an opaque brick keeps its `keep` particles nearest the
+// lod.select: nearest: an opaque brick keeps its `keep` particles nearest the
 // camera at their own radius. On a dense block seen face-on the dropped ones are exactly the
 // hidden ones, so the image is bit-identical to the full render (the uniform prefix at the same
 // fraction is not); keeping everything changes nothing; the selection is deterministic and keeps

@@ -1,5 +1,5 @@
-// The nine-spheres rule of seed 000 §3.2 on its auxiliary grid, and through the culler with seed
-// 003's equivalent radius against brute force.
+// The nine-spheres rule (the nine-spheres paper, §3.2) on its auxiliary grid, and through the
+// culler with the conference version's equivalent radius against brute force.
 #include <gtest/gtest.h>
 
 #include <cstdio>
@@ -60,11 +60,12 @@ TEST(NineSpheres, ImageBorderPixelsAreNeverHidden) {
   EXPECT_TRUE(grid.test_and_record(1, 2, 5.0f, 0.1f));
 }
 
-// Seed 003's equivalent radius in the setting of the nine-circles covering theorem: spheres of
-// equal projected size (radius proportional to depth, so a nearer occluder is smaller in world
-// units and the world-radius rule never lets it hide anything), larger than a pixel, whose nine
-// occluders lie wholly in front of the sphere they hide. Every culled sphere must be one that
-// brute force (the CPU raster of every sphere, its per-pixel owner) does not show.
+// The equivalent radius of the nine-spheres paper's conference version in the setting of the
+// nine-circles covering theorem: spheres of equal projected size (radius proportional to depth, so
+// a nearer occluder is smaller in world units and the world-radius rule never lets it hide
+// anything), larger than a pixel, whose nine occluders lie wholly in front of the sphere they hide.
+// Every culled sphere must be one that brute force (the CPU raster of every sphere, its per-pixel
+// owner) does not show.
 //
 // Projected radii stay in [1, 1.4] px: the theorem counts a pixel as covered when a circle
 // overlaps any of its area, while the renderers sample pixel centres; below 1.5 px every centre

@@ -1,4 +1,4 @@
-// Seed 004's probabilistic occlusion culling (occlusion: probabilistic): the binomial tail of
+// Ibrahim et al.'s probabilistic occlusion culling (occlusion: probabilistic): the binomial tail of
 // eq. 21 against exact sums, algorithm 1's buffers, determinism, the class-P guarantee, and the
 // limit C_occ -> 1 against brute force, all through the CPU sphere pass.
 #include <gtest/gtest.h>
@@ -271,7 +271,7 @@ TEST_F(Probabilistic, TwoRunsGiveTheSameBytesAndCullMuchOfACrystal) {
 
 // Every meshlet in class P is drawn in full; raising C_occ culls no more, and the image stays
 // that of brute force: at 0.99 and above exactly (the limit), below within 0.1% of the pixels
-// (seed 004's anchor), while 0.9 culls a real share (so the comparison is not vacuous).
+// (the paper's anchor), while 0.9 culls a real share (so the comparison is not vacuous).
 TEST_F(Probabilistic, NeverCullsClassPAndTendsToBruteForceAsConfidenceRises) {
   const Crystal c(20);  // 32,000 atoms of about 0.4 px radius: several per pixel
   const Rendered brute = render(c, scene(64, OcclusionMode::kNone));
@@ -303,8 +303,8 @@ TEST_F(Probabilistic, NeverCullsClassPAndTendsToBruteForceAsConfidenceRises) {
   }
 }
 
-// Seed 004's §5.3 to the letter (quiet_share 0: no meshlet may change class) runs the default's
-// iterations and then goes on while any class still moves: with random numbers keyed by
+// Ibrahim et al. 2022, §5.3 to the letter (quiet_share 0: no meshlet may change class) runs the
+// default's iterations and then goes on while any class still moves: with random numbers keyed by
 // (step, pixel, sample, iteration) it repeats the default run and continues, so it samples at
 // least as long and culls at least as much, and on this crystal measurably more of both.
 TEST_F(Probabilistic, StrictConvergenceGoesOnWhereTheDefaultToleranceStops) {

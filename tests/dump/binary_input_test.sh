@@ -1,7 +1,7 @@
 #!/bin/bash
 # binary_input_test.sh WORK_DIR LANTERN_RENDER CONFIG.yaml DUMP: lantern-render given a file of
 # binary bytes, as its input and as its configuration, fails with a message that holds only
-# printable ASCII (file content escaped, e.g. \x8f) and is cut short (issue #17 item 5).
+# printable ASCII (file content escaped, e.g. \x8f) and is cut short.
 work=$1 render=$2 config=$3 dump=$4
 fail() { echo "FAIL: $*"; exit 1; }
 mkdir -p "$work" && cd "$work" || exit 1

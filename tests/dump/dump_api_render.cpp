@@ -4,7 +4,7 @@
 //
 //   dump_api_render CONFIG.yaml DUMP.lammpstrj [varying]
 //
-// With `varying`, the particle count changes from step to step (issue 17 item 11): step 0 has
+// With `varying`, the particle count changes from step to step: step 0 has
 // 3000 particles, step 10 loses every fifth (2400, from the middle of the id range, as
 // evaporation would), step 20 gains new ones beyond the first count (3200).
 #include <mpi.h>

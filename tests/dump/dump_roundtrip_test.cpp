@@ -287,7 +287,7 @@ Context open_dump_and_scene(const MpiScratchDir &dir, const std::string &stats) 
   return ctx;
 }
 
-// Issue #17 item 4: the dump failed (no particles anywhere) and the call returned 2, but the
+// The dump failed (no particles anywhere) and the call returned 2, but the
 // step's stats line said "status": 0.
 TEST(DumpErrors, StatsLineReportsTheStatusTheStepReturns) {
   const MpiScratchDir dir;
@@ -310,7 +310,7 @@ TEST(DumpErrors, StatsLineReportsTheStatusTheStepReturns) {
   if (world_rank() == 0) EXPECT_EQ(last_json_line(stats)["status"], 0);
 }
 
-// Issue #17 item 3c: an unwritable stats file was only a warning on rank 0 and the step returned
+// An unwritable stats file was only a warning on rank 0 and the step returned
 // OK. Now every rank returns LANTERN_ERR_IO naming the file (no rank left waiting), the images
 // are still written, and the next step retries.
 TEST(StatsFile, UnwritableIsAnIoErrorOnEveryRankAndImagesAreStillWritten) {

@@ -1,6 +1,6 @@
 #!/bin/bash
 # tests/dump: a LAMMPS run that evaporates atoms reaches Lantern two ways, and both H5MD files
-# must hold, frame by frame, exactly LAMMPS's atoms (issue 17 item 11):
+# must hold, frame by frame, exactly LAMMPS's atoms:
 #   in situ:  lantern-lammps hands LAMMPS's own arrays to Lantern every 10 steps (images + evap_insitu.h5, count changing as atoms evaporate);
 #   offline:  lantern-render converts LAMMPS's text dump of the same steps to H5MD and renders it.
 # h5py_check.py compares each file's per-frame counts with LAMMPS's own `$(atoms)` at those steps

@@ -84,7 +84,12 @@ if [ -n "$python" ]; then
   test -n "$python_dir"
   (cd "$work" && "${clean_env[@]}" PYTHONPATH="$python_dir" "$python" -c \
     'import lantern, sys; assert lantern.__file__.startswith(sys.argv[1]), lantern.__file__; print("python: lantern", lantern.__version__, "from", lantern.__file__)' "$python_dir")
+  # The package's pure-Python modules are installed with it (each imports its program lazily or
+  # at import: lantern.render needs MDAnalysis only to run, lantern.openmm needs OpenMM).
+  (cd "$work" && PYTHONPATH="$python_dir" "$python" -c 'import lantern.render')
+  test -f "$python_dir/lantern/openmm.py"
 fi
+test -x "$work/prefix/bin/lantern-imd"
 if [ -n "$fortran_dir" ]; then test -f "$fortran_dir/lantern.mod"; echo "fortran: $fortran_dir/lantern.mod"; fi
 test -s "$work/consumer.png"
 echo "consumer test passed"

@@ -15,6 +15,8 @@
 #   first image is byte-identical at 1 and 3 ranks (LAMMPS's own trajectory differs in the last
 #   bits between rank counts after that), every half-bond is drawn once (the stats count two per
 #   bond, summed over ranks), and the image without bonds differs.
+# MODE quit: `quit N` (a number, a variable, inside an include) after a run: lantern-lammps exits
+#   with N as lmp does, after rendering the run's steps.
 # MODE error NAME "EXPECTED" "YAML LINES" "SED EXPRESSION" [LANTERN-LAMMPS ARGS]: the script
 #   edited by the sed expression, the configuration extended by the YAML lines: lantern-lammps
 #   must exit non-zero (not killed, not hung) with EXPECTED in its stderr.
@@ -171,6 +173,27 @@ bonds)
       { echo "peptide at $n ranks: lantern-render of the dump differs at step 10"; exit 1; }
   done
   echo "bonds: chains (newton_bond on, off): first image identical at 1 and 3 ranks; chains and peptide (1, 3 ranks): every half-bond drawn once, images identical to lantern-render of LAMMPS's dumps"
+  ;;
+quit)  # quit N: lantern-lammps exits with LAMMPS's status N (literal, variable, in an include)
+  script all > in.base
+  printf 'variable code equal 4\nquit ${code}\nrun 10\n' > quit.inc
+  for case in "quit 3:3" 'quit ${code}:4' "include quit.inc:4" "quit:0"; do
+    { cat in.base; echo "variable code equal 4"; echo "${case%:*}"; echo "run 10"; } > in.case
+    expect=${case##*:}
+    rm -f lj_*.png
+    grep -v external in.case > in.plain  # lmp itself cannot run a pf/callback fix
+    run "$lmp" -in in.plain -log none -var steps 0 > /dev/null 2>&1
+    lmp_code=$?
+    run "$ll" -in in.case -lantern "$src/lj.yaml" -log none -var steps 0 > /dev/null 2> err.txt
+    code=$?
+    cat err.txt
+    [ "$lmp_code" -eq "$expect" ] || { echo "FAIL: lmp exited $lmp_code on '${case%:*}'"; exit 1; }
+    [ "$code" -eq "$expect" ] ||
+      { echo "FAIL: lantern-lammps exited $code on '${case%:*}', lmp $lmp_code"; exit 1; }
+    # The run before the quit rendered its steps; the one after it did not run.
+    [ "$(ls lj_*.png | wc -l)" -eq 1 ] || { echo "FAIL: expected the image of step 0"; exit 1; }
+    echo "ok: '${case%:*}' exits $code, as lmp"
+  done
   ;;
 error)
   name=$1 expected=$2 yaml=$3 edit=$4  # '-': no YAML lines, no edit (CTest drops empty arguments)

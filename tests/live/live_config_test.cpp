@@ -2,11 +2,13 @@
 // `watch: true`. Images are compared byte for byte; every rank checks what it switched to.
 #include <gtest/gtest.h>
 #include <mpi.h>
+#include <sys/stat.h>
 
 #include <algorithm>
 #include <chrono>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <memory>
 #include <sstream>
 #include <string>
@@ -271,6 +273,70 @@ TEST_F(LiveConfig, WatchedFileIsPickedUpAtTheNextScheduledStepOnEveryRank) {
     EXPECT_EQ(count_of(lines, "No such file"), 1);
     EXPECT_EQ(count_of(lines, "reloaded"), 2);
   }
+}
+
+// The watched file replaced by something that is not a configuration: an empty file (an editor
+// caught between truncating and writing), a FIFO (reading it blocked rank 0 forever), a link to
+// /dev/zero (read without end). Each is reported once, by what it is, and the last good
+// configuration keeps drawing; the next good edit applies.
+TEST_F(LiveConfig, AWatchedFileThatIsNoLongerARegularFileIsReportedAndKept) {
+  const std::string path = dir_.file("live.yaml");
+  const std::string every2 = "watch: true\nschedule: {every: 2}\n";
+  write_file(path, config("", every2));
+  open(path);
+  ASSERT_OK(rt_->execute(0, 0.0));
+  const auto replace = [&](const std::function<void()> &make) {
+    if (world_rank() == 0) {
+      std::filesystem::remove(path);
+      make();
+    }
+    MPI_Barrier(MPI_COMM_WORLD);
+  };
+  replace([&] { std::ofstream(path).close(); });
+  ASSERT_OK(rt_->execute(2, 0.0));
+  replace([&] { ASSERT_EQ(::mkfifo(path.c_str(), 0644), 0); });
+  ASSERT_OK(rt_->execute(4, 0.0));
+  replace([&] { std::filesystem::create_symlink("/dev/zero", path); });
+  ASSERT_OK(rt_->execute(6, 0.0));
+  EXPECT_EQ(rt_->configuration_changes(), 0);
+  replace([&] { std::ofstream(path) << config(kCut, every2); });
+  ASSERT_OK(rt_->execute(8, 0.0));
+  EXPECT_EQ(rt_->configuration_changes(), 1);
+  if (world_rank() == 0) {
+    const std::vector<std::string> lines = stats_lines();
+    ASSERT_EQ(lines.size(), 5u);
+    EXPECT_NE(lines[1].find("live.yaml' is empty; keeping"), std::string::npos) << lines[1];
+    EXPECT_NE(lines[2].find("live.yaml' is a FIFO, not a regular file"), std::string::npos)
+        << lines[2];
+    EXPECT_NE(lines[3].find("live.yaml' is a character device, not a regular file"),
+              std::string::npos)
+        << lines[3];
+    EXPECT_NE(lines[4].find("reloaded"), std::string::npos) << lines[4];
+  }
+}
+
+// stats: pointing at the configuration's own file would append JSON lines to it.
+TEST_F(LiveConfig, StatsOrDumpAtTheConfigurationFileAreRefused) {
+  const std::string path = dir_.file("self.yaml");
+  const std::string scene =
+      "scenes:\n  - name: s\n    width: 8\n    height: 8\n    output: {pattern: '" +
+      dir_.file("self_{step}.png") + "'}\n";
+  for (const std::string &top :
+       {"stats: '" + path + "'\n", "stats: '" + dir_.file("./sub/../self.yaml") + "'\n",
+        "dump: {file: '" + path + "'}\n"}) {
+    write_file(path, "watch: true\n" + top + scene);
+    const Status s = Runtime::open(path, MPI_COMM_WORLD, &rt_);
+    EXPECT_EQ(s.code, StatusCode::kConfig) << top;
+    EXPECT_NE(s.message.find("is the configuration file itself"), std::string::npos) << s.message;
+    EXPECT_EQ(rt_, nullptr);
+  }
+  // On a reconfiguration too; the running configuration stays.
+  write_file(path, scene);
+  open(path);
+  write_file(dir_.file("other.yaml"), "stats: '" + dir_.file("other.yaml") + "'\n" + scene);
+  const Status s = rt_->reconfigure(dir_.file("other.yaml"));
+  EXPECT_EQ(s.code, StatusCode::kConfig);
+  EXPECT_NE(s.message.find("is the configuration file itself"), std::string::npos) << s.message;
 }
 
 }  // namespace

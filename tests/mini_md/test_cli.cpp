@@ -75,8 +75,8 @@ TEST(MiniMdCliRanges, EveryNumericOptionAcceptsItsBounds) {
   }
 }
 
-// The cases of issue #17: accepted before, then failing later with NaN in the message.
-TEST(MiniMdCliRanges, IssueCasesAreRejectedAtParseTime) {
+// Bad values that were accepted before, then failing later with NaN in the message.
+TEST(MiniMdCliRanges, FormerlyAcceptedCasesAreRejectedAtParseTime) {
   EXPECT_EQ(parse_error("--temp", "-1"), "--temp must be a number in [0, 10000], got '-1'");
   EXPECT_EQ(parse_error("--temp", "nan"), "--temp must be a number in [0, 10000], got 'nan'");
   EXPECT_EQ(parse_error("--density", "nan"), "--density must be a number in (0, 10], got 'nan'");

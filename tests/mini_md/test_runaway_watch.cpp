@@ -49,7 +49,7 @@ TEST(MiniMdRunawayWatch, PhysicalStatesGiveNoWarning) {
 
 TEST(MiniMdRunawayWatch, RunawayWarnsOncePerKind) {
   RunawayWatch watch(in_lj_start(), 1.44);
-  // The case: T = 2.35e19 after --neigh-check no --blowup-energy 1e308.
+  // The reported case: T = 2.35e19 after --neigh-check no --blowup-energy 1e308.
   const std::vector<std::string> first = watch.check(state(100, 2.35e19, 3.5e19));
   ASSERT_EQ(first.size(), 2u);
   EXPECT_NE(first[0].find("step 100: temperature 2.35e+19 is beyond 1440"), std::string::npos)

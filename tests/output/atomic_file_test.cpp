@@ -1,6 +1,11 @@
 #include "core/output/atomic_file.h"
 
+#include <fcntl.h>
 #include <gtest/gtest.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <ctime>
 
 #include <filesystem>
 #include <fstream>
@@ -103,6 +108,40 @@ TEST(AtomicFile, PathUnderRegularFileNamesPathAndReason) {
   EXPECT_TRUE(contains(error, blocker)) << error;
   EXPECT_TRUE(contains(error, "Not a directory")) << error;
   EXPECT_EQ(dir.entry_count(), 1u);
+}
+
+// Age a file: its modification time an hour ago.
+void make_old(const std::string &path) {
+  const timespec times[2] = {{::time(nullptr) - 3600, 0}, {::time(nullptr) - 3600, 0}};
+  ::utimensat(AT_FDCWD, path.c_str(), times, 0);
+}
+
+TEST(AtomicFile, StaleTemporariesOfAKilledRunAreRemovedAndNothingElse) {
+  const ScratchDir dir;
+  const auto make = [&](const std::string &name, bool old) {
+    std::ofstream(dir.file(name)) << "x";
+    if (old) make_old(dir.file(name));
+    return dir.file(name);
+  };
+  // A process id no process has (above the kernel's pid_max of 2^22).
+  const std::string dead = "99999999";
+  const std::string live = std::to_string(::getpid());
+  const std::string stale = make(".img_000001.png.tmp" + dead + "-3.png", true);
+  const std::string stale_bare = make(".stats.tmp" + dead + "-0", true);
+  const std::string fresh = make(".img_000002.png.tmp" + dead + "-4.png", false);
+  const std::string running = make(".img_000003.png.tmp" + live + "-5.png", true);
+  const std::string other_hidden = make(".img.tmp-notours.png", true);
+  const std::string image = make("img_000001.png", true);
+  const std::string notes = make(".notes", true);
+  const std::vector<std::string> removed =
+      remove_stale_temporaries(dir.path().string(), ::time(nullptr) - 60);
+  EXPECT_EQ(removed.size(), 2u);
+  EXPECT_FALSE(fs::exists(stale));
+  EXPECT_FALSE(fs::exists(stale_bare));
+  for (const std::string &kept : {fresh, running, other_hidden, image, notes})
+    EXPECT_TRUE(fs::exists(kept)) << kept;
+  // A missing folder is nothing to clean.
+  EXPECT_TRUE(remove_stale_temporaries(dir.file("missing"), ::time(nullptr)).empty());
 }
 
 }  // namespace

@@ -10,7 +10,9 @@
 #include <sstream>
 #include <thread>
 
+#include "core/output/background_image_writer.h"
 #include "tests/output/scratch_dir.h"
+#include "tests/support/file_size_limit.h"
 #include "tests/support/status_expect.h"
 
 namespace lantern {
@@ -219,6 +221,64 @@ TEST(ImageWriter, MismatchedFrameIsAnErrorNotACrash) {
   EXPECT_FALSE(write_image(frame, output_as(ImageFormat::kPng), path, nullptr).ok());
   EXPECT_FALSE(fs::exists(path));
 }
+
+// A frame of noise: every format's file is tens of kilobytes, whatever its compression.
+Frame noise_frame() {
+  Frame f(160, 120);
+  uint32_t x = 2463534242u;
+  for (size_t i = 0; i < f.rgba.size(); ++i) {
+    x ^= x << 13, x ^= x >> 17, x ^= x << 5;  // xorshift32
+    f.rgba[i] = uint8_t(x >> 24);
+  }
+  for (float &d : f.depth) d = 0.5f;
+  return f;
+}
+
+// A full disk while an image is written (the file may grow to 4 kB, as on a file system with 4 kB
+// left): every format returns kIo naming the file, leaves no file at its name and no hidden
+// temporary file, and the process goes on. libjpeg's default error handler calls exit() on a
+// failed write, which would end the host simulation.
+class FullDisk : public ::testing::TestWithParam<ImageFormat> {};
+
+TEST_P(FullDisk, EveryImageFormatReturnsIoAndLeavesNoFile) {
+  const ScratchDir dir;
+  const Frame frame = noise_frame();
+  const std::string path = dir.file(std::string("frame") + image_format_extension(GetParam()));
+  Status written;
+  {
+    const testing::FileSizeLimit full(4096);
+    written = write_image(frame, output_as(GetParam()), path, to_distance);
+  }
+  EXPECT_EQ(written.code, StatusCode::kIo) << written.message;
+  EXPECT_NE(written.message.find(path), std::string::npos) << written.message;
+  EXPECT_FALSE(fs::exists(path));
+  EXPECT_EQ(dir.entry_count(), 0u) << "a temporary file was left behind";
+  // With room again, the same call writes the file.
+  EXPECT_OK(write_image(frame, output_as(GetParam()), path, to_distance));
+  EXPECT_TRUE(fs::exists(path));
+}
+
+TEST_P(FullDisk, AsynchronousWriterReportsItAtTheNextWait) {
+  const ScratchDir dir;
+  const std::string path = dir.file(std::string("frame") + image_format_extension(GetParam()));
+  BackgroundImageWriter writer;
+  Status waited;
+  {
+    const testing::FileSizeLimit full(4096);
+    EXPECT_OK(writer.submit(noise_frame(), output_as(GetParam()), path, to_distance));
+    waited = writer.wait();
+  }
+  EXPECT_EQ(waited.code, StatusCode::kIo) << waited.message;
+  EXPECT_FALSE(fs::exists(path));
+  EXPECT_EQ(dir.entry_count(), 0u) << "a temporary file was left behind";
+}
+
+INSTANTIATE_TEST_SUITE_P(Formats, FullDisk,
+                         ::testing::Values(ImageFormat::kPng, ImageFormat::kJpeg,
+                                           ImageFormat::kTiff, ImageFormat::kExr),
+                         [](const auto &info) {
+                           return std::string(image_format_extension(info.param) + 1);
+                         });
 
 }  // namespace
 }  // namespace lantern

@@ -2,11 +2,13 @@
 
 #include <gtest/gtest.h>
 
+#include <filesystem>
 #include <fstream>
 #include <string>
 #include <vector>
 
 #include "tests/output/scratch_dir.h"
+#include "tests/support/file_size_limit.h"
 #include "tests/support/status_expect.h"
 
 namespace lantern {
@@ -56,6 +58,31 @@ TEST(StatsWriter, UnwritablePathIsNamed) {
   const std::string &error = status.message;
   EXPECT_EQ(status.code, StatusCode::kIo) << error;
   EXPECT_NE(error.find("/proc/lantern_x"), std::string::npos) << error;
+}
+
+// A full disk in the middle of a line (the file may grow by 10 more bytes): the line is written
+// whole or not at all, so the file stays valid JSON lines and the next line starts on its own.
+TEST(StatsWriter, AFailedAppendLeavesNoPartialLine) {
+  const ScratchDir dir;
+  const std::string path = dir.file("stats.jsonl");
+  StatsWriter writer(path);
+  ASSERT_OK(writer.append({{"step", 0}}));
+  const auto before = std::filesystem::file_size(path);
+  Status failed;
+  {
+    const testing::FileSizeLimit full(int64_t(before) + 10);
+    failed = writer.append({{"step", 1}, {"scene", std::string(200, 'x')}});
+  }
+  EXPECT_EQ(failed.code, StatusCode::kIo);
+  EXPECT_NE(failed.message.find(path), std::string::npos) << failed.message;
+  EXPECT_EQ(std::filesystem::file_size(path), before) << "a partial line stayed in the file";
+  ASSERT_OK(writer.append({{"step", 2}}));
+  ASSERT_OK(append_json_line(path, {{"step", 3}}));
+  const std::vector<std::string> lines = lines_of(path);
+  ASSERT_EQ(lines.size(), 3u);
+  EXPECT_EQ(nlohmann::json::parse(lines[0])["step"], 0);
+  EXPECT_EQ(nlohmann::json::parse(lines[1])["step"], 2);
+  EXPECT_EQ(nlohmann::json::parse(lines[2])["step"], 3);
 }
 
 }  // namespace

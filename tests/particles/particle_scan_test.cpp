@@ -55,5 +55,38 @@ TEST(ParticleScan, FastPathMatchesAddParticleForEveryLayout) {
   }
 }
 
+// -0 and +0 are equal but encoded apart: a one-pass min or max keeps the first zero it meets.
+// The fast path (lanes, parts on threads) must give exactly those bits.
+TEST(ParticleScan, ZeroBoundsAndThreadsGiveTheOnePassBits) {
+  std::mt19937 rng(6);
+  std::uniform_real_distribution<double> u(0.0, 9.0);
+  const size_t n = 300000;
+  for (int trial = 0; trial < 8; ++trial) {
+    std::vector<double> xyz(3 * n);
+    for (double &v : xyz) v = u(rng);
+    // Zeros of random signs at the low end of x and z, and at the high end of y (all y <= 0).
+    for (size_t i = 0; i < n; ++i) xyz[3 * i + 1] = -xyz[3 * i + 1];
+    for (int k = 0; k < 50; ++k) {
+      const size_t i = rng() % n;
+      xyz[3 * i + size_t(k % 3)] = rng() % 2 ? -0.0 : 0.0;
+    }
+    xyz[3 * (rng() % n)] = std::numeric_limits<double>::quiet_NaN();
+    ParticleDescription p{};
+    p.count = int64_t(n);
+    p.position = {xyz.data(), DataType::kFloat64, 0};
+    ParticleArrays a;
+    ASSERT_OK(ParticleArrays::validate(p, &a));
+    const Extent want = reference(a, 0.5);
+    for (const int threads : {1, 2, 3, 7}) {
+      const Extent got = scan_particles(a, false, 0.5, threads);
+      expect_same_extent(got, want);
+      for (int k = 0; k < 3; ++k) {
+        EXPECT_EQ(std::signbit(got.lo[k]), std::signbit(want.lo[k])) << trial << " lo " << k;
+        EXPECT_EQ(std::signbit(got.hi[k]), std::signbit(want.hi[k])) << trial << " hi " << k;
+      }
+    }
+  }
+}
+
 }  // namespace
 }  // namespace lantern

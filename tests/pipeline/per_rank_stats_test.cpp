@@ -1,7 +1,8 @@
-// Per-rank statistics (seed 000's Fig. 5) in the stats line and lantern_load_summary, through the
-// C API under mpiexec at 2 and 3 ranks: every rank publishes a different load, so the spread,
-// the imbalance and the rank of the max are known exactly, and the per-rank means times the rank
-// count must give the line's totals.
+// Per-rank statistics (the nine-spheres paper's Fig. 5) in the stats line and lantern_load_summary,
+// through the C API under mpiexec at 2 and 3 ranks: every rank publishes a different load, so the
+// spread, the imbalance and the rank of the max are known exactly, and the per-rank means times the
+// rank count must give the line's totals. Compositing's bytes and messages per rank balance over
+// the ranks.
 #include <gtest/gtest.h>
 
 #include <mpi.h>
@@ -83,9 +84,15 @@ TEST(PerRankStats, SpreadsSumToTheTotalsAndNameTheBusiestRank) {
                      scene["particles"][what].get<double>())
         << what;
   }
+  // particles: each rank's finite particles, drawn + culled: 200 (r + 1) + 50 (size - r), the
+  // most on the last rank.
+  EXPECT_EQ(per_rank["particles"]["min"], 200.0 + 50.0 * n);
+  EXPECT_EQ(per_rank["particles"]["max"], 200.0 * n + 50.0);
+  EXPECT_EQ(per_rank["particles"]["max_rank"], size - 1);
+  EXPECT_NE(summary.find(", particles "), std::string::npos) << summary;
   EXPECT_EQ(scene["particles"]["drawn"], 100 * size * (size + 1));
   EXPECT_EQ(scene["particles"]["culled"], 25 * size * (size + 1));
-  for (const char *what : {"drawn", "culled", "ms"}) {
+  for (const char *what : {"drawn", "culled", "ms", "particles"}) {
     const nlohmann::json &s = per_rank[what];
     EXPECT_GE(s["imbalance"].get<double>(), 1.0) << what;
     EXPECT_GE(s["max_rank"].get<int>(), 0) << what;
@@ -94,6 +101,26 @@ TEST(PerRankStats, SpreadsSumToTheTotalsAndNameTheBusiestRank) {
     EXPECT_LE(s["mean"].get<double>(), s["max"].get<double>()) << what;
   }
   EXPECT_GT(per_rank["ms"]["max"].get<double>(), 0.0);
+
+  // Compositing's traffic per rank: every byte and message one rank sent another received, no
+  // rank sends more than its whole 64 x 48 frame at 8 bytes a pixel (plus run-length headers),
+  // and the schedule and the measured cost model it was chosen by are named.
+  const nlohmann::json &composite = scene["composite"];
+  ASSERT_TRUE(composite.is_object()) << scene.dump();
+  EXPECT_FALSE(composite["schedule"].get<std::string>().empty());
+  EXPECT_TRUE(composite["cost_model"]["measured"].get<bool>());
+  EXPECT_GT(composite["cost_model"]["latency_us"].get<double>(), 0.0);
+  EXPECT_GT(composite["cost_model"]["gb_per_s"].get<double>(), 0.0);
+  EXPECT_DOUBLE_EQ(composite["bytes_sent"]["mean"].get<double>(),
+                   composite["bytes_received"]["mean"].get<double>());
+  EXPECT_DOUBLE_EQ(composite["messages_sent"]["mean"].get<double>(),
+                   composite["messages_received"]["mean"].get<double>());
+  EXPECT_GT(composite["bytes_sent"]["max"].get<double>(), 0.0);
+  EXPECT_GE(composite["messages_sent"]["max"].get<double>(), 1.0);
+  EXPECT_LE(composite["bytes_sent"]["max"].get<double>(), 8.0 * 64 * 48 + 1024);
+  // Every rank drew something, and no more than the frame.
+  EXPECT_GT(composite["active_pixels"]["min"].get<double>(), 0.0);
+  EXPECT_LE(composite["active_pixels"]["max"].get<double>(), 64.0 * 48);
 }
 
 }  // namespace

@@ -138,6 +138,15 @@ def refusal(match, **arrays):
             ctx.publish(**arrays)
 
 
+class Interface:
+    """An object with only an __array_interface__, its data a real buffer of 1 kB."""
+    _memory = np.zeros(1024, dtype=np.uint8)
+
+    def __init__(self, typestr, shape, strides=None):
+        self.__array_interface__ = {"typestr": typestr, "shape": shape, "strides": strides,
+                                    "data": (Interface._memory.ctypes.data, False), "version": 3}
+
+
 @pytest.mark.parametrize("arrays, match", [
     (dict(position=lattice(2)[0].astype(">f8")), r"^position: dtype >f8 has non-native byte"),
     (dict(position=lattice(2)[0].astype(np.float16)), r"^position: dtype float16 is not supported"),
@@ -155,6 +164,14 @@ def refusal(match, **arrays):
     (dict(position=lattice(2)[0], position_x=np.zeros(8)), r"^position: give either"),
     (dict(position_x=np.zeros(8)), r"^position_x/y/z: give all three"),
     (dict(type=np.zeros(8, np.int32)), r"^type: 8 elements, but there are 0"),
+    # A 0-d array (a NumPy scalar) has no axes: it was reported as shape (1,).
+    (dict(position=np.array(1.0)), r"^position: shape \(\) \(a 0-d array: one number"),
+    (dict(position=lattice(2)[0], radius=np.float64(0.5)), r"^radius: shape \(\) \(a 0-d array"),
+    # Made-up __array_interface__s (found by fuzz_python_publish): an item size too large for
+    # int64 raised IndexError ("stoll"), a shape of non-integers pybind11's RuntimeError.
+    (dict(position=Interface("<f99999999999999999999", (8, 3))), r"^position: __array_interface__ typestr '<f9+' is malformed"),
+    (dict(position=Interface("<f8", ("8", 3))), r"^position: __array_interface__ is malformed"),
+    (dict(position=Interface("<f8", (8, 3), strides=(2**70, 8))), r"^position: __array_interface__ is malformed"),
 ])
 def test_what_cannot_be_borrowed_is_refused_naming_the_array(arrays, match):
     refusal(match, **arrays)

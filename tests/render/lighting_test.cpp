@@ -1,4 +1,4 @@
-// The scene's `lighting` (issue 13, core/config/lighting.h) through the pipeline, in the CPU
+// The scene's `lighting` (core/config/lighting.h) through the pipeline, in the CPU
 // raster and in OpenGL: the default keys give the bytes of no key, a light from the side lights
 // exactly the half of the sphere facing it, ambient-only light is a flat disc of ambient x color,
 // and the two renderers agree under a custom light.

@@ -13,9 +13,13 @@
  * but all share the process's OpenGL/OSMesa state, so call Lantern from one thread only.
  *
  * MPI: lantern_open(), lantern_execute() on scheduled steps, and lantern_close() are collective
- * over the communicator given to lantern_open(): every rank must call them in the same order.
- * lantern_publish() is local. If MPI is not initialized when lantern_open() is called, Lantern
- * initializes it (MPI_THREAD_FUNNELED) and finalizes it at process exit (atexit).
+ * over the communicator given to lantern_open(): every rank must call them in the same order,
+ * with the same step. Every decision to skip or fail a collective part is agreed across the ranks
+ * first, so bad arguments or a failure on one rank give every rank the same status; what no rank
+ * can agree on is a call one rank never makes (a NULL context, a step another rank does not
+ * schedule, a communicator handle that is not one). lantern_publish() is local. If MPI is not
+ * initialized when lantern_open() is called, Lantern initializes it (MPI_THREAD_FUNNELED) and
+ * finalizes it at process exit (atexit).
  *
  * Units: Lantern does not impose units. Positions and radii must share one length unit; the
  * configuration's lengths (camera position, radius, cutting planes) are in that same unit.
@@ -147,7 +151,11 @@ LANTERN_API int lantern_version_number(void);
  * context that holds only the error message (read it with lantern_error_message(), then close
  * it), or to NULL when even that could not be allocated or `out` is NULL. Collective: every rank
  * must give the same configuration text (the documents, or the files' contents, are compared by
- * hash; LANTERN_ERR_INVALID_ARGUMENT naming the first rank that differs).
+ * hash; LANTERN_ERR_INVALID_ARGUMENT naming the first rank that differs), and every rank returns
+ * the same status - a NULL `config` or `out` on one rank fails the open on every rank
+ * (LANTERN_ERR_NULL_ARGUMENT) rather than leaving the others waiting. LANTERN_ERR_MPI, on the
+ * rank that passed it, for a `mpi_comm_f` that is not a communicator handle (checked without
+ * letting MPI's fatal error handler abort), an intercommunicator, or MPI already finalized.
  */
 LANTERN_API lantern_status lantern_open(const char *config, int mpi_comm_f, lantern_context **out);
 
@@ -158,10 +166,10 @@ LANTERN_API lantern_status lantern_open(const char *config, int mpi_comm_f, lant
  * bricks, the OpenGL session, the dump file, and each scene's buffers, asynchronous writer and
  * per-brick cutting-plane state, matched by scene name (a scene whose cut_planes changed
  * reclassifies only the bricks those planes touch). A text identical to the running one, from the
- * same place, costs one hash and two small collectives: nothing is parsed or rebuilt.
+ * same place, costs one hash and three small collectives: nothing is parsed or rebuilt.
  *
  * May not change while running (LANTERN_ERR_CONFIG naming the key): gl, egl_device, and the dump
- * section's enabled, file, fields and precision (dump.schedule may change).
+ * section's enabled, file, fields, precision and mode (dump.schedule may change).
  *
  * On any error the running configuration stays in effect and every rank returns the same status:
  * LANTERN_ERR_CONFIG for a file that cannot be read, malformed YAML, an unknown key or a bad
@@ -296,8 +304,9 @@ LANTERN_API const char *lantern_error_message(const lantern_context *ctx);
 
 /*
  * How the last rendered step's work spread over the ranks, for a log at the end of a run: a
- * header line ("step N, R ranks:") and one line per scene with the particles drawn and culled
- * and the milliseconds of each rank's own work (before compositing) as min..max per rank, the
+ * header line ("step N, R ranks:") and one line per scene with the particles drawn and culled,
+ * the milliseconds of each rank's own work (before compositing) and the rank's finite particles
+ * as min..max per rank, the
  * imbalance (max over mean) and the rank holding the max. The same numbers are in the stats
  * line's "per_rank" object. Needs `stats:` in the configuration (the small reduction behind it
  * runs only then). On rank 0 of the context's communicator; "" on other ranks, before the first
@@ -318,7 +327,10 @@ LANTERN_API const char *lantern_status_string(lantern_status status);
 /* Flushes outputs (waits for images written in the background, see output.asynchronous, and for
  * the movie frames still queued, then completes the movie files, see output.movie) and frees the
  * context. Returns LANTERN_ERR_IO if such an image or movie could not be written. Safe on NULL.
- * Collective. */
+ * Collective. If the host already called MPI_Finalize, the context is released without any MPI
+ * call (its images and movie frames are still waited for) and LANTERN_ERR_MPI says so;
+ * lantern_execute() on a scheduled step and lantern_reconfigure() return LANTERN_ERR_MPI then too.
+ */
 LANTERN_API lantern_status lantern_close(lantern_context *ctx);
 
 #ifdef __cplusplus

@@ -1,5 +1,6 @@
-// The upper tail of a binomial distribution, P(X >= k) for X ~ Binomial(n, p): seed 004's eq. 21,
-// the probability that at least k of the next n samples land nearer than a candidate depth.
+// The upper tail of a binomial distribution, P(X >= k) for X ~ Binomial(n, p): eq. 21 of
+// Ibrahim et al. 2022, the probability that at least k of the next n samples land nearer than a
+// candidate depth.
 //
 // The paper evaluates eq. 21 by a normal approximation (its appendix, after Feller 1945); so does
 // binomial_tail(), with the continuity correction, where the variance n p (1 - p) is at least

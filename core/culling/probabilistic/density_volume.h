@@ -1,5 +1,5 @@
-// Seed 004's particle density volume (§4.4): particle counts on a coarse regular grid over the
-// bounds of the particles still considered, and per-pixel density histograms D(t) cast through
+// Ibrahim et al.'s particle density volume (§4.4): particle counts on a coarse regular grid over
+// the bounds of the particles still considered, and per-pixel density histograms D(t) cast through
 // it (eq. 9-10), kept as cumulative counts per depth bin for RayDensity (depth_confidence.h).
 //
 // Rank-local by design: this rank samples and culls only its own particles, so the counts that
@@ -39,7 +39,8 @@ class DensityVolume {
 
   // Casts every tile's ray of the image of `g` through the grid between view depths z0 < z1,
   // counting the particles of spheres of `radius` that the tile's rays can hit (centres within
-  // `radius` of its footprint; seed 004 assumes sub-pixel particles, where that is the footprint).
+  // `radius` of its footprint; Ibrahim et al. assume sub-pixel particles, where that is the
+  // footprint).
   void cast(const ViewGeometry &g, double z0, double z1, double radius);
   // D(t) of pixel (x, y) from the last cast.
   RayDensity ray(int x, int y) const {

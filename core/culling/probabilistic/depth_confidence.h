@@ -1,5 +1,5 @@
-// Seed 004's depth-confidence maps (§4): per pixel a representative depth d and a confidence C
-// (the probability that a new sample in the pixel hits something no farther than d), kept twice -
+// Ibrahim et al.'s depth-confidence maps (§4): per pixel a representative depth d and a confidence
+// C (the probability that a new sample in the pixel hits something no farther than d), kept twice -
 // the cull buffer, which culling reads, and the accumulation buffer, which tries to build
 // confidence for a nearer depth (algorithm 1) - and the confidence pyramid of eq. 23.
 //

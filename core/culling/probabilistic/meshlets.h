@@ -1,4 +1,4 @@
-// Seed 004's two-level object hierarchy (§3.1): nodes are the bricks (core/bricks/), and each
+// Ibrahim et al.'s two-level object hierarchy (§3.1): nodes are the bricks (core/bricks/), and each
 // brick's particles are cut into meshlets of kMeshletSize spatially consecutive particles. A
 // brick's own order is its level layout (a uniform sample at every prefix, not spatially
 // compact), so each brick's particles are first put back in z-order of their positions inside

@@ -115,7 +115,7 @@ void ProbabilisticCuller::sample_sphere(const ViewGeometry &g, const glm::dvec3 
       // Only a nearer hit replaces the pixel's sample, so the size (a square root) is worked out
       // for those alone.
       if (!(depth < pass_depth_[p])) continue;
-      // Seed 004's alpha, the expected share of the pixel the particle covers: its projected
+      // Ibrahim et al.'s alpha, the expected share of the pixel the particle covers: its projected
       // area for sub-pixel spheres; for larger ones the disc clipped to the pixel, approximated
       // by the distance of the pixel centre to the outline across the pixel's diagonal.
       const double ex = x + 0.5 - cx, ey = y + 0.5 - cy;

@@ -1,6 +1,6 @@
-// Seed 004's probabilistic occlusion culling on the CPU (occlusion: probabilistic): which meshlets
-// of the visible bricks are occluded with confidence C_occ, found by sampling a few occluder
-// meshlets per node and pass into double-buffered depth-confidence maps.
+// Ibrahim et al.'s probabilistic occlusion culling on the CPU (occlusion: probabilistic): which
+// meshlets of the visible bricks are occluded with confidence C_occ, found by sampling a few
+// occluder meshlets per node and pass into double-buffered depth-confidence maps.
 //
 // Per frame: every meshlet of a visible brick (node) starts potentially visible (P). Each
 // iteration runs kPassesPerIteration passes; a pass picks `budget` meshlets per node from P
@@ -40,7 +40,7 @@
 
 namespace lantern {
 
-// Seed 004's occlusion classes (§5.1), ordered by confidence of occlusion.
+// Ibrahim et al.'s occlusion classes (§5.1), ordered by confidence of occlusion.
 enum class OcclusionClass : uint8_t { kPotentiallyVisible = 0, kLow, kMedium, kOccluded };
 
 inline constexpr int kPassesPerIteration = 4;

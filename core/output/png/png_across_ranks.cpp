@@ -112,7 +112,7 @@ Status write_png_across_ranks(MPI_Comm comm, int root, const Frame &frame, int w
   }
   int channels = rank == root ? file_channels(frame) : 4;
   MPI_Bcast(&channels, 1, MPI_INT, root, comm);
-  std::vector<uint8_t> mine(size_t(counts[size_t(rank)]));
+  std::vector<uint8_t> mine(static_cast<size_t>(counts[size_t(rank)]));
   MPI_Scatterv(rank == root ? frame.rgba.data() : nullptr, counts.data(), offsets.data(),
                MPI_UINT8_T, mine.data(), counts[size_t(rank)], MPI_UINT8_T, root, comm);
 

@@ -40,7 +40,14 @@ Status GlSession::acquire(GlBackend wanted, const EglOptions &egl, std::shared_p
 
 Status GlSession::renderer(SphereRenderer **out) {
   *out = nullptr;
-  if (Status s = context_->make_current(); !s.ok()) return s;
+  if (Status s = context_->make_current(); !s.ok()) {
+    if (std::this_thread::get_id() != owner_)
+      s.message +=
+          "; the OpenGL context of a Lantern context belongs to the thread that opened "
+          "it (lantern_open), where it stays current: call lantern_execute from that "
+          "thread (or use gl: none, the CPU raster, which has no such tie)";
+    return s;
+  }
   *out = renderer_.get();
   return {};
 }

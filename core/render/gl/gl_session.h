@@ -7,6 +7,7 @@
 
 #include <memory>
 #include <string>
+#include <thread>
 
 #include "core/common/status.h"
 #include "core/config/config.h"
@@ -24,7 +25,8 @@ class GlSession {
                         std::string *passed_over);
 
   // Makes the context current (another library may have switched contexts) and gives the
-  // renderer in *out.
+  // renderer in *out. From a thread other than the one that created the session, a failure
+  // says that the GL context belongs to that thread (it stays current there).
   Status renderer(SphereRenderer **out);
   const char *backend() const { return context_->backend(); }
   std::string description() const { return context_->description(); }
@@ -33,6 +35,7 @@ class GlSession {
   GlSession() = default;
   std::unique_ptr<GlContext> context_;        // declared first: destroyed last
   std::unique_ptr<SphereRenderer> renderer_;  // needs the context alive to free GL objects
+  std::thread::id owner_ = std::this_thread::get_id();  // the thread that created the context
 };
 
 // For tools and tests that need OpenGL: the session of `wanted` (kAuto: EGL or OSMesa) and its

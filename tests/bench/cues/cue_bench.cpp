@@ -1,13 +1,20 @@
-// lantern-bench-cues: the frame time of each depth cue (issue 13) against the same scene without
+// lantern-bench-cues: the frame time of each depth cue against the same scene without
 // it, through the whole pipeline (core/pipeline/runtime.h: bricks, culling, drawing, compositing,
 // cues, PNG writing), every variant rendered at every step so the machine's noise hits them alike.
 //
 //   mpiexec -n 2 lantern-bench-cues [--scenes fcc1m,void_impact] [--size 1024] [--steps 5]
-//                                   [--md-cells 30] [--out DIR]
+//                                   [--md-cells 30] [--out DIR] [--kernels REPS]
 //
 // Per scene it prints the median over steps of the pipeline's own per-scene time (stats "ms.total",
-// rank 0) of each variant and its ratio to the plain one. Particles: fcc split in blocks over the
-// ranks; void_impact as mini_md's domain decomposition hands them out.
+// rank 0) of each variant and its ratio to the plain one (an unreported copy of the plain scene
+// renders first in every step and pays for the step's bricks, which the others reuse). Particles:
+// fcc split in blocks over the ranks; void_impact as mini_md's domain decomposition hands them out.
+//
+// --kernels REPS adds, per scene, the screen ambient occlusion kernels alone on rank 0: the whole
+// scene drawn once by the CPU raster, then each kernel run REPS times on the whole frame (one
+// band), alternated, timed in the thread's CPU time (what the machine's other load does not
+// inflate), with the images of the half-resolution kernels compared against the full-resolution
+// one (PSNR, SSIM; the plain frame's too, for how much the cue changes the image at all).
 #include <mpi.h>
 
 #include <algorithm>
@@ -23,7 +30,18 @@
 #include <nlohmann/json.hpp>
 
 #include "bench_scenes.h"
+#include "bench_timing.h"
+#include "core/bricks/brick_set.h"
+#include "core/camera/camera.h"
+#include "core/culling/brick_selection.h"
+#include "core/finish/screen_ambient_occlusion.h"
+#include "core/finish/view_positions.h"
+#include "core/particles/particle_scan.h"
 #include "core/pipeline/runtime.h"
+#include "core/pipeline/scene_settings.h"
+#include "core/render/cpu_sphere_pass.h"
+#include "core/render/sphere_instances.h"
+#include "image_metrics.h"
 
 namespace {
 
@@ -34,9 +52,13 @@ struct Variant {
   const char *keys;  // YAML added to the scene
 };
 
+// The first scene of a step also builds the step's bricks (the other scenes reuse them): a
+// copy of the plain scene goes first to take that cost, and is not reported.
 const Variant kVariants[] = {
+    {"bricks", ""},
     {"plain", ""},
     {"screen_ao", "    ambient_occlusion: {method: screen}\n"},
+    {"screen_ao_full", "    ambient_occlusion: {method: screen, resolution: full}\n"},
     {"object_ao", "    ambient_occlusion: {method: object}\n"},
     {"outline", "    outline: {}\n"},
     {"depth_cue", "    depth_cue: {}\n"},
@@ -74,6 +96,98 @@ double median(std::vector<double> v) {
   return v.empty() ? 0.0 : v[v.size() / 2];
 }
 
+// Every rank's particles of `mine` on rank 0 (collective); other ranks get theirs back unchanged.
+BenchScene gathered(const BenchScene &mine, int rank, int ranks) {
+  const int count = int(mine.type.size());
+  std::vector<int> counts(static_cast<size_t>(ranks)), offsets(counts.size());
+  MPI_Gather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, MPI_COMM_WORLD);
+  BenchScene all = mine;
+  int total = 0;
+  for (int r = 0; r < ranks; ++r) offsets[size_t(r)] = total, total += counts[size_t(r)];
+  if (rank == 0) all.type.resize(size_t(total));
+  MPI_Gatherv(mine.type.data(), count, MPI_INT32_T, all.type.data(), counts.data(), offsets.data(),
+              MPI_INT32_T, 0, MPI_COMM_WORLD);
+  for (int r = 0; r < ranks; ++r) counts[size_t(r)] *= 3, offsets[size_t(r)] *= 3;
+  if (rank == 0) all.xyz.resize(size_t(total) * 3);
+  MPI_Gatherv(mine.xyz.data(), 3 * count, MPI_DOUBLE, all.xyz.data(), counts.data(), offsets.data(),
+              MPI_DOUBLE, 0, MPI_COMM_WORLD);
+  return all;
+}
+
+struct AoKernel {
+  const char *name;
+  bool half;
+  lantern::AoVectorPath path;
+};
+
+// The screen ambient occlusion kernels on one frame of `bs` (rank 0 only; see the header).
+void kernel_table(const BenchScene &bs, int reps) {
+  using namespace lantern;
+  const ParticleArrays p = bs.arrays();
+  SceneConfig sc = bs.config;
+  sc.renderer = RendererChoice::kCpu;
+  sc.culling.occlusion = OcclusionMode::kHzb;
+  const Extent ext = scan_particles(p, sc.per_particle_radius, sc.radius);
+  const RadiusRule radius = radius_rule(sc, p);
+  Camera cam;
+  const glm::dvec3 lo{ext.lo[0], ext.lo[1], ext.lo[2]}, hi{ext.hi[0], ext.hi[1], ext.hi[2]};
+  if (Status s = make_camera(sc.camera, lo, hi, radius.max_radius(ext), sc.width, sc.height, &cam);
+      !s.ok()) {
+    std::printf("  kernels: camera: %s\n", s.message.c_str());
+    return;
+  }
+  const BrickSet bricks = build_bricks(p, BrickOptions{});
+  const InstanceRecipe recipe = make_recipe(p, shading_settings(sc), radius, cam, ext);
+  const CullSettings cull = cull_settings(sc);
+  BrickSelection selection;
+  select_bricks(bricks, cam, cull, radius, &selection);
+  CpuSpherePass pass;
+  DrawList draw;
+  BandFrame plain;
+  const Rgb8 bg = to_rgb8(sc.background);
+  const uint8_t background[4] = {bg[0], bg[1], bg[2], 255};
+  pass.run(p, bricks, cull, sc.lighting, selection, recipe, background, &plain.frame, &draw);
+  plain.owned = {0, sc.height};
+  AmbientOcclusionStyle style;
+  style.radius = float(kDefaultAoRadiusInSphereRadii * radius.max_radius(ext));
+  const AoKernel kernels[] = {{"full", false, AoVectorPath::kAuto},
+                              {"half", true, AoVectorPath::kAuto},
+                              {"half_avx2", true, AoVectorPath::kAvx2},
+                              {"half_portable", true, AoVectorPath::kPortable}};
+  std::vector<double> positions_ms;
+  std::vector<std::vector<double>> ms(std::size(kernels));
+  std::vector<BandFrame> out(std::size(kernels));
+  for (int rep = 0; rep < reps; ++rep) {
+    double t0 = bench::thread_cpu_ms();
+    ViewPositions v;
+    v.build(plain, cam);
+    positions_ms.push_back(bench::thread_cpu_ms() - t0);
+    for (size_t k = 0; k < std::size(kernels); ++k) {
+      out[k] = plain;
+      style.half_resolution = kernels[k].half;
+      t0 = bench::thread_cpu_ms();
+      apply_screen_ambient_occlusion(v, style, &out[k], kernels[k].path);
+      ms[k].push_back(bench::thread_cpu_ms() - t0);
+    }
+  }
+  const double full_ms = bench::median(ms[0]);
+  std::printf(
+      "  screen AO kernels on one %dx%d frame (CPU raster, %d reps, thread CPU ms, "
+      "medians; view positions %.1f ms):\n",
+      sc.width, sc.height, reps, bench::median(positions_ms));
+  const bench::ImageError none = bench::compare_frames(out[0].frame, plain.frame);
+  std::printf("    %-14s %8.1f ms  x%.3f   (plain frame vs full: PSNR %.2f dB, SSIM %.4f)\n",
+              kernels[0].name, full_ms, 1.0, none.psnr, none.ssim);
+  for (size_t k = 1; k < std::size(kernels); ++k) {
+    const bench::ImageError e = bench::compare_frames(out[0].frame, out[k].frame);
+    std::printf(
+        "    %-14s %8.1f ms  x%.3f   vs full: PSNR %.2f dB, SSIM %.4f, %lld pixels differ%s\n",
+        kernels[k].name, bench::median(ms[k]), bench::median(ms[k]) / full_ms, e.psnr, e.ssim,
+        static_cast<long long>(e.differing_pixels),
+        k >= 2 && out[k].frame.rgba != out[1].frame.rgba ? "  (NOT the same bits as half)" : "");
+  }
+}
+
 }  // namespace
 
 int main(int argc, char **argv) {
@@ -82,7 +196,7 @@ int main(int argc, char **argv) {
   MPI_Comm_rank(MPI_COMM_WORLD, &rank);
   MPI_Comm_size(MPI_COMM_WORLD, &ranks);
   std::vector<std::string> scenes{"fcc1m", "void_impact"};
-  int size = 1024, steps = 5, md_cells = 30;
+  int size = 1024, steps = 5, md_cells = 30, kernel_reps = 0;
   std::string out = "/tmp/lantern_bench_cues";
   for (int i = 1; i + 1 < argc; i += 2) {
     const std::string a = argv[i], v = argv[i + 1];
@@ -98,6 +212,8 @@ int main(int argc, char **argv) {
       md_cells = std::stoi(v);
     } else if (a == "--out") {
       out = v;
+    } else if (a == "--kernels") {
+      kernel_reps = std::stoi(v);
     }
   }
   if (rank == 0) std::system(("mkdir -p '" + out + "'").c_str());
@@ -118,6 +234,15 @@ int main(int argc, char **argv) {
       ++failures;
       continue;
     }
+    if (kernel_reps > 0) {
+      const BenchScene all = gathered(bs, rank, ranks);
+      if (rank == 0) {
+        std::printf("%s (%s):\n", name.c_str(), bs.note.c_str());
+        kernel_table(all, kernel_reps);
+        std::fflush(stdout);
+      }
+    }
+    if (steps == 0) continue;  // --steps 0: the kernels alone
     const std::string stats = out + "/" + name + "_stats.jsonl";
     if (rank == 0) std::remove(stats.c_str());
     std::string yaml = "stats: " + stats + "\nscenes:\n";
@@ -152,9 +277,10 @@ int main(int argc, char **argv) {
                 size, size, ranks, steps);
     const double plain = median(ms["plain"]);
     for (const Variant &v : kVariants)
-      std::printf("  %-11s %8.1f ms  x%.3f   (cue stage %6.1f ms = %5.1f%% of plain)\n", v.name,
-                  median(ms[v.name]), median(ms[v.name]) / plain, median(cues[v.name]),
-                  100.0 * median(cues[v.name]) / plain);
+      if (std::string(v.name) != "bricks")
+        std::printf("  %-14s %8.1f ms  x%.3f   (cue stage %6.1f ms = %5.1f%% of plain)\n", v.name,
+                    median(ms[v.name]), median(ms[v.name]) / plain, median(cues[v.name]),
+                    100.0 * median(cues[v.name]) / plain);
   }
   MPI_Finalize();
   return failures == 0 ? 0 : 1;

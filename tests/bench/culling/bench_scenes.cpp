@@ -79,7 +79,8 @@ BenchScene heterogeneous(int n, int size) {
   BenchScene s = fcc(n);
   const size_t solid = s.type.size();
   // A gas of the solid's atom count / 8 spread over a box twice the solid's width beside it
-  // (seed 004 Fig. 2: the sparse crown next to the dense block): density about 1/64 the solid's.
+  // (Ibrahim et al. 2022, Fig. 2: the sparse crown next to the dense block): density about 1/64 the
+  // solid's.
   const double side = n * kLattice;
   std::mt19937_64 rng(20240521);
   std::uniform_real_distribution<double> u(0.0, 1.0);
@@ -90,7 +91,7 @@ BenchScene heterogeneous(int n, int size) {
   s.name = "heterogeneous_" + std::to_string(s.type.size() / 1000) + "k";
   s.note = "fcc " + std::to_string(n) + "^3 cells (" + std::to_string(solid) +
            " atoms) beside a gas of " + std::to_string(s.type.size() - solid) +
-           " atoms in twice its volume (seed 004 Fig. 2)";
+           " atoms in twice its volume (Ibrahim et al. 2022, Fig. 2)";
   s.config.width = s.config.height = size;
   return s;
 }

@@ -27,7 +27,8 @@ struct BenchScene {
 BenchScene fcc_outside(int n, int size);
 // The same crystal seen by a wide-angle camera inside it.
 BenchScene fcc_inside(int n, int size);
-// A dense fcc crystal of n^3 cells beside a sparse gas (seed 004 Fig. 2's heterogeneous data).
+// A dense fcc crystal of n^3 cells beside a sparse gas (the heterogeneous data of Ibrahim et al.
+// 2022, Fig. 2).
 BenchScene heterogeneous(int n, int size);
 // A cosmology-like clustered cloud: `n` particles, 80 % in eight dense Gaussian blobs of
 // different sizes and 20 % uniform in a cube of side 200, radius 0.5, typed by blob (fixed seed).

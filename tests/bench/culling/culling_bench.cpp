@@ -2,7 +2,7 @@
 //
 //   lantern-bench [--scenes fcc1m,fcc10m,inside,void_impact,droplet] [--size 1024] [--runs 5]
 //                 [--md-cells 64] [--out DIR] [--images] [--modes hzb,cpu_raster+hzb]
-//                 [--azimuths K] [--density] [--opaque-lod]
+//                 [--azimuths K] [--density] [--opaque-lod] [--scale 10,38,100]
 //
 // --density: style: density at LOD 100/50/25/10/1 % against random samples instead of the sphere
 // modes (density_bench.h; DIR/density_bench.csv and .svg). Scene `clustered`: clustered_cloud.
@@ -10,9 +10,9 @@
 // mode (opaque_lod_bench.h; DIR/opaque_lod_bench.csv and .svg).
 // A scene name may end in :uniform or :bimodal to give the particles mixed radii (assign_radii
 // in bench_scenes.h), e.g. --scenes fcc1m:uniform,inside:bimodal. --azimuths K renders every
-// scene from K azimuths evenly spaced about its vertical axis (same elevation and distance; seed
-// 003's viewpoint-stability experiment, its Fig. 7) and ends each scene with min / median / max
-// over the views of every mode's time and culled share.
+// scene from K azimuths evenly spaced about its vertical axis (same elevation and distance; the
+// viewpoint-stability experiment of the nine-spheres paper's conference version, its Fig. 7) and
+// ends each scene with min / median / max over the views of every mode's time and culled share.
 //
 // Per scene: the bricks are built once (as once per step in Lantern) and timed apart; then every
 // mode runs `runs` times, modes interleaved run by run so that the machine's noise hits all of
@@ -55,6 +55,7 @@
 #include "image_metrics.h"
 #include "opaque_lod_bench.h"
 #include "probabilistic_modes.h"
+#include "scale_bench.h"
 #include "supersampling_bench.h"
 
 namespace lantern::bench {
@@ -74,6 +75,7 @@ struct Options {
   bool pipeline = false;  // --pipeline: with --samples, whole frames through the pipeline instead
   bool density = false;   // --density: style: density LOD against random samples (density_bench.h)
   bool opaque_lod = false;  // --opaque-lod: sphere LOD against random samples (opaque_lod_bench.h)
+  ScaleOptions scale;       // --scale 10,38,100: whole frames at millions of particles
 };
 
 struct Mode {
@@ -96,7 +98,7 @@ std::vector<Mode> modes() {
   for (const OcclusionMode nine :
        {OcclusionMode::kNineSpheres, OcclusionMode::kNineSpheresSorted}) {
     Mode eq{std::string(name_of(nine)) + "+equivalent", false, nine, true, {}};
-    eq.nine_radius = NineSpheresRadius::kEquivalent;  // seed 003's equivalent radius
+    eq.nine_radius = NineSpheresRadius::kEquivalent;  // the conference version's radius
     m.push_back(eq);
   }
   m.push_back({"hzb", false, OcclusionMode::kHzb, true, {}});
@@ -117,7 +119,7 @@ std::vector<Mode> modes() {
   Mode points{"auto+point_path", false, OcclusionMode::kAuto, true, {}};
   points.lod.point_path = true;
   m.push_back(points);
-  for (const ProbabilisticMode &p : probabilistic_modes()) {  // seed 004 (CPU raster)
+  for (const ProbabilisticMode &p : probabilistic_modes()) {  // Ibrahim et al. 2022 (CPU raster)
     Mode prob{p.name, false, OcclusionMode::kProbabilistic, true, {}, true};
     prob.probabilistic = p.config;
     m.push_back(prob);
@@ -176,11 +178,10 @@ class Bench {
     std::printf("\n== %s: %s, %dx%d\n", bs.name.c_str(), bs.note.c_str(), bs.config.width,
                 bs.config.height);
     std::printf(
-        "   bricks: %zu (<= 1024 particles), built in %.1f ms median of 3 (keys %.1f, "
-        "sort %.1f, split %.1f, layout %.1f, bounds %.1f; last build); once per step, "
+        "   bricks: %zu (<= 1024 particles), built in %.1f ms median of 3 (bounds %.1f, "
+        "keys %.1f, scatter %.1f, cells %.1f; last build); once per step, "
         "shared by all scenes, not in the times below\n",
-        bricks.bricks.size(), median(build), bt.keys_ms, bt.sort_ms, bt.split_ms, bt.layout_ms,
-        bt.bounds_ms);
+        bricks.bricks.size(), median(build), bt.bounds_ms, bt.keys_ms, bt.scatter_ms, bt.cells_ms);
     std::vector<Mode> all = modes();
     if (!opt_.modes.empty())
       all.erase(std::remove_if(all.begin() + 1, all.end(),
@@ -300,8 +301,8 @@ class Bench {
     }
   }
 
-  // Seed 003's Fig. 7: per mode, min / median / max over the views of the frame time and the
-  // culled share, and the worst error of any view.
+  // Fig. 7 of the nine-spheres paper's conference version: per mode, min / median / max over the
+  // views of the frame time and the culled share, and the worst error of any view.
   static void print_stability(const std::vector<Mode> &all,
                               const std::vector<std::vector<Result>> &per_view, int64_t n) {
     std::printf(
@@ -437,12 +438,20 @@ bool parse(int argc, char **argv, Options *o) {
       o->density = true;
     } else if (a == "--opaque-lod") {
       o->opaque_lod = true;
+    } else if (a == "--scale") {
+      std::stringstream ss(value());
+      for (std::string s; std::getline(ss, s, ',');) o->scale.millions.push_back(std::stod(s));
+    } else if (a == "--scale-scenes") {
+      o->scale.scenes.clear();
+      std::stringstream ss(value());
+      for (std::string s; std::getline(ss, s, ',');) o->scale.scenes.push_back(s);
     } else {
       std::fprintf(stderr,
                    "usage: lantern-bench [--scenes fcc1m,fcc10m,inside,void_impact,droplet] "
                    "[--size 1024] [--runs 5] [--md-cells 64] [--out DIR] [--images] "
                    "[--modes hzb,cpu_raster+hzb,...] [--azimuths K] [--samples 1,4,16 "
-                   "[--pipeline]] [--density] [--opaque-lod]\n"
+                   "[--pipeline]] [--density] [--opaque-lod] [--scale 10,38,100 "
+                   "[--scale-scenes fcc,heterogeneous]]\n"
                    "  a scene name may end in :uniform or :bimodal (mixed radii)\n");
       return false;
     }
@@ -461,6 +470,12 @@ int run(int argc, char **argv) {
     std::fprintf(stderr, "lantern-bench: --out %s: cannot create the directory: %s\n",
                  opt.out.c_str(), ec.message().c_str());
     return 1;
+  }
+  if (!opt.scale.millions.empty()) {  // whole frames through the pipeline, under mpiexec
+    opt.scale.runs = opt.runs;
+    opt.scale.size = opt.size;
+    opt.scale.out = opt.out;
+    return run_scale_bench(opt.scale) ? 0 : 1;
   }
   const std::string table = opt.density           ? "density_bench"
                             : opt.opaque_lod      ? "opaque_lod_bench"

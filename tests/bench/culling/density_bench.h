@@ -1,5 +1,5 @@
 // lantern-bench --density: style: density at level-of-detail fractions 100/50/25/10/1 %, each
-// z-order prefix (seed 001 §3.5) next to a uniform random sample of the same size (a
+// z-order prefix (Rizzi et al. 2015, §3.5) next to a uniform random sample of the same size (a
 // counter-based hash of the particle index), against the full density image: ms per frame,
 // particles drawn, PSNR, SSIM, and PSNR after an 8x8 box filter (structure at a coarser scale).
 // The transfer is asinh over a fixed range, the full image's auto range, so that every sample is

@@ -1,7 +1,7 @@
 #!/bin/bash
 # out_dir_test.sh LANTERN_BENCH WORK_DIR: lantern-bench --out with a missing nested directory
 # creates it and writes what it says it wrote; an --out that cannot be created fails at once,
-# with a non-zero exit, naming it, and claims no write (issue #17 item 8).
+# with a non-zero exit, naming it, and claims no write.
 bench=$1 work=$2
 fail() { echo "FAIL: $*"; exit 1; }
 rm -rf "$work" && mkdir -p "$work" || exit 1

@@ -18,7 +18,7 @@ std::vector<ProbabilisticMode> probabilistic_modes() {
   ProbabilisticConfig coin;  // C_occ 0.95, samples accepted by a fair coin
   coin.random_acceptance = true;
   modes.push_back({"random50", coin});
-  // Seed 004's §5.3 to the letter: converged only when no meshlet changed class (no 1%
+  // Ibrahim et al. 2022, §5.3 to the letter: converged only when no meshlet changed class (no 1%
   // tolerance) for `patience` iterations; Table 4 compares each strategy at its own convergence.
   ProbabilisticConfig strict;
   strict.quiet_share = 0.0;

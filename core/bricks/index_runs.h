@@ -1,0 +1,136 @@
+// The bricks' particles as runs of consecutive indices, in index order: what lets a refit (and
+// the build's bounds) read the simulation's positions in one streaming pass instead of brick by
+// brick.
+//
+// Why: a brick's particles lie in a few dozen separate stretches of the host's arrays (a
+// simulation that keeps its atoms spatially sorted, as LAMMPS and most MD codes do, stores a
+// brick's x-rows one after another), and gathering brick after brick costs about twice a
+// streaming pass. Listing those stretches in index order turns the gather into a stream. A run
+// may hold two bricks, a bit per particle saying which: where a brick boundary cuts a row, the
+// particles of the two bricks interleave (a crystal's basis atoms straddle it, a host's sorting
+// bins do), and one-brick runs there would be a few particles long, each paying a loop's
+// overhead. Where runs are short anyway (particles in random order) they cost more than they
+// save, and the set keeps none (the refit then gathers).
+//
+// Bounds computed through runs visit a brick's particles in index order rather than in the
+// brick's order; min and max give the same values either way, and where a bound is exactly zero
+// (the only value with two encodings, -0 and +0) the brick is bounded again in its own order, so
+// the bits are those of the brick-order pass.
+//
+// Thread-safety: pure functions; the streaming pass runs in parts on its own threads.
+#pragma once
+
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <vector>
+
+#include <glm/common.hpp>
+#include <glm/vec3.hpp>
+
+#include "core/bricks/brick_set.h"
+#include "core/common/rank_threads.h"
+
+namespace lantern {
+
+// Runs shorter than this on average are not kept (12 bytes a run and a bit per particle: at most
+// 1.6 bytes per particle). A crystal in lattice order gives about 20-40 (a row of two bricks).
+inline constexpr uint32_t kMinMeanRun = 8;
+
+// The owner of an index that no brick holds.
+inline constexpr uint32_t kNoBrick = ~0u;
+
+// The runs of owner[0, n) (a brick number per index, kNoBrick for none) in index order, closed by a
+// run of no brick at n, with their in_other bits (*in_other, a bit per index); each run as long as
+// its particles belong to at most two bricks. None (both empty) when they would average fewer
+// than kMinMeanRun of the `held` indices that have an owner.
+std::vector<IndexRun> runs_of_owners(const uint32_t *owner, int64_t n, int64_t held,
+                                     std::vector<uint64_t> *in_other);
+
+// The runs of `set` from scratch (after a refit moved particles between bricks) into set->runs and
+// set->in_other, or none when too short to pay. Needs a temporary of 4 bytes per index below
+// `bound`.
+void list_runs(int64_t bound, BrickSet *set);
+
+// What the streaming pass finds for one brick.
+struct BrickScan {
+  glm::dvec3 lo{std::numeric_limits<double>::infinity()};
+  glm::dvec3 hi{-std::numeric_limits<double>::infinity()};
+  double r = 0.0;             // largest radius (0 without a radius array)
+  bool all_published = true;  // every index below the particle count and in the group
+  bool finite = true;         // every such position finite
+};
+
+// One streaming pass over the positions through set.runs: each brick's bounds, radius and
+// checks, for particles with index below `count` that are in the group (`keep`). In parts on up
+// to `threads` threads, merged in part order (min and max keep the first of equal values, so the
+// result is the one-thread result).
+template <typename Positions, typename Radii, typename Keep>
+std::vector<BrickScan> scan_runs(const Positions &pos, const Radii &radius, const Keep &keep,
+                                 bool has_radius, int64_t count, const BrickSet &set, int threads) {
+  const std::vector<IndexRun> &runs = set.runs;
+  const int parts = parts_for(threads, set.particle_count(), int64_t(1) << 16);
+  std::vector<std::vector<BrickScan>> part(static_cast<size_t>(parts));
+  const int64_t stretches = runs.empty() ? 0 : int64_t(runs.size()) - 1;  // the last closes
+  const uint64_t *bits = set.in_other.data();
+  run_in_parts(parts, stretches, [&](int p, int64_t begin, int64_t end) {
+    std::vector<BrickScan> &acc = part[size_t(p)];
+    acc.assign(set.bricks.size(), BrickScan{});
+    for (int64_t k = begin; k < end; ++k) {
+      const IndexRun &run = runs[size_t(k)];
+      if (run.brick == kNoBrick) continue;
+      const int64_t first = run.first, stop = runs[size_t(k) + 1].first;
+      const int64_t last = std::min<int64_t>(stop, count);
+      const auto in_other = [bits](int64_t i) { return (bits[i >> 6] >> (i & 63) & 1) != 0; };
+      // Indices past the particle count are no longer published: their brick does not fit.
+      for (int64_t i = last; i < stop; ++i)
+        acc[run.other != kNoBrick && in_other(i) ? run.other : run.brick].all_published = false;
+      // The run's bricks in locals (registers), written back after the run.
+      BrickScan a = acc[run.brick];
+      const auto add = [&](BrickScan &s, int64_t i) {
+        if (!keep.get(i)) {
+          s.all_published = false;
+          return;
+        }
+        const glm::dvec3 x = pos.get(i);
+        // x - x is 0 for finite x and NaN otherwise: a test without branches.
+        s.finite &= (x.x - x.x == 0.0) & (x.y - x.y == 0.0) & (x.z - x.z == 0.0);
+        s.lo = glm::min(s.lo, x), s.hi = glm::max(s.hi, x);
+        if (has_radius) s.r = std::max(s.r, radius.get(i));
+      };
+      if (run.other == kNoBrick) {
+        for (int64_t i = first; i < last; ++i) add(a, i);
+      } else {
+        BrickScan b = acc[run.other];
+        for (int64_t i = first; i < last; ++i) {
+          if (in_other(i))
+            add(b, i);
+          else
+            add(a, i);
+        }
+        acc[run.other] = b;
+      }
+      acc[run.brick] = a;
+    }
+  });
+  std::vector<BrickScan> all = std::move(part[0]);
+  for (size_t p = 1; p < part.size(); ++p)
+    for (size_t b = 0; b < all.size(); ++b) {
+      BrickScan &a = all[b];
+      const BrickScan &l = part[p][b];
+      a.lo = glm::min(a.lo, l.lo), a.hi = glm::max(a.hi, l.hi);
+      a.r = std::max(a.r, l.r);
+      a.all_published &= l.all_published;
+      a.finite &= l.finite;
+    }
+  return all;
+}
+
+// True when a bound of `s` is exactly zero: -0 and +0 compare equal, so which one min or max
+// kept depends on the order the particles were visited in.
+inline bool has_zero_bound(const BrickScan &s) {
+  return s.lo.x == 0.0 || s.lo.y == 0.0 || s.lo.z == 0.0 || s.hi.x == 0.0 || s.hi.y == 0.0 ||
+         s.hi.z == 0.0;
+}
+
+}  // namespace lantern

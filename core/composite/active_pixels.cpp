@@ -1,0 +1,113 @@
+#include "core/composite/active_pixels.h"
+
+#include <algorithm>
+#include <cstring>
+
+#include "core/composite/packed_pixel.h"
+
+namespace lantern {
+namespace {
+
+// The frame's words read in place: GCC's may_alias lets a float array be read as its bits.
+using AliasedWord = uint32_t __attribute__((may_alias));
+
+constexpr uint32_t kOneBits = 0x3f800000u;  // 1.0f: NaN's canonical depth (background)
+
+// canonical_depth on the bits, branch-free (masks, so that loops over it vectorise): positive
+// finite or +inf stay, NaN becomes 1, the rest (+-0, negative) 0. Positive non-NaN floats are
+// exactly the bit patterns in [1, 0x7f800000].
+inline uint32_t canonical_bits(uint32_t d) {
+  const uint32_t nan = 0u - uint32_t((d & 0x7fffffffu) > 0x7f800000u);
+  const uint32_t positive = 0u - uint32_t(d - 1u < 0x7f800000u);
+  return (kOneBits & nan) | (d & positive & ~nan);
+}
+
+// What one row holds against the running maximum M (depth bits md, colour word mc in memory
+// order): how many pixels differ from M, the first and last of them, and whether any pixel is not
+// canonical or may be above M (a greater depth, or M's depth with another colour: then the row is
+// looked at pixel by pixel). Branch-free reductions over the row, so the compiler vectorises it;
+// AVX2 gets the wider version.
+struct RowTally {
+  int count = 0, first = 0, last = 0;  // first > last when nothing differs
+  bool unusual = false;
+};
+
+__attribute__((target_clones("avx2", "default"))) RowTally tally_row(
+    const AliasedWord *__restrict depth, const AliasedWord *__restrict rgba, int n, uint32_t md,
+    uint32_t mc) {
+  uint32_t unusual = 0, count = 0, first = uint32_t(n), last_plus_one = 0;
+  for (uint32_t x = 0; x < uint32_t(n); ++x) {
+    const uint32_t raw = depth[x], c = rgba[x];
+    const uint32_t d = canonical_bits(raw);
+    const uint32_t depth_differs = uint32_t(d != md), colour_differs = uint32_t(c != mc);
+    const uint32_t differs = depth_differs | colour_differs, mask = 0u - differs;
+    count += differs;
+    first = std::min(first, (x & mask) | (uint32_t(n) & ~mask));
+    last_plus_one = std::max(last_plus_one, (x + 1) & mask);
+    unusual |= (raw ^ d) | uint32_t(d > md) | (colour_differs & (depth_differs ^ 1u));
+  }
+  return {int(count), int(first), int(last_plus_one) - 1, unusual != 0};
+}
+
+uint64_t canonical_key(float *depth, const uint8_t *rgba, size_t i) {
+  const float canonical = canonical_depth(depth[i]);
+  depth[i] = canonical;
+  return pack_pixel(canonical, rgba + 4 * i);
+}
+
+}  // namespace
+
+EmptyPixel empty_pixel(uint64_t key) {
+  EmptyPixel e;
+  e.key = key;
+  e.depth_bits = uint32_t(key >> 32);
+  uint8_t rgba[4];
+  store_color_word(uint32_t(key), rgba);
+  std::memcpy(&e.rgba_word, rgba, sizeof e.rgba_word);
+  return e;
+}
+
+ActiveScan scan_active_pixels(Frame &frame) {
+  ActiveScan scan;
+  const size_t pixels = frame.pixel_count();
+  if (pixels == 0) return scan;
+  float *depth = frame.depth.data();
+  const uint8_t *rgba = frame.rgba.data();
+  const int width = frame.width;
+  uint64_t max_key = canonical_key(depth, rgba, 0);
+  size_t active = 0;
+  for (int y = 0; y < frame.height; ++y) {
+    const size_t row = size_t(y) * size_t(width);
+    const EmptyPixel m = empty_pixel(max_key);
+    const RowTally t = tally_row(reinterpret_cast<const AliasedWord *>(depth + row),
+                                 reinterpret_cast<const AliasedWord *>(rgba + 4 * row), width,
+                                 m.depth_bits, m.rgba_word);
+    if (!t.unusual) {  // the common row
+      active += size_t(t.count);
+      scan.rect.add(t.first, y, t.last + 1, y + 1);
+      continue;
+    }
+    // A row that may hold a new maximum or a depth to rewrite: pixel by pixel.
+    int row_x0 = width, row_x1 = 0;  // active columns [row_x0, row_x1) of this row
+    for (int x = 0; x < width; ++x) {
+      const uint64_t key = canonical_key(depth, rgba, row + size_t(x));
+      if (key < max_key) {
+        ++active;
+        row_x0 = std::min(row_x0, x);
+        row_x1 = x + 1;
+      } else if (key > max_key) {
+        // A new maximum: every pixel before this one is below it, so active.
+        active = row + size_t(x);
+        if (y > 0) scan.rect.add(0, 0, width, y);
+        if (x > 0) row_x0 = 0, row_x1 = std::max(row_x1, x);
+        max_key = key;
+      }
+    }
+    scan.rect.add(row_x0, y, row_x1, y + 1);
+  }
+  scan.max_key = max_key;
+  scan.active = active;
+  return scan;
+}
+
+}  // namespace lantern

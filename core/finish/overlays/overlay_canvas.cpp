@@ -1,0 +1,74 @@
+#include "core/finish/overlays/overlay_canvas.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace lantern {
+namespace {
+
+uint8_t mix(uint8_t over, uint8_t under, unsigned a) {
+  return uint8_t((over * a + under * (255u - a) + 127u) / 255u);
+}
+
+}  // namespace
+
+void blend_pixel(Frame *image, int x, int y, const Rgb8 &color, uint8_t coverage) {
+  if (x < 0 || y < 0 || x >= image->width || y >= image->height || coverage == 0) return;
+  uint8_t *p = image->rgba.data() + 4 * image->index(x, y);
+  for (int c = 0; c < 3; ++c) p[c] = mix(color[c], p[c], coverage);
+  p[3] = uint8_t(p[3] + (coverage * (255u - p[3]) + 127u) / 255u);
+}
+
+void draw_mask(Frame *image, const TextMask &mask, int x, int y, const Rgb8 &color) {
+  const int y0 = std::max(0, -y), y1 = std::min(mask.height, image->height - y);
+  const int x0 = std::max(0, -x), x1 = std::min(mask.width, image->width - x);
+  for (int j = y0; j < y1; ++j)
+    for (int i = x0; i < x1; ++i)
+      blend_pixel(image, x + i, y + j, color, mask.coverage[size_t(j) * mask.width + i]);
+}
+
+void fill_rect(Frame *image, int x, int y, int w, int h, const Rgb8 &color) {
+  const int x0 = std::max(0, x), x1 = std::min(image->width, x + w);
+  const int y0 = std::max(0, y), y1 = std::min(image->height, y + h);
+  for (int j = y0; j < y1; ++j)
+    for (int i = x0; i < x1; ++i) blend_pixel(image, i, j, color, 255);
+}
+
+void draw_line(Frame *image, const LinePoint &a, const LinePoint &b, double width,
+               const Rgb8 &color, bool depth_test) {
+  const double dx = b.x - a.x, dy = b.y - a.y, length2 = dx * dx + dy * dy;
+  if (!std::isfinite(length2)) return;
+  const double half = 0.5 * width;
+  // Step along the major axis; across it, cover every pixel the line's width may reach (the
+  // width across a major-axis column is at most sqrt(2) times the line's).
+  const bool steep = std::abs(dy) > std::abs(dx);
+  const double reach = half * 1.5 + 1.0;
+  const double m0 = steep ? std::min(a.y, b.y) : std::min(a.x, b.x);
+  const double m1 = steep ? std::max(a.y, b.y) : std::max(a.x, b.x);
+  const int major_size = steep ? image->height : image->width;
+  const int first = int(std::max(0.0, std::floor(m0 - reach)));
+  const int last = int(std::min(double(major_size - 1), std::ceil(m1 + reach)));
+  const double slope = steep ? (dy != 0 ? dx / dy : 0) : (dx != 0 ? dy / dx : 0);
+  for (int m = first; m <= last; ++m) {
+    const double along = m + 0.5;
+    const double clamped = std::clamp(along, m0, m1);
+    const double across = steep ? a.x + (clamped - a.y) * slope : a.y + (clamped - a.x) * slope;
+    const int n0 = int(std::floor(across - reach)), n1 = int(std::ceil(across + reach));
+    for (int n = n0; n <= n1; ++n) {
+      const int x = steep ? n : m, y = steep ? m : n;
+      if (x < 0 || y < 0 || x >= image->width || y >= image->height) continue;
+      const double px = x + 0.5 - a.x, py = y + 0.5 - a.y;
+      const double t = length2 > 0 ? std::clamp((px * dx + py * dy) / length2, 0.0, 1.0) : 0.0;
+      const double ex = px - t * dx, ey = py - t * dy;
+      const double coverage = std::clamp(half + 0.5 - std::sqrt(ex * ex + ey * ey), 0.0, 1.0);
+      if (coverage <= 0) continue;
+      if (depth_test) {
+        const double depth = std::min(a.depth + t * (b.depth - a.depth), 1.0 - 1e-7);
+        if (double(image->depth[image->index(x, y)]) < depth) continue;
+      }
+      blend_pixel(image, x, y, color, uint8_t(std::lround(coverage * 255.0)));
+    }
+  }
+}
+
+}  // namespace lantern

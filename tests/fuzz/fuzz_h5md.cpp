@@ -1,0 +1,202 @@
+// libFuzzer: the H5MD reader (H5mdReader) on files built from the input, structure-aware: the
+// bytes choose which groups, datasets and attributes exist, their shapes, types, fill values and
+// contents (an H5MD file of Lantern's layout, or of another writer, or neither), the file is
+// written with serial HDF5 to /dev/shm, and the reader opens it and reads every frame in two
+// halves, as two ranks would. Raw byte soup would mostly exercise HDF5's own parser, which is not
+// Lantern's code; the reader's logic is in what it makes of valid HDF5 objects.
+#include <fuzzer/FuzzedDataProvider.h>
+#include <hdf5.h>
+#include <mpi.h>
+#include <unistd.h>
+
+#include <cstddef>
+#include <cstdint>
+#include <cstdio>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "core/dump/h5md_reader.h"
+
+namespace {
+
+std::string path;
+
+hid_t pick_type(FuzzedDataProvider &in) {
+  switch (in.ConsumeIntegralInRange(0, 4)) {
+    case 0:
+      return H5T_NATIVE_DOUBLE;
+    case 1:
+      return H5T_NATIVE_FLOAT;
+    case 2:
+      return H5T_NATIVE_INT32;
+    case 3:
+      return H5T_NATIVE_INT64;
+    default:
+      return H5T_NATIVE_UINT8;
+  }
+}
+
+// A dataset `name` in `group` of the given rank, small dimensions, any type, contents and
+// (sometimes) a fill value, written from the input.
+void make_dataset(FuzzedDataProvider &in, hid_t group, const char *name, int rank, bool frames,
+                  hsize_t n_frames, hsize_t n_rows) {
+  if (in.ConsumeIntegralInRange(0, 15) == 0) return;  // sometimes missing
+  if (in.ConsumeIntegralInRange(0, 15) == 0) rank = in.ConsumeIntegralInRange(0, 4);
+  std::vector<hsize_t> dims;
+  for (int d = 0; d < rank; ++d) {
+    hsize_t v = d == 0 && frames ? n_frames : d <= 1 ? n_rows : 3;
+    if (in.ConsumeIntegralInRange(0, 7) == 0) v = in.ConsumeIntegralInRange<hsize_t>(0, 9);
+    dims.push_back(v);
+  }
+  const hid_t type = pick_type(in);
+  const hid_t space =
+      rank == 0 ? H5Screate(H5S_SCALAR) : H5Screate_simple(rank, dims.data(), nullptr);
+  const hid_t dcpl = H5Pcreate(H5P_DATASET_CREATE);
+  if (in.ConsumeBool()) {
+    const double fill = in.ConsumeBool() ? -1.0 : in.ConsumeFloatingPoint<double>();
+    const int64_t ifill = in.ConsumeBool() ? -1 : in.ConsumeIntegral<int64_t>();
+    if (type == H5T_NATIVE_DOUBLE || type == H5T_NATIVE_FLOAT)
+      H5Pset_fill_value(dcpl, H5T_NATIVE_DOUBLE, &fill);
+    else
+      H5Pset_fill_value(dcpl, H5T_NATIVE_INT64, &ifill);
+  }
+  const hid_t dataset = H5Dcreate2(group, name, type, space, H5P_DEFAULT, dcpl, H5P_DEFAULT);
+  if (dataset >= 0) {
+    hsize_t elements = 1;
+    for (hsize_t d : dims) elements *= d;
+    std::vector<double> values(elements);
+    for (double &v : values) {
+      switch (in.ConsumeIntegralInRange(0, 3)) {
+        case 0:
+          v = in.ConsumeFloatingPoint<double>();
+          break;
+        case 1:
+          v = double(in.ConsumeIntegralInRange<int64_t>(-3, 12));
+          break;
+        default:
+          v = in.ConsumeFloatingPointInRange<double>(-10.0, 10.0);
+      }
+    }
+    if (elements > 0)
+      H5Dwrite(dataset, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, values.data());
+    H5Dclose(dataset);
+  }
+  H5Pclose(dcpl);
+  H5Sclose(space);
+}
+
+// A time-dependent element (value, step, time) at `where`.
+void make_element(FuzzedDataProvider &in, hid_t parent, const char *where, int value_rank,
+                  hsize_t n_frames, hsize_t n_rows) {
+  if (in.ConsumeIntegralInRange(0, 7) == 0) return;
+  const hid_t group = H5Gcreate2(parent, where, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+  if (group < 0) return;
+  const bool fixed = in.ConsumeIntegralInRange(0, 5) == 0;  // a time-independent [N] element
+  if (fixed) {
+    make_dataset(in, parent, (std::string(where) + "_fixed").c_str(), value_rank - 1, false, 0,
+                 n_rows);
+  }
+  make_dataset(in, group, "value", value_rank, true, n_frames, n_rows);
+  make_dataset(in, group, "step", 1, true, n_frames, n_rows);
+  if (in.ConsumeBool()) make_dataset(in, group, "time", 1, true, n_frames, n_rows);
+  H5Gclose(group);
+}
+
+void string_attribute(hid_t object, const char *name, const std::vector<std::string> &values) {
+  const hid_t type = H5Tcopy(H5T_C_S1);
+  H5Tset_size(type, 16);
+  std::vector<char> packed(16 * values.size(), '\0');
+  for (size_t i = 0; i < values.size(); ++i) values[i].copy(packed.data() + 16 * i, 15);
+  const hsize_t n = values.size();
+  const hid_t space = H5Screate_simple(1, &n, nullptr);
+  const hid_t attr = H5Acreate2(object, name, type, space, H5P_DEFAULT, H5P_DEFAULT);
+  if (attr >= 0) {
+    H5Awrite(attr, type, packed.data());
+    H5Aclose(attr);
+  }
+  H5Sclose(space);
+  H5Tclose(type);
+}
+
+bool build_file(FuzzedDataProvider &in) {
+  const hid_t file = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+  if (file < 0) return false;
+  if (in.ConsumeIntegralInRange(0, 15) != 0) {
+    const hid_t h5md = H5Gcreate2(file, "/h5md", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+    if (in.ConsumeIntegralInRange(0, 15) != 0) {
+      const int version[2] = {1, 1};
+      const hsize_t two = 2;
+      const hid_t space = H5Screate_simple(1, &two, nullptr);
+      const hid_t attr =
+          H5Acreate2(h5md, "version", H5T_STD_I32LE, space, H5P_DEFAULT, H5P_DEFAULT);
+      H5Awrite(attr, H5T_NATIVE_INT, version);
+      H5Aclose(attr);
+      H5Sclose(space);
+    }
+    H5Gclose(h5md);
+  }
+  const hsize_t n_frames = in.ConsumeIntegralInRange<hsize_t>(0, 4);
+  const hsize_t n_rows = in.ConsumeIntegralInRange<hsize_t>(0, 8);
+  if (in.ConsumeIntegralInRange(0, 15) != 0) {
+    const hid_t particles = H5Gcreate2(file, "/particles", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+    const std::string name = in.ConsumeBool() ? "all" : in.ConsumeRandomLengthString(12);
+    const hid_t group = H5Gcreate2(particles, name.empty() ? "x" : name.c_str(), H5P_DEFAULT,
+                                   H5P_DEFAULT, H5P_DEFAULT);
+    if (group >= 0) {
+      make_element(in, group, "position", 3, n_frames, n_rows);
+      for (const char *field : {"species", "id", "scalar", "radius"})
+        if (in.ConsumeBool()) make_element(in, group, field, 2, n_frames, n_rows);
+      if (in.ConsumeBool()) {
+        const hid_t box = H5Gcreate2(group, "box", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+        if (in.ConsumeBool()) {
+          std::vector<std::string> boundary;
+          for (int a = 0, n = in.ConsumeIntegralInRange(0, 4); a < n; ++a)
+            boundary.push_back(in.ConsumeBool() ? "periodic" : in.ConsumeRandomLengthString(15));
+          if (!boundary.empty()) string_attribute(box, "boundary", boundary);
+        }
+        make_element(in, box, "edges", 2, n_frames, 3);
+        make_element(in, box, "offset", 2, n_frames, 3);
+        H5Gclose(box);
+      }
+      H5Gclose(group);
+    }
+    H5Gclose(particles);
+  }
+  if (in.ConsumeBool()) {
+    const hid_t observables =
+        H5Gcreate2(file, "/observables", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+    make_element(in, observables, "particle_count", 1, n_frames, 0);
+    H5Gclose(observables);
+  }
+  H5Fclose(file);
+  return true;
+}
+
+}  // namespace
+
+extern "C" int LLVMFuzzerInitialize(int *, char ***) {
+  MPI_Init(nullptr, nullptr);
+  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+  path = "/dev/shm/lantern_fuzz_h5md_" + std::to_string(getpid()) + ".h5";
+  return 0;
+}
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
+  FuzzedDataProvider in(data, size);
+  if (!build_file(in)) return 0;
+  std::unique_ptr<lantern::H5mdReader> reader;
+  if (lantern::H5mdReader::open(path, MPI_COMM_WORLD, &reader).ok()) {
+    const auto &frames = reader->frames();
+    for (size_t f = 0; f < frames.size() && f < 6; ++f) {
+      const int64_t count = frames[f].count, half = count / 2;
+      lantern::ParticleFrame frame;
+      if (reader->read(f, 0, half, &frame).ok() && frame.count() > half) __builtin_trap();
+      if (reader->read(f, half, count, &frame).ok() && frame.count() > count - half)
+        __builtin_trap();
+    }
+  }
+  reader.reset();
+  unlink(path.c_str());
+  return 0;
+}
