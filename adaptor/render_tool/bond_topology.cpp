@@ -133,7 +133,24 @@ std::string read_bond_source(const std::string &path, BondSource *out) {
   }
 }
 
-std::string share_with_bonds(const ParticleFrame &all, int64_t begin, int64_t end,
+std::string rows_of_ids(const ParticleFrame &all, const std::vector<int64_t> &ids,
+                        std::vector<int64_t> *rows) {
+  if (all.id.size() != size_t(all.count()))
+    return "bonds need the atom ids of the dump (dump custom ... id ...)";
+  std::unordered_map<int64_t, int64_t> row_of;
+  row_of.reserve(all.id.size());
+  for (size_t r = 0; r < all.id.size(); ++r) row_of.emplace(all.id[r], int64_t(r));
+  rows->clear();
+  rows->reserve(ids.size());
+  for (const int64_t id : ids) {
+    const auto r = row_of.find(id);
+    if (r == row_of.end()) return "atom id " + std::to_string(id) + " is not in the frame";
+    rows->push_back(r->second);
+  }
+  return {};
+}
+
+std::string share_with_bonds(const ParticleFrame &all, const std::vector<int64_t> &rows,
                              const BondTopology &topology, BondedShare *out) {
   if (all.id.empty()) return "bonds need the atom ids of the dump (dump custom ... id ...)";
   *out = BondedShare{};
@@ -142,8 +159,15 @@ std::string share_with_bonds(const ParticleFrame &all, int64_t begin, int64_t en
   std::unordered_map<int64_t, int64_t> row_of;
   row_of.reserve(all.id.size());
   for (size_t r = 0; r < all.id.size(); ++r) row_of.emplace(all.id[r], int64_t(r));
-  for (int64_t r = begin; r < end; ++r) copy_row(all, r, &all.position[size_t(3 * r)], &out->frame);
-  out->owned = end - begin;
+  std::vector<int64_t> local_of(size_t(all.count()), -1);  // whole-frame row -> this rank's row
+  for (size_t j = 0; j < rows.size(); ++j) {
+    const int64_t r = rows[j];
+    if (r < 0 || r >= all.count() || local_of[size_t(r)] >= 0)
+      return "row " + std::to_string(r) + " is not a row of the frame, or given twice";
+    local_of[size_t(r)] = int64_t(j);
+    copy_row(all, r, &all.position[size_t(3 * r)], &out->frame);
+  }
+  out->owned = int64_t(rows.size());
 
   std::map<std::array<int64_t, 4>, int64_t> ghost_of;  // (row, image shift per axis) -> local row
   for (size_t k = 0; k < topology.first_id.size(); ++k) {
@@ -152,7 +176,7 @@ std::string share_with_bonds(const ParticleFrame &all, int64_t begin, int64_t en
       ++out->skipped;
       continue;
     }
-    if (a->second < begin || a->second >= end) continue;  // another rank's bond
+    if (local_of[size_t(a->second)] < 0) continue;  // another rank's bond
     const double *xa = &all.position[size_t(3 * a->second)];
     double xb[3];
     std::array<int64_t, 4> key{b->second, 0, 0, 0};
@@ -166,8 +190,8 @@ std::string share_with_bonds(const ParticleFrame &all, int64_t begin, int64_t en
     }
     int64_t partner = 0;
     const bool plain = key[1] == 0 && key[2] == 0 && key[3] == 0;
-    if (plain && b->second >= begin && b->second < end) {
-      partner = b->second - begin;
+    if (plain && local_of[size_t(b->second)] >= 0) {
+      partner = local_of[size_t(b->second)];
     } else if (const auto g = ghost_of.find(key); g != ghost_of.end()) {
       partner = g->second;
     } else {
@@ -175,7 +199,7 @@ std::string share_with_bonds(const ParticleFrame &all, int64_t begin, int64_t en
       copy_row(all, b->second, xb, &out->frame);
       ghost_of.emplace(key, partner);
     }
-    out->first.push_back(a->second - begin);
+    out->first.push_back(local_of[size_t(a->second)]);
     out->second.push_back(partner);
     out->type.push_back(topology.type[k]);
   }

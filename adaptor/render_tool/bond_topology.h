@@ -49,9 +49,14 @@ struct BondedShare {
   int64_t skipped = 0;  // bonds with an atom missing from the frame (over all of it)
 };
 
-// This rank's rows [begin, end) of the whole frame `all`, with its bonds and their ghosts. Needs
-// the frame's atom ids. "" or an error.
-std::string share_with_bonds(const ParticleFrame &all, int64_t begin, int64_t end,
+// This rank's `rows` of the whole frame `all` (each at most once; published in this order), with
+// its bonds and their ghosts. Needs the frame's atom ids. "" or an error.
+std::string share_with_bonds(const ParticleFrame &all, const std::vector<int64_t> &rows,
                              const BondTopology &topology, BondedShare *out);
+
+// The rows of the whole frame `all` that hold the atoms `ids` (after the spatial split, this
+// rank's atoms), in the order of `ids`. "" or an error naming an id the frame lacks.
+std::string rows_of_ids(const ParticleFrame &all, const std::vector<int64_t> &ids,
+                        std::vector<int64_t> *rows);
 
 }  // namespace lantern

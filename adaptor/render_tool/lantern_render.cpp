@@ -19,6 +19,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <memory>
+#include <numeric>
 #include <string>
 #include <vector>
 
@@ -38,8 +39,8 @@ constexpr const char *kUsage =
     "       lantern-render --help | --version\n"
     "  INPUT: an H5MD file (Lantern's dump: output) or a LAMMPS text dump (dump atom/custom)\n"
     "  --split: space gives each rank a contiguous run of the frame's z-order curve (the default,\n"
-    "           unless the configuration writes a dump or --bonds is given: those keep the file's\n"
-    "           order); rows gives each rank its rows of the file as read\n"
+    "           unless the configuration writes a dump: a conversion keeps the file's order);\n"
+    "           rows gives each rank its rows of the file as read\n"
     "  DATA: a LAMMPS data file whose Bonds section gives the bonds (by atom id), or a dump\n"
     "  local of the bonds' atom ids per step (compute property/local batom1 batom2 [btype])\n";
 
@@ -128,7 +129,8 @@ lantern_bonds bonds_of(const lantern::BondedShare &share) {
 // Reads, publishes and renders one frame, with the bonds of `bonds` if given. "" or an error
 // (the same on every rank).
 // With `spatial`, the particles go through the spatial split, whose spread of particles over the
-// ranks goes to *split (not with bonds: their ghosts are found among the file's rows).
+// ranks goes to *split; with bonds, each rank then finds its atoms and its bonds' ghosts among the
+// rows of the whole frame.
 std::string render_frame(lantern_context *ctx, const lantern::FrameSource &source, size_t index,
                          const std::string &input, const lantern::BondSource *bonds, int rank,
                          int size, bool spatial, lantern::SplitStats *split) {
@@ -142,8 +144,16 @@ std::string render_frame(lantern_context *ctx, const lantern::FrameSource &sourc
   if (bonds && !topology) return "the bond file has no bonds for step " + std::to_string(info.step);
   if (topology) {  // the whole frame, for the ghosts of this rank's bonds
     lantern::ParticleFrame all;
-    std::string e = source.read(index, 0, info.count, &all);
-    if (e.empty()) e = lantern::share_with_bonds(all, begin, end, *topology, &share);
+    if (auto e = agree(source.read(index, 0, info.count, &all)); !e.empty()) return e;
+    std::vector<int64_t> rows(size_t(end - begin));
+    std::iota(rows.begin(), rows.end(), begin);
+    if (spatial) {  // this rank's run of the curve, found in the whole frame by atom id
+      if (auto e = agree(source.read(index, begin, end, &frame)); !e.empty()) return e;
+      if (auto e = lantern::split_spatially(MPI_COMM_WORLD, &frame, split); !e.empty())
+        return where + e;
+      if (auto e = agree(lantern::rows_of_ids(all, frame.id, &rows)); !e.empty()) return where + e;
+    }
+    std::string e = lantern::share_with_bonds(all, rows, *topology, &share);
     if (auto agreed = agree(e.empty() ? e : where + e); !agreed.empty()) return agreed;
     if (rank == 0 && share.skipped > 0)
       std::fprintf(stderr,
@@ -203,11 +213,7 @@ int run(const Options &opt, int rank, int size) {
   // dump) keeps the file's order unless asked otherwise. The configuration loaded fine above.
   lantern::Config config;
   const bool dumps = lantern::load_config(opt.config, &config).ok() && config.dump.enabled;
-  // With bonds, each rank takes its rows of the file and the ghosts of its bonds from the whole
-  // frame (bond_topology.h): the spatial split does not apply.
-  if (!opt.bonds.empty() && opt.split == "space")
-    return fail("--split space does not go with --bonds (bonded frames are split by rows)");
-  const bool spatial = opt.bonds.empty() && (opt.split == "space" || (opt.split.empty() && !dumps));
+  const bool spatial = opt.split == "space" || (opt.split.empty() && !dumps);
   const auto start = std::chrono::steady_clock::now();
   for (size_t k = 0; k < selected.size(); ++k) {
     const auto t0 = std::chrono::steady_clock::now();

@@ -142,8 +142,11 @@ bonds)
   # The same with the bonds from LAMMPS's `dump local` of compute property/local.
   mkdir render_local && (cd render_local && timeout 300 $mpiexec -n 2 "$lr" "$src/bonds.yaml" \
     ../chain_on_3/positions.lammpstrj --bonds ../chain_on_3/bonds.local > /dev/null) || exit 1
+  # Each rank's rows of the file (--split rows) instead of its run of the z-order curve (default).
+  mkdir render_rows && (cd render_rows && timeout 300 $mpiexec -n 3 "$lr" "$src/bonds.yaml" \
+    ../chain_on_3/positions.lammpstrj --bonds ../chain.data --split rows > /dev/null) || exit 1
   for s in 000000 000010; do
-    for r in render render_local; do
+    for r in render render_local render_rows; do
       cmp "chain_on_3/mol_$s.png" "$r/mol_$s.png" ||
         { echo "$r: lantern-render of the dump differs from lantern-lammps at step $s"; exit 1; }
     done
