@@ -11,38 +11,45 @@ namespace {
 constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-// The ladder's numbers, all measured on the project's 2-core machine at 1024² (docs/benchmarks.md;
-// "cost" is a whole frame through the pipeline relative to the setting above it, "PSNR" is the
-// image against the configured setting of the same knob; where two scenes were measured, the
-// lower PSNR and the mean cost):
+// The ladder's numbers, all measured on the project's 2-core machine at 1024² on 2 ranks
+// (docs/benchmarks.md). "cost" is a whole frame through the pipeline relative to the rung above
+// it, "PSNR" the image against the knob's configured setting; where two scenes were measured,
+// the lower PSNR and a cost between the two:
 //
-//   step                  cost     PSNR      source
-//   AO full -> half       0.40     39-41 dB  lantern-bench-cues (fcc 1 M: 96.3 -> 42.1 ms,
-//                                            void_impact: 71.6 -> 25.7 ms; --kernels: 39-41 dB)
-//   samples 64 -> 16      0.40     43.8 dB   lantern-bench --samples 1,4,16 (16 against 64 samples;
-//                                            the cost of 64 was not measured: taken as 16 -> 4's)
-//   samples 16 -> 4       0.42     35.1 dB   same (pipeline, fcc 1 M: 3.81-3.91x -> 1.55-1.68x)
-//   samples 4 -> 1        0.62     25.0 dB   same (1.55-1.68x -> 1x; 1 against 64 samples)
-//   AO half -> off        0.78     21.7 dB   lantern-bench-cues (fcc 1 M 42.1 -> 34.3 ms,
-//                                            void_impact 25.7 -> 19.1 ms; plain against AO: 21.7,
-//                                            23.8 dB with --kernels)
-//   lod 1 -> 0.5          0.88     16.6 dB   lantern-bench --opaque-lod, CPU raster + hzb
-//                                            (fcc 10 M 246.7 -> 224.3 ms, void_impact 14.5 -> 12.3)
-//   lod 0.5 -> 0.25       0.88     15.7 dB   same (-> 197.8 ms, -> 10.7 ms)
-//   lod 0.25 -> 0.1       0.72     15.0 dB   same (-> 131.8 ms, -> 8.3 ms)
+//   step               cost   PSNR      source
+//   AO full -> half    0.50   39.2 dB   lantern-bench-cues --kernels 3: half against full 39.2 dB
+//                                       (fcc 1 M), 41.1 dB (void_impact) at 0.11-0.13 of full's
+//                                       kernel time; full AO costs 62.0 / 52.5 ms of a frame of
+//                                       34.3 / 19.1 ms plain (lantern-bench-cues --steps 5), on a
+//                                       4-sample frame of 1.6-1.7x that
+//   samples 64 -> 16   0.40   43.8 dB   lantern-bench --samples 1,4,16 --pipeline (16 against 64
+//                                       samples; the cost of 64 was not measured: taken as 16's)
+//   samples 16 -> 4    0.42   35.1 dB   same (fcc 1 M, 2 ranks: 3.91x -> 1.68x of 1 sample)
+//   AO half -> off     0.85   32.5 dB   lantern-bench-cues --kernels 3: the plain frame against
+//                                       full AO 32.8 dB (fcc 1 M), 32.5 dB (void_impact); half AO
+//                                       is about an eighth of 62.0 / 52.5 ms
+//   samples 4 -> 1     0.62   25.0 dB   lantern-bench --samples 1,4,16 (1 against 64 samples;
+//                                       1.55x / 1.68x -> 1x on 1 / 2 ranks)
+//   lod 1 -> 0.5       0.88   16.6 dB   lantern-bench --opaque-lod, CPU raster + hzb, 1024²
+//                                       (fcc 10 M 246.7 -> 224.3 ms, void_impact 14.5 -> 12.3 ms;
+//                                       PSNR 16.6 / 19.0 dB)
+//   lod 0.5 -> 0.25    0.88   15.7 dB   same (-> 197.8 ms, -> 10.7 ms; 15.7 / 18.2 dB)
+//   lod 0.25 -> 0.1    0.72   15.0 dB   same (-> 131.8 ms, -> 8.3 ms; 15.0 / 17.4 dB)
 //
-// Ordered by error added per time saved: halving AO's resolution costs almost nothing in the
-// picture (40 dB) for most of AO's time; fewer samples cost 35-44 dB down to one sample's
-// 25 dB for 40-60 % of the frame; dropping AO (22 dB) saves a fifth; level of detail is last,
-// because the uniform prefix loses the pixels (15-17 dB, SSIM 0.5-0.7) for 10-30 % a step.
-constexpr double kAoHalfCost = 0.40, kAoHalfPsnr = 39.0;
-constexpr double kAoOffCost = 0.78, kAoOffPsnr = 21.7;
+// Ordered by squared error added per millisecond saved (the steps are taken in this order, each
+// only where the scene's configuration has something to give up): half-resolution AO adds
+// 1.2e-4 (39.2 dB) for about 50 ms; 16 -> 4 samples 3.1e-4 for about 75 ms of a 16-sample fcc
+// frame (64 -> 16 less still); AO off 5.6e-4 for 6-8 ms; 4 -> 1 samples 3.2e-3 for 12-23 ms; level
+// of detail (the uniform prefix loses the pixels: 15-19 dB, SSIM 0.5-0.7) 2e-2 for 10-30 % a step,
+// so it comes last.
+constexpr double kAoHalfCost = 0.50, kAoHalfPsnr = 39.2;
+constexpr double kAoOffCost = 0.85, kAoOffPsnr = 32.5;
 struct SampleStep {
   int from, to;
   double cost, psnr_db;
 };
-constexpr SampleStep kSampleSteps[] = {
-    {64, 16, 0.40, 43.8}, {16, 4, 0.42, 35.1}, {4, 1, 0.62, 25.0}};
+constexpr SampleStep kManySampleSteps[] = {{64, 16, 0.40, 43.8}, {16, 4, 0.42, 35.1}};
+constexpr SampleStep kLastSampleStep = {4, 1, 0.62, 25.0};
 struct LodStep {
   double fraction, cost, psnr_db;
 };
@@ -87,17 +94,19 @@ std::vector<BudgetRung> budget_ladder(const SceneConfig &scene) {
     ao_psnr = kAoHalfPsnr;
     push("ao half", kAoHalfCost);
   }
-  for (const SampleStep &s : kSampleSteps)
-    if (r.samples == s.from) {
-      r.samples = s.to;
-      samples_psnr = s.psnr_db;  // against 64 samples: close to the configured ones' error
-      push("samples " + std::to_string(s.to), s.cost);
-    }
+  const auto fewer_samples = [&](const SampleStep &s) {
+    if (r.samples != s.from) return;
+    r.samples = s.to;
+    samples_psnr = s.psnr_db;  // against 64 samples: close to the configured ones' error
+    push("samples " + std::to_string(s.to), s.cost);
+  };
+  for (const SampleStep &s : kManySampleSteps) fewer_samples(s);
   if (screen_ao(scene)) {
     r.ao = BudgetAo::kOff;
     ao_psnr = kAoOffPsnr;
     push("ao off", kAoOffCost);
   }
+  fewer_samples(kLastSampleStep);
   for (const LodStep &l : kLodSteps)
     if (l.fraction < r.lod_fraction) {
       r.lod_fraction = l.fraction;
@@ -182,7 +191,9 @@ int BudgetController::choose(double budget_ms) {
   for (int j = 0; j < rungs(); ++j) {
     const double allowed = j < rung_ ? budget_ms * kStepUpShare : budget_ms;
     if (predicted_ms(j) <= allowed) {
-      rung_ = j;
+      // Up one rung at a time: each step up is measured before the next (a noisy cheap step
+      // does not jump straight back to full quality); down as far as needed at once.
+      rung_ = std::max(j, rung_ - 1);
       return rung_;
     }
   }

@@ -4,8 +4,8 @@
 // The ladder is a list of settings from the scene as configured (rung 0) down to the cheapest;
 // each rung gives up one more thing, in the order of image error added per millisecond saved that
 // the benchmarks measured (render_budget.cpp quotes them). The controller predicts every rung's
-// cost from the last measured one and picks the first rung (the best picture) predicted to fit,
-// with hysteresis against stepping back up too early.
+// cost from the last measured one and picks the first rung (the best picture) predicted to fit:
+// down as far as needed at once, up one rung a step and only well under the budget (hysteresis).
 //
 // Plain values and a deterministic controller: fed the same (reduced) costs, every rank picks the
 // same rung, so the ranks draw with the same settings. Not thread-safe; one per scene.

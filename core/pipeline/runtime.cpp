@@ -329,13 +329,15 @@ Status Runtime::execute(int64_t step, double time) {
     for (const SceneStats &sc : stats)
       if (sc.budget) {
         const BudgetStats &b = *sc.budget;
+        char error[32] = "exact";
+        if (b.rung > 0) std::snprintf(error, sizeof error, "~%.1f dB", b.psnr_db);
         char text[256];
         std::snprintf(text, sizeof text,
                       "; '%s': budget %.1f ms, rung %d/%d (lod %g, samples %d, ao %s), %.1f ms, "
-                      "%s%.1f dB%s",
+                      "%s%s",
                       sc.name.c_str(), b.budget_ms, b.rung, b.rungs - 1, b.lod_fraction, b.samples,
-                      b.ambient_occlusion.c_str(), b.measured_ms, b.rung == 0 ? "exact, " : "~",
-                      b.rung == 0 ? 0.0 : b.psnr_db, b.unmet ? ", over budget" : "");
+                      b.ambient_occlusion.c_str(), b.measured_ms, error,
+                      b.unmet ? ", over budget" : "");
         budgets += text;
       }
     std::fprintf(stderr, "lantern: step %lld rendered %zu scene(s) in %.1f ms%s\n",

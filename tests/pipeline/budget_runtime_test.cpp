@@ -34,8 +34,9 @@ std::vector<double> lattice() {
 }
 
 // The scene (4 samples, full-resolution screen AO) with `keys` added, written as `name`.
-std::string config(const std::string &dir, const std::string &name, const std::string &keys) {
-  return "gl: none\nstats: " + dir + "/" + name +
+std::string config(const std::string &dir, const std::string &name, const std::string &keys,
+                   const std::string &top = "") {
+  return top + "gl: none\nstats: " + dir + "/" + name +
          ".jsonl\n"
          "scenes:\n"
          "  - name: " +
@@ -86,7 +87,7 @@ TEST(Budget, AFrameThatFitsIsTheFrameWithoutABudget) {
   ASSERT_EQ(stats.size(), size_t(kSteps));
   for (const nlohmann::json &b : stats) {
     EXPECT_EQ(b["rung"], 0) << b;
-    EXPECT_EQ(b["rungs"], 7) << b;  // ao half, samples 1, ao off, lod 0.5 / 0.25 / 0.1
+    EXPECT_EQ(b["rungs"], 7) << b;  // ao half, ao off, samples 1, lod 0.5 / 0.25 / 0.1
     EXPECT_EQ(b["samples"], 4);
     EXPECT_EQ(b["ambient_occlusion"], "full");
     EXPECT_TRUE(b["psnr_db"].is_null());  // exact
@@ -124,6 +125,28 @@ TEST(Budget, ABudgetNothingMeetsDrawsTheCheapestRungOnEveryRank) {
     EXPECT_LT(b["psnr_db"].get<double>(), 20.0);
     EXPECT_GT(b["predicted_ms"].get<double>(), 1.0e-6);
   }
+}
+
+TEST(Budget, APercentOfTheRunApplesFromTheThirdStep) {
+  // budget_percent: 0.0001 of the few milliseconds between steps is far less than any rung: the
+  // first step is measured, the gap before the second is reduced with the second's costs, and
+  // from the third step on the cheapest rung is drawn.
+  SharedScratchDir dir("/tmp/lantern_budget_XXXXXX");
+  ASSERT_FALSE(dir.path().empty());
+  render(config(dir.path(), "full", kFull));
+  render(config(dir.path(), "share", kFull, "budget_percent: 0.0001\n"));
+  render(config(dir.path(), "cheapest", "    lod: {fraction: 0.1}\n"));
+  if (world_rank() != 0) return;
+  for (int step = 0; step < 2; ++step)
+    EXPECT_TRUE(image(dir.path(), "full", step) == image(dir.path(), "share", step)) << step;
+  EXPECT_TRUE(image(dir.path(), "cheapest", 2) == image(dir.path(), "share", 2));
+  const std::vector<nlohmann::json> stats = budget_stats(dir.path(), "share");
+  ASSERT_EQ(stats.size(), size_t(kSteps));
+  EXPECT_TRUE(stats[0]["ms"].is_null());
+  EXPECT_TRUE(stats[1]["ms"].is_null());
+  EXPECT_GT(stats[2]["ms"].get<double>(), 0.0);
+  EXPECT_EQ(stats[2]["rung"], 6);
+  EXPECT_EQ(stats[2]["unmet"], true);
 }
 
 }  // namespace
