@@ -48,24 +48,13 @@ std::string number(double v) {
   return s.str();
 }
 
-// The bench scene as a YAML scene named `name` with `keys` added, its images under dir.
+// The bench scene as a YAML scene named `name` with `keys` added, its images under dir; drawn by
+// the CPU raster with hzb.
 std::string scene_yaml(const BenchScene &bs, const std::string &name, const std::string &keys,
                        const std::string &dir) {
-  const lantern::SceneConfig &c = bs.config;
-  std::string y = "  - name: " + name + "\n    width: " + std::to_string(c.width) +
-                  "\n    height: " + std::to_string(c.height) +
-                  "\n    radius: " + number(c.radius) +
-                  "\n    renderer: cpu\n    culling: {occlusion: hzb}\n" +
-                  "    camera: {azimuth: " + number(c.camera.azimuth) +
-                  ", elevation: " + number(c.camera.elevation) +
-                  ", zoom: " + number(c.camera.zoom) + "}\n    color: {by: type}\n";
-  if (!c.cuts.empty()) {
-    y += "    cut_planes:\n";
-    for (const lantern::CutPlane &p : c.cuts)
-      y += "      - {normal: [" + number(p.normal[0]) + ", " + number(p.normal[1]) + ", " +
-           number(p.normal[2]) + "], offset: " + number(p.offset) + "}\n";
-  }
-  return y + keys + "    output: {pattern: '" + dir + "/" + bs.name + "_{scene}_{step:04d}.png'}\n";
+  return "  - name: " + name + "\n" + lantern::bench::scene_yaml_keys(bs) +
+         "    renderer: cpu\n    culling: {occlusion: hzb}\n" + keys + "    output: {pattern: '" +
+         dir + "/" + bs.name + "_{scene}_{step:04d}.png'}\n";
 }
 
 // A rung's settings written out as configuration keys.
@@ -130,11 +119,7 @@ int main(int argc, char **argv) {
     std::string why;
     if (name == "fcc1m" || name == "fcc10m") {
       bs = lantern::bench::fcc_outside(name == "fcc1m" ? 63 : 136, size);
-      // Blocks of the lattice order over the ranks (a spatial decomposition, roughly).
-      const size_t n = bs.type.size(), lo = n * size_t(rank) / size_t(ranks),
-                   hi = n * size_t(rank + 1) / size_t(ranks);
-      bs.xyz = std::vector<double>(bs.xyz.begin() + 3 * lo, bs.xyz.begin() + 3 * hi);
-      bs.type = std::vector<int32_t>(bs.type.begin() + lo, bs.type.begin() + hi);
+      lantern::bench::keep_rank_block(&bs, rank, ranks);
     } else if (!lantern::bench::mini_md_scene(name, md_cells, size, &bs, &why)) {
       if (rank == 0) std::fprintf(stderr, "%s: %s\n", name.c_str(), why.c_str());
       ++failures;
