@@ -11,49 +11,51 @@ namespace {
 constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-// The ladder's numbers, all measured on the project's 2-core machine at 1024² on 2 ranks
-// (docs/benchmarks.md). "cost" is a whole frame through the pipeline relative to the rung above
-// it, "PSNR" the image against the knob's configured setting; where two scenes were measured,
-// the lower PSNR and a cost between the two:
+// The ladder's numbers, measured on the project's 2-core machine at 1024² on 2 ranks.
 //
-//   step               cost   PSNR      source
-//   AO full -> half    0.50   39.2 dB   lantern-bench-cues --kernels 3: half against full 39.2 dB
-//                                       (fcc 1 M), 41.1 dB (void_impact) at 0.11-0.13 of full's
-//                                       kernel time; full AO costs 62.0 / 52.5 ms of a frame of
-//                                       34.3 / 19.1 ms plain (lantern-bench-cues --steps 5), on a
-//                                       4-sample frame of 1.6-1.7x that
-//   samples 64 -> 16   0.40   43.8 dB   lantern-bench --samples 1,4,16 --pipeline (16 against 64
-//                                       samples; the cost of 64 was not measured: taken as 16's)
-//   samples 16 -> 4    0.42   35.1 dB   same (fcc 1 M, 2 ranks: 3.91x -> 1.68x of 1 sample)
-//   AO half -> off     0.85   32.5 dB   lantern-bench-cues --kernels 3: the plain frame against
-//                                       full AO 32.8 dB (fcc 1 M), 32.5 dB (void_impact); half AO
-//                                       is about an eighth of 62.0 / 52.5 ms
-//   samples 4 -> 1     0.62   25.0 dB   lantern-bench --samples 1,4,16 (1 against 64 samples;
-//                                       1.55x / 1.68x -> 1x on 1 / 2 ranks)
-//   lod 1 -> 0.5       0.88   16.6 dB   lantern-bench --opaque-lod, CPU raster + hzb, 1024²
-//                                       (fcc 10 M 246.7 -> 224.3 ms, void_impact 14.5 -> 12.3 ms;
-//                                       PSNR 16.6 / 19.0 dB)
-//   lod 0.5 -> 0.25    0.88   15.7 dB   same (-> 197.8 ms, -> 10.7 ms; 15.7 / 18.2 dB)
-//   lod 0.25 -> 0.1    0.72   15.0 dB   same (-> 131.8 ms, -> 8.3 ms; 15.0 / 17.4 dB)
+// Costs: each rung's whole frame through the pipeline relative to the rung above, the median of
+// three scenes' ladder tables (fcc 1 M, void_impact, fcc 10 M; lantern-bench-budget, full quality
+// = 4 samples + full-resolution screen AO;
+// tests/bench/budget/results/ladder_fcc1m_void_impact_fcc10m_1024_first.txt). PSNR: the knob's
+// image against its configured setting, from the benches that measured each knob alone:
 //
-// Ordered by squared error added per millisecond saved (the steps are taken in this order, each
-// only where the scene's configuration has something to give up): half-resolution AO adds
-// 1.2e-4 (39.2 dB) for about 50 ms; 16 -> 4 samples 3.1e-4 for about 75 ms of a 16-sample fcc
-// frame (64 -> 16 less still); AO off 5.6e-4 for 6-8 ms; 4 -> 1 samples 3.2e-3 for 12-23 ms; level
-// of detail (the uniform prefix loses the pixels: 15-19 dB, SSIM 0.5-0.7) 2e-2 for 10-30 % a step,
-// so it comes last.
-constexpr double kAoHalfCost = 0.50, kAoHalfPsnr = 39.2;
-constexpr double kAoOffCost = 0.85, kAoOffPsnr = 32.5;
+//   step               cost (3 scenes)         PSNR      source of the PSNR
+//   AO full -> half    0.69 (0.69 0.66 0.78)   39.2 dB   lantern-bench-cues --kernels 3: half
+//                                                        against full 39.2 / 41.1 dB (fcc 1 M,
+//                                                        void_impact)
+//   samples 64 -> 16   0.40 (16 -> 4's)        43.8 dB   lantern-bench --samples 1,4,16: 16
+//                                                        against 64 samples (cost not measured)
+//   samples 16 -> 4    0.43 (fcc 1 M, 2 ranks) 35.1 dB   same, 4 against 64 (3.91x -> 1.68x)
+//   AO half -> off     0.89 (0.89 0.88 1.07)   32.5 dB   lantern-bench-cues --kernels 3: plain
+//                                                        against full AO 32.8 / 32.5 dB
+//   samples 4 -> 1     0.44 (0.44 0.38 0.60)   25.0 dB   lantern-bench --samples: 1 against 64
+//   lod 1 -> 0.5       0.82 (0.82 0.88 0.82)   16.6 dB   lantern-bench --opaque-lod, CPU raster
+//                                                        + hzb: fcc 10 M 16.6, void_impact 19.0
+//   lod 0.5 -> 0.25    0.96 (0.96 1.01 0.90)   15.7 dB   same: 15.7 / 18.2 dB
+//   lod 0.25 -> 0.1    0.85 (0.85 0.96 0.81)   15.0 dB   same: 15.0 / 17.4 dB
+//
+// (The ladder tables' own PSNR against full quality agree within 2.5 dB for AO and samples; for
+// level of detail they are 1.5-5 dB better than the estimate: fcc's pixels are many small spheres.)
+//
+// Ordered by squared error added per millisecond saved (each step taken only where the scene's
+// configuration has something to give up): half-resolution AO adds 1.2e-4 for 31-58 ms; 16 -> 4
+// samples 3.1e-4 for about 75 ms of a 16-sample fcc 1 M frame (64 -> 16 less still); AO off
+// 5.6e-4 for 10-14 ms; 4 -> 1 samples about 3e-3 for 43-88 ms (on void_impact, per millisecond,
+// slightly cheaper than AO off; on fcc 1 M dearer; AO off is kept first as the smaller error);
+// level of detail, whose uniform prefix loses the pixels (15-19 dB, SSIM 0.5-0.7), 2e-2 for 0-18 %
+// a step, comes last.
+constexpr double kAoHalfCost = 0.69, kAoHalfPsnr = 39.2;
+constexpr double kAoOffCost = 0.89, kAoOffPsnr = 32.5;
 struct SampleStep {
   int from, to;
   double cost, psnr_db;
 };
-constexpr SampleStep kManySampleSteps[] = {{64, 16, 0.40, 43.8}, {16, 4, 0.42, 35.1}};
-constexpr SampleStep kLastSampleStep = {4, 1, 0.62, 25.0};
+constexpr SampleStep kManySampleSteps[] = {{64, 16, 0.40, 43.8}, {16, 4, 0.43, 35.1}};
+constexpr SampleStep kLastSampleStep = {4, 1, 0.44, 25.0};
 struct LodStep {
   double fraction, cost, psnr_db;
 };
-constexpr LodStep kLodSteps[] = {{0.5, 0.88, 16.6}, {0.25, 0.88, 15.7}, {0.1, 0.72, 15.0}};
+constexpr LodStep kLodSteps[] = {{0.5, 0.82, 16.6}, {0.25, 0.96, 15.7}, {0.1, 0.85, 15.0}};
 
 double mse_of(double psnr_db) {
   return std::isinf(psnr_db) ? 0.0 : std::pow(10.0, -psnr_db / 10.0);
