@@ -27,6 +27,8 @@ CullSettings cull_settings(const SceneConfig &scene) {
   c.lod_nearest = scene.lod.select == LodSelect::kNearest && scene.style == SceneStyle::kSpheres &&
                   scene.culling.occlusion != OcclusionMode::kProbabilistic;
   c.cuts = scene.cuts;
+  c.bonds = scene.bonds.enabled && scene.style == SceneStyle::kSpheres;
+  c.bond_radius = scene.bonds.radius;
   return c;
 }
 
@@ -36,6 +38,7 @@ ShadingSettings shading_settings(const SceneConfig &scene) {
   s.opacity = scene.opacity;
   s.lighting = scene.lighting;
   s.background = scene.background;
+  s.bonds = scene.bonds;
   return s;
 }
 

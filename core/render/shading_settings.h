@@ -22,6 +22,7 @@ struct ShadingSettings {
   std::vector<double> opacity;                      // opacity: per type (empty: all opaque)
   Lighting lighting;                                // lighting: the light model
   std::array<double, 3> background{1.0, 1.0, 1.0};  // background
+  BondsConfig bonds;                                // bonds: how bonds are colored (if drawn)
 };
 
 }  // namespace lantern
