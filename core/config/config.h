@@ -335,10 +335,14 @@ struct SceneConfig {
     return samples >= 64 ? 8 : samples >= 16 ? 4 : samples >= 4 ? 2 : 1;
   }
   AmbientOcclusionConfig ambient_occlusion;  // ambient_occlusion: {...}
-  OutlineConfig outline;                     // outline: {...}
-  DepthCueConfig depth_cue;                  // depth_cue: {...}
-  SceneStyle style = SceneStyle::kSpheres;   // style: spheres | density
-  DensityConfig density;                     // density: {...}
+  // budget_ms: > 0, the milliseconds this scene may take per rendered step; Lantern lowers the
+  // level of detail, samples and ambient occlusion as far as needed
+  // (core/pipeline/render_budget.h). Absent: no budget, the scene renders exactly as configured.
+  std::optional<double> budget_ms;
+  OutlineConfig outline;                    // outline: {...}
+  DepthCueConfig depth_cue;                 // depth_cue: {...}
+  SceneStyle style = SceneStyle::kSpheres;  // style: spheres | density
+  DensityConfig density;                    // density: {...}
   // opacity: [a0, a1, ...] per type, each in [0, 1] (screen-door transparency); types
   // beyond the list, and every type when it is empty (the default), are opaque.
   std::vector<double> opacity;
@@ -403,6 +407,10 @@ struct Config {
   // particle scan and the CPU raster (images are the same at any count). 0 (auto): what
   // OMP_NUM_THREADS or, without it, the process's CPU affinity gives (core/common/rank_threads.h).
   int threads = 0;
+  // budget_percent: (0, 100], the share of the wall time between rendered steps (from the end of
+  // one lantern_execute to the start of the next render) that all scenes together may take;
+  // absent: none. Each scene gets a share in proportion to its full-quality cost.
+  std::optional<double> budget_percent;
 };
 
 inline constexpr int kMaxImageSize = 16384;

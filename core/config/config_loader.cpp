@@ -404,6 +404,7 @@ const Section<SceneConfig> kScene(
          one_of<int>({{"1", 1}, {"4", 4}, {"16", 16}, {"64", 64}})},
         rule(sample_frame_fits),
         {"ambient_occlusion", &SceneConfig::ambient_occlusion, kAmbientOcclusion},
+        {"budget_ms", &SceneConfig::budget_ms, above(0)},
         {"outline", &SceneConfig::outline, kOutline},
         {"depth_cue", &SceneConfig::depth_cue, kDepthCue},
         {"style", &SceneConfig::style, one_of<SceneStyle>()},
@@ -455,6 +456,7 @@ const Section<Config> kTop(
         {"watch", &Config::watch, boolean()},
         // threads: 'auto' keeps 0, resolved per process (core/common/rank_threads.h).
         {"threads", &Config::threads, default_if("auto", integer(1, 1024))},
+        {"budget_percent", &Config::budget_percent, number_in('(', 0, 100, ']')},
         rule(config_has_work),
     },
     {"the configuration must be a mapping with keys (schedule, scenes, ...)", true});

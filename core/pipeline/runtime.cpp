@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <ctime>
 #include <fstream>
+#include <limits>
 #include <set>
 #include <sstream>
 #include <utility>
@@ -283,6 +284,11 @@ Status Runtime::execute(int64_t step, double time) {
   // bricks refit, their bounds give the scan's result and the pass is left out (a dump step
   // scans: it writes before the scenes run).
   const auto t_scan = Clock::now();
+  // budget_percent: the wall time the simulation had since the last rendered step returned.
+  const double gap_ms =
+      render_due && last_render_end_
+          ? std::chrono::duration<double, std::milli>(t_scan - *last_render_end_).count()
+          : 0.0;
   const int threads = config_.threads > 0 ? config_.threads : default_thread_count();
   BrickOptions refit_options;
   refit_options.threads = threads;
@@ -316,10 +322,23 @@ Status Runtime::execute(int64_t step, double time) {
     in.local = &local;
     in.box = box_ ? &*box_ : nullptr;
     if (!config_.lammps.scalar.empty()) in.scalar_name = config_.lammps.scalar;
+    const bool budgeted = config_.budget_percent.has_value() ||
+                          std::any_of(config_.scenes.begin(), config_.scenes.end(),
+                                      [](const SceneConfig &c) { return c.budget_ms.has_value(); });
+    std::vector<bool> rendered(stats.size(), false);
     for (size_t s = 0; s < stats.size(); ++s) {
-      const Status st = run_scene_pass(in, config_.scenes[s], &buffers_[s], &stats[s]);
+      const SceneConfig &configured = config_.scenes[s];
+      // A budgeted scene draws with the settings its controller chose from earlier steps.
+      std::optional<SceneConfig> chosen;
+      if (configured.budget_ms || config_.budget_percent) {
+        stats[s].budget.emplace();
+        chosen = buffers_[s].budget.choose(configured, scene_budget_ms(s), &*stats[s].budget);
+      }
+      const Status st = run_scene_pass(in, chosen ? *chosen : configured, &buffers_[s], &stats[s]);
+      rendered[s] = st.ok();                               // agreed: the same on every rank
       if (!st.ok() && first_error.ok()) first_error = st;  // later scenes still render
     }
+    if (budgeted && !stats.empty()) record_scene_costs(gap_ms, rendered, &stats);
     // Bonds that went bad since they were published were left out of the images; say which.
     // Collective where some scene draws bonds (the same configuration on every rank).
     const bool any_bonds = std::any_of(config_.scenes.begin(), config_.scenes.end(),
@@ -334,15 +353,73 @@ Status Runtime::execute(int64_t step, double time) {
   // else the dump's.
   const Status result = first_error.ok() ? dumped : first_error;
   const Status stats_written = write_stats(step, time, global, total_ms, stats, result);
-  if (config_.verbose && rank_ == 0)
-    std::fprintf(stderr, "lantern: step %lld rendered %zu scene(s) in %.1f ms\n",
-                 static_cast<long long>(step), stats.size(), total_ms);
+  if (config_.verbose && rank_ == 0) {
+    std::string budgets;
+    for (const SceneStats &sc : stats)
+      if (sc.budget) {
+        const BudgetStats &b = *sc.budget;
+        char error[32] = "exact";
+        if (b.rung > 0) std::snprintf(error, sizeof error, "~%.1f dB", b.psnr_db);
+        char text[256];
+        std::snprintf(text, sizeof text,
+                      "; '%s': budget %.1f ms, rung %d/%d (lod %g, samples %d, ao %s), %.1f ms, "
+                      "%s%s",
+                      sc.name.c_str(), b.budget_ms, b.rung, b.rungs - 1, b.lod_fraction, b.samples,
+                      b.ambient_occlusion.c_str(), b.measured_ms, error,
+                      b.unmet ? ", over budget" : "");
+        budgets += text;
+      }
+    std::fprintf(stderr, "lantern: step %lld rendered %zu scene(s) in %.1f ms%s\n",
+                 static_cast<long long>(step), stats.size(), total_ms, budgets.c_str());
+  }
+  last_render_end_ = Clock::now();
   if (result.ok()) return stats_written;
   // The step failed anyway; say that its stats were lost too.
   if (!stats_written.ok() && rank_ == 0)
     std::fprintf(stderr, "lantern: warning: step %lld: %s\n", static_cast<long long>(step),
                  stats_written.message.c_str());
   return result;
+}
+
+double Runtime::scene_budget_ms(size_t s) const {
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  double budget = config_.scenes[s].budget_ms.value_or(nan);
+  if (!config_.budget_percent || !(render_gap_ms_ > 0.0)) return budget;
+  // The run-wide budget, shared in proportion to the scenes' predicted full-quality costs, so
+  // that every scene gives up alike; unknown until every scene was measured once.
+  double all = 0.0;
+  for (const SceneBuffers &b : buffers_) all += b.budget.controller.predicted_ms(0);
+  const double share = *config_.budget_percent / 100.0 * render_gap_ms_ *
+                       buffers_[s].budget.controller.predicted_ms(0) / all;
+  if (!(share > 0.0)) return budget;  // NaN: a scene not measured yet
+  return std::isnan(budget) ? share : std::min(budget, share);
+}
+
+void Runtime::record_scene_costs(double gap_ms, const std::vector<bool> &rendered,
+                                 std::vector<SceneStats> *stats) {
+  // One reduction: the gap before this step and every scene's cost, the slowest rank's.
+  std::vector<double> local(1 + stats->size(), 0.0), slowest(local.size(), 0.0);
+  local[0] = std::isfinite(gap_ms) ? gap_ms : 0.0;
+  for (size_t s = 0; s < stats->size(); ++s)
+    local[1 + s] = rendered[s] && std::isfinite((*stats)[s].total_ms) ? (*stats)[s].total_ms : 0.0;
+  MPI_Allreduce(local.data(), slowest.data(), int(local.size()), MPI_DOUBLE, MPI_MAX, comm_);
+  if (slowest[0] > 0.0) render_gap_ms_ = slowest[0];
+  for (size_t s = 0; s < stats->size(); ++s) {
+    if (!(*stats)[s].budget) continue;
+    BudgetStats &b = *(*stats)[s].budget;
+    SceneBudget &budget = buffers_[s].budget;
+    b.measured_ms = slowest[1 + s];
+    budget.controller.record(b.rung, b.measured_ms);  // ignores 0: a scene that failed
+    if (b.unmet && !budget.warned_unmet && rank_ == 0) {
+      budget.warned_unmet = true;
+      std::fprintf(stderr,
+                   "lantern: warning: scenes '%s': budget %.1f ms cannot be met: the cheapest "
+                   "settings (lod %g, samples %d, ambient occlusion %s) are predicted to take "
+                   "%.1f ms; drawing with them (the stats say \"unmet\"; warned once)\n",
+                   config_.scenes[s].name.c_str(), b.budget_ms, b.lod_fraction, b.samples,
+                   b.ambient_occlusion.c_str(), b.predicted_ms);
+    }
+  }
 }
 
 Status Runtime::write_stats(int64_t step, double time, const Extent &global, double total_ms,

@@ -8,6 +8,7 @@
 
 #include <mpi.h>
 
+#include <chrono>
 #include <memory>
 #include <optional>
 #include <string>
@@ -85,6 +86,12 @@ class Runtime {
   // Appends the step's stats line (rank 0) reporting `status`, the status execute() returns.
   // Collective when a stats file is configured: every rank gets rank 0's outcome (kIo naming the
   // file when it cannot be written).
+  // budget_ms / budget_percent: this step's budget of scene s (NaN: none known yet), and the
+  // record of what the budgeted scenes cost (collective: one reduction of the slowest rank's
+  // costs and of the gap before this step, so every rank's controllers see the same numbers).
+  double scene_budget_ms(size_t s) const;
+  void record_scene_costs(double gap_ms, const std::vector<bool> &rendered,
+                          std::vector<SceneStats> *stats);
   Status write_stats(int64_t step, double time, const Extent &global, double total_ms,
                      const std::vector<SceneStats> &scenes, const Status &status);
 
@@ -110,6 +117,10 @@ class Runtime {
   ConfigWatch watch_;
   std::string config_event_;  // "" or the stats line's config note (reloaded / error), rank 0
   std::string load_summary_;  // rank 0: see load_summary()
+  // budget_percent: when the last rendering lantern_execute returned (this rank), and the wall
+  // time before the last rendered step (ms, the slowest rank's; 0 before it is known).
+  std::optional<std::chrono::steady_clock::time_point> last_render_end_;
+  double render_gap_ms_ = 0.0;
 };
 
 }  // namespace lantern

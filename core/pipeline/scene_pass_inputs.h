@@ -25,6 +25,7 @@
 #include "core/particles/particle_arrays.h"
 #include "core/particles/periodic_box.h"
 #include "core/pipeline/rank_draw.h"
+#include "core/pipeline/render_budget.h"
 #include "core/render/density_splat.h"
 #include "core/render/gl/sphere_renderer.h"
 #include "core/view/frame.h"
@@ -83,6 +84,8 @@ struct SceneBuffers {
   bool movie_warned = false;                 // the "encoder is behind" warning was printed
   bool warned_point_bounds = false;          // rank 0 warned that the camera had a point to frame
   std::unique_ptr<OverlayPainter> overlays;  // rank 0, for a scene with overlays
+  SceneBudget
+      budget;  // budget_ms / budget_percent: the ladder and its controller (render_budget.h)
 };
 
 }  // namespace lantern

@@ -92,6 +92,7 @@ nlohmann::json SceneStats::to_json() const {
                   {"occlusion_culled", bonds->occlusion_culled}};
   if (composite) j["composite"] = composite->to_json();
   if (color_range) j["color_range"] = {(*color_range)[0], (*color_range)[1]};
+  if (budget) j["budget"] = budget->to_json();
   if (movie) {
     const MovieProgress &p = movie->progress;
     j["movie"] = {{"file", p.file},         {"encoder", p.encoder},     {"frames", p.written},

@@ -16,6 +16,7 @@
 #include "core/culling/cull_stats.h"
 #include "core/output/movie/movie_writer.h"
 #include "core/pipeline/rank_spread.h"
+#include "core/pipeline/render_budget.h"
 
 namespace lantern {
 
@@ -88,6 +89,9 @@ struct SceneStats {
   // color.by: scalar: the scalar range this frame's colours used (color.range). JSON
   // "color_range": [lo, hi].
   std::optional<std::array<double, 2>> color_range;
+  // budget_ms / budget_percent: the budget, the settings chosen, the measured time and the
+  // error estimate of the choice. JSON "budget".
+  std::optional<BudgetStats> budget;
 
   nlohmann::json to_json() const;
   // One line for a log: the per-rank spread, e.g. "scene 'a' per rank: drawn 10..30 (imbalance

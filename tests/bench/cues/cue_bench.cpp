@@ -65,30 +65,10 @@ const Variant kVariants[] = {
     {"all_screen", "    ambient_occlusion: {method: screen}\n    outline: {}\n    depth_cue: {}\n"},
 };
 
-std::string number(double v) {
-  std::ostringstream s;
-  s.precision(17);
-  s << v;
-  return s.str();
-}
-
 // The bench scene's configuration as YAML: size, radius, camera, cuts, colour by type.
 std::string scene_yaml(const BenchScene &bs, const Variant &v, const std::string &dir) {
-  const lantern::SceneConfig &c = bs.config;
-  std::string y = std::string("  - name: ") + v.name + "\n    width: " + std::to_string(c.width) +
-                  "\n    height: " + std::to_string(c.height) +
-                  "\n    radius: " + number(c.radius) +
-                  "\n    camera: {azimuth: " + number(c.camera.azimuth) +
-                  ", elevation: " + number(c.camera.elevation) +
-                  ", zoom: " + number(c.camera.zoom) + "}\n    color: {by: type}\n";
-  if (!c.cuts.empty()) {
-    y += "    cut_planes:\n";
-    for (const lantern::CutPlane &p : c.cuts)
-      y += "      - {normal: [" + number(p.normal[0]) + ", " + number(p.normal[1]) + ", " +
-           number(p.normal[2]) + "], offset: " + number(p.offset) + "}\n";
-  }
-  return y + v.keys + "    output: {pattern: '" + dir + "/" + bs.name +
-         "_{scene}_{step:04d}.png'}\n";
+  return std::string("  - name: ") + v.name + "\n" + lantern::bench::scene_yaml_keys(bs) + v.keys +
+         "    output: {pattern: '" + dir + "/" + bs.name + "_{scene}_{step:04d}.png'}\n";
 }
 
 double median(std::vector<double> v) {
@@ -224,11 +204,7 @@ int main(int argc, char **argv) {
     std::string why;
     if (name == "fcc1m") {
       bs = lantern::bench::fcc_outside(63, size);
-      // Blocks of the lattice order over the ranks (a spatial decomposition, roughly).
-      const size_t n = bs.type.size(), lo = n * size_t(rank) / size_t(ranks),
-                   hi = n * size_t(rank + 1) / size_t(ranks);
-      bs.xyz = std::vector<double>(bs.xyz.begin() + 3 * lo, bs.xyz.begin() + 3 * hi);
-      bs.type = std::vector<int32_t>(bs.type.begin() + lo, bs.type.begin() + hi);
+      lantern::bench::keep_rank_block(&bs, rank, ranks);
     } else if (!lantern::bench::mini_md_scene(name, md_cells, size, &bs, &why)) {
       if (rank == 0) std::fprintf(stderr, "%s: %s\n", name.c_str(), why.c_str());
       ++failures;

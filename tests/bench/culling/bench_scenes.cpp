@@ -3,6 +3,8 @@
 #include <array>
 #include <cmath>
 #include <random>
+#include <sstream>
+#include <string>
 
 #ifdef LANTERN_BENCH_HAS_MINI_MD
 #include <mpi.h>
@@ -186,6 +188,35 @@ bool assign_radii(const std::string &mix, BenchScene *s) {
   s->name += "_" + mix;
   s->config.per_particle_radius = true;
   return true;
+}
+
+void keep_rank_block(BenchScene *s, int rank, int ranks) {
+  const size_t n = s->type.size(), lo = n * size_t(rank) / size_t(ranks),
+               hi = n * size_t(rank + 1) / size_t(ranks);
+  s->xyz = std::vector<double>(s->xyz.begin() + 3 * lo, s->xyz.begin() + 3 * hi);
+  s->type = std::vector<int32_t>(s->type.begin() + lo, s->type.begin() + hi);
+}
+
+std::string scene_yaml_keys(const BenchScene &s) {
+  const auto number = [](double v) {
+    std::ostringstream text;
+    text.precision(17);
+    text << v;
+    return text.str();
+  };
+  const SceneConfig &c = s.config;
+  std::string y =
+      "    width: " + std::to_string(c.width) + "\n    height: " + std::to_string(c.height) +
+      "\n    radius: " + number(c.radius) + "\n    camera: {azimuth: " + number(c.camera.azimuth) +
+      ", elevation: " + number(c.camera.elevation) + ", zoom: " + number(c.camera.zoom) +
+      "}\n    color: {by: type}\n";
+  if (!c.cuts.empty()) {
+    y += "    cut_planes:\n";
+    for (const CutPlane &p : c.cuts)
+      y += "      - {normal: [" + number(p.normal[0]) + ", " + number(p.normal[1]) + ", " +
+           number(p.normal[2]) + "], offset: " + number(p.offset) + "}\n";
+  }
+  return y;
 }
 
 }  // namespace lantern::bench

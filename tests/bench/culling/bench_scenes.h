@@ -25,6 +25,12 @@ struct BenchScene {
 // fcc crystal of 4 n^3 atoms at nearest-neighbour distance 2^(1/6) (the LJ minimum), radius 0.5,
 // in lattice order (as a simulation that sorts its atoms spatially would publish them).
 BenchScene fcc_outside(int n, int size);
+// Keeps this rank's block of the particles in their order: of a lattice in lattice order, a
+// spatial decomposition, roughly.
+void keep_rank_block(BenchScene *s, int rank, int ranks);
+// The scene's size, radius, camera, colour by type and cutting planes as the YAML keys of an item
+// of `scenes:` (each line indented by four spaces), for benches that run the pipeline.
+std::string scene_yaml_keys(const BenchScene &s);
 // The same crystal seen by a wide-angle camera inside it.
 BenchScene fcc_inside(int n, int size);
 // A dense fcc crystal of n^3 cells beside a sparse gas (the heterogeneous data of Ibrahim et al.

@@ -1,0 +1,206 @@
+// The time budget's controller as a pure function of injected costs (no clock): full quality when
+// it fits, monotone steps down, back up when the cost falls, hysteresis, never past the cheapest
+// rung, timings that are not usable; and the ladder built from a scene, and the keys' errors.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <vector>
+
+#include "core/config/config_loader.h"
+#include "core/pipeline/render_budget.h"
+#include "tests/support/config_error_expect.h"
+
+namespace lantern::testing {
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+// Priors of a five-rung ladder: each rung half the one above.
+BudgetController halving(int rungs = 5) {
+  return BudgetController(std::vector<double>(size_t(rungs), 0.5));
+}
+
+// A simulated scene: rung j truly costs level * truth[j]; `steps` steps of choose, then record.
+// Returns the rungs chosen.
+std::vector<int> run(BudgetController &c, double budget, const std::vector<double> &truth,
+                     const std::vector<double> &levels) {
+  std::vector<int> chosen;
+  for (double level : levels) {
+    const int k = c.choose(budget);
+    chosen.push_back(k);
+    c.record(k, level * truth[size_t(k)]);
+  }
+  return chosen;
+}
+
+const std::vector<double> kTruth = {1.0, 0.5, 0.25, 0.125, 0.0625};
+
+TEST(BudgetController, FirstStepIsFullQualityAndStaysThereWhenItFits) {
+  BudgetController c = halving();
+  EXPECT_EQ(c.choose(1.0), 0);  // nothing measured: full quality, to measure it
+  EXPECT_FALSE(c.measured());
+  const std::vector<int> chosen = run(c, 40.0, kTruth, std::vector<double>(6, 39.0));
+  for (int k : chosen) EXPECT_EQ(k, 0);
+  EXPECT_FALSE(c.unmet());
+}
+
+TEST(BudgetController, StepsDownMonotonicallyAsTheCostRises) {
+  BudgetController c = halving();
+  std::vector<double> levels;
+  for (double l = 10.0; l < 2000.0; l *= 1.3) levels.push_back(l);
+  const std::vector<int> chosen = run(c, 40.0, kTruth, levels);
+  for (size_t i = 1; i < chosen.size(); ++i) EXPECT_GE(chosen[i], chosen[i - 1]) << i;
+  EXPECT_EQ(chosen.front(), 0);
+  EXPECT_EQ(chosen.back(), 4);
+}
+
+TEST(BudgetController, StepsBackUpWhenTheCostFalls) {
+  BudgetController c = halving();
+  run(c, 40.0, kTruth, std::vector<double>(4, 150.0));  // 150 ms full: rung 2 (37.5 ms)
+  EXPECT_EQ(c.rung(), 2);
+  std::vector<double> falling;
+  for (double l = 150.0; l > 10.0; l *= 0.8) falling.push_back(l);
+  const std::vector<int> chosen = run(c, 40.0, kTruth, falling);
+  for (size_t i = 1; i < chosen.size(); ++i) EXPECT_LE(chosen[i], chosen[i - 1]) << i;
+  EXPECT_EQ(c.choose(40.0), 0);
+}
+
+TEST(BudgetController, HysteresisKeepsItFromOscillating) {
+  // Full quality always costs 42 ms, just over a 40 ms budget; the next rung 21 or 19 ms on
+  // alternate steps (noise), so that from it full quality looks like 38 ms now and then. Once
+  // stepped down it stays down: 38 ms is over the step-up share of the budget.
+  BudgetController c = halving();
+  std::vector<int> chosen;
+  for (int i = 0; i < 20; ++i) {
+    const int k = c.choose(40.0);
+    chosen.push_back(k);
+    c.record(k, k == 0 ? 42.0 : (i % 2 ? 21.0 : 19.0) * std::pow(0.5, k - 1));
+  }
+  int changes = 0;
+  for (size_t i = 1; i < chosen.size(); ++i) changes += chosen[i] != chosen[i - 1];
+  EXPECT_EQ(changes, 1);
+  EXPECT_EQ(chosen.back(), 1);
+  // Well under the step-up share, it goes back up.
+  run(c, 40.0, kTruth, std::vector<double>(3, 30.0));
+  EXPECT_EQ(c.rung(), 0);
+}
+
+TEST(BudgetController, NeverPastTheCheapestRung) {
+  BudgetController c = halving();
+  const std::vector<int> chosen = run(c, 1.0, kTruth, std::vector<double>(5, 1e6));
+  EXPECT_EQ(chosen.back(), 4);
+  EXPECT_TRUE(c.unmet());
+  EXPECT_EQ(c.choose(1e-300), 4);
+}
+
+TEST(BudgetController, LearnsRatiosThePriorsGotWrongAndSettles) {
+  // The priors say each rung halves the cost; truly the first two steps save little. After
+  // three steps no step is more than 20 % over the budget.
+  BudgetController c = halving();
+  const std::vector<double> truth = {1.0, 0.9, 0.8, 0.3, 0.1};
+  const std::vector<double> level(12, 100.0);
+  std::vector<int> chosen = run(c, 40.0, truth, level);
+  for (size_t i = 3; i < chosen.size(); ++i)
+    EXPECT_LE(100.0 * truth[size_t(chosen[i])], 1.2 * 40.0) << "step " << i;
+  EXPECT_EQ(chosen.back(), 3);
+}
+
+TEST(BudgetController, UnusableTimingsAreIgnoredOrBounded) {
+  BudgetController c = halving();
+  for (double bad : {kNaN, 0.0, -5.0, -kInf}) {
+    c.record(0, bad);
+    EXPECT_FALSE(c.measured()) << bad;
+    EXPECT_EQ(c.choose(40.0), 0);
+  }
+  c.record(-1, 10.0);  // not a rung
+  c.record(9, 10.0);
+  EXPECT_FALSE(c.measured());
+  c.record(0, kInf);  // bounded: predicts kMaxMs, the cheapest rung, unmet
+  EXPECT_TRUE(c.measured());
+  EXPECT_LE(c.predicted_ms(0), BudgetController::kMaxMs);
+  EXPECT_EQ(c.choose(40.0), 4);
+  EXPECT_TRUE(c.unmet());
+  c.record(4, 1e300);  // huge, then a usable timing again: back to the best rung that fits
+  c.record(4, 1.0);
+  EXPECT_TRUE(std::isfinite(c.predicted_ms(0)));
+  EXPECT_LT(c.choose(40.0), 4);
+  // A budget that is not a positive number is no budget: full quality.
+  for (double bad : {kNaN, 0.0, -1.0}) EXPECT_EQ(c.choose(bad), 0) << bad;
+  // Priors that are not costs are taken as "no saving".
+  BudgetController odd(std::vector<double>{1.0, kNaN, -2.0, 0.0});
+  odd.record(0, 10.0);
+  for (int r = 0; r < odd.rungs(); ++r) EXPECT_EQ(odd.predicted_ms(r), 10.0) << r;
+  BudgetController empty{std::vector<double>{}};
+  EXPECT_EQ(empty.rungs(), 1);
+  EXPECT_EQ(empty.choose(1.0), 0);
+}
+
+TEST(BudgetLadder, GivesUpInTheMeasuredOrderAndRungZeroIsTheScene) {
+  SceneConfig scene;
+  scene.samples = 4;
+  scene.ambient_occlusion.enabled = true;
+  scene.ambient_occlusion.resolution = AoResolution::kFull;
+  const std::vector<BudgetRung> ladder = budget_ladder(scene);
+  std::vector<std::string> steps;
+  for (size_t i = 1; i < ladder.size(); ++i) steps.push_back(ladder[i].gives_up);
+  EXPECT_EQ(steps, (std::vector<std::string>{"ao half", "ao off", "samples 1", "lod 0.5",
+                                             "lod 0.25", "lod 0.1"}));
+  // From 64 samples, 16 and 4 come before AO off (far less error per millisecond saved).
+  scene.samples = 64;
+  std::vector<std::string> many;
+  for (const BudgetRung &r : budget_ladder(scene)) many.push_back(r.gives_up);
+  EXPECT_EQ(many, (std::vector<std::string>{"", "ao half", "samples 16", "samples 4", "ao off",
+                                            "samples 1", "lod 0.5", "lod 0.25", "lod 0.1"}));
+  scene.samples = 4;
+  EXPECT_TRUE(std::isinf(ladder[0].psnr_db));
+  for (size_t i = 1; i < ladder.size(); ++i) {
+    EXPECT_LT(ladder[i].psnr_db, ladder[i - 1].psnr_db) << i;  // each step adds error
+    EXPECT_GT(ladder[i].step_cost, 0.0);
+    EXPECT_LT(ladder[i].step_cost, 1.0);  // ... and saves time
+  }
+  const SceneConfig top = scene_at_rung(scene, ladder[0]);
+  EXPECT_EQ(top.samples, 4);
+  EXPECT_EQ(top.lod.fraction, 1.0);
+  EXPECT_TRUE(top.ambient_occlusion.enabled);
+  EXPECT_EQ(top.ambient_occlusion.resolution, AoResolution::kFull);
+  EXPECT_EQ(budget_ao_name(scene, ladder[0]), "full");
+  const SceneConfig bottom = scene_at_rung(scene, ladder.back());
+  EXPECT_EQ(bottom.samples, 1);
+  EXPECT_EQ(bottom.lod.fraction, 0.1);
+  EXPECT_FALSE(bottom.ambient_occlusion.enabled);
+  EXPECT_EQ(budget_ao_name(scene, ladder.back()), "off");
+
+  // A plain scene has only the level of detail to give up; one already at lod 0.3 less of it;
+  // object-space occlusion is kept.
+  SceneConfig plain;
+  plain.lod.fraction = 0.3;
+  plain.ambient_occlusion.enabled = true;
+  plain.ambient_occlusion.method = AmbientOcclusionMethod::kObject;
+  const std::vector<BudgetRung> short_ladder = budget_ladder(plain);
+  ASSERT_EQ(short_ladder.size(), 3u);
+  EXPECT_EQ(short_ladder[1].gives_up, "lod 0.25");
+  EXPECT_EQ(budget_ao_name(plain, short_ladder[2]), "none");
+  EXPECT_TRUE(scene_at_rung(plain, short_ladder[2]).ambient_occlusion.enabled);
+}
+
+TEST(BudgetKeys, AreReadAndBadValuesNameTheKey) {
+  Config c;
+  ASSERT_TRUE(load_config("budget_percent: 1\nscenes: [{name: a, budget_ms: 40}]\n", &c).ok());
+  EXPECT_EQ(c.budget_percent, 1.0);
+  EXPECT_EQ(c.scenes[0].budget_ms, 40.0);
+  ASSERT_TRUE(load_config("scenes: [{name: a}]\n", &c).ok());
+  EXPECT_FALSE(c.budget_percent);
+  EXPECT_FALSE(c.scenes[0].budget_ms);
+  for (const char *bad : {"-1", "0", ".nan", ".inf", "fast", "[1]"})
+    expect_config_error(std::string("scenes: [{name: a, budget_ms: ") + bad + "}]\n",
+                        {"budget_ms"});
+  for (const char *bad : {"-1", "0", "100.5", "101", ".nan", "all"})
+    expect_config_error(std::string("budget_percent: ") + bad + "\nscenes: [{name: a}]\n",
+                        {"budget_percent"});
+  EXPECT_TRUE(load_config("budget_percent: 100\nscenes: [{name: a}]\n", &c).ok());
+}
+
+}  // namespace
+}  // namespace lantern::testing
