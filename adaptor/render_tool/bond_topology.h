@@ -27,6 +27,11 @@ namespace lantern {
 
 struct BondTopology {
   std::vector<int64_t> first_id, second_id, type;  // per bond, as the data file lists it
+  // Bonds read from an H5MD dump's connectivity (which names exactly the atoms of its frame):
+  // the dataset ("dump.h5: /connectivity/all_bonds/value[2]") and each bond's pair index in it.
+  // An atom id missing from the frame is then an error naming them, not a bond left out.
+  std::string origin;
+  std::vector<int64_t> pair;
 };
 
 // The bonds of a run: one list for every frame (a data file) or one per step (a dump local).
@@ -50,7 +55,8 @@ struct BondedShare {
 };
 
 // This rank's `rows` of the whole frame `all` (each at most once; published in this order), with
-// its bonds and their ghosts. Needs the frame's atom ids. "" or an error.
+// its bonds and their ghosts. Needs the frame's atom ids. "" or an error (with an `origin`, one
+// naming the pair whose atom is not in the frame).
 std::string share_with_bonds(const ParticleFrame &all, const std::vector<int64_t> &rows,
                              const BondTopology &topology, BondedShare *out);
 

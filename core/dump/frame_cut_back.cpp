@@ -41,6 +41,7 @@ Status cut_back_frames(const std::string &path, int64_t frames, int64_t rows) {
                                                                 {particles + h5md::kRadius, true},
                                                                 {box + "edges", false},
                                                                 {box + "offset", false},
+                                                                {h5md::kBonds, false},
                                                                 {h5md::kParticleCount, false}};
     for (const auto &[element, per_particle] : elements) {
       if (H5Lexists(file.get(), element.c_str(), H5P_DEFAULT) <= 0) continue;
