@@ -15,6 +15,7 @@
 
 #include "bond_topology.h"
 #include "core/dump/h5md_reader.h"
+#include "core/dump/injected_fault.h"
 #include "lantern/lantern.h"
 #include "mpi_scratch_dir.h"
 #include "tests/support/mpi_world.h"
@@ -218,6 +219,42 @@ TEST(DumpBonds, AppendContinuesTheBondList) {
   ASSERT_OK(H5mdReader::open(file, MPI_COMM_WORLD, &reader));
   ASSERT_EQ(reader->frames().size(), 2u);
   for (size_t f = 0; f < 2; ++f) EXPECT_EQ(read_pairs(*reader, f), all_bonds(total_particles()));
+}
+
+// A frame that fails while its bonds are written (on one rank of several): every rank returns
+// the error, the dump stops, and the file keeps the earlier frame with its bonds, readable.
+TEST(DumpBonds, AFailedBondWriteLeavesAValidFile) {
+  MpiScratchDir dir;
+  const std::string file = dir.file("failed.h5");
+  const RankBonds rank(LANTERN_BONDS_LISTED_ONCE);
+  {
+    Context ctx = open_config("dump:\n  file: " + file + "\n");
+    rank.publish(ctx.get());
+    ASSERT_EQ(lantern_execute(ctx.get(), 0, 0.0), LANTERN_OK) << lantern_error_message(ctx.get());
+    if (world_rank() == world_size() - 1) inject_dump_fault("all_bonds/value: write");
+    EXPECT_EQ(lantern_execute(ctx.get(), 1, 1.0), LANTERN_ERR_IO);
+    const std::string message = lantern_error_message(ctx.get());
+    EXPECT_NE(message.find("all_bonds/value: write"), std::string::npos) << message;
+    EXPECT_NE(message.find("keeps its 1 earlier frame"), std::string::npos) << message;
+  }
+  inject_dump_fault("");
+  std::unique_ptr<H5mdReader> reader;
+  ASSERT_OK(H5mdReader::open(file, MPI_COMM_WORLD, &reader));
+  ASSERT_EQ(reader->frames().size(), 1u);
+  EXPECT_EQ(read_pairs(*reader, 0), all_bonds(total_particles()));
+  if (world_rank() == 0) {  // cut back to the complete frame
+    const hid_t f = H5Fopen(file.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+    for (const char *name : {"/connectivity/all_bonds/value", "/connectivity/all_bonds/step"}) {
+      const hid_t set = H5Dopen2(f, name, H5P_DEFAULT);
+      const hid_t space = H5Dget_space(set);
+      hsize_t dims[3] = {0, 0, 0};
+      H5Sget_simple_extent_dims(space, dims, nullptr);
+      EXPECT_EQ(dims[0], 1u) << name;
+      H5Sclose(space);
+      H5Dclose(set);
+    }
+    H5Fclose(f);
+  }
 }
 
 // --- Bad bond lists (one rank; the file edited with serial HDF5 after the dump) ---
