@@ -1,7 +1,8 @@
 // Bonds for lantern-render: the bond list of a LAMMPS data file (its `Bonds` section: bond id,
 // type, atom id, atom id), or per step from a LAMMPS `dump local` of the bonds' atom ids (e.g.
 // `compute b all property/local batom1 batom2 btype` dumped as `c_b[1] c_b[2] c_b[3]`: the first
-// two columns other than `index` are the atom ids, a third the bond type), and, per frame, this
+// two columns other than `index` are the atom ids, a third the bond type) or, per frame, from an
+// H5MD file's connectivity (frame_source.h; `origin` set), and, per frame, this
 // rank's share of the particles with the bonds it draws and the ghost atoms those bonds end at.
 //
 // Which rank draws a bond, and where: the rank that reads the bond's first atom (as the data file

@@ -45,7 +45,8 @@ constexpr const char *kUsage =
     "           unless the configuration writes a dump: a conversion keeps the file's order);\n"
     "           rows gives each rank its rows of the file as read\n"
     "  DATA: a LAMMPS data file whose Bonds section gives the bonds (by atom id), or a dump\n"
-    "  local of the bonds' atom ids per step (compute property/local batom1 batom2 [btype])\n";
+    "  local of the bonds' atom ids per step (compute property/local batom1 batom2 [btype]);\n"
+    "  an H5MD INPUT with bonds (/connectivity, as Lantern's dumps write it) needs none\n";
 
 struct Options {
   std::string config, input, steps, bonds;

@@ -8,7 +8,9 @@
 // open box). Per-particle values are [frames][N_max](...): N_max, the largest count so far,
 // grows with the file; a frame's particles fill rows [0, count) in rank order and the rows
 // after them hold the fill value (NaN for real fields, -1 for `species` and `id`; -1 in `id` is
-// H5MD's "no particle"). /observables/particle_count records each frame's count.
+// H5MD's "no particle"). /observables/particle_count records each frame's count. With
+// layout.fields.bonds, /connectivity/all_bonds records each frame's bonds (pairs of particle ids,
+// [frames][B_max][2], padded with -1) the same way, each rank's pairs at its offset.
 //
 // Failures: every HDF5 call is sequenced by CollectiveCalls, so a failure on one rank is agreed
 // before the next collective call and every rank returns the same kIo status with HDF5's
