@@ -243,7 +243,7 @@ Status DumpStage::open_writer(MPI_Comm comm, const ParticleArrays &particles,
   }
   DumpLayout layout;
   layout.first_count = first_count;
-  layout.first_bonds = bonds.count();  // this rank's: a guess at the chunk size is enough
+  layout.first_bonds = bonds.count();  // listed over all ranks (by both: some twice): a chunk size
   MPI_Allreduce(MPI_IN_PLACE, &layout.first_bonds, 1, MPI_INT64_T, MPI_SUM, comm);
   layout.single_precision = config_.single_precision;
   layout.fields = to_fields(fields);

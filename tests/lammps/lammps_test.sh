@@ -16,7 +16,8 @@
 #   bits between rank counts after that), every half-bond is drawn once (the stats count two per
 #   bond, summed over ranks), and the image without bonds differs.
 # MODE h5bonds: the chains' bonds written by lantern-lammps into Lantern's H5MD dump (its
-#   connectivity) and drawn by lantern-render from that file alone, byte-identical to lantern-lammps.
+#   connectivity; h5py checks it against the data file) and drawn by lantern-render from that
+#   file alone, byte-identical to lantern-lammps.
 # MODE quit: `quit N` (a number, a variable, inside an include) after a run: lantern-lammps exits
 #   with N as lmp does, after rendering the run's steps.
 # MODE error NAME "EXPECTED" "YAML LINES" "SED EXPRESSION" [LANTERN-LAMMPS ARGS]: the script
@@ -190,6 +191,20 @@ h5bonds)
     sed "s/@NEWTON@/$newton/" "$src/in.chain" > "in.chain_$newton"
     for n in 1 3; do
       case_run "h5_${newton}_$n" $n "in.chain_$newton" ../dump.yaml -var steps 10
+      # h5py, a reader of its own: the reference names /particles/all, and each frame's pairs are
+      # the data file's bonds, each once.
+      /usr/bin/python3 - "h5_${newton}_$n/mol.h5" chain.data <<'PY' || exit 1
+import sys, h5py
+f = h5py.File(sys.argv[1], "r")
+bonds = f["connectivity/all_bonds"]
+assert f[bonds.attrs["particles_group"]].name == "/particles/all", "particles_group"
+lines = open(sys.argv[2]).read().split("Bonds")[1].split()
+want = {tuple(sorted(map(int, lines[i + 2:i + 4]))) for i in range(0, len(lines), 4)}
+for k, frame in enumerate(bonds["value"]):
+    pairs = [tuple(sorted(p)) for p in frame.tolist() if p != [-1, -1]]
+    assert len(pairs) == len(set(pairs)) and set(pairs) == want, f"frame {k}: {len(pairs)} pairs"
+assert list(bonds["step"]) == [0, 10], list(bonds["step"])
+PY
       for split in space rows; do
         out="render_${newton}_${n}_$split"
         mkdir "$out" && (cd "$out" && timeout 300 $mpiexec -n 2 "$lr" "$src/bonds.yaml" \
