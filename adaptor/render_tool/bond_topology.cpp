@@ -173,6 +173,12 @@ std::string share_with_bonds(const ParticleFrame &all, const std::vector<int64_t
   for (size_t k = 0; k < topology.first_id.size(); ++k) {
     const auto a = row_of.find(topology.first_id[k]), b = row_of.find(topology.second_id[k]);
     if (a == row_of.end() || b == row_of.end()) {
+      if (!topology.origin.empty())
+        return topology.origin + "[" +
+               std::to_string(k < topology.pair.size() ? topology.pair[k] : int64_t(k)) +
+               "]: particle id " +
+               std::to_string(a == row_of.end() ? topology.first_id[k] : topology.second_id[k]) +
+               " is not in the frame";
       ++out->skipped;
       continue;
     }

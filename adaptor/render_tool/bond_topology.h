@@ -1,7 +1,8 @@
 // Bonds for lantern-render: the bond list of a LAMMPS data file (its `Bonds` section: bond id,
 // type, atom id, atom id), or per step from a LAMMPS `dump local` of the bonds' atom ids (e.g.
 // `compute b all property/local batom1 batom2 btype` dumped as `c_b[1] c_b[2] c_b[3]`: the first
-// two columns other than `index` are the atom ids, a third the bond type), and, per frame, this
+// two columns other than `index` are the atom ids, a third the bond type) or, per frame, from an
+// H5MD file's connectivity (frame_source.h; `origin` set), and, per frame, this
 // rank's share of the particles with the bonds it draws and the ghost atoms those bonds end at.
 //
 // Which rank draws a bond, and where: the rank that reads the bond's first atom (as the data file
@@ -27,6 +28,11 @@ namespace lantern {
 
 struct BondTopology {
   std::vector<int64_t> first_id, second_id, type;  // per bond, as the data file lists it
+  // Bonds read from an H5MD dump's connectivity (which names exactly the atoms of its frame):
+  // the dataset ("dump.h5: /connectivity/all_bonds/value[2]") and each bond's pair index in it.
+  // An atom id missing from the frame is then an error naming them, not a bond left out.
+  std::string origin;
+  std::vector<int64_t> pair;
 };
 
 // The bonds of a run: one list for every frame (a data file) or one per step (a dump local).
@@ -50,7 +56,8 @@ struct BondedShare {
 };
 
 // This rank's `rows` of the whole frame `all` (each at most once; published in this order), with
-// its bonds and their ghosts. Needs the frame's atom ids. "" or an error.
+// its bonds and their ghosts. Needs the frame's atom ids. "" or an error (with an `origin`, one
+// naming the pair whose atom is not in the frame).
 std::string share_with_bonds(const ParticleFrame &all, const std::vector<int64_t> &rows,
                              const BondTopology &topology, BondedShare *out);
 

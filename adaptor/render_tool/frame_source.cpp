@@ -15,8 +15,22 @@ class ReaderSource : public FrameSource {
     return reader_->read(index, begin, end, out).message;
   }
 
- private:
+ protected:
   std::unique_ptr<Reader> reader_;
+};
+
+class H5mdSource : public ReaderSource<H5mdReader> {
+ public:
+  using ReaderSource::ReaderSource;
+  bool has_bonds() const override { return reader_->has_bonds(); }
+  std::string read_bonds(size_t index, BondTopology *out) const override {
+    *out = BondTopology{};
+    if (Status s = reader_->read_bonds(index, &out->first_id, &out->second_id, &out->pair); !s.ok())
+      return s.message;
+    out->type.assign(out->first_id.size(), 0);  // H5MD's pair lists carry no bond type
+    out->origin = reader_->bonds_dataset(index);
+    return {};
+  }
 };
 
 }  // namespace
@@ -26,7 +40,7 @@ std::string open_frame_source(const std::string &path, MPI_Comm comm,
   if (has_hdf5_signature(path)) {
     std::unique_ptr<H5mdReader> reader;
     if (Status s = H5mdReader::open(path, comm, &reader); !s.ok()) return s.message;
-    *out = std::make_unique<ReaderSource<H5mdReader>>(std::move(reader));
+    *out = std::make_unique<H5mdSource>(std::move(reader));
     return {};
   }
   std::unique_ptr<LammpsDumpReader> reader;

@@ -9,12 +9,15 @@
 // frame's z-order curve (spatial_split.h) instead of its rows of the file.
 // The configuration's `schedule:` still applies to the dump's steps; to render every selected
 // frame, give a configuration without a schedule. --bonds DATA takes the bonds from a LAMMPS data
-// file or dump local (bond_topology.h) for the scenes with a `bonds:` section; every rank then
-// reads every frame whole, to find the ghost atoms its bonds end at.
+// file or dump local (bond_topology.h) for the scenes with a `bonds:` section; without it, an
+// H5MD input's own bonds (its /connectivity, as Lantern's dumps write it) are drawn where a scene
+// has a `bonds:` section. With bonds every rank reads every frame whole, to find the ghost atoms
+// its bonds end at.
 //
 // Exit codes: 0 success, 1 bad input or a failed step (message on stderr), 2 usage.
 #include <mpi.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -43,7 +46,8 @@ constexpr const char *kUsage =
     "           unless the configuration writes a dump: a conversion keeps the file's order);\n"
     "           rows gives each rank its rows of the file as read\n"
     "  DATA: a LAMMPS data file whose Bonds section gives the bonds (by atom id), or a dump\n"
-    "  local of the bonds' atom ids per step (compute property/local batom1 batom2 [btype])\n";
+    "  local of the bonds' atom ids per step (compute property/local batom1 batom2 [btype]);\n"
+    "  an H5MD INPUT with bonds (/connectivity, as Lantern's dumps write it) needs none\n";
 
 struct Options {
   std::string config, input, steps, bonds;
@@ -133,7 +137,7 @@ lantern_bonds bonds_of(const lantern::BondedShare &share) {
 // ranks goes to *split; with bonds, each rank then finds its atoms and its bonds' ghosts among the
 // rows of the whole frame.
 std::string render_frame(lantern_context *ctx, const lantern::FrameSource &source, size_t index,
-                         const std::string &input, const lantern::BondSource *bonds, int rank,
+                         const std::string &input, const lantern::BondTopology *topology, int rank,
                          int size, bool spatial, lantern::SplitStats *split) {
   const lantern::FrameInfo &info = source.frames()[index];
   if (info.count == 0) return input + ": step " + std::to_string(info.step) + " has zero particles";
@@ -141,8 +145,6 @@ std::string render_frame(lantern_context *ctx, const lantern::FrameSource &sourc
   lantern::ParticleFrame frame;
   lantern::BondedShare share;
   const std::string where = input + ": step " + std::to_string(info.step) + ": ";
-  const lantern::BondTopology *topology = bonds ? bonds->at(info.step) : nullptr;
-  if (bonds && !topology) return "the bond file has no bonds for step " + std::to_string(info.step);
   if (topology) {  // the whole frame, for the ghosts of this rank's bonds
     lantern::ParticleFrame all;
     if (auto e = agree(source.read(index, 0, info.count, &all)); !e.empty()) return e;
@@ -213,14 +215,30 @@ int run(const Options &opt, int rank, int size) {
   // The spatial split reorders particles between ranks: a conversion (a configuration with a
   // dump) keeps the file's order unless asked otherwise. The configuration loaded fine above.
   lantern::Config config;
-  const bool dumps = lantern::load_config(opt.config, &config).ok() && config.dump.enabled;
+  const bool loaded = lantern::load_config(opt.config, &config).ok();
+  const bool dumps = loaded && config.dump.enabled;
   const bool spatial = opt.split == "space" || (opt.split.empty() && !dumps);
+  // The input's own bonds (an H5MD file's connectivity) where a scene draws bonds and --bonds
+  // gives none.
+  const bool draws_bonds = loaded && std::any_of(config.scenes.begin(), config.scenes.end(),
+                                                 [](const auto &s) { return s.bonds.enabled; });
+  const bool file_bonds = opt.bonds.empty() && draws_bonds && source->has_bonds();
   const auto start = std::chrono::steady_clock::now();
   for (size_t k = 0; k < selected.size(); ++k) {
     const auto t0 = std::chrono::steady_clock::now();
     lantern::SplitStats split;
-    if (auto e = render_frame(ctx.get(), *source, selected[k], opt.input,
-                              opt.bonds.empty() ? nullptr : &bonds, rank, size, spatial, &split);
+    const int64_t step = source->frames()[selected[k]].step;
+    const lantern::BondTopology *topology = nullptr;
+    lantern::BondTopology from_file;
+    if (!opt.bonds.empty()) {
+      topology = bonds.at(step);
+      if (!topology) return fail("the bond file has no bonds for step " + std::to_string(step));
+    } else if (file_bonds) {
+      if (auto e = agree(source->read_bonds(selected[k], &from_file)); !e.empty()) return fail(e);
+      topology = &from_file;
+    }
+    if (auto e = render_frame(ctx.get(), *source, selected[k], opt.input, topology, rank, size,
+                              spatial, &split);
         !e.empty())
       return fail(e);
     if (rank == 0) {

@@ -11,7 +11,7 @@
 namespace lantern {
 namespace {
 
-enum FieldBit : int { kType = 1, kId = 2, kScalar = 4, kRadius = 8 };
+enum FieldBit : int { kType = 1, kId = 2, kScalar = 4, kRadius = 8, kBondList = 16 };
 
 int published_fields(const ParticleArrays &p) {
   return (p.has_type() ? kType : 0) | (p.has_id() ? kId : 0) | (p.has_scalar() ? kScalar : 0) |
@@ -39,13 +39,33 @@ const char *name_of(int bit) {
   }
 }
 
+// The bonds go into the file (by particle id) when some rank published bonds at the first dump
+// and the file has ids; bonds without ids are left out, with a warning that says why.
+int with_bonds(int fields, bool any_bonds, const DumpConfig &config, int rank) {
+  if (!any_bonds) return fields;
+  if (fields & kId) return fields | kBondList;
+  if (rank == 0)
+    std::fprintf(stderr,
+                 "lantern: warning: dump.file: %s: bonds are published, but the dump has no 'id' "
+                 "field (dump.fields, lantern_particles.id): H5MD's connectivity names particles "
+                 "by id, so this dump leaves the bonds out\n",
+                 config.file.c_str());
+  return fields;
+}
+
 // The fields to write: the configured list, or else every array some rank published. Listing a
 // field that no rank published is an error (a typo'd expectation, not a silent empty dataset).
-Status choose_fields(MPI_Comm comm, const DumpConfig &config, const ParticleArrays &p, int *out) {
-  int any = published_fields(p);
+// Plus the bond list where some rank published bonds (with_bonds).
+Status choose_fields(MPI_Comm comm, const DumpConfig &config, const ParticleArrays &p,
+                     const BondArrays &bonds, int *out) {
+  int any = published_fields(p) | (bonds.count() > 0 ? kBondList : 0);
   MPI_Allreduce(MPI_IN_PLACE, &any, 1, MPI_INT, MPI_BOR, comm);
+  int rank = 0;
+  MPI_Comm_rank(comm, &rank);
+  const bool any_bonds = any & kBondList;
+  any &= ~kBondList;
   if (config.fields.empty()) {
-    *out = any;
+    *out = with_bonds(any, any_bonds, config, rank);
     return {};
   }
   int wanted = 0;
@@ -65,6 +85,7 @@ DumpFields to_fields(int bits) {
   f.id = bits & kId;
   f.scalar = bits & kScalar;
   f.radius = bits & kRadius;
+  f.bonds = bits & kBondList;
   return f;
 }
 
@@ -98,15 +119,40 @@ std::string mode_key(const DumpConfig &config) {
   return "'" + config.file + "' (dump.mode: append)";
 }
 
-// The configuration against an existing file (rank 0): "" or a message naming the key.
-std::string append_problem(const DumpConfig &config, const ExistingDump &file, int fields) {
+// This rank's bonds for the dump: pairs of particle ids, each bond of the frame once over all
+// ranks. Under kListedOnce every listed bond is this rank's; under kListedByBoth a bond is in the
+// lists of both its atoms' ranks and goes to the one that owns the atom with the smaller id (an
+// entry whose smaller-id atom is a ghost is the other rank's). With a group (mask, which covers
+// the ghosts) only bonds between members are written, as only they are drawn. A bond that is bad
+// now (check_bond) is left out, as the renderer leaves it out and reports it.
+std::vector<int64_t> bond_ids(const BondArrays &bonds, const ParticleArrays &p) {
+  std::vector<int64_t> pairs;
+  const bool by_both = bonds.listing() == BondListing::kListedByBoth;
+  for (int64_t k = 0; k < bonds.count(); ++k) {
+    if (!bonds.check_bond(k, p).ok()) continue;
+    const int64_t a = bonds.first(k), b = bonds.second(k);
+    if (!p.kept(a) || !p.kept(b)) continue;
+    const int64_t ida = p.id(a), idb = p.id(b);
+    if (by_both && (ida < idb ? a : b) >= p.count()) continue;
+    pairs.push_back(ida);
+    pairs.push_back(idb);
+  }
+  return pairs;
+}
+
+// The configuration against an existing file (rank 0): "" or a message naming the key. Before the
+// first dump (`fields` listed in the configuration) whether the run has bonds is not yet known.
+std::string append_problem(const DumpConfig &config, const ExistingDump &file, int fields,
+                           bool bonds_known = true) {
   if (!file.problem.empty()) return "dump.file: " + mode_key(config) + " " + file.problem;
   if (file.single_precision != config.single_precision)
     return std::string("dump.precision: ") + (config.single_precision ? "float32" : "float64") +
            ", but " + mode_key(config) + " holds " +
            (file.single_precision ? "float32" : "float64") +
            " positions (a restarted run appends in the file's precision)";
-  if (fields >= 0 && to_fields(fields) != file.fields)
+  DumpFields held = file.fields;
+  if (!bonds_known) held.bonds = to_fields(fields).bonds;
+  if (fields >= 0 && to_fields(fields) != held)
     return "dump.fields: the run writes [" + fields_text(to_fields(fields)) + "], but " +
            mode_key(config) + " holds [" + fields_text(file.fields) + "]";
   return {};
@@ -133,7 +179,7 @@ Status DumpStage::check_existing_file(MPI_Comm comm) const {
         for (const auto &f : config_.fields) listed |= bit_of(f);
       }
       if (const std::string problem =
-              append_problem(config_, inspect_dump_file(config_.file), listed);
+              append_problem(config_, inspect_dump_file(config_.file), listed, false);
           !problem.empty())
         local = {StatusCode::kConfig, problem};
     }
@@ -181,10 +227,11 @@ Status DumpStage::append_to_existing(MPI_Comm comm, int fields, int64_t first_co
   return {};
 }
 
-Status DumpStage::open_writer(MPI_Comm comm, const ParticleArrays &particles, const Box &box,
-                              int64_t first_count, int64_t step) {
+Status DumpStage::open_writer(MPI_Comm comm, const ParticleArrays &particles,
+                              const BondArrays &bonds, const Box &box, int64_t first_count,
+                              int64_t step) {
   int fields = 0;
-  if (Status s = choose_fields(comm, config_, particles, &fields); !s.ok()) return s;
+  if (Status s = choose_fields(comm, config_, particles, bonds, &fields); !s.ok()) return s;
   if (config_.mode == DumpMode::kAppend) {
     int exists = 0;
     std::error_code ec;
@@ -196,6 +243,8 @@ Status DumpStage::open_writer(MPI_Comm comm, const ParticleArrays &particles, co
   }
   DumpLayout layout;
   layout.first_count = first_count;
+  layout.first_bonds = bonds.count();  // listed over all ranks (by both: some twice): a chunk size
+  MPI_Allreduce(MPI_IN_PLACE, &layout.first_bonds, 1, MPI_INT64_T, MPI_SUM, comm);
   layout.single_precision = config_.single_precision;
   layout.fields = to_fields(fields);
   int periodic[3] = {box.periodic[0], box.periodic[1], box.periodic[2]};
@@ -222,8 +271,9 @@ Status DumpStage::open_writer(MPI_Comm comm, const ParticleArrays &particles, co
   return agreed;
 }
 
-Status DumpStage::write(MPI_Comm comm, const ParticleArrays &particles, const Extent &global,
-                        const std::optional<Box> &box, int64_t step, double time) {
+Status DumpStage::write(MPI_Comm comm, const ParticleArrays &particles, const BondArrays &bonds,
+                        const Extent &global, const std::optional<Box> &box, int64_t step,
+                        double time) {
   // A group (mask) dumps only its members: their indices, in the published order.
   std::vector<int64_t> rows;
   if (particles.has_mask())
@@ -242,7 +292,7 @@ Status DumpStage::write(MPI_Comm comm, const ParticleArrays &particles, const Ex
 
   const Box b = frame_box(comm, global, box);
   if (!writer_)
-    if (Status s = open_writer(comm, particles, b, total, step); !s.ok()) return s;
+    if (Status s = open_writer(comm, particles, bonds, b, total, step); !s.ok()) return s;
   if (appended_after_step_) {
     // The same on every rank (broadcast when the file was opened). A restarted run that dumps a
     // step the file already holds would make its steps go back: that step is refused, and the
@@ -266,9 +316,17 @@ Status DumpStage::write(MPI_Comm comm, const ParticleArrays &particles, const Ex
       !s.ok())
     return s;
 
-  const Status appended =
-      with_context(where, writer_->append({&particles, particles.has_mask() ? &rows : nullptr,
-                                           offset, total, step, time, b}));
+  DumpFrame frame{&particles, particles.has_mask() ? &rows : nullptr, offset, total, step, time, b};
+  std::vector<int64_t> pairs;
+  if (writer_->layout().fields.bonds) {
+    pairs = bond_ids(bonds, particles);
+    const int64_t mine = int64_t(pairs.size() / 2);
+    MPI_Exscan(&mine, &frame.bond_offset, 1, MPI_INT64_T, MPI_SUM, comm);
+    MPI_Allreduce(&mine, &frame.bond_total, 1, MPI_INT64_T, MPI_SUM, comm);
+    if (rank == 0) frame.bond_offset = 0;
+    frame.bond_ids = &pairs;
+  }
+  const Status appended = with_context(where, writer_->append(frame));
   if (appended.ok()) return appended;
   // Agreed by the writer: every rank closes the file here, together, and stops dumping; then rank
   // 0 cuts the failed frame back from every time series (serially, on the closed file).

@@ -24,6 +24,7 @@
 #include "core/config/config.h"
 #include "core/dump/box.h"
 #include "core/dump/h5md_writer.h"
+#include "core/particles/bond_arrays.h"
 #include "core/particles/global_extent.h"
 #include "core/particles/particle_arrays.h"
 
@@ -46,13 +47,16 @@ class DumpStage {
 
   // Collective. `global` is the step's extent reduced over ranks (the pipeline computes it once
   // per step). `box` is this rank's lantern_set_box() box; without one (on rank 0) the dump
-  // records the global bounds of the particles, non-periodic.
-  Status write(MPI_Comm comm, const ParticleArrays &particles, const Extent &global,
-               const std::optional<Box> &box, int64_t step, double time);
+  // records the global bounds of the particles, non-periodic. `bonds` (this rank's, possibly
+  // none): when some rank has bonds at the first dump, the file gets H5MD's connectivity
+  // (/connectivity/all_bonds, by particle id; needs the id field) and every frame records the
+  // frame's bonds there, each once over all ranks; a file created without bonds stays without.
+  Status write(MPI_Comm comm, const ParticleArrays &particles, const BondArrays &bonds,
+               const Extent &global, const std::optional<Box> &box, int64_t step, double time);
 
  private:
-  Status open_writer(MPI_Comm comm, const ParticleArrays &particles, const Box &box,
-                     int64_t first_count, int64_t step);
+  Status open_writer(MPI_Comm comm, const ParticleArrays &particles, const BondArrays &bonds,
+                     const Box &box, int64_t first_count, int64_t step);
   // dump.mode: append onto an existing file: its layout checked against the run's, a failed
   // frame cut back, the writer opened after its frames. Collective.
   Status append_to_existing(MPI_Comm comm, int fields, int64_t first_count, int64_t step);

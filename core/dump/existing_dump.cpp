@@ -46,6 +46,7 @@ std::string fields_text(const DumpFields &f) {
   if (f.id) text += std::string(", ") + h5md::kId;
   if (f.scalar) text += std::string(", ") + h5md::kScalar;
   if (f.radius) text += std::string(", ") + h5md::kRadius;
+  if (f.bonds) text += std::string(", bonds (") + h5md::kBonds + ")";
   return text;
 }
 
@@ -78,12 +79,14 @@ ExistingDump inspect_dump_file(const std::string &path) {
     out.fields.id = exists(file.get(), group + h5md::kId + "/value");
     out.fields.scalar = exists(file.get(), group + h5md::kScalar + "/value");
     out.fields.radius = exists(file.get(), group + h5md::kRadius + "/value");
+    out.fields.bonds = exists(file.get(), std::string(h5md::kBonds) + "/value");
     // Every time series holds the complete frames (a failed frame may have left more).
     std::vector<std::string> series = {group + h5md::kPosition, count,
                                        group + h5md::kBox + "/edges",
                                        group + h5md::kBox + "/offset"};
     for (const char *name : {h5md::kSpecies, h5md::kId, h5md::kScalar, h5md::kRadius})
       if (exists(file.get(), group + name + "/value")) series.push_back(group + name);
+    if (out.fields.bonds) series.push_back(h5md::kBonds);
     for (const std::string &element : series)
       for (const char *part : {"/value", "/step", "/time"}) {
         if (!exists(file.get(), element + part))

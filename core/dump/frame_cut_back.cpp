@@ -41,7 +41,10 @@ Status cut_back_frames(const std::string &path, int64_t frames, int64_t rows) {
                                                                 {particles + h5md::kRadius, true},
                                                                 {box + "edges", false},
                                                                 {box + "offset", false},
+                                                                {h5md::kBonds, false},
                                                                 {h5md::kParticleCount, false}};
+    // The bond list is cut back along its frame axis only: a bond axis that grew in the failed
+    // frame keeps fill pairs (-1) in the earlier frames, written before that frame's pairs.
     for (const auto &[element, per_particle] : elements) {
       if (H5Lexists(file.get(), element.c_str(), H5P_DEFAULT) <= 0) continue;
       shrink(file.get(), element + "/value", hsize_t(frames), per_particle, hsize_t(rows));

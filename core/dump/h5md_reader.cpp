@@ -4,6 +4,8 @@
 #include <cmath>
 #include <cstring>
 #include <fstream>
+#include <map>
+#include <new>
 #include <optional>
 
 #include "core/common/quoted_text.h"
@@ -98,6 +100,56 @@ struct Field {
   bool per_frame = true;
 };
 
+// A list of pairs under /connectivity: value [frames][B][2] with its steps, or [B][2].
+struct BondList {
+  std::string where;  // the value dataset's path, for messages
+  H5Handle value;
+  bool per_frame = false;
+  hsize_t pairs = 0;                       // B
+  std::map<int64_t, hsize_t> row_of_step;  // per_frame: the value row of each step
+  std::optional<int64_t> fill;
+};
+
+// Bond lists larger than this are refused rather than allocated (a corrupt shape).
+constexpr hsize_t kMaxBonds = hsize_t(1) << 32;
+
+// The path of the object a connectivity element's particles_group attribute names: an object
+// reference (H5MD 1.1), or a string (the group's path, or its name under /particles).
+std::string particles_group_of(hid_t file, const std::string &path) {
+  const std::string what = path + ": " + h5md::kParticlesGroupAttribute;
+  if (H5Aexists_by_name(file, path.c_str(), h5md::kParticlesGroupAttribute, H5P_DEFAULT) <= 0)
+    throw Hdf5Error(what + ": missing (H5MD names the particle group of a connectivity list)");
+  const H5Handle attr = own_attr(
+      H5Aopen_by_name(file, path.c_str(), h5md::kParticlesGroupAttribute, H5P_DEFAULT, H5P_DEFAULT),
+      what);
+  const H5Handle type = own_type(H5Aget_type(attr.get()), what + ": type");
+  const H5Handle space = own_space(H5Aget_space(attr.get()), what + ": dataspace");
+  if (H5Sget_simple_extent_npoints(space.get()) != 1)
+    throw Hdf5Error(what + ": not a single value");
+  const H5T_class_t cls = H5Tget_class(type.get());
+  if (cls == H5T_REFERENCE) {
+    if (H5Tequal(type.get(), H5T_STD_REF_OBJ) <= 0)
+      throw Hdf5Error(what + ": not an object reference");
+    hobj_ref_t ref{};
+    h5_check(H5Aread(attr.get(), H5T_STD_REF_OBJ, &ref), what + ": read");
+    const hid_t target = H5Rdereference2(attr.get(), H5P_DEFAULT, H5R_OBJECT, &ref);
+    if (target < 0) throw Hdf5Error(what + ": a dangling object reference");
+    const H5Handle object(target, H5Oclose);
+    char name[1024] = {0};
+    if (H5Iget_name(object.get(), name, sizeof name) <= 0)
+      throw Hdf5Error(what + ": refers to an object without a name");
+    return name;
+  }
+  if (cls == H5T_STRING && !H5Tis_variable_str(type.get())) {
+    const size_t width = H5Tget_size(type.get());
+    std::vector<char> text(width + 1, '\0');
+    h5_check(H5Aread(attr.get(), type.get(), text.data()), what + ": read");
+    const std::string name(text.data());
+    return name.rfind('/', 0) == 0 ? name : std::string(h5md::kParticles) + "/" + name;
+  }
+  throw Hdf5Error(what + ": neither an object reference nor a string");
+}
+
 }  // namespace
 
 struct H5mdReader::Impl {
@@ -121,6 +173,9 @@ struct H5mdReader::Impl {
   // longer; only the complete frames are read. Unset for other writers' files, whose datasets
   // must agree exactly.
   std::optional<hsize_t> complete;
+  std::optional<BondList> bonds;
+  std::string bonds_problem;  // why the bond list found cannot be used ("" when it can)
+  bool bonds_found = false;
 
   void find_complete_frames();
   // Frames of a file (or dataset) whose first axis is `length`.
@@ -137,6 +192,8 @@ struct H5mdReader::Impl {
   void drop_fill_rows(size_t index, int64_t begin, ParticleFrame *f) const;
   std::optional<Field> open_field(const char *name) const;
   void open_box();
+  void open_bonds();
+  BondList open_bond_list(const std::string &path, bool per_frame) const;
   void read_rows(hid_t dataset, bool per_frame, size_t frame, int64_t begin, int64_t end, int cols,
                  hid_t mem_type, void *out, const std::string &what) const;
   std::optional<std::array<double, 3>> read_vec3(hid_t dataset, bool per_frame, size_t frame,
@@ -361,6 +418,78 @@ void H5mdReader::Impl::drop_fill_rows(size_t index, int64_t begin, ParticleFrame
     if (!v->empty()) v->resize(kept);
 }
 
+// The first pair list under /connectivity for this particle group; a problem with it is kept
+// for read_bonds() instead of failing the file.
+void H5mdReader::Impl::open_bonds() {
+  if (!is_group(file.get(), h5md::kConnectivity)) return;
+  const H5Handle g =
+      own_group(H5Gopen2(file.get(), h5md::kConnectivity, H5P_DEFAULT), h5md::kConnectivity);
+  H5G_info_t info;
+  h5_check(H5Gget_info(g.get(), &info), std::string(h5md::kConnectivity) + ": list");
+  for (hsize_t i = 0; i < info.nlinks && !bonds_found; ++i) {
+    char name[256] = {0};
+    if (H5Lget_name_by_idx(g.get(), ".", H5_INDEX_NAME, H5_ITER_INC, i, name, sizeof(name),
+                           H5P_DEFAULT) < 0)
+      continue;
+    const std::string path = std::string(h5md::kConnectivity) + "/" + name;
+    try {
+      if (particles_group_of(file.get(), path) != group) continue;  // another group's list
+      const bool per_frame = is_group(file.get(), path);
+      const std::string value = per_frame ? path + "/value" : path;
+      if (!link_exists(file.get(), value)) throw Hdf5Error("missing dataset " + value);
+      const H5Handle dataset = own_dataset(H5Dopen2(file.get(), value.c_str(), H5P_DEFAULT), value);
+      const auto dims = shape_of(dataset.get(), value);
+      if (dims.size() == (per_frame ? 3u : 2u) && dims.back() != 2) continue;  // not pairs
+      bonds_found = true;
+      bonds = open_bond_list(path, per_frame);
+    } catch (const Hdf5Error &e) {
+      bonds_found = true;
+      bonds_problem = e.what();
+    }
+  }
+  if (bonds && !id) {
+    bonds_problem = bonds->where +
+                    ": the particle group has no id element, so its pairs are particle indices; "
+                    "bonds are read by particle id only";
+    bonds.reset();
+  }
+}
+
+BondList H5mdReader::Impl::open_bond_list(const std::string &path, bool per_frame) const {
+  BondList list;
+  list.per_frame = per_frame;
+  list.where = per_frame ? path + "/value" : path;
+  list.value = own_dataset(H5Dopen2(file.get(), list.where.c_str(), H5P_DEFAULT), list.where);
+  const auto dims = shape_of(list.value.get(), list.where);
+  const std::vector<hsize_t> want =
+      per_frame ? std::vector<hsize_t>{frames.size(), 0, 2} : std::vector<hsize_t>{0, 2};
+  if (dims.size() != want.size() || dims.back() != 2)
+    throw Hdf5Error(list.where + " has shape " + shape_text(dims) + ", expected " +
+                    (per_frame ? "[frames][bonds][2]" : "[bonds][2]") + " (pairs of particle ids)");
+  list.pairs = dims[dims.size() - 2];
+  if (list.pairs > kMaxBonds)
+    throw Hdf5Error(list.where + " has " + std::to_string(list.pairs) + " pairs (too many)");
+  {
+    const H5Handle type = own_type(H5Dget_type(list.value.get()), list.where + ": type");
+    if (H5Tget_class(type.get()) != H5T_INTEGER)
+      throw Hdf5Error(list.where + " is not of an integer type (particle ids)");
+  }
+  list.fill = user_fill_value<int64_t>(list.value.get(), H5T_NATIVE_INT64, list.where);
+  if (per_frame) {
+    const std::string step_path = path + "/step";
+    if (!link_exists(file.get(), step_path)) throw Hdf5Error("missing dataset " + step_path);
+    const H5Handle step =
+        own_dataset(H5Dopen2(file.get(), step_path.c_str(), H5P_DEFAULT), step_path);
+    const auto sdims = shape_of(step.get(), step_path);
+    if (sdims.size() != 1)
+      throw Hdf5Error(step_path + " has shape " + shape_text(sdims) + ", expected [frames]");
+    const hsize_t n = std::min(sdims[0], dims[0]);  // a failed last frame may be longer in one
+    const auto steps = read_first<int64_t>(step.get(), H5T_NATIVE_INT64, n, step_path);
+    for (hsize_t f = 0; f < n; ++f) list.row_of_step.emplace(steps[f], f);
+  }
+  return list;
+}
+
 H5mdReader::H5mdReader(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
 H5mdReader::~H5mdReader() = default;
 
@@ -400,6 +529,7 @@ Status H5mdReader::open(const std::string &path, MPI_Comm comm, std::unique_ptr<
     impl->open_box();
     impl->open_counts();
     impl->find_fill_values();
+    impl->open_bonds();
   } catch (const Hdf5Error &e) {
     return unreadable(escaped_text(e.what()));  // may hold names read from the file
   }
@@ -453,6 +583,75 @@ Status H5mdReader::read(size_t index, int64_t begin, int64_t end, ParticleFrame 
   }
   m.drop_fill_rows(index, begin, &f);
   *out = std::move(f);
+  return {};
+}
+
+}  // namespace lantern
+
+namespace lantern {
+
+bool H5mdReader::has_bonds() const {
+  return impl_->bonds_found;
+}
+
+std::string H5mdReader::bonds_dataset(size_t index) const {
+  const Impl &m = *impl_;
+  if (!m.bonds) return {};
+  const BondList &list = *m.bonds;
+  std::string text = m.path + ": " + escaped_text(list.where);
+  if (list.per_frame && index < m.frames.size())
+    if (const auto found = list.row_of_step.find(m.frames[index].step);
+        found != list.row_of_step.end())
+      text += "[" + std::to_string(found->second) + "]";
+  return text;
+}
+
+Status H5mdReader::read_bonds(size_t index, std::vector<int64_t> *first,
+                              std::vector<int64_t> *second, std::vector<int64_t> *pair) const {
+  const Impl &m = *impl_;
+  first->clear();
+  second->clear();
+  if (pair) pair->clear();
+  if (!m.bonds_found) return {};
+  if (!m.bonds) return {StatusCode::kIo, m.path + ": " + escaped_text(m.bonds_problem)};
+  if (index >= m.frames.size())
+    return {StatusCode::kInvalidArgument,
+            m.path + ": frame " + std::to_string(index) + " does not exist"};
+  const BondList &list = *m.bonds;
+  hsize_t row = 0;
+  if (list.per_frame) {
+    const auto found = list.row_of_step.find(m.frames[index].step);
+    if (found == list.row_of_step.end())
+      return {StatusCode::kInvalidArgument, m.path + ": " + escaped_text(list.where) +
+                                                " records no bonds for step " +
+                                                std::to_string(m.frames[index].step)};
+    row = found->second;
+  }
+  std::vector<int64_t> pairs;
+  try {
+    pairs.resize(size_t(2 * list.pairs));
+    if (list.pairs > 0)
+      m.read_rows(list.value.get(), list.per_frame, row, 0, int64_t(list.pairs), 2,
+                  H5T_NATIVE_INT64, pairs.data(), list.where);
+  } catch (const Hdf5Error &e) {
+    return {StatusCode::kIo, m.path + ": " + escaped_text(e.what())};
+  } catch (const std::bad_alloc &) {
+    return {StatusCode::kIo, m.path + ": " + escaped_text(list.where) + ": out of memory"};
+  }
+  const std::string at = m.path + ": " + escaped_text(list.where) +
+                         (list.per_frame ? "[" + std::to_string(row) + "]" : "");
+  for (size_t k = 0; k < list.pairs; ++k) {
+    const int64_t a = pairs[2 * k], b = pairs[2 * k + 1];
+    if (list.fill && (a == *list.fill || b == *list.fill)) continue;  // no bond (H5MD)
+    const std::string where = at + "[" + std::to_string(k) + "]: ";
+    if (a < 0 || b < 0)
+      return {StatusCode::kIo, where + "negative particle id " + std::to_string(a < 0 ? a : b)};
+    if (a == b)
+      return {StatusCode::kIo, where + "a bond from particle " + std::to_string(a) + " to itself"};
+    first->push_back(a);
+    second->push_back(b);
+    if (pair) pair->push_back(int64_t(k));
+  }
   return {};
 }
 

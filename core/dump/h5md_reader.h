@@ -10,6 +10,13 @@
 // rows that hold no particle are skipped: an `id` equal to the id dataset's fill value (the
 // H5MD convention), or, without ids, a position of three NaNs where NaN is the declared fill
 // value (files padded with NaN).
+// Bonds (H5MD 1.1 connectivity): the first pair list under /connectivity whose particles_group
+// attribute (an object reference, or the group's name) is the particle group read - a
+// time-dependent element {value [frames][B][2], step} or a fixed [B][2] dataset of integer
+// particle ids; a pair holding the dataset's fill value is no bond. Lists of other tuples
+// (angles) and of other particle groups are ignored. A bond list that cannot be used (wrong shape
+// or type, a dangling reference, no id element to match the ids with) does not stop the
+// particles from being read: read_bonds() reports it.
 // Every problem is reported as "<file>: <what is wrong>".
 #pragma once
 
@@ -39,6 +46,19 @@ class H5mdReader {
   // (independent I/O). OK, kIo naming the file, or kInvalidArgument for a frame that does not
   // exist.
   Status read(size_t index, int64_t begin, int64_t end, ParticleFrame *out) const;
+
+  // Whether the file has a bond list for the particle group (usable or not).
+  bool has_bonds() const;
+  // The bonds of frame `index` as particle ids (first[k], second[k]), pairs of fill values left
+  // out. OK; kIo naming the file, the dataset and the pair at fault ("<file>:
+  // /connectivity/all_bonds/value[2][17]: negative particle id -4"), or for an unusable list;
+  // kInvalidArgument for a frame that does not exist or whose step the list does not record.
+  // `pair`, if given, receives each bond's index in the dataset (for messages).
+  Status read_bonds(size_t index, std::vector<int64_t> *first, std::vector<int64_t> *second,
+                    std::vector<int64_t> *pair = nullptr) const;
+  // The file and bond list's dataset with the row of frame `index` ("dump.h5:
+  // /connectivity/all_bonds/value[2]"); "" without a usable list.
+  std::string bonds_dataset(size_t index) const;
 
  private:
   struct Impl;

@@ -140,6 +140,15 @@ void H5mdWriter::open_file(MPI_Comm comm) {
   if (f.id) id_.emplace(existing, calls_, group, h5md::kId, true);
   if (f.scalar) scalar_.emplace(existing, calls_, group, h5md::kScalar, true);
   if (f.radius) radius_.emplace(existing, calls_, group, h5md::kRadius, true);
+  if (f.bonds) {
+    H5Handle connectivity;
+    calls_.collective("connectivity group", [&] {
+      connectivity =
+          own_group(H5Gopen2(file_.get(), h5md::kConnectivity, H5P_DEFAULT), h5md::kConnectivity);
+    });
+    bonds_.emplace(existing, calls_, connectivity.get(), h5md::kBondsName, true);
+    bond_rows_ = bonds_->rows();
+  }
   calls_.settle();
 }
 
@@ -233,6 +242,36 @@ void H5mdWriter::create_elements() {
     scalar_.emplace(calls_, group, h5md::kScalar, std::vector<hsize_t>{0}, real, chunk, true);
   if (f.radius)
     radius_.emplace(calls_, group, h5md::kRadius, std::vector<hsize_t>{0}, real, chunk, true);
+  if (f.bonds) create_bond_list();
+}
+
+// /connectivity/all_bonds: a time-dependent list of pairs of particle ids whose particles_group
+// attribute refers to the particle group (H5MD 1.1, connectivity).
+void H5mdWriter::create_bond_list() {
+  H5Handle connectivity;
+  calls_.collective("connectivity group", [&] {
+    connectivity = own_group(
+        H5Gcreate2(file_.get(), h5md::kConnectivity, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
+        h5md::kConnectivity);
+  });
+  const hsize_t chunk =
+      std::clamp<hsize_t>(hsize_t(layout_.first_bonds), kMinChunkRows, kChunkRows);
+  bonds_.emplace(calls_, connectivity.get(), h5md::kBondsName, std::vector<hsize_t>{0, 2},
+                 H5T_STD_I64LE, chunk, true);
+  calls_.collective("connectivity: particles_group", [&] {
+    const std::string target = std::string(h5md::kParticles) + "/" + h5md::kGroupName;
+    hobj_ref_t ref{};
+    h5_check(H5Rcreate(&ref, file_.get(), target.c_str(), H5R_OBJECT, -1),
+             "particles_group: reference");
+    const H5Handle group =
+        own_group(H5Gopen2(connectivity.get(), h5md::kBondsName, H5P_DEFAULT), h5md::kBonds);
+    const H5Handle space = own_space(H5Screate(H5S_SCALAR), "particles_group: dataspace");
+    const H5Handle attr =
+        own_attr(H5Acreate2(group.get(), h5md::kParticlesGroupAttribute, H5T_STD_REF_OBJ,
+                            space.get(), H5P_DEFAULT, H5P_DEFAULT),
+                 "particles_group: create");
+    h5_check(H5Awrite(attr.get(), H5T_STD_REF_OBJ, &ref), "particles_group: write");
+  });
 }
 
 void H5mdWriter::write_frame(const DumpFrame &f) {
@@ -273,6 +312,19 @@ void H5mdWriter::write_frame(const DumpFrame &f) {
   put(id_, id);
   put(scalar_, scalar);
   put(radius_, radius);
+  hsize_t bond_rows = bond_rows_;
+  if (bonds_) {  // this rank's pairs at its offset; the last rank pads up to B_max with -1
+    bond_rows = std::max(bond_rows_, hsize_t(f.bond_total));
+    const int64_t mine = f.bond_ids ? int64_t(f.bond_ids->size() / 2) : 0;
+    const int64_t bond_tail = rank_ == size_ - 1 ? int64_t(bond_rows) - f.bond_total : 0;
+    std::vector<int64_t> pairs;
+    calls_.local("gather the bonds", [&] {
+      pairs.assign(size_t(2 * (mine + bond_tail)), -1);
+      if (mine > 0) std::copy(f.bond_ids->begin(), f.bond_ids->end(), pairs.begin());
+    });
+    bonds_->append(calls_, frames_, bond_rows, hsize_t(f.bond_offset), hsize_t(mine + bond_tail),
+                   H5T_NATIVE_INT64, pairs.data(), dxpl_.get(), root, f.step, f.time);
+  }
 
   // The box and the count are one row each, written by rank 0 alone.
   const auto edges = f.box.edges();
@@ -288,6 +340,7 @@ void H5mdWriter::write_frame(const DumpFrame &f) {
   calls_.settle();
   ++frames_;
   particles_ = particles;
+  bond_rows_ = bond_rows;
 }
 
 }  // namespace lantern

@@ -8,7 +8,9 @@
 // open box). Per-particle values are [frames][N_max](...): N_max, the largest count so far,
 // grows with the file; a frame's particles fill rows [0, count) in rank order and the rows
 // after them hold the fill value (NaN for real fields, -1 for `species` and `id`; -1 in `id` is
-// H5MD's "no particle"). /observables/particle_count records each frame's count.
+// H5MD's "no particle"). /observables/particle_count records each frame's count. With
+// layout.fields.bonds, /connectivity/all_bonds records each frame's bonds (pairs of particle ids,
+// [frames][B_max][2], padded with -1) the same way, each rank's pairs at its offset.
 //
 // Failures: every HDF5 call is sequenced by CollectiveCalls, so a failure on one rank is agreed
 // before the next collective call and every rank returns the same kIo status with HDF5's
@@ -44,8 +46,10 @@ struct DumpFields {
   bool id = false;
   bool scalar = false;
   bool radius = false;
+  bool bonds = false;  // /connectivity/all_bonds: the bonds, as pairs of particle ids
   bool operator==(const DumpFields &o) const {
-    return species == o.species && id == o.id && scalar == o.scalar && radius == o.radius;
+    return species == o.species && id == o.id && scalar == o.scalar && radius == o.radius &&
+           bonds == o.bonds;
   }
   bool operator!=(const DumpFields &o) const { return !(*this == o); }
 };
@@ -53,6 +57,7 @@ struct DumpFields {
 // What is fixed when the file is created.
 struct DumpLayout {
   int64_t first_count = 0;  // particles of the first frame over all ranks (sizes the chunks)
+  int64_t first_bonds = 0;  // bonds of the first frame over all ranks (sizes their chunks)
   bool single_precision = false;
   DumpFields fields;
   std::array<bool, 3> periodic{false, false, false};
@@ -68,6 +73,10 @@ struct DumpFrame {
   int64_t step = 0;
   double time = 0.0;
   Box box;  // rank 0's box is the one recorded
+  // With fields.bonds: this rank's bonds as pairs of particle ids (first, second, first, ...),
+  // the global index of its first bond and the frame's bonds over all ranks.
+  const std::vector<int64_t> *bond_ids = nullptr;
+  int64_t bond_offset = 0, bond_total = 0;
 };
 
 class H5mdWriter {
@@ -93,6 +102,8 @@ class H5mdWriter {
   int64_t frames() const { return static_cast<int64_t>(frames_); }
   // N_max of the complete frames: the rows of the per-particle datasets before a failed frame.
   int64_t rows() const { return static_cast<int64_t>(particles_); }
+  // B_max of the complete frames: the rows of /connectivity/all_bonds/value (0 without bonds).
+  int64_t bond_rows() const { return static_cast<int64_t>(bond_rows_); }
 
  private:
   H5mdWriter(MPI_Comm comm, const std::string &path, const DumpLayout &layout)
@@ -104,6 +115,7 @@ class H5mdWriter {
   void write_frame(const DumpFrame &frame);
   void write_metadata();
   void create_elements();
+  void create_bond_list();
 
   std::string path_;
   DumpLayout layout_;
@@ -111,10 +123,12 @@ class H5mdWriter {
   int rank_ = 0, size_ = 1;
   hsize_t frames_ = 0;     // complete frames in the file
   hsize_t particles_ = 0;  // N_max: rows of the per-particle datasets
+  hsize_t bond_rows_ = 0;  // B_max: rows of the bond list
   H5Handle file_;          // declared first: closed after every dataset below
   H5Handle dxpl_;          // collective transfers
   H5Handle particles_group_;
-  std::optional<TimeSeries> position_, species_, id_, scalar_, radius_, edges_, offset_, count_;
+  std::optional<TimeSeries> position_, species_, id_, scalar_, radius_, edges_, offset_, count_,
+      bonds_;
 };
 
 }  // namespace lantern

@@ -48,6 +48,8 @@ class TimeSeries {
               hsize_t rows, hid_t mem_type, const void *data, hid_t dxpl, bool write_step_time,
               int64_t step, double time);
 
+  // Rows of a per-particle element's `value` (its second axis); 0 for other elements.
+  hsize_t rows() const { return per_particle_ && !inner_.empty() ? inner_[0] : 0; }
   // Elements per row of `value` (3 for a vector field, 1 for a scalar one).
   hsize_t row_size() const;
 

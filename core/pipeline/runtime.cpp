@@ -301,7 +301,7 @@ Status Runtime::execute(int64_t step, double time) {
   const double scan_ms = ms_since(t_scan);
   // The dump has its own schedule; a dump error is returned unless rendering fails too.
   const Status dumped =
-      dump_due ? dump_->write(comm_, particles_, global, box_, step, time) : Status();
+      dump_due ? dump_->write(comm_, particles_, bonds_, global, box_, step, time) : Status();
   if (!render_due) return dumped;
   const auto t0 = Clock::now();
   warn_nonfinite_once(global.nonfinite_count, step);

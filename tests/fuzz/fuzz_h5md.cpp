@@ -2,8 +2,9 @@
 // bytes choose which groups, datasets and attributes exist, their shapes, types, fill values and
 // contents (an H5MD file of Lantern's layout, or of another writer, or neither), the file is
 // written with serial HDF5 to /dev/shm, and the reader opens it and reads every frame in two
-// halves, as two ranks would. Raw byte soup would mostly exercise HDF5's own parser, which is not
-// Lantern's code; the reader's logic is in what it makes of valid HDF5 objects.
+// halves, as two ranks would, and the bonds of every frame (H5MD's connectivity). Raw byte soup
+// would mostly exercise HDF5's own parser, which is not Lantern's code; the reader's logic is in
+// what it makes of valid HDF5 objects.
 #include <fuzzer/FuzzedDataProvider.h>
 #include <hdf5.h>
 #include <mpi.h>
@@ -119,6 +120,89 @@ void string_attribute(hid_t object, const char *name, const std::vector<std::str
   H5Tclose(type);
 }
 
+// A pair list under /connectivity (H5MD's bonds): [frames][B][2] with steps, or [B][2], of any
+// type and mostly small ids, and a particles_group attribute that is an object reference to the
+// particle group, to another group or to nothing (dangling), a name, or something else.
+void make_connectivity(FuzzedDataProvider &in, hid_t file, hsize_t n_frames, hsize_t n_rows) {
+  const hid_t connectivity =
+      H5Gcreate2(file, "/connectivity", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+  if (connectivity < 0) return;
+  const bool per_frame = in.ConsumeBool();
+  const hid_t holder =
+      per_frame ? H5Gcreate2(connectivity, "all_bonds", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT)
+                : connectivity;
+  std::vector<hsize_t> dims;
+  if (per_frame) dims.push_back(n_frames);
+  dims.push_back(in.ConsumeIntegralInRange<hsize_t>(0, 6));
+  dims.push_back(2);
+  if (in.ConsumeIntegralInRange(0, 7) == 0) dims.back() = in.ConsumeIntegralInRange<hsize_t>(0, 4);
+  if (in.ConsumeIntegralInRange(0, 7) == 0) dims.pop_back();
+  const hid_t type = pick_type(in);
+  const hid_t space = H5Screate_simple(int(dims.size()), dims.data(), nullptr);
+  const hid_t dcpl = H5Pcreate(H5P_DATASET_CREATE);
+  if (in.ConsumeBool()) {
+    const int64_t fill = -1;
+    H5Pset_fill_value(dcpl, H5T_NATIVE_INT64, &fill);
+  }
+  const hid_t value = H5Dcreate2(holder, per_frame ? "value" : "all_bonds", type, space,
+                                 H5P_DEFAULT, dcpl, H5P_DEFAULT);
+  if (value >= 0) {
+    hsize_t elements = 1;
+    for (hsize_t d : dims) elements *= d;
+    std::vector<double> ids(elements);
+    for (double &v : ids) v = double(in.ConsumeIntegralInRange<int64_t>(-2, int64_t(n_rows) + 2));
+    if (elements > 0) H5Dwrite(value, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, ids.data());
+    H5Dclose(value);
+  }
+  H5Pclose(dcpl);
+  H5Sclose(space);
+  if (per_frame) make_dataset(in, holder, "step", 1, true, n_frames, 0);
+  const char *owner = "/connectivity/all_bonds";  // the group, or the fixed dataset
+  const hid_t scalar = H5Screate(H5S_SCALAR);
+  switch (in.ConsumeIntegralInRange(0, 4)) {
+    case 0:
+    case 1: {  // a reference: to the particle group, another group, or one deleted after
+      const int which = in.ConsumeIntegralInRange(0, 2);
+      if (which == 2) H5Gclose(H5Gcreate2(file, "/gone", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT));
+      hobj_ref_t ref{};
+      const char *target = which == 0 ? "/particles/all" : which == 1 ? "/h5md" : "/gone";
+      if (H5Rcreate(&ref, file, target, H5R_OBJECT, -1) >= 0) {
+        const hid_t attr = H5Acreate_by_name(file, owner, "particles_group", H5T_STD_REF_OBJ,
+                                             scalar, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+        if (attr >= 0) {
+          H5Awrite(attr, H5T_STD_REF_OBJ, &ref);
+          H5Aclose(attr);
+        }
+      }
+      if (which == 2) H5Ldelete(file, "/gone", H5P_DEFAULT);
+      break;
+    }
+    case 2: {
+      const hid_t object = H5Oopen(file, owner, H5P_DEFAULT);
+      if (object >= 0) {
+        string_attribute(object, "particles_group", {in.ConsumeBool() ? "all" : "/particles/x"});
+        H5Oclose(object);
+      }
+      break;
+    }
+    case 3: {
+      const int32_t number = 7;
+      const hid_t attr = H5Acreate_by_name(file, owner, "particles_group", H5T_STD_I32LE, scalar,
+                                           H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+      if (attr >= 0) {
+        H5Awrite(attr, H5T_NATIVE_INT32, &number);
+        H5Aclose(attr);
+      }
+      break;
+    }
+    default:
+      break;  // none
+  }
+  H5Sclose(scalar);
+  if (per_frame) H5Gclose(holder);
+  H5Gclose(connectivity);
+}
+
 bool build_file(FuzzedDataProvider &in) {
   const hid_t file = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
   if (file < 0) return false;
@@ -169,6 +253,7 @@ bool build_file(FuzzedDataProvider &in) {
     make_element(in, observables, "particle_count", 1, n_frames, 0);
     H5Gclose(observables);
   }
+  if (in.ConsumeBool()) make_connectivity(in, file, n_frames, n_rows);
   H5Fclose(file);
   return true;
 }
@@ -194,6 +279,13 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
       if (reader->read(f, 0, half, &frame).ok() && frame.count() > half) __builtin_trap();
       if (reader->read(f, half, count, &frame).ok() && frame.count() > count - half)
         __builtin_trap();
+      // Bonds read back are pairs of two different, non-negative ids.
+      std::vector<int64_t> first, second, pair;
+      if (reader->read_bonds(f, &first, &second, &pair).ok()) {
+        if (first.size() != second.size() || pair.size() != first.size()) __builtin_trap();
+        for (size_t k = 0; k < first.size(); ++k)
+          if (first[k] < 0 || second[k] < 0 || first[k] == second[k]) __builtin_trap();
+      }
     }
   }
   reader.reset();

@@ -15,6 +15,9 @@
 #   first image is byte-identical at 1 and 3 ranks (LAMMPS's own trajectory differs in the last
 #   bits between rank counts after that), every half-bond is drawn once (the stats count two per
 #   bond, summed over ranks), and the image without bonds differs.
+# MODE h5bonds: the chains' bonds written by lantern-lammps into Lantern's H5MD dump (its
+#   connectivity; h5py checks it against the data file) and drawn by lantern-render from that
+#   file alone, byte-identical to lantern-lammps.
 # MODE quit: `quit N` (a number, a variable, inside an include) after a run: lantern-lammps exits
 #   with N as lmp does, after rendering the run's steps.
 # MODE error NAME "EXPECTED" "YAML LINES" "SED EXPRESSION" [LANTERN-LAMMPS ARGS]: the script
@@ -28,6 +31,38 @@ script() {  # script GROUP > file: in.small with the fix's group written in
   sed "s/@GROUP@/$1/g" "$src/in.small"
 }
 rm -rf "$work" && mkdir -p "$work" && cd "$work" || exit 1
+chain_data() {  # 6 chains of 10 beads 0.97 apart, 4 across the x faces of the 10^3 box
+  awk 'BEGIN {
+    n = 6; m = 10; L = 10; pi = 3.14159265358979
+    printf "LAMMPS data file: bead-spring chains\n\n%d atoms\n%d bonds\n3 atom types\n2 bond types\n\n", n*m, n*(m-1)
+    printf "0 %d xlo xhi\n0 %d ylo yhi\n0 %d zlo zhi\n\nAtoms # bond\n\n", L, L, L
+    for (c = 0; c < n; c++) for (k = 0; k < m; k++) {
+      x = 1.5 * c + 0.93 * k; y = 1 + 1.6 * c + ((k % 2) ? 0.15 : -0.15)
+      z = 1 + 1.5 * c + 0.5 * sin(k * pi / 5)
+      x -= L * int(x / L); y -= L * int(y / L); z -= L * int(z / L)
+      printf "%d %d %d %.10f %.10f %.10f\n", c*m + k + 1, c + 1, c % 3 + 1, x, y, z
+    }
+    printf "\nBonds\n\n"
+    for (c = 0; c < n; c++) for (k = 0; k < m - 1; k++)
+      printf "%d %d %d %d\n", c*(m-1) + k + 1, k % 2 + 1, c*m + k + 1, c*m + k + 2
+  }' > chain.data
+}
+# case NAME RANKS SCRIPT YAML [LAMMPS ARGS]: lantern-lammps in folder NAME
+case_run() {
+  local name=$1 n=$2 in=$3 yaml=$4
+  shift 4
+  mkdir -p "$name" && cp chain.data "$name/" 2>/dev/null
+  (cd "$name" && timeout 300 $mpiexec -n "$n" "$ll" -in "../$in" -lantern "$yaml" -log none \
+     "$@" 2> err.txt > /dev/null; code=$?; cat err.txt; exit $code) || exit 1
+}
+# halves NAME BONDS: the first stats line counts 2 * BONDS half-bonds
+halves() {
+  grep -q "\"halves\":$((2 * $2))[,}]" <(head -1 "$1/stats.jsonl") ||
+    { echo "$1: expected $((2 * $2)) half-bonds in: $(head -1 "$1/stats.jsonl")"; exit 1; }
+}
+same() {
+  cmp "$1/mol_000000.png" "$2/mol_000000.png" || { echo "$1 and $2 differ"; exit 1; }
+}
 case $mode in
 image)
   group=$1
@@ -102,38 +137,6 @@ example_movie)  # the same example as the README's LAMMPS movie (config/lammps_m
   echo "example_movie: images/melt.mp4 holds 7 frames of 960x720"
   ;;
 bonds)
-  chain_data() {  # 6 chains of 10 beads 0.97 apart, 4 across the x faces of the 10^3 box
-    awk 'BEGIN {
-      n = 6; m = 10; L = 10; pi = 3.14159265358979
-      printf "LAMMPS data file: bead-spring chains\n\n%d atoms\n%d bonds\n3 atom types\n2 bond types\n\n", n*m, n*(m-1)
-      printf "0 %d xlo xhi\n0 %d ylo yhi\n0 %d zlo zhi\n\nAtoms # bond\n\n", L, L, L
-      for (c = 0; c < n; c++) for (k = 0; k < m; k++) {
-        x = 1.5 * c + 0.93 * k; y = 1 + 1.6 * c + ((k % 2) ? 0.15 : -0.15)
-        z = 1 + 1.5 * c + 0.5 * sin(k * pi / 5)
-        x -= L * int(x / L); y -= L * int(y / L); z -= L * int(z / L)
-        printf "%d %d %d %.10f %.10f %.10f\n", c*m + k + 1, c + 1, c % 3 + 1, x, y, z
-      }
-      printf "\nBonds\n\n"
-      for (c = 0; c < n; c++) for (k = 0; k < m - 1; k++)
-        printf "%d %d %d %d\n", c*(m-1) + k + 1, k % 2 + 1, c*m + k + 1, c*m + k + 2
-    }' > chain.data
-  }
-  # case NAME RANKS SCRIPT YAML [LAMMPS ARGS]: lantern-lammps in folder NAME
-  case_run() {
-    local name=$1 n=$2 in=$3 yaml=$4
-    shift 4
-    mkdir -p "$name" && cp chain.data "$name/" 2>/dev/null
-    (cd "$name" && timeout 300 $mpiexec -n "$n" "$ll" -in "../$in" -lantern "$yaml" -log none \
-       "$@" 2> err.txt > /dev/null; code=$?; cat err.txt; exit $code) || exit 1
-  }
-  # halves NAME BONDS: the first stats line counts 2 * BONDS half-bonds
-  halves() {
-    grep -q "\"halves\":$((2 * $2))[,}]" <(head -1 "$1/stats.jsonl") ||
-      { echo "$1: expected $((2 * $2)) half-bonds in: $(head -1 "$1/stats.jsonl")"; exit 1; }
-  }
-  same() {
-    cmp "$1/mol_000000.png" "$2/mol_000000.png" || { echo "$1 and $2 differ"; exit 1; }
-  }
   chain_data
   grep -v '^#' "$src/bonds.yaml" | sed '/bonds:/d' > nobonds.yaml
   for newton in on off; do
@@ -185,6 +188,54 @@ bonds)
       { echo "peptide at $n ranks: lantern-render of the dump differs at step 10"; exit 1; }
   done
   echo "bonds: chains (newton_bond on, off): first image identical at 1 and 3 ranks; chains and peptide (1, 3 ranks): every half-bond drawn once, images identical to lantern-render of LAMMPS's dumps"
+  ;;
+h5bonds)
+  # Lantern's H5MD dump of the chains (connectivity by atom id, newton_bond on and off, 1 and 3
+  # ranks) drawn by lantern-render from the dump alone: every bond once (54), and the images of
+  # lantern-lammps (newton_bond on) or of the data file's bonds (off), bit for bit.
+  chain_data
+  { grep -v '^#' "$src/bonds.yaml"; printf 'dump:\n  file: mol.h5\n  schedule: {every: 10}\n'; } \
+    > dump.yaml
+  for newton in on off; do
+    sed "s/@NEWTON@/$newton/" "$src/in.chain" > "in.chain_$newton"
+    for n in 1 3; do
+      case_run "h5_${newton}_$n" $n "in.chain_$newton" ../dump.yaml -var steps 10
+      # h5py, a reader of its own: the reference names /particles/all, and each frame's pairs are
+      # the data file's bonds, each once.
+      /usr/bin/python3 - "h5_${newton}_$n/mol.h5" chain.data <<'PY' || exit 1
+import sys, h5py
+f = h5py.File(sys.argv[1], "r")
+bonds = f["connectivity/all_bonds"]
+assert f[bonds.attrs["particles_group"]].name == "/particles/all", "particles_group"
+lines = open(sys.argv[2]).read().split("Bonds")[1].split()
+want = {tuple(sorted(map(int, lines[i + 2:i + 4]))) for i in range(0, len(lines), 4)}
+for k, frame in enumerate(bonds["value"]):
+    pairs = [tuple(sorted(p)) for p in frame.tolist() if p != [-1, -1]]
+    assert len(pairs) == len(set(pairs)) and set(pairs) == want, f"frame {k}: {len(pairs)} pairs"
+assert list(bonds["step"]) == [0, 10], list(bonds["step"])
+PY
+      for split in space rows; do
+        out="render_${newton}_${n}_$split"
+        mkdir "$out" && (cd "$out" && timeout 300 $mpiexec -n 2 "$lr" "$src/bonds.yaml" \
+          "../h5_${newton}_$n/mol.h5" --split $split > /dev/null) || exit 1
+        # With newton_bond off LAMMPS draws a bond across a periodic face as two halves at
+        # their own atoms (listed by both), where a bond list by id draws it whole at its first
+        # atom (as newton_bond on): there the dump's bonds must give the data file's image.
+        ref="h5_${newton}_$n"
+        if [ $newton = off ]; then
+          ref="data_${newton}_${n}_$split"
+          mkdir "$ref" && (cd "$ref" && timeout 300 $mpiexec -n 2 "$lr" "$src/bonds.yaml" \
+            "../h5_${newton}_$n/mol.h5" --split $split --bonds ../chain.data > /dev/null) || exit 1
+        fi
+        for s in 000000 000010; do
+          cmp "$ref/mol_$s.png" "$out/mol_$s.png" ||
+            { echo "$out: lantern-render of the H5MD dump differs from $ref at step $s"; exit 1; }
+        done
+        halves "$out" 54
+      done
+    done
+  done
+  echo "h5bonds: chains (newton_bond on, off; 1, 3 ranks): lantern-render of the H5MD dump (split by space and rows, 2 ranks) draws the 54 bonds and gives lantern-lammps's images (on) and the data file's (off)"
   ;;
 quit)  # quit N: lantern-lammps exits with LAMMPS's status N (literal, variable, in an include)
   script all > in.base
