@@ -65,48 +65,61 @@ struct BondDrops {
   std::vector<int64_t> frustum, cut;
 };
 
-// Every half of the visible bricks of `sel` that survives the cutting planes and the frustum:
-// hidden(rect, depth) is asked for each brick and then each half (true: every pixel of rect holds
+// Sizes *drops for the visible bricks of `sel`, none judged yet (-1).
+inline void begin_bond_drops(const BondSelection &sel, BondDrops *drops) {
+  drops->frustum.assign(sel.visible.size(), -1);
+  drops->cut.assign(sel.visible.size(), -1);
+}
+
+// Every half of visible brick k of `sel` that survives the cutting planes and the frustum:
+// hidden(rect, depth) is asked for the brick and then each half (true: every pixel of rect holds
 // something nearer than depth, so it is dropped as occluded); visit(view) gets the others.
-// Records each brick's drops in *drops; `pos` reads the particle positions
-// (core/particles/typed_access.h).
+// Records the brick's drops in *drops (begin_bond_drops); `pos` reads the particle positions
+// (core/particles/typed_access.h); `frustum` is that of g.
+template <typename Positions, typename Hidden, typename Visit>
+void visit_bond_brick(size_t k, const BrickBonds &bonds, const BondSelection &sel,
+                      const Positions &pos, const PeriodicBox *box, const ViewGeometry &g,
+                      const Frustum &frustum, const CutPlanes &cuts, const Hidden &hidden,
+                      const Visit &visit, BondDrops *drops) {
+  const BondBrick &v = sel.visible[k];
+  if (hidden(v.rect, v.near_depth)) return;
+  int64_t frustum_culled = 0, cut_culled = 0;
+  const bool straddle = v.containment == Containment::kStraddling;
+  for (uint32_t h = bonds.first[v.brick]; h < bonds.first[v.brick + 1]; ++h) {
+    const HalfBond &half = bonds.halves[h];
+    const glm::dvec3 atom = pos.get(half.atom);
+    if (v.cut_each && cuts.drops(atom)) {
+      ++cut_culled;
+      continue;
+    }
+    HalfBondView view;
+    view.index = h;
+    view.a = g.to_view(atom);
+    view.b = g.to_view(half_bond_end(atom, pos.get(half.partner), box));
+    if (straddle) {  // the half's bounding sphere
+      const glm::dvec3 mid = 0.5 * (view.a + view.b);
+      const double reach = 0.5 * glm::length(view.b - view.a) + sel.radius;
+      if (frustum.classify_sphere(mid, reach) == Containment::kOutside) {
+        ++frustum_culled;
+        continue;
+      }
+    }
+    view.rect = cylinder_rect(g, view.a, view.b, sel.radius, &view.near_depth);
+    if (!view.rect.empty() && !hidden(view.rect, view.near_depth)) visit(view);
+  }
+  drops->frustum[k] = frustum_culled;
+  drops->cut[k] = cut_culled;
+}
+
+// visit_bond_brick for every visible brick of `sel`, front to back.
 template <typename Positions, typename Hidden, typename Visit>
 void visit_bond_halves(const BrickBonds &bonds, const BondSelection &sel, const Positions &pos,
                        const PeriodicBox *box, const ViewGeometry &g, const CutPlanes &cuts,
                        const Hidden &hidden, const Visit &visit, BondDrops *drops) {
   const Frustum frustum(g);
-  drops->frustum.assign(sel.visible.size(), -1);
-  drops->cut.assign(sel.visible.size(), -1);
-  for (size_t k = 0; k < sel.visible.size(); ++k) {
-    const BondBrick &v = sel.visible[k];
-    if (hidden(v.rect, v.near_depth)) continue;
-    int64_t frustum_culled = 0, cut_culled = 0;
-    const bool straddle = v.containment == Containment::kStraddling;
-    for (uint32_t h = bonds.first[v.brick]; h < bonds.first[v.brick + 1]; ++h) {
-      const HalfBond &half = bonds.halves[h];
-      const glm::dvec3 atom = pos.get(half.atom);
-      if (v.cut_each && cuts.drops(atom)) {
-        ++cut_culled;
-        continue;
-      }
-      HalfBondView view;
-      view.index = h;
-      view.a = g.to_view(atom);
-      view.b = g.to_view(half_bond_end(atom, pos.get(half.partner), box));
-      if (straddle) {  // the half's bounding sphere
-        const glm::dvec3 mid = 0.5 * (view.a + view.b);
-        const double reach = 0.5 * glm::length(view.b - view.a) + sel.radius;
-        if (frustum.classify_sphere(mid, reach) == Containment::kOutside) {
-          ++frustum_culled;
-          continue;
-        }
-      }
-      view.rect = cylinder_rect(g, view.a, view.b, sel.radius, &view.near_depth);
-      if (!view.rect.empty() && !hidden(view.rect, view.near_depth)) visit(view);
-    }
-    drops->frustum[k] = frustum_culled;
-    drops->cut[k] = cut_culled;
-  }
+  begin_bond_drops(sel, drops);
+  for (size_t k = 0; k < sel.visible.size(); ++k)
+    visit_bond_brick(k, bonds, sel, pos, box, g, frustum, cuts, hidden, visit, drops);
 }
 
 // The counts of a selection's pass over `bonds`: the brick-level ones of `sel`, the drops of the

@@ -16,6 +16,7 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 #include "core/common/rank_threads.h"
@@ -55,14 +56,18 @@ inline int split_strips(int width, int threads, std::vector<StripState> *s) {
 // when `bricks_first`, and a brick's depth buckets (bucket_hidden) when `buckets_first` - only
 // where visit() would find a covered particle hidden whatever else it is; visit(candidate,
 // state) judges and keeps one particle.
-template <typename Positions, typename Radii, typename Covered, typename Visit>
+// between(depth) is called between two bricks with the nearest depth of the one just walked, for
+// a caller that draws other primitives (bonds) front to back along with the bricks, so that they
+// occlude and are occluded too.
+template <typename Positions, typename Radii, typename Covered, typename Visit, typename Between>
 void walk_strip(const CullPass<Positions, Radii> &pass, const std::vector<VisibleBrick> &visible,
                 bool bricks_first, bool buckets_first, const Covered &covered, Visit &&visit,
-                StripState *s) {
+                StripState *s, Between &&between) {
   s->out.clear();
   s->frustum_pp.assign(visible.size(), -1);
   s->cut_pp.assign(visible.size(), 0);
   for (size_t k = 0; k < visible.size(); ++k) {
+    if (k > 0) between(visible[k - 1].near_depth);
     const VisibleBrick &v = visible[k];
     PixelRect rect = v.rect;
     rect.x0 = std::max(rect.x0, s->x0), rect.x1 = std::min(rect.x1, s->x1);
@@ -86,6 +91,14 @@ void walk_strip(const CullPass<Positions, Radii> &pass, const std::vector<Visibl
       for (uint32_t k = d.begin; k < d.end; ++k) visit(s->buffers.sorted[k], s);
     }
   }
+}
+
+template <typename Positions, typename Radii, typename Covered, typename Visit>
+void walk_strip(const CullPass<Positions, Radii> &pass, const std::vector<VisibleBrick> &visible,
+                bool bricks_first, bool buckets_first, const Covered &covered, Visit &&visit,
+                StripState *s) {
+  walk_strip(pass, visible, bricks_first, buckets_first, covered, std::forward<Visit>(visit), s,
+             [](double) {});
 }
 
 // Runs strip(k) for every k < count: strip 0 on the calling thread, the others on helpers.

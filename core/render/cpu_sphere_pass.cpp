@@ -17,13 +17,16 @@ constexpr double kRasterSlack = 0.05;
 void CpuSpherePass::begin_bonds(const BondDrawing &bonds, int count) {
   if (int(bond_drops_.size()) < count) bond_drops_.resize(size_t(count));
   if (int(bond_marks_.size()) < count) bond_marks_.resize(size_t(count));
-  for (int k = 0; k < count; ++k)
+  for (int k = 0; k < count; ++k) {
     bond_marks_[size_t(k)].assign(bonds.recipe->halves->half_count(), 0);
+    begin_bond_drops(*bonds.selection, &bond_drops_[size_t(k)]);
+  }
 }
 
 template <typename Positions>
 void CpuSpherePass::draw_bonds(int k, const Positions &pos, const ViewGeometry &g,
-                               const CutPlanes &cuts, bool occlusion, const BondDrawing &bonds) {
+                               const Frustum &frustum, const CutPlanes &cuts, bool occlusion,
+                               const BondDrawing &bonds, size_t from, size_t to) {
   CpuSphereRaster &raster = rasters_[size_t(k)];
   const StripState &strip = strips_[size_t(k)];
   std::vector<uint8_t> &marks = bond_marks_[size_t(k)];
@@ -44,8 +47,9 @@ void CpuSpherePass::draw_bonds(int k, const Positions &pos, const ViewGeometry &
     raster.draw_bond(v.a, v.b, radius, color.data(), v.rect, recipe.alpha(h));
     marks[v.index] = 1;
   };
-  visit_bond_halves(halves, *bonds.selection, pos, recipe.box, g, cuts, hidden, visit,
-                    &bond_drops_[size_t(k)]);
+  for (size_t b = from; b < to; ++b)
+    visit_bond_brick(b, halves, *bonds.selection, pos, recipe.box, g, frustum, cuts, hidden, visit,
+                     &bond_drops_[size_t(k)]);
 }
 
 BondCounts CpuSpherePass::count_bonds(const BondDrawing &bonds, int count) {
@@ -86,9 +90,13 @@ CullStats CpuSpherePass::run(const ParticleArrays &particles, const BrickSet &br
     // depth the raster drew (the strips run_probabilistic split, with their rasters).
     const int count = split_strips(sel.g.width, threads, &strips_);
     begin_bonds(*bonds, count);
+    const Frustum frustum(sel.g);
     const CutPlanes cuts(cull.cuts);
+    const size_t bricks_of_bonds = bonds->selection->visible.size();
     visit_positions(particles, [&](const auto &pos) {
-      run_strips(count, [&](int k) { draw_bonds(k, pos, sel.g, cuts, true, *bonds); });
+      run_strips(count, [&](int k) {
+        draw_bonds(k, pos, sel.g, frustum, cuts, true, *bonds, 0, bricks_of_bonds);
+      });
     });
     st.bonds = count_bonds(*bonds, count);
     return st;
@@ -132,10 +140,23 @@ CullStats CpuSpherePass::run(const ParticleArrays &particles, const BrickSet &br
           raster.draw(c.c, c.r, color.data(), r, recipe.alpha(c.index));
           s->out.spheres.push_back(draw_entry(c.index, c.scale));
         };
+        // Bond bricks are drawn front to back with the particles' bricks (each after the last
+        // particle brick that is no farther), so that bonds hide the particles and bonds behind
+        // them as particles do; the image does not depend on the order (cpu_sphere_raster.h).
+        const size_t bricks_of_bonds = bonds ? bonds->selection->visible.size() : 0;
+        size_t next_bonds = 0;
+        const auto bonds_between = [&](double depth) {
+          size_t end = next_bonds;
+          while (end < bricks_of_bonds && bonds->selection->visible[end].near_depth <= depth) ++end;
+          if (end == next_bonds) return;
+          draw_bonds(k, pos, g, frustum, cuts, occlusion, *bonds, next_bonds, end);
+          next_bonds = end;
+        };
         // Splats skip the depth test (visit): a hidden bucket may still hold one to splat.
         walk_strip(pass, sel.visible, occlusion, occlusion && !point_path, covered, visit,
-                   &strips_[size_t(k)]);
-        if (bonds) draw_bonds(k, pos, g, cuts, occlusion, *bonds);
+                   &strips_[size_t(k)], bonds_between);
+        if (next_bonds < bricks_of_bonds)
+          draw_bonds(k, pos, g, frustum, cuts, occlusion, *bonds, next_bonds, bricks_of_bonds);
       };
       run_strips(count, strip);
     });

@@ -47,10 +47,10 @@ class CpuSpherePass {
   // (select_bricks for these particles, bricks and `cull`; its mode must be hzb, none or
   // probabilistic), colored by `recipe` and lit by `lighting`. `out` lists the spheres drawn (for
   // the counts) and the points left to splat. `step` keys probabilistic culling's random numbers.
-  // `bonds` (or none): the half-bonds to draw too, after the spheres in each strip, culled
-  // against the same depth (exactly, as the spheres are under hzb; not at all under none).
-  // Returns the selection's counts completed by this pass. `threads`: column strips drawn at once
-  // (the image and the lists are the same at any count).
+  // `bonds` (or none): the half-bonds to draw too, brick by brick front to back with the spheres
+  // in each strip, culled against the same depth (exactly, as the spheres are under hzb; not at all
+  // under none). Returns the selection's counts completed by this pass. `threads`: column strips
+  // drawn at once (the image and the lists are the same at any count).
   CullStats run(const ParticleArrays &particles, const BrickSet &bricks, const CullSettings &cull,
                 const Lighting &lighting, const BrickSelection &selection,
                 const InstanceRecipe &recipe, const uint8_t background[4], Frame *frame,
@@ -71,10 +71,12 @@ class CpuSpherePass {
 
   // Gives the first `count` strips their rasters, begun on `frame`.
   void begin_strips(int count, const ViewGeometry &g, const Lighting *lighting, Frame *frame);
-  // Strip k's half-bonds, drawn after its spheres; marks those it drew in bond_marks_[k].
+  // Strip k's half-bonds of visible bond bricks [from, to); marks those it drew in
+  // bond_marks_[k] and records the bricks' drops in bond_drops_[k].
   template <typename Positions>
-  void draw_bonds(int k, const Positions &pos, const ViewGeometry &g, const CutPlanes &cuts,
-                  bool occlusion, const BondDrawing &bonds);
+  void draw_bonds(int k, const Positions &pos, const ViewGeometry &g, const Frustum &frustum,
+                  const CutPlanes &cuts, bool occlusion, const BondDrawing &bonds, size_t from,
+                  size_t to);
   // The bond counts of the last run's first `count` strips.
   BondCounts count_bonds(const BondDrawing &bonds, int count);
   // Sizes the bond scratch for `count` strips of `bonds`.

@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <cstring>
 #include <optional>
+#include <random>
 #include <string>
 #include <utility>
 #include <vector>
@@ -18,7 +19,9 @@
 #include "core/camera/camera.h"
 #include "core/pipeline/rank_draw.h"
 #include "core/pipeline/scene_settings.h"
+#include "core/render/cylinder_cast.h"
 #include "core/render/gl/gl_session.h"
+#include "core/view/cylinder_bounds.h"
 #include "tests/support/bonded_molecules.h"
 #include "tests/support/status_expect.h"
 
@@ -429,6 +432,61 @@ TEST_F(BondRender, LevelOfDetailLeavesOutTheBondsOfThinnedBricks) {
   RankDraw out;
   draw(m, s, cam, RendererChoice::kCpu, &out);
   EXPECT_EQ(out.cull.bonds.lod_dropped, out.cull.bonds.halves);
+}
+
+// draw_bond casts only the columns CylinderRows gives each row of the cylinder's rectangle: every
+// pixel of the image whose ray the cast accepts must lie in the rectangle and in its row's span,
+// for cylinders of every size, orientation and distance, in perspective and orthographic views.
+TEST(CylinderRows, HoldEveryPixelTheCastAccepts) {
+  std::mt19937_64 rng(20261202);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0), pos(0.0, 1.0);
+  int64_t hits = 0, cast = 0, pixels = 0;
+  for (const bool ortho : {false, true}) {
+    ViewGeometry g;
+    g.orthographic = ortho;
+    g.width = 97, g.height = 64;
+    g.near_plane = 0.1, g.far_plane = 200.0;
+    g.sx = ortho ? 0.08 : 1.3, g.sy = ortho ? 0.12 : 1.95;
+    g.p22 = ortho ? -2.0 / (g.far_plane - g.near_plane)
+                  : -(g.far_plane + g.near_plane) / (g.far_plane - g.near_plane);
+    g.p32 = ortho ? -(g.far_plane + g.near_plane) / (g.far_plane - g.near_plane)
+                  : -2.0 * g.far_plane * g.near_plane / (g.far_plane - g.near_plane);
+    g.eps = 1e-5;
+    PixelRays rays;
+    rays.reset(g);
+    for (int trial = 0; trial < 400; ++trial) {
+      const double depth = 2.0 + 60.0 * pos(rng) * pos(rng);
+      const glm::dvec3 a(unit(rng) * 0.6 * depth, unit(rng) * 0.4 * depth, -depth);
+      glm::dvec3 axis(unit(rng), unit(rng), unit(rng));
+      if (trial % 7 == 0) axis = glm::dvec3(0.0, 0.0, 1.0);   // end on
+      if (trial % 11 == 0) axis = glm::dvec3(1.0, 0.0, 0.0);  // along the rows
+      const double length = 0.05 + 4.0 * pos(rng), r = 0.02 + 1.5 * pos(rng) * pos(rng);
+      const glm::dvec3 u = glm::normalize(axis), b = a + length * u;
+      double near_depth;
+      const PixelRect rect = cylinder_rect(g, a, b, r, &near_depth);
+      const CylinderRows rows(g, rays, a, u, r, rect);
+      const CylinderCast cylinder(ortho, a, u, length, r);
+      for (int y = 0; y < g.height; ++y) {
+        int lo = 0, hi = -1;
+        const bool any = y >= rect.y0 && y <= rect.y1 && rows.span(rays, y, &lo, &hi);
+        for (int x = 0; x < g.width; ++x) {
+          CylinderHit hit;
+          ++pixels;
+          if (any && x >= lo && x <= hi) ++cast;
+          if (!cylinder.cast(rays.x(x), rays.y(y), &hit)) continue;
+          ++hits;
+          ASSERT_TRUE(any && x >= lo && x <= hi)
+              << (ortho ? "orthographic" : "perspective") << " trial " << trial << " pixel " << x
+              << "," << y << " rect " << rect.x0 << ".." << rect.x1 << " x " << rect.y0 << ".."
+              << rect.y1 << " span " << lo << ".." << hi;
+        }
+      }
+    }
+  }
+  EXPECT_GT(hits, 10000);       // the cylinders are seen
+  EXPECT_LT(cast, pixels / 4);  // and the spans leave most of the image out
+  std::printf("cylinder rows: %lld pixels hit, %lld cast, of %lld\n", static_cast<long long>(hits),
+              static_cast<long long>(cast), static_cast<long long>(pixels));
 }
 
 }  // namespace
