@@ -14,7 +14,9 @@ bash "$root/.ci/install-dependencies"
 # fraction of -g's compile time). The benchmarks register no tests, so they are not built.
 cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo \
   "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O2 -g1 -DNDEBUG" "-DCMAKE_C_FLAGS_RELWITHDEBINFO=-O2 -g1 -DNDEBUG" \
-  -DLANTERN_SANITIZE=address,undefined -DLANTERN_BUILD_BENCHMARKS=OFF "$@"
+  -DLANTERN_SANITIZE=address,undefined -DLANTERN_BUILD_BENCHMARKS=OFF \
+  `# listing a sanitized test binary's tests can take longer than GoogleTest's default 5 s` \
+  -DCMAKE_GTEST_DISCOVERY_TIMEOUT=120 "$@"
 cmake --build "$build" -j "$(nproc)"
 # Leak detection is off: Open MPI leaks at exit from components it has dlclose()d, so LSan sees
 # one-frame stacks in "<unknown module>" that no suppression can name (measured: 29 reports,
