@@ -47,11 +47,13 @@ class GlBackends : public ApiTest {
     const lantern_status st = open("gl: " + backend + "\n" + scene_config(name, w, h, scene_yaml));
     EXPECT_EQ(st, LANTERN_OK) << message();
     if (st != LANTERN_OK) return "";
-    std::vector<double> x = lattice(9);
-    std::vector<int32_t> type(x.size() / 3);
-    for (size_t i = 0; i < type.size(); ++i) type[i] = int32_t(i % 5);
-    lantern_particles p = interleaved(x);
-    p.type = {type.data(), LANTERN_INT32, 0};
+    // Members, not locals: Lantern borrows them until the next publish or close, and a test may
+    // execute the context again after render() returns.
+    x_ = lattice(9);
+    type_.assign(x_.size() / 3, 0);
+    for (size_t i = 0; i < type_.size(); ++i) type_[i] = int32_t(i % 5);
+    lantern_particles p = interleaved(x_);
+    p.type = {type_.data(), LANTERN_INT32, 0};
     EXPECT_EQ(lantern_publish(ctx_, &p), LANTERN_OK) << message();
     EXPECT_EQ(lantern_execute(ctx_, 0, 0.0), LANTERN_OK) << message();
     return stats_field("gl");
@@ -65,6 +67,9 @@ class GlBackends : public ApiTest {
     const nlohmann::json j = nlohmann::json::parse(last);
     return scene < 0 ? j.value(key, "") : j["scenes"][size_t(scene)].value(key, "");
   }
+
+  std::vector<double> x_;  // the published particles of render()
+  std::vector<int32_t> type_;
 };
 
 const char *const kScenes[] = {

@@ -189,7 +189,8 @@ TEST(Legend, BarEndsAreTheColormapEnds) {
       OverlayLayout layout(200, 220);
       const LegendBar bar = draw_legend(legend, colors, *font, layout, &image);
       ASSERT_EQ(bar.length, 150);
-      const Colormap::Table &table = Colormap::choose(name, {}, reverse).table();
+      const Colormap map = Colormap::choose(name, {}, reverse);  // table() refers into it
+      const Colormap::Table &table = map.table();
       for (int x = bar.x; x < bar.x + bar.width; ++x) {
         const auto top = pixel(image, x, bar.y), bottom = pixel(image, x, bar.y + 149);
         EXPECT_EQ((Rgb8{top[0], top[1], top[2]}), table[255]) << name << " x " << x;
