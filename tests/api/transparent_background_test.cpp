@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <string>
 #include <vector>
@@ -90,8 +91,9 @@ class TransparentBackground : public ApiTest {
     return "scenes:\n  - name: " + name +
            "\n    width: 64\n    height: 64\n    radius: 1.0\n    background: " + background +
            "\n    camera: {position: [0, 0, 10], look_at: [0, 0, 0], up: [0, 1, 0]}\n"
-           "    color: " + color + "\n    output: {pattern: '" +
-           (dir_ / (name + "_{step:04d}." + ext)).string() + "'}\n" + extra;
+           "    color: " +
+           color + "\n    output: {pattern: '" + (dir_ / (name + "_{step:04d}." + ext)).string() +
+           "'}\n" + extra;
   }
   std::string file(const std::string &name, const std::string &ext = "png") const {
     return (dir_ / (name + "_0000." + ext)).string();
@@ -105,7 +107,8 @@ class TransparentBackground : public ApiTest {
     ctx_ = nullptr;
   }
   bool have_gl() {
-    const bool ok = open(sphere_scene("probe", "[1, 1, 1]", "    renderer: opengl\n")) == LANTERN_OK;
+    const bool ok =
+        open(sphere_scene("probe", "[1, 1, 1]", "    renderer: opengl\n")) == LANTERN_OK;
     lantern_close(ctx_);
     ctx_ = nullptr;
     return ok;
@@ -124,9 +127,9 @@ TEST_F(TransparentBackground, EmptyPixelsHaveAlphaZeroSpheresAlphaOneEdgesPartia
     for (int samples : {1, 4}) {
       SCOPED_TRACE(std::string(renderer) + ", samples " + std::to_string(samples));
       const std::string name = std::string(renderer) + std::to_string(samples);
-      render(sphere_scene(name, "transparent",
-                          "    samples: " + std::to_string(samples) + "\n    renderer: " +
-                              renderer + "\n"),
+      render(sphere_scene(
+                 name, "transparent",
+                 "    samples: " + std::to_string(samples) + "\n    renderer: " + renderer + "\n"),
              kOneSphere);
       const ImagePixels img = read_stored(file(name));
       ASSERT_EQ(img.error, "");
@@ -158,8 +161,8 @@ TEST_F(TransparentBackground, CompositedOverTheBackgroundItIsTheOpaqueImage) {
     for (int samples : {1, 4, 16}) {
       SCOPED_TRACE(std::string(renderer) + ", samples " + std::to_string(samples));
       const std::string tag = std::string(renderer) + std::to_string(samples);
-      const std::string extra = "    samples: " + std::to_string(samples) +
-                                "\n    renderer: " + renderer + "\n";
+      const std::string extra =
+          "    samples: " + std::to_string(samples) + "\n    renderer: " + renderer + "\n";
       render(sphere_scene("clear" + tag, "transparent", extra), kOneSphere);
       render(sphere_scene("opaque" + tag, kBackgroundYaml, extra), kOneSphere);
       const FloatImage clear = read_float(file("clear" + tag), true);
@@ -173,14 +176,16 @@ TEST_F(TransparentBackground, CompositedOverTheBackgroundItIsTheOpaqueImage) {
         for (int x = 0; x < 64; ++x) {
           const float *p = clear.at(x, y);
           for (int c = 0; c < 3; ++c) {
-            const double linear = srgb_decode(p[c]) * p[3] +
-                                  srgb_decode(background_byte(c) / 255.0) * (1.0 - p[3]);
+            const double linear =
+                srgb_decode(p[c]) * p[3] + srgb_decode(background_byte(c) / 255.0) * (1.0 - p[3]);
             const double composited = 255.0 * srgb_encode(linear);
-            worst = std::max(worst, std::abs(composited -
-                                             double(opaque.pixels[(size_t(y) * 64 + x) * 3 + c])));
+            worst = std::max(
+                worst, std::abs(composited - double(opaque.pixels[(size_t(y) * 64 + x) * 3 + c])));
           }
         }
-      EXPECT_LE(worst, samples == 1 ? 1e-3 : 2.0) << "levels of 255";
+      EXPECT_LE(worst, samples == 1 ? 1e-3 : 1.0) << "levels of 255";
+      std::printf("%s, samples %d: composited over B vs opaque on B, worst %.3f levels\n", renderer,
+                  samples, worst);
     }
   }
 }
@@ -205,6 +210,8 @@ TEST_F(TransparentBackground, CpuRasterAndOpenGlAgreeOnAlpha) {
   // A silhouette sample within float rounding of its centre may flip: one sample of four.
   EXPECT_LE(worst_alpha, 64);
   EXPECT_LE(differing, 8);
+  std::printf("samples 4, cpu raster vs opengl: alpha differs in %d pixels, by at most %d\n",
+              differing, worst_alpha);
 }
 
 // PNG stores straight alpha, EXR premultiplied linear colour: over any background both files
@@ -237,6 +244,7 @@ TEST_F(TransparentBackground, PngAndExrCompositeToTheSamePixels) {
       }
   EXPECT_GT(partial, 20);
   EXPECT_LT(worst, 2e-3);  // half floats: 11 significant bits
+  std::printf("PNG vs EXR composited over 0, 0.5, 1: worst %.2e (linear)\n", worst);
 }
 
 // depth_cue without a colour fades towards alpha 0: the near sphere (view depths 8..10, before the
@@ -337,9 +345,10 @@ TEST_F(TransparentBackground, FormatsWithoutAlphaAreConfigErrorsAtOpen) {
   EXPECT_EQ(open(sphere_scene("bad", "clear")), LANTERN_ERR_CONFIG);
   EXPECT_NE(message().find("'transparent'"), std::string::npos) << message();
 #if LANTERN_TEST_MOVIES
-  const std::string movie = "scenes:\n  - name: m\n    background: transparent\n"
-                            "    output: {movie: {file: '" +
-                            (dir_ / "m.mp4").string() + "'}}\n";
+  const std::string movie =
+      "scenes:\n  - name: m\n    background: transparent\n"
+      "    output: {movie: {file: '" +
+      (dir_ / "m.mp4").string() + "'}}\n";
   EXPECT_EQ(open(movie), LANTERN_ERR_CONFIG);
   EXPECT_NE(message().find("background"), std::string::npos) << message();
   EXPECT_NE(message().find("output.movie"), std::string::npos) << message();
