@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <type_traits>
 
 namespace lantern {
 namespace {
@@ -60,44 +61,20 @@ const SrgbTables &tables() {
 }
 
 // One output row: S sample rows of the sample frame starting at sample row `sy` (S a compile-time
-// constant so the sample loops unroll).
-template <int S>
+// constant so the sample loops unroll). kStraight (SampleAlpha::kStraight): colour is the
+// alpha-weighted mean in linear light, so samples nothing covered (alpha 0) add no colour and an
+// edge pixel keeps its surface's colour with the share of samples that cover it as alpha; a pixel
+// no sample covered is (0, 0, 0, 0). Otherwise the plain mean of every sample.
+template <int S, bool kStraight>
 void downsample_row(const Frame &samples, int sy, int out_y, Frame *image) {
   // sy: the sample row of the pixel row; out_y: its row in *image.
   constexpr int s = S, shift = S == 8 ? 6 : S == 4 ? 4 : S == 2 ? 2 : 0;  // log2(S * S)
   constexpr uint32_t count = uint32_t(S) * uint32_t(S);
+  // Weighted sums reach 64 x 255 x 2^24: beyond 32 bits.
+  using Sum = std::conditional_t<kStraight, uint64_t, uint32_t>;
   const SrgbTables &t = tables();
   for (int x = 0; x < image->width; ++x) {
-    uint32_t sum[3] = {0, 0, 0}, alpha = 0;
-    float depth = kBackgroundDepth;
-    for (int j = 0; j < s; ++j) {
-      const size_t row = samples.index(s * x, sy + j);
-      const uint8_t *rgba = samples.rgba.data() + 4 * row;
-      const float *d = samples.depth.data() + row;
-      for (int i = 0; i < s; ++i) {
-        for (int c = 0; c < 3; ++c) sum[c] += t.linear[rgba[4 * i + c]];
-        alpha += rgba[4 * i + 3];
-        depth = std::min(depth, d[i]);
-      }
-    }
-    const size_t out = image->index(x, out_y);
-    uint8_t *o = image->rgba.data() + 4 * out;
-    for (int c = 0; c < 3; ++c) o[c] = t.encode(sum[c], shift);
-    o[3] = uint8_t((alpha + count / 2) >> shift);
-    image->depth[out] = depth;
-  }
-}
-
-// The same with straight alpha: colour is the alpha-weighted mean (in linear light), so samples
-// nothing covered (alpha 0) add no colour, and an edge pixel keeps its surface's colour with the
-// share of samples that cover it as alpha. A pixel no sample covered is (0, 0, 0, 0).
-template <int S>
-void downsample_row_straight(const Frame &samples, int sy, int out_y, Frame *image) {
-  constexpr int s = S, shift = S == 8 ? 6 : S == 4 ? 4 : S == 2 ? 2 : 0;  // log2(S * S)
-  constexpr uint32_t count = uint32_t(S) * uint32_t(S);
-  const SrgbTables &t = tables();
-  for (int x = 0; x < image->width; ++x) {
-    uint64_t sum[3] = {0, 0, 0};  // up to 64 x 255 x 2^24: beyond 32 bits
+    Sum sum[3] = {0, 0, 0};
     uint32_t alpha = 0;
     float depth = kBackgroundDepth;
     for (int j = 0; j < s; ++j) {
@@ -106,14 +83,24 @@ void downsample_row_straight(const Frame &samples, int sy, int out_y, Frame *ima
       const float *d = samples.depth.data() + row;
       for (int i = 0; i < s; ++i) {
         const uint32_t a = rgba[4 * i + 3];
-        for (int c = 0; c < 3; ++c) sum[c] += uint64_t(t.linear[rgba[4 * i + c]]) * a;
+        for (int c = 0; c < 3; ++c) {
+          if constexpr (kStraight)
+            sum[c] += uint64_t(t.linear[rgba[4 * i + c]]) * a;
+          else
+            sum[c] += t.linear[rgba[4 * i + c]];
+        }
         alpha += a;
         depth = std::min(depth, d[i]);
       }
     }
     const size_t out = image->index(x, out_y);
     uint8_t *o = image->rgba.data() + 4 * out;
-    for (int c = 0; c < 3; ++c) o[c] = alpha == 0 ? 0 : t.encode_weighted(sum[c], alpha);
+    for (int c = 0; c < 3; ++c) {
+      if constexpr (kStraight)
+        o[c] = alpha == 0 ? 0 : t.encode_weighted(sum[c], alpha);
+      else
+        o[c] = t.encode(sum[c], shift);
+    }
     o[3] = uint8_t((alpha + count / 2) >> shift);
     image->depth[out] = depth;
   }
@@ -122,9 +109,9 @@ void downsample_row_straight(const Frame &samples, int sy, int out_y, Frame *ima
 template <int S>
 void downsample_row_as(SampleAlpha mode, const Frame &samples, int sy, int out_y, Frame *image) {
   if (mode == SampleAlpha::kStraight)
-    downsample_row_straight<S>(samples, sy, out_y, image);
+    downsample_row<S, true>(samples, sy, out_y, image);
   else
-    downsample_row<S>(samples, sy, out_y, image);
+    downsample_row<S, false>(samples, sy, out_y, image);
 }
 
 // Image rows [first, first + out->height) into rows [0, out->height) of *out.

@@ -6,8 +6,6 @@
 // at lantern_open.
 #include <gtest/gtest.h>
 
-#include <OpenImageIO/imageio.h>
-
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -35,50 +33,10 @@ double background_byte(int c) {
   return std::lround(kBackground[c] * 255.0);
 }
 
-// An image as float channels, as OpenImageIO decodes it. `as_stored`: a PNG's colour as the
-// file stores it (straight alpha); without it OpenImageIO premultiplies on reading (and does
-// so on the sRGB-encoded values), which is not what compositing in linear light needs.
-struct FloatImage {
-  int width = 0, height = 0, channels = 0, alpha_channel = -1;
-  std::vector<std::string> names;
-  std::vector<float> pixels;
-  std::string error;
-  const float *at(int x, int y) const {
-    return &pixels[(size_t(y) * size_t(width) + size_t(x)) * size_t(channels)];
-  }
-};
-
-FloatImage read_float(const std::string &path, bool as_stored) {
-  FloatImage img;
-  OIIO::ImageSpec config;
-  if (as_stored) config.attribute("oiio:UnassociatedAlpha", 1);
-  auto in = OIIO::ImageInput::open(path, &config);
-  if (!in) {
-    img.error = "cannot open " + path + ": " + OIIO::geterror();
-    return img;
-  }
-  const OIIO::ImageSpec &spec = in->spec();
-  img.width = spec.width;
-  img.height = spec.height;
-  img.channels = spec.nchannels;
-  img.alpha_channel = spec.alpha_channel;
-  img.names = spec.channelnames;
-  img.pixels.resize(size_t(spec.width) * spec.height * spec.nchannels);
-  if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, img.pixels.data()))
-    img.error = "cannot read " + path + ": " + in->geterror();
-  return img;
-}
-
-// A PNG's bytes as the file stores them (straight alpha), 8 bits per channel.
+// OpenImageIO premultiplies a PNG while reading it, on the sRGB-encoded values, which is not
+// what compositing in linear light needs: the tests read the bytes as stored (straight alpha).
 ImagePixels read_stored(const std::string &path) {
-  ImagePixels img;
-  const FloatImage f = read_float(path, true);
-  img.error = f.error;
-  img.width = f.width;
-  img.height = f.height;
-  img.channels = f.channels;
-  for (const float v : f.pixels) img.pixels.push_back(uint8_t(std::lround(v * 255.0f)));
-  return img;
+  return read_image(path, true);
 }
 
 class TransparentBackground : public ApiTest {
@@ -165,7 +123,7 @@ TEST_F(TransparentBackground, CompositedOverTheBackgroundItIsTheOpaqueImage) {
           "    samples: " + std::to_string(samples) + "\n    renderer: " + renderer + "\n";
       render(sphere_scene("clear" + tag, "transparent", extra), kOneSphere);
       render(sphere_scene("opaque" + tag, kBackgroundYaml, extra), kOneSphere);
-      const FloatImage clear = read_float(file("clear" + tag), true);
+      const FloatImagePixels clear = read_float_image(file("clear" + tag), true);
       const ImagePixels opaque = read_image(file("opaque" + tag));
       ASSERT_EQ(clear.error, "");
       ASSERT_EQ(opaque.error, "");
@@ -220,8 +178,8 @@ TEST_F(TransparentBackground, PngAndExrCompositeToTheSamePixels) {
   const std::string extra = "    samples: 16\n    renderer: cpu\n";
   render(sphere_scene("png", "transparent", extra, "png"), kOneSphere);
   render(sphere_scene("exr", "transparent", extra, "exr"), kOneSphere);
-  const FloatImage png = read_float(file("png", "png"), true);
-  const FloatImage exr = read_float(file("exr", "exr"), false);
+  const FloatImagePixels png = read_float_image(file("png", "png"), true);
+  const FloatImagePixels exr = read_float_image(file("exr", "exr"));
   ASSERT_EQ(png.error, "");
   ASSERT_EQ(exr.error, "");
   ASSERT_EQ(png.channels, 4);
