@@ -11,7 +11,14 @@
 !     (lantern_set_position_components), rank-1 per-particle arrays (lantern_set_field), and
 !     arrays of derived types (lantern_set_positions_strided / lantern_set_field_strided with the
 !     stride c_sizeof(atoms(1))). A shape or length problem found by a setter is reported by the
-!     next lantern_publish (LANTERN_ERR_INVALID_ARGUMENT, message naming the array).
+!     next lantern_publish (LANTERN_ERR_INVALID_ARGUMENT, message naming the array);
+!   * bonds (lantern_publish_bonds in C): lantern_set_bonds(set, pairs, ghost_count, listing)
+!     puts a pairs(2, m) bond list into the set, and lantern_set_bond_types its types(m);
+!     lantern_publish then publishes the particles and the bonds. Indices are 0-based, as in C
+!     (entry j of the particle arrays is index j - 1): Lantern borrows the array and cannot shift
+!     it. With ghost_count = g the last g entries of every particle array are ghosts (other
+!     ranks' atoms, bond ends only; give their ids). lantern_bonds mirrors the C struct for
+!     filling by hand (lantern_publish_bonds).
 !
 ! Borrowing: Lantern reads the arrays in place (no copy) until the next publish or close, so they
 ! must have the TARGET attribute and stay allocated and unmoved until then. The setters take
@@ -37,6 +44,9 @@ module lantern
   integer(c_int), parameter, public :: LANTERN_TYPE_NONE = 0, LANTERN_FLOAT32 = 1, &
     LANTERN_FLOAT64 = 2, LANTERN_INT32 = 3, LANTERN_INT64 = 4
   integer, parameter, public :: LANTERN_COMM_WORLD = -1
+  ! lantern_bond_listing
+  integer(c_int), parameter, public :: LANTERN_BONDS_LISTED_ONCE = 0, &
+    LANTERN_BONDS_LISTED_BY_BOTH = 1
   ! The optional per-particle arrays, for lantern_set_field (Fortran only).
   integer, parameter, public :: LANTERN_FIELD_RADIUS = 1, LANTERN_FIELD_SCALAR = 2, &
     LANTERN_FIELD_TYPE = 3, LANTERN_FIELD_ID = 4, LANTERN_FIELD_MASK = 5
@@ -56,6 +66,14 @@ module lantern
     integer(c_int64_t) :: mask_bits = 0
   end type lantern_particles
 
+  ! struct lantern_bonds (same fields, same order): first/second are 0-based particle indices.
+  type, bind(C), public :: lantern_bonds
+    integer(c_int64_t) :: count = 0
+    type(lantern_array) :: first, second, type
+    integer(c_int64_t) :: ghost_count = 0
+    integer(c_int) :: listing = LANTERN_BONDS_LISTED_ONCE
+  end type lantern_bonds
+
   ! An open context (lantern_context *), plus the message of a check made on the Fortran side.
   type, public :: lantern_context
     private
@@ -67,6 +85,8 @@ module lantern
   ! also be filled by hand.
   type, public :: lantern_particle_set
     type(lantern_particles) :: particles
+    type(lantern_bonds) :: bonds  ! with has_bonds: published after the particles
+    logical :: has_bonds = .false.
     logical, private :: counted = .false.
     character(len=:), allocatable, private :: error
   end type lantern_particle_set
@@ -75,6 +95,7 @@ module lantern
   public :: lantern_error_message, lantern_status_string, lantern_version
   public :: lantern_set_positions, lantern_set_position_components, lantern_set_positions_strided
   public :: lantern_set_field, lantern_set_field_strided
+  public :: lantern_publish_bonds, lantern_set_bonds, lantern_set_bond_types
 
   interface lantern_publish
     module procedure publish_set, publish_particles
@@ -82,6 +103,14 @@ module lantern
   interface lantern_execute
     module procedure execute_i4, execute_i8
   end interface lantern_execute
+  ! pairs(2, m): the 0-based particle indices of bond k in pairs(:, k).
+  interface lantern_set_bonds
+    module procedure set_bonds_i4, set_bonds_i8
+  end interface lantern_set_bonds
+  ! types(m): the type of bond k.
+  interface lantern_set_bond_types
+    module procedure set_bond_types_i4, set_bond_types_i8
+  end interface lantern_set_bond_types
   ! x(3, n): x, y, z of particle j in x(:, j).
   interface lantern_set_positions
     module procedure set_positions_f4, set_positions_f8
@@ -116,6 +145,11 @@ module lantern
       type(c_ptr), value :: ctx
       type(lantern_particles), intent(in) :: particles
     end function c_publish
+    integer(c_int) function c_publish_bonds(ctx, bonds) bind(C, name="lantern_publish_bonds")
+      import :: c_int, c_ptr, lantern_bonds
+      type(c_ptr), value :: ctx
+      type(lantern_bonds), intent(in) :: bonds
+    end function c_publish_bonds
     integer(c_int) function c_set_box(ctx, low, high, periodic) bind(C, name="lantern_set_box")
       import :: c_int, c_ptr, c_double
       type(c_ptr), value :: ctx
@@ -211,8 +245,32 @@ contains
       status = LANTERN_ERR_INVALID_ARGUMENT
       return
     end if
-    status = c_publish(ctx%handle, set%particles)
+    if (.not. set%has_bonds) then
+      status = c_publish(ctx%handle, set%particles)
+      return
+    end if
+    if (set%bonds%ghost_count > set%particles%count) then
+      ctx%error = 'ghost_count: '//int_text(set%bonds%ghost_count)//' ghosts, but the arrays '// &
+                  'hold only '//int_text(set%particles%count)//' particles'
+      status = LANTERN_ERR_INVALID_ARGUMENT
+      return
+    end if
+    block  ! the ghosts are the last entries of the arrays, never counted
+      type(lantern_particles) :: owned
+      owned = set%particles
+      owned%count = owned%count - set%bonds%ghost_count
+      status = c_publish(ctx%handle, owned)
+    end block
+    if (status == LANTERN_OK) status = c_publish_bonds(ctx%handle, set%bonds)
   end function publish_set
+
+  ! Borrows bonds described by hand (after lantern_publish), exactly as lantern_publish_bonds in C.
+  integer(c_int) function lantern_publish_bonds(ctx, bonds) result(status)
+    type(lantern_context), intent(inout) :: ctx
+    type(lantern_bonds), intent(in) :: bonds
+    if (allocated(ctx%error)) deallocate (ctx%error)
+    status = c_publish_bonds(ctx%handle, bonds)
+  end function lantern_publish_bonds
 
   ! Borrows particles described by hand, exactly as lantern_publish in C.
   integer(c_int) function publish_particles(ctx, particles) result(status)
@@ -532,5 +590,94 @@ contains
     call field(set, which, set%particles%count, &
                lantern_array(c_loc(first), LANTERN_INT32, stride_bytes), .false.)
   end subroutine set_strided_field_i4
+
+  ! Puts a bond list into the set: pairs (rows, m), which must be (2, m), seen as two strided
+  ! columns from `first`, the ghost count and the listing (LANTERN_BONDS_LISTED_ONCE when absent).
+  subroutine bond_list(set, rows, m, first, element_bytes, datatype, ghost_count, listing)
+    type(lantern_particle_set), intent(inout) :: set
+    integer, intent(in) :: rows
+    integer(c_int64_t), intent(in) :: m
+    type(c_ptr), intent(in) :: first
+    integer(c_int64_t), intent(in) :: element_bytes
+    integer(c_int), intent(in) :: datatype
+    integer, intent(in), optional :: ghost_count
+    integer(c_int), intent(in), optional :: listing
+    type(c_ptr) :: second
+    if (rows /= 2) then
+      call fail(set, 'bonds: pairs has '//int_text(int(rows, c_int64_t))// &
+                ' rows, not 2 (give pairs(2, m))')
+      return
+    end if
+    set%has_bonds = .true.
+    set%bonds%count = m
+    second = c_null_ptr
+    if (m > 0) second = transfer(transfer(first, 0_c_intptr_t) + element_bytes, c_null_ptr)
+    set%bonds%first = lantern_array(first, datatype, 2*element_bytes)
+    set%bonds%second = lantern_array(second, datatype, 2*element_bytes)
+    set%bonds%ghost_count = 0
+    if (present(ghost_count)) set%bonds%ghost_count = int(ghost_count, c_int64_t)
+    if (set%bonds%ghost_count < 0) &
+      call fail(set, 'ghost_count: '//int_text(set%bonds%ghost_count)//' is negative')
+    set%bonds%listing = LANTERN_BONDS_LISTED_ONCE
+    if (present(listing)) set%bonds%listing = listing
+  end subroutine bond_list
+
+  subroutine set_bonds_i4(set, pairs, ghost_count, listing)
+    type(lantern_particle_set), intent(inout) :: set
+    integer(c_int32_t), intent(in), target, contiguous :: pairs(:, :)
+    integer, intent(in), optional :: ghost_count
+    integer(c_int), intent(in), optional :: listing
+    type(c_ptr) :: first
+    first = c_null_ptr
+    if (size(pairs) > 0) first = c_loc(pairs(1, 1))
+    call bond_list(set, size(pairs, 1), int(size(pairs, 2), c_int64_t), first, &
+                   c_sizeof(0_c_int32_t), LANTERN_INT32, ghost_count, listing)
+  end subroutine set_bonds_i4
+
+  subroutine set_bonds_i8(set, pairs, ghost_count, listing)
+    type(lantern_particle_set), intent(inout) :: set
+    integer(c_int64_t), intent(in), target, contiguous :: pairs(:, :)
+    integer, intent(in), optional :: ghost_count
+    integer(c_int), intent(in), optional :: listing
+    type(c_ptr) :: first
+    first = c_null_ptr
+    if (size(pairs) > 0) first = c_loc(pairs(1, 1))
+    call bond_list(set, size(pairs, 1), int(size(pairs, 2), c_int64_t), first, &
+                   c_sizeof(0_c_int64_t), LANTERN_INT64, ghost_count, listing)
+  end subroutine set_bonds_i8
+
+  subroutine bond_types(set, m, a)
+    type(lantern_particle_set), intent(inout) :: set
+    integer(c_int64_t), intent(in) :: m
+    type(lantern_array), intent(in) :: a
+    if (.not. set%has_bonds) then
+      call fail(set, 'bond types: set the bonds first (lantern_set_bonds)')
+    else if (m /= set%bonds%count) then
+      call fail(set, 'bond types: '//int_text(m)//' elements, but there are '// &
+                int_text(set%bonds%count)//' bonds')
+    else
+      set%bonds%type = a
+    end if
+  end subroutine bond_types
+
+  subroutine set_bond_types_i4(set, types)
+    type(lantern_particle_set), intent(inout) :: set
+    integer(c_int32_t), intent(in), target, contiguous :: types(:)
+    type(c_ptr) :: first
+    first = c_null_ptr
+    if (size(types) > 0) first = c_loc(types(1))
+    call bond_types(set, int(size(types), c_int64_t), &
+                    lantern_array(first, LANTERN_INT32, c_sizeof(0_c_int32_t)))
+  end subroutine set_bond_types_i4
+
+  subroutine set_bond_types_i8(set, types)
+    type(lantern_particle_set), intent(inout) :: set
+    integer(c_int64_t), intent(in), target, contiguous :: types(:)
+    type(c_ptr) :: first
+    first = c_null_ptr
+    if (size(types) > 0) first = c_loc(types(1))
+    call bond_types(set, int(size(types), c_int64_t), &
+                    lantern_array(first, LANTERN_INT64, c_sizeof(0_c_int64_t)))
+  end subroutine set_bond_types_i8
 
 end module lantern

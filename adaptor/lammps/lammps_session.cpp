@@ -261,6 +261,14 @@ std::string Session::publish(const Attachment &a, int nlocal, const void *ids, d
   if (std::string e = scalar_.extract(lmp_, a.group, nlocal, &p.scalar); !e.empty()) return e;
   if (lantern_publish(ctx_, &p) != LANTERN_OK) return lantern_error_message(ctx_);
   scalar_.published();
+  if (options_.bonds) {
+    lantern_bonds b{};
+    if (std::string e = bonds_.describe(lmp_, &b); !e.empty()) return e;
+    if (lantern_publish_bonds(ctx_, &b) != LANTERN_OK) return lantern_error_message(ctx_);
+    if (rank_ == 0 && !bonds_logged_)
+      std::fprintf(stderr, "lantern-lammps: %s\n", bonds_.summary().c_str());
+    bonds_logged_ = true;
+  }
 
   double lo[3], hi[3], xy, yz, xz;
   int periodic[3], changed;

@@ -11,7 +11,9 @@
 //
 // What is published at every callback, without a copy: LAMMPS's x (one [nmax][3] block, stride
 // 24), type, id (tagint), the fix's group as LAMMPS's own atom mask and the group's bit (no mask
-// for group all), and the YAML's scalar (per_atom_scalar.h). LAMMPS reallocates and reorders
+// for group all), and the YAML's scalar (per_atom_scalar.h). Where a scene draws bonds, also
+// LAMMPS's bonds and ghost atoms (bond_list.h): x, type, id and mask then reach past nlocal to
+// the ghosts, which LAMMPS keeps in the same arrays. LAMMPS reallocates and reorders
 // these arrays when atoms migrate or are sorted, so they are published again at every callback.
 // fix external adds its fexternal array to the forces of the group's atoms; lantern-lammps keeps
 // that array zero (before every run and at every callback), so the trajectory is LAMMPS's own.
@@ -32,6 +34,7 @@
 #include <string>
 #include <vector>
 
+#include "bond_list.h"
 #include "lantern/lantern.h"
 #include "per_atom_scalar.h"
 #include "script_reader.h"
@@ -46,6 +49,7 @@ struct Failure : std::runtime_error {
 struct SessionOptions {
   std::string fix;     // lammps.fix: the one fix ID to attach to ("" = every fix external)
   std::string scalar;  // lammps.scalar: per-atom quantity to publish as the scalar ("" = none)
+  bool bonds = false;  // a scene draws bonds: publish LAMMPS's bonds and ghosts
 };
 
 class Session {
@@ -104,6 +108,8 @@ class Session {
   int rank_ = 0;
   SessionOptions options_;
   PerAtomScalar scalar_;
+  BondList bonds_;
+  bool bonds_logged_ = false;  // the bonds' source was printed (first callback)
   std::map<std::string, std::unique_ptr<Attachment>> attached_;  // by fix ID
   std::vector<std::pair<std::string, std::string>> fixes_;       // (ID, style) defined so far
   std::set<std::string> atom_variables_;                         // atom-style variables

@@ -37,24 +37,34 @@ PYBIND11_MODULE(_lantern, m) {
           "publish",
           [](Context &self, py::object position, py::object position_x, py::object position_y,
              py::object position_z, py::object radius, py::object scalar, py::object type,
-             py::object id, py::object mask, int64_t mask_bits) {
+             py::object id, py::object mask, int64_t mask_bits, py::object bonds,
+             py::object bond_type, int64_t ghost_count, std::string bonds_listed) {
             self.publish(PublishArguments{position, position_x, position_y, position_z, radius,
-                                          scalar, type, id, mask, mask_bits});
+                                          scalar, type, id, mask, mask_bits, bonds, bond_type,
+                                          ghost_count, std::move(bonds_listed)});
           },
           py::arg("position") = py::none(), py::kw_only(), py::arg("position_x") = py::none(),
           py::arg("position_y") = py::none(), py::arg("position_z") = py::none(),
           py::arg("radius") = py::none(), py::arg("scalar") = py::none(),
           py::arg("type") = py::none(), py::arg("id") = py::none(), py::arg("mask") = py::none(),
-          py::arg("mask_bits") = 0,
+          py::arg("mask_bits") = 0, py::arg("bonds") = py::none(),
+          py::arg("bond_type") = py::none(), py::arg("ghost_count") = 0,
+          py::arg("bonds_listed") = "once",
           "Borrows this rank's particle arrays until the next publish() or close(), never "
           "copying them: position (n, 3) float32/float64 (any row stride; x, y, z a fixed stride "
           "apart) or position_x/y/z (n,); radius, scalar (n,) float32/float64; type, id, mask "
-          "(n,) int32/int64; mask_bits: draw particle i only if mask[i] & mask_bits. Any object "
+          "(n,) int32/int64; mask_bits: draw particle i only if mask[i] & mask_bits. Bonds "
+          "(drawn by scenes with a bonds: section): bonds (m, 2) int32/int64, each row two "
+          "indices into the particle rows (any strides); bond_type (m,) int32/int64; "
+          "ghost_count: the last ghost_count rows of every particle array are ghosts, other "
+          "ranks' atoms used only as bond ends (never drawn; needs id); bonds_listed: 'once' "
+          "(each bond in one rank's list) or 'by_both' (in both atoms' ranks' lists). Any object "
           "with the buffer protocol or __array_interface__. ValueError names an array that "
           "cannot be borrowed as it is; lantern.Error reports what Lantern refused.")
       .def("set_box", &Context::set_box, py::arg("low"), py::arg("high"),
            py::arg("periodic") = py::none(),
-           "Records the simulation box (corners low, high; periodic: three bools) for dumps.")
+           "Records the simulation box (corners low, high; periodic: three bools) for dumps "
+           "and for the minimum image of bonds along periodic axes.")
       .def("execute", &Context::execute, py::arg("step"), py::arg("time") = 0.0,
            "The simulation reached `step` at `time`: renders on the steps the schedule picks.")
       .def("close", &Context::close, "Flushes outputs and frees the context (collective).")

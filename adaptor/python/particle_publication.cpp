@@ -88,6 +88,51 @@ lantern_array ParticlePublication::one_dimensional(const py::object &object, con
   return a;
 }
 
+// The bond list: an (m, 2) integer array whose columns are each bond's two atoms (indices into
+// the published rows, ghosts included), borrowed as two strided views, and its (m,) types.
+void ParticlePublication::describe_bonds(const PublishArguments &args) {
+  if (args.ghost_count < 0)
+    throw py::value_error("ghost_count: " + std::to_string(args.ghost_count) + " is negative");
+  if (args.ghost_count > particles_.count)
+    throw py::value_error("ghost_count: " + std::to_string(args.ghost_count) +
+                          " ghosts, but the arrays hold only " + std::to_string(particles_.count) +
+                          " rows");
+  if (args.bonds_listed == "once") {
+    bonds_.listing = LANTERN_BONDS_LISTED_ONCE;
+  } else if (args.bonds_listed == "by_both") {
+    bonds_.listing = LANTERN_BONDS_LISTED_BY_BOTH;
+  } else {
+    throw py::value_error("bonds_listed: '" + args.bonds_listed +
+                          "' is neither 'once' nor 'by_both'");
+  }
+  if (args.bonds.is_none() && !args.bond_type.is_none())
+    throw py::value_error("bond_type: given without bonds");
+  has_bonds_ = !args.bonds.is_none() || args.ghost_count > 0;
+  bonds_.ghost_count = args.ghost_count;
+  particles_.count -= args.ghost_count;  // the ghosts are the last rows, never counted
+  if (args.bonds.is_none()) return;
+  held_.push_back(BorrowedBuffer::borrow(args.bonds, "bonds", ElementKind::kInteger));
+  const BorrowedBuffer &b = held_.back();
+  if (b.shape().size() != 2 || b.shape()[1] != 2)
+    throw py::value_error("bonds: shape " + shape_text(b.shape()) +
+                          " is not (m, 2); give the two atoms of each bond in a row");
+  bonds_.count = b.shape()[0];
+  const int64_t row = usable_stride(b, 0, "row");
+  const int64_t column = usable_stride(b, 1, "column");
+  bonds_.first = {b.data(), b.type(), row};
+  bonds_.second = {b.data() + column, b.type(), row};
+  record("bonds.first", bonds_.first);
+  record("bonds.second", bonds_.second);
+  if (args.bond_type.is_none()) return;
+  held_.push_back(BorrowedBuffer::borrow(args.bond_type, "bond_type", ElementKind::kInteger));
+  const BorrowedBuffer &t = held_.back();
+  if (t.shape().size() != 1 || t.shape()[0] != bonds_.count)
+    throw py::value_error("bond_type: shape " + shape_text(t.shape()) + " is not (" +
+                          std::to_string(bonds_.count) + ",), one type per bond");
+  bonds_.type = {t.data(), t.type(), usable_stride(t, 0, "element")};
+  record("bond_type", bonds_.type);
+}
+
 ParticlePublication ParticlePublication::describe(const PublishArguments &args) {
   ParticlePublication p;
   const bool separate =
@@ -112,6 +157,7 @@ ParticlePublication ParticlePublication::describe(const PublishArguments &args) 
   p.particles_.id = p.one_dimensional(args.id, "id", ElementKind::kInteger);
   p.particles_.mask = p.one_dimensional(args.mask, "mask", ElementKind::kInteger);
   p.particles_.mask_bits = args.mask_bits;
+  p.describe_bonds(args);
   return p;
 }
 

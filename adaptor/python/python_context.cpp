@@ -72,7 +72,9 @@ void Context::check(lantern_status status) const {
 void Context::publish(const PublishArguments &args) {
   lantern_context *ctx = open_context("publish");
   ParticlePublication next = ParticlePublication::describe(args);
-  const lantern_status status = lantern_publish(ctx, &next.particles());
+  lantern_status status = lantern_publish(ctx, &next.particles());
+  // Bonds refer to the particles just published (which forgot the previous bonds).
+  if (status == LANTERN_OK && next.has_bonds()) status = lantern_publish_bonds(ctx, &next.bonds());
   // The old arrays were borrowed until this call returned; now Lantern holds the new ones (or,
   // after a failure, none).
   published_ = std::move(next);

@@ -1,4 +1,5 @@
 // lantern-render CONFIG.yaml INPUT [--steps a,b,c | --steps a:b] [--split space|rows]
+//                [--bonds DATA]
 //
 // Renders particle dumps after the run through the same pipeline as in situ: it is a client of
 // the public C API (open, publish, set_box, execute with the dump's step and time, close), so a
@@ -7,7 +8,9 @@
 // then, by default, the ranks trade particles so that each renders one contiguous run of the
 // frame's z-order curve (spatial_split.h) instead of its rows of the file.
 // The configuration's `schedule:` still applies to the dump's steps; to render every selected
-// frame, give a configuration without a schedule.
+// frame, give a configuration without a schedule. --bonds DATA takes the bonds from a LAMMPS data
+// file or dump local (bond_topology.h) for the scenes with a `bonds:` section; every rank then
+// reads every frame whole, to find the ghost atoms its bonds end at.
 //
 // Exit codes: 0 success, 1 bad input or a failed step (message on stderr), 2 usage.
 #include <mpi.h>
@@ -16,9 +19,11 @@
 #include <cstdio>
 #include <cstdlib>
 #include <memory>
+#include <numeric>
 #include <string>
 #include <vector>
 
+#include "bond_topology.h"
 #include "c_translation.h"
 #include "core/config/config_loader.h"
 #include "frame_source.h"
@@ -30,14 +35,17 @@ namespace {
 
 constexpr const char *kUsage =
     "usage: lantern-render CONFIG.yaml INPUT [--steps a,b,c | --steps a:b] [--split space|rows]\n"
+    "                      [--bonds DATA]\n"
     "       lantern-render --help | --version\n"
     "  INPUT: an H5MD file (Lantern's dump: output) or a LAMMPS text dump (dump atom/custom)\n"
     "  --split: space gives each rank a contiguous run of the frame's z-order curve (the default,\n"
     "           unless the configuration writes a dump: a conversion keeps the file's order);\n"
-    "           rows gives each rank its rows of the file as read\n";
+    "           rows gives each rank its rows of the file as read\n"
+    "  DATA: a LAMMPS data file whose Bonds section gives the bonds (by atom id), or a dump\n"
+    "  local of the bonds' atom ids per step (compute property/local batom1 batom2 [btype])\n";
 
 struct Options {
-  std::string config, input, steps;
+  std::string config, input, steps, bonds;
   std::string split;  // --split: space, rows, or "" (space, unless the configuration dumps)
 };
 
@@ -51,6 +59,9 @@ std::string parse_options(int argc, char **argv, Options *out) {
       out->steps = argv[++i];
     } else if (arg.rfind("--steps=", 0) == 0) {
       out->steps = arg.substr(8);
+    } else if (arg == "--bonds") {
+      if (i + 1 >= argc) return "--bonds needs a LAMMPS data file";
+      out->bonds = argv[++i];
     } else if (arg == "--split" || arg.rfind("--split=", 0) == 0) {
       std::string value;
       if (arg == "--split") {
@@ -103,34 +114,77 @@ struct ContextCloser {
 };
 using Context = std::unique_ptr<lantern_context, ContextCloser>;
 
-// Reads, publishes and renders one frame; with `spatial`, after the spatial split, whose spread
-// of particles over the ranks goes to *split. "" or an error (the same on every rank).
+// This rank's bonds of `share` as lantern_bonds, borrowing its vectors.
+lantern_bonds bonds_of(const lantern::BondedShare &share) {
+  lantern_bonds b{};
+  b.count = static_cast<int64_t>(share.first.size());
+  b.first = {share.first.data(), LANTERN_INT64, 0};
+  b.second = {share.second.data(), LANTERN_INT64, 0};
+  b.type = {share.type.data(), LANTERN_INT64, 0};
+  b.ghost_count = share.frame.count() - share.owned;
+  b.listing = LANTERN_BONDS_LISTED_ONCE;
+  return b;
+}
+
+// Reads, publishes and renders one frame, with the bonds of `bonds` if given. "" or an error
+// (the same on every rank).
+// With `spatial`, the particles go through the spatial split, whose spread of particles over the
+// ranks goes to *split; with bonds, each rank then finds its atoms and its bonds' ghosts among the
+// rows of the whole frame.
 std::string render_frame(lantern_context *ctx, const lantern::FrameSource &source, size_t index,
-                         const std::string &input, int rank, int size, bool spatial,
-                         lantern::SplitStats *split) {
+                         const std::string &input, const lantern::BondSource *bonds, int rank,
+                         int size, bool spatial, lantern::SplitStats *split) {
   const lantern::FrameInfo &info = source.frames()[index];
   if (info.count == 0) return input + ": step " + std::to_string(info.step) + " has zero particles";
   const auto [begin, end] = lantern::rank_share(info.count, rank, size);
   lantern::ParticleFrame frame;
-  if (auto e = agree(source.read(index, begin, end, &frame)); !e.empty()) return e;
-  if (spatial)
-    if (auto e = lantern::split_spatially(MPI_COMM_WORLD, &frame, split); !e.empty())
-      return input + ": step " + std::to_string(info.step) + ": " + e;
-  const lantern_particles particles = lantern::to_c(frame.view());
+  lantern::BondedShare share;
+  const std::string where = input + ": step " + std::to_string(info.step) + ": ";
+  const lantern::BondTopology *topology = bonds ? bonds->at(info.step) : nullptr;
+  if (bonds && !topology) return "the bond file has no bonds for step " + std::to_string(info.step);
+  if (topology) {  // the whole frame, for the ghosts of this rank's bonds
+    lantern::ParticleFrame all;
+    if (auto e = agree(source.read(index, 0, info.count, &all)); !e.empty()) return e;
+    std::vector<int64_t> rows(size_t(end - begin));
+    std::iota(rows.begin(), rows.end(), begin);
+    if (spatial) {  // this rank's run of the curve, found in the whole frame by atom id
+      if (auto e = agree(source.read(index, begin, end, &frame)); !e.empty()) return e;
+      if (auto e = lantern::split_spatially(MPI_COMM_WORLD, &frame, split); !e.empty())
+        return where + e;
+      if (auto e = agree(lantern::rows_of_ids(all, frame.id, &rows)); !e.empty()) return where + e;
+    }
+    std::string e = lantern::share_with_bonds(all, rows, *topology, &share);
+    if (auto agreed = agree(e.empty() ? e : where + e); !agreed.empty()) return agreed;
+    if (rank == 0 && share.skipped > 0)
+      std::fprintf(stderr,
+                   "lantern-render: %sleft out %lld bonds whose atoms are not in the frame\n",
+                   where.c_str(), static_cast<long long>(share.skipped));
+  } else {
+    if (auto e = agree(source.read(index, begin, end, &frame)); !e.empty()) return e;
+    if (spatial)
+      if (auto e = lantern::split_spatially(MPI_COMM_WORLD, &frame, split); !e.empty())
+        return where + e;
+  }
+  const lantern::ParticleFrame &published = topology ? share.frame : frame;
+  lantern_particles particles = lantern::to_c(published.view());
+  if (topology) particles.count = share.owned;  // the ghosts follow, uncounted
   lantern_status st = lantern_publish(ctx, &particles);
-  std::string local = st == LANTERN_OK ? ""
-                                       : input + ": step " + std::to_string(info.step) + ": " +
-                                             lantern_error_message(ctx);
-  if (local.empty() && frame.box) {
-    const int periodic[3] = {frame.box->periodic[0], frame.box->periodic[1],
-                             frame.box->periodic[2]};
-    if (lantern_set_box(ctx, frame.box->low.data(), frame.box->high.data(), periodic) != LANTERN_OK)
-      local = input + ": step " + std::to_string(info.step) + ": " + lantern_error_message(ctx);
+  if (st == LANTERN_OK && topology) {
+    const lantern_bonds bonds = bonds_of(share);
+    st = lantern_publish_bonds(ctx, &bonds);
+  }
+  std::string local = st == LANTERN_OK ? "" : where + lantern_error_message(ctx);
+  if (local.empty() && published.box) {
+    const lantern::Box &box = *published.box;
+    const int periodic[3] = {box.periodic[0], box.periodic[1], box.periodic[2]};
+    if (lantern_set_box(ctx, box.low.data(), box.high.data(), periodic) != LANTERN_OK)
+      local = where + lantern_error_message(ctx);
   }
   if (auto e = agree(local); !e.empty()) return e;
-  st = lantern_execute(ctx, frame.step, frame.time);  // collective; same status on every rank
+  // Collective; the same status on every rank.
+  st = lantern_execute(ctx, published.step, published.time);
   if (st != LANTERN_OK)
-    return "step " + std::to_string(frame.step) + ": " + lantern_error_message(ctx);
+    return "step " + std::to_string(published.step) + ": " + lantern_error_message(ctx);
   return {};
 }
 
@@ -145,6 +199,9 @@ int run(const Options &opt, int rank, int size) {
   std::vector<size_t> selected;
   if (auto e = lantern::select_frames(opt.steps, source->frames(), &selected); !e.empty())
     return fail(e);
+  lantern::BondSource bonds;
+  if (!opt.bonds.empty())
+    if (auto e = agree(lantern::read_bond_source(opt.bonds, &bonds)); !e.empty()) return fail(e);
 
   lantern_context *raw = nullptr;
   const lantern_status opened =
@@ -161,8 +218,8 @@ int run(const Options &opt, int rank, int size) {
   for (size_t k = 0; k < selected.size(); ++k) {
     const auto t0 = std::chrono::steady_clock::now();
     lantern::SplitStats split;
-    if (auto e =
-            render_frame(ctx.get(), *source, selected[k], opt.input, rank, size, spatial, &split);
+    if (auto e = render_frame(ctx.get(), *source, selected[k], opt.input,
+                              opt.bonds.empty() ? nullptr : &bonds, rank, size, spatial, &split);
         !e.empty())
       return fail(e);
     if (rank == 0) {

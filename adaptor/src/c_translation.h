@@ -8,6 +8,7 @@
 #include <type_traits>
 
 #include "core/common/status.h"
+#include "core/particles/bond_description.h"
 #include "core/particles/particle_description.h"
 #include "lantern/lantern.h"
 
@@ -79,6 +80,31 @@ inline ParticleDescription from_c(const lantern_particles &p) {
 
 inline lantern_particles to_c(const ParticleDescription &d) {
   return translate_particles<lantern_particles>(d, [](const BorrowedArray &a) { return to_c(a); });
+}
+
+static_assert(int(BondListing::kListedOnce) == LANTERN_BONDS_LISTED_ONCE &&
+                  int(BondListing::kListedByBoth) == LANTERN_BONDS_LISTED_BY_BOTH,
+              "BondListing and lantern_bond_listing must keep the same values");
+
+// The bonds' listing as the int the C caller stored (as datatype_value, and for the same
+// reason): BondListing has a fixed underlying type, so any int converts, and validation names
+// values that are not a lantern_bond_listing.
+inline BondListing listing_value(const lantern_bonds &b) {
+  std::underlying_type_t<lantern_bond_listing> raw{};
+  static_assert(sizeof raw == sizeof b.listing, "lantern_bond_listing is stored as its type");
+  std::memcpy(&raw, &b.listing, sizeof raw);
+  return static_cast<BondListing>(static_cast<int>(raw));
+}
+
+inline BondDescription from_c(const lantern_bonds &b) {
+  BondDescription d;
+  d.count = b.count;
+  d.first = from_c(b.first);
+  d.second = from_c(b.second);
+  d.type = from_c(b.type);
+  d.ghost_count = b.ghost_count;
+  d.listing = listing_value(b);
+  return d;
 }
 
 }  // namespace lantern

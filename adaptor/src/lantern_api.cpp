@@ -91,6 +91,16 @@ lantern_status lantern_publish(lantern_context *ctx, const lantern_particles *pa
   });
 }
 
+lantern_status lantern_publish_bonds(lantern_context *ctx, const lantern_bonds *bonds) {
+  if (!ctx) return LANTERN_ERR_NULL_ARGUMENT;
+  return guarded(ctx, "lantern_publish_bonds", [&]() -> lantern_status {
+    if (!ctx->runtime)
+      return fail(ctx, LANTERN_ERR_INVALID_ARGUMENT, "ctx: this context failed to open");
+    if (!bonds) return fail(ctx, LANTERN_ERR_NULL_ARGUMENT, "bonds: NULL");
+    return report(ctx, ctx->runtime->publish_bonds(lantern::from_c(*bonds)));
+  });
+}
+
 lantern_status lantern_set_box(lantern_context *ctx, const double low[3], const double high[3],
                                const int periodic[3]) {
   if (!ctx) return LANTERN_ERR_NULL_ARGUMENT;

@@ -251,6 +251,20 @@ struct DensityConfig {
   std::string colormap = "grayscale";          // colormap: of the intensity (color.by: solid)
 };
 
+// bonds: published bonds (lantern_publish_bonds) drawn as cylinders, each split at its midpoint
+// into two half-bonds; off unless the section is present. color: by_atom gives each half its
+// atom's sphere color (as LAMMPS's dump image and OVITO split a bond), by_type the color of the
+// bond's type from `palette`, solid one `solid` color.
+enum class BondColorBy { kAtom, kType, kSolid };
+
+struct BondsConfig {
+  bool enabled = false;                        // the section is present
+  double radius = 0.15;                        // radius: > 0, the simulation's length unit
+  BondColorBy color = BondColorBy::kAtom;      // color: by_atom | by_type | solid
+  std::array<double, 3> solid{0.6, 0.6, 0.6};  // solid: [r, g, b] (color: solid)
+  std::vector<std::array<double, 3>> palette;  // palette: per bond type; empty = built-in
+};
+
 // Overlays: drawn on rank 0 over the finished image (core/finish/overlays/), each off unless
 // given. A place on the image: one of its corners (with a margin), or `at`, the overlay's
 // top-left pixel counted from the image's top-left corner.
@@ -332,6 +346,7 @@ struct SceneConfig {
   // beyond the list, and every type when it is empty (the default), are opaque.
   std::vector<double> opacity;
   Lighting lighting;  // lighting: {direction, ambient, diffuse, specular, shininess} (lighting.h)
+  BondsConfig bonds;  // bonds: {radius, color, solid, palette}
   std::vector<LabelConfig> labels;  // labels: [{text, ...}, ...]
   LegendConfig legend;              // legend: {...}
   BoxOverlayConfig box;             // box: {...}

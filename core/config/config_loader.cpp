@@ -352,6 +352,15 @@ const Section<Lighting> kLighting(
     },
     {"must be a mapping ({} for the defaults)"});
 
+const Section<BondsConfig> kBonds(
+    {
+        {"radius", &BondsConfig::radius, above(0)},
+        {"color", &BondsConfig::color, one_of<BondColorBy>()},
+        {"solid", &BondsConfig::solid, rgb()},
+        {"palette", &BondsConfig::palette,
+         list_of(rgb(), "must list at least one color (omit it for the default)")},
+    },
+    kCue, &BondsConfig::enabled);
 const Section<LabelConfig> kLabel(
     {
         rule(label_has_text),
@@ -416,6 +425,7 @@ const Section<SceneConfig> kScene(
         {"opacity", &SceneConfig::opacity,
          list_of(number_in('[', 0, 1, ']'), "must list at least one opacity (omit it for opaque)")},
         {"lighting", &SceneConfig::lighting, kLighting},
+        {"bonds", &SceneConfig::bonds, kBonds},
         {"labels", &SceneConfig::labels, list_of(kLabel)},
         {"legend", &SceneConfig::legend, kLegend},
         {"box", &SceneConfig::box, kBoxOverlay},

@@ -212,6 +212,9 @@ void density_scene_has_no_depth(const YamlReader &r, const YAML::Node &scene,
     if (key_node(scene, cue).IsDefined())
       r.fail(key_node(scene, cue), child_path(path, cue),
              "needs style: spheres (a density image has no depth to cue)");
+  if (key_node(scene, "bonds").IsDefined())
+    r.fail(key_node(scene, "bonds"), child_path(path, "bonds"),
+           "needs style: spheres (bonds are drawn as cylinders among the spheres)");
 }
 
 void transparent_output_keeps_alpha(const YamlReader &r, const YAML::Node &scene,

@@ -58,7 +58,7 @@ void sample_frame_fits(const YamlReader &r, const YAML::Node &scene, const std::
 // scenes[i]: occlusion: probabilistic runs in the CPU raster's pass only.
 void renderer_serves_occlusion(const YamlReader &r, const YAML::Node &scene,
                                const std::string &path, SceneConfig &s);
-// scenes[i]: style: density has no surface: samples 1, and no depth cues.
+// scenes[i]: style: density has no surface: samples 1, no depth cues and no bonds.
 void density_scene_has_no_depth(const YamlReader &r, const YAML::Node &scene,
                                 const std::string &path, SceneConfig &s);
 // scenes[i]: background: transparent needs output that stores alpha: not JPEG, not a movie.

@@ -76,6 +76,10 @@ inline constexpr EnumName<OverlayCorner> kOverlayCornerNames[] = {
     {OverlayCorner::kBottomLeft, "bottom_left"},
     {OverlayCorner::kBottomRight, "bottom_right"}};
 
+inline constexpr EnumName<BondColorBy> kBondColorByNames[] = {{BondColorBy::kAtom, "by_atom"},
+                                                              {BondColorBy::kType, "by_type"},
+                                                              {BondColorBy::kSolid, "solid"}};
+
 // The table of each enum, so that name_of / value_of / names_of need only the enum type.
 inline constexpr const auto &names_table(OcclusionMode) {
   return kOcclusionModeNames;
@@ -106,6 +110,9 @@ inline constexpr const auto &names_table(DensityTransfer) {
 }
 inline constexpr const auto &names_table(LodSelect) {
   return kLodSelectNames;
+}
+inline constexpr const auto &names_table(BondColorBy) {
+  return kBondColorByNames;
 }
 inline constexpr const auto &names_table(AutoRange) {
   return kAutoRangeNames;

@@ -23,6 +23,9 @@ struct CullSettings {
   LodGrowth lod_growth = LodGrowth::kCoverage;
   bool lod_nearest = false;
   std::vector<CutPlane> cuts;  // cut_planes (disabled ones cut nothing)
+  // bonds: the scene draws the published bonds, as cylinders of this radius (bonds.radius).
+  bool bonds = false;
+  double bond_radius = 0.15;
 };
 
 }  // namespace lantern

@@ -46,6 +46,10 @@ class Culler {
                 const CullSettings &settings, const RadiusRule &radius, DrawList *out);
   // The double-precision camera of the last run() (the point path needs it after rendering).
   const ViewGeometry &geometry() const { return selection_.g; }
+  // After cull() under hzb: true when every pixel of `rect` (clamped to the image) holds a sphere
+  // it accepted - so one that is drawn - certainly nearer than view depth z. False in the other
+  // modes. Bonds are culled with it after the spheres (core/culling/bond_selection.h).
+  bool covered(const PixelRect &rect, double z) const;
 
  private:
   template <typename Positions, typename Radii>
@@ -65,6 +69,7 @@ class Culler {
   std::vector<Hzb> hzb_ = std::vector<Hzb>(1);
   NineSpheresGrid nine_;
   bool nine_equivalent_ = false;  // nine-spheres compares equivalent radii, not world
+  int hzb_strips_ = 0;            // the last cull()'s hzb pyramids: 0 (not hzb), else its strips
   std::vector<uint64_t> scratch_;
 };
 

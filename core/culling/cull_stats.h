@@ -18,6 +18,16 @@ struct ProbabilisticStats {
   int64_t particles_culled = 0;        // particles of the occluded meshlets
 };
 
+// Half-bonds (two per bond) on one rank: those this rank draws, and what became of them.
+struct BondCounts {
+  int64_t halves = 0;            // half-bonds of this rank's list that it draws
+  int64_t frustum_culled = 0;    // outside the view frustum
+  int64_t cut_culled = 0;        // their atom on the dropped side of a cutting plane
+  int64_t lod_dropped = 0;       // in a brick that level of detail thinned
+  int64_t occlusion_culled = 0;  // hidden (exactly: hzb, or the CPU raster's depth)
+  int64_t drawn = 0;             // drawn as cylinders
+};
+
 struct CullStats {
   std::string occlusion;         // the mode run; for auto also why, e.g. "hzb (auto: dense, ...)"
   int64_t candidates = 0;        // finite particles of the rank
@@ -30,6 +40,7 @@ struct CullStats {
   int64_t bricks = 0, bricks_outside = 0, bricks_inside = 0, bricks_occluded = 0;
   bool per_particle_frustum = false;  // some brick straddled the frustum
   ProbabilisticStats probabilistic;   // occlusion: probabilistic only
+  BondCounts bonds;                   // scenes with bonds only
 };
 
 // The probabilistic counts of every rank of comm: the slowest rank's iterations and samples, the

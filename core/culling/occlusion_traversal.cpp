@@ -57,6 +57,7 @@ CullStats Culler::cull(const ParticleArrays &particles, const BrickSet &bricks,
   if (nine_equivalent_ &&
       (mode == OcclusionMode::kNineSpheres || mode == OcclusionMode::kNineSpheresSorted))
     st.occlusion += " (equivalent radius)";
+  hzb_strips_ = mode == OcclusionMode::kHzb ? 1 : 0;  // process_strips sets its strip count
   if (trivial(settings, sel)) {
     out->everything = true;  // nothing to cull: brute force order, no per-particle pass
     st.drawn = st.candidates;
@@ -83,6 +84,17 @@ CullStats Culler::cull(const ParticleArrays &particles, const BrickSet &bricks,
   st.drawn = int64_t(out->spheres.size());
   st.splatted = int64_t(out->points.size());
   return st;
+}
+
+bool Culler::covered(const PixelRect &rect, double z) const {
+  if (hzb_strips_ == 0 || rect.empty()) return false;
+  for (int k = 0; k < hzb_strips_; ++k) {
+    PixelRect part = rect;
+    if (hzb_strips_ > 1)
+      part.x0 = std::max(part.x0, strips_[k].x0), part.x1 = std::min(part.x1, strips_[k].x1);
+    if (!part.empty() && !hzb_[k].covered(part, z)) return false;
+  }
+  return true;
 }
 
 bool Culler::occluded(OcclusionMode mode, const ViewGeometry &g, const Candidate &cand, int strip) {
@@ -149,6 +161,7 @@ void Culler::process_strips(const CullPass<Positions, Radii> &pass, const BrickS
                             int threads, CullStats *st, DrawList *out) {
   const ViewGeometry &g = sel.g;
   const int count = split_strips(g.width, threads, &strips_);
+  hzb_strips_ = count;
   if (int(hzb_.size()) < count) hzb_.resize(size_t(count));
   for (int k = 1; k < count; ++k) hzb_[size_t(k)].reset(g);
   const bool point_path = pass.point_path;

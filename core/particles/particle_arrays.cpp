@@ -38,10 +38,20 @@ bool is_integer(DataType t) {
   return t == DataType::kInt32 || t == DataType::kInt64;
 }
 
-// Validates one array; `components` elements per entry. OK, or kInvalidArgument naming the field.
+bool given(const BorrowedArray &a) {
+  return a.data != nullptr || a.type != DataType::kNone;
+}
+
 Status check_array(const BorrowedArray &a, const char *name, int components, bool want_real,
                    int64_t count, StridedArray *out) {
-  const std::string field = std::string("particles.") + name;
+  return check_borrowed_array(a, std::string("particles.") + name, components, want_real, count,
+                              out);
+}
+
+}  // namespace
+
+Status check_borrowed_array(const BorrowedArray &a, const std::string &field, int components,
+                            bool want_real, int64_t count, StridedArray *out) {
   const auto invalid = [&field](const std::string &what) {
     return Status(StatusCode::kInvalidArgument, field + what);
   };
@@ -65,12 +75,6 @@ Status check_array(const BorrowedArray &a, const char *name, int components, boo
   *out = StridedArray(a.data, a.type, stride);
   return {};
 }
-
-bool given(const BorrowedArray &a) {
-  return a.data != nullptr || a.type != DataType::kNone;
-}
-
-}  // namespace
 
 Status ParticleArrays::validate(const ParticleDescription &p, ParticleArrays *out) {
   const auto invalid = [](std::string message) {

@@ -75,6 +75,13 @@ class StridedArray {
   int64_t stride_ = 0;
 };
 
+// Validates one borrowed array of `count` entries of `components` elements each, real (float32 or
+// float64) when `want_real`, else integer (int32 or int64); an absent array (no data, no type) is
+// fine and leaves *out absent. OK with *out set, or kInvalidArgument naming `field` (the whole
+// name, e.g. "particles.position" or "bonds.first").
+Status check_borrowed_array(const BorrowedArray &a, const std::string &field, int components,
+                            bool want_real, int64_t count, StridedArray *out);
+
 // The validated particle set of one rank. Build it with ParticleArrays::validate().
 class ParticleArrays {
  public:

@@ -1,8 +1,8 @@
 // One sphere scene drawn on this rank, exactly as the pipeline draws it: the visible bricks
 // (frustum, cutting planes, level of detail, the occlusion mode), the renderer decided once
 // (renderer_choice.h), culling and drawing - the CPU sphere pass, or the culler then OpenGL's
-// impostors - and the point path's splats. Tests and benchmarks draw through this function too,
-// so they exercise the pipeline's own wiring instead of copies of it.
+// impostors - with the scene's bonds, and the point path's splats. Tests and benchmarks draw
+// through this function too, so they exercise the pipeline's own wiring instead of copies of it.
 //
 // Local: no communication; the frame is this rank's, before compositing. Ownership: a RankScene
 // borrows everything it points to for the call; the scratch is reused between calls (keep one
@@ -14,16 +14,20 @@
 #include <utility>
 #include <vector>
 
+#include "core/bricks/brick_bonds.h"
 #include "core/bricks/brick_set.h"
 #include "core/camera/camera.h"
 #include "core/common/status.h"
+#include "core/culling/bond_selection.h"
 #include "core/culling/brick_cut_counts.h"
 #include "core/culling/brick_selection.h"
 #include "core/culling/cull_stage.h"
 #include "core/culling/cull_stats.h"
 #include "core/culling/draw_list.h"
+#include "core/particles/bond_arrays.h"
 #include "core/particles/global_extent.h"
 #include "core/particles/particle_arrays.h"
+#include "core/particles/periodic_box.h"
 #include "core/particles/radius_rule.h"
 #include "core/pipeline/scene_settings.h"
 #include "core/render/cpu_sphere_pass.h"
@@ -45,6 +49,11 @@ struct RankScene {
   SphereRenderer *renderer = nullptr;          // null: no OpenGL, the CPU raster draws
   const OcclusionVolume *occlusion = nullptr;  // object-space ambient occlusion, or none
   BrickCutCounts *cut_counts = nullptr;        // the scene's, kept between frames, or none
+  // The published bonds and their half-bonds for `bricks` (brick_bonds.h), drawn when the
+  // scene's settings.cull.bonds says so; `box` gives their minimum image (or none).
+  const BondArrays *bonds = nullptr;
+  const BrickBonds *bond_halves = nullptr;
+  const PeriodicBox *box = nullptr;
   // Threads for the CPU raster's and the hzb culler's column strips (the image and the counts
   // are the same at any count; the pipeline passes `threads:`).
   int threads = 2;
@@ -65,6 +74,9 @@ struct RankDrawScratch {
   CpuSpherePass cpu_pass;    // culling and drawing in one pass for the CPU renderer
   DrawList draw;             // the CPU pass's drawn spheres stay; the rest is released once drawn
   std::vector<SphereInstance> instances;  // OpenGL's instances of the drawn spheres
+  BondSelection bond_selection;           // the visible bricks' half-bonds
+  std::vector<uint32_t> bond_kept;        // OpenGL: the half-bonds to draw
+  std::vector<BondInstance> bond_instances;
 };
 
 // What one rank drew and how long each part took (milliseconds).

@@ -189,10 +189,22 @@ Runtime::~Runtime() {
 Status Runtime::publish(const ParticleDescription &particles) {
   ParticleArrays validated;
   particles_ =
-      ParticleArrays();  // a failed publish leaves no particles (lantern_publish in the C API)
+      ParticleArrays();   // a failed publish leaves no particles (lantern_publish in the C API)
+  bonds_ = BondArrays();  // their indices referred to the arrays being replaced
+  ++bonds_serial_;
   if (Status s = ParticleArrays::validate(particles, &validated); !s.ok()) return s;
   if (Status s = check_radii(validated); !s.ok()) return s;
   particles_ = validated;
+  return {};
+}
+
+Status Runtime::publish_bonds(const BondDescription &bonds) {
+  BondArrays validated;
+  bonds_ = BondArrays();  // a failed publish leaves no bonds (lantern_publish_bonds)
+  ++bonds_serial_;
+  if (Status s = BondArrays::validate(bonds, particles_, &validated); !s.ok()) return s;
+  if (Status s = check_bonds(validated, particles_); !s.ok()) return s;
+  bonds_ = validated;
   return {};
 }
 
@@ -248,6 +260,12 @@ void Runtime::warn_nonfinite_once(int64_t count, int64_t step) {
 Status Runtime::set_box(const Box &box) {
   if (Status s = validate_box(box); !s.ok()) return with_context("box: ", std::move(s));
   box_ = box;
+  PeriodicBox periodic;
+  for (int a = 0; a < 3; ++a) {
+    periodic.length[a] = box.high[a] - box.low[a];
+    periodic.periodic[a] = box.periodic[a];
+  }
+  periodic_box_ = periodic;
   return {};
 }
 
@@ -290,6 +308,9 @@ Status Runtime::execute(int64_t step, double time) {
     first_error = agree_on_status(comm_, made_current);
     if (!first_error.ok()) stats.clear();  // no scene was drawn
     ScenePassInputs in{comm_, renderer, &particles_, global, step, time, &scratch_};
+    in.bonds = &bonds_;
+    in.bonds_serial = bonds_serial_;
+    in.periodic_box = periodic_box_ ? &*periodic_box_ : nullptr;
     in.per_rank_stats = !config_.stats_file.empty();  // the same configuration on every rank
     in.threads = threads;
     in.local = &local;
@@ -298,6 +319,14 @@ Status Runtime::execute(int64_t step, double time) {
     for (size_t s = 0; s < stats.size(); ++s) {
       const Status st = run_scene_pass(in, config_.scenes[s], &buffers_[s], &stats[s]);
       if (!st.ok() && first_error.ok()) first_error = st;  // later scenes still render
+    }
+    // Bonds that went bad since they were published were left out of the images; say which.
+    // Collective where some scene draws bonds (the same configuration on every rank).
+    const bool any_bonds = std::any_of(config_.scenes.begin(), config_.scenes.end(),
+                                       [](const SceneConfig &c) { return c.bonds.enabled; });
+    if (any_bonds) {
+      const Status bonds = agree_on_status(comm_, scratch_.bonds.status(step));
+      if (!bonds.ok() && first_error.ok()) first_error = bonds;
     }
   }
   const double total_ms = scan_ms + ms_since(t0);

@@ -17,7 +17,9 @@
 #include "core/config/config.h"
 #include "core/dump/box.h"
 #include "core/dump/dump_stage.h"
+#include "core/particles/bond_arrays.h"
 #include "core/particles/particle_arrays.h"
+#include "core/particles/periodic_box.h"
 #include "core/pipeline/config_watch.h"
 #include "core/pipeline/scene_pass.h"
 #include "core/render/gl/gl_session.h"
@@ -35,12 +37,15 @@ class Runtime {
   Runtime(const Runtime &) = delete;
   Runtime &operator=(const Runtime &) = delete;
 
-  Status publish(const ParticleDescription &particles);  // local
-  Status execute(int64_t step, double time);             // collective on scheduled steps
+  Status publish(const ParticleDescription &particles);  // local; forgets the bonds
+  // Local: the bonds of the particles last published (lantern_publish_bonds). On failure this
+  // rank has no bonds until the next successful call.
+  Status publish_bonds(const BondDescription &bonds);
+  Status execute(int64_t step, double time);  // collective on scheduled steps
   // Waits for images still being written in the background; collective, same status on every
   // rank. Called by lantern_close before the Runtime is destroyed.
   Status finish();
-  Status set_box(const Box &box);  // local; recorded with particle dumps
+  Status set_box(const Box &box);  // local; recorded with particle dumps, bonds' minimum image
   // Replaces the configuration (lantern_reconfigure; runtime_reconfigure.cpp). Collective; every
   // rank returns the same status, and on failure the running configuration stays. nullopt (a
   // NULL from the C API) fails on every rank with kNullArgument.
@@ -87,12 +92,15 @@ class Runtime {
   MPI_Comm comm_ = MPI_COMM_NULL;
   int rank_ = 0, size_ = 1;
   ParticleArrays particles_;
-  std::shared_ptr<GlSession> gl_;      // null without OpenGL
+  BondArrays bonds_;               // count 0: no bonds
+  uint64_t bonds_serial_ = 0;      // bumped by every publish, so the step's half-bonds are rebuilt
+  std::shared_ptr<GlSession> gl_;  // null without OpenGL
   std::vector<SceneBuffers> buffers_;  // one per scene
   PassScratch scratch_;                // bricks and culling buffers, shared by the scenes
   bool warned_nonfinite_ = false;
-  std::optional<Box> box_;           // lantern_set_box(); dumps use particle bounds without it
-  std::unique_ptr<DumpStage> dump_;  // null unless config_.dump.enabled
+  std::optional<Box> box_;  // lantern_set_box(); dumps use particle bounds without it
+  std::optional<PeriodicBox> periodic_box_;  // box_'s axes for bonds' minimum image
+  std::unique_ptr<DumpStage> dump_;          // null unless config_.dump.enabled
   // Live configuration: where the running configuration came from, for no-op detection and
   // `watch: true`; what the next stats line says about a reload (rank 0).
   std::string config_path_;   // "" for an inline document

@@ -29,7 +29,12 @@ using Clock = std::chrono::steady_clock;
 
 // The arrays a scene needs that this rank did not publish.
 Status check_scene_needs(const SceneConfig &scene, const RadiusRule &radius,
-                         const ParticleArrays &p) {
+                         const ParticleArrays &p, const BondArrays *bonds) {
+  if (scene.bonds.enabled && scene.bonds.color == BondColorBy::kType && bonds &&
+      bonds->count() > 0 && !bonds->has_type())
+    return {StatusCode::kInvalidArgument, "scenes '" + scene.name +
+                                              "': bonds.color is by_type but no bond type array "
+                                              "was published (lantern_bonds.type)"};
   if (p.count() == 0) return {};
   if (radius.wanted && !radius.per_particle)
     return {StatusCode::kInvalidArgument, "scenes '" + scene.name +
@@ -176,7 +181,7 @@ Status run_scene_pass(const ScenePassInputs &in, const SceneConfig &scene, Scene
   // The colours use this frame's range (fixed, or remembered across steps).
   SceneSettings settings = scene_settings(scene);
   settings.shading.color.range = color_range;
-  Status local = check_scene_needs(scene, radius, *in.particles);
+  Status local = check_scene_needs(scene, radius, *in.particles, in.bonds);
   if (scene.style == SceneStyle::kDensity) {
     if (Status s = run_density_scene(in, settings, where, camera, radius, std::move(local), buffers,
                                      stats);

@@ -11,6 +11,7 @@
 #include <optional>
 #include <string>
 
+#include "core/bricks/brick_bonds.h"
 #include "core/bricks/brick_cache.h"
 #include "core/color/color_range.h"
 #include "core/composite/composite_cost_model.h"
@@ -19,8 +20,10 @@
 #include "core/finish/overlays/overlays.h"
 #include "core/output/background_image_writer.h"
 #include "core/output/movie/movie_writer.h"
+#include "core/particles/bond_arrays.h"
 #include "core/particles/global_extent.h"
 #include "core/particles/particle_arrays.h"
+#include "core/particles/periodic_box.h"
 #include "core/pipeline/rank_draw.h"
 #include "core/render/density_splat.h"
 #include "core/render/gl/sphere_renderer.h"
@@ -31,6 +34,7 @@ namespace lantern {
 // What the scenes of one context share and keep between steps; owned by the Runtime.
 struct PassScratch {
   BrickCache bricks;     // this step's bricks, refit on later steps
+  BondCache bonds;       // this step's half-bonds by brick, for the scenes that draw bonds
   RankDrawScratch draw;  // selection, culling and drawing buffers (rank_draw.h)
   // Compositing's cost model, measured at the context's first compositing on two or more ranks
   // (composite_cost_model.h) and kept: the same on every rank.
@@ -46,6 +50,9 @@ struct ScenePassInputs {
   int64_t step = 0;
   double time = 0.0;
   PassScratch *scratch = nullptr;
+  const BondArrays *bonds = nullptr;          // this rank's published bonds (count 0: none)
+  uint64_t bonds_serial = 0;                  // changes with every publication (BondCache)
+  const PeriodicBox *periodic_box = nullptr;  // lantern_set_box's, bonds' minimum image; or none
   // Gather the per-rank spread of drawn, culled and milliseconds (SceneStats::per_rank): one
   // small reduction per scene, run only when the stats line is written. Same on every rank.
   bool per_rank_stats = false;

@@ -27,6 +27,8 @@ CullSettings cull_settings(const SceneConfig &scene) {
   c.lod_nearest = scene.lod.select == LodSelect::kNearest && scene.style == SceneStyle::kSpheres &&
                   scene.culling.occlusion != OcclusionMode::kProbabilistic;
   c.cuts = scene.cuts;
+  c.bonds = scene.bonds.enabled && scene.style == SceneStyle::kSpheres;
+  c.bond_radius = scene.bonds.radius;
   return c;
 }
 
@@ -37,6 +39,7 @@ ShadingSettings shading_settings(const SceneConfig &scene) {
   s.lighting = scene.lighting;
   s.background = scene.background;
   s.transparent_background = scene.transparent_background;
+  s.bonds = scene.bonds;
   return s;
 }
 

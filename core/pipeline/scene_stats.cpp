@@ -29,6 +29,17 @@ void sum_counts_over_ranks(MPI_Comm comm, const CullStats &local, SceneStats *st
   stats->occlusion_culled = out[5];
 }
 
+void sum_bond_counts_over_ranks(MPI_Comm comm, const BondCounts &local, SceneStats *stats) {
+  int64_t in[6] = {local.halves,      local.frustum_culled,   local.cut_culled,
+                   local.lod_dropped, local.occlusion_culled, local.drawn};
+  int64_t out[6] = {0, 0, 0, 0, 0, 0};
+  MPI_Allreduce(in, out, 6, MPI_INT64_T, MPI_SUM, comm);
+  BondCounts c;
+  c.halves = out[0], c.frustum_culled = out[1], c.cut_culled = out[2];
+  c.lod_dropped = out[3], c.occlusion_culled = out[4], c.drawn = out[5];
+  stats->bonds = c;
+}
+
 CompositeSummary summarize_composite(MPI_Comm comm, const CompositeStats &local,
                                      const CompositeCostModel *model) {
   const CompositeTraffic &t = local.traffic;
@@ -72,6 +83,13 @@ std::string SceneStats::per_rank_line() const {
 nlohmann::json SceneStats::to_json() const {
   nlohmann::json j = counts_json();
   if (per_rank) j["per_rank"] = per_rank->to_json();
+  if (bonds)
+    j["bonds"] = {{"halves", bonds->halves},
+                  {"drawn", bonds->drawn},
+                  {"frustum_culled", bonds->frustum_culled},
+                  {"cut_culled", bonds->cut_culled},
+                  {"lod_dropped", bonds->lod_dropped},
+                  {"occlusion_culled", bonds->occlusion_culled}};
   if (composite) j["composite"] = composite->to_json();
   if (color_range) j["color_range"] = {(*color_range)[0], (*color_range)[1]};
   if (movie) {

@@ -78,6 +78,9 @@ struct SceneStats {
   // occlusion: probabilistic: iterations and samples (the slowest rank), meshlets per class and
   // particles culled (summed over ranks). JSON "probabilistic".
   std::optional<ProbabilisticStats> probabilistic;
+  // Scenes with bonds: half-bonds (two per bond) drawn and culled, summed over ranks. JSON
+  // "bonds".
+  std::optional<BondCounts> bonds;
   // Compositing's traffic over the ranks (rank 0; with stats on, two or more ranks).
   std::optional<CompositeSummary> composite;
   // output.movie: JSON "movie" {file, encoder, frames, queued, dropped, behind, ...}.
@@ -99,5 +102,7 @@ struct SceneStats {
 // planes, level of detail and occlusion) over the ranks of comm into *stats. Collective: one
 // reduction; every rank gets the sums.
 void sum_counts_over_ranks(MPI_Comm comm, const CullStats &local, SceneStats *stats);
+// The same for the half-bond counts, into stats->bonds. Collective: one reduction.
+void sum_bond_counts_over_ranks(MPI_Comm comm, const BondCounts &local, SceneStats *stats);
 
 }  // namespace lantern

@@ -43,11 +43,19 @@ Status run_sphere_scene(const ScenePassInputs &in, const SceneSettings &settings
       double build_ms = 0.0;
       const BrickSet &bricks = in.scratch->bricks.for_step(
           *in.particles, in.step, brick_options(in), &build_ms, &stats->bricks);
+      // The step's half-bonds by brick, built with the bricks (once per step, for every scene).
+      const BrickBonds *halves = nullptr;
+      if (settings.cull.bonds && in.bonds && in.bonds->count() > 0)
+        halves = &in.scratch->bonds.for_step(*in.particles, *in.bonds, in.bonds_serial, bricks,
+                                             in.periodic_box, in.step, &build_ms);
       stats->bricks_ms = build_ms;
       // A refit the runtime made ahead of the scan (BrickCache::refit_first) counts as culling.
       const double bricks_wall_ms = ms_since(t0);
       const double ahead_ms = std::max(0.0, build_ms - bricks_wall_ms);
       RankScene rank_scene(*in.particles, bricks, camera, settings, radius);
+      rank_scene.bonds = in.bonds;
+      rank_scene.bond_halves = halves;
+      rank_scene.box = in.periodic_box;
       rank_scene.global = in.global;
       rank_scene.step = in.step;
       rank_scene.renderer = in.renderer;
@@ -71,6 +79,7 @@ Status run_sphere_scene(const ScenePassInputs &in, const SceneSettings &settings
   const double own_ms = ms_since(t_start);  // this rank's work, before waiting on the others
   if (Status s = agree_on_status(in.comm, local); !s.ok()) return s;
   sum_counts_over_ranks(in.comm, cull, stats);
+  if (settings.cull.bonds) sum_bond_counts_over_ranks(in.comm, cull.bonds, stats);
   if (settings.cull.occlusion == OcclusionMode::kProbabilistic)  // the same on every rank
     stats->probabilistic = reduce_probabilistic_stats(in.comm, cull.probabilistic);
   stats->culled = in.global.finite_count - stats->drawn - stats->splatted;

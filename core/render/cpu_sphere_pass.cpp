@@ -14,6 +14,55 @@ constexpr double kRasterSlack = 0.05;
 
 }  // namespace
 
+void CpuSpherePass::begin_bonds(const BondDrawing &bonds, int count) {
+  if (int(bond_drops_.size()) < count) bond_drops_.resize(size_t(count));
+  if (int(bond_marks_.size()) < count) bond_marks_.resize(size_t(count));
+  for (int k = 0; k < count; ++k)
+    bond_marks_[size_t(k)].assign(bonds.recipe->halves->half_count(), 0);
+}
+
+template <typename Positions>
+void CpuSpherePass::draw_bonds(int k, const Positions &pos, const ViewGeometry &g,
+                               const CutPlanes &cuts, bool occlusion, const BondDrawing &bonds) {
+  CpuSphereRaster &raster = rasters_[size_t(k)];
+  const StripState &strip = strips_[size_t(k)];
+  std::vector<uint8_t> &marks = bond_marks_[size_t(k)];
+  const BondRecipe &recipe = *bonds.recipe;
+  const BrickBonds &halves = *recipe.halves;
+  const double radius = bonds.selection->radius;
+  // A bond is hidden in this strip when its part of the strip is covered (or empty); the other
+  // strips judge the rest (column_strips.h).
+  const auto hidden = [&](const PixelRect &r, double z) {
+    PixelRect in_strip = r;
+    in_strip.x0 = std::max(in_strip.x0, strip.x0);
+    in_strip.x1 = std::min(in_strip.x1, strip.x1);
+    return in_strip.empty() || (occlusion && raster.covered(in_strip, z));
+  };
+  const auto visit = [&](const HalfBondView &v) {
+    const HalfBond &h = halves.halves[v.index];
+    const Rgb8 color = recipe.color(h);
+    raster.draw_bond(v.a, v.b, radius, color.data(), v.rect, recipe.alpha(h));
+    marks[v.index] = 1;
+  };
+  visit_bond_halves(halves, *bonds.selection, pos, recipe.box, g, cuts, hidden, visit,
+                    &bond_drops_[size_t(k)]);
+}
+
+BondCounts CpuSpherePass::count_bonds(const BondDrawing &bonds, int count) {
+  // A half-bond is drawn when some strip drew its part of it.
+  const size_t n = bonds.recipe->halves->half_count();
+  int64_t drawn = 0;
+  for (size_t i = 0; i < n; ++i) {
+    bool any = false;
+    for (int k = 0; k < count && !any; ++k) any = bond_marks_[size_t(k)][i] != 0;
+    drawn += any;
+  }
+  for (std::vector<uint8_t> &m : bond_marks_) std::vector<uint8_t>().swap(m);  // per-frame scratch
+  std::vector<const BondDrops *> passes(static_cast<size_t>(count));
+  for (int k = 0; k < count; ++k) passes[size_t(k)] = &bond_drops_[size_t(k)];
+  return bond_counts(*bonds.recipe->halves, *bonds.selection, passes.data(), count, drawn);
+}
+
 void CpuSpherePass::begin_strips(int count, const ViewGeometry &g, const Lighting *lighting,
                                  Frame *frame) {
   if (int(rasters_.size()) < count) rasters_.resize(size_t(count));
@@ -28,10 +77,22 @@ CullStats CpuSpherePass::run(const ParticleArrays &particles, const BrickSet &br
                              const CullSettings &cull, const Lighting &lighting,
                              const BrickSelection &sel, const InstanceRecipe &recipe,
                              const uint8_t background[4], Frame *frame, DrawList *out, int64_t step,
-                             int threads) {
-  if (sel.mode == OcclusionMode::kProbabilistic)
-    return run_probabilistic(particles, bricks, cull, sel, recipe, background, frame, out, step,
-                             threads);
+                             int threads, const BondDrawing *bonds) {
+  if (sel.mode == OcclusionMode::kProbabilistic) {
+    CullStats st = run_probabilistic(particles, bricks, cull, sel, recipe, background, frame, out,
+                                     step, threads);
+    if (!bonds) return st;
+    // The probabilistic culler judges particles only; bonds are culled exactly, against the
+    // depth the raster drew (the strips run_probabilistic split, with their rasters).
+    const int count = split_strips(sel.g.width, threads, &strips_);
+    begin_bonds(*bonds, count);
+    const CutPlanes cuts(cull.cuts);
+    visit_positions(particles, [&](const auto &pos) {
+      run_strips(count, [&](int k) { draw_bonds(k, pos, sel.g, cuts, true, *bonds); });
+    });
+    st.bonds = count_bonds(*bonds, count);
+    return st;
+  }
   CullStats st = sel.stats;
   out->clear();
   const ViewGeometry &g = sel.g;
@@ -40,6 +101,7 @@ CullStats CpuSpherePass::run(const ParticleArrays &particles, const BrickSet &br
   const int count = split_strips(g.width, threads, &strips_);
   CpuSphereRaster::clear_target(g, background, frame);
   begin_strips(count, g, &lighting, frame);
+  if (bonds) begin_bonds(*bonds, count);
 
   const Frustum frustum(g);
   const CutPlanes cuts(cull.cuts);
@@ -73,6 +135,7 @@ CullStats CpuSpherePass::run(const ParticleArrays &particles, const BrickSet &br
         // Splats skip the depth test (visit): a hidden bucket may still hold one to splat.
         walk_strip(pass, sel.visible, occlusion, occlusion && !point_path, covered, visit,
                    &strips_[size_t(k)]);
+        if (bonds) draw_bonds(k, pos, g, cuts, occlusion, *bonds);
       };
       run_strips(count, strip);
     });
@@ -82,6 +145,7 @@ CullStats CpuSpherePass::run(const ParticleArrays &particles, const BrickSet &br
   std::vector<uint64_t>().swap(scratch_);  // per-frame scratch: keep nothing between frames
   st.drawn = int64_t(out->spheres.size());
   st.splatted = int64_t(out->points.size());
+  if (bonds) st.bonds = count_bonds(*bonds, count);
   return st;
 }
 

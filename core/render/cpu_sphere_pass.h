@@ -16,8 +16,10 @@
 #include <cstdint>
 #include <vector>
 
+#include "core/bricks/brick_bonds.h"
 #include "core/bricks/brick_set.h"
 #include "core/config/config.h"
+#include "core/culling/bond_selection.h"
 #include "core/culling/brick_selection.h"
 #include "core/culling/column_strips.h"
 #include "core/culling/cull_settings.h"
@@ -25,11 +27,19 @@
 #include "core/culling/draw_list.h"
 #include "core/culling/probabilistic/probabilistic_culler.h"
 #include "core/particles/particle_arrays.h"
+#include "core/render/bond_instances.h"
 #include "core/render/cpu_sphere_raster.h"
 #include "core/render/sphere_instances.h"
 #include "core/view/frame.h"
 
 namespace lantern {
+
+// A scene's bonds for the CPU pass: the visible bond bricks (select_bond_bricks for the same
+// selection) and their colors (whose recipe names the half-bonds and the box).
+struct BondDrawing {
+  const BondSelection *selection = nullptr;
+  const BondRecipe *recipe = nullptr;
+};
 
 class CpuSpherePass {
  public:
@@ -37,12 +47,15 @@ class CpuSpherePass {
   // (select_bricks for these particles, bricks and `cull`; its mode must be hzb, none or
   // probabilistic), colored by `recipe` and lit by `lighting`. `out` lists the spheres drawn (for
   // the counts) and the points left to splat. `step` keys probabilistic culling's random numbers.
+  // `bonds` (or none): the half-bonds to draw too, after the spheres in each strip, culled
+  // against the same depth (exactly, as the spheres are under hzb; not at all under none).
   // Returns the selection's counts completed by this pass. `threads`: column strips drawn at once
   // (the image and the lists are the same at any count).
   CullStats run(const ParticleArrays &particles, const BrickSet &bricks, const CullSettings &cull,
                 const Lighting &lighting, const BrickSelection &selection,
                 const InstanceRecipe &recipe, const uint8_t background[4], Frame *frame,
-                DrawList *out, int64_t step = 0, int threads = 2);
+                DrawList *out, int64_t step = 0, int threads = 2,
+                const BondDrawing *bonds = nullptr);
 
   // The meshlet classes of the last probabilistic run (tests).
   const ProbabilisticCuller &probabilistic() const { return probabilistic_; }
@@ -58,10 +71,22 @@ class CpuSpherePass {
 
   // Gives the first `count` strips their rasters, begun on `frame`.
   void begin_strips(int count, const ViewGeometry &g, const Lighting *lighting, Frame *frame);
+  // Strip k's half-bonds, drawn after its spheres; marks those it drew in bond_marks_[k].
+  template <typename Positions>
+  void draw_bonds(int k, const Positions &pos, const ViewGeometry &g, const CutPlanes &cuts,
+                  bool occlusion, const BondDrawing &bonds);
+  // The bond counts of the last run's first `count` strips.
+  BondCounts count_bonds(const BondDrawing &bonds, int count);
+  // Sizes the bond scratch for `count` strips of `bonds`.
+  void begin_bonds(const BondDrawing &bonds, int count);
 
   ProbabilisticCuller probabilistic_;
   std::vector<StripState> strips_;
   std::vector<CpuSphereRaster> rasters_;
+  // Per strip: its half-bonds' drops, and per half-bond whether it drew it (one byte vector per
+  // strip, so that the strips' threads never write the same memory).
+  std::vector<BondDrops> bond_drops_;
+  std::vector<std::vector<uint8_t>> bond_marks_;
   std::vector<uint64_t> scratch_;
 };
 

@@ -2,7 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <optional>
+
+#include <glm/geometric.hpp>
 
 #include "core/render/screen_door.h"
 #include "core/render/shading.h"
@@ -436,6 +439,101 @@ bool CpuSphereRaster::draw(const glm::dvec3 &c, double r, const uint8_t rgb[3], 
       }
       written.unite(PixelRect{x0 + kmin, y0 + __builtin_ctzll(won) / n, x0 + kmax,
                               y0 + (63 - __builtin_clzll(won)) / n});
+    }
+  pyramid_.propagate(written);
+  return !written.empty();
+}
+
+namespace {
+
+// The ray of one pixel against a closed cylinder: where it enters (the view depth t, which is the
+// ray parameter for D = (rx, ry, -1) from the eye or from (rx, ry, 0)), and the outward normal
+// there. With u the unit axis from a, w = o - a and the parts of D and w across the axis (Dp, wp),
+// the curved side is |wp + t Dp| = r: qa t^2 + 2 qb t + (|wp|^2 - r^2) = 0, whose discriminant is
+// qa r^2 - (u . (D x w))^2 without cancellation (the triple product is the distance between the
+// ray and the axis times |Dp|). The solid is the curved side's interval cut by the end slab
+// 0 <= (w + t D) . u <= length; the ray enters at the larger of the two entries.
+struct CylinderHit {
+  double t;
+  glm::dvec3 normal;
+};
+
+bool cast_cylinder(const glm::dvec3 &o, const glm::dvec3 &d, const glm::dvec3 &a,
+                   const glm::dvec3 &u, double length, double r, CylinderHit *hit) {
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  const glm::dvec3 w = o - a;
+  const double d_u = glm::dot(d, u), w_u = glm::dot(w, u);
+  const glm::dvec3 dp = d - d_u * u, wp = w - w_u * u;
+  const double qa = glm::dot(dp, dp);
+  double side0 = -kInf, side1 = kInf;
+  if (qa > 0.0) {
+    const double cross = glm::dot(u, glm::cross(d, w));
+    const double h2 = qa * r * r - cross * cross;
+    if (!(h2 > 0.0)) return false;
+    const double qb = glm::dot(dp, wp), s = std::sqrt(h2);
+    side0 = (-qb - s) / qa, side1 = (-qb + s) / qa;
+  } else if (!(glm::dot(wp, wp) < r * r)) {
+    return false;  // along the axis, outside the curved side
+  }
+  double slab0 = -kInf, slab1 = kInf;
+  if (d_u != 0.0) {
+    const double t_a = -w_u / d_u, t_b = (length - w_u) / d_u;
+    slab0 = std::min(t_a, t_b), slab1 = std::max(t_a, t_b);
+  } else if (!(w_u >= 0.0 && w_u <= length)) {
+    return false;  // parallel to the end discs, beside the slab
+  }
+  const double enter = std::max(side0, slab0);
+  if (!(enter <= std::min(side1, slab1))) return false;
+  hit->t = enter;
+  if (slab0 > side0)
+    hit->normal = d_u > 0.0 ? -u : u;  // through an end disc
+  else
+    hit->normal = glm::normalize(wp + enter * dp);
+  return true;
+}
+
+}  // namespace
+
+bool CpuSphereRaster::draw_bond(const glm::dvec3 &a, const glm::dvec3 &b, double r,
+                                const uint8_t rgb[3], PixelRect rect, uint8_t alpha8) {
+  rect.x0 = std::max(rect.x0, x0_), rect.x1 = std::min(rect.x1, x1_);
+  const double length = glm::length(b - a);
+  if (rect.empty() || !(r > 0.0) || !(length > 0.0)) return false;
+  const glm::dvec3 u = (b - a) / length;
+  const size_t width = size_t(g_.width);
+  float *depth = frame_->depth.data();
+  uint8_t *rgba = frame_->rgba.data();
+  PixelRect written;
+  for (int y = rect.y0; y <= rect.y1; ++y)
+    for (int x = rect.x0; x <= rect.x1; ++x) {
+      const size_t p = size_t(y) * width + size_t(x);
+      if (alpha8 < 255 && !screen_door_keeps(x, y, alpha8)) continue;
+      const double rx = rays_.x(x), ry = rays_.y(y);
+      const glm::dvec3 o = g_.orthographic ? glm::dvec3(rx, ry, 0.0) : glm::dvec3(0.0);
+      const glm::dvec3 d = g_.orthographic ? glm::dvec3(0.0, 0.0, -1.0) : glm::dvec3(rx, ry, -1.0);
+      CylinderHit hit;
+      // The nearest surface only, as for spheres: clipped by a plane, the pixel shows nothing.
+      if (!cast_cylinder(o, d, a, u, length, r, &hit) || hit.t < g_.near_plane ||
+          hit.t > g_.far_plane)
+        continue;
+      const float wz = float(g_.window_depth(hit.t));
+      if (!(wz <= depth[p])) continue;
+      const glm::dvec3 view = -d / glm::length(d);  // towards the eye
+      uint32_t color;
+      if (light_) {
+        const float n[3] = {float(hit.normal.x), float(hit.normal.y), float(hit.normal.z)};
+        const float v[3] = {float(view.x), float(view.y), float(view.z)};
+        color = shade_lit(*light_, n, v, rgb);
+      } else {
+        const float lambert = float(std::max(glm::dot(hit.normal, view), 0.0));
+        color = shade_pixel(lambert * lambert, rgb[0], rgb[1], rgb[2]);
+      }
+      uint8_t *out = rgba + 4 * p;
+      if (!(wz < depth[p]) && !(shaded_word(color) < frame_word(out))) continue;
+      depth[p] = wz;
+      out[0] = uint8_t(color), out[1] = uint8_t(color >> 8), out[2] = uint8_t(color >> 16);
+      out[3] = 255;
+      written.unite(PixelRect{x, y, x, y});
     }
   pyramid_.propagate(written);
   return !written.empty();

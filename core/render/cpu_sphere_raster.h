@@ -1,7 +1,7 @@
-// Ray-cast spheres on the CPU, straight into a Frame, with the hierarchical depth test that lets
-// hidden spheres be skipped before any pixel work: the renderer for dense scenes of small spheres,
-// where llvmpipe spends most of its time on per-primitive setup and on fragments it cannot reject
-// early (the impostor shader writes depth).
+// Ray-cast spheres (and bonds' cylinders, draw_bond) on the CPU, straight into a Frame, with the
+// hierarchical depth test that lets hidden spheres be skipped before any pixel work: the renderer
+// for dense scenes of small spheres, where llvmpipe spends most of its time on per-primitive setup
+// and on fragments it cannot reject early (the impostor shader writes depth).
 //
 // Each pixel centre gets the same ray as the OpenGL impostor shader (gl/sphere_shaders.h), the hit
 // depth as window depth in float, and the same headlight shading. Pixels are cast in tiles of
@@ -61,6 +61,16 @@ class CpuSphereRaster {
   // if it won at least one pixel.
   bool draw(const glm::dvec3 &c, double r, const uint8_t rgb[3], PixelRect rect,
             uint8_t alpha8 = 255);
+
+  // Ray-casts the closed cylinder (a half-bond) from view-space point a to b, radius r, over the
+  // pixels of `rect` inside the strip (cylinder_rect, core/view/cylinder_bounds.h, holds every
+  // pixel it covers), with the spheres' rules: the first surface a pixel's ray enters (the curved
+  // side, or an end disc), clipped by the near and far planes as a sphere's nearest hit is; the
+  // same light, in double precision; depth ties to the smaller color; `alpha8` as for draw().
+  // The cast is exact per pixel and depends only on the pixel and the cylinder. Returns true if
+  // it won at least one pixel.
+  bool draw_bond(const glm::dvec3 &a, const glm::dvec3 &b, double r, const uint8_t rgb[3],
+                 PixelRect rect, uint8_t alpha8 = 255);
 
  private:
   ViewGeometry g_;

@@ -26,6 +26,7 @@ struct ShadingSettings {
   Lighting lighting;                                // lighting: the light model
   std::array<double, 3> background{1.0, 1.0, 1.0};  // background
   bool transparent_background = false;              // background: transparent
+  BondsConfig bonds;                                // bonds: how bonds are colored (if drawn)
 };
 
 // The colour a frame is cleared to (RGBA8): the background, opaque; transparent black (0, 0, 0, 0)

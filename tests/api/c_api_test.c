@@ -114,6 +114,50 @@ int main(int argc, char **argv) {
     CHECK(lantern_publish(ctx, &p) == LANTERN_OK);
   }
 
+  /* Bonds as LAMMPS holds them: int bondlist[n][3] rows of (first, second, type), read in place
+   * with a stride of 12 bytes; a scene with bonds draws them. */
+  {
+    char bond_config[1024];
+    snprintf(bond_config, sizeof bond_config,
+             "scenes:\n"
+             "  - name: c_bonds\n"
+             "    width: 64\n"
+             "    height: 48\n"
+             "    radius: 0.2\n"
+             "    bonds: {radius: 0.1, color: by_type}\n"
+             "    output: {pattern: '%s/c_api_bonds_{step:04d}.png'}\n",
+             dir);
+    lantern_context *bctx = NULL;
+    CHECK(lantern_open(bond_config, LANTERN_COMM_WORLD, &bctx) == LANTERN_OK);
+    CHECK(lantern_publish(bctx, &p) == LANTERN_OK);
+    int bondlist[N - 1][3];
+    for (int i = 0; i + 1 < N; ++i)
+      bondlist[i][0] = i, bondlist[i][1] = i + 1, bondlist[i][2] = i % 2;
+    lantern_bonds b;
+    memset(&b, 0, sizeof b);
+    b.count = N - 1;
+    b.first = (lantern_array){&bondlist[0][0], LANTERN_INT32, sizeof bondlist[0]};
+    b.second = (lantern_array){&bondlist[0][1], LANTERN_INT32, sizeof bondlist[0]};
+    b.type = (lantern_array){&bondlist[0][2], LANTERN_INT32, sizeof bondlist[0]};
+    b.listing = LANTERN_BONDS_LISTED_ONCE;
+    CHECK(lantern_publish_bonds(bctx, &b) == LANTERN_OK);
+    CHECK(lantern_execute(bctx, 0, 0.0) == LANTERN_OK);
+    snprintf(png, sizeof png, "%s/c_api_bonds_0000.png", dir);
+    CHECK(file_exists(png));
+    /* A listing that is no lantern_bond_listing, stored as bytes: refused, naming it. */
+    lantern_bonds bad = b;
+    const int not_a_listing = 9;
+    memcpy(&bad.listing, &not_a_listing, sizeof not_a_listing);
+    CHECK(lantern_publish_bonds(bctx, &bad) == LANTERN_ERR_INVALID_ARGUMENT);
+    CHECK(strstr(lantern_error_message(bctx), "bonds.listing: 9") != NULL);
+    bondlist[3][1] = 1000; /* out of range: refused, naming the bond */
+    CHECK(lantern_publish_bonds(bctx, &b) == LANTERN_ERR_INVALID_ARGUMENT);
+    CHECK(strstr(lantern_error_message(bctx), "bonds.second[3]: 1000") != NULL);
+    CHECK(lantern_publish_bonds(bctx, NULL) == LANTERN_ERR_NULL_ARGUMENT);
+    CHECK(lantern_execute(bctx, 1, 0.0) == LANTERN_OK); /* the particles still render */
+    CHECK(lantern_close(bctx) == LANTERN_OK);
+  }
+
   CHECK(lantern_close(ctx) == LANTERN_OK);
   CHECK(lantern_close(NULL) == LANTERN_OK);
 

@@ -1,22 +1,28 @@
 // Rank-count invariance of the whole pipeline through the C API: the same particles, rendered on
 // one rank (rank 0 alone, MPI_COMM_SELF) and on every rank of MPI_COMM_WORLD under several
 // splits (all on one rank, round robin, blocks, slabs, hashed), give pixel-identical images in
-// both projections and every coloring, and with a camera that moves with the step. Run under
-// mpiexec with 1, 2, 3, 4 and 8 ranks.
+// both projections and every coloring, with a camera that moves with the step, and with bonds
+// too, in both listings, with ghosts and periodic images. Run under mpiexec with 1, 2, 3, 4 and 8
+// ranks.
 #include <gtest/gtest.h>
 
 #include <mpi.h>
 
 #include <unistd.h>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
+#include <fstream>
+#include <map>
 #include <string>
+#include <tuple>
 #include <utility>
 #include <vector>
 
 #include "lantern/lantern.h"
+#include "tests/support/bonded_molecules.h"
 #include "tests/support/hash_noise.h"
 #include "tests/support/image_file.h"
 #include "tests/support/mpi_world.h"
@@ -652,6 +658,222 @@ TEST(RankInvariance, MovingCameraIsTheSameForEveryRankCountAndSplitAndMovesWithT
 
 TEST(RankInvariance, NoParticlesAnywhereGivesTheBackgroundEverywhere) {
   expect_rank_invariant(Particles{}, "empty");
+}
+
+// --- Bonds ----------------------------------------------------------------------------------
+
+// One rank's share of a bonded system, as a domain-decomposed code holds it: its own atoms, then
+// the ghosts its bonds reach (copies of other ranks' atoms, or periodic images), and its bond
+// list as local indices.
+struct RankMolecule {
+  Particles atoms;  // owned, then ghosts
+  int64_t owned = 0;
+  std::vector<int64_t> first, second;
+  std::vector<int32_t> type;
+};
+
+// Who lists which bond, and what its atoms' indices are on that rank. As LAMMPS does, a bond's
+// other atom is the image closest to the listing rank's own atom (along periodic axes of edge
+// `box`; 0: none): that rank's atom itself when it owns it there, else a ghost - also on one rank,
+// for a bond across a periodic face. LISTED_ONCE: the rank owning the bond's first atom lists it
+// (LAMMPS with newton_bond on); LISTED_BY_BOTH: every own atom's bonds with its own index
+// (newton_bond off).
+RankMolecule rank_share(Split split, const Particles &all, const BondedSystem &system,
+                        lantern_bond_listing listing, double box, int rank, int ranks) {
+  RankMolecule m;
+  std::vector<int> owner_rank(all.size());
+  std::vector<int64_t> local(all.size(), -1);
+  for (size_t i = 0; i < all.size(); ++i) {
+    owner_rank[i] = owner(split, all, i, ranks);
+    if (owner_rank[i] == rank) local[i] = int64_t(m.atoms.size()), m.atoms.push(all, i);
+  }
+  m.owned = int64_t(m.atoms.size());
+  std::map<std::tuple<size_t, int, int, int>, int64_t> ghost;  // (atom, image shift) -> index
+  const auto index_near = [&](size_t e, size_t anchor) {
+    const double xe[3] = {all.x[e], all.y[e], all.z[e]};
+    const double xa[3] = {all.x[anchor], all.y[anchor], all.z[anchor]};
+    int shift[3] = {0, 0, 0};
+    if (box > 0)
+      for (int k = 0; k < 3; ++k) shift[k] = int(std::nearbyint((xe[k] - xa[k]) / box));
+    if (shift[0] == 0 && shift[1] == 0 && shift[2] == 0 && local[e] >= 0) return local[e];
+    const auto key = std::make_tuple(e, shift[0], shift[1], shift[2]);
+    if (const auto found = ghost.find(key); found != ghost.end()) return found->second;
+    const int64_t g = int64_t(m.atoms.size());
+    m.atoms.push(all, e);
+    m.atoms.x.back() -= shift[0] * box, m.atoms.y.back() -= shift[1] * box;
+    m.atoms.z.back() -= shift[2] * box;
+    ghost.emplace(key, g);
+    return g;
+  };
+  const auto list = [&](size_t k, size_t a, size_t b, size_t anchor) {
+    m.first.push_back(index_near(a, anchor));
+    m.second.push_back(index_near(b, anchor));
+    m.type.push_back(system.bond_type[k]);
+  };
+  for (size_t k = 0; k < system.bond_count(); ++k) {
+    const size_t a = size_t(system.bonds[2 * k]), b = size_t(system.bonds[2 * k + 1]);
+    const bool own_a = owner_rank[a] == rank, own_b = owner_rank[b] == rank;
+    if (listing == LANTERN_BONDS_LISTED_ONCE) {
+      if (own_a) list(k, a, b, a);
+      continue;
+    }
+    // Listed by both: each own atom's bond with that atom's own index - one entry when both
+    // atoms are here and the closest image of b is b itself, else one per own atom (as LAMMPS's
+    // newton_bond off bondlist has it).
+    if (own_a && own_b && index_near(b, a) == local[b]) {
+      list(k, a, b, a);
+      continue;
+    }
+    if (own_a) list(k, a, b, a);
+    if (own_b) list(k, a, b, b);
+  }
+  return m;
+}
+
+// Renders `mine` with its bonds (and the periodic box of edge `box`, if any) once on comm.
+Render render_bonded_once(MPI_Comm comm, const std::string &config, const RankMolecule &mine,
+                          lantern_bond_listing listing, double box, int step) {
+  Render r;
+  lantern_context *ctx = nullptr;
+  r.status = lantern_open(config.c_str(), MPI_Comm_c2f(comm), &ctx);
+  if (r.status == LANTERN_OK) {
+    lantern_particles d = describe(mine.atoms);
+    d.count = mine.owned;
+    lantern_bonds b{};
+    b.count = int64_t(mine.first.size());
+    b.first = {mine.first.data(), LANTERN_INT64, 0};
+    b.second = {mine.second.data(), LANTERN_INT64, 0};
+    b.type = {mine.type.data(), LANTERN_INT32, 0};
+    b.ghost_count = int64_t(mine.atoms.size()) - mine.owned;
+    b.listing = listing;
+    const double low[3] = {0, 0, 0}, high[3] = {box, box, box};
+    const int periodic[3] = {1, 1, 1};
+    r.status = lantern_publish(ctx, &d);
+    if (r.status == LANTERN_OK) r.status = lantern_publish_bonds(ctx, &b);
+    if (r.status == LANTERN_OK && box > 0) r.status = lantern_set_box(ctx, low, high, periodic);
+    const lantern_status executed = lantern_execute(ctx, step, double(step));
+    if (r.status == LANTERN_OK) r.status = executed;
+  }
+  r.error = lantern_error_message(ctx);
+  lantern_close(ctx);
+  return r;
+}
+
+// A polymer melt in a periodic cube of edge 12 (chains cross its faces), its coordinates on a
+// grid of 2^-12 so that a periodic image x +- 12 is exact and the minimum image is the same bits
+// from a copy or an image; radii, scalars and types as make_particles gives them.
+BondedSystem melt_on_grid() {
+  BondedSystem s = polymer_melt(16, 32, 12.0);
+  for (double &v : s.xyz) v = std::min(std::nearbyint(v * 4096.0) / 4096.0, 12.0 - 1.0 / 4096.0);
+  return s;
+}
+
+Particles atoms_of(const BondedSystem &s) {
+  Particles p;
+  for (size_t i = 0; i < s.atoms(); ++i) {
+    const uint32_t h = hash(uint32_t(i) * 2246822519U + 3U);
+    p.x.push_back(s.xyz[3 * i]), p.y.push_back(s.xyz[3 * i + 1]), p.z.push_back(s.xyz[3 * i + 2]);
+    p.radius.push_back(0.25 + 0.15 * unit(h));
+    p.scalar.push_back(std::sin(0.5 * p.x.back()) * p.y.back());
+    p.type.push_back(s.type[i] + int32_t(i % 3));
+    p.id.push_back(s.id[i]);
+  }
+  return p;
+}
+
+const char *const kBondSceneNames[] = {"bond_atom", "bond_type", "bond_solid", "bond_close",
+                                       "bond_ortho"};
+
+std::string bond_config(const std::string &directory, const std::string &prefix,
+                        const std::string &each) {
+  const std::string pattern = directory + "/" + prefix + "_{scene}_{step:06d}.png";
+  const std::string stats = "stats: " + directory + "/" + prefix + "_stats.jsonl\n";
+  const auto scene = [&](const std::string &name, const std::string &projection,
+                         const std::string &bonds, const std::string &radius, double zoom) {
+    return scene_yaml(name, projection, "{by: type}", radius, pattern, zoom) +
+           "    bonds: " + bonds + "\n" + each;
+  };
+  // Small spheres under auto go to the CPU raster; bond_close's camera, inside the melt, sees
+  // spheres large enough for OpenGL where the build has it (its bonds cut by the near plane).
+  return stats + "scenes:\n" +
+         scene("bond_atom", "perspective", "{radius: 0.12}", "per_particle", 1.3) +
+         scene("bond_type", "perspective", "{radius: 0.15, color: by_type}", "0.3", 1.3) +
+         scene("bond_solid", "perspective", "{color: solid, solid: [0.7, 0.7, 0.2]}", "0.3", 1.3) +
+         scene("bond_close", "perspective", "{radius: 0.2}", "0.45", 12.0) +
+         scene("bond_ortho", "orthographic", "{radius: 0.12, color: by_type}", "per_particle", 1.3);
+}
+
+// Renders `system` on rank 0 alone, then under every split on all ranks; compares on rank 0.
+void expect_bonds_rank_invariant(const BondedSystem &system, lantern_bond_listing listing,
+                                 double box, const std::string &label,
+                                 const std::string &each = "") {
+  const Particles all = atoms_of(system);
+  const std::string dir = shared_directory();
+  ASSERT_FALSE(dir.empty());
+  const int rank = world_rank(), ranks = world_size();
+  if (rank == 0) {
+    const RankMolecule one = rank_share(Split::kAllOnFirst, all, system, listing, box, 0, 1);
+    const Render ref = render_bonded_once(MPI_COMM_SELF, bond_config(dir, label + "_ref", each),
+                                          one, listing, box, 0);
+    EXPECT_EQ(ref.status, LANTERN_OK) << ref.error;
+  }
+  const std::string config = bond_config(dir, label, each);
+  for (size_t s = 0; s < std::size(kSplits); ++s) {
+    const RankMolecule mine = rank_share(kSplits[s], all, system, listing, box, rank, ranks);
+    const Render r = render_bonded_once(MPI_COMM_WORLD, config, mine, listing, box, int(s));
+    EXPECT_EQ(r.status, LANTERN_OK) << split_name(kSplits[s]) << ": " << r.error;
+  }
+  if (rank != 0) return;
+  // Every half-bond was taken by exactly one rank: the stats' sums over ranks (one line per
+  // split) count two halves per bond, drawn or culled.
+  std::ifstream stats(dir + "/" + label + "_stats.jsonl");
+  int lines = 0;
+  for (std::string line; std::getline(stats, line); ++lines) {
+    int scenes = 0;
+    for (size_t at = line.find("\"halves\":"); at != std::string::npos;
+         at = line.find("\"halves\":", at + 1), ++scenes)
+      EXPECT_EQ(std::stoll(line.substr(at + 9)), int64_t(2 * system.bond_count())) << line;
+    EXPECT_EQ(scenes, int(std::size(kBondSceneNames))) << line;
+  }
+  EXPECT_EQ(lines, int(std::size(kSplits)));
+  bool all_same = true;
+  for (size_t s = 0; s < std::size(kSplits); ++s)
+    for (const char *scene : kBondSceneNames) {
+      const std::string difference = compare_images(file_of(dir, label + "_ref", scene, 0),
+                                                    file_of(dir, label, scene, int(s)));
+      EXPECT_EQ(difference, "") << "split " << split_name(kSplits[s]) << ", scene " << scene << ", "
+                                << ranks << " ranks";
+      all_same = all_same && difference.empty();
+    }
+  if (all_same || std::getenv("LANTERN_KEEP_TEST_IMAGES") == nullptr)
+    std::system(("rm -rf '" + dir + "'").c_str());
+  else
+    std::printf("images kept in %s\n", dir.c_str());
+}
+
+// Each bond listed on its first atom's rank, which draws it whole; ghosts for the atoms of other
+// ranks and for periodic images.
+TEST(RankInvariance, SameImagesWithBondsListedOnce) {
+  expect_bonds_rank_invariant(melt_on_grid(), LANTERN_BONDS_LISTED_ONCE, 12.0, "bonds_once");
+}
+
+// Each bond listed on both atoms' ranks, each drawing its own atoms' halves; periodic, and with
+// no box (bonds across the box drawn straight).
+TEST(RankInvariance, SameImagesWithBondsListedByBoth) {
+  expect_bonds_rank_invariant(melt_on_grid(), LANTERN_BONDS_LISTED_BY_BOTH, 12.0, "bonds_both");
+  expect_bonds_rank_invariant(melt_on_grid(), LANTERN_BONDS_LISTED_BY_BOTH, 0.0, "bonds_both_open");
+}
+
+// Bonds in OpenGL, and under every cue, super-sampled, see-through types and a custom light.
+TEST(RankInvariance, SameImagesWithBondsInOpenGlAndUnderEveryCue) {
+  expect_bonds_rank_invariant(melt_on_grid(), LANTERN_BONDS_LISTED_ONCE, 12.0, "bonds_cues",
+                              "    samples: 4\n"
+                              "    ambient_occlusion: {method: screen, samples: 8}\n"
+                              "    outline: {width: 1, color: [0.1, 0, 0]}\n"
+                              "    depth_cue: {color: [0.5, 0.5, 0.5]}\n"
+                              "    opacity: [1, 0.5, 1, 0.75]\n"
+                              "    lighting: {direction: [-0.5, 0.7, 0.5], specular: 0.5}\n"
+                              "    culling: {occlusion: hzb}\n");
 }
 
 TEST(RankInvariance, UnwritableOutputFailsTheStepOnEveryRankWithoutHanging) {

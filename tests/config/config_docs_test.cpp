@@ -39,6 +39,7 @@ const std::map<std::string, std::string> kReadmeAnchors = {
     {"scenes[].depth_cue", "`depth_cue`:"},
     {"scenes[].density", "### `style: density` and `density`"},
     {"scenes[].lighting", "### `lighting`: the light of the spheres"},
+    {"scenes[].bonds", "### `bonds`: cylinders between bonded atoms"},
     {"scenes[].labels[]", "`labels[k]` (a list; several per scene):"},
     {"scenes[].legend", "`legend`:"},
     {"scenes[].box", "`box`:"},

@@ -1,7 +1,8 @@
 ! The Fortran module against the C API: struct layouts equal C's; the same lattice published
 ! through every setter (x(3,n), x(n,3), arrays of a derived type, float32, a hand-filled
 ! lantern_particles) gives the same image bytes; shape and length problems and C errors come
-! back as statuses with messages naming the array or key. Serial (LANTERN_COMM_WORLD).
+! back as statuses with messages naming the array or key; bonds (lantern_set_bonds, ghosts, a
+! hand-filled lantern_bonds) draw cylinders and are refused naming the bond. Serial.
 program fortran_binding_test
   use, intrinsic :: iso_c_binding
   use lantern
@@ -20,6 +21,12 @@ program fortran_binding_test
     integer(c_size_t) function offsetof_id() bind(C, name="lantern_test_offsetof_id")
       import :: c_size_t
     end function offsetof_id
+    integer(c_size_t) function sizeof_bonds() bind(C, name="lantern_test_sizeof_bonds")
+      import :: c_size_t
+    end function sizeof_bonds
+    integer(c_size_t) function offsetof_listing() bind(C, name="lantern_test_offsetof_listing")
+      import :: c_size_t
+    end function offsetof_listing
   end interface
 
   type, bind(C) :: atom
@@ -114,6 +121,7 @@ program fortran_binding_test
               set%particles%mask%type == LANTERN_INT64, 'the mask is borrowed in place')
 
   call c_errors()
+  call bonds()
 
   if (failures > 0) then
     print '(i0,a)', failures, ' check(s) failed'
@@ -139,24 +147,33 @@ contains
     byte_offset = int(transfer(p, 0_c_intptr_t) - transfer(c_loc(layout), 0_c_intptr_t), c_size_t)
   end function byte_offset
 
-  function config(label) result(text)
+  function config(label, bonded) result(text)
     character(len=*), intent(in) :: label
-    character(len=:), allocatable :: text
+    logical, intent(in), optional :: bonded
+    character(len=:), allocatable :: text, extra
+    extra = ''
+    if (present(bonded)) then
+      if (bonded) extra = 'bonds: {radius: 0.2, color: by_type}, '
+    end if
     text = 'gl: none'//new_line('a')//'scenes:'//new_line('a')// &
-           '  - {width: 40, height: 40, radius: 0.5, color: {by: type}, output: {pattern: '// &
-           '"fortran_bindings/'//label//'_{step:06d}.png"}}'//new_line('a')
+           '  - {width: 40, height: 40, radius: 0.5, color: {by: type}, '//extra// &
+           'output: {pattern: "fortran_bindings/'//label//'_{step:06d}.png"}}'//new_line('a')
   end function config
 
   ! Publishes the set in a fresh context, renders step 0, returns the image file's bytes.
-  function render(set, label) result(bytes)
+  ! With bonded_config the scene draws bonds; by_hand: bonds published after the set.
+  function render(set, label, bonded_config, by_hand) result(bytes)
     type(lantern_particle_set), intent(in) :: set
     character(len=*), intent(in) :: label
+    logical, intent(in), optional :: bonded_config
+    type(lantern_bonds), intent(in), optional :: by_hand
     character(len=:), allocatable :: bytes
     type(lantern_context) :: ctx
     integer :: status, unit, size_bytes
     bytes = ''
-    status = lantern_open(config(label), LANTERN_COMM_WORLD, ctx)
+    status = lantern_open(config(label, bonded_config), LANTERN_COMM_WORLD, ctx)
     if (status == LANTERN_OK) status = lantern_publish(ctx, set)
+    if (status == LANTERN_OK .and. present(by_hand)) status = lantern_publish_bonds(ctx, by_hand)
     if (status == LANTERN_OK) status = lantern_execute(ctx, 0, 0.0_c_double)
     if (status /= LANTERN_OK) print '(a)', label//': '//lantern_error_message(ctx)
     status = lantern_close(ctx)
@@ -182,6 +199,91 @@ contains
                 what//' ('//lantern_error_message(ctx)//')')
     status = lantern_close(ctx)
   end subroutine expect_refusal
+
+  ! A zigzag chain of 8 atoms; bonds between neighbours. The same bonds through the int32 and
+  ! int64 setters and by hand give one image, which differs from the unbonded one; a ghost is a
+  ! bond end only; bad bonds come back from C naming the bond.
+  subroutine bonds()
+    integer, parameter :: m = 8
+    real(c_double), target :: cx(3, m)
+    integer(c_int32_t), target :: ct(m), pairs4(2, m - 1), bad(2, 1), kinds(m - 1)
+    integer(c_int64_t), target :: ids(m), pairs8(2, m - 1)
+    type(lantern_bonds), target :: hand, bond_layout
+    type(lantern_context) :: ctx
+    character(len=:), allocatable :: plain, bonded, ghosted
+    integer :: k, status
+    call expect(c_sizeof(bond_layout) == sizeof_bonds(), 'sizeof(lantern_bonds) equals C''s')
+    call expect(transfer(c_loc(bond_layout%listing), 0_c_intptr_t) - &
+                transfer(c_loc(bond_layout), 0_c_intptr_t) == int(offsetof_listing(), &
+                                                                     c_intptr_t), &
+                'offsetof(lantern_bonds, listing) equals C''s')
+    do k = 1, m
+      cx(:, k) = [2.0_c_double*(k - 1), merge(1.0_c_double, 0.0_c_double, mod(k, 2) == 0), &
+                  0.0_c_double]
+      ct(k) = int(mod(k, 3), c_int32_t)
+      ids(k) = 100 + k
+    end do
+    do k = 1, m - 1  ! 0-based indices, as in C
+      pairs4(:, k) = [k - 1, k]
+      kinds(k) = int(mod(k, 2), c_int32_t)
+    end do
+    pairs8 = int(pairs4, c_int64_t)
+
+    set = lantern_particle_set()
+    call lantern_set_positions(set, cx)
+    call lantern_set_field(set, LANTERN_FIELD_TYPE, ct)
+    plain = render(set, 'chain_plain', bonded_config=.true.)
+    call lantern_set_bonds(set, pairs4)
+    call lantern_set_bond_types(set, kinds)
+    bonded = render(set, 'chain_i4', bonded_config=.true.)
+    call expect(len(bonded) > 100 .and. bonded /= plain, 'bonds change the image')
+    call expect(c_associated(set%bonds%first%data, c_loc(pairs4(1, 1))) .and. &
+                c_associated(set%bonds%second%data, c_loc(pairs4(2, 1))) .and. &
+                set%bonds%first%stride_bytes == 8, 'pairs(2, m) is borrowed as two columns')
+    call lantern_set_bonds(set, pairs8)
+    call expect(render(set, 'chain_i8', bonded_config=.true.) == bonded, &
+                'int64 pairs give the int32 image')
+
+    set = lantern_particle_set()
+    call lantern_set_positions(set, cx)
+    call lantern_set_field(set, LANTERN_FIELD_TYPE, ct)
+    hand%count = m - 1
+    hand%first = lantern_array(c_loc(pairs4(1, 1)), LANTERN_INT32, 8)
+    hand%second = lantern_array(c_loc(pairs4(2, 1)), LANTERN_INT32, 8)
+    hand%type = lantern_array(c_loc(kinds), LANTERN_INT32, 0)
+    call expect(render(set, 'chain_hand', bonded_config=.true., by_hand=hand) == bonded, &
+                'a hand-filled lantern_bonds gives the same image')
+
+    ! The last atom as a ghost: its sphere is gone, the half-bond to it stays.
+    set = lantern_particle_set()
+    call lantern_set_positions(set, cx)
+    call lantern_set_field(set, LANTERN_FIELD_TYPE, ct)
+    call lantern_set_field(set, LANTERN_FIELD_ID, ids)
+    call lantern_set_bonds(set, pairs4, ghost_count=1)
+    call lantern_set_bond_types(set, kinds)
+    ghosted = render(set, 'chain_ghost', bonded_config=.true.)
+    call expect(len(ghosted) > 100 .and. ghosted /= bonded .and. ghosted /= plain, &
+                'a ghost is drawn as a bond end only')
+    call lantern_set_bonds(set, pairs4, ghost_count=9)
+    call expect_refusal(set, 'ghost_count: 9 ghosts, but the arrays hold only 8', &
+                        'more ghosts than particles')
+
+    set = lantern_particle_set()
+    call lantern_set_positions(set, cx)
+    bad(:, 1) = [0, 8]
+    call lantern_set_bonds(set, bad)
+    call expect_refusal(set, 'bonds.second[0]: 8 is not below', 'a bond index out of range')
+    set = lantern_particle_set()
+    call lantern_set_positions(set, cx)
+    call lantern_set_bond_types(set, kinds)
+    call expect_refusal(set, 'set the bonds first', 'bond types before bonds')
+
+    status = lantern_open(config('bonds_c'), LANTERN_COMM_WORLD, ctx)
+    status = lantern_publish_bonds(ctx, hand)
+    call expect(status /= LANTERN_OK, 'bonds without particles are refused ('// &
+                lantern_error_message(ctx)//')')
+    status = lantern_close(ctx)
+  end subroutine bonds
 
   subroutine c_errors()
     type(lantern_context) :: ctx

@@ -14,3 +14,9 @@ size_t lantern_test_offsetof_mask_bits(void) {
 size_t lantern_test_offsetof_id(void) {
   return offsetof(lantern_particles, id);
 }
+size_t lantern_test_sizeof_bonds(void) {
+  return sizeof(lantern_bonds);
+}
+size_t lantern_test_offsetof_listing(void) {
+  return offsetof(lantern_bonds, listing);
+}

@@ -1,7 +1,8 @@
 // `threads: N`: brick building and refitting, the particle scan and the CPU raster's column strips
 // run on N threads; every image byte and every count of the stats line must be the one-thread
 // result, over steps that build the bricks, refit them (particles moved a little) and repair them
-// (a few particles jumped far), at 1 and 2 ranks.
+// (a few particles jumped far), at 1 and 2 ranks - with bonds too, whose half-bonds each strip
+// draws and culls against its own depth.
 #include <gtest/gtest.h>
 
 #include <mpi.h>
@@ -55,7 +56,22 @@ std::string config(const std::string &dir, const std::string &threads) {
          "    renderer: cpu\n    culling: {occlusion: none}\n"
          "    cut_planes: [{normal: [1, 1, 0], offset: 70.0}]\n"
          "    output: {pattern: '" +
-         dir + "/ssaa_" + threads + "_{step}.png'}\n";
+         dir + "/ssaa_" + threads +
+         "_{step}.png'}\n"
+         "  - name: bonds\n    width: 640\n    height: 480\n    radius: 0.3\n"
+         "    renderer: cpu\n    culling: {occlusion: hzb}\n"
+         "    camera: {azimuth: 35, elevation: 25}\n    bonds: {radius: 0.12}\n"
+         "    output: {pattern: '" +
+         dir + "/bonds_" + threads + "_{step}.png'}\n";
+}
+
+// Bonds along x between neighbours of one row of this rank's slab (local indices, pairs).
+std::vector<int64_t> row_bonds(int64_t count) {
+  const int64_t n = 64;
+  std::vector<int64_t> pairs;
+  for (int64_t i = 0; i + 1 < count; ++i)
+    if (i % n != n - 1) pairs.insert(pairs.end(), {i, i + 1});
+  return pairs;
 }
 
 TEST(Threads, ImagesAndCountsAreTheOneThreadBytes) {
@@ -71,13 +87,19 @@ TEST(Threads, ImagesAndCountsAreTheOneThreadBytes) {
       p.count = int64_t(xyz.size() / 3);
       p.position = {xyz.data(), DataType::kFloat64, 0};
       ASSERT_OK(rt->publish(p));
+      const std::vector<int64_t> pairs = row_bonds(p.count);
+      BondDescription b;
+      b.count = int64_t(pairs.size() / 2);
+      b.first = {pairs.data(), DataType::kInt64, 16};
+      b.second = {pairs.data() + 1, DataType::kInt64, 16};
+      ASSERT_OK(rt->publish_bonds(b));
       ASSERT_OK(rt->execute(step, double(step)));
     }
     ASSERT_OK(rt->finish());
   }
   if (world_rank() != 0) return;
   for (const std::string &threads : counts)
-    for (const char *scene : {"hzb", "ssaa"})
+    for (const char *scene : {"hzb", "ssaa", "bonds"})
       for (int step = 0; step < 3; ++step) {
         const auto one =
             read_bytes(dir.path() + "/" + scene + "_1_" + std::to_string(step) + ".png");
@@ -105,6 +127,8 @@ TEST(Threads, ImagesAndCountsAreTheOneThreadBytes) {
   EXPECT_EQ(one[0][1][0]["bricks"], "built");
   EXPECT_EQ(one[1][1][0]["bricks"], "refit");
   EXPECT_EQ(one[2][1][0]["bricks"], "refit");
+  ASSERT_TRUE(one[0][1][2].contains("bonds"));
+  EXPECT_GT(one[0][1][2]["bonds"]["drawn"].get<int64_t>(), 0);
   for (const std::string &threads : counts) EXPECT_EQ(lines(threads), one) << threads;
 }
 

@@ -89,8 +89,9 @@ typedef struct lantern_array {
  * stride of at least 3 elements) or as three separate arrays (`position_x/y/z`), never both.
  * Positions are float or double; radius and scalar float or double; type and id int32 or int64.
  *
- * Pass only the particles this rank owns, never ghost/halo copies: Lantern draws every published
- * particle once, and a ghost would be drawn twice.
+ * Count only the particles this rank owns, never ghost/halo copies: Lantern draws every counted
+ * particle once, and a ghost would be drawn twice. (Ghosts that bonds need go after the owned
+ * particles, beyond `count`: see lantern_bonds.ghost_count.)
  *
  * Images do not depend on the number of ranks or on how particles are split between them, bit
  * for bit, with one exception: a pixel where two differently colored spheres have exactly the
@@ -187,13 +188,106 @@ LANTERN_API lantern_status lantern_publish(lantern_context *ctx,
 
 /*
  * Describes the simulation box, recorded with particle dumps (the H5MD `box`: edges high - low,
- * and `boundary` periodic/none per axis). `low` and `high` are the box's corners (finite,
- * low <= high per axis); `periodic` is 0 or non-zero per axis (NULL: non-periodic). Optional:
- * without it dumps record the global bounds of the particles. Local, but give every rank the
- * same box (rank 0's is the one written). Stays in effect until the next call.
+ * and `boundary` periodic/none per axis) and giving bonds their minimum image along periodic
+ * axes (see lantern_bonds). `low` and `high` are the box's corners (finite, low <= high per
+ * axis); `periodic` is 0 or non-zero per axis (NULL: non-periodic). Optional: without it dumps
+ * record the global bounds of the particles and bonds join their atoms directly. Local, but give
+ * every rank the same box (rank 0's is the one written). Stays in effect until the next call.
  */
 LANTERN_API lantern_status lantern_set_box(lantern_context *ctx, const double low[3],
                                            const double high[3], const int periodic[3]);
+
+/*
+ * Bonds: a second primitive, drawn as cylinders between published particles where a scene has a
+ * `bonds:` section (config/README.md). A bond joins two entries of the arrays given to
+ * lantern_publish(), by index.
+ *
+ * Ghosts. A domain-decomposed code keeps copies of its neighbours' atoms ("ghosts" or "halo":
+ * LAMMPS's x[nlocal .. nlocal + nghost)), and its bond list refers to them. Give their number as
+ * ghost_count: entries count .. count + ghost_count - 1 of the same particle arrays (position,
+ * and type, scalar, mask where given) then hold the ghosts, and the arrays passed to
+ * lantern_publish() must be that long. Ghosts are only bond ends: never drawn as spheres, dumped
+ * or counted. Ghosts need the id array (lantern_particles.id), which must then cover them too:
+ * a ghost is named by its global id (in error messages, and where bonds are written to dumps).
+ *
+ * How a bond is drawn. Every bond is two half-bonds, each a closed cylinder from one atom's
+ * centre to the bond's midpoint: the half of atom p goes from x_p to x_p + d / 2, where d is the
+ * vector from p to the other atom q, taken as the minimum image along each periodic axis of the
+ * box given to lantern_set_box() (the plain difference without a box or along other axes). A
+ * bond that crosses a periodic face (its atoms more than half the box apart along that axis) is
+ * thus two half-bonds, each at its own atom, reaching out of opposite faces to where the bond's
+ * midpoint lies in the minimum image - as LAMMPS's dump image and OVITO draw it.
+ *
+ * Which rank draws what (`listing`), so that each half-bond is drawn exactly once over all ranks:
+ *  - LANTERN_BONDS_LISTED_ONCE: every bond is in exactly one rank's list (a serial code, or
+ *    LAMMPS with newton_bond on, whose neighbor->bondlist holds each bond on one rank). The rank
+ *    that lists it draws both halves, each at the position it holds for that atom - a ghost's half
+ *    at the ghost's position (LAMMPS lists the ghost image closest to the owned atom, so the bond
+ *    stays whole on that atom's side of the box).
+ *  - LANTERN_BONDS_LISTED_BY_BOTH: every rank lists the bonds of each atom it owns, with that
+ *    atom's own index (LAMMPS with newton_bond off; codes that keep a bond table per atom), so a
+ *    bond between atoms of two ranks is in both lists. Each entry gives the halves of its owned
+ *    atoms (index < count) only; the other half is its owner's. A bond between two atoms of one
+ *    rank is listed once with both own indices, or once from each side (LAMMPS does so when one
+ *    side is a periodic image: (i, image of j) and (j, image of i)).
+ * Either way a bond needs at least one atom the listing rank owns, and each half-bond must come
+ * from one entry (a half listed twice is drawn twice over itself: the image is the same, the
+ * stats count it twice). Images with bonds do not
+ * depend on the rank count or split as long as each half-bond is computed from the same two
+ * positions: an owned atom's own, and its partner's as a copy or the image the host made of it.
+ * (A ghost made as x + L of an atom at x may differ from it in the last bit; that can move a
+ * pixel only where the difference crosses a float rounding of the drawn geometry.)
+ *
+ * Cutting planes, groups and culling: a half-bond goes with its atom - it is cut away exactly
+ * when its atom's centre is (so a cut through a bond keeps the surviving atom's half), and it
+ * follows the atom's type opacity. With a mask (lantern_particles.mask, which must then cover the
+ * ghosts too), a bond is drawn only when both its atoms are in the group.
+ *
+ * Bad input: lantern_publish_bonds() checks every bond and returns LANTERN_ERR_INVALID_ARGUMENT
+ * naming the first bad one and its index (e.g. "bonds.second[12]: 5000 is not below count +
+ * ghost_count (4000 + 900)"): an index outside 0 .. count + ghost_count - 1, a bond from an atom
+ * to itself, a bond between two ghosts, an atom with a NaN or infinite coordinate, ghosts without
+ * ids; a failed call leaves this rank without bonds (its particles are still drawn) until the next
+ * successful one. lantern_execute() checks the bonds again, since it reads the arrays in place:
+ * a bond gone bad since is skipped, everything else is drawn and written, and every rank returns
+ * LANTERN_ERR_INVALID_ARGUMENT naming the first bad bond.
+ */
+
+/* How the ranks' bond lists share the bonds out (lantern_bonds.listing); see above. */
+typedef enum lantern_bond_listing {
+  LANTERN_BONDS_LISTED_ONCE = 0,   /* each bond on one rank, which draws all of it */
+  LANTERN_BONDS_LISTED_BY_BOTH = 1 /* on both atoms' ranks; each draws its atoms' halves */
+} lantern_bond_listing;
+
+/*
+ * This rank's bonds, for lantern_publish_bonds(). Zero-initialise it ({0}) and fill what you have.
+ * `first` and `second` hold each bond's two atoms as 0-based indices into the published particle
+ * arrays (int32 or int64, any stride: for LAMMPS's int bondlist[n][3], first = &bondlist[0][0],
+ * second = &bondlist[0][1], type = &bondlist[0][2], all with stride 12).
+ *
+ * Lifetime: borrowed like the particle arrays - read in place at every later lantern_execute()
+ * until the next lantern_publish_bonds(), lantern_publish() or lantern_close(). lantern_publish()
+ * forgets the bonds (their indices refer to the arrays it replaces): publish the bonds after every
+ * lantern_publish().
+ *
+ * ABI: a separate structure and call rather than fields appended to lantern_particles, so that
+ * lantern_particles keeps its size: a program built against an older header passes a smaller
+ * lantern_particles, and Lantern must never read fields past its end. Only programs built with
+ * this header call lantern_publish_bonds().
+ */
+typedef struct lantern_bonds {
+  int64_t count;        /* bonds in this rank's list; 0 is valid (no bonds) */
+  lantern_array first;  /* int32/int64: index of each bond's first atom */
+  lantern_array second; /* int32/int64: index of its second atom */
+  lantern_array type;   /* optional int32/int64 bond type (a scene's bonds.color: by_type) */
+  int64_t ghost_count;  /* ghosts after the owned particles in the particle arrays; >= 0 */
+  lantern_bond_listing listing; /* LANTERN_BONDS_LISTED_ONCE (0) or _LISTED_BY_BOTH */
+} lantern_bonds;
+
+/* Records (borrows) this rank's bonds, indices into the particles of the last lantern_publish()
+ * (call that first); see lantern_bonds and the notes above. Local. NULL bonds is
+ * LANTERN_ERR_NULL_ARGUMENT; a lantern_bonds with count 0 removes the bonds. */
+LANTERN_API lantern_status lantern_publish_bonds(lantern_context *ctx, const lantern_bonds *bonds);
 
 /*
  * Tells Lantern that the simulation reached `step` at simulation time `time`. On steps the

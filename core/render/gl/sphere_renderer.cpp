@@ -9,6 +9,7 @@
 #include <glm/gtc/type_ptr.hpp>
 
 #include "core/common/ms_since.h"
+#include "core/render/gl/bond_shaders.h"
 #include "core/render/gl/gl_functions.h"
 #include "core/render/gl/gl_objects.h"
 #include "core/render/gl/sphere_shaders.h"
@@ -20,6 +21,7 @@ namespace {
 constexpr size_t kChunkInstances = size_t(1) << 20;
 
 Status compile(GLenum kind, const char *source, GlShader *out) {
+  const char *what = kind == GL_VERTEX_SHADER ? "vertex" : "fragment";
   GlShader shader(gl().glCreateShader(kind));
   gl().glShaderSource(shader.get(), 1, &source, nullptr);
   gl().glCompileShader(shader.get());
@@ -28,16 +30,25 @@ Status compile(GLenum kind, const char *source, GlShader *out) {
   if (!ok) {
     std::vector<char> log(4096);
     gl().glGetShaderInfoLog(shader.get(), GLsizei(log.size()), nullptr, log.data());
-    return {StatusCode::kGl, std::string("sphere shader failed to compile: ") + log.data()};
+    return {StatusCode::kGl,
+            std::string("impostor ") + what + " shader failed to compile: " + log.data()};
   }
   *out = std::move(shader);
   return {};
 }
 
-Status link_program(const Lighting &lighting, GlProgram *out) {
+// The two impostors: spheres and bonds' cylinders.
+enum class Primitive { kSphere, kBond };
+
+Status link_program(Primitive primitive, const Lighting &lighting, GlProgram *out) {
   GlShader vs, fs;
-  if (Status s = compile(GL_VERTEX_SHADER, shaders::kSphereVertex, &vs); !s.ok()) return s;
-  const std::string fragment = shaders::sphere_fragment_source(lighting);
+  const bool sphere = primitive == Primitive::kSphere;
+  if (Status s =
+          compile(GL_VERTEX_SHADER, sphere ? shaders::kSphereVertex : shaders::kBondVertex, &vs);
+      !s.ok())
+    return s;
+  const std::string fragment =
+      sphere ? shaders::sphere_fragment_source(lighting) : shaders::bond_fragment_source(lighting);
   if (Status s = compile(GL_FRAGMENT_SHADER, fragment.c_str(), &fs); !s.ok()) return s;
   GlProgram program(gl().glCreateProgram());
   gl().glAttachShader(program.get(), vs.get());
@@ -48,7 +59,8 @@ Status link_program(const Lighting &lighting, GlProgram *out) {
   if (!ok) {
     std::vector<char> log(4096);
     gl().glGetProgramInfoLog(program.get(), GLsizei(log.size()), nullptr, log.data());
-    return {StatusCode::kGl, std::string("sphere program failed to link: ") + log.data()};
+    return {StatusCode::kGl,
+            std::string(sphere ? "sphere" : "bond") + " program failed to link: " + log.data()};
   }
   *out = std::move(program);
   return {};
@@ -92,15 +104,18 @@ struct UniformLocations {
       tile_origin, depth_only;
 };
 
-// A program for one lighting: the default one, or a variant with that lighting's constants.
+// A program for one primitive and lighting: the default one, or a variant with that lighting's
+// constants.
 struct LitProgram {
+  Primitive primitive = Primitive::kSphere;
   Lighting lighting;
   GlProgram program;
   UniformLocations loc{};
 };
 
-Status make_lit_program(const Lighting &lighting, LitProgram *out) {
-  if (Status s = link_program(lighting, &out->program); !s.ok()) return s;
+Status make_lit_program(Primitive primitive, const Lighting &lighting, LitProgram *out) {
+  if (Status s = link_program(primitive, lighting, &out->program); !s.ok()) return s;
+  out->primitive = primitive;
   const GLuint p = out->program.get();
   const auto uniform = [p](const char *name) { return gl().glGetUniformLocation(p, name); };
   out->lighting = lighting;
@@ -111,16 +126,32 @@ Status make_lit_program(const Lighting &lighting, LitProgram *out) {
   return {};
 }
 
-// Variant programs kept besides the default one; beyond that the oldest is dropped (a scene's
-// lighting rarely changes, and a few scenes may each have their own).
+// Variant programs kept besides the default sphere program; beyond that the oldest is dropped (a
+// scene's lighting rarely changes, and a few scenes may each have their own).
 constexpr size_t kMaxLightingVariants = 8;
+
+// The uniforms every program of a render shares, set on `loc`'s program (in use).
+void set_view_uniforms(const UniformLocations &loc, const RenderView &view, const glm::mat4 &inv) {
+  gl().glUniformMatrix4fv(loc.view, 1, GL_FALSE, glm::value_ptr(view.view));
+  gl().glUniformMatrix4fv(loc.proj, 1, GL_FALSE, glm::value_ptr(view.projection));
+  gl().glUniformMatrix4fv(loc.inv_proj, 1, GL_FALSE, glm::value_ptr(inv));
+  gl().glUniform1i(loc.ortho, view.orthographic ? 1 : 0);
+  gl().glUniform1f(loc.near_plane, view.near_plane);
+  gl().glUniform1f(loc.far_plane, far_plane(view));
+  // A twentieth of a pixel, as a view-space length (ortho) or slope (perspective): x_ndc =
+  // projection[0][0] * x (/ -z) for the symmetric frusta and boxes cameras build.
+  gl().glUniform2f(loc.slack, 0.05f * 2.0f / (float(view.width) * view.projection[0][0]),
+                   0.05f * 2.0f / (float(view.height) * view.projection[1][1]));
+  gl().glUniform2f(loc.image_size, float(view.width), float(view.height));
+}
 
 }  // namespace
 
 struct SphereRenderer::Impl {
-  std::vector<LitProgram> programs;  // [0]: the default lighting; then variants, oldest first
-  GlVertexArray vao;
-  GlBuffer instances;
+  // [0]: spheres under the default lighting; then the others (bonds, variants), oldest first
+  std::vector<LitProgram> programs;
+  GlVertexArray vao, bond_vao;
+  GlBuffer instances, bond_instances;
   GlFramebuffer fbo;
   GlRenderbuffer key_rb, depth_rb;  // color keys (R32F, see sphere_shaders.h), window depth
   int fbo_w = 0, fbo_h = 0;
@@ -129,15 +160,24 @@ struct SphereRenderer::Impl {
   std::vector<float> tile_key;
   std::vector<float> tile_depth;
 
-  // The program for `lighting`, linked on first use.
-  Status program_for(const Lighting &lighting, const LitProgram **out) {
-    for (const LitProgram &p : programs)
-      if (p.lighting == lighting) return *out = &p, Status();
+  // The program for `primitive` under `lighting`, linked on first use. Pointers into
+  // `programs` stay valid until the next call.
+  Status program_for(Primitive primitive, const Lighting &lighting, size_t *out) {
+    for (size_t k = 0; k < programs.size(); ++k)
+      if (programs[k].primitive == primitive && programs[k].lighting == lighting)
+        return *out = k, Status();
     LitProgram p;
-    if (Status s = make_lit_program(lighting, &p); !s.ok()) return s;
-    if (programs.size() > kMaxLightingVariants) programs.erase(programs.begin() + 1);
+    if (Status s = make_lit_program(primitive, lighting, &p); !s.ok()) return s;
+    // The oldest other lighting's program goes: the programs of this lighting (spheres and
+    // bonds of one render) stay together.
+    if (programs.size() > kMaxLightingVariants)
+      for (size_t k = 1; k < programs.size(); ++k)
+        if (!(programs[k].lighting == lighting)) {
+          programs.erase(programs.begin() + std::ptrdiff_t(k));
+          break;
+        }
     programs.push_back(std::move(p));
-    *out = &programs.back();
+    *out = programs.size() - 1;
     return {};
   }
 
@@ -165,14 +205,19 @@ struct SphereRenderer::Impl {
     return {};
   }
 
-  void draw_all(const SphereInstance *spheres, size_t count, bool reupload) {
-    gl().glBindBuffer(GL_ARRAY_BUFFER, instances.get());
+  // Draws `count` instances of `size` bytes each from `data` through `vao` (whose attributes
+  // read `buffer`).
+  static void draw_all(const GlVertexArray &vao, const GlBuffer &buffer, const void *data,
+                       size_t size, size_t count, bool reupload) {
+    gl().glBindVertexArray(vao.get());
+    gl().glBindBuffer(GL_ARRAY_BUFFER, buffer.get());
+    const auto *bytes = static_cast<const unsigned char *>(data);
     for (size_t first = 0; first < count; first += kChunkInstances) {
       const size_t n = std::min(kChunkInstances, count - first);
       if (reupload) {
         // A new store of exactly this chunk's size, filled in the same call: llvmpipe need not
         // wait for the previous chunk's draw, and nothing larger is allocated or cleared.
-        gl().glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(n * sizeof(SphereInstance)), spheres + first,
+        gl().glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(n * size), bytes + first * size,
                           GL_STREAM_DRAW);
       }
       gl().glDrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, GLsizei(n));
@@ -223,7 +268,8 @@ void SphereRenderer::set_max_tile_size(int pixels) {
 Status SphereRenderer::create(std::unique_ptr<SphereRenderer> *out) {
   auto impl = std::make_unique<Impl>();
   impl->programs.emplace_back();
-  if (Status s = make_lit_program(Lighting(), &impl->programs.back()); !s.ok()) return s;
+  if (Status s = make_lit_program(Primitive::kSphere, Lighting(), &impl->programs.back()); !s.ok())
+    return s;
   GLint rb_limit = 0, viewport_limit[2] = {0, 0};
   gl().glGetIntegerv(GL_MAX_RENDERBUFFER_SIZE, &rb_limit);
   gl().glGetIntegerv(GL_MAX_VIEWPORT_DIMS, viewport_limit);
@@ -247,6 +293,24 @@ Status SphereRenderer::create(std::unique_ptr<SphereRenderer> *out) {
   gl().glVertexAttribPointer(1, 4, GL_UNSIGNED_BYTE, GL_TRUE, sizeof(SphereInstance),
                              reinterpret_cast<const void *>(offsetof(SphereInstance, rgba)));
   gl().glVertexAttribDivisor(1, 1);
+  // Bonds: start (vec3), end and radius (vec4), color.
+  gl().glGenVertexArrays(1, &name);
+  impl->bond_vao = GlVertexArray(name);
+  gl().glGenBuffers(1, &name);
+  impl->bond_instances = GlBuffer(name);
+  gl().glBindVertexArray(impl->bond_vao.get());
+  gl().glBindBuffer(GL_ARRAY_BUFFER, impl->bond_instances.get());
+  gl().glEnableVertexAttribArray(0);
+  gl().glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, sizeof(BondInstance), nullptr);
+  gl().glVertexAttribDivisor(0, 1);
+  gl().glEnableVertexAttribArray(1);
+  gl().glVertexAttribPointer(1, 4, GL_FLOAT, GL_FALSE, sizeof(BondInstance),
+                             reinterpret_cast<const void *>(offsetof(BondInstance, end)));
+  gl().glVertexAttribDivisor(1, 1);
+  gl().glEnableVertexAttribArray(2);
+  gl().glVertexAttribPointer(2, 4, GL_UNSIGNED_BYTE, GL_TRUE, sizeof(BondInstance),
+                             reinterpret_cast<const void *>(offsetof(BondInstance, rgba)));
+  gl().glVertexAttribDivisor(2, 1);
   if (const GLenum err = gl().glGetError(); err != GL_NO_ERROR)
     return {StatusCode::kGl,
             "OpenGL error " + std::to_string(err) + " while setting up the sphere renderer"};
@@ -256,6 +320,12 @@ Status SphereRenderer::create(std::unique_ptr<SphereRenderer> *out) {
 
 Status SphereRenderer::render(const RenderView &view, const SphereInstance *spheres, size_t count,
                               Frame *frame, RenderTimings *timings) {
+  return render(view, spheres, count, nullptr, 0, frame, timings);
+}
+
+Status SphereRenderer::render(const RenderView &view, const SphereInstance *spheres, size_t count,
+                              const BondInstance *bonds, size_t bond_count, Frame *frame,
+                              RenderTimings *timings) {
   Impl &m = *impl_;
   const auto t0 = std::chrono::steady_clock::now();
   *frame = Frame(view.width, view.height);
@@ -263,23 +333,35 @@ Status SphereRenderer::render(const RenderView &view, const SphereInstance *sphe
   const int tile_h = std::min(view.height, m.tile_limit);
   if (Status s = m.ensure_framebuffer(tile_w, tile_h); !s.ok()) return s;
 
-  const LitProgram *program = nullptr;
-  if (Status s = m.program_for(view.lighting, &program); !s.ok()) return s;
-  const UniformLocations &loc = program->loc;
-  gl().glUseProgram(program->program.get());
-  gl().glBindVertexArray(m.vao.get());
-  gl().glUniformMatrix4fv(loc.view, 1, GL_FALSE, glm::value_ptr(view.view));
-  gl().glUniformMatrix4fv(loc.proj, 1, GL_FALSE, glm::value_ptr(view.projection));
+  // The programs of the primitives drawn (indices into m.programs, which may grow).
+  size_t sphere_program = 0, bond_program = 0;
+  if (bond_count > 0)
+    if (Status s = m.program_for(Primitive::kBond, view.lighting, &bond_program); !s.ok()) return s;
+  if (Status s = m.program_for(Primitive::kSphere, view.lighting, &sphere_program); !s.ok())
+    return s;
+  // Linking the sphere program may have dropped an older program: find the bond program again
+  // (its lighting is this one, which eviction spares).
+  if (bond_count > 0)
+    if (Status s = m.program_for(Primitive::kBond, view.lighting, &bond_program); !s.ok()) return s;
   const glm::mat4 inv = glm::inverse(view.projection);
-  gl().glUniformMatrix4fv(loc.inv_proj, 1, GL_FALSE, glm::value_ptr(inv));
-  gl().glUniform1i(loc.ortho, view.orthographic ? 1 : 0);
-  gl().glUniform1f(loc.near_plane, view.near_plane);
-  gl().glUniform1f(loc.far_plane, far_plane(view));
-  // A twentieth of a pixel, as a view-space length (ortho) or slope (perspective): x_ndc =
-  // projection[0][0] * x (/ -z) for the symmetric frusta and boxes cameras build.
-  gl().glUniform2f(loc.slack, 0.05f * 2.0f / (float(view.width) * view.projection[0][0]),
-                   0.05f * 2.0f / (float(view.height) * view.projection[1][1]));
-  gl().glUniform2f(loc.image_size, float(view.width), float(view.height));
+  struct Pass {
+    const LitProgram *program;
+    const GlVertexArray *vao;
+    const GlBuffer *buffer;
+    const void *data;
+    size_t size, count;
+  };
+  std::vector<Pass> passes;
+  if (count > 0)
+    passes.push_back({&m.programs[sphere_program], &m.vao, &m.instances, spheres,
+                      sizeof(SphereInstance), count});
+  if (bond_count > 0)
+    passes.push_back({&m.programs[bond_program], &m.bond_vao, &m.bond_instances, bonds,
+                      sizeof(BondInstance), bond_count});
+  for (const Pass &p : passes) {
+    gl().glUseProgram(p.program->program.get());
+    set_view_uniforms(p.program->loc, view, inv);
+  }
   gl().glEnable(GL_DEPTH_TEST);
   gl().glDisable(GL_CULL_FACE);
   gl().glBlendEquation(GL_MIN);  // factors are ignored by GL_MIN
@@ -287,8 +369,7 @@ Status SphereRenderer::render(const RenderView &view, const SphereInstance *sphe
   gl().glClearDepth(1.0);
 
   RenderTimings t;
-  const bool single_chunk = count <= kChunkInstances;
-  bool uploaded = false;
+  std::vector<bool> uploaded(passes.size(), false);
   for (int ty = 0; ty < view.height; ty += tile_h) {
     for (int tx = 0; tx < view.width; tx += tile_w) {
       const int tw = std::min(tile_w, view.width - tx);
@@ -299,24 +380,37 @@ Status SphereRenderer::render(const RenderView &view, const SphereInstance *sphe
       gl().glViewport(0, 0, tw, th);
       gl().glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
       const glm::mat4 tp = tile_projection(view, tx, gl_ty, tw, th);
-      gl().glUniformMatrix4fv(loc.tile_proj, 1, GL_FALSE, glm::value_ptr(tp));
-      gl().glUniform2f(loc.tile_origin, float(tx), float(gl_ty));
-      if (count > 0) {
+      for (const Pass &p : passes) {
+        gl().glUseProgram(p.program->program.get());
+        gl().glUniformMatrix4fv(p.program->loc.tile_proj, 1, GL_FALSE, glm::value_ptr(tp));
+        gl().glUniform2f(p.program->loc.tile_origin, float(tx), float(gl_ty));
+      }
+      if (!passes.empty()) {
         // Pass 1: the nearest depth of every pixel. Pass 2: the smallest color key among the
         // fragments at exactly that depth (read_tile lets the background compete at its depth).
-        gl().glUniform1i(loc.depth_only, 1);
+        // Each pass draws every primitive: spheres and bonds settle depth and ties together.
         gl().glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
         gl().glDepthMask(GL_TRUE);
         gl().glDepthFunc(GL_LESS);
         gl().glDisable(GL_BLEND);
-        m.draw_all(spheres, count, !(single_chunk && uploaded));
-        uploaded = true;
-        gl().glUniform1i(loc.depth_only, 0);
+        for (size_t k = 0; k < passes.size(); ++k) {
+          const Pass &p = passes[k];
+          const bool single_chunk = p.count <= kChunkInstances;
+          gl().glUseProgram(p.program->program.get());
+          gl().glUniform1i(p.program->loc.depth_only, 1);
+          Impl::draw_all(*p.vao, *p.buffer, p.data, p.size, p.count,
+                         !(single_chunk && uploaded[k]));
+          uploaded[k] = true;
+        }
         gl().glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
         gl().glDepthMask(GL_FALSE);
         gl().glDepthFunc(GL_EQUAL);
         gl().glEnable(GL_BLEND);
-        m.draw_all(spheres, count, !single_chunk);
+        for (const Pass &p : passes) {
+          gl().glUseProgram(p.program->program.get());
+          gl().glUniform1i(p.program->loc.depth_only, 0);
+          Impl::draw_all(*p.vao, *p.buffer, p.data, p.size, p.count, p.count > kChunkInstances);
+        }
         gl().glDepthMask(GL_TRUE);  // for the next tile's clear
       }
       gl().glFinish();

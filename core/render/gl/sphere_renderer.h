@@ -1,4 +1,5 @@
-// Draws spheres as ray-cast impostors with OpenGL into a Frame (color + window depth).
+// Draws spheres, and bonds' cylinders, as ray-cast impostors with OpenGL into a Frame (color +
+// window depth).
 //
 // Ownership: the renderer owns its GL program, buffers and framebuffer; it must be created and
 // used while the process's GlContext is current (one thread). Units: positions and radii in the
@@ -25,6 +26,16 @@ struct SphereInstance {
 };
 static_assert(sizeof(SphereInstance) == 20, "SphereInstance is uploaded as raw bytes");
 
+// One half-bond as the GPU sees it: a closed cylinder from `start` (its atom's centre) to `end`
+// (the bond's midpoint), both relative to the scene origin; 32 bytes.
+struct BondInstance {
+  float start[3];
+  float end[3];
+  float radius;
+  uint8_t rgba[4];
+};
+static_assert(sizeof(BondInstance) == 32, "BondInstance is uploaded as raw bytes");
+
 struct RenderTimings {
   double draw_ms = 0;      // upload + both passes (GL finished)
   double readback_ms = 0;  // glReadPixels of color and depth into the Frame
@@ -48,6 +59,10 @@ class SphereRenderer {
   // Returns OK or kGl.
   Status render(const RenderView &view, const SphereInstance *spheres, size_t count, Frame *frame,
                 RenderTimings *timings);
+  // The same with `bond_count` half-bonds as ray-cast cylinders (bond_shaders.h) among the
+  // spheres, under the same rules: nearest wins, ties to the smaller color, in both passes.
+  Status render(const RenderView &view, const SphereInstance *spheres, size_t count,
+                const BondInstance *bonds, size_t bond_count, Frame *frame, RenderTimings *timings);
 
   // Largest tile side the renderer uses (GL limit, capped to bound the FBO's memory).
   int max_tile_size() const;

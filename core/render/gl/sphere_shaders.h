@@ -186,21 +186,17 @@ inline constexpr const char *kCustomLightBlock = R"GLSL(  // Custom lighting: k_
   vec3 rgb = v_color.rgb * (k_ambient + k_diffuse * max(n_l, 0.0)) + vec3(highlight);
 )GLSL";
 
-// The impostor fragment shader, with the headlight constants of core/render/shading.h injected as
-// GLSL constants: one change there changes the OpenGL and the CPU images alike. A lighting other
-// than the default gets a variant: its own values as constants (constants, not uniforms, as in the
-// default program) and kCustomLightBlock in place of the headlight block.
-inline std::string sphere_fragment_source(const Lighting &lighting = Lighting()) {
+// What goes in front of a fragment shader body: the #version line, the lighting's constants
+// (the headlight constants of core/render/shading.h, or a custom lighting's values), and the
+// dither matrix. Constants, not uniforms, as in the default program.
+inline std::string fragment_prologue(const Lighting &lighting) {
   if (lighting.is_default())
     return std::string("#version 330 core\n") +
            "const float k_ambient = " + glsl_float(shading::kAmbient<float>) + ";\n" +
            "const float k_diffuse = " + glsl_float(shading::kDiffuse<float>) + ";\n" +
            "const float k_specular = " + glsl_float(shading::kSpecular<float>) + ";\n" +
            "const float k_shininess = " + glsl_float(float(shading::kShininess)) + ";\n" +
-           bayer_glsl() + kSphereFragmentBody;
-  std::string body = kSphereFragmentBody;
-  const size_t begin = body.find("  // Headlight:"), end = body.find("  // To 8 bits");
-  body.replace(begin, end - begin, kCustomLightBlock);
+           bayer_glsl();
   const auto f = [](double v) { return glsl_float(float(v)); };
   return std::string("#version 330 core\n") + "const float k_ambient = " + f(lighting.ambient) +
          ";\n" + "const float k_diffuse = " + f(lighting.diffuse) + ";\n" +
@@ -208,7 +204,31 @@ inline std::string sphere_fragment_source(const Lighting &lighting = Lighting())
          "const float k_shininess = " + f(lighting.shininess) + ";\n" +
          "const bool k_along_view = " + (lighting.headlight() ? "true" : "false") + ";\n" +
          "const vec3 k_light = vec3(" + f(lighting.direction[0]) + ", " + f(lighting.direction[1]) +
-         ", " + f(lighting.direction[2]) + ");\n" + bayer_glsl() + body;
+         ", " + f(lighting.direction[2]) + ");\n" + bayer_glsl();
+}
+
+// A fragment body whose headlight block (from "  // Headlight:" up to "  // To 8 bits") is
+// replaced by kCustomLightBlock for a lighting other than the default; `normal_given` drops the
+// block's own normal (a body that computed `n` itself).
+inline std::string lit_body(const char *body_text, const Lighting &lighting, bool normal_given) {
+  std::string body = body_text;
+  if (lighting.is_default()) return body;
+  std::string block = kCustomLightBlock;
+  if (normal_given) {
+    const std::string own_normal = "  vec3 n = normalize(hit - v_center);\n";
+    block.erase(block.find(own_normal), own_normal.size());
+  }
+  const size_t begin = body.find("  // Headlight:"), end = body.find("  // To 8 bits");
+  body.replace(begin, end - begin, block);
+  return body;
+}
+
+// The impostor fragment shader, with the headlight constants of core/render/shading.h injected as
+// GLSL constants: one change there changes the OpenGL and the CPU images alike. A lighting other
+// than the default gets a variant: its own values as constants (constants, not uniforms, as in the
+// default program) and kCustomLightBlock in place of the headlight block.
+inline std::string sphere_fragment_source(const Lighting &lighting = Lighting()) {
+  return fragment_prologue(lighting) + lit_body(kSphereFragmentBody, lighting, false);
 }
 
 }  // namespace lantern::shaders

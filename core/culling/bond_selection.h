@@ -1,0 +1,118 @@
+// Culling of half-bonds (core/bricks/brick_bonds.h), the bonds' counterpart of brick_selection.h
+// and cull_pass.h: first brick by brick - the bounds of a brick's halves grown by the bond radius
+// against the frustum and the cutting planes, their screen footprint and nearest depth - then half
+// by half in the bricks that need it, with an occlusion test the caller supplies.
+//
+// Every test is conservative, so the exact modes stay exact: a half is dropped only when it lies
+// wholly outside the frustum, its atom's centre is on the dropped side of a cutting plane (a half
+// goes with its atom), or the caller's depth proves every pixel it could touch nearer. Level of
+// detail: a brick that level of detail thins (it keeps fewer particles, or grows them) draws none
+// of its bonds - they would end at dropped atoms or inside grown ones.
+//
+// Ownership: a BondSelection owns its vector (reused between frames) and refers to bricks by
+// index. Thread-safety: visit_bond_halves only reads; run it from any number of threads.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+#include "core/bricks/brick_bonds.h"
+#include "core/culling/brick_selection.h"
+#include "core/culling/cull_settings.h"
+#include "core/culling/cull_stats.h"
+#include "core/culling/cut_planes.h"
+#include "core/culling/frustum.h"
+#include "core/particles/periodic_box.h"
+#include "core/view/cylinder_bounds.h"
+#include "core/view/view_geometry.h"
+
+namespace lantern {
+
+// A brick whose half-bonds may be seen.
+struct BondBrick {
+  uint32_t brick = 0;
+  Containment containment = Containment::kInside;  // kStraddling: test each half
+  bool cut_each = false;    // some half's atom may lie on the dropped side of a cutting plane
+  double near_depth = 0.0;  // nearest view depth any of its halves reaches
+  PixelRect rect;           // pixels its halves may touch
+};
+
+struct BondSelection {
+  std::vector<BondBrick> visible;  // front to back (by near_depth)
+  double radius = 0.15;            // bonds.radius
+  BondCounts counts;               // so far: halves, and the brick-level drops
+};
+
+// The bricks of `bonds` (made for `bricks`) the camera of `spheres` may see, for a scene culled
+// by `cull` (whose level of detail `spheres` applied: its thinned bricks draw no bonds).
+void select_bond_bricks(const BrickSet &bricks, const BrickBonds &bonds,
+                        const BrickSelection &spheres, const CullSettings &cull,
+                        BondSelection *out);
+
+// One half-bond in view space, ready to test or draw.
+struct HalfBondView {
+  uint32_t index;     // into BrickBonds::halves
+  glm::dvec3 a, b;    // view-space ends: the atom's centre, then the midpoint end
+  PixelRect rect;     // every pixel whose centre it could cover
+  double near_depth;  // its nearest view depth, less the tolerance
+};
+
+// Per visible bond brick of a pass: its halves dropped by the frustum and by the cutting planes,
+// or -1 (both) where the pass's occlusion test skipped the whole brick.
+struct BondDrops {
+  std::vector<int64_t> frustum, cut;
+};
+
+// Every half of the visible bricks of `sel` that survives the cutting planes and the frustum:
+// hidden(rect, depth) is asked for each brick and then each half (true: every pixel of rect holds
+// something nearer than depth, so it is dropped as occluded); visit(view) gets the others.
+// Records each brick's drops in *drops; `pos` reads the particle positions
+// (core/particles/typed_access.h).
+template <typename Positions, typename Hidden, typename Visit>
+void visit_bond_halves(const BrickBonds &bonds, const BondSelection &sel, const Positions &pos,
+                       const PeriodicBox *box, const ViewGeometry &g, const CutPlanes &cuts,
+                       const Hidden &hidden, const Visit &visit, BondDrops *drops) {
+  const Frustum frustum(g);
+  drops->frustum.assign(sel.visible.size(), -1);
+  drops->cut.assign(sel.visible.size(), -1);
+  for (size_t k = 0; k < sel.visible.size(); ++k) {
+    const BondBrick &v = sel.visible[k];
+    if (hidden(v.rect, v.near_depth)) continue;
+    int64_t frustum_culled = 0, cut_culled = 0;
+    const bool straddle = v.containment == Containment::kStraddling;
+    for (uint32_t h = bonds.first[v.brick]; h < bonds.first[v.brick + 1]; ++h) {
+      const HalfBond &half = bonds.halves[h];
+      const glm::dvec3 atom = pos.get(half.atom);
+      if (v.cut_each && cuts.drops(atom)) {
+        ++cut_culled;
+        continue;
+      }
+      HalfBondView view;
+      view.index = h;
+      view.a = g.to_view(atom);
+      view.b = g.to_view(half_bond_end(atom, pos.get(half.partner), box));
+      if (straddle) {  // the half's bounding sphere
+        const glm::dvec3 mid = 0.5 * (view.a + view.b);
+        const double reach = 0.5 * glm::length(view.b - view.a) + sel.radius;
+        if (frustum.classify_sphere(mid, reach) == Containment::kOutside) {
+          ++frustum_culled;
+          continue;
+        }
+      }
+      view.rect = cylinder_rect(g, view.a, view.b, sel.radius, &view.near_depth);
+      if (!view.rect.empty() && !hidden(view.rect, view.near_depth)) visit(view);
+    }
+    drops->frustum[k] = frustum_culled;
+    drops->cut[k] = cut_culled;
+  }
+}
+
+// The counts of a selection's pass over `bonds`: the brick-level ones of `sel`, the drops of the
+// first of `passes` (one, or two column strips: column_strips.h) that judged each brick - both
+// drop the same halves of a brick they judge - and `drawn` halves; what is left was occluded.
+BondCounts bond_counts(const BrickBonds &bonds, const BondSelection &sel,
+                       const BondDrops *const passes[], int pass_count, int64_t drawn);
+
+}  // namespace lantern

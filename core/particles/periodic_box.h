@@ -1,0 +1,37 @@
+// The simulation box as bonds need it: which axes are periodic and how long they are, for the
+// minimum-image convention. Set from lantern_set_box() by the pipeline (the dump stage keeps its
+// own copy for H5MD's `box`).
+//
+// Plain value type. Units: the simulation's length unit.
+#pragma once
+
+#include <array>
+#include <cmath>
+
+#include <glm/vec3.hpp>
+
+namespace lantern {
+
+struct PeriodicBox {
+  std::array<double, 3> length{0, 0, 0};  // high - low per axis
+  std::array<bool, 3> periodic{false, false, false};
+
+  // The minimum image of the separation d: along each periodic axis of positive length, d minus
+  // the multiple of the length that brings it into [-length / 2, length / 2]. Other axes as given.
+  glm::dvec3 minimum_image(glm::dvec3 d) const {
+    for (int a = 0; a < 3; ++a)
+      if (periodic[a] && length[a] > 0.0) d[a] -= length[a] * std::nearbyint(d[a] / length[a]);
+    return d;
+  }
+};
+
+// Where the half-bond of the atom at `atom` ends when its partner is at `partner`: half-way along
+// the minimum-image separation (no box: half-way to the partner). Every stage computes a half's
+// far end with this one function, so culling bounds and the drawn cylinder agree to the bit.
+inline glm::dvec3 half_bond_end(const glm::dvec3 &atom, const glm::dvec3 &partner,
+                                const PeriodicBox *box) {
+  const glm::dvec3 d = box ? box->minimum_image(partner - atom) : partner - atom;
+  return atom + 0.5 * d;
+}
+
+}  // namespace lantern

@@ -1,0 +1,435 @@
+// Bonds drawn as cylinders (core/bricks/brick_bonds.h, core/culling/bond_selection.h, the CPU
+// raster's draw_bond and OpenGL's bond impostor), as the pipeline draws a rank's scene: analytic
+// silhouettes and depths in both renderers, flat end discs, by_atom split at the midpoint, the
+// minimum image on both sides of half the box, cutting planes taking each half with its atom,
+// the two renderers agreeing, and the exact culling modes bit-identical to drawing everything.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "core/bricks/brick_bonds.h"
+#include "core/camera/camera.h"
+#include "core/pipeline/rank_draw.h"
+#include "core/pipeline/scene_settings.h"
+#include "core/render/gl/gl_session.h"
+#include "tests/support/bonded_molecules.h"
+#include "tests/support/status_expect.h"
+
+namespace lantern {
+namespace {
+
+using testing::BondedSystem;
+
+// A bonded system (owned here) lent to the pipeline's structures as a rank holds it.
+struct Lent {
+  const BondedSystem s;
+  ParticleArrays particles;
+  BondArrays bonds;
+  BrickSet bricks;
+  BrickBonds halves;
+  std::optional<PeriodicBox> box;
+
+  Lent(BondedSystem system, bool periodic, BondListing listing = BondListing::kListedOnce)
+      : s(std::move(system)) {
+    ParticleDescription p;
+    p.count = int64_t(s.atoms());
+    p.position = {s.xyz.data(), DataType::kFloat64, 0};
+    p.type = {s.type.data(), DataType::kInt32, 0};
+    p.id = {s.id.data(), DataType::kInt64, 0};
+    EXPECT_OK(ParticleArrays::validate(p, &particles));
+    BondDescription b;
+    b.count = int64_t(s.bond_count());
+    b.first = {s.bonds.data(), DataType::kInt64, 16};
+    b.second = {s.bonds.data() + 1, DataType::kInt64, 16};
+    b.type = {s.bond_type.data(), DataType::kInt32, 0};
+    b.listing = listing;
+    EXPECT_OK(BondArrays::validate(b, particles, &bonds));
+    if (periodic) {
+      PeriodicBox pb;
+      pb.length = {s.box, s.box, s.box};
+      pb.periodic = {true, true, true};
+      box = pb;
+    }
+    bricks = build_bricks(particles, BrickOptions{});
+    build_brick_bonds(particles, bonds, bricks, box ? &*box : nullptr, &halves);
+    EXPECT_OK(halves.first_error);
+  }
+  Lent(const Lent &) = delete;
+  Lent &operator=(const Lent &) = delete;
+};
+
+class BondRender : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    if (gl_backend_built(GlBackend::kEgl) || gl_backend_built(GlBackend::kOsmesa)) {
+      EXPECT_OK(acquire_renderer(GlBackend::kAuto, &session_, &renderer_));
+    }
+  }
+  std::vector<RendererChoice> renderers() const {
+    std::vector<RendererChoice> r = {RendererChoice::kCpu};
+    if (renderer_) r.push_back(RendererChoice::kOpenGl);
+    return r;
+  }
+
+  // The scene drawn on one rank by `choice` (OpenGL needs the renderer), counts in *out.
+  Frame draw(const Lent &m, SceneConfig scene, const Camera &cam, RendererChoice choice,
+             RankDraw *out = nullptr) {
+    scene.renderer = choice;
+    RankScene rank(m.particles, m.bricks, cam, scene);
+    rank.bonds = &m.bonds;
+    rank.bond_halves = &m.halves;
+    rank.box = m.box ? &*m.box : nullptr;
+    rank.renderer = choice == RendererChoice::kOpenGl ? renderer_ : nullptr;
+    RankDrawScratch scratch;
+    Frame frame;
+    RankDraw drawn;
+    EXPECT_OK(draw_scene_on_rank(rank, &scratch, &frame, &drawn));
+    EXPECT_EQ(drawn.renderer, choice == RendererChoice::kOpenGl ? "opengl" : "cpu");
+    if (out) *out = drawn;
+    return frame;
+  }
+
+  std::shared_ptr<GlSession> session_;
+  SphereRenderer *renderer_ = nullptr;
+};
+
+const char *name_of(RendererChoice r) {
+  return r == RendererChoice::kOpenGl ? "opengl" : "cpu";
+}
+
+SceneConfig bond_scene(int w, int h, double atom_radius, double bond_radius) {
+  SceneConfig s;
+  s.width = w, s.height = h;
+  s.radius = atom_radius;
+  s.background = {0, 0, 0};
+  s.culling.occlusion = OcclusionMode::kNone;
+  s.bonds.enabled = true;
+  s.bonds.radius = bond_radius;
+  s.color.by = ColorBy::kType;
+  s.color.palette = {{1, 0, 0}, {0, 0, 1}};
+  return s;
+}
+
+// An explicit camera at `eye` looking at the origin with +y up.
+Camera look_from(const SceneConfig &s, Projection projection, glm::dvec3 eye, double zoom = 1) {
+  CameraConfig cfg;
+  cfg.projection = projection;
+  cfg.position = std::array<double, 3>{eye.x, eye.y, eye.z};
+  cfg.look_at = {0, 0, 0};
+  cfg.up = {0, 1, 0};
+  cfg.zoom = zoom;
+  Camera cam;
+  EXPECT_OK(make_camera(cfg, {-3, -3, -3}, {3, 3, 3}, 0.5, s.width, s.height, &cam));
+  return cam;
+}
+
+// Two atoms and the bond between them.
+BondedSystem dumbbell(glm::dvec3 a, glm::dvec3 b, int32_t type_a = 0, int32_t type_b = 1) {
+  BondedSystem s;
+  s.xyz = {a.x, a.y, a.z, b.x, b.y, b.z};
+  s.type = {type_a, type_b};
+  s.id = {1, 2};
+  s.bonds = {0, 1};
+  s.bond_type = {0};
+  return s;
+}
+
+// World x, y of pixel (x, y)'s centre for an orthographic camera on +z looking at the origin.
+glm::dvec2 ortho_world(const Camera &cam, const Frame &f, int x, int y) {
+  const double per_pixel = 2.0 / (cam.projection[0][0] * f.width);
+  return {(x + 0.5 - f.width / 2.0) * per_pixel, (f.height / 2.0 - y - 0.5) * per_pixel};
+}
+
+bool drawn(const Frame &f, int x, int y) {
+  return f.depth[f.index(x, y)] != kBackgroundDepth;
+}
+
+// A bond across the image seen side-on: the rectangle |x| <= 2, |y| <= r, every pixel at the
+// depth of the cylinder's front, d - sqrt(r^2 - y^2); the tiny atoms hide inside it.
+TEST_F(BondRender, SideOnSilhouetteAndDepthMatchTheAnalyticCylinder) {
+  const double r = 0.5, d = 20.0;
+  const Lent m(dumbbell({-2, 0, 0}, {2, 0, 0}), false);
+  const SceneConfig s = bond_scene(320, 160, 0.01, r);
+  const Camera cam = look_from(s, Projection::kOrthographic, {0, 0, d}, 2.5);
+  for (const RendererChoice renderer : renderers()) {
+    const Frame f = draw(m, s, cam, renderer);
+    int wrong_coverage = 0, checked = 0;
+    double worst_depth = 0.0;
+    for (int y = 0; y < f.height; ++y)
+      for (int x = 0; x < f.width; ++x) {
+        const glm::dvec2 w = ortho_world(cam, f, x, y);
+        const double edge = std::min(2.0 - std::abs(w.x), r - std::abs(w.y));
+        const double px = 2.0 / (cam.projection[0][0] * f.width);
+        if (std::abs(edge) < px) continue;  // within a pixel of the outline
+        const bool inside = edge > 0;
+        wrong_coverage += inside != drawn(f, x, y);
+        if (!inside) continue;
+        ++checked;
+        const double expected = d - std::sqrt(r * r - w.y * w.y);
+        worst_depth = std::max(
+            worst_depth, std::abs(cam.window_depth_to_distance(f.depth[f.index(x, y)]) - expected));
+      }
+    EXPECT_GT(checked, 3000) << name_of(renderer);
+    EXPECT_EQ(wrong_coverage, 0) << name_of(renderer);
+    EXPECT_LT(worst_depth, 1e-3) << name_of(renderer);
+  }
+}
+
+// Seen along its axis a bond is its end disc: flat (one depth), of the bond's radius, in either
+// projection; facing the viewer, one color in orthographic view. (The atom at the disc's centre
+// pokes through it: its few pixels are left out.)
+TEST_F(BondRender, EndOnABondShowsItsFlatEndDisc) {
+  const double r = 0.6;
+  const Lent m(dumbbell({0, 0, -2}, {0, 0, 2}, 0, 0), false);
+  const SceneConfig s = bond_scene(200, 200, 0.02, r);
+  for (const Projection projection : {Projection::kOrthographic, Projection::kPerspective}) {
+    const Camera cam = look_from(s, projection, {0, 0, 20}, 2.0);
+    for (const RendererChoice renderer : renderers()) {
+      const Frame f = draw(m, s, cam, renderer);
+      int disc = 0, other_depth = 0, other_color = 0;
+      const size_t reference = f.index(f.width / 2 + 10, f.height / 2);
+      for (int y = 0; y < f.height; ++y)
+        for (int x = 0; x < f.width; ++x) {
+          const size_t i = f.index(x, y);
+          if (f.depth[i] == kBackgroundDepth) continue;
+          ++disc;
+          if (std::hypot(x + 0.5 - f.width / 2.0, y + 0.5 - f.height / 2.0) < 4.0) continue;
+          other_depth += std::abs(cam.window_depth_to_distance(f.depth[i]) - 18.0) > 1e-3;
+          other_color += std::memcmp(&f.rgba[4 * i], &f.rgba[4 * reference], 3) != 0;
+        }
+      // The disc's area in pixels: radius r at distance 18 (perspective) or the box's scale.
+      const double px_per_unit = projection == Projection::kOrthographic
+                                     ? cam.projection[1][1] * f.height / 2.0
+                                     : cam.projection[1][1] * f.height / 2.0 / 18.0;
+      const double area = M_PI * r * r * px_per_unit * px_per_unit;
+      EXPECT_NEAR(disc, area, 0.05 * area) << name_of(renderer);
+      EXPECT_EQ(other_depth, 0) << name_of(renderer);
+      if (projection == Projection::kOrthographic) {
+        EXPECT_EQ(other_color, 0) << name_of(renderer);
+        EXPECT_EQ(f.rgba[4 * reference], 255) << name_of(renderer);  // red, facing the light
+      }
+    }
+  }
+}
+
+// color: by_atom splits the bond at its midpoint into the atoms' colors; by_type and solid give
+// the whole bond one color.
+TEST_F(BondRender, ByAtomSplitsAtTheMidpointAndTheOtherModesDoNot) {
+  const Lent m(dumbbell({-2, 0, 0}, {2, 0, 0}), false);
+  SceneConfig s = bond_scene(320, 160, 0.05, 0.5);
+  const Camera cam = look_from(s, Projection::kOrthographic, {0, 0, 20}, 2.5);
+  for (const RendererChoice renderer : renderers()) {
+    s.bonds.color = BondColorBy::kAtom;
+    const Frame f = draw(m, s, cam, renderer);
+    int red = 0, blue = 0, wrong = 0;
+    for (int x = 0; x < f.width; ++x) {
+      const glm::dvec2 w = ortho_world(cam, f, x, f.height / 2);
+      if (std::abs(w.x) > 1.9 || std::abs(w.x) < 0.05) continue;
+      const uint8_t *c = &f.rgba[4 * f.index(x, f.height / 2)];
+      const bool is_red = c[0] > c[2], is_blue = c[2] > c[0];  // plus a white highlight
+      red += w.x < 0 && is_red, blue += w.x > 0 && is_blue;
+      wrong += (w.x < 0 && !is_red) || (w.x > 0 && !is_blue);
+    }
+    EXPECT_GT(red, 50) << name_of(renderer);
+    EXPECT_GT(blue, 50) << name_of(renderer);
+    EXPECT_EQ(wrong, 0) << name_of(renderer);
+    for (const BondColorBy by : {BondColorBy::kType, BondColorBy::kSolid}) {
+      s.bonds.color = by;
+      s.bonds.solid = {0, 1, 0};
+      s.bonds.palette = {{1, 1, 0}};
+      const Frame one = draw(m, s, cam, renderer);
+      const uint8_t *left = &one.rgba[4 * one.index(one.width / 2 - 40, one.height / 2)];
+      const uint8_t *right = &one.rgba[4 * one.index(one.width / 2 + 40, one.height / 2)];
+      EXPECT_EQ(std::memcmp(left, right, 4), 0) << name_of(renderer);
+      EXPECT_EQ(left[1], 255) << name_of(renderer);  // green or yellow, lit head-on
+      if (by == BondColorBy::kType)
+        EXPECT_EQ(left[0], 255) << name_of(renderer);  // yellow
+      else
+        EXPECT_LT(left[0], 100) << name_of(renderer);  // green, with the white highlight
+    }
+  }
+}
+
+// Periodic boxes (edge 10): a bond just under half the box is drawn whole through the inside;
+// one just over it is two half-bonds, each from its own atom out through its own face to the
+// minimum image's midpoint - nothing in between. Without the box, the long bond spans the box.
+TEST_F(BondRender, BondsAreDrawnInTheMinimumImageOnBothSidesOfHalfTheBox) {
+  BondedSystem s;
+  // Row y = 2: 4.9 apart (drawn whole). Row y = -2: 8.8 apart, so the minimum image is 1.2
+  // across x = 0: half-bonds from 0.8 down to 0.2 and from 9.6 up to 10.2.
+  s.xyz = {0.5, 2, 0, 5.4, 2, 0, 0.8, -2, 0, 9.6, -2, 0};
+  s.type = {0, 0, 0, 0};
+  s.id = {1, 2, 3, 4};
+  s.bonds = {0, 1, 2, 3};
+  s.bond_type = {0, 0};
+  s.box = 10.0;
+  SceneConfig scene = bond_scene(400, 240, 0.05, 0.3);
+  CameraConfig cfg;
+  cfg.projection = Projection::kOrthographic;
+  cfg.position = std::array<double, 3>{5, 0, 30};
+  cfg.look_at = {5, 0, 0};
+  cfg.up = {0, 1, 0};
+  Camera cam;
+  ASSERT_OK(make_camera(cfg, {-1, -4, -1}, {11, 4, 1}, 0.5, scene.width, scene.height, &cam));
+  const auto pixel_at = [&](const Frame &f, double wx, double wy) {
+    const double per_unit = cam.projection[0][0] * f.width / 2.0;
+    return drawn(f, int((wx - 5.0) * per_unit + f.width / 2.0),
+                 int(f.height / 2.0 - wy * per_unit));
+  };
+  for (const bool periodic : {true, false}) {
+    const Lent m(s, periodic);
+    for (const RendererChoice renderer : renderers()) {
+      const Frame f = draw(m, scene, cam, renderer);
+      const std::string what = std::string(name_of(renderer)) + (periodic ? " periodic" : "");
+      for (const double x : {1.0, 3.0, 5.0}) EXPECT_TRUE(pixel_at(f, x, 2)) << what << " x=" << x;
+      EXPECT_FALSE(pixel_at(f, 5.9, 2)) << what;
+      // Row y = -2, from left to right: out of the low face, the stub's end, the stub, the gap
+      // (or the whole bond), the other stub, out of the high face, beyond its end.
+      const double xs[] = {0.1, 0.4, 1.5, 5.0, 9.8, 10.1, 10.4};
+      const bool split[] = {false, true, false, false, true, true, false};
+      const bool whole[] = {false, false, true, true, false, false, false};
+      for (int k = 0; k < 7; ++k)
+        EXPECT_EQ(pixel_at(f, xs[k], -2), periodic ? split[k] : whole[k]) << what << " x=" << xs[k];
+    }
+  }
+}
+
+// A cutting plane through a bond (x > 0 dropped): the atom at x = -2 keeps its half, up to the
+// midpoint; the other half went with its atom.
+TEST_F(BondRender, ACutPlaneTakesEachHalfWithItsAtom) {
+  const Lent m(dumbbell({-2, 0, 0}, {2, 0, 0}), false);
+  SceneConfig s = bond_scene(320, 160, 0.05, 0.5);
+  CutPlane cut;
+  cut.normal = {1, 0, 0};
+  cut.offset = 0.0;
+  s.cuts = {cut};
+  const Camera cam = look_from(s, Projection::kOrthographic, {0, 0, 20}, 2.5);
+  for (const RendererChoice renderer : renderers()) {
+    RankDraw out;
+    const Frame f = draw(m, s, cam, renderer, &out);
+    int left = 0, right = 0;
+    for (int x = 0; x < f.width; ++x) {
+      const glm::dvec2 w = ortho_world(cam, f, x, f.height / 2);
+      if (std::abs(w.x) < 0.05) continue;
+      (w.x < 0 ? left : right) += drawn(f, x, f.height / 2);
+    }
+    EXPECT_GT(left, 50) << name_of(renderer);
+    EXPECT_EQ(right, 0) << name_of(renderer);
+    EXPECT_EQ(out.cull.bonds.cut_culled, 1) << name_of(renderer);
+    EXPECT_EQ(out.cull.bonds.drawn, 1) << name_of(renderer);
+  }
+}
+
+// A polymer melt seen from outside and from a camera inside it, both projections: the CPU
+// raster (double) and OpenGL (float) agree as closely as they do for spheres alone.
+TEST_F(BondRender, CpuRasterAndOpenGlAgree) {
+  if (!renderer_) GTEST_SKIP() << "no OpenGL in this build";
+  const BondedSystem melt = testing::polymer_melt(40, 40, 14.0);
+  const Lent m(melt, true);
+  int64_t drawn_pixels = 0, coverage = 0, off_by_more = 0;
+  int max_channel = 0;
+  for (int view = 0; view < 4; ++view) {
+    SceneConfig s = bond_scene(300, 220, 0.35, 0.15);
+    s.color.by = ColorBy::kType;
+    s.color.palette.clear();
+    s.camera.projection = view % 2 ? Projection::kOrthographic : Projection::kPerspective;
+    s.camera.azimuth = 20.0 + 70.0 * view;
+    s.camera.zoom = view < 2 ? 1.0 : 3.0;  // the later views see part of the box up close
+    Camera cam;
+    ASSERT_OK(make_camera(s.camera, {0, 0, 0}, {14, 14, 14}, 0.35, s.width, s.height, &cam));
+    const Frame cpu = draw(m, s, cam, RendererChoice::kCpu);
+    const Frame gl = draw(m, s, cam, RendererChoice::kOpenGl);
+    for (size_t i = 0; i < gl.pixel_count(); ++i) {
+      const bool a = gl.depth[i] != kBackgroundDepth, b = cpu.depth[i] != kBackgroundDepth;
+      drawn_pixels += b;
+      if (a != b) {
+        ++coverage;
+        continue;
+      }
+      int worst = 0;
+      for (int k = 0; k < 3; ++k)
+        worst = std::max(worst, std::abs(int(gl.rgba[4 * i + k]) - int(cpu.rgba[4 * i + k])));
+      off_by_more += worst > 1;
+      max_channel = std::max(max_channel, worst);
+    }
+  }
+  std::printf(
+      "bonds, opengl vs cpu: %lld of %lld drawn pixels differ in coverage, %lld by more "
+      "than one level (max %d)\n",
+      (long long)coverage, (long long)drawn_pixels, (long long)off_by_more, max_channel);
+  EXPECT_GT(drawn_pixels, 50000);
+  EXPECT_LE(coverage, drawn_pixels / 2000);     // silhouettes within rounding of a pixel centre
+  EXPECT_LE(off_by_more, drawn_pixels / 2000);  // where bond and sphere surfaces cross
+}
+
+// The exact modes with bonds: frustum culling and hzb (CPU raster, OpenGL) give the bytes of
+// drawing every sphere and bond, from outside and from a camera up close, and do cull.
+TEST_F(BondRender, ExactCullingIsBitIdenticalToDrawingEverything) {
+  const BondedSystem melt = testing::polymer_melt(60, 60, 16.0);
+  const Lent m(melt, true);
+  int64_t culled = 0;
+  for (int view = 0; view < 3; ++view) {
+    SceneConfig s = bond_scene(320, 240, 0.45, 0.2);
+    s.camera.azimuth = 35.0 + 100.0 * view;
+    s.camera.zoom = view == 2 ? 4.0 : 1.0;
+    if (view == 1) {
+      CutPlane cut;
+      cut.normal = {0.3, 1, 0.2};
+      cut.offset = 9.0;
+      s.cuts = {cut};
+    }
+    Camera cam;
+    ASSERT_OK(make_camera(s.camera, {0, 0, 0}, {16, 16, 16}, 0.45, s.width, s.height, &cam));
+    for (const RendererChoice renderer : renderers()) {
+      SceneConfig brute = s;
+      brute.culling.frustum = false;
+      brute.culling.occlusion = OcclusionMode::kNone;
+      SceneConfig exact = s;
+      exact.culling.occlusion = OcclusionMode::kHzb;
+      RankDraw all, fast;
+      const Frame a = draw(m, brute, cam, renderer, &all);
+      const Frame b = draw(m, exact, cam, renderer, &fast);
+      const std::string what = std::string(name_of(renderer)) + " view " + std::to_string(view);
+      EXPECT_EQ(a.rgba, b.rgba) << what;
+      EXPECT_EQ(a.depth, b.depth) << what;
+      const BondCounts &c = fast.cull.bonds;
+      EXPECT_EQ(c.halves, int64_t(2 * melt.bond_count())) << what;
+      EXPECT_EQ(c.halves,
+                c.drawn + c.frustum_culled + c.cut_culled + c.lod_dropped + c.occlusion_culled)
+          << what;
+      // Drawing everything leaves out only halves cut away or wholly off the image.
+      EXPECT_EQ(all.cull.bonds.frustum_culled, 0) << what;
+      EXPECT_EQ(all.cull.bonds.drawn + all.cull.bonds.cut_culled + all.cull.bonds.occlusion_culled,
+                c.halves)
+          << what;
+      culled += c.occlusion_culled + c.frustum_culled;
+      std::printf("%s: %lld of %lld half-bonds drawn (%lld hidden, %lld outside, %lld cut)\n",
+                  what.c_str(), (long long)c.drawn, (long long)c.halves,
+                  (long long)c.occlusion_culled, (long long)c.frustum_culled,
+                  (long long)c.cut_culled);
+    }
+  }
+  EXPECT_GT(culled, int64_t(melt.bond_count()));  // most hidden from outside, more up close
+}
+
+// Level of detail: the bonds of thinned bricks are left out, and counted so.
+TEST_F(BondRender, LevelOfDetailLeavesOutTheBondsOfThinnedBricks) {
+  const Lent m(testing::polymer_melt(60, 60, 16.0), true);
+  SceneConfig s = bond_scene(200, 150, 0.45, 0.2);
+  s.lod.fraction = 0.25;
+  Camera cam;
+  ASSERT_OK(make_camera(s.camera, {0, 0, 0}, {16, 16, 16}, 0.45, s.width, s.height, &cam));
+  RankDraw out;
+  draw(m, s, cam, RendererChoice::kCpu, &out);
+  EXPECT_EQ(out.cull.bonds.lod_dropped, out.cull.bonds.halves);
+}
+
+}  // namespace
+}  // namespace lantern
