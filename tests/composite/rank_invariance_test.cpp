@@ -805,19 +805,20 @@ std::string bond_config(const std::string &directory, const std::string &prefix,
 
 // Renders `system` on rank 0 alone, then under every split on all ranks; compares on rank 0.
 void expect_bonds_rank_invariant(const BondedSystem &system, lantern_bond_listing listing,
-                                 double box, const std::string &label,
-                                 const std::string &each = "") {
+                                 double box, const std::string &label, const std::string &each = "",
+                                 const std::string &background = "") {
   const Particles all = atoms_of(system);
   const std::string dir = shared_directory();
   ASSERT_FALSE(dir.empty());
   const int rank = world_rank(), ranks = world_size();
   if (rank == 0) {
     const RankMolecule one = rank_share(Split::kAllOnFirst, all, system, listing, box, 0, 1);
-    const Render ref = render_bonded_once(MPI_COMM_SELF, bond_config(dir, label + "_ref", each),
-                                          one, listing, box, 0);
+    const Render ref = render_bonded_once(
+        MPI_COMM_SELF, with_background(bond_config(dir, label + "_ref", each), background), one,
+        listing, box, 0);
     EXPECT_EQ(ref.status, LANTERN_OK) << ref.error;
   }
-  const std::string config = bond_config(dir, label, each);
+  const std::string config = with_background(bond_config(dir, label, each), background);
   for (size_t s = 0; s < std::size(kSplits); ++s) {
     const RankMolecule mine = rank_share(kSplits[s], all, system, listing, box, rank, ranks);
     const Render r = render_bonded_once(MPI_COMM_WORLD, config, mine, listing, box, int(s));
@@ -874,6 +875,13 @@ TEST(RankInvariance, SameImagesWithBondsInOpenGlAndUnderEveryCue) {
                               "    opacity: [1, 0.5, 1, 0.75]\n"
                               "    lighting: {direction: [-0.5, 0.7, 0.5], specular: 0.5}\n"
                               "    culling: {occlusion: hzb}\n");
+}
+
+// Bonds on a transparent background: cylinders are opaque like spheres (alpha 1), their
+// super-sampled edges partial alpha, the depth cue fading alpha.
+TEST(RankInvariance, SameImagesWithBondsOnATransparentBackground) {
+  expect_bonds_rank_invariant(melt_on_grid(), LANTERN_BONDS_LISTED_ONCE, 12.0, "bonds_transparent",
+                              "    samples: 4\n    depth_cue: {}\n", "transparent");
 }
 
 TEST(RankInvariance, UnwritableOutputFailsTheStepOnEveryRankWithoutHanging) {
