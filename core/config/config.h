@@ -318,8 +318,11 @@ struct SceneConfig {
   std::string name = "scene";  // name: used in stats and in {scene} of the pattern
   int width = 1024;            // width: pixels, 1..kMaxImageSize
   int height = 1024;           // height: pixels, 1..kMaxImageSize
-  std::array<double, 3> background{1.0, 1.0, 1.0};  // background: [r, g, b]
-  double radius = 0.5;                              // radius: a number, for every particle
+  std::array<double, 3> background{1.0, 1.0, 1.0};  // background: [r, g, b] | transparent
+  // background: transparent - pixels nothing covers get alpha 0 (PNG, TIFF, EXR keep it); then
+  // `background` is unused and stays [1, 1, 1].
+  bool transparent_background = false;
+  double radius = 0.5;               // radius: a number, for every particle
   bool per_particle_radius = false;  // radius: per_particle  (uses the published radius array)
   CameraConfig camera;               // camera: {...}
   ColorConfig color;                 // color: {...}

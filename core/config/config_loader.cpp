@@ -73,6 +73,20 @@ void read_radius(const YamlReader &r, const YAML::Node &n, const std::string &p,
   s.radius = value;
 }
 
+// background: [r, g, b], or transparent (alpha 0 where nothing is drawn).
+void read_background(const YamlReader &r, const YAML::Node &n, const std::string &p,
+                     SceneConfig &s) {
+  if (n.IsScalar() && n.Scalar() == "transparent") {
+    s.transparent_background = true;
+    return;
+  }
+  if (n.IsScalar())
+    r.fail(n, p,
+           "must be a color [r, g, b] with components in [0, 1] or 'transparent', got " +
+               quoted_text(n.Scalar()));
+  s.background = r.read_rgb(n, p);
+}
+
 std::string image_pattern(const YamlReader &r, const YAML::Node &n, const std::string &p) {
   const std::string pattern = r.read_string(n, p);
   const Status problem = validate_pattern(pattern);
@@ -391,7 +405,7 @@ const Section<SceneConfig> kScene(
         {"name", &SceneConfig::name, scene_name},
         {"width", &SceneConfig::width, integer(1, kMaxImageSize)},
         {"height", &SceneConfig::height, integer(1, kMaxImageSize)},
-        {"background", &SceneConfig::background, rgb()},
+        {"background", read_background},
         {"radius", read_radius},
         {"camera", &SceneConfig::camera, kCamera},
         {"color", &SceneConfig::color, kColor},
@@ -421,6 +435,7 @@ const Section<SceneConfig> kScene(
         rule(legend_has_colors),
         rule(renderer_serves_occlusion),
         rule(density_scene_has_no_depth),
+        rule(transparent_output_keeps_alpha),
     },
     {"each scene must be a mapping (name:, width:, ...)"});
 

@@ -217,6 +217,25 @@ void density_scene_has_no_depth(const YamlReader &r, const YAML::Node &scene,
            "needs style: spheres (bonds are drawn as cylinders among the spheres)");
 }
 
+void transparent_output_keeps_alpha(const YamlReader &r, const YAML::Node &scene,
+                                    const std::string &path, SceneConfig &s) {
+  if (!s.transparent_background) return;
+  // Flattening onto a colour here would guess one the user never chose: say so instead.
+  const YAML::Node background = key_node(scene, "background");
+  const std::string where = child_path(path, "background");
+  if (s.output.images && s.output.format == ImageFormat::kJpeg)
+    r.fail(background, where,
+           "'transparent' needs an image format with alpha, but output writes JPEG (" +
+               quoted_text(s.output.pattern, kPathShown) +
+               "), which has none; use .png, .tif or .exr, or give a colour [r, g, b]");
+  if (s.output.movie.enabled)
+    r.fail(background, where,
+           "'transparent' cannot be kept by output.movie (" +
+               quoted_text(s.output.movie.file, kPathShown) +
+               "): movie frames are written without alpha; give a colour [r, g, b] for "
+               "the movie, or write PNG, TIFF or EXR images only");
+}
+
 void scenes_are_distinct(const YamlReader &r, const YAML::Node &top, const std::string &path,
                          Config &config) {
   const YAML::Node scenes = key_node(top, "scenes");

@@ -61,6 +61,9 @@ void renderer_serves_occlusion(const YamlReader &r, const YAML::Node &scene,
 // scenes[i]: style: density has no surface: samples 1, no depth cues and no bonds.
 void density_scene_has_no_depth(const YamlReader &r, const YAML::Node &scene,
                                 const std::string &path, SceneConfig &s);
+// scenes[i]: background: transparent needs output that stores alpha: not JPEG, not a movie.
+void transparent_output_keeps_alpha(const YamlReader &r, const YAML::Node &scene,
+                                    const std::string &path, SceneConfig &s);
 // labels[i]: `text` is required.
 void label_has_text(const YamlReader &r, const YAML::Node &label, const std::string &path,
                     LabelConfig &l);

@@ -77,6 +77,7 @@ void map_density(const DensityImage &image, const DensityConfig &config, const C
                  const uint8_t background[4], Frame *frame) {
   *frame = Frame(image.width, image.height);
   frame->clear(background);
+  const bool transparent = background[3] == 0;  // background: transparent
   const DensityRange range = density_range(image, config);
   const size_t ch = size_t(image.channels);
   for (size_t p = 0; p < image.pixel_count(); ++p) {
@@ -87,6 +88,12 @@ void map_density(const DensityImage &image, const DensityConfig &config, const C
     if (ch == 1) {
       const Rgb8 c = colormap.at(t, 0.0, 1.0);
       out[0] = c[0], out[1] = c[1], out[2] = c[2];
+      out[3] = 255;  // the colormap is the pixel, whatever the background
+      continue;
+    }
+    if (transparent) {  // straight alpha: the mean colour, covering t of the pixel
+      for (int k = 0; k < 3; ++k) out[k] = to_byte(256.0 * double(s[1 + k]) / double(s[0]));
+      out[3] = to_byte(255.0 * t);
       continue;
     }
     for (int k = 0; k < 3; ++k) {

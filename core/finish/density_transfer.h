@@ -14,7 +14,9 @@
 // Color: one channel (color.by: solid) - the pixel is density.colormap at t, and the background
 // where no footprint reached (W exactly 0); four channels (by type or scalar) - the weighted mean
 // color m of the particles at the pixel, blended over the background: background + t (m -
-// background).
+// background). A transparent background (`background` with alpha 0) is blended over later, by
+// whoever composites the image: the pixel is m with alpha t (straight alpha); one channel keeps
+// the colormap opaque (alpha 255) wherever a footprint reached.
 // Depth: a density image has no surface, so every pixel keeps the background depth (1.0; the
 // EXR Z channel, like every background pixel, is +infinity everywhere).
 // Thread-safety: pure functions.
@@ -48,7 +50,8 @@ double density_transfer(double w, DensityTransfer transfer, const DensityRange &
 // "... is wider than a double can hold ...".
 std::string density_range_problem(const DensityConfig &config);
 
-// Maps `image` into `frame` (resized to the image): colors as above, alpha 255, background depth.
+// Maps `image` into `frame` (resized to the image): colors as above, alpha 255 (or as above for a
+// transparent background), background depth.
 void map_density(const DensityImage &image, const DensityConfig &config, const Colormap &colormap,
                  const uint8_t background[4], Frame *frame);
 

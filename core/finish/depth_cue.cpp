@@ -22,6 +22,10 @@ void apply_depth_cue(const ViewPositions &positions, const DepthCueStyle &style,
       const float z = positions.z(x, y);
       if (z == ViewPositions::kBackground) continue;
       const float f = fade_fraction(style, z);
+      if (style.fade_alpha) {
+        rgba[4 * x + 3] = uint8_t(float(rgba[4 * x + 3]) * (1.0f - f) + 0.5f);
+        continue;
+      }
       for (int c = 0; c < 3; ++c) {
         const float from = rgba[4 * x + c];
         // Rounded to nearest: the blend lies in [0, 255].

@@ -17,7 +17,7 @@ using Clock = std::chrono::steady_clock;
 // The frames composited so that every rank ends with its own row band of the merged frame
 // (whole pixels, i.e. multiples of s sample rows), down-sampled (s > 1) into *band, which then
 // holds exactly the rank's row_band(height, ranks, rank) of the image. Fills *composite.
-Status composite_into_image_band(MPI_Comm comm, Frame &frame, int s,
+Status composite_into_image_band(MPI_Comm comm, Frame &frame, int s, SampleAlpha alpha,
                                  const CompositeOptions &options, BandFrame *band,
                                  CompositeStats *composite) {
   RowBand rows;
@@ -28,7 +28,7 @@ Status composite_into_image_band(MPI_Comm comm, Frame &frame, int s,
   int ranks = 1;
   MPI_Comm_size(comm, &ranks);
   if (s > 1) {
-    downsample_band(frame, s, band->first, band->owned.rows(), &band->frame);
+    downsample_band(frame, s, band->first, band->owned.rows(), &band->frame, alpha);
   } else if (ranks == 1) {
     band->frame = std::move(frame);  // the band is the frame: no copy
   } else {
@@ -68,7 +68,10 @@ Status finish_image(MPI_Comm comm, Frame &frame, const FinishSettings &finish,
   }
   auto t0 = Clock::now();
   BandFrame band;
-  if (Status st = composite_into_image_band(comm, frame, s, options, &band, &stats->composite);
+  const SampleAlpha alpha =
+      finish.transparent_background ? SampleAlpha::kStraight : SampleAlpha::kOpaque;
+  if (Status st =
+          composite_into_image_band(comm, frame, s, alpha, options, &band, &stats->composite);
       !st.ok())
     return with_context("compositing: ", std::move(st));
   stats->downsample_ms = ms_since(t0) - stats->composite.milliseconds;

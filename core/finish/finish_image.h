@@ -30,9 +30,12 @@ namespace lantern {
 struct FinishSettings {
   int width = 0, height = 0;  // the image, pixels
   int samples_per_axis = 1;   // s: the ranks' frames are s times the image's width and height
-  ScreenCueSettings cues;     // the screen-space cues on the final-resolution image
-  DensityConfig density;      // style: density - the transfer to colors (density_transfer.h)
-  OverlaySettings overlays;   // box, labels, legend, axes: drawn on root after finish_image
+  // background: transparent - down-sampling averages colour weighted by alpha (straight alpha,
+  // sample_downsampling.h), so an edge pixel keeps its surface's colour and partial coverage.
+  bool transparent_background = false;
+  ScreenCueSettings cues;    // the screen-space cues on the final-resolution image
+  DensityConfig density;     // style: density - the transfer to colors (density_transfer.h)
+  OverlaySettings overlays;  // box, labels, legend, axes: drawn on root after finish_image
 };
 
 struct FinishStats {

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <type_traits>
 
 namespace lantern {
 namespace {
@@ -44,6 +45,14 @@ struct SrgbTables {
     while (linear_sum >= threshold[size_t(code)] << shift) ++code;
     return uint8_t(code);
   }
+  // The same for the alpha-weighted mean weighted_sum / weight (weight > 0), compared without
+  // division; with every weight equal it gives encode()'s byte exactly.
+  uint8_t encode_weighted(uint64_t weighted_sum, uint64_t weight) const {
+    int code = first_code[std::min<size_t>(size_t((weighted_sum / weight) >> kBucketShift),
+                                           first_code.size() - 1)];
+    while (weighted_sum >= uint64_t(threshold[size_t(code)]) * weight) ++code;
+    return uint8_t(code);
+  }
 };
 
 const SrgbTables &tables() {
@@ -52,50 +61,75 @@ const SrgbTables &tables() {
 }
 
 // One output row: S sample rows of the sample frame starting at sample row `sy` (S a compile-time
-// constant so the sample loops unroll).
-template <int S>
+// constant so the sample loops unroll). kStraight (SampleAlpha::kStraight): colour is the
+// alpha-weighted mean in linear light, so samples nothing covered (alpha 0) add no colour and an
+// edge pixel keeps its surface's colour with the share of samples that cover it as alpha; a pixel
+// no sample covered is (0, 0, 0, 0). Otherwise the plain mean of every sample.
+template <int S, bool kStraight>
 void downsample_row(const Frame &samples, int sy, int out_y, Frame *image) {
   // sy: the sample row of the pixel row; out_y: its row in *image.
   constexpr int s = S, shift = S == 8 ? 6 : S == 4 ? 4 : S == 2 ? 2 : 0;  // log2(S * S)
   constexpr uint32_t count = uint32_t(S) * uint32_t(S);
+  // Weighted sums reach 64 x 255 x 2^24: beyond 32 bits.
+  using Sum = std::conditional_t<kStraight, uint64_t, uint32_t>;
   const SrgbTables &t = tables();
   for (int x = 0; x < image->width; ++x) {
-    uint32_t sum[3] = {0, 0, 0}, alpha = 0;
+    Sum sum[3] = {0, 0, 0};
+    uint32_t alpha = 0;
     float depth = kBackgroundDepth;
     for (int j = 0; j < s; ++j) {
       const size_t row = samples.index(s * x, sy + j);
       const uint8_t *rgba = samples.rgba.data() + 4 * row;
       const float *d = samples.depth.data() + row;
       for (int i = 0; i < s; ++i) {
-        for (int c = 0; c < 3; ++c) sum[c] += t.linear[rgba[4 * i + c]];
-        alpha += rgba[4 * i + 3];
+        const uint32_t a = rgba[4 * i + 3];
+        for (int c = 0; c < 3; ++c) {
+          if constexpr (kStraight)
+            sum[c] += uint64_t(t.linear[rgba[4 * i + c]]) * a;
+          else
+            sum[c] += t.linear[rgba[4 * i + c]];
+        }
+        alpha += a;
         depth = std::min(depth, d[i]);
       }
     }
     const size_t out = image->index(x, out_y);
     uint8_t *o = image->rgba.data() + 4 * out;
-    for (int c = 0; c < 3; ++c) o[c] = t.encode(sum[c], shift);
+    for (int c = 0; c < 3; ++c) {
+      if constexpr (kStraight)
+        o[c] = alpha == 0 ? 0 : t.encode_weighted(sum[c], alpha);
+      else
+        o[c] = t.encode(sum[c], shift);
+    }
     o[3] = uint8_t((alpha + count / 2) >> shift);
     image->depth[out] = depth;
   }
 }
 
+template <int S>
+void downsample_row_as(SampleAlpha mode, const Frame &samples, int sy, int out_y, Frame *image) {
+  if (mode == SampleAlpha::kStraight)
+    downsample_row<S, true>(samples, sy, out_y, image);
+  else
+    downsample_row<S, false>(samples, sy, out_y, image);
+}
+
 // Image rows [first, first + out->height) into rows [0, out->height) of *out.
-void downsample_rows(const Frame &samples, int s, int first, Frame *out) {
+void downsample_rows(const Frame &samples, int s, int first, SampleAlpha mode, Frame *out) {
   for (int y = 0; y < out->height; ++y) {
     const int sy = s * (first + y);
     switch (s) {
       case 2:
-        downsample_row<2>(samples, sy, y, out);
+        downsample_row_as<2>(mode, samples, sy, y, out);
         break;
       case 4:
-        downsample_row<4>(samples, sy, y, out);
+        downsample_row_as<4>(mode, samples, sy, y, out);
         break;
       case 8:
-        downsample_row<8>(samples, sy, y, out);
+        downsample_row_as<8>(mode, samples, sy, y, out);
         break;
       default:
-        downsample_row<1>(samples, sy, y, out);
+        downsample_row_as<1>(mode, samples, sy, y, out);
     }
   }
 }
@@ -118,19 +152,19 @@ uint8_t linear_sum_to_srgb(uint32_t linear_sum, uint32_t count) {
 }
 
 void downsample_band(const Frame &samples, int samples_per_axis, int first_row, int rows,
-                     Frame *band) {
+                     Frame *band, SampleAlpha mode) {
   const int s = std::max(samples_per_axis, 1);
   const int width = samples.width / s;
   if (band->width != width || band->height != rows ||
       band->rgba.size() != size_t(width) * size_t(rows) * 4 ||
       band->depth.size() != size_t(width) * size_t(rows))
     *band = Frame(width, rows);
-  downsample_rows(samples, s, first_row, band);
+  downsample_rows(samples, s, first_row, mode, band);
 }
 
-void downsample_frame(const Frame &samples, int samples_per_axis, Frame *image) {
+void downsample_frame(const Frame &samples, int samples_per_axis, Frame *image, SampleAlpha mode) {
   const int s = std::max(samples_per_axis, 1);
-  downsample_band(samples, s, 0, samples.height / s, image);
+  downsample_band(samples, s, 0, samples.height / s, image, mode);
 }
 
 }  // namespace lantern

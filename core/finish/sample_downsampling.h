@@ -13,7 +13,11 @@
 // 256-entry fixed-point table, summed as integers (so the result depends on the samples only,
 // never on an order or a floating-point mode), and the mean is encoded back to the sRGB byte
 // nearest to it in the encoded domain (a table of thresholds, looked up by the mean's bucket). N
-// equal samples give back exactly their byte. Alpha is averaged as is (round to nearest). Depth:
+// equal samples give back exactly their byte. Alpha is averaged as is (round to nearest). With
+// SampleAlpha::kStraight (background: transparent) colour is instead the alpha-weighted mean
+// (straight, unassociated alpha, what PNG stores): background samples (alpha 0) add no colour, so
+// an antialiased edge keeps its surface's colour and carries the covered share as alpha; fully
+// covered pixels get the same bytes either way. Depth:
 // the output pixel holds the NEAREST sample's window depth (the minimum), so an EXR `Z` channel
 // holds the distance of the nearest surface any sample of the pixel saw (background depth only
 // where every sample saw background).
@@ -39,15 +43,20 @@ uint32_t srgb_to_linear(uint8_t encoded);
 // `linear_sum` (each in [0, kLinearOne]); count a power of two in [1, 64].
 uint8_t linear_sum_to_srgb(uint32_t linear_sum, uint32_t count);
 
+// How samples' alpha enters the colour: kOpaque - plain mean of every sample's colour (opaque
+// frames); kStraight - alpha-weighted mean (frames with a transparent background).
+enum class SampleAlpha { kOpaque, kStraight };
+
 // Down-samples `samples` (width and height multiples of s; s = samples_per_axis, one of 1, 2, 4,
 // 8) by s along each axis into *image
 // (resized to width / s x height / s). Thread-compatible: constant tables only.
-void downsample_frame(const Frame &samples, int samples_per_axis, Frame *image);
+void downsample_frame(const Frame &samples, int samples_per_axis, Frame *image,
+                      SampleAlpha mode = SampleAlpha::kOpaque);
 
 // The same for image rows [first_row, first_row + rows) only, into *band (resized to
 // width / s x rows): what one rank does with its row band. `samples` must hold sample rows
 // [s * first_row, s * (first_row + rows)); its other rows are not read.
 void downsample_band(const Frame &samples, int samples_per_axis, int first_row, int rows,
-                     Frame *band);
+                     Frame *band, SampleAlpha mode = SampleAlpha::kOpaque);
 
 }  // namespace lantern

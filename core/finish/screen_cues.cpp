@@ -104,6 +104,7 @@ Status cue_band(MPI_Comm comm, const ScreenCueSettings &cues, const Camera &came
     style.start = float(cues.depth_cue.start.value_or(nearest));
     style.end = float(cues.depth_cue.end.value_or(farthest));
     copy_rgb(cues.depth_cue.color.value_or(cues.background), style.color);
+    style.fade_alpha = cues.transparent_background && !cues.depth_cue.color;
     apply_depth_cue(positions, style, &band);
   }
   return {};

@@ -31,6 +31,8 @@ struct ScreenCueSettings {
   OutlineConfig outline;                            // outline
   DepthCueConfig depth_cue;                         // depth_cue
   std::array<double, 3> background{1.0, 1.0, 1.0};  // depth_cue's color when it names none
+  // background: transparent - depth_cue without a color fades alpha towards 0 instead (depth_cue.h)
+  bool transparent_background = false;
 };
 
 // True if any cue computed on the composited frame is on.

@@ -35,8 +35,9 @@ Prepared prepare_8bit(const Frame &frame, int channels) {
   Prepared p;
   p.spec = OIIO::ImageSpec(frame.width, frame.height, channels, OIIO::TypeDesc::UINT8);
   p.buffer_type = OIIO::TypeDesc::UINT8;
-  // Store the bytes as they are: without this OIIO treats RGBA input as premultiplied and
-  // divides by alpha when writing PNG, so the file would not match the frame.
+  // Store the bytes as they are: a frame's colour is straight (unassociated) alpha, and without
+  // this OIIO treats RGBA input as premultiplied and divides by alpha when writing, so the file
+  // would not match the frame (TIFF then marks its alpha as unassociated).
   p.spec.attribute("oiio:UnassociatedAlpha", 1);
   if (channels == 4) {
     p.borrowed = frame.rgba.data();
@@ -63,7 +64,17 @@ void fill_exr(const Frame &frame, const DepthToDistance &to_distance, uint8_t *o
   for (int i = 0; i < 256; ++i) lut[i] = Color(srgb_to_linear(static_cast<uint8_t>(i)));
   for (size_t i = 0; i < frame.pixel_count(); ++i) {
     const uint8_t *rgba = &frame.rgba[4 * i];
-    for (int c = 0; c < 3; ++c) out = put(out, lut[rgba[c]]);
+    if (rgba[3] == 255) {
+      for (int c = 0; c < 3; ++c) out = put(out, lut[rgba[c]]);
+    } else {
+      // A frame holds straight (unassociated) alpha, as PNG stores it; OpenEXR's colour is
+      // associated (premultiplied) with alpha, and OpenImageIO hands EXR pixels through as they
+      // are (it converts only for formats that store unassociated alpha). So the colour is
+      // multiplied by alpha here, in linear light: composited over any background B, the EXR
+      // (C + (1 - A) B) and the PNG (c A + (1 - A) B, c decoded from sRGB) show the same pixel.
+      const float a = rgba[3] / 255.0f;
+      for (int c = 0; c < 3; ++c) out = put(out, Color(srgb_to_linear(rgba[c]) * a));
+    }
     out = put(out, Color(rgba[3] / 255.0f));
     const float depth = frame.depth[i];
     const float z = depth >= kBackgroundDepth ? std::numeric_limits<float>::infinity()

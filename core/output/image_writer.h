@@ -1,9 +1,11 @@
 // Writes a rendered Frame to an image file, atomically (atomic_file.h): PNG with zlib in row
 // bands (png_across_ranks.h), the other formats through OpenImageIO.
 //
-// Formats: PNG (RGB8 for opaque frames, else RGBA8; out.compression_level), JPEG (RGB8,
-// out.jpeg_quality), TIFF (RGBA8), EXR (R,G,B,A as half or float per out.exr_half, converted from
-// sRGB to linear as EXR expects, plus a float `Z` channel with the camera distance). Files carry no
+// Formats: PNG (RGB8 for opaque frames, else RGBA8 with straight alpha, as PNG specifies;
+// out.compression_level), JPEG (RGB8, out.jpeg_quality), TIFF (RGBA8, unassociated alpha), EXR
+// (R,G,B,A as half or float per out.exr_half, converted from sRGB to linear and premultiplied by
+// alpha as OpenEXR specifies, plus a float `Z` channel with the camera distance). A Frame's alpha
+// is straight (background: transparent leaves alpha 0 where nothing is drawn). Files carry no
 // timestamps, so identical frames give byte-identical files. Thread-safe for different paths; never
 // throws.
 #pragma once

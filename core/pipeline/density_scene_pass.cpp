@@ -11,6 +11,7 @@
 #include "core/composite/density_sum.h"
 #include "core/finish/density_transfer.h"
 #include "core/render/density_pass.h"
+#include "core/render/shading_settings.h"
 #include "core/render/sphere_instances.h"
 
 namespace lantern {
@@ -69,12 +70,11 @@ Status run_density_scene(const ScenePassInputs &in, const SceneSettings &setting
   int rank = 0;
   MPI_Comm_rank(in.comm, &rank);
   if (rank == 0) {
-    const Rgb8 bg = to_rgb8(settings.shading.background);
-    const uint8_t background[4] = {bg[0], bg[1], bg[2], 255};
+    const std::array<uint8_t, 4> background = background_rgba8(settings.shading);
     // The loader accepts only known names, so the map exists.
     const DensityConfig &density = settings.finish.density;
     const Colormap map = Colormap::named(density.colormap).value_or(*Colormap::named("grayscale"));
-    map_density(image, density, map, background, &buffers->frame);
+    map_density(image, density, map, background.data(), &buffers->frame);
   }
   stats->composite_ms = ms_since(t0);
   stats->composite_method = "sum (int64)";

@@ -1,6 +1,8 @@
 #include "core/pipeline/rank_draw.h"
 
+#include <array>
 #include <chrono>
+#include <cstdint>
 
 #include "core/color/colormap.h"
 #include "core/common/ms_since.h"
@@ -8,6 +10,7 @@
 #include "core/pipeline/renderer_choice.h"
 #include "core/render/bond_instances.h"
 #include "core/render/point_splats.h"
+#include "core/render/shading_settings.h"
 #include "core/render/sphere_instances.h"
 
 namespace lantern {
@@ -27,8 +30,8 @@ Status draw_scene_on_rank(const RankScene &in, RankDrawScratch *scratch, Frame *
   select_bricks(*in.bricks, camera, cull, in.radius, &selection, in.cut_counts);
   InstanceRecipe recipe = make_recipe(particles, shading, in.radius, camera, in.global);
   recipe.occlusion = in.occlusion;
-  const Rgb8 bg = to_rgb8(shading.background);
-  const uint8_t background[4] = {bg[0], bg[1], bg[2], 255};
+  const std::array<uint8_t, 4> clear = background_rgba8(shading);
+  const uint8_t *background = clear.data();
   const bool cpu = draws_on_cpu(in.settings.renderer, in.settings.finish.height, camera,
                                 in.radius.max_radius(in.global), in.renderer != nullptr,
                                 !recipe.alpha_by_type.empty(), &selection);

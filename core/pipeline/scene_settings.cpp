@@ -38,6 +38,7 @@ ShadingSettings shading_settings(const SceneConfig &scene) {
   s.opacity = scene.opacity;
   s.lighting = scene.lighting;
   s.background = scene.background;
+  s.transparent_background = scene.transparent_background;
   s.bonds = scene.bonds;
   return s;
 }
@@ -72,6 +73,8 @@ FinishSettings finish_settings(const SceneConfig &scene) {
   f.cues.outline = scene.outline;
   f.cues.depth_cue = scene.depth_cue;
   f.cues.background = scene.background;
+  f.cues.transparent_background = scene.transparent_background;
+  f.transparent_background = scene.transparent_background;
   f.density = scene.density;
   f.overlays = overlay_settings(scene);
   return f;

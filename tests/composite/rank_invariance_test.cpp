@@ -233,19 +233,30 @@ Render render_once(MPI_Comm comm, const std::string &config, const Particles &mi
   return r;
 }
 
+// `config` with every scene's background replaced by `background` ("" keeps the colour).
+std::string with_background(std::string config, const std::string &background) {
+  if (background.empty()) return config;
+  const std::string colour = "background: [0.1, 0.2, 0.3]";
+  for (size_t at = config.find(colour); at != std::string::npos; at = config.find(colour, at))
+    config.replace(at, colour.size(), "background: " + background);
+  return config;
+}
+
 // Renders `all` on rank 0 alone, then under every split on all ranks; compares on rank 0.
 void expect_rank_invariant(const Particles &all, const std::string &label,
                            const std::string &top = "", const std::string &each = "",
-                           const std::string &colored = "") {
+                           const std::string &colored = "", const std::string &background = "") {
   const std::string dir = shared_directory();
   ASSERT_FALSE(dir.empty());
   const int rank = world_rank(), ranks = world_size();
   if (rank == 0) {
-    const Render ref =
-        render_once(MPI_COMM_SELF, config_yaml(dir, label + "_ref", top, each, colored), all, 0);
+    const Render ref = render_once(
+        MPI_COMM_SELF,
+        with_background(config_yaml(dir, label + "_ref", top, each, colored), background), all, 0);
     EXPECT_EQ(ref.status, LANTERN_OK) << ref.error;
   }
-  const std::string config = config_yaml(dir, label, top, each, colored);
+  const std::string config =
+      with_background(config_yaml(dir, label, top, each, colored), background);
   for (size_t s = 0; s < std::size(kSplits); ++s) {
     const Render r =
         render_once(MPI_COMM_WORLD, config, owned_by(kSplits[s], all, rank, ranks), int(s));
@@ -262,6 +273,9 @@ void expect_rank_invariant(const Particles &all, const std::string &label,
       all_same = all_same && difference.empty();
     }
   }
+  // A transparent background shows as alpha: the images are RGBA, not flattened.
+  if (background == "transparent")
+    EXPECT_EQ(read_image(file_of(dir, label + "_ref", "persp_type", 0)).channels, 4);
   // The images stay for inspection only when asked (LANTERN_KEEP_TEST_IMAGES=1).
   if (all_same || std::getenv("LANTERN_KEEP_TEST_IMAGES") == nullptr)
     std::system(("rm -rf '" + dir + "'").c_str());
@@ -335,6 +349,32 @@ TEST(RankInvariance, SameImagesWithOverlays) {
   expect_rank_invariant(make_particles(1500), "overlays", "", overlays, legend);
   expect_rank_invariant(make_particles(1500), "overlays_ssaa4", "", overlays + "    samples: 4\n",
                         legend);
+}
+
+// background: transparent - alpha 0 where no rank drew, partial alpha on super-sampled edges
+// (alpha-weighted down-sampling of each rank's band), every cue (the depth cue fading alpha) and
+// the overlays over it; and density images, whose transfer becomes alpha.
+TEST(RankInvariance, SameImagesOnATransparentBackground) {
+  const std::string box = "    box: {color: [0.9, 0.9, 0.9], width: 1.5}\n";
+#if LANTERN_TEST_TEXT
+  const std::string overlays =
+      box +
+      "    labels: [{text: 'scene {scene}', size: 14}]\n    axes: {size: 40, font_size: 10}\n";
+#else
+  const std::string overlays = box;
+#endif
+  expect_rank_invariant(make_particles(1500), "transparent", "",
+                        overlays +
+                            "    samples: 4\n"
+                            "    ambient_occlusion: {method: screen, samples: 12}\n"
+                            "    outline: {width: 2, color: [0.1, 0, 0]}\n"
+                            "    depth_cue: {}\n",
+                        "", "transparent");
+  expect_rank_invariant(make_particles(1500), "transparent_nogl", "gl: none\n",
+                        "    samples: 4\n    depth_cue: {color: [0.5, 0.5, 0.5]}\n", "",
+                        "transparent");
+  expect_rank_invariant(make_particles(1500), "transparent_density", "",
+                        "    style: density\n    density: {transfer: asinh}\n", "", "transparent");
 }
 
 // Object-space ambient occlusion: a density volume summed over ranks, per-particle colours.
@@ -765,19 +805,20 @@ std::string bond_config(const std::string &directory, const std::string &prefix,
 
 // Renders `system` on rank 0 alone, then under every split on all ranks; compares on rank 0.
 void expect_bonds_rank_invariant(const BondedSystem &system, lantern_bond_listing listing,
-                                 double box, const std::string &label,
-                                 const std::string &each = "") {
+                                 double box, const std::string &label, const std::string &each = "",
+                                 const std::string &background = "") {
   const Particles all = atoms_of(system);
   const std::string dir = shared_directory();
   ASSERT_FALSE(dir.empty());
   const int rank = world_rank(), ranks = world_size();
   if (rank == 0) {
     const RankMolecule one = rank_share(Split::kAllOnFirst, all, system, listing, box, 0, 1);
-    const Render ref = render_bonded_once(MPI_COMM_SELF, bond_config(dir, label + "_ref", each),
-                                          one, listing, box, 0);
+    const Render ref = render_bonded_once(
+        MPI_COMM_SELF, with_background(bond_config(dir, label + "_ref", each), background), one,
+        listing, box, 0);
     EXPECT_EQ(ref.status, LANTERN_OK) << ref.error;
   }
-  const std::string config = bond_config(dir, label, each);
+  const std::string config = with_background(bond_config(dir, label, each), background);
   for (size_t s = 0; s < std::size(kSplits); ++s) {
     const RankMolecule mine = rank_share(kSplits[s], all, system, listing, box, rank, ranks);
     const Render r = render_bonded_once(MPI_COMM_WORLD, config, mine, listing, box, int(s));
@@ -834,6 +875,13 @@ TEST(RankInvariance, SameImagesWithBondsInOpenGlAndUnderEveryCue) {
                               "    opacity: [1, 0.5, 1, 0.75]\n"
                               "    lighting: {direction: [-0.5, 0.7, 0.5], specular: 0.5}\n"
                               "    culling: {occlusion: hzb}\n");
+}
+
+// Bonds on a transparent background: cylinders are opaque like spheres (alpha 1), their
+// super-sampled edges partial alpha, the depth cue fading alpha.
+TEST(RankInvariance, SameImagesWithBondsOnATransparentBackground) {
+  expect_bonds_rank_invariant(melt_on_grid(), LANTERN_BONDS_LISTED_ONCE, 12.0, "bonds_transparent",
+                              "    samples: 4\n    depth_cue: {}\n", "transparent");
 }
 
 TEST(RankInvariance, UnwritableOutputFailsTheStepOnEveryRankWithoutHanging) {

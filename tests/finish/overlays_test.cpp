@@ -17,6 +17,7 @@
 #include "core/finish/overlays/box_overlay.h"
 #include "core/finish/overlays/font_face.h"
 #include "core/finish/overlays/legend_overlay.h"
+#include "core/finish/overlays/overlay_canvas.h"
 #include "core/finish/overlays/overlay_layout.h"
 #include "core/finish/overlays/overlays.h"
 #include "tests/support/status_expect.h"
@@ -124,6 +125,30 @@ TEST(Overlays, LabelDarkensPixelsOnlyInsideItsRectangle) {
   settings.labels[0].text = "step 1234";
   painter->draw(settings, frame, &literal);
   EXPECT_EQ(literal.rgba, image.rgba);
+}
+
+// Blending onto a transparent background's straight colour: over nothing (alpha 0) the overlay's
+// own colour at its coverage; over a partly covered pixel the colours weighted by their shares
+// (Porter-Duff over); over an opaque pixel the plain blend, as before.
+TEST(OverlayCanvas, BlendsOverStraightAlphaAsPorterDuffOver) {
+  Frame image(3, 1);
+  const uint8_t pixels[12] = {0, 0, 0, 0, 200, 40, 10, 128, 200, 40, 10, 255};
+  std::copy(pixels, pixels + 12, image.rgba.begin());
+  const Rgb8 blue{20, 60, 250};
+  for (int x = 0; x < 3; ++x) blend_pixel(&image, x, 0, blue, 100);
+  EXPECT_EQ(image.rgba[0], 20);  // over nothing: the overlay's colour, exactly
+  EXPECT_EQ(image.rgba[1], 60);
+  EXPECT_EQ(image.rgba[2], 250);
+  EXPECT_EQ(image.rgba[3], 100);
+  const double a = 100.0 / 255.0, u = 128.0 / 255.0, out = a + u * (1.0 - a);
+  for (int c = 0; c < 3; ++c) {
+    const double expected = (blue[size_t(c)] * a + pixels[4 + c] * u * (1.0 - a)) / out;
+    EXPECT_NEAR(image.rgba[4 + size_t(c)], expected, 0.5) << c;
+    EXPECT_EQ(image.rgba[8 + size_t(c)], (blue[size_t(c)] * 100 + pixels[8 + c] * 155 + 127) / 255)
+        << c;
+  }
+  EXPECT_EQ(image.rgba[7], uint8_t(std::lround(255.0 * out)));
+  EXPECT_EQ(image.rgba[11], 255);
 }
 
 // Corners: a label at top_right lies in the image's right part, inside the margin.

@@ -3,6 +3,7 @@
 // encoding, alpha, and the nearest sample's depth.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 
@@ -109,6 +110,57 @@ TEST(LinearLight, AlphaIsAveragedAndDepthIsTheNearestSample) {
   EXPECT_EQ(image.depth[0], 0.5f);
   EXPECT_EQ(image.rgba[0], 10);
   EXPECT_EQ(image.rgba[1], 20);
+}
+
+// Straight alpha (background: transparent): samples nothing covered (alpha 0) add no colour, so
+// one covered sample of four gives the surface's own colour at alpha 1/4; a fully covered pixel
+// gets the plain mean's bytes; an empty one stays (0, 0, 0, 0).
+TEST(StraightAlpha, EdgePixelsKeepTheSurfaceColourWithPartialAlpha) {
+  Frame samples(6, 2);  // three pixels of 2 x 2 samples
+  const uint8_t nothing[4] = {0, 0, 0, 0};
+  samples.clear(nothing);
+  const uint8_t orange[4] = {230, 128, 26, 255}, blue[4] = {20, 60, 200, 255};
+  std::copy(orange, orange + 4, &samples.rgba[4 * samples.index(1, 1)]);  // pixel 0: one sample
+  for (int y = 0; y < 2; ++y)  // pixel 1: two orange, two blue samples
+    for (int x = 2; x < 4; ++x)
+      std::copy(y == 0 ? orange : blue, (y == 0 ? orange : blue) + 4,
+                &samples.rgba[4 * samples.index(x, y)]);
+  Frame straight, plain;
+  downsample_frame(samples, 2, &straight, SampleAlpha::kStraight);
+  downsample_frame(samples, 2, &plain);
+  for (int c = 0; c < 3; ++c) EXPECT_EQ(straight.rgba[c], orange[c]) << c;
+  EXPECT_EQ(straight.rgba[3], 64);  // 255 / 4 = 63.75
+  EXPECT_LT(plain.rgba[0], 200);    // the plain mean mixes in the empty samples' black
+  for (int c = 0; c < 4; ++c) EXPECT_EQ(straight.rgba[4 + c], plain.rgba[4 + c]) << c;
+  for (int c = 0; c < 4; ++c) EXPECT_EQ(straight.rgba[8 + c], 0) << c;
+  EXPECT_EQ(straight.depth[2], kBackgroundDepth);
+}
+
+// Straight colour composited over any background B (in linear light) is the plain mean of the
+// samples drawn on B, within the bytes' rounding, for every coverage count.
+TEST(StraightAlpha, CompositedOverABackgroundIsThePlainMeanOnIt) {
+  const uint8_t surface[4] = {200, 90, 40, 255}, background[4] = {30, 160, 90, 255};
+  const uint8_t nothing[4] = {0, 0, 0, 0};
+  for (int covered = 0; covered <= 16; ++covered) {
+    Frame on_nothing(4, 4), on_background(4, 4);
+    on_nothing.clear(nothing);
+    on_background.clear(background);
+    for (int k = 0; k < covered; ++k) {
+      std::copy(surface, surface + 4, &on_nothing.rgba[4 * size_t(k)]);
+      std::copy(surface, surface + 4, &on_background.rgba[4 * size_t(k)]);
+    }
+    Frame straight, plain;
+    downsample_frame(on_nothing, 4, &straight, SampleAlpha::kStraight);
+    downsample_frame(on_background, 4, &plain);
+    const double a = straight.rgba[3] / 255.0;
+    EXPECT_EQ(straight.rgba[3], (covered * 255 + 8) / 16) << covered;
+    for (int c = 0; c < 3; ++c) {
+      const double linear =
+          srgb_to_linear(straight.rgba[c]) * a + srgb_to_linear(background[c]) * (1.0 - a);
+      const double composited = 255.0 * encode(linear / kLinearOne);
+      EXPECT_NEAR(composited, plain.rgba[c], 1.0) << covered << " samples, channel " << c;
+    }
+  }
 }
 
 }  // namespace

@@ -142,9 +142,13 @@ TEST(ImageWriter, ExrCarriesZAsCameraDistance) {
       }
       EXPECT_NEAR(r.pixels[5 * i + 3], frame.rgba[4 * i + 3] / 255.0f, 1e-3f);
     }
-    // Color is linearised from sRGB: code 255 -> 1.0, code 0 -> 0.0, code 128 -> ~0.2158.
-    const size_t white_red = frame.index(36, 5);  // 7 * 36 = 252
-    EXPECT_NEAR(r.pixels[5 * white_red], std::pow((252 / 255.0 + 0.055) / 1.055, 2.4), 1e-3);
+    // Color is linearised from sRGB (code 255 -> 1.0, code 0 -> 0.0, code 128 -> ~0.2158) and,
+    // as OpenEXR specifies, premultiplied by alpha (the frame's alpha is straight).
+    const size_t white_red = frame.index(36, 5);  // 7 * 36 = 252, alpha 255 - 36
+    EXPECT_NEAR(r.pixels[5 * white_red],
+                std::pow((252 / 255.0 + 0.055) / 1.055, 2.4) * (255 - 36) / 255.0, 1e-3);
+    const size_t opaque = frame.index(0, 5);  // alpha 255: green 55 as it is
+    EXPECT_NEAR(r.pixels[5 * opaque + 1], std::pow((55 / 255.0 + 0.055) / 1.055, 2.4), 1e-3);
   }
 }
 

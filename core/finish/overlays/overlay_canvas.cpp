@@ -10,12 +10,25 @@ uint8_t mix(uint8_t over, uint8_t under, unsigned a) {
   return uint8_t((over * a + under * (255u - a) + 127u) / 255u);
 }
 
+// Straight-alpha "over" (Porter and Duff, Compositing Digital Images, SIGGRAPH 1984) of `over`
+// at coverage a onto `under` at alpha u < 255: the colours weighted by their share of the
+// result, a 255 + u (255 - a) in units of 1 / 255^2, rounded to nearest. At u = 255 it is mix().
+uint8_t mix_straight(uint8_t over, uint8_t under, unsigned a, unsigned u) {
+  const unsigned weight = a * 255u + u * (255u - a);  // > 0: a > 0
+  return uint8_t((over * a * 255u + under * u * (255u - a) + weight / 2) / weight);
+}
+
 }  // namespace
 
 void blend_pixel(Frame *image, int x, int y, const Rgb8 &color, uint8_t coverage) {
   if (x < 0 || y < 0 || x >= image->width || y >= image->height || coverage == 0) return;
   uint8_t *p = image->rgba.data() + 4 * image->index(x, y);
-  for (int c = 0; c < 3; ++c) p[c] = mix(color[c], p[c], coverage);
+  // An opaque pixel takes the plain blend; a transparent background's pixels hold straight
+  // colour, whose share in the result is its alpha (where nothing was drawn, none at all).
+  if (p[3] == 255)
+    for (int c = 0; c < 3; ++c) p[c] = mix(color[c], p[c], coverage);
+  else
+    for (int c = 0; c < 3; ++c) p[c] = mix_straight(color[c], p[c], coverage, p[3]);
   p[3] = uint8_t(p[3] + (coverage * (255u - p[3]) + 127u) / 255u);
 }
 

@@ -3,8 +3,11 @@
 //
 // A pixel of colour d under colour c at coverage a (0..255) becomes (c a + d (255 - a) + 127) /
 // 255 per channel; its alpha a_d becomes a_d + a (255 - a_d) / 255 (so an opaque image stays
-// opaque, a transparent background takes the overlay's partial coverage). Everything is clipped
-// to the image. Pure functions on the Frame passed in.
+// opaque, a transparent background takes the overlay's partial coverage). A pixel that is not
+// opaque (background: transparent) holds straight colour, so there d counts with its alpha:
+// (c a 255 + d a_d (255 - a)) / (a 255 + a_d (255 - a)) - text over nothing keeps its own colour
+// and its antialiased edges carry partial alpha. Everything is clipped to the image. Pure
+// functions on the Frame passed in.
 #pragma once
 
 #include <cstdint>

@@ -44,7 +44,8 @@ Status deflate_bands(const uint8_t *rows, int width, int height, int n, int b0, 
   return {};
 }
 
-// RGB when every pixel is opaque (Lantern's frames always are): a quarter less to compress.
+// RGB when every pixel is opaque (every frame but those of background: transparent): a quarter
+// less to compress.
 int file_channels(const Frame &frame) {
   for (size_t i = 0; i < frame.pixel_count(); ++i)
     if (frame.rgba[4 * i + 3] != 255) return 4;
