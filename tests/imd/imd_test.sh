@@ -184,7 +184,9 @@ PY
   render() {  # render DIR TOPOLOGY [TRAJECTORY]: python3 -m lantern.render into DIR
     local dir=$1
     shift
-    mkdir -p "$dir" && (cd "$dir" && "$python" -m lantern.render "${@/#/../}" --quiet \
+    # LANTERN_PYTHON_PRELOAD: the sanitizer runtime in a sanitized build (tests/CMakeLists.txt).
+    mkdir -p "$dir" && (cd "$dir" && LD_PRELOAD=${LANTERN_PYTHON_PRELOAD:-${LD_PRELOAD:-}} \
+      ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=0} "$python" -m lantern.render "${@/#/../}" --quiet \
       -lantern "$src/argon.yaml" > out.txt 2>&1) || { cat "$dir/out.txt"; fail "lantern.render $*"; }
   }
   render trr conf.gro md.trr
