@@ -137,6 +137,7 @@ class CylinderRows {
                const glm::dvec3 &u, double r, const PixelRect &rect)
       : orthographic_(g.orthographic), a_(a), u_(u), r2_(r * r), x0_(rect.x0), x1_(rect.x1) {
     m_ = glm::cross(-a, u);
+    if (rect.empty()) return;  // no column to read the rays of (cylinder_rect's empty answer)
     const double rx0 = rays.x(rect.x0), rx1 = rays.x(rect.x1);
     rx2_ = std::max(rx0 * rx0, rx1 * rx1);
   }
@@ -181,7 +182,7 @@ class CylinderRows {
  private:
   bool orthographic_;
   glm::dvec3 a_, u_, m_;
-  double r2_, rx2_;
+  double r2_, rx2_ = 0.0;
   int x0_, x1_;
 };
 
