@@ -150,16 +150,23 @@ TEST(DensitySplat, EveryPixelLoopGivesTheSameSums) {
 // project_all (the vectorised projection of world positions) gives project(g.to_view(x)), bit for
 // bit, in both projections, with per-particle and constant radii, for particles in front of,
 // on and behind the near plane.
+// A 300 x 200 view of the box [0, 10]^3 from z = 30 (false when the camera is refused).
+bool box_view(Projection projection, ViewGeometry *g) {
+  CameraConfig cc;
+  cc.projection = projection;
+  cc.position = std::array<double, 3>{5, 5, 30};
+  cc.look_at = {5, 5, 5};
+  cc.up = {0.1, 1, 0};
+  Camera camera;
+  if (!make_camera(cc, {0, 0, 0}, {10, 10, 10}, 0.5, 300, 200, &camera).ok()) return false;
+  *g = ViewGeometry::from_camera(camera, 100.0);
+  return true;
+}
+
 TEST(DensitySplat, ProjectAllIsProjectParticleByParticle) {
   for (const Projection projection : {Projection::kPerspective, Projection::kOrthographic}) {
-    CameraConfig cc;
-    cc.projection = projection;
-    cc.position = std::array<double, 3>{5, 5, 30};
-    cc.look_at = {5, 5, 5};
-    cc.up = {0.1, 1, 0};
-    Camera camera;
-    ASSERT_TRUE(make_camera(cc, {0, 0, 0}, {10, 10, 10}, 0.5, 300, 200, &camera).ok());
-    const ViewGeometry g = ViewGeometry::from_camera(camera, 100.0);
+    ViewGeometry g;
+    ASSERT_TRUE(box_view(projection, &g));
     DensityImage image;
     image.reset(g.width, g.height, 1);
     const DensitySplatter splat(g, &image);
@@ -201,13 +208,8 @@ TEST(DensitySplat, ProjectAllIsProjectParticleByParticle) {
 // coherent order (along a line), a random one, and footprints beyond the table, behind the near
 // plane or off the image.
 TEST(DensitySplat, BinAllGivesTheSumsOfDepositOneByOne) {
-  CameraConfig cc;
-  cc.position = std::array<double, 3>{5, 5, 30};
-  cc.look_at = {5, 5, 5};
-  cc.up = {0.1, 1, 0};
-  Camera camera;
-  ASSERT_TRUE(make_camera(cc, {0, 0, 0}, {10, 10, 10}, 0.5, 300, 200, &camera).ok());
-  const ViewGeometry g = ViewGeometry::from_camera(camera, 100.0);
+  ViewGeometry g;
+  ASSERT_TRUE(box_view(Projection::kPerspective, &g));
   uint32_t h = 31;
   const auto next = [&h] {
     h ^= h << 13, h ^= h >> 17, h ^= h << 5;
