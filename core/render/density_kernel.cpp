@@ -1,9 +1,21 @@
 #include "core/render/density_kernel.h"
 
+// No fused multiply-adds, as in density_splat.cpp: the vectorised placement must round as the
+// scalar one.
+#if defined(__clang__)
+#pragma clang fp contract(off)
+#elif defined(__GNUC__)
+#pragma GCC optimize("fp-contract=off")
+#endif
+
 #include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <numeric>
+
+#if defined(__x86_64__) && defined(__GNUC__)
+#include <immintrin.h>
+#endif
 
 namespace lantern {
 namespace {
@@ -66,6 +78,152 @@ DensityKernelTable::DensityKernelTable() {
     below_.push_back(uint8_t(n));
     next_.push_back(bounds[size_t(n)]);
   }
+  below32_.assign(below_.begin(), below_.end());
+}
+
+// The scalar placement: the calls place_all() stands for, one footprint at a time.
+void DensityKernelTable::place_range(const double *px, const double *py, const double *sigma2,
+                                     int from, int to, int width, int height,
+                                     DensityPlacements *out) const {
+  constexpr double kFar = double(1 << 30);  // as DensitySplatter::deposit()
+  for (int i = from; i < to; ++i) {
+    const auto at = size_t(i);
+    const int k = index_of_variance(sigma2[at]);
+    out->k[at] = k;
+    out->count_x[at] = 0;
+    if (k >= kDensitySigmaCount) continue;
+    if (!(std::abs(px[at]) < kFar && std::abs(py[at]) < kFar)) continue;
+    int base_x = 0, base_y = 0, phase_x = 0, phase_y = 0;
+    place(px[at], &base_x, &phase_x);
+    place(py[at], &base_y, &phase_y);
+    AxisTaps ax, ay;
+    if (!taps_at(base_x, phase_x, k, width, &ax) || !taps_at(base_y, phase_y, k, height, &ay))
+      continue;
+    out->taps_x[at] = uint32_t(ax.taps - taps_.data());
+    out->taps_y[at] = uint32_t(ay.taps - taps_.data());
+    out->first_x[at] = ax.first, out->first_y[at] = ay.first;
+    out->count_x[at] = ax.count, out->count_y[at] = ay.count;
+  }
+}
+
+#if defined(__x86_64__) && defined(__GNUC__)
+namespace {
+
+#define LANTERN_AVX512 __attribute__((target("avx512f,avx512vl,avx512dq")))
+// GCC 12 warns that the undefined pass-through its AVX-512 intrinsics start from "may be used
+// uninitialized" (the intrinsics themselves, not this code).
+#if !defined(__clang__)
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#endif
+
+// One axis of 8 footprints: place() (floor, phase in 1/32 px) and taps_at() of entries
+// `k` (int32 lanes, valid where `live`), as the scalar code, in integer lanes.
+struct AxisLanes {
+  __m256i offset, first, count;
+};
+LANTERN_AVX512 inline AxisLanes axis_lanes(__m512d centre, __m256i k, __mmask8 live,
+                                           const void *entries, int size) {
+  const __m512d u = _mm512_sub_pd(centre, _mm512_set1_pd(0.5));
+  const __m512d b = _mm512_roundscale_pd(u, _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC);
+  const __m256i phase = _mm256_min_epi32(
+      _mm512_cvttpd_epi32(_mm512_mul_pd(_mm512_sub_pd(u, b), _mm512_set1_pd(kDensityPhases))),
+      _mm256_set1_epi32(kDensityPhases - 1));
+  const __m256i base = _mm512_cvttpd_epi32(b);
+  const __m256i index = _mm256_add_epi32(_mm256_slli_epi32(k, 5), phase);  // k * 32 + phase
+  static_assert(kDensityPhases == 32, "k * 32 is a shift by 5");
+  // Entry: offset (bits 0-31), first (int16, bits 32-47), count (uint16, bits 48-63).
+  const __m512i e = _mm512_mask_i32gather_epi64(_mm512_setzero_si512(), live, index, entries, 8);
+  const __m256i offset = _mm512_cvtepi64_epi32(e);
+  const __m256i first = _mm512_cvtepi64_epi32(_mm512_srai_epi64(_mm512_slli_epi64(e, 16), 48));
+  const __m256i count = _mm512_cvtepi64_epi32(_mm512_srli_epi64(e, 48));
+  const __m256i lo = _mm256_add_epi32(base, first);
+  const __m256i hi = _mm256_sub_epi32(_mm256_add_epi32(lo, count), _mm256_set1_epi32(1));
+  const __m256i a = _mm256_max_epi32(lo, _mm256_setzero_si256());
+  const __m256i z = _mm256_min_epi32(hi, _mm256_set1_epi32(size - 1));
+  // Empty where hi < 0 or lo > size - 1: z - a + 1 <= 0 exactly then.
+  const __m256i n = _mm256_max_epi32(_mm256_add_epi32(_mm256_sub_epi32(z, a), _mm256_set1_epi32(1)),
+                                     _mm256_setzero_si256());
+  return {_mm256_add_epi32(offset, _mm256_sub_epi32(a, lo)), a, n};
+}
+
+template <typename T>
+LANTERN_AVX512 inline void store8(T *to, __m256i lanes) {
+  _mm256_storeu_si256(reinterpret_cast<__m256i *>(to), lanes);
+}
+
+}  // namespace
+
+LANTERN_AVX512 static void place_avx512(const void *entries, const int32_t *below,
+                                        const double *next, const double *px, const double *py,
+                                        const double *sigma2, int count, int width, int height,
+                                        DensityPlacements *out) {
+  const __m512d far = _mm512_set1_pd(double(1 << 30));
+  const __m512i mantissa = _mm512_set1_epi64((int64_t(1) << 52) - 1);
+  const __m512i exponent_one = _mm512_set1_epi64(int64_t(1023) << 52);
+  for (int i = 0; i + 8 <= count; i += 8) {
+    // index_of_variance(): k = 16 octave + below[bin] + (m >= next[bin]) for 4 sigma^2 in
+    // [1, 65536), 0 below (and for NaN), kDensitySigmaCount at or above.
+    const __m512d x = _mm512_mul_pd(_mm512_set1_pd(4.0), _mm512_loadu_pd(sigma2 + i));
+    const __mmask8 at_least_one = _mm512_cmp_pd_mask(x, _mm512_set1_pd(1.0), _CMP_GE_OQ);
+    const __mmask8 below_top = _mm512_cmp_pd_mask(x, _mm512_set1_pd(65536.0), _CMP_LT_OQ);
+    const __m512i bits = _mm512_castpd_si512(x);
+    const __m512i octave = _mm512_sub_epi64(_mm512_srli_epi64(bits, 52), _mm512_set1_epi64(1023));
+    const __m512i bin = _mm512_and_si512(_mm512_srli_epi64(bits, 42), _mm512_set1_epi64(1023));
+    const __m512d m =
+        _mm512_castsi512_pd(_mm512_or_si512(_mm512_and_si512(bits, mantissa), exponent_one));
+    const __m256i below_bin = _mm512_i64gather_epi32(bin, below, 4);
+    const __m512d next_bin = _mm512_i64gather_pd(bin, next, 8);
+    const __mmask8 step = _mm512_cmp_pd_mask(m, next_bin, _CMP_GE_OQ);
+    __m256i k = _mm256_add_epi32(
+        _mm256_add_epi32(_mm256_slli_epi32(_mm512_cvtepi64_epi32(octave), 4), below_bin),
+        _mm256_maskz_mov_epi32(step, _mm256_set1_epi32(1)));
+    static_assert(kDensitySigmaSteps / 2 == 16, "16 octave is a shift by 4");
+    k = _mm256_mask_mov_epi32(_mm256_set1_epi32(kDensitySigmaCount), below_top, k);
+    k = _mm256_maskz_mov_epi32(at_least_one, k);
+    store8(out->k.data() + i, k);
+    // The farness test (also false for NaN), then every far lane's centre at 0 so that the
+    // integer conversions stay in range.
+    const __m512d cx = _mm512_loadu_pd(px + i), cy = _mm512_loadu_pd(py + i);
+    const __mmask8 near = _mm512_cmp_pd_mask(_mm512_abs_pd(cx), far, _CMP_LT_OQ) &
+                          _mm512_cmp_pd_mask(_mm512_abs_pd(cy), far, _CMP_LT_OQ);
+    const __mmask8 live = near & _mm256_cmplt_epi32_mask(k, _mm256_set1_epi32(kDensitySigmaCount));
+    const __m256i kl = _mm256_maskz_mov_epi32(live, k);
+    const AxisLanes ax = axis_lanes(_mm512_maskz_mov_pd(live, cx), kl, live, entries, width);
+    const AxisLanes ay = axis_lanes(_mm512_maskz_mov_pd(live, cy), kl, live, entries, height);
+    const __mmask8 on = live & _mm256_cmpgt_epi32_mask(ax.count, _mm256_setzero_si256()) &
+                        _mm256_cmpgt_epi32_mask(ay.count, _mm256_setzero_si256());
+    store8(out->first_x.data() + i, ax.first), store8(out->first_y.data() + i, ay.first);
+    store8(out->count_x.data() + i, _mm256_maskz_mov_epi32(on, ax.count));
+    store8(out->count_y.data() + i, ay.count);
+    store8(out->taps_x.data() + i, ax.offset), store8(out->taps_y.data() + i, ay.offset);
+  }
+}
+
+#if !defined(__clang__)
+#pragma GCC diagnostic pop
+#endif
+
+static bool has_avx512_placement() {
+  return __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512vl") &&
+         __builtin_cpu_supports("avx512dq");
+}
+#endif
+
+void DensityKernelTable::place_all(const double *px, const double *py, const double *sigma2,
+                                   int count, int width, int height, DensityPlacements *out) const {
+  out->resize(size_t(count));
+  int done = 0;
+#if defined(__x86_64__) && defined(__GNUC__)
+  static const bool avx512 = has_avx512_placement();
+  if (avx512) {
+    static_assert(sizeof(Entry) == 8, "an entry is gathered as one 64-bit word");
+    place_avx512(entries_.data(), below32_.data(), next_.data(), px, py, sigma2, count, width,
+                 height, out);
+    done = count / 8 * 8;
+  }
+#endif
+  place_range(px, py, sigma2, done, count, width, height, out);
 }
 
 const DensityKernelTable &DensityKernelTable::get() {

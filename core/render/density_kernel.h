@@ -47,6 +47,19 @@ struct AxisTaps {
   int count = 0;
 };
 
+// Where a batch of footprints lands (DensityKernelTable::place_all), one array per quantity:
+// per footprint its table width k (kDensitySigmaCount or more: beyond the table, nothing else
+// set), and for a table footprint its taps per axis on the image (offset into the table's
+// taps, first pixel, count; count_x 0: no tap on the image, or a centre 2^30 px or more away).
+struct DensityPlacements {
+  std::vector<int32_t> k, first_x, first_y, count_x, count_y;
+  std::vector<uint32_t> taps_x, taps_y;
+  void resize(size_t n) {
+    for (std::vector<int32_t> *v : {&k, &first_x, &first_y, &count_x, &count_y}) v->resize(n);
+    taps_x.resize(n), taps_y.resize(n);
+  }
+};
+
 // The table of the header comment.
 class DensityKernelTable {
  public:
@@ -91,6 +104,16 @@ class DensityKernelTable {
     return true;
   }
 
+  // For footprints [0, count) (centres px, py, variances sigma2): index_of_variance(), then
+  // for table widths the centre's farness test, place() and taps_at() per axis on a
+  // width x height image, into `out` (resized). The same integers as those calls; vectorised
+  // (AVX-512) where the processor has it: on fcc 10 M at 1024^2 these per-particle look-ups,
+  // one particle at a time, took about a quarter of the splat.
+  void place_all(const double *px, const double *py, const double *sigma2, int count, int width,
+                 int height, DensityPlacements *out) const;
+  // The taps that DensityPlacements' offsets index.
+  const uint16_t *tap_data() const { return taps_.data(); }
+
   // The taps of entry (k, phase of `centre`) on [0, size): place() then taps_at().
   bool taps(double centre, int k, int size, AxisTaps *out) const {
     int base = 0, phase = 0;
@@ -112,6 +135,9 @@ class DensityKernelTable {
   // boundaries 1/16).
   std::vector<uint8_t> below_;
   std::vector<double> next_;
+  std::vector<int32_t> below32_;  // below_ widened, for a vector gather
+  void place_range(const double *px, const double *py, const double *sigma2, int from, int to,
+                   int width, int height, DensityPlacements *out) const;
 };
 
 // The taps of a footprint of centre `centre` and width `sigma` beyond the table (k >=

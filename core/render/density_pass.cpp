@@ -121,14 +121,9 @@ void render_every_particle(const ParticleArrays &particles, const std::vector<Cu
           }
           splatter->project_all(xs, ys, zs, per_particle ? rs : nullptr, sel.radius.radius, 1.0, n,
                                 &footprints);
-          for (int k = 0; k < n; ++k) {
-            const bool touched = footprints.in_front[size_t(k)] &&
-                                 splatter->bin({footprints.px[size_t(k)], footprints.py[size_t(k)],
-                                                footprints.sigma2[size_t(k)]},
-                                               color[k], &bins);
-            drawn += touched;
-            missed += !touched;
-          }
+          const int64_t touched = splatter->bin_all(footprints, color, n, &bins);
+          drawn += touched;
+          missed += n - touched;
           binned += n;
           if (binned >= kBinBatch) {
             splatter->deposit_bins(bins);

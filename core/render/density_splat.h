@@ -35,7 +35,9 @@
 // world lengths for the radius.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
+#include <new>
 #include <vector>
 
 #include <glm/vec3.hpp>
@@ -54,6 +56,28 @@ inline constexpr int64_t kDensityMaxParticles = int64_t(1) << 38;
 inline constexpr double kDensityMinWeight = 1.0 / double(1 << 24);
 inline constexpr double kDensityMaxWeight = double(kDensityMaxParticles);
 
+// Storage on 64-byte (cache-line) boundaries: the pixel loops add two pixels' four channels
+// (64 bytes) per vector, and an access that straddles two cache lines costs two.
+template <typename T>
+struct CacheLineAllocator {
+  using value_type = T;
+  CacheLineAllocator() = default;
+  template <typename U>
+  CacheLineAllocator(const CacheLineAllocator<U> &) {}  // NOLINT: conversions are implicit
+  T *allocate(size_t n) {
+    return static_cast<T *>(::operator new(n * sizeof(T), std::align_val_t(64)));
+  }
+  void deallocate(T *p, size_t) { ::operator delete(p, std::align_val_t(64)); }
+  template <typename U>
+  bool operator==(const CacheLineAllocator<U> &) const {
+    return true;
+  }
+  template <typename U>
+  bool operator!=(const CacheLineAllocator<U> &) const {
+    return false;
+  }
+};
+
 // The summed footprints of one frame. channels 1: the weight; 4: the weight, then weight times
 // red, green and blue (each / 256, see above). Row-major, row 0 at the TOP, channels interleaved
 // per pixel.
@@ -61,7 +85,7 @@ struct DensityImage {
   int width = 0;
   int height = 0;
   int channels = 1;
-  std::vector<int64_t> sum;
+  std::vector<int64_t, CacheLineAllocator<int64_t>> sum;
 
   // Resizes to w x h x ch and zeroes every sum.
   void reset(int w, int h, int ch) {
@@ -90,12 +114,13 @@ struct DensityFootprints {
   void resize(size_t n) { px.resize(n), py.resize(n), sigma2.resize(n), in_front.resize(n); }
 };
 
-// A footprint of weight 1 waiting in its image tile's bin (DensitySplatter::bin): what the
-// kernel table needs to place it again, and its colour.
+// A footprint of weight 1 waiting in its image tile's bin (DensitySplatter::bin, bin_all): its
+// taps on the image per axis (offsets into the kernel table's taps, first pixel, count) and its
+// colour, so that depositing it looks nothing up again.
 struct DensityRecord {
-  int16_t base_x, base_y;  // floor(centre - 0.5) per axis (density_kernel.h)
-  uint8_t k;               // the table's width
-  uint8_t phase_x, phase_y;
+  uint32_t taps_x, taps_y;
+  int16_t first_x, first_y;  // kMaxImageSize is 16384
+  uint8_t count_x, count_y;  // table footprints span at most 49 pixels
   uint8_t color[3];
 };
 
@@ -142,6 +167,12 @@ class DensitySplatter {
   // deposit_bins() then deposits every bin, tile by tile. The same sums as deposit().
   bool bin(const DensityFootprint &f, const Rgb8 &color, DensityBins *bins);
   void deposit_bins(const DensityBins &bins);
+  // bin() of footprint k with color[k] for every k in [0, count) with in_front[k], the table
+  // look-ups vectorised (DensityKernelTable::place_all); a batch whose footprints follow each
+  // other on the image is deposited at once instead (the same sums): returns how many touch
+  // the image.
+  int64_t bin_all(const DensityFootprints &footprints, const Rgb8 *color, int count,
+                  DensityBins *bins);
 
   // deposit(footprint k, weight, color[k]) for every k in [0, count) with in_front[k] and not
   // skip[k]: returns how many touched a pixel.
@@ -158,10 +189,18 @@ class DensitySplatter {
   DensityImage *image_;
   const DensityKernelTable &table_;
   std::vector<uint16_t> scratch_x_, scratch_y_;  // taps of footprints beyond the kernel table
+  DensityPlacements placements_;                 // bin_all()'s, kept for its capacity
+  void file(const DensityRecord &r, DensityBins *bins) const {
+    bins->tiles[size_t(r.first_y / kDensityTile) * size_t(bins->across) +
+                size_t(r.first_x / kDensityTile)]
+        .push_back(r);
+  }
   // The pixel loop for four channels, chosen once (set_pixel_loop).
   void (*add4_)(int64_t *image, int width, const AxisTaps &ax, const AxisTaps &ay,
                 const uint64_t m[4], int shift) = nullptr;
   // The previous particle's weight and colour, and the factors made of them (see the .cpp).
+  // Adds the footprint of taps ax x ay with `weight` and `color` to the image.
+  void add(const AxisTaps &ax, const AxisTaps &ay, double weight, const Rgb8 &color);
   // The factors of (weight, colour) into factors_m_ / factors_shift_, unless they are the last's.
   void set_factors(double weight, const Rgb8 &color);
   double last_weight_ = -1.0;

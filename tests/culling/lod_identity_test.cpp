@@ -67,7 +67,7 @@ std::vector<int64_t> density(const Lattice &l, const SceneConfig &s, int64_t *lo
   DensityImage image;
   *lod_dropped =
       render_density(l.arrays, l.bricks, cull_settings(s), sel, recipe, &image).lod_dropped;
-  return image.sum;
+  return {image.sum.begin(), image.sum.end()};
 }
 
 bool same(const Frame &a, const Frame &b) {

@@ -112,5 +112,75 @@ TEST(DensityKernel, ComputedTapsBeyondTheTableAreNormalised) {
   EXPECT_NEAR(double(sum_of(t)), 65536.0 * 0.56, 0.02 * 65536.0);
 }
 
+// place_all (the vectorised look-ups of a batch) gives index_of_variance(), then place() and
+// taps_at() per axis, integer for integer: for widths across the table and beyond it, centres
+// on, beside and far off the image, and non-finite ones; a count that is not a multiple of the
+// vector width.
+TEST(DensityKernel, PlaceAllIsPlaceAndTapsAtOneByOne) {
+  const DensityKernelTable &table = DensityKernelTable::get();
+  uint32_t h = 4242;
+  const auto next = [&h] {
+    h ^= h << 13, h ^= h >> 17, h ^= h << 5;
+    return double(h) / 4294967296.0;
+  };
+  constexpr int kWidth = 300, kHeight = 200;
+  std::vector<double> px, py, sigma2;
+  for (int n = 0; n < 5003; ++n) {
+    px.push_back(340.0 * next() - 20.0), py.push_back(240.0 * next() - 20.0);
+    const double sigma = 0.4 * std::exp2(6.0 * next());  // 0.4 .. 25.6 px: table and beyond
+    sigma2.push_back(sigma * sigma);
+    switch (n % 97) {
+      case 1:
+        px.back() = std::nan("");
+        break;
+      case 2:
+        py.back() = HUGE_VAL;
+        break;
+      case 3:
+        px.back() = -3e9;
+        break;
+      case 4:
+        py.back() = double(1 << 30);
+        break;
+      case 5:
+        sigma2.back() = std::nan("");
+        break;
+      case 6:
+        sigma2.back() = 0.25;
+        break;  // sigma 0.5: k 0 exactly
+      case 7:
+        sigma2.back() = 1e300;
+        break;
+      default:
+        break;
+    }
+  }
+  DensityPlacements all;
+  table.place_all(px.data(), py.data(), sigma2.data(), int(px.size()), kWidth, kHeight, &all);
+  int on = 0, wide = 0;
+  for (size_t i = 0; i < px.size(); ++i) {
+    const int k = table.index_of_variance(sigma2[i]);
+    ASSERT_EQ(all.k[i], k) << i;
+    if (k >= kDensitySigmaCount) {
+      ++wide;
+      continue;
+    }
+    bool touches = std::abs(px[i]) < double(1 << 30) && std::abs(py[i]) < double(1 << 30);
+    AxisTaps ax, ay;
+    touches = touches && table.taps(px[i], k, kWidth, &ax) && table.taps(py[i], k, kHeight, &ay);
+    ASSERT_EQ(all.count_x[i] > 0, touches) << i;
+    if (!touches) continue;
+    ++on;
+    ASSERT_EQ(table.tap_data() + all.taps_x[i], ax.taps) << i;
+    ASSERT_EQ(table.tap_data() + all.taps_y[i], ay.taps) << i;
+    ASSERT_EQ(all.first_x[i], ax.first) << i;
+    ASSERT_EQ(all.first_y[i], ay.first) << i;
+    ASSERT_EQ(all.count_x[i], ax.count) << i;
+    ASSERT_EQ(all.count_y[i], ay.count) << i;
+  }
+  EXPECT_GT(on, 2500);
+  EXPECT_GT(wide, 500);
+}
+
 }  // namespace
 }  // namespace lantern

@@ -137,7 +137,7 @@ TEST(DensitySplat, EveryPixelLoopGivesTheSameSums) {
       const double w = n % 3 == 0 ? 1.0 : 1.0 + 300.0 * next();
       splat.splat(c, r, w, {uint8_t(n % 256), uint8_t(255 - n % 256), uint8_t(n % 7)});
     }
-    sums[l] = image.sum;
+    sums[l].assign(image.sum.begin(), image.sum.end());
   }
   EXPECT_TRUE(sums[0] == sums[1]);
   EXPECT_TRUE(sums[0] == sums[2]);
@@ -150,16 +150,23 @@ TEST(DensitySplat, EveryPixelLoopGivesTheSameSums) {
 // project_all (the vectorised projection of world positions) gives project(g.to_view(x)), bit for
 // bit, in both projections, with per-particle and constant radii, for particles in front of,
 // on and behind the near plane.
+// A 300 x 200 view of the box [0, 10]^3 from z = 30 (false when the camera is refused).
+bool box_view(Projection projection, ViewGeometry *g) {
+  CameraConfig cc;
+  cc.projection = projection;
+  cc.position = std::array<double, 3>{5, 5, 30};
+  cc.look_at = {5, 5, 5};
+  cc.up = {0.1, 1, 0};
+  Camera camera;
+  if (!make_camera(cc, {0, 0, 0}, {10, 10, 10}, 0.5, 300, 200, &camera).ok()) return false;
+  *g = ViewGeometry::from_camera(camera, 100.0);
+  return true;
+}
+
 TEST(DensitySplat, ProjectAllIsProjectParticleByParticle) {
   for (const Projection projection : {Projection::kPerspective, Projection::kOrthographic}) {
-    CameraConfig cc;
-    cc.projection = projection;
-    cc.position = std::array<double, 3>{5, 5, 30};
-    cc.look_at = {5, 5, 5};
-    cc.up = {0.1, 1, 0};
-    Camera camera;
-    ASSERT_TRUE(make_camera(cc, {0, 0, 0}, {10, 10, 10}, 0.5, 300, 200, &camera).ok());
-    const ViewGeometry g = ViewGeometry::from_camera(camera, 100.0);
+    ViewGeometry g;
+    ASSERT_TRUE(box_view(projection, &g));
     DensityImage image;
     image.reset(g.width, g.height, 1);
     const DensitySplatter splat(g, &image);
@@ -193,6 +200,49 @@ TEST(DensitySplat, ProjectAllIsProjectParticleByParticle) {
       EXPECT_GT(in_front, 300);
       EXPECT_LT(in_front, int(x.size()));
     }
+  }
+}
+
+// bin_all (vectorised look-ups; a batch that follows itself on the image deposited at once,
+// another filed in tile bins) then deposit_bins gives the sums of deposit() one by one: for a
+// coherent order (along a line), a random one, and footprints beyond the table, behind the near
+// plane or off the image.
+TEST(DensitySplat, BinAllGivesTheSumsOfDepositOneByOne) {
+  ViewGeometry g;
+  ASSERT_TRUE(box_view(Projection::kPerspective, &g));
+  uint32_t h = 31;
+  const auto next = [&h] {
+    h ^= h << 13, h ^= h >> 17, h ^= h << 5;
+    return double(h) / 4294967296.0;
+  };
+  for (const bool coherent : {true, false}) {
+    std::vector<double> x, y, z, r;
+    std::vector<Rgb8> color;
+    for (int k = 0; k < 3001; ++k) {
+      const double t = double(k) / 3000.0;
+      x.push_back(coherent ? -1.0 + 12.0 * t : 14.0 * next() - 2.0);
+      y.push_back(coherent ? 5.0 + 3.0 * std::sin(20.0 * t) : 14.0 * next() - 2.0);
+      z.push_back(k % 500 == 0 ? 30.0 - 0.5 * g.near_plane : 10.0 * next());
+      r.push_back(k % 250 == 0 ? 6.0 : 0.02 + 0.3 * next());  // some beyond the table
+      color.push_back({uint8_t(k), uint8_t(7 * k), uint8_t(255 - k % 256)});
+    }
+    DensityImage binned, one_by_one;
+    binned.reset(g.width, g.height, 4), one_by_one.reset(g.width, g.height, 4);
+    DensitySplatter a(g, &binned), b(g, &one_by_one);
+    DensityFootprints f;
+    DensityBins bins;
+    bins.reset(g.width, g.height);
+    a.project_all(x.data(), y.data(), z.data(), r.data(), 0.0, 1.0, int(x.size()), &f);
+    const int64_t touched = a.bin_all(f, color.data(), int(x.size()), &bins);
+    a.deposit_bins(bins);
+    int64_t expected = 0;
+    for (size_t k = 0; k < x.size(); ++k)
+      expected += f.in_front[k] && b.deposit({f.px[k], f.py[k], f.sigma2[k]}, 1.0, color[k]);
+    EXPECT_EQ(touched, expected) << coherent;
+    EXPECT_GT(expected, 2000) << coherent;
+    EXPECT_LT(expected, 3001) << coherent;
+    EXPECT_TRUE(binned.sum == one_by_one.sum) << coherent;
+    EXPECT_EQ(a.pixels_written(), b.pixels_written()) << coherent;
   }
 }
 
