@@ -212,8 +212,10 @@ void BudgetController::record(int rung, double ms) {
   }
   if (measured() && last_rung_ != rung) {
     // Two rungs measured on consecutive steps of a steady run: their ratio is learned, and the
-    // level (rung 0's cost) stays where the previous step put it.
-    ratio_[k] = std::clamp(ratio_[size_t(last_rung_)] * ms / last_ms_, 1e-9, 1e9);
+    // level (rung 0's cost) stays where the previous step put it. A rung learned before keeps
+    // the geometric mean of its estimates, so one noisy pair does not decide it alone.
+    const double pair = std::clamp(ratio_[size_t(last_rung_)] * ms / last_ms_, 1e-9, 1e9);
+    ratio_[k] = learned_[k] && k != 0 ? std::sqrt(ratio_[k] * pair) : pair;
     if (k == 0) {  // rung 0 is the unit: the level moves instead
       level_ms_ = ms;
       ratio_[0] = 1.0;
