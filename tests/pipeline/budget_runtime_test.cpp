@@ -87,7 +87,8 @@ TEST(Budget, AFrameThatFitsIsTheFrameWithoutABudget) {
   ASSERT_EQ(stats.size(), size_t(kSteps));
   for (const nlohmann::json &b : stats) {
     EXPECT_EQ(b["rung"], 0) << b;
-    EXPECT_EQ(b["rungs"], 7) << b;  // ao half, ao off, samples 1, lod 0.5 / 0.25 / 0.1
+    EXPECT_EQ(b["rungs"], 9)
+        << b;  // ao half, ao off, samples 1, lod 0.5 / 0.25 / 0.1 / 0.05 / 0.02
     EXPECT_EQ(b["samples"], 4);
     EXPECT_EQ(b["ambient_occlusion"], "full");
     EXPECT_TRUE(b["psnr_db"].is_null());  // exact
@@ -103,7 +104,7 @@ TEST(Budget, ABudgetNothingMeetsDrawsTheCheapestRungOnEveryRank) {
   ASSERT_FALSE(dir.path().empty());
   render(config(dir.path(), "full", kFull));
   render(config(dir.path(), "tiny", std::string(kFull) + "    budget_ms: 1.0e-6\n"));
-  render(config(dir.path(), "cheapest", "    lod: {fraction: 0.1}\n"));
+  render(config(dir.path(), "cheapest", "    lod: {fraction: 0.02}\n"));
   if (world_rank() != 0) return;
   EXPECT_TRUE(image(dir.path(), "full", 0) == image(dir.path(), "tiny", 0));  // measured first
   // Step 1: nothing but rung 0 measured, the last rung is predicted cheapest.
@@ -116,9 +117,9 @@ TEST(Budget, ABudgetNothingMeetsDrawsTheCheapestRungOnEveryRank) {
   EXPECT_EQ(stats[0]["rung"], 0);
   EXPECT_TRUE(stats[0]["note"].is_null());
   const nlohmann::json &b = stats[1];
-  EXPECT_EQ(b["rung"], 6) << b;
-  EXPECT_EQ(b["gives_up"], "lod 0.1");
-  EXPECT_EQ(b["lod_fraction"], 0.1);
+  EXPECT_EQ(b["rung"], 8) << b;
+  EXPECT_EQ(b["gives_up"], "lod 0.02");
+  EXPECT_EQ(b["lod_fraction"], 0.02);
   EXPECT_EQ(b["samples"], 1);
   EXPECT_EQ(b["ambient_occlusion"], "off");
   EXPECT_EQ(b["unmet"], true);
@@ -128,7 +129,7 @@ TEST(Budget, ABudgetNothingMeetsDrawsTheCheapestRungOnEveryRank) {
   // Said once, in the stats of the first step that cannot meet it.
   EXPECT_EQ(b["note"], "budget cannot be met: rendering at the cheapest setting");
   // Later steps draw the cheapest rung measured (which one depends on this machine's timings:
-  // lod 0.1 is skipped if it was measured not cheaper than the rungs above), still unmet.
+  // lod 0.02 is skipped if it was measured not cheaper than the rungs above), still unmet.
   for (int step = 2; step < kSteps; ++step) {
     const nlohmann::json &later = stats[size_t(step)];
     EXPECT_EQ(later["unmet"], true) << later;
@@ -145,7 +146,7 @@ TEST(Budget, APercentOfTheRunApplesFromTheThirdStep) {
   ASSERT_FALSE(dir.path().empty());
   render(config(dir.path(), "full", kFull));
   render(config(dir.path(), "share", kFull, "budget_percent: 0.0001\n"));
-  render(config(dir.path(), "cheapest", "    lod: {fraction: 0.1}\n"));
+  render(config(dir.path(), "cheapest", "    lod: {fraction: 0.02}\n"));
   if (world_rank() != 0) return;
   for (int step = 0; step < 2; ++step)
     EXPECT_TRUE(image(dir.path(), "full", step) == image(dir.path(), "share", step)) << step;
@@ -155,7 +156,7 @@ TEST(Budget, APercentOfTheRunApplesFromTheThirdStep) {
   EXPECT_TRUE(stats[0]["ms"].is_null());
   EXPECT_TRUE(stats[1]["ms"].is_null());
   EXPECT_GT(stats[2]["ms"].get<double>(), 0.0);
-  EXPECT_EQ(stats[2]["rung"], 6);
+  EXPECT_EQ(stats[2]["rung"], 8);
   EXPECT_EQ(stats[2]["unmet"], true);
   EXPECT_EQ(stats[2]["note"], "budget cannot be met: rendering at the cheapest setting");
 }
