@@ -184,17 +184,18 @@ void BudgetController::fill_unlearned_ratios() {
   }
 }
 
-// Rung 0 pays; a later rung pays when predicted at least kMinSaving cheaper than the cheapest
-// better rung that pays.
+// Rung 0 pays; a measured rung pays when at least kMinSaving cheaper than the cheapest better
+// measured rung that pays. A rung not measured yet pays (its prediction is the priors', scaled
+// by noisy neighbours: it is judged once measured, which happens only where it is predicted to
+// fit or to be the cheapest).
 std::vector<bool> BudgetController::paying() const {
-  std::vector<bool> pay(ratio_.size(), false);
-  pay[0] = true;
+  std::vector<bool> pay(ratio_.size(), true);
   double cheapest = ratio_[0];
-  for (size_t i = 1; i < ratio_.size(); ++i)
-    if (ratio_[i] < (1.0 - kMinSaving) * cheapest) {
-      pay[i] = true;
-      cheapest = ratio_[i];
-    }
+  for (size_t i = 1; i < ratio_.size(); ++i) {
+    if (!learned_[i]) continue;
+    pay[i] = ratio_[i] < (1.0 - kMinSaving) * cheapest;
+    if (pay[i]) cheapest = ratio_[i];
+  }
   return pay;
 }
 

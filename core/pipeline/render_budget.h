@@ -62,13 +62,13 @@ std::string budget_ao_name(const SceneConfig &scene, const BudgetRung &rung);
 // scaled to agree with them. Every measurement of a learned rung is also compared with what was
 // predicted for it: those relative errors give each rung's error estimate and the run's noise.
 //
-// A rung pays only while it is predicted at least kMinSaving cheaper than every better rung that
-// pays: a rung measured not cheaper than a better one is never chosen again (until the ladder is
+// A measured rung pays only while it is at least kMinSaving cheaper than every better measured rung
+// that pays: a rung measured not cheaper than a better one is not chosen again (until the ladder is
 // rebuilt), so a budget nothing meets is drawn at the cheapest rung measured, not the last one.
 class BudgetController {
  public:
   static constexpr double kMaxMs = 1e9;
-  // A rung pays only when it saves at least this share of the cost of every better rung.
+  // A measured rung pays only when it saves at least this share of every better rung's cost.
   static constexpr double kMinSaving = 0.05;
   // Step up to a better rung only when its prediction plus the run's noise (at least this share;
   // kPriorError for a rung not measured yet) fits the budget: hysteresis, so that noise of a few
@@ -109,7 +109,8 @@ class BudgetController {
   double predicted_error(int rung) const;
   // Whether the rung's cost was measured in this run.
   bool learned(int rung) const { return rung >= 0 && rung < rungs() && learned_[size_t(rung)]; }
-  // Whether the rung pays (predicted at least kMinSaving cheaper than every better paying rung).
+  // Whether the rung pays: not measured yet, or measured at least kMinSaving cheaper than every
+  // better measured rung that pays.
   bool pays(int rung) const { return rung >= 0 && rung < rungs() && paying()[size_t(rung)]; }
 
  private:
