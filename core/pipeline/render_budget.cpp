@@ -33,6 +33,10 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 //                                                        + hzb: fcc 10 M 16.6, void_impact 19.0
 //   lod 0.5 -> 0.25    0.96 (0.96 1.01 0.90)   15.7 dB   same: 15.7 / 18.2 dB
 //   lod 0.25 -> 0.1    0.85 (0.85 0.96 0.81)   15.0 dB   same: 15.0 / 17.4 dB
+//   lod 0.1 -> 0.05    0.85 (0.87 0.84)        14.3 dB   lantern-bench-budget's ladder, fcc 1 M
+//   lod 0.05 -> 0.02   0.90 (0.87 0.93)        13.6 dB   and fcc 10 M (ladder_lod002_fcc10m_
+//                                                        fcc1m_1024.txt): 0.5-0.9 and 0.7 dB
+//                                                        below the rung above
 //
 // (The ladder tables' own PSNR against full quality agree within 2.5 dB for AO and samples; for
 // level of detail they are 1.5-5 dB better than the estimate: fcc's pixels are many small spheres.)
@@ -55,7 +59,13 @@ constexpr SampleStep kLastSampleStep = {4, 1, 0.44, 25.0};
 struct LodStep {
   double fraction, cost, psnr_db;
 };
-constexpr LodStep kLodSteps[] = {{0.5, 0.82, 16.6}, {0.25, 0.96, 15.7}, {0.1, 0.85, 15.0}};
+// 0.05 and 0.02: on fcc 10 M lod 0.1 still draws 65 k particles and each further step saves 7-16 %
+// of the frame; where they do not pay (void_impact) the controller skips them once measured.
+constexpr LodStep kLodSteps[] = {{0.5, 0.82, 16.6},
+                                 {0.25, 0.96, 15.7},
+                                 {0.1, 0.85, 15.0},
+                                 {0.05, 0.85, 14.3},
+                                 {0.02, 0.90, 13.6}};
 
 double mse_of(double psnr_db) {
   return std::isinf(psnr_db) ? 0.0 : std::pow(10.0, -psnr_db / 10.0);
@@ -138,11 +148,15 @@ std::string budget_ao_name(const SceneConfig &scene, const BudgetRung &rung) {
 }
 
 BudgetController::BudgetController(std::vector<double> step_costs)
-    : step_(std::move(step_costs)), ratio_(step_.size(), 1.0), learned_(step_.size(), false) {
+    : step_(std::move(step_costs)),
+      ratio_(step_.size(), 1.0),
+      learned_(step_.size(), false),
+      error_(step_.size(), kNaN) {
   if (step_.empty()) {  // a ladder has at least rung 0
     step_.assign(1, 1.0);
     ratio_.assign(1, 1.0);
     learned_.assign(1, false);
+    error_.assign(1, kNaN);
   }
   for (double &c : step_)
     if (!(c > 0.0) || !std::isfinite(c)) c = 1.0;  // a prior that is not a cost says nothing
@@ -151,10 +165,38 @@ BudgetController::BudgetController(std::vector<double> step_costs)
 }
 
 // A rung not measured yet costs what the nearest measured rung above it costs, times the priors
-// of the steps between.
+// of the steps between; where a measured rung below bounds the run too, every prior step of it is
+// scaled alike (geometrically) so that the run ends at that rung's measured cost.
 void BudgetController::fill_unlearned_ratios() {
-  for (size_t i = 1; i < ratio_.size(); ++i)
-    if (!learned_[i]) ratio_[i] = ratio_[i - 1] * step_[i];
+  const size_t n = ratio_.size();
+  for (size_t above = 0; above + 1 < n;) {
+    size_t below = above + 1;
+    while (below < n && !learned_[below]) ++below;
+    double scale = 1.0;
+    if (below < n && below > above + 1) {
+      double prior = 1.0;
+      for (size_t i = above + 1; i <= below; ++i) prior *= step_[i];
+      scale = std::pow(ratio_[below] / (ratio_[above] * prior), 1.0 / double(below - above));
+    }
+    for (size_t i = above + 1; i < std::min(below, n); ++i)
+      ratio_[i] = std::clamp(ratio_[i - 1] * step_[i] * scale, 1e-9, 1e9);
+    above = below;
+  }
+}
+
+// Rung 0 pays; a measured rung pays when at least kMinSaving cheaper than the cheapest better
+// measured rung that pays. A rung not measured yet pays (its prediction is the priors', scaled
+// by noisy neighbours: it is judged once measured, which happens only where it is predicted to
+// fit or to be the cheapest).
+std::vector<bool> BudgetController::paying() const {
+  std::vector<bool> pay(ratio_.size(), true);
+  double cheapest = ratio_[0];
+  for (size_t i = 1; i < ratio_.size(); ++i) {
+    if (!learned_[i]) continue;
+    pay[i] = ratio_[i] < (1.0 - kMinSaving) * cheapest;
+    if (pay[i]) cheapest = ratio_[i];
+  }
+  return pay;
 }
 
 double BudgetController::predicted_ms(int rung) const {
@@ -162,14 +204,29 @@ double BudgetController::predicted_ms(int rung) const {
   return clamp_ms(level_ms_ * ratio_[size_t(rung)]);
 }
 
+double BudgetController::predicted_error(int rung) const {
+  if (!measured() || rung < 0 || rung >= rungs()) return kNaN;
+  const size_t k = size_t(rung);
+  const double own = !learned_[k] ? kPriorError : std::isnan(error_[k]) ? 0.0 : error_[k];
+  return std::max(noise_, own);
+}
+
 void BudgetController::record(int rung, double ms) {
   if (rung < 0 || rung >= rungs() || std::isnan(ms) || !(ms > 0.0)) return;
   ms = clamp_ms(ms);
   const size_t k = size_t(rung);
+  if (measured() && learned_[k]) {
+    // A learned rung measured again: how far off its prediction was (means of the last few).
+    const double off = std::min(std::abs(ms / predicted_ms(rung) - 1.0), 1.0);
+    error_[k] = std::isnan(error_[k]) ? off : 0.5 * (error_[k] + off);
+    noise_ = 0.5 * (noise_ + off);
+  }
   if (measured() && last_rung_ != rung) {
     // Two rungs measured on consecutive steps of a steady run: their ratio is learned, and the
-    // level (rung 0's cost) stays where the previous step put it.
-    ratio_[k] = std::clamp(ratio_[size_t(last_rung_)] * ms / last_ms_, 1e-9, 1e9);
+    // level (rung 0's cost) stays where the previous step put it. A rung learned before keeps
+    // the geometric mean of its estimates, so one noisy pair does not decide it alone.
+    const double pair = std::clamp(ratio_[size_t(last_rung_)] * ms / last_ms_, 1e-9, 1e9);
+    ratio_[k] = learned_[k] && k != 0 ? std::sqrt(ratio_[k] * pair) : pair;
     if (k == 0) {  // rung 0 is the unit: the level moves instead
       level_ms_ = ms;
       ratio_[0] = 1.0;
@@ -184,22 +241,55 @@ void BudgetController::record(int rung, double ms) {
   last_ms_ = ms;
 }
 
+// Nothing fits: the paying rung predicted cheapest, unless a paying rung not measured yet may be
+// cheaper than the cheapest measured one (its prediction less kExploreShare): the cheapest such is
+// tried. Each rung is tried at most once this way (it is measured then), so this settles.
+int BudgetController::cheapest_to_try(const std::vector<bool> &pay) const {
+  int cheapest = 0;
+  double measured_ms = kInf;
+  for (int j = 0; j < rungs(); ++j)
+    if (pay[size_t(j)] && learned_[size_t(j)] && predicted_ms(j) < measured_ms) {
+      measured_ms = predicted_ms(j);
+      cheapest = j;
+    }
+  int best = cheapest;
+  double best_ms = kInf;
+  for (int j = 0; j < rungs(); ++j) {
+    if (!pay[size_t(j)] || learned_[size_t(j)]) continue;
+    const double ms = predicted_ms(j);
+    if (ms * (1.0 - kExploreShare) < measured_ms && ms < best_ms) {
+      best = j;
+      best_ms = ms;
+    }
+  }
+  return best;
+}
+
 int BudgetController::choose(double budget_ms) {
   unmet_ = false;
   if (!measured() || std::isnan(budget_ms) || !(budget_ms > 0.0)) {
     rung_ = 0;
     return rung_;
   }
+  const std::vector<bool> pay = paying();
+  int up = 0;  // the nearest paying rung better than the current one
+  for (int j = 0; j < rung_ && j < rungs(); ++j)
+    if (pay[size_t(j)]) up = j;
   for (int j = 0; j < rungs(); ++j) {
-    const double allowed = j < rung_ ? budget_ms * kStepUpShare : budget_ms;
+    if (!pay[size_t(j)]) continue;
+    // A better rung than the current one only with a margin: the run's noise, or the priors'
+    // error for a rung not measured yet. (Not the rung's own error: one noisy measurement of
+    // it would keep it out for good, one rung lower than needed.)
+    const double margin = std::max({kMinMargin, noise_, learned_[size_t(j)] ? 0.0 : kPriorError});
+    const double allowed = j < rung_ ? budget_ms / (1.0 + margin) : budget_ms;
     if (predicted_ms(j) <= allowed) {
-      // Up one rung at a time: each step up is measured before the next (a noisy cheap step
-      // does not jump straight back to full quality); down as far as needed at once.
-      rung_ = std::max(j, rung_ - 1);
+      // Up one paying rung at a time: each step up is measured before the next (a noisy cheap
+      // step does not jump straight back to full quality); down as far as needed at once.
+      rung_ = j < rung_ ? std::max(j, up) : j;
       return rung_;
     }
   }
-  rung_ = rungs() - 1;
+  rung_ = cheapest_to_try(pay);
   unmet_ = true;
   return rung_;
 }
@@ -214,10 +304,13 @@ nlohmann::json BudgetStats::to_json() const {
           {"samples", samples},
           {"ambient_occlusion", ambient_occlusion},
           {"predicted_ms", number(predicted_ms)},
+          {"predicted_error", number(predicted_error)},
           {"measured_ms", measured_ms},
           // null for rung 0: the configured picture itself
           {"psnr_db", number(psnr_db)},
-          {"unmet", unmet}};
+          {"unmet", unmet},
+          {"skipped", skipped},
+          {"note", note.empty() ? nlohmann::json(nullptr) : nlohmann::json(note)}};
 }
 
 SceneConfig SceneBudget::choose(const SceneConfig &scene, double budget_ms, BudgetStats *out) {
@@ -238,6 +331,9 @@ SceneConfig SceneBudget::choose(const SceneConfig &scene, double budget_ms, Budg
   out->samples = r.samples;
   out->ambient_occlusion = budget_ao_name(scene, r);
   out->predicted_ms = controller.predicted_ms(k);
+  out->predicted_error = controller.predicted_error(k);
+  for (int j = 1; j < controller.rungs(); ++j)
+    if (!controller.pays(j)) out->skipped.push_back(ladder[size_t(j)].gives_up);
   out->psnr_db = r.psnr_db;
   out->unmet = controller.unmet();
   return scene_at_rung(scene, r);

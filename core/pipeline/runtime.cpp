@@ -410,14 +410,16 @@ void Runtime::record_scene_costs(double gap_ms, const std::vector<bool> &rendere
     SceneBudget &budget = buffers_[s].budget;
     b.measured_ms = slowest[1 + s];
     budget.controller.record(b.rung, b.measured_ms);  // ignores 0: a scene that failed
-    if (b.unmet && !budget.warned_unmet && rank_ == 0) {
+    if (b.unmet && !budget.warned_unmet) {            // the same on every rank
       budget.warned_unmet = true;
-      std::fprintf(stderr,
-                   "lantern: warning: scenes '%s': budget %.1f ms cannot be met: the cheapest "
-                   "settings (lod %g, samples %d, ambient occlusion %s) are predicted to take "
-                   "%.1f ms; drawing with them (the stats say \"unmet\"; warned once)\n",
-                   config_.scenes[s].name.c_str(), b.budget_ms, b.lod_fraction, b.samples,
-                   b.ambient_occlusion.c_str(), b.predicted_ms);
+      b.note = "budget cannot be met: rendering at the cheapest setting";
+      if (rank_ == 0)
+        std::fprintf(stderr,
+                     "lantern: warning: scenes '%s': budget %.1f ms cannot be met: rendering at "
+                     "the cheapest setting (lod %g, samples %d, ambient occlusion %s), predicted "
+                     "%.1f ms (the stats say \"unmet\"; warned once)\n",
+                     config_.scenes[s].name.c_str(), b.budget_ms, b.lod_fraction, b.samples,
+                     b.ambient_occlusion.c_str(), b.predicted_ms);
     }
   }
 }

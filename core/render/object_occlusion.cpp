@@ -18,6 +18,7 @@ constexpr int64_t kParticleWeight = int64_t(kSteps) * kSteps * kSteps;
 // passes multiply a deposit by.
 constexpr int kFilterReach = 2;
 constexpr int64_t kFilter[2 * kFilterReach + 1] = {1, 4, 6, 4, 1};
+static_assert(kFilterReach == 2, "smooth() writes the five taps out");
 constexpr int64_t kFilterWeight = 16 * 16 * 16;
 // Bins of the histogram the bulk density is read from.
 constexpr int kBulkBins = 4096;
@@ -108,6 +109,20 @@ void OcclusionVolume::deposit(const ParticleArrays &particles, const std::vector
   const double steps_per_unit = kSteps * inverse_cell_;
   int last[3];
   for (int a = 0; a < 3; ++a) last[a] = kSteps * (n_[a] - 1);
+  // Consecutive particles often share their 8 nodes (a crystal's basis atoms, a brick's
+  // neighbours): their deposits are summed here and added to the nodes when the nodes change
+  // (integers: the same sums in any order).
+  int64_t *held = nullptr;
+  int64_t sum[8] = {};
+  const auto flush = [&] {
+    if (!held) return;
+    for (int c = 0; c < 2; ++c)
+      for (int b = 0; b < 2; ++b) {
+        int64_t *row = held + size_t(b) * dy + size_t(c) * dz;
+        row[0] += sum[4 * c + 2 * b];
+        row[1] += sum[4 * c + 2 * b + 1];
+      }
+  };
   visit_kept(particles, [&](const auto &kept) {
     visit_positions(particles, [&](const auto &positions) {
       for (int64_t i = 0; i < particles.count(); ++i) {
@@ -125,48 +140,66 @@ void OcclusionVolume::deposit(const ParticleArrays &particles, const std::vector
           w[a][0] = kSteps - w[a][1];
         }
         int64_t *node = out + index(at[0], at[1], at[2]);
+        if (node != held) {
+          flush();
+          held = node;
+          std::fill(sum, sum + 8, 0);
+        }
         for (int c = 0; c < 2; ++c)
           for (int b = 0; b < 2; ++b) {
             const int64_t wyz = w[1][b] * w[2][c];
-            int64_t *row = node + size_t(b) * dy + size_t(c) * dz;
-            row[0] += w[0][0] * wyz;
-            row[1] += w[0][1] * wyz;
+            sum[4 * c + 2 * b] += w[0][0] * wyz;
+            sum[4 * c + 2 * b + 1] += w[0][1] * wyz;
           }
       }
     });
   });
+  flush();
 }
 
 // The filter along each axis (nodes beyond the grid hold nothing), exact in integers, then in
 // particles per cell^3. Written as loops over whole rows of nodes so that they vectorise.
 void OcclusionVolume::smooth(const std::vector<int64_t> &deposits) {
   const size_t nx = size_t(n_[0]), plane = nx * size_t(n_[1]);
-  std::vector<int64_t> a = deposits, b(a.size());
-  // Along x: each row padded with kFilterReach empty nodes at both ends.
-  std::vector<int64_t> padded(nx + 2 * kFilterReach, 0);
-  for (size_t row = 0; row < a.size(); row += nx) {
-    std::copy(a.begin() + ptrdiff_t(row), a.begin() + ptrdiff_t(row + nx),
-              padded.begin() + kFilterReach);
-    for (size_t x = 0; x < nx; ++x) {
+  std::vector<int64_t> a(deposits.size()), b(deposits.size());
+  // Along x, straight from the deposits: the interior of each row in one loop, the kFilterReach
+  // nodes at either end (whose taps fall off the grid) apart.
+  for (size_t row = 0; row < deposits.size(); row += nx) {
+    const int64_t *in = &deposits[row];
+    int64_t *out = &a[row];
+    const auto tap = [&](size_t x) {
       int64_t sum = 0;
-      for (int k = 0; k <= 2 * kFilterReach; ++k) sum += kFilter[k] * padded[x + size_t(k)];
-      b[row + x] = sum;
-    }
+      for (int k = -kFilterReach; k <= kFilterReach; ++k) {
+        const ptrdiff_t at = ptrdiff_t(x) + k;
+        if (at >= 0 && at < ptrdiff_t(nx)) sum += kFilter[k + kFilterReach] * in[at];
+      }
+      return sum;
+    };
+    const size_t inner_end = nx > size_t(kFilterReach) ? nx - size_t(kFilterReach) : 0;
+    size_t x = 0;
+    for (; x < std::min(size_t(kFilterReach), nx); ++x) out[x] = tap(x);
+    for (; x < inner_end; ++x)
+      out[x] = kFilter[0] * in[x - 2] + kFilter[1] * in[x - 1] + kFilter[2] * in[x] +
+               kFilter[3] * in[x + 1] + kFilter[4] * in[x + 2];
+    for (; x < nx; ++x) out[x] = tap(x);
   }
-  a.swap(b);
   // Along y, then z: whole rows of x at a time.
   for (int axis = 1; axis < 3; ++axis) {
     const size_t step = axis == 1 ? nx : plane;
     const int along = n_[axis];
-    std::fill(b.begin(), b.end(), 0);
     for (size_t row = 0; row < a.size(); row += nx) {
       const int at = axis == 1 ? int(row / nx % size_t(n_[1])) : int(row / plane);
       int64_t *out = &b[row];
+      bool first = true;
       for (int k = -kFilterReach; k <= kFilterReach; ++k) {
         if (at + k < 0 || at + k >= along) continue;
         const int64_t *in = &a[size_t(ptrdiff_t(row) + k * ptrdiff_t(step))];
         const int64_t weight = kFilter[k + kFilterReach];
-        for (size_t x = 0; x < nx; ++x) out[x] += weight * in[x];
+        if (first)
+          for (size_t x = 0; x < nx; ++x) out[x] = weight * in[x];
+        else
+          for (size_t x = 0; x < nx; ++x) out[x] += weight * in[x];
+        first = false;
       }
     }
     a.swap(b);
@@ -214,11 +247,11 @@ Status OcclusionVolume::build(MPI_Comm comm, const ParticleArrays &particles, co
   if (global.empty()) return {};  // the same on every rank: no reduction to skip
   set_grid(global, radius);
   const size_t nodes = size_t(n_[0]) * size_t(n_[1]) * size_t(n_[2]);
-  std::vector<int64_t> local(nodes, 0), deposits(nodes, 0);
-  deposit(particles, cuts, &local);
-  // One reduction of integers: exact, so every split gives the same volume. A node's sum stays
-  // below 2^63 for up to 2^51 particles on it.
-  if (MPI_Allreduce(local.data(), deposits.data(), int(nodes), MPI_INT64_T, MPI_SUM, comm) !=
+  std::vector<int64_t> deposits(nodes, 0);
+  deposit(particles, cuts, &deposits);
+  // One reduction of integers (in place): exact, so every split gives the same volume. A node's
+  // sum stays below 2^63 for up to 2^51 particles on it.
+  if (MPI_Allreduce(MPI_IN_PLACE, deposits.data(), int(nodes), MPI_INT64_T, MPI_SUM, comm) !=
       MPI_SUCCESS)
     return {StatusCode::kMpi, "ambient_occlusion (object): MPI_Allreduce of the density failed"};
   smooth(deposits);

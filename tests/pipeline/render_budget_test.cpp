@@ -137,6 +137,86 @@ TEST(BudgetController, UnusableTimingsAreIgnoredOrBounded) {
   EXPECT_EQ(empty.choose(1.0), 0);
 }
 
+TEST(BudgetController, StepsBackUpToTheRungThatFitsAfterTheCostReturns) {
+  // Rung 1 costs 90 % of the budget. The scene gets dearer for three steps (the controller steps
+  // down), then returns to its cost: the controller goes back to rung 1 once the noise it measured
+  // settles, not staying a rung lower than needed.
+  BudgetController c = halving();
+  std::vector<double> levels(3, 72.0);
+  levels.insert(levels.end(), 3, 90.0);
+  levels.insert(levels.end(), 8, 72.0);
+  const std::vector<int> chosen = run(c, 40.0, kTruth, levels);
+  EXPECT_EQ(chosen[1], 1);
+  EXPECT_EQ(chosen[5], 2);  // 45 ms at rung 1: down
+  EXPECT_EQ(chosen.back(), 1);
+  EXPECT_EQ(c.choose(40.0), 1);
+  EXPECT_FALSE(c.unmet());
+}
+
+// The ladder of a scene with 4 samples and full-resolution screen AO, its benchmarked step costs
+// as the priors.
+std::vector<double> ladder_priors() {
+  SceneConfig scene;
+  scene.samples = 4;
+  scene.ambient_occlusion.enabled = true;
+  scene.ambient_occlusion.resolution = AoResolution::kFull;
+  std::vector<double> priors;
+  for (const BudgetRung &r : budget_ladder(scene)) priors.push_back(r.step_cost);
+  return priors;
+}
+
+TEST(BudgetController, SkipsRungsMeasuredNotCheaperAndStepsBackUp) {
+  // The costs void_impact measured on a loaded machine (lantern-bench-budget): one sample without
+  // AO (rung 3) takes 53 ms, the level-of-detail rungs below it 59-65 ms (the last two as lod 0.1).
+  // Under 40 ms nothing fits: the controller tries the rungs that may be cheapest, once each, and
+  // settles on rung 3, never drawing a rung again once it was measured not cheaper than a better
+  // one.
+  const std::vector<double> priors = ladder_priors();
+  ASSERT_EQ(priors.size(), 9u);
+  BudgetController c(priors);
+  const std::vector<double> truth = {245.7, 173.9, 156.0, 53.1, 63.0, 59.3, 65.2, 64.0, 63.5};
+  std::vector<int> chosen;
+  std::vector<bool> drawn(truth.size(), false);
+  for (int i = 0; i < 14; ++i) {
+    const int k = c.choose(40.0);
+    if (k > 3) EXPECT_FALSE(drawn[size_t(k)]) << "step " << i << ": rung " << k << " again";
+    drawn[size_t(k)] = true;
+    chosen.push_back(k);
+    c.record(k, truth[size_t(k)]);
+  }
+  for (size_t i = 8; i < chosen.size(); ++i) EXPECT_EQ(chosen[i], 3) << "step " << i;
+  EXPECT_TRUE(c.unmet());
+  EXPECT_TRUE(c.pays(3));
+  for (int r = 4; r < 9; ++r) EXPECT_FALSE(c.pays(r)) << r;
+  EXPECT_NEAR(c.predicted_ms(3), 53.1, 1e-9);
+  EXPECT_LT(c.predicted_error(3), 0.1);  // measured again and again: the noise is small
+
+  // The scene gets cheaper (every rung at 0.19 of those costs: rung 1 33 ms, rung 0 47 ms): back
+  // up, one paying rung a step, to the best rung that fits.
+  chosen.clear();
+  for (int i = 0; i < 6; ++i) {
+    const int k = c.choose(40.0);
+    chosen.push_back(k);
+    c.record(k, 0.19 * truth[size_t(k)]);
+  }
+  for (size_t i = 1; i < chosen.size(); ++i) EXPECT_LE(chosen[i], chosen[i - 1]) << i;
+  EXPECT_EQ(chosen.back(), 1);
+  EXPECT_FALSE(c.unmet());
+}
+
+TEST(BudgetController, ARungThatPaysIsKeptAndTheLastIsTheCheapest) {
+  // Every rung truly cheaper than the one above: none is skipped, and a budget nothing meets
+  // draws the last rung, as the ladder promises.
+  const std::vector<double> priors = ladder_priors();
+  BudgetController c(priors);
+  const std::vector<double> truth = {173.5, 120.1, 106.6, 47.3, 38.8, 34.3, 29.2, 25.0, 22.5};
+  const std::vector<int> chosen = run(c, 10.0, truth, std::vector<double>(8, 1.0));
+  EXPECT_EQ(chosen.back(), 8);
+  EXPECT_TRUE(c.unmet());
+  for (int r = 0; r < 9; ++r)
+    if (c.learned(r)) EXPECT_TRUE(c.pays(r)) << r;
+}
+
 TEST(BudgetLadder, GivesUpInTheMeasuredOrderAndRungZeroIsTheScene) {
   SceneConfig scene;
   scene.samples = 4;
@@ -146,13 +226,14 @@ TEST(BudgetLadder, GivesUpInTheMeasuredOrderAndRungZeroIsTheScene) {
   std::vector<std::string> steps;
   for (size_t i = 1; i < ladder.size(); ++i) steps.push_back(ladder[i].gives_up);
   EXPECT_EQ(steps, (std::vector<std::string>{"ao half", "ao off", "samples 1", "lod 0.5",
-                                             "lod 0.25", "lod 0.1"}));
+                                             "lod 0.25", "lod 0.1", "lod 0.05", "lod 0.02"}));
   // From 64 samples, 16 and 4 come before AO off (far less error per millisecond saved).
   scene.samples = 64;
   std::vector<std::string> many;
   for (const BudgetRung &r : budget_ladder(scene)) many.push_back(r.gives_up);
   EXPECT_EQ(many, (std::vector<std::string>{"", "ao half", "samples 16", "samples 4", "ao off",
-                                            "samples 1", "lod 0.5", "lod 0.25", "lod 0.1"}));
+                                            "samples 1", "lod 0.5", "lod 0.25", "lod 0.1",
+                                            "lod 0.05", "lod 0.02"}));
   scene.samples = 4;
   EXPECT_TRUE(std::isinf(ladder[0].psnr_db));
   for (size_t i = 1; i < ladder.size(); ++i) {
@@ -168,7 +249,7 @@ TEST(BudgetLadder, GivesUpInTheMeasuredOrderAndRungZeroIsTheScene) {
   EXPECT_EQ(budget_ao_name(scene, ladder[0]), "full");
   const SceneConfig bottom = scene_at_rung(scene, ladder.back());
   EXPECT_EQ(bottom.samples, 1);
-  EXPECT_EQ(bottom.lod.fraction, 0.1);
+  EXPECT_EQ(bottom.lod.fraction, 0.02);
   EXPECT_FALSE(bottom.ambient_occlusion.enabled);
   EXPECT_EQ(budget_ao_name(scene, ladder.back()), "off");
 
@@ -179,10 +260,10 @@ TEST(BudgetLadder, GivesUpInTheMeasuredOrderAndRungZeroIsTheScene) {
   plain.ambient_occlusion.enabled = true;
   plain.ambient_occlusion.method = AmbientOcclusionMethod::kObject;
   const std::vector<BudgetRung> short_ladder = budget_ladder(plain);
-  ASSERT_EQ(short_ladder.size(), 3u);
+  ASSERT_EQ(short_ladder.size(), 5u);
   EXPECT_EQ(short_ladder[1].gives_up, "lod 0.25");
-  EXPECT_EQ(budget_ao_name(plain, short_ladder[2]), "none");
-  EXPECT_TRUE(scene_at_rung(plain, short_ladder[2]).ambient_occlusion.enabled);
+  EXPECT_EQ(budget_ao_name(plain, short_ladder[4]), "none");
+  EXPECT_TRUE(scene_at_rung(plain, short_ladder[4]).ambient_occlusion.enabled);
 }
 
 TEST(BudgetKeys, AreReadAndBadValuesNameTheKey) {

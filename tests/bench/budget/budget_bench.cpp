@@ -214,6 +214,10 @@ int main(int argc, char **argv) {
                       ? "exact"
                       : std::to_string(int(last["psnr_db"].get<double>() + 0.5)).c_str(),
                   last["unmet"].get<bool>() ? "  unmet" : "");
+      std::string skipped;
+      for (const auto &g : last.value("skipped", nlohmann::json::array()))
+        skipped += (skipped.empty() ? "" : ", ") + g.get<std::string>();
+      if (!skipped.empty()) std::printf("            skipped as not paying: %s\n", skipped.c_str());
     }
     std::fflush(stdout);
   }

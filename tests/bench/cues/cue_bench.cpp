@@ -14,7 +14,8 @@
 // scene drawn once by the CPU raster, then each kernel run REPS times on the whole frame (one
 // band), alternated, timed in the thread's CPU time (what the machine's other load does not
 // inflate), with the images of the half-resolution kernels compared against the full-resolution
-// one (PSNR, SSIM; the plain frame's too, for how much the cue changes the image at all).
+// one (PSNR, SSIM; the plain frame's too, for how much the cue changes the image at all); and the
+// object-space AO density volume of the whole scene against the CPU raster pass, alike.
 #include <mpi.h>
 
 #include <algorithm>
@@ -40,6 +41,7 @@
 #include "core/pipeline/runtime.h"
 #include "core/pipeline/scene_settings.h"
 #include "core/render/cpu_sphere_pass.h"
+#include "core/render/object_occlusion.h"
 #include "core/render/sphere_instances.h"
 #include "image_metrics.h"
 
@@ -166,6 +168,26 @@ void kernel_table(const BenchScene &bs, int reps) {
         static_cast<long long>(e.differing_pixels),
         k >= 2 && out[k].frame.rgba != out[1].frame.rgba ? "  (NOT the same bits as half)" : "");
   }
+  // Object-space AO: the density volume of the whole scene built on this one rank, against the
+  // CPU raster pass (culling and drawing) of the same scene, alternated, in thread CPU time.
+  std::vector<double> volume_ms, pass_ms;
+  const double ao_radius = kDefaultAoRadiusInSphereRadii * radius.max_radius(ext);
+  for (int rep = 0; rep < reps; ++rep) {
+    double t0 = bench::thread_cpu_ms();
+    OcclusionVolume volume;
+    (void)volume.build(MPI_COMM_SELF, p, ext, {}, ao_radius, sc.ambient_occlusion.strength);
+    volume_ms.push_back(bench::thread_cpu_ms() - t0);
+    BandFrame again;
+    DrawList list;
+    t0 = bench::thread_cpu_ms();
+    pass.run(p, bricks, cull, sc.lighting, selection, recipe, background, &again.frame, &list);
+    pass_ms.push_back(bench::thread_cpu_ms() - t0);
+  }
+  const double volume = bench::median(volume_ms), raster = bench::median(pass_ms);
+  std::printf(
+      "  object AO volume of the whole scene on one rank (%d reps, thread CPU ms, medians): "
+      "%.1f ms against %.1f ms for the CPU raster pass (culling + drawing): %.1f %% of the two\n",
+      reps, volume, raster, 100.0 * volume / (volume + raster));
 }
 
 }  // namespace
