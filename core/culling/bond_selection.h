@@ -36,11 +36,15 @@ struct BondBrick {
   Containment containment = Containment::kInside;  // kStraddling: test each half
   bool cut_each = false;    // some half's atom may lie on the dropped side of a cutting plane
   double near_depth = 0.0;  // nearest view depth any of its halves reaches
-  PixelRect rect;           // pixels its halves may touch
+  // Where a renderer drawing bonds among the particles' bricks front to back draws this brick's
+  // halves: just after the brick's own particles when they are drawn (the near depth of their
+  // brick), so that an atom, drawn first, hides its halves' hidden parts; else near_depth.
+  double draw_depth = 0.0;
+  PixelRect rect;  // pixels its halves may touch
 };
 
 struct BondSelection {
-  std::vector<BondBrick> visible;  // front to back (by near_depth)
+  std::vector<BondBrick> visible;  // front to back (by draw_depth)
   double radius = 0.15;            // bonds.radius
   BondCounts counts;               // so far: halves, and the brick-level drops
 };
