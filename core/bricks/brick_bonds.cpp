@@ -8,7 +8,6 @@
 #include <glm/geometric.hpp>
 
 #include "core/common/ms_since.h"
-#include "core/particles/particle_scan.h"
 #include "core/particles/typed_access.h"
 
 namespace lantern {
@@ -60,18 +59,13 @@ void build_brick_bonds(const ParticleArrays &particles, const BondArrays &bonds,
   size_t n = 0;
   visit_positions(particles, [&](const auto &pos) {
     for (int64_t k = 0; k < bonds.count(); ++k) {
-      const int64_t e0 = bonds.first(k), e1 = bonds.second(k);
-      // check_bond's rule, from the positions at hand; check_bond words the error.
-      const bool in_range = e0 >= 0 && e0 < reach && e1 >= 0 && e1 < reach;
-      const glm::dvec3 x0 = in_range ? pos.get(e0) : glm::dvec3(0.0);
-      const glm::dvec3 x1 = in_range ? pos.get(e1) : glm::dvec3(0.0);
-      if (!(in_range && e0 != e1 && (e0 < owned || e1 < owned) && finite_position(x0) &&
-            finite_position(x1))) {
+      glm::dvec3 x0, x1;
+      if (!bonds.drawable(k, owned, pos, &x0, &x1)) {  // check_bond words the error
         if (Status s = bonds.check_bond(k, particles); r.first_error.ok()) r.first_error = s;
         ++r.skipped;
         continue;
       }
-      const uint32_t a = uint32_t(e0), b = uint32_t(e1);
+      const uint32_t a = uint32_t(bonds.first(k)), b = uint32_t(bonds.second(k));
       if (!particles.kept(a) || !particles.kept(b)) {
         ++r.ungrouped;
         continue;
