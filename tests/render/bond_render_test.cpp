@@ -100,6 +100,22 @@ class BondRender : public ::testing::Test {
     return frame;
   }
 
+  // Scene s drawn by `choice` twice - brute force (no frustum, no occlusion culling) and with
+  // hzb - expecting the same bytes; the counts of each in *all and *fast.
+  void expect_hzb_exact(const Lent &m, const SceneConfig &s, const Camera &cam,
+                        RendererChoice choice, const std::string &what, RankDraw *all,
+                        RankDraw *fast) {
+    SceneConfig brute = s;
+    brute.culling.frustum = false;
+    brute.culling.occlusion = OcclusionMode::kNone;
+    SceneConfig exact = s;
+    exact.culling.occlusion = OcclusionMode::kHzb;
+    const Frame a = draw(m, brute, cam, choice, all);
+    const Frame b = draw(m, exact, cam, choice, fast);
+    EXPECT_EQ(a.rgba, b.rgba) << what;
+    EXPECT_EQ(a.depth, b.depth) << what;
+  }
+
   std::shared_ptr<GlSession> session_;
   SphereRenderer *renderer_ = nullptr;
 };
@@ -392,17 +408,9 @@ TEST_F(BondRender, ExactCullingIsBitIdenticalToDrawingEverything) {
     Camera cam;
     ASSERT_OK(make_camera(s.camera, {0, 0, 0}, {16, 16, 16}, 0.45, s.width, s.height, &cam));
     for (const RendererChoice renderer : renderers()) {
-      SceneConfig brute = s;
-      brute.culling.frustum = false;
-      brute.culling.occlusion = OcclusionMode::kNone;
-      SceneConfig exact = s;
-      exact.culling.occlusion = OcclusionMode::kHzb;
-      RankDraw all, fast;
-      const Frame a = draw(m, brute, cam, renderer, &all);
-      const Frame b = draw(m, exact, cam, renderer, &fast);
       const std::string what = std::string(name_of(renderer)) + " view " + std::to_string(view);
-      EXPECT_EQ(a.rgba, b.rgba) << what;
-      EXPECT_EQ(a.depth, b.depth) << what;
+      RankDraw all, fast;
+      expect_hzb_exact(m, s, cam, renderer, what, &all, &fast);
       const BondCounts &c = fast.cull.bonds;
       EXPECT_EQ(c.halves, int64_t(2 * melt.bond_count())) << what;
       EXPECT_EQ(c.halves,
@@ -435,18 +443,10 @@ TEST_F(BondRender, AtomRunsCullExactlyInADenseNetwork) {
     Camera cam;
     ASSERT_OK(make_camera(s.camera, {0, 0, 0}, {28, 28, 28}, 0.5, s.width, s.height, &cam));
     for (const RendererChoice renderer : renderers()) {
-      SceneConfig brute = s;
-      brute.culling.frustum = false;
-      brute.culling.occlusion = OcclusionMode::kNone;
-      SceneConfig exact = s;
-      exact.culling.occlusion = OcclusionMode::kHzb;
-      RankDraw all, fast;
-      const Frame a = draw(m, brute, cam, renderer, &all);
-      const Frame b = draw(m, exact, cam, renderer, &fast);
       const std::string what =
           std::string(name_of(renderer)) + " listing " + std::to_string(int(listing));
-      EXPECT_EQ(a.rgba, b.rgba) << what;
-      EXPECT_EQ(a.depth, b.depth) << what;
+      RankDraw all, fast;
+      expect_hzb_exact(m, s, cam, renderer, what, &all, &fast);
       const BondCounts &c = fast.cull.bonds;
       EXPECT_EQ(c.halves, int64_t(2 * net.bond_count())) << what;
       // A good part of the block is hidden behind its near faces.
@@ -468,6 +468,21 @@ TEST_F(BondRender, LevelOfDetailLeavesOutTheBondsOfThinnedBricks) {
   EXPECT_EQ(out.cull.bonds.lod_dropped, out.cull.bonds.halves);
 }
 
+// A 97 x 64 view, perspective or orthographic, near 0.1 and far 200, for the per-pixel tests.
+ViewGeometry small_view(bool ortho) {
+  ViewGeometry g;
+  g.orthographic = ortho;
+  g.width = 97, g.height = 64;
+  g.near_plane = 0.1, g.far_plane = 200.0;
+  g.sx = ortho ? 0.08 : 1.3, g.sy = ortho ? 0.12 : 1.95;
+  g.p22 = ortho ? -2.0 / (g.far_plane - g.near_plane)
+                : -(g.far_plane + g.near_plane) / (g.far_plane - g.near_plane);
+  g.p32 = ortho ? -(g.far_plane + g.near_plane) / (g.far_plane - g.near_plane)
+                : -2.0 * g.far_plane * g.near_plane / (g.far_plane - g.near_plane);
+  g.eps = 1e-5;
+  return g;
+}
+
 // draw_bond casts only the columns CylinderRows gives each row of the cylinder's rectangle: every
 // pixel of the image whose ray the cast accepts must lie in the rectangle and in its row's span,
 // for cylinders of every size, orientation and distance, in perspective and orthographic views.
@@ -476,16 +491,7 @@ TEST(CylinderRows, HoldEveryPixelTheCastAccepts) {
   std::uniform_real_distribution<double> unit(-1.0, 1.0), pos(0.0, 1.0);
   int64_t hits = 0, cast = 0, pixels = 0;
   for (const bool ortho : {false, true}) {
-    ViewGeometry g;
-    g.orthographic = ortho;
-    g.width = 97, g.height = 64;
-    g.near_plane = 0.1, g.far_plane = 200.0;
-    g.sx = ortho ? 0.08 : 1.3, g.sy = ortho ? 0.12 : 1.95;
-    g.p22 = ortho ? -2.0 / (g.far_plane - g.near_plane)
-                  : -(g.far_plane + g.near_plane) / (g.far_plane - g.near_plane);
-    g.p32 = ortho ? -(g.far_plane + g.near_plane) / (g.far_plane - g.near_plane)
-                  : -2.0 * g.far_plane * g.near_plane / (g.far_plane - g.near_plane);
-    g.eps = 1e-5;
+    const ViewGeometry g = small_view(ortho);
     PixelRays rays;
     rays.reset(g);
     for (int trial = 0; trial < 400; ++trial) {
@@ -534,16 +540,7 @@ TEST(CpuBondRaster, EarlyDepthRejectLeavesTheImageOfCastingEveryPixel) {
   const uint8_t background[4] = {10, 20, 30, 255};
   int64_t kept_old = 0, won = 0;
   for (const bool ortho : {false, true}) {
-    ViewGeometry g;
-    g.orthographic = ortho;
-    g.width = 97, g.height = 64;
-    g.near_plane = 0.1, g.far_plane = 200.0;
-    g.sx = ortho ? 0.08 : 1.3, g.sy = ortho ? 0.12 : 1.95;
-    g.p22 = ortho ? -2.0 / (g.far_plane - g.near_plane)
-                  : -(g.far_plane + g.near_plane) / (g.far_plane - g.near_plane);
-    g.p32 = ortho ? -(g.far_plane + g.near_plane) / (g.far_plane - g.near_plane)
-                  : -2.0 * g.far_plane * g.near_plane / (g.far_plane - g.near_plane);
-    g.eps = 1e-5;
+    const ViewGeometry g = small_view(ortho);
     for (int trial = 0; trial < 150; ++trial) {
       const double depth = 3.0 + 20.0 * pos(rng);
       const glm::dvec3 a(unit(rng) * 0.4 * depth, unit(rng) * 0.3 * depth, -depth);
