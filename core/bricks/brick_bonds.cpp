@@ -1,8 +1,11 @@
 #include "core/bricks/brick_bonds.h"
 
+#include <algorithm>
 #include <chrono>
 #include <limits>
 #include <utility>
+
+#include <glm/geometric.hpp>
 
 #include "core/common/ms_since.h"
 #include "core/particles/typed_access.h"
@@ -12,16 +15,6 @@ namespace {
 
 constexpr uint32_t kNoBrick = std::numeric_limits<uint32_t>::max();
 
-// brick_of[i]: the brick holding owned particle i, kNoBrick for one the bricks left out.
-std::vector<uint32_t> brick_of_particles(const BrickSet &bricks, int64_t count) {
-  std::vector<uint32_t> brick_of(size_t(count), kNoBrick);
-  for (uint32_t b = 0; b < bricks.bricks.size(); ++b) {
-    const Brick &brick = bricks.bricks[b];
-    for (uint32_t k = 0; k < brick.count; ++k) brick_of[bricks.order[brick.first + k]] = b;
-  }
-  return brick_of;
-}
-
 bool same_box(const PeriodicBox &a, const PeriodicBox &b) {
   return a.length == b.length && a.periodic == b.periodic;
 }
@@ -29,63 +22,83 @@ bool same_box(const PeriodicBox &a, const PeriodicBox &b) {
 }  // namespace
 
 void build_brick_bonds(const ParticleArrays &particles, const BondArrays &bonds,
-                       const BrickSet &bricks, const PeriodicBox *box, BrickBonds *out) {
+                       const BrickSet &bricks, const PeriodicBox *box, BrickBonds *out,
+                       BrickBondsScratch *scratch) {
+  BrickBondsScratch local;
+  BrickBondsScratch &w = scratch ? *scratch : local;
   BrickBonds &r = *out;
-  r = BrickBonds();
   r.bonds = bonds.count();
+  r.skipped = 0, r.ungrouped = 0;
+  r.first_error = Status();
   const size_t brick_count = bricks.bricks.size();
-  const int64_t owned = particles.count();
+  const int64_t owned = particles.count(), reach = bonds.reach(particles);
   const bool both_halves = bonds.listing() == BondListing::kListedOnce;
-  const std::vector<uint32_t> brick_of = brick_of_particles(bricks, owned);
-  // The halves this rank draws, each with its brick; then a counting sort by brick.
-  std::vector<HalfBond> unsorted;
-  std::vector<uint32_t> unsorted_brick;
-  unsorted.reserve(size_t(2 * bonds.count()));
-  unsorted_brick.reserve(size_t(2 * bonds.count()));
-  for (int64_t k = 0; k < bonds.count(); ++k) {
-    if (Status s = bonds.check_bond(k, particles); !s.ok()) {
-      if (r.first_error.ok()) r.first_error = std::move(s);
-      ++r.skipped;
-      continue;
-    }
-    const uint32_t a = uint32_t(bonds.first(k)), b = uint32_t(bonds.second(k));
-    if (!particles.kept(a) || !particles.kept(b)) {
-      ++r.ungrouped;
-      continue;
-    }
-    for (const auto &[atom, partner] : {std::pair{a, b}, std::pair{b, a}}) {
-      const bool mine = int64_t(atom) < owned;
-      if (!mine && !both_halves) continue;  // the ghost's owner draws it
-      const uint32_t brick = brick_of[mine ? atom : partner];
-      if (brick == kNoBrick) continue;  // not in a brick: cannot happen for a checked bond
-      unsorted.push_back({atom, partner, uint32_t(k)});
-      unsorted_brick.push_back(brick);
+  // slot_of[i]: where owned particle i sits in bricks.order (brick after brick), kNoBrick for one
+  // the bricks left out; brick_of[i]: its brick.
+  w.slot_of.assign(size_t(2 * owned), kNoBrick);
+  uint32_t *const slot_of = w.slot_of.data(), *const brick_of = slot_of + owned;
+  for (uint32_t b = 0; b < brick_count; ++b) {
+    const Brick &brick = bricks.bricks[b];
+    for (uint32_t k = 0; k < brick.count; ++k) {
+      const uint32_t i = bricks.order[brick.first + k];
+      slot_of[i] = brick.first + k, brick_of[i] = b;
     }
   }
-  r.first.assign(brick_count + 1, 0);
-  for (const uint32_t b : unsorted_brick) ++r.first[b + 1];
-  for (size_t b = 0; b < brick_count; ++b) r.first[b + 1] += r.first[b];
-  r.halves.resize(unsorted.size());
-  {
-    std::vector<uint32_t> next(r.first.begin(), r.first.end() - 1);
-    for (size_t h = 0; h < unsorted.size(); ++h) r.halves[next[unsorted_brick[h]]++] = unsorted[h];
-  }
-  // Bounds of each brick's halves: both ends of every half.
+  // The halves this rank draws, each with its key: twice the slot of the atom it is filed under,
+  // plus one for a ghost's half, so that a counting sort by key puts them brick after brick, an
+  // owned atom's own halves together and the ghosts' halves filed with it after them. The bounds
+  // of each brick's halves (both ends of every half) and each atom's reach are gathered on the way.
   const glm::dvec3 inf(std::numeric_limits<double>::infinity());
   r.lo.assign(brick_count, inf);
   r.hi.assign(brick_count, -inf);
+  r.reach.assign(size_t(reach), 0.0);
+  w.unsorted.resize(size_t(2 * bonds.count()));
+  w.key.resize(size_t(2 * bonds.count()));
+  const size_t keys = 2 * bricks.order.size();
+  w.next.assign(keys + 1, 0);
+  size_t n = 0;
   visit_positions(particles, [&](const auto &pos) {
-    for (size_t b = 0; b < brick_count; ++b) {
-      glm::dvec3 lo = inf, hi = -inf;
-      for (uint32_t h = r.first[b]; h < r.first[b + 1]; ++h) {
-        const glm::dvec3 x = pos.get(r.halves[h].atom);
-        const glm::dvec3 end = half_bond_end(x, pos.get(r.halves[h].partner), box);
-        lo = glm::min(lo, glm::min(x, end));
-        hi = glm::max(hi, glm::max(x, end));
+    for (int64_t k = 0; k < bonds.count(); ++k) {
+      glm::dvec3 x0, x1;
+      if (!bonds.drawable(k, owned, pos, &x0, &x1)) {  // check_bond words the error
+        if (Status s = bonds.check_bond(k, particles); r.first_error.ok()) r.first_error = s;
+        ++r.skipped;
+        continue;
       }
-      r.lo[b] = lo, r.hi[b] = hi;
+      const uint32_t a = uint32_t(bonds.first(k)), b = uint32_t(bonds.second(k));
+      if (!particles.kept(a) || !particles.kept(b)) {
+        ++r.ungrouped;
+        continue;
+      }
+      const glm::dvec3 ends[2] = {half_bond_end(x0, x1, box), half_bond_end(x1, x0, box)};
+      const uint32_t atoms[2] = {a, b};
+      const glm::dvec3 *centres[2] = {&x0, &x1};
+      for (int e = 0; e < 2; ++e) {
+        const uint32_t atom = atoms[e], partner = atoms[1 - e];
+        const bool mine = int64_t(atom) < owned;
+        if (!mine && !both_halves) continue;  // the ghost's owner draws it
+        const uint32_t filed = mine ? atom : partner;
+        if (slot_of[filed] == kNoBrick) continue;  // not in a brick: cannot happen when checked
+        const glm::dvec3 &x = *centres[e], &end = ends[e];
+        const uint32_t brick = brick_of[filed];
+        r.lo[brick] = glm::min(r.lo[brick], glm::min(x, end));
+        r.hi[brick] = glm::max(r.hi[brick], glm::max(x, end));
+        r.reach[atom] = std::max(r.reach[atom], glm::length(end - x));
+        w.unsorted[n] = {atom, partner, uint32_t(k)};
+        w.key[n] = 2 * slot_of[filed] + (mine ? 0 : 1);
+        ++w.next[w.key[n] + 1];
+        ++n;
+      }
     }
   });
+  // Counting sort by key (stable: in list order within a key); bricks.order holds the bricks
+  // one after another, so brick b's halves start at the offset of its first slot.
+  for (size_t key = 0; key < keys; ++key) w.next[key + 1] += w.next[key];
+  r.first.resize(brick_count + 1);
+  for (size_t b = 0; b < brick_count; ++b) r.first[b] = w.next[2 * size_t(bricks.bricks[b].first)];
+  r.first[brick_count] = uint32_t(n);
+  r.halves.resize(n);
+  for (size_t h = 0; h < n; ++h) r.halves[w.next[w.key[h]]++] = w.unsorted[h];
 }
 
 const BrickBonds &BondCache::for_step(const ParticleArrays &particles, const BondArrays &bonds,
@@ -96,7 +109,7 @@ const BrickBonds &BondCache::for_step(const ParticleArrays &particles, const Bon
       box_same && step_ == step)
     return built_;
   const auto t0 = std::chrono::steady_clock::now();
-  build_brick_bonds(particles, bonds, bricks, box, &built_);
+  build_brick_bonds(particles, bonds, bricks, box, &built_, &scratch_);
   generation_ = bricks.generation;
   serial_ = serial;
   had_box_ = box != nullptr;

@@ -1,6 +1,7 @@
 #include "core/culling/bond_selection.h"
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 
 namespace lantern {
@@ -23,6 +24,10 @@ void select_bond_bricks(const BrickSet &bricks, const BrickBonds &bonds,
       if (v.nearest || v.radius_scale != 1.0f || v.keep < bricks.bricks[v.brick].count)
         thinned[v.brick] = true;
   }
+  // The near depth of each brick whose particles are drawn (draw_depth).
+  std::vector<double> particles_depth(bonds.lo.size(), std::numeric_limits<double>::quiet_NaN());
+  for (const VisibleBrick &v : spheres.visible)
+    if (v.brick < particles_depth.size()) particles_depth[v.brick] = v.near_depth;
   const Frustum frustum(g);
   const CutPlanes cuts(cull.cuts);
   for (uint32_t b = 0; b < bonds.lo.size(); ++b) {
@@ -56,6 +61,7 @@ void select_bond_bricks(const BrickSet &bricks, const BrickBonds &bonds,
     double nearest = std::numeric_limits<double>::infinity();
     for (const glm::dvec3 &c : corners) nearest = std::min(nearest, ViewGeometry::depth_of(c));
     v.near_depth = nearest - r - g.eps;
+    v.draw_depth = std::isnan(particles_depth[b]) ? v.near_depth : particles_depth[b];
     box_corners(bonds.lo[b] - r, bonds.hi[b] + r, corners);
     for (glm::dvec3 &c : corners) c = g.to_view(c);
     v.rect = g.box_rect(corners);
@@ -63,7 +69,7 @@ void select_bond_bricks(const BrickSet &bricks, const BrickBonds &bonds,
   }
   std::stable_sort(
       sel.visible.begin(), sel.visible.end(),
-      [](const BondBrick &a, const BondBrick &b) { return a.near_depth < b.near_depth; });
+      [](const BondBrick &a, const BondBrick &b) { return a.draw_depth < b.draw_depth; });
 }
 
 BondCounts bond_counts(const BrickBonds &bonds, const BondSelection &sel,

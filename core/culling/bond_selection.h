@@ -36,11 +36,15 @@ struct BondBrick {
   Containment containment = Containment::kInside;  // kStraddling: test each half
   bool cut_each = false;    // some half's atom may lie on the dropped side of a cutting plane
   double near_depth = 0.0;  // nearest view depth any of its halves reaches
-  PixelRect rect;           // pixels its halves may touch
+  // Where a renderer drawing bonds among the particles' bricks front to back draws this brick's
+  // halves: just after the brick's own particles when they are drawn (the near depth of their
+  // brick), so that an atom, drawn first, hides its halves' hidden parts; else near_depth.
+  double draw_depth = 0.0;
+  PixelRect rect;  // pixels its halves may touch
 };
 
 struct BondSelection {
-  std::vector<BondBrick> visible;  // front to back (by near_depth)
+  std::vector<BondBrick> visible;  // front to back (by draw_depth)
   double radius = 0.15;            // bonds.radius
   BondCounts counts;               // so far: halves, and the brick-level drops
 };
@@ -85,27 +89,45 @@ void visit_bond_brick(size_t k, const BrickBonds &bonds, const BondSelection &se
   if (hidden(v.rect, v.near_depth)) return;
   int64_t frustum_culled = 0, cut_culled = 0;
   const bool straddle = v.containment == Containment::kStraddling;
-  for (uint32_t h = bonds.first[v.brick]; h < bonds.first[v.brick + 1]; ++h) {
-    const HalfBond &half = bonds.halves[h];
-    const glm::dvec3 atom = pos.get(half.atom);
+  const uint32_t end = bonds.first[v.brick + 1];
+  for (uint32_t h = bonds.first[v.brick]; h < end;) {
+    // The run of halves of one atom (brick_bonds.h): they share its cut and, when the sphere
+    // round the atom that holds them all (its reach plus the bond radius) is hidden, their fate.
+    const uint32_t atom_index = bonds.halves[h].atom;
+    uint32_t run_end = h + 1;
+    while (run_end < end && bonds.halves[run_end].atom == atom_index) ++run_end;
+    const glm::dvec3 atom = pos.get(atom_index);
     if (v.cut_each && cuts.drops(atom)) {
-      ++cut_culled;
+      cut_culled += run_end - h;
+      h = run_end;
       continue;
     }
-    HalfBondView view;
-    view.index = h;
-    view.a = g.to_view(atom);
-    view.b = g.to_view(half_bond_end(atom, pos.get(half.partner), box));
-    if (straddle) {  // the half's bounding sphere
-      const glm::dvec3 mid = 0.5 * (view.a + view.b);
-      const double reach = 0.5 * glm::length(view.b - view.a) + sel.radius;
-      if (frustum.classify_sphere(mid, reach) == Containment::kOutside) {
-        ++frustum_culled;
+    const glm::dvec3 centre = g.to_view(atom);
+    if (run_end - h > 1) {
+      // sphere_rect holds every pixel OpenGL could give the halves, as cylinder_rect does.
+      const double reach = bonds.reach[atom_index] + sel.radius + g.eps;
+      const PixelRect rect = g.sphere_rect(centre, reach);
+      if (!rect.empty() && hidden(rect, -centre.z - reach - g.eps)) {
+        h = run_end;  // occluded, every one
         continue;
       }
     }
-    view.rect = cylinder_rect(g, view.a, view.b, sel.radius, &view.near_depth);
-    if (!view.rect.empty() && !hidden(view.rect, view.near_depth)) visit(view);
+    for (; h < run_end; ++h) {
+      HalfBondView view;
+      view.index = h;
+      view.a = centre;
+      view.b = g.to_view(half_bond_end(atom, pos.get(bonds.halves[h].partner), box));
+      if (straddle) {  // the half's bounding sphere
+        const glm::dvec3 mid = 0.5 * (view.a + view.b);
+        const double half_reach = 0.5 * glm::length(view.b - view.a) + sel.radius;
+        if (frustum.classify_sphere(mid, half_reach) == Containment::kOutside) {
+          ++frustum_culled;
+          continue;
+        }
+      }
+      view.rect = cylinder_rect(g, view.a, view.b, sel.radius, &view.near_depth);
+      if (!view.rect.empty() && !hidden(view.rect, view.near_depth)) visit(view);
+    }
   }
   drops->frustum[k] = frustum_culled;
   drops->cut[k] = cut_culled;

@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "core/particles/particle_scan.h"
+#include "core/particles/typed_access.h"
 
 namespace lantern {
 namespace {
@@ -100,7 +101,18 @@ Status BondArrays::check_bond(int64_t k, const ParticleArrays &particles) const 
 }
 
 Status check_bonds(const BondArrays &bonds, const ParticleArrays &particles) {
-  for (int64_t k = 0; k < bonds.count(); ++k)
+  // One typed pass for the common case (every bond drawable); from the first that is not,
+  // check_bond words the error.
+  int64_t first_bad = bonds.count();
+  visit_positions(particles, [&](const auto &pos) {
+    glm::dvec3 x0, x1;
+    for (int64_t k = 0; k < bonds.count(); ++k)
+      if (!bonds.drawable(k, particles.count(), pos, &x0, &x1)) {
+        first_bad = k;
+        return;
+      }
+  });
+  for (int64_t k = first_bad; k < bonds.count(); ++k)
     if (Status s = bonds.check_bond(k, particles); !s.ok()) return s;
   return {};
 }

@@ -13,9 +13,12 @@
 #include <cstdint>
 #include <string>
 
+#include <glm/vec3.hpp>
+
 #include "core/common/status.h"
 #include "core/particles/bond_description.h"
 #include "core/particles/particle_arrays.h"
+#include "core/particles/particle_scan.h"
 
 namespace lantern {
 
@@ -43,6 +46,19 @@ class BondArrays {
   // positions finite. Else kInvalidArgument naming the bond, e.g. "bonds.second[12]: 5000 is not
   // below count + ghost_count (4000 + 900)".
   Status check_bond(int64_t k, const ParticleArrays &particles) const;
+
+  // check_bond's rule without the message, reading positions through `pos` (typed_access.h) for
+  // particles.count() = owned: true when bond k is drawable, with its ends' positions in *x0
+  // and *x1. The loops over every bond use it; check_bond words a bond it fails.
+  template <typename Positions>
+  bool drawable(int64_t k, int64_t owned, const Positions &pos, glm::dvec3 *x0,
+                glm::dvec3 *x1) const {
+    const int64_t e0 = first(k), e1 = second(k), end = owned + ghost_count_;
+    if (!(e0 >= 0 && e0 < end && e1 >= 0 && e1 < end && e0 != e1 && (e0 < owned || e1 < owned)))
+      return false;
+    *x0 = pos.get(e0), *x1 = pos.get(e1);
+    return finite_position(*x0) && finite_position(*x1);
+  }
 
  private:
   int64_t count_ = 0, ghost_count_ = 0;

@@ -141,13 +141,15 @@ CullStats CpuSpherePass::run(const ParticleArrays &particles, const BrickSet &br
           s->out.spheres.push_back(draw_entry(c.index, c.scale));
         };
         // Bond bricks are drawn front to back with the particles' bricks (each after the last
-        // particle brick that is no farther), so that bonds hide the particles and bonds behind
-        // them as particles do; the image does not depend on the order (cpu_sphere_raster.h).
+        // particle brick that is no farther, by draw_depth: right after its own particles), so
+        // that bonds hide the particles and bonds behind them as particles do and an atom hides
+        // its own halves' hidden parts; the image does not depend on the order
+        // (cpu_sphere_raster.h).
         const size_t bricks_of_bonds = bonds ? bonds->selection->visible.size() : 0;
         size_t next_bonds = 0;
         const auto bonds_between = [&](double depth) {
           size_t end = next_bonds;
-          while (end < bricks_of_bonds && bonds->selection->visible[end].near_depth <= depth) ++end;
+          while (end < bricks_of_bonds && bonds->selection->visible[end].draw_depth <= depth) ++end;
           if (end == next_bonds) return;
           draw_bonds(k, pos, g, frustum, cuts, occlusion, *bonds, next_bonds, end);
           next_bonds = end;

@@ -456,12 +456,20 @@ bool CpuSphereRaster::draw_bond(const glm::dvec3 &a, const glm::dvec3 &b, double
   uint8_t *rgba = frame_->rgba.data();
   const CylinderRows rows(g_, rays_, a, u, r, rect);
   const CylinderCast cylinder(g_.orthographic, a, u, length, r);
+  // Early depth reject: no point of the cylinder is nearer than view depth `nearest`, so a pixel
+  // already holding something nearer than that (lowered by the margin covered() takes) would
+  // reject any hit - its cast is skipped and the image is that of casting it. Behind an atom's
+  // sphere (the first part of every half-bond) and behind nearer bonds, most pixels go here.
+  const double nearest = std::min(-a.z, -b.z) - r;
+  const float reject =
+      nearest > g_.near_plane ? float(g_.window_depth(nearest) - kQueryMargin) : -1.0f;
   PixelRect written;
   for (int y = rect.y0; y <= rect.y1; ++y) {
     int span0, span1;
     if (!rows.span(rays_, y, &span0, &span1)) continue;
     for (int x = span0; x <= span1; ++x) {
       const size_t p = size_t(y) * width + size_t(x);
+      if (depth[p] < reject) continue;
       if (alpha8 < 255 && !screen_door_keeps(x, y, alpha8)) continue;
       const double rx = rays_.x(x), ry = rays_.y(y);
       CylinderHit hit;

@@ -19,6 +19,7 @@
 #include "core/camera/camera.h"
 #include "core/pipeline/rank_draw.h"
 #include "core/pipeline/scene_settings.h"
+#include "core/render/cpu_sphere_raster.h"
 #include "core/render/cylinder_cast.h"
 #include "core/render/gl/gl_session.h"
 #include "core/view/cylinder_bounds.h"
@@ -97,6 +98,22 @@ class BondRender : public ::testing::Test {
     EXPECT_EQ(drawn.renderer, choice == RendererChoice::kOpenGl ? "opengl" : "cpu");
     if (out) *out = drawn;
     return frame;
+  }
+
+  // Scene s drawn by `choice` twice - brute force (no frustum, no occlusion culling) and with
+  // hzb - expecting the same bytes; the counts of each in *all and *fast.
+  void expect_hzb_exact(const Lent &m, const SceneConfig &s, const Camera &cam,
+                        RendererChoice choice, const std::string &what, RankDraw *all,
+                        RankDraw *fast) {
+    SceneConfig brute = s;
+    brute.culling.frustum = false;
+    brute.culling.occlusion = OcclusionMode::kNone;
+    SceneConfig exact = s;
+    exact.culling.occlusion = OcclusionMode::kHzb;
+    const Frame a = draw(m, brute, cam, choice, all);
+    const Frame b = draw(m, exact, cam, choice, fast);
+    EXPECT_EQ(a.rgba, b.rgba) << what;
+    EXPECT_EQ(a.depth, b.depth) << what;
   }
 
   std::shared_ptr<GlSession> session_;
@@ -391,17 +408,9 @@ TEST_F(BondRender, ExactCullingIsBitIdenticalToDrawingEverything) {
     Camera cam;
     ASSERT_OK(make_camera(s.camera, {0, 0, 0}, {16, 16, 16}, 0.45, s.width, s.height, &cam));
     for (const RendererChoice renderer : renderers()) {
-      SceneConfig brute = s;
-      brute.culling.frustum = false;
-      brute.culling.occlusion = OcclusionMode::kNone;
-      SceneConfig exact = s;
-      exact.culling.occlusion = OcclusionMode::kHzb;
-      RankDraw all, fast;
-      const Frame a = draw(m, brute, cam, renderer, &all);
-      const Frame b = draw(m, exact, cam, renderer, &fast);
       const std::string what = std::string(name_of(renderer)) + " view " + std::to_string(view);
-      EXPECT_EQ(a.rgba, b.rgba) << what;
-      EXPECT_EQ(a.depth, b.depth) << what;
+      RankDraw all, fast;
+      expect_hzb_exact(m, s, cam, renderer, what, &all, &fast);
       const BondCounts &c = fast.cull.bonds;
       EXPECT_EQ(c.halves, int64_t(2 * melt.bond_count())) << what;
       EXPECT_EQ(c.halves,
@@ -422,6 +431,31 @@ TEST_F(BondRender, ExactCullingIsBitIdenticalToDrawingEverything) {
   EXPECT_GT(culled, int64_t(melt.bond_count()));  // most hidden from outside, more up close
 }
 
+// A dense network seen from outside, listed once and by both ranks' rule: culling judges the
+// halves of one atom together (the sphere round the atom that holds them) and draws each
+// brick's bonds after its atoms, and the image stays that of drawing everything.
+TEST_F(BondRender, AtomRunsCullExactlyInADenseNetwork) {
+  for (const BondListing listing : {BondListing::kListedOnce, BondListing::kListedByBoth}) {
+    const BondedSystem net = testing::network(7, 3, 4.0, 0.1);
+    const Lent m(net, false, listing);
+    SceneConfig s = bond_scene(256, 192, 0.5, 0.25);
+    s.camera.azimuth = 30.0;
+    Camera cam;
+    ASSERT_OK(make_camera(s.camera, {0, 0, 0}, {28, 28, 28}, 0.5, s.width, s.height, &cam));
+    for (const RendererChoice renderer : renderers()) {
+      const std::string what =
+          std::string(name_of(renderer)) + " listing " + std::to_string(int(listing));
+      RankDraw all, fast;
+      expect_hzb_exact(m, s, cam, renderer, what, &all, &fast);
+      const BondCounts &c = fast.cull.bonds;
+      EXPECT_EQ(c.halves, int64_t(2 * net.bond_count())) << what;
+      // A good part of the block is hidden behind its near faces.
+      EXPECT_GT(c.occlusion_culled, c.halves / 10) << what;
+      EXPECT_LT(c.drawn, all.cull.bonds.drawn) << what;
+    }
+  }
+}
+
 // Level of detail: the bonds of thinned bricks are left out, and counted so.
 TEST_F(BondRender, LevelOfDetailLeavesOutTheBondsOfThinnedBricks) {
   const Lent m(testing::polymer_melt(60, 60, 16.0), true);
@@ -434,6 +468,21 @@ TEST_F(BondRender, LevelOfDetailLeavesOutTheBondsOfThinnedBricks) {
   EXPECT_EQ(out.cull.bonds.lod_dropped, out.cull.bonds.halves);
 }
 
+// A 97 x 64 view, perspective or orthographic, near 0.1 and far 200, for the per-pixel tests.
+ViewGeometry small_view(bool ortho) {
+  ViewGeometry g;
+  g.orthographic = ortho;
+  g.width = 97, g.height = 64;
+  g.near_plane = 0.1, g.far_plane = 200.0;
+  g.sx = ortho ? 0.08 : 1.3, g.sy = ortho ? 0.12 : 1.95;
+  g.p22 = ortho ? -2.0 / (g.far_plane - g.near_plane)
+                : -(g.far_plane + g.near_plane) / (g.far_plane - g.near_plane);
+  g.p32 = ortho ? -(g.far_plane + g.near_plane) / (g.far_plane - g.near_plane)
+                : -2.0 * g.far_plane * g.near_plane / (g.far_plane - g.near_plane);
+  g.eps = 1e-5;
+  return g;
+}
+
 // draw_bond casts only the columns CylinderRows gives each row of the cylinder's rectangle: every
 // pixel of the image whose ray the cast accepts must lie in the rectangle and in its row's span,
 // for cylinders of every size, orientation and distance, in perspective and orthographic views.
@@ -442,16 +491,7 @@ TEST(CylinderRows, HoldEveryPixelTheCastAccepts) {
   std::uniform_real_distribution<double> unit(-1.0, 1.0), pos(0.0, 1.0);
   int64_t hits = 0, cast = 0, pixels = 0;
   for (const bool ortho : {false, true}) {
-    ViewGeometry g;
-    g.orthographic = ortho;
-    g.width = 97, g.height = 64;
-    g.near_plane = 0.1, g.far_plane = 200.0;
-    g.sx = ortho ? 0.08 : 1.3, g.sy = ortho ? 0.12 : 1.95;
-    g.p22 = ortho ? -2.0 / (g.far_plane - g.near_plane)
-                  : -(g.far_plane + g.near_plane) / (g.far_plane - g.near_plane);
-    g.p32 = ortho ? -(g.far_plane + g.near_plane) / (g.far_plane - g.near_plane)
-                  : -2.0 * g.far_plane * g.near_plane / (g.far_plane - g.near_plane);
-    g.eps = 1e-5;
+    const ViewGeometry g = small_view(ortho);
     PixelRays rays;
     rays.reset(g);
     for (int trial = 0; trial < 400; ++trial) {
@@ -487,6 +527,65 @@ TEST(CylinderRows, HoldEveryPixelTheCastAccepts) {
   EXPECT_LT(cast, pixels / 4);  // and the spans leave most of the image out
   std::printf("cylinder rows: %lld pixels hit, %lld cast, of %lld\n", static_cast<long long>(hits),
               static_cast<long long>(cast), static_cast<long long>(pixels));
+}
+
+// draw_bond skips the pixels already nearer than the cylinder's nearest point (early depth
+// reject): over a frame that random spheres already drew, its result must be that of casting
+// every pixel - the cylinder drawn alone, merged by depth with ties to the smaller color, as
+// compositing does - for cylinders in front of, among and behind the spheres, in perspective and
+// orthographic views.
+TEST(CpuBondRaster, EarlyDepthRejectLeavesTheImageOfCastingEveryPixel) {
+  std::mt19937_64 rng(20261203);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0), pos(0.0, 1.0);
+  const uint8_t background[4] = {10, 20, 30, 255};
+  int64_t kept_old = 0, won = 0;
+  for (const bool ortho : {false, true}) {
+    const ViewGeometry g = small_view(ortho);
+    for (int trial = 0; trial < 150; ++trial) {
+      const double depth = 3.0 + 20.0 * pos(rng);
+      const glm::dvec3 a(unit(rng) * 0.4 * depth, unit(rng) * 0.3 * depth, -depth);
+      const glm::dvec3 u = glm::normalize(glm::dvec3(unit(rng), unit(rng), unit(rng)));
+      const double length = 0.3 + 2.0 * pos(rng), r = 0.1 + 0.4 * pos(rng);
+      const glm::dvec3 b = a + length * u;
+      const uint8_t rgb[3] = {uint8_t(trial), 200, uint8_t(255 - trial)};
+      Frame drawn, alone;
+      CpuSphereRaster raster, single;
+      CpuSphereRaster::clear_target(g, background, &drawn);
+      CpuSphereRaster::clear_target(g, background, &alone);
+      raster.begin_strip(g, &drawn, 0, g.width - 1);
+      single.begin_strip(g, &alone, 0, g.width - 1);
+      // Spheres round the cylinder, some in front of it, some behind, some through it.
+      for (int k = 0; k < 12; ++k) {
+        const glm::dvec3 c =
+            a + pos(rng) * length * u + glm::dvec3(unit(rng), unit(rng), unit(rng)) * (2.0 * r);
+        const double radius = r * (0.5 + 1.5 * pos(rng));
+        const uint8_t sphere_rgb[3] = {uint8_t(40 * k), 90, 120};
+        raster.draw(c, radius, sphere_rgb, g.sphere_rect_tight(c, radius, 0.05));
+      }
+      const Frame before = drawn;
+      double near_depth;
+      const PixelRect rect = cylinder_rect(g, a, b, r, &near_depth);
+      raster.draw_bond(a, b, r, rgb, rect);
+      single.draw_bond(a, b, r, rgb, rect);
+      const auto word = [](const Frame &f, size_t p) {
+        return uint32_t(f.rgba[4 * p]) << 24 | uint32_t(f.rgba[4 * p + 1]) << 16 |
+               uint32_t(f.rgba[4 * p + 2]) << 8 | f.rgba[4 * p + 3];
+      };
+      for (size_t p = 0; p < before.depth.size(); ++p) {
+        const bool nearer = alone.depth[p] < before.depth[p] ||
+                            (alone.depth[p] == before.depth[p] && word(alone, p) < word(before, p));
+        const Frame &expect = nearer ? alone : before;
+        ASSERT_EQ(drawn.depth[p], expect.depth[p]) << "trial " << trial << " pixel " << p;
+        ASSERT_EQ(word(drawn, p), word(expect, p)) << "trial " << trial << " pixel " << p;
+        const bool covered_by_cylinder = alone.depth[p] < kBackgroundDepth;
+        kept_old += covered_by_cylinder && !nearer;
+        won += nearer;
+      }
+    }
+  }
+  // Both outcomes occur often: the cylinder wins pixels and loses others to nearer spheres.
+  EXPECT_GT(won, 1000);
+  EXPECT_GT(kept_old, 1000);
 }
 
 }  // namespace
