@@ -4,9 +4,10 @@
 // active pixels any rank holds) and one model that is the same on every rank, so every rank picks
 // the same schedule without a further message.
 //
-// The model's two numbers come from measure_cost_model: a ping-pong between rank 0 and the last
-// rank (in a job laid out node by node, the pair furthest apart), 8-byte messages for the latency
-// and 1 MiB ones for the bandwidth, medians of several round trips; rank 0's figures are
+// The model's transport figures come from measure_cost_model: a ping-pong between rank 0 and the
+// last rank (in a job laid out node by node, the pair furthest apart), 8-byte messages for the
+// latency and 1 MiB ones for the bandwidth, the shortest of several round trips (on shared cores
+// the others hold waits for a core), the other ranks asleep meanwhile; rank 0's figures are
 // broadcast, so every rank holds the same bits. The pipeline measures once per context, at its
 // first compositing on two or more ranks, and keeps the model for the context's lifetime (each
 // stats line reports it). Without a measurement default_cost_model() stands in: the figures

@@ -232,6 +232,9 @@ Status composite_frames(MPI_Comm comm, Frame &frame, int root, const CompositeOp
     }
   } else {
     stats.method = to_string(dense);
+    // kAuto chose it: the stats name it as the schedule the model picked.
+    if (options.method == CompositeMethod::kAuto)
+      stats.schedule = std::string("dense ") + to_string(dense);
     if (status.ok() && stats.pixels > 0)
       status = run_method(dense, comm, frame, root, chunk, scratch, &stats.traffic);
   }

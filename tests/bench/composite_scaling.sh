@@ -85,7 +85,7 @@ awk -v pixels="$pixels" '
       ratio = (sent[p, now] > 0) ? sent[p, today] / sent[p, now] : 0
       printf "| %5d | %17.0f | %9d | %-16s | %10.0f | %4.0f | %9d | %11.1fx | %20.0f | %15.3f | %17.2f | %18.2f | %10s | %8s |\n",
         p, sent[p, today], msgs[p, today], sched[p, now], sent[p, now], mean[p, now],
-        msgs[p, now], ratio, active[p, now], model[p, now], cpu[p, today], cpu[p, now],
+        msgs[p, now], ratio, active[p, "active_binary_swap"], model[p, now], cpu[p, today], cpu[p, now],
         same[p, now], one[p]
     }
     if (!bands) {
@@ -114,8 +114,8 @@ awk -v pixels="$pixels" '
     m = 0; sx = sy = sxx = sxy = 0
     for (k = 1; k <= n; ++k) {
       p = order[k]
-      if (p < 8 || active[p, now] <= 0) continue
-      x = log(p); y = log(active[p, now]); ++m; sx += x; sy += y; sxx += x * x; sxy += x * y
+      if (p < 8 || active[p, "active_binary_swap"] <= 0) continue
+      x = log(p); y = log(active[p, "active_binary_swap"]); ++m; sx += x; sy += y; sxx += x * x; sxy += x * y
     }
     if (m >= 2) {
       b = -(m * sxy - sx * sy) / (m * sxx - sx * sx); A = exp((sy + b * sx) / m)
@@ -138,9 +138,9 @@ cpu_here=$(awk '/^model ranks=2 /{for(i=1;i<=NF;++i){split($i,kv,"="); if(kv[1]~
 echo "  CPU per pixel:${cpu_here:- not measured}"
 read -r _ fit_a fit_b < <(grep '^FIT' "$raw.fit" || echo "FIT 0 0")
 rm -f "$raw.fit"
-active_of() {  # measured active pixels for p (max over ranks), else the fit
+active_of() {  # measured active pixels for p (max over ranks; any active schedule), else the fit
   local m
-  m=$(awk -v p="$1" '/^scale /{split($2,r,"="); if (r[2]==p && $0 ~ /config=active_auto/) {for(i=1;i<=NF;++i){split($i,kv,"="); if(kv[1]=="active_max") print kv[2]}}}' "$raw" | head -1)
+  m=$(awk -v p="$1" '/^scale /{split($2,r,"="); if (r[2]==p && $0 ~ /config=active_binary_swap /) {for(i=1;i<=NF;++i){split($i,kv,"="); if(kv[1]=="active_max") print kv[2]}}}' "$raw" | head -1)
   if [[ -n $m ]]; then echo "$m"; else awk -v a="$fit_a" -v b="$fit_b" -v p="$1" 'BEGIN{printf "%.0f", a * p ^ (-b)}'; fi
 }
 for net in "here $lat_here $gbps_here" "network $net_latency $net_gbps"; do

@@ -301,7 +301,8 @@ TEST(Composite, AutoPicksTheModelsCheapestAndSaysWhich) {
     const char *dense_name = swap.seconds < reduce.seconds ? "binary_swap" : "reduce64";
     const bool dense_wins = dense.seconds <= best.seconds;
     EXPECT_EQ(st.method, dense_wins ? dense_name : "active_pixels") << cases[i].what;
-    EXPECT_EQ(st.schedule, dense_wins ? "" : s.name()) << cases[i].what;
+    EXPECT_EQ(st.schedule, dense_wins ? std::string("dense ") + dense_name : s.name())
+        << cases[i].what;
     EXPECT_DOUBLE_EQ(st.model_ms, (dense_wins ? dense : best).seconds * 1e3) << cases[i].what;
   }
   if (alone) return;
@@ -342,6 +343,7 @@ TEST(Composite, AutoPricesTheCpuWorkOfActivePixels) {
   o.model = &free_cpu;
   EXPECT_OK(composite_frames(MPI_COMM_WORLD, active_frame, 0, o, &active_stats));
   EXPECT_EQ(dense_stats.method, "binary_swap");
+  EXPECT_EQ(dense_stats.schedule, "dense binary_swap");
   EXPECT_EQ(dense_stats.active_pixels, 0u);  // decided on the sample: no full scan
   EXPECT_EQ(active_stats.method, "active_pixels");
   EXPECT_GT(active_stats.active_pixels, 0u);
