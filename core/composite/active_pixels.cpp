@@ -67,16 +67,20 @@ EmptyPixel empty_pixel(uint64_t key) {
   return e;
 }
 
-ActiveScan scan_active_pixels(Frame &frame) {
+namespace {
+
+// scan_active_pixels over rows first_row, first_row + step, ... only; `active` counts the pixels
+// of those rows.
+ActiveScan scan_rows(Frame &frame, int first_row, int step) {
   ActiveScan scan;
   const size_t pixels = frame.pixel_count();
-  if (pixels == 0) return scan;
+  if (pixels == 0 || first_row >= frame.height) return scan;
   float *depth = frame.depth.data();
   const uint8_t *rgba = frame.rgba.data();
   const int width = frame.width;
-  uint64_t max_key = canonical_key(depth, rgba, 0);
-  size_t active = 0;
-  for (int y = 0; y < frame.height; ++y) {
+  uint64_t max_key = canonical_key(depth, rgba, size_t(first_row) * size_t(width));
+  size_t active = 0, scanned = 0;  // scanned: pixels of the rows before this one
+  for (int y = first_row; y < frame.height; y += step, scanned += size_t(width)) {
     const size_t row = size_t(y) * size_t(width);
     const EmptyPixel m = empty_pixel(max_key);
     const RowTally t = tally_row(reinterpret_cast<const AliasedWord *>(depth + row),
@@ -96,9 +100,9 @@ ActiveScan scan_active_pixels(Frame &frame) {
         row_x0 = std::min(row_x0, x);
         row_x1 = x + 1;
       } else if (key > max_key) {
-        // A new maximum: every pixel before this one is below it, so active.
-        active = row + size_t(x);
-        if (y > 0) scan.rect.add(0, 0, width, y);
+        // A new maximum: every pixel scanned before this one is below it, so active.
+        active = scanned + size_t(x);
+        if (y > first_row) scan.rect.add(0, first_row, width, y);
         if (x > 0) row_x0 = 0, row_x1 = std::max(row_x1, x);
         max_key = key;
       }
@@ -108,6 +112,22 @@ ActiveScan scan_active_pixels(Frame &frame) {
   scan.max_key = max_key;
   scan.active = active;
   return scan;
+}
+
+}  // namespace
+
+ActiveScan scan_active_pixels(Frame &frame) {
+  return scan_rows(frame, 0, 1);
+}
+
+ActiveScan sample_active_pixels(Frame &frame, int row_step) {
+  row_step = std::max(row_step, 1);
+  ActiveScan sample = scan_rows(frame, row_step / 2, row_step);
+  const size_t rows = frame.height > row_step / 2
+                          ? size_t(frame.height - row_step / 2 + row_step - 1) / size_t(row_step)
+                          : 0;
+  if (rows > 0) sample.active = size_t(double(sample.active) * double(frame.height) / double(rows));
+  return sample;
 }
 
 }  // namespace lantern

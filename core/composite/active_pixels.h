@@ -58,6 +58,12 @@ struct ActiveScan {
 // rewrite are walked pixel by pixel.
 ActiveScan scan_active_pixels(Frame &frame);
 
+// An estimate from every row_step-th row (starting at row_step / 2), for deciding whether a full
+// scan pays: max_key and rect as scan_active_pixels finds them on those rows, active their count
+// scaled to the whole frame. Canonicalises the depths of the rows it reads (as the full scan
+// does), nothing else.
+ActiveScan sample_active_pixels(Frame &frame, int row_step);
+
 // What compositing must agree on about the ranks' scans, in the one RankAgreement it reduces
 // (rank_agreement.h): the largest scan.max_key (the empty pixel E), the smallest, and the largest
 // scan.active.

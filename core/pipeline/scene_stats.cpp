@@ -68,7 +68,11 @@ nlohmann::json CompositeSummary::to_json() const {
   if (model)
     j["cost_model"] = {{"latency_us", model->latency_s * 1e6},
                        {"gb_per_s", model->bytes_per_s * 1e-9},
-                       {"measured", model->measured}};
+                       {"measured", model->measured},
+                       {"scan_ns", model->scan_s * 1e9},
+                       {"encode_ns", model->encode_s * 1e9},
+                       {"merge_ns", model->merge_s * 1e9},
+                       {"dense_merge_ns", model->dense_merge_s * 1e9}};
   return j;
 }
 

@@ -70,8 +70,8 @@ awk -v pixels="$pixels" '
     sent[p, c] = field("bytes_sent_max"); mean[p, c] = field("bytes_sent_mean")
     msgs[p, c] = field("messages_sent_max"); recv_msgs[p, c] = field("messages_received_max")
     active[p, c] = field("active_max"); model[p, c] = field("model_ms")
-    cpu[p, c] = field("cpu_ms_max"); wall[p, c] = field("wall_ms")
-    sched[p, c] = field("schedule"); same[p, c] = field("identical"); one[p] = field("one_rank")
+    cpu[p, c] = field("cpu_ms_max"); wall[p, c] = field("wall_ms"); wall_min[p, c] = field("wall_min_ms")
+    sched[p, c] = field("schedule"); meth[p, c] = field("method"); same[p, c] = field("identical"); one[p] = field("one_rank")
     if (field("target") == "bands") bands = 1
   }
   END {
@@ -85,34 +85,37 @@ awk -v pixels="$pixels" '
       ratio = (sent[p, now] > 0) ? sent[p, today] / sent[p, now] : 0
       printf "| %5d | %17.0f | %9d | %-16s | %10.0f | %4.0f | %9d | %11.1fx | %20.0f | %15.3f | %17.2f | %18.2f | %10s | %8s |\n",
         p, sent[p, today], msgs[p, today], sched[p, now], sent[p, now], mean[p, now],
-        msgs[p, now], ratio, active[p, now], model[p, now], cpu[p, today], cpu[p, now],
+        msgs[p, now], ratio, active[p, "active_binary_swap"], model[p, now], cpu[p, today], cpu[p, now],
         same[p, now], one[p]
     }
     if (!bands) {
-      printf "\nActive pixels along fixed schedules (bytes sent per rank, max; messages sent):\n"
-      printf "| ranks | active binary_swap | msgs | active direct_send | msgs | dense direct_send | msgs |\n"
-      printf "|------:|-------------------:|-----:|-------------------:|-----:|------------------:|-----:|\n"
+      printf "\nActive pixels along fixed schedules (bytes sent per rank, max; messages sent; CPU ms per rank, max, of the rank'"'"'s own work):\n"
+      printf "| ranks | active binary_swap | msgs | CPU ms | active direct_send | msgs | CPU ms | dense direct_send | msgs | CPU ms |\n"
+      printf "|------:|-------------------:|-----:|-------:|-------------------:|-----:|-------:|------------------:|-----:|-------:|\n"
       for (k = 1; k <= n; ++k) {
         p = order[k]
-        printf "| %5d | %18.0f | %4d | %18.0f | %4d | %17.0f | %4d |\n", p,
-          sent[p, "active_binary_swap"], msgs[p, "active_binary_swap"],
-          sent[p, "active_direct_send"], msgs[p, "active_direct_send"],
-          sent[p, "dense_direct_send"], msgs[p, "dense_direct_send"]
+        printf "| %5d | %18.0f | %4d | %6.2f | %18.0f | %4d | %6.2f | %17.0f | %4d | %6.2f |\n", p,
+          sent[p, "active_binary_swap"], msgs[p, "active_binary_swap"], cpu[p, "active_binary_swap"],
+          sent[p, "active_direct_send"], msgs[p, "active_direct_send"], cpu[p, "active_direct_send"],
+          sent[p, "dense_direct_send"], msgs[p, "dense_direct_send"], cpu[p, "dense_direct_send"]
       }
     }
     if ((2, today) in wall) {
-      printf "\nAt 2 ranks (one core each), root wall ms, median of the runs, alternated in one process:\n"
-      printf "  today (%s) %.3f ms, active pixels (%s, %s) %.3f ms: active/today = %.2f\n",
-        today, wall[2, today], now, sched[2, now], wall[2, now],
-        (wall[2, today] > 0 ? wall[2, now] / wall[2, today] : 0)
+      printf "\nAt 2 ranks (one core each), root wall ms, median (min) of the runs, alternated in one process:\n"
+      printf "  today (%s) %.3f (%.3f) ms, active pixels (%s, ran %s %s) %.3f (%.3f) ms: active/today = %.2f (%.2f)\n",
+        today, wall[2, today], wall_min[2, today], now, meth[2, now], sched[2, now], wall[2, now],
+        wall_min[2, now], (wall[2, today] > 0 ? wall[2, now] / wall[2, today] : 0),
+        (wall_min[2, today] > 0 ? wall_min[2, now] / wall_min[2, today] : 0)
+      printf "  CPU ms per rank (max): today %.3f, active pixels %.3f: active/today = %.2f\n",
+        cpu[2, today], cpu[2, now], (cpu[2, today] > 0 ? cpu[2, now] / cpu[2, today] : 0)
     }
     # Active pixels per rank against the rank count: a power law a = A p^-b, least squares in
     # log-log over the rank counts >= 8 (where every axis of the split is cut).
     m = 0; sx = sy = sxx = sxy = 0
     for (k = 1; k <= n; ++k) {
       p = order[k]
-      if (p < 8 || active[p, now] <= 0) continue
-      x = log(p); y = log(active[p, now]); ++m; sx += x; sy += y; sxx += x * x; sxy += x * y
+      if (p < 8 || active[p, "active_binary_swap"] <= 0) continue
+      x = log(p); y = log(active[p, "active_binary_swap"]); ++m; sx += x; sy += y; sxx += x * x; sxy += x * y
     }
     if (m >= 2) {
       b = -(m * sxy - sx * sy) / (m * sxx - sx * sx); A = exp((sy + b * sx) / m)
@@ -126,15 +129,18 @@ echo "Model extrapolation (composite_cost_model.h; nothing below 'measured' ran 
 echo "  assumptions: the busiest rank's active pixels spread evenly over the frame, the ranks'"
 echo "  drawn pixels do not overlap, 8 bytes per active pixel (run-length headers left out), one"
 echo "  latency per message with a round's messages concurrent, the gather to one root included;"
-echo "  active pixels per rank beyond 64 ranks from the power-law fit above; scan/encode/merge CPU"
-echo "  time not modelled. Today = dense binary swap (every pixel active)."
+echo "  active pixels per rank beyond 64 ranks from the power-law fit above; CPU time per pixel"
+echo "  (scan, encode, merge, dense merge) as measured at 2 ranks here, the same at every rank count."
+echo "  Today = dense binary swap (every pixel sent, no scan)."
 lat_here=$(awk '/^model ranks=2 /{for(i=1;i<=NF;++i){split($i,kv,"="); if(kv[1]=="latency_us") print kv[2]}}' "$raw" | head -1)
 gbps_here=$(awk '/^model ranks=2 /{for(i=1;i<=NF;++i){split($i,kv,"="); if(kv[1]=="gb_per_s") print kv[2]}}' "$raw" | head -1)
+cpu_here=$(awk '/^model ranks=2 /{for(i=1;i<=NF;++i){split($i,kv,"="); if(kv[1]~/_ns$/) printf " --%s=%s", kv[1], kv[2]}}' "$raw" | head -1 | sed 's/_/-/g')
+echo "  CPU per pixel:${cpu_here:- not measured}"
 read -r _ fit_a fit_b < <(grep '^FIT' "$raw.fit" || echo "FIT 0 0")
 rm -f "$raw.fit"
-active_of() {  # measured active pixels for p (max over ranks), else the fit
+active_of() {  # measured active pixels for p (max over ranks; any active schedule), else the fit
   local m
-  m=$(awk -v p="$1" '/^scale /{split($2,r,"="); if (r[2]==p && $0 ~ /config=active_auto/) {for(i=1;i<=NF;++i){split($i,kv,"="); if(kv[1]=="active_max") print kv[2]}}}' "$raw" | head -1)
+  m=$(awk -v p="$1" '/^scale /{split($2,r,"="); if (r[2]==p && $0 ~ /config=active_binary_swap /) {for(i=1;i<=NF;++i){split($i,kv,"="); if(kv[1]=="active_max") print kv[2]}}}' "$raw" | head -1)
   if [[ -n $m ]]; then echo "$m"; else awk -v a="$fit_a" -v b="$fit_b" -v p="$1" 'BEGIN{printf "%.0f", a * p ^ (-b)}'; fi
 }
 for net in "here $lat_here $gbps_here" "network $net_latency $net_gbps"; do
@@ -147,7 +153,7 @@ for net in "here $lat_here $gbps_here" "network $net_latency $net_gbps"; do
   for p in $ranks_list 1024 4096; do
     a=$(active_of "$p")
     "$bin" --model --ranks="$p" --pixels="$pixels" --active="$a" --latency-us="$lat" \
-      --gb-per-s="$gbps" | awk -v measured="$(echo " $ranks_list " | grep -c " $p " || true)" '
+      --gb-per-s="$gbps" $cpu_here | awk -v measured="$(echo " $ranks_list " | grep -c " $p " || true)" '
       { for (i = 1; i <= NF; ++i) { split($i, kv, "="); f[kv[1]] = kv[2] } }
       END {
         printf "| %5d%s | %14.0f | %9.3f | %10.0f | %4d | %22.3f | %10.0f | %-16s | %.3f | %10.0f | %4d | %17.1fx |\n",

@@ -255,10 +255,11 @@ TEST(Composite, StatsNameTheMethodThatRan) {
 }
 
 // kAuto runs what the default model says is cheapest for the frame it sees: active pixels along
-// the model's schedule, or one MPI_Reduce where no schedule is cheaper. On frames where nothing
-// is drawn only messages cost, and the tree reduce's log2(p) of them beat MPI_Reduce's (which
-// moves the whole frame); where every rank but the last covers every pixel the tree moves whole
-// frames too, ties with MPI_Reduce, and the tie goes to MPI_Reduce (no scan to run).
+// the model's schedule, or the cheaper dense method (one MPI_Reduce or the dense binary swap)
+// where no schedule is cheaper. On frames where nothing is drawn only messages and the scan cost,
+// and the tree reduce's log2(p) messages beat MPI_Reduce's (which moves the whole frame); where
+// every rank but the last covers every pixel the active schedules move whole frames too, and
+// scanning and encoding them costs more than a dense merge.
 TEST(Composite, AutoPicksTheModelsCheapestAndSaysWhich) {
   const int ranks = world_size(), rank = world_rank();
   const bool alone = ranks == 1;
@@ -295,15 +296,66 @@ TEST(Composite, AutoPicksTheModelsCheapestAndSaysWhich) {
     const CompositingSchedule s =
         cheapest_schedule(ranks, n, cases[i].most_active, true, default_cost_model(), &best);
     const CostEstimate reduce = estimate_reduce64(ranks, n, default_cost_model());
-    const bool reduce_wins = reduce.seconds <= best.seconds;
-    EXPECT_EQ(st.method, reduce_wins ? "reduce64" : "active_pixels") << cases[i].what;
-    EXPECT_EQ(st.schedule, reduce_wins ? "" : s.name()) << cases[i].what;
-    EXPECT_DOUBLE_EQ(st.model_ms, (reduce_wins ? reduce : best).seconds * 1e3) << cases[i].what;
+    const CostEstimate swap = estimate_dense_binary_swap(ranks, n, default_cost_model());
+    const CostEstimate dense = swap.seconds < reduce.seconds ? swap : reduce;
+    const char *dense_name = swap.seconds < reduce.seconds ? "binary_swap" : "reduce64";
+    const bool dense_wins = dense.seconds <= best.seconds;
+    EXPECT_EQ(st.method, dense_wins ? dense_name : "active_pixels") << cases[i].what;
+    EXPECT_EQ(st.schedule, dense_wins ? std::string("dense ") + dense_name : s.name())
+        << cases[i].what;
+    EXPECT_DOUBLE_EQ(st.model_ms, (dense_wins ? dense : best).seconds * 1e3) << cases[i].what;
   }
   if (alone) return;
   EXPECT_EQ(stats[0].schedule, "tree_reduce");
   EXPECT_EQ(stats[1].method, "active_pixels");
   EXPECT_EQ(stats[2].method, "reduce64");
+  EXPECT_NE(stats[3].method, "active_pixels");
+}
+
+// The model prices the CPU work of active pixels (scan, encode, merge) against the dense merge:
+// where half of every rank's frame is drawn and that work costs more than the bytes it saves,
+// kAuto keeps the dense binary swap (deciding on a sample of the rows, without scanning the whole
+// frame); with the CPU work free it sends active pixels. The image is the same either way.
+TEST(Composite, AutoPricesTheCpuWorkOfActivePixels) {
+  if (world_size() == 1) GTEST_SKIP() << "needs two ranks";
+  const int rank = world_rank();
+  const auto half_drawn = [&] {
+    Frame f = blank_frame(512, 256);
+    for (int y = 0; y < f.height; ++y)
+      for (int x = 0; x < f.width; ++x)
+        if (((x / 32 + y / 32 + rank) % 2) == 0) {
+          const size_t i = f.index(x, y);
+          f.depth[i] = 0.25f + float((x + y + 5 * rank) % 97) / 256.0f;
+          for (int c = 0; c < 4; ++c) f.rgba[4 * i + size_t(c)] = uint8_t(30 * rank + c + 1);
+        }
+    return f;
+  };
+  CompositeCostModel priced;
+  priced.latency_s = 1e-6, priced.bytes_per_s = 1e10;
+  priced.scan_s = 1e-9, priced.encode_s = 3e-9, priced.merge_s = 2e-9, priced.dense_merge_s = 2e-9;
+  CompositeCostModel free_cpu = priced;
+  free_cpu.scan_s = free_cpu.encode_s = free_cpu.merge_s = free_cpu.dense_merge_s = 0.0;
+  Frame dense_frame = half_drawn(), active_frame = half_drawn();
+  CompositeOptions o;
+  CompositeStats dense_stats, active_stats;
+  o.model = &priced;
+  EXPECT_OK(composite_frames(MPI_COMM_WORLD, dense_frame, 0, o, &dense_stats));
+  o.model = &free_cpu;
+  EXPECT_OK(composite_frames(MPI_COMM_WORLD, active_frame, 0, o, &active_stats));
+  EXPECT_EQ(dense_stats.method, "binary_swap");
+  EXPECT_EQ(dense_stats.schedule, "dense binary_swap");
+  EXPECT_EQ(dense_stats.active_pixels, 0u);  // decided on the sample: no full scan
+  EXPECT_EQ(active_stats.method, "active_pixels");
+  EXPECT_GT(active_stats.active_pixels, 0u);
+  // Over every rank, active pixels move fewer bytes.
+  unsigned long long moved[2] = {active_stats.traffic.bytes_sent, dense_stats.traffic.bytes_sent},
+                     total[2];
+  MPI_Allreduce(moved, total, 2, MPI_UNSIGNED_LONG_LONG, MPI_SUM, MPI_COMM_WORLD);
+  EXPECT_LT(total[0], total[1]);
+  if (rank == 0) {
+    EXPECT_EQ(dense_frame.depth, active_frame.depth);
+    EXPECT_EQ(dense_frame.rgba, active_frame.rgba);
+  }
 }
 
 // Every schedule the model could choose for this rank count, with messages small enough that
@@ -443,11 +495,18 @@ TEST(CompositeCostModel, MeasuredModelIsTheSameOnEveryRank) {
   EXPECT_GT(model.latency_s, 0.0);
   EXPECT_GT(model.bytes_per_s, 0.0);
   EXPECT_EQ(model.measured, world_size() > 1);
-  double figures[2] = {model.latency_s, model.bytes_per_s}, low[2], high[2];
-  MPI_Allreduce(figures, low, 2, MPI_DOUBLE, MPI_MIN, MPI_COMM_WORLD);
-  MPI_Allreduce(figures, high, 2, MPI_DOUBLE, MPI_MAX, MPI_COMM_WORLD);
-  EXPECT_EQ(low[0], high[0]);
-  EXPECT_EQ(low[1], high[1]);
+  // The CPU figures per pixel: positive and below a microsecond (a pass over a frame of 8-byte
+  // pixels, not a system call per pixel).
+  for (const double s : {model.scan_s, model.encode_s, model.merge_s, model.dense_merge_s}) {
+    EXPECT_GT(s, 0.0);
+    EXPECT_LT(s, 1e-6);
+  }
+  double figures[6] = {model.latency_s, model.bytes_per_s, model.scan_s,
+                       model.encode_s,  model.merge_s,     model.dense_merge_s};
+  double low[6], high[6];
+  MPI_Allreduce(figures, low, 6, MPI_DOUBLE, MPI_MIN, MPI_COMM_WORLD);
+  MPI_Allreduce(figures, high, 6, MPI_DOUBLE, MPI_MAX, MPI_COMM_WORLD);
+  for (int i = 0; i < 6; ++i) EXPECT_EQ(low[i], high[i]) << i;
 }
 
 TEST(CompositeMethodNames, RoundTrip) {

@@ -111,6 +111,8 @@ TEST(PerRankStats, SpreadsSumToTheTotalsAndNameTheBusiestRank) {
   EXPECT_TRUE(composite["cost_model"]["measured"].get<bool>());
   EXPECT_GT(composite["cost_model"]["latency_us"].get<double>(), 0.0);
   EXPECT_GT(composite["cost_model"]["gb_per_s"].get<double>(), 0.0);
+  for (const char *cpu : {"scan_ns", "encode_ns", "merge_ns", "dense_merge_ns"})
+    EXPECT_GT(composite["cost_model"][cpu].get<double>(), 0.0) << cpu;
   EXPECT_DOUBLE_EQ(composite["bytes_sent"]["mean"].get<double>(),
                    composite["bytes_received"]["mean"].get<double>());
   EXPECT_DOUBLE_EQ(composite["messages_sent"]["mean"].get<double>(),

@@ -15,10 +15,12 @@
 // time (meaningful only when every rank has a core), and whether the image is byte-identical to the
 // first configuration's (and, with --check, to the scene drawn on one rank):
 //   scale ranks=<p> target=root|bands config=<c> method=<m> schedule=<s> bytes_sent_max=<b> ...
-// Configurations run interleaved, run by run, so machine drift hits them alike.
+// Configurations run interleaved, run by run, each run starting one configuration further, so
+// machine drift and position hit them alike.
 //
-// Model (--model --ranks=<p> --pixels=<n> --active=<a> --latency-us=<l> --gb-per-s=<g>): the
-// cost model's estimates for one case, no MPI traffic (for extrapolating beyond the ranks at hand).
+// Model (--model --ranks=<p> --pixels=<n> --active=<a> --latency-us=<l> --gb-per-s=<g>, and the
+// CPU figures per pixel --scan-ns, --encode-ns, --merge-ns, --dense-merge-ns): the cost model's
+// estimates for one case, no MPI traffic (for extrapolating beyond the ranks at hand).
 #include <mpi.h>
 
 #include <algorithm>
@@ -47,13 +49,15 @@ struct Options {
   int warmup = 2;
   size_t chunk = 0;
   // Scaling mode.
-  int scene_cells = 0;  // > 0: --scene=fcc:<cells>
-  int samples = 1;      // rays per pixel (1, 4, 16): > 1 adds the row-band target
-  bool check = false;   // compare with the scene drawn on one rank
+  int scene_cells = 0;            // > 0: --scene=fcc:<cells>
+  int samples = 1;                // rays per pixel (1, 4, 16): > 1 adds the row-band target
+  bool check = false;             // compare with the scene drawn on one rank
+  std::vector<std::string> only;  // --configs=a,b: run only these configurations (and the first)
   // Model mode.
   bool model = false;
   long long model_ranks = 0, model_pixels = 0, model_active = 0;
   double latency_us = 0, gb_per_s = 0;
+  double scan_ns = 0, encode_ns = 0, merge_ns = 0, dense_merge_ns = 0;  // CPU per pixel
 };
 
 std::vector<std::string> split(const std::string &text, char sep) {
@@ -91,6 +95,8 @@ bool parse_options(int argc, char **argv, Options *o) {
     } else if (const char *v = value("--samples")) {
       o->samples = std::atoi(v);
       if (o->samples != 1 && o->samples != 4 && o->samples != 16) return false;
+    } else if (const char *v = value("--configs")) {
+      o->only = split(v, ',');
     } else if (arg == "--check") {
       o->check = true;
     } else if (arg == "--model") {
@@ -105,6 +111,14 @@ bool parse_options(int argc, char **argv, Options *o) {
       o->latency_us = std::atof(v);
     } else if (const char *v = value("--gb-per-s")) {
       o->gb_per_s = std::atof(v);
+    } else if (const char *v = value("--scan-ns")) {
+      o->scan_ns = std::atof(v);
+    } else if (const char *v = value("--encode-ns")) {
+      o->encode_ns = std::atof(v);
+    } else if (const char *v = value("--merge-ns")) {
+      o->merge_ns = std::atof(v);
+    } else if (const char *v = value("--dense-merge-ns")) {
+      o->dense_merge_ns = std::atof(v);
     } else {
       return false;
     }
@@ -262,10 +276,22 @@ int run_scaling(const Options &options, int rank, int ranks) {
   if (ranks == 1) model = lantern::default_cost_model();
   if (rank == 0) {
     std::printf("scene ranks=%d note=\"%s\"\n", ranks, scene.note.c_str());
-    std::printf("model ranks=%d latency_us=%.3f gb_per_s=%.3f measured=%d\n", ranks,
-                model.latency_s * 1e6, model.bytes_per_s * 1e-9, int(model.measured));
+    std::printf(
+        "model ranks=%d latency_us=%.3f gb_per_s=%.3f scan_ns=%.3f encode_ns=%.3f merge_ns=%.3f "
+        "dense_merge_ns=%.3f measured=%d\n",
+        ranks, model.latency_s * 1e6, model.bytes_per_s * 1e-9, model.scan_s * 1e9,
+        model.encode_s * 1e9, model.merge_s * 1e9, model.dense_merge_s * 1e9, int(model.measured));
   }
-  const std::vector<Config> configs = scaling_configs(ranks, s, model);
+  std::vector<Config> configs = scaling_configs(ranks, s, model);
+  if (!options.only.empty()) {
+    // The first configuration stays: it is the reference image.
+    std::vector<Config> kept{configs.front()};
+    for (size_t c = 1; c < configs.size(); ++c)
+      if (std::find(options.only.begin(), options.only.end(), configs[c].name) !=
+          options.only.end())
+        kept.push_back(configs[c]);
+    configs = kept;
+  }
   std::vector<Runs> runs(configs.size());
   // Byte-identity: root images against the first root configuration's (on rank 0); each rank's
   // band against the first band configuration's (on every rank). Only those are kept.
@@ -275,7 +301,12 @@ int run_scaling(const Options &options, int rank, int ranks) {
   lantern::Frame root_reference, band_reference;
   bool have_root = false, have_band = false;
   for (int run = 0; run < options.warmup + options.reps; ++run) {
-    for (size_t c = 0; c < configs.size(); ++c) {
+    // Each timed run after the first starts one configuration further, so no configuration always
+    // follows the same one (the machine's state after a method is not charged to the next one
+    // alone); the first, which checks the images, runs in order.
+    const size_t offset = run > options.warmup ? size_t(run - options.warmup) : 0;
+    for (size_t k = 0; k < configs.size(); ++k) {
+      const size_t c = (k + offset) % configs.size();
       lantern::Frame frame = scene.frame;  // compositing consumes its frame
       MPI_Barrier(MPI_COMM_WORLD);
       lantern::CompositeStats stats;
@@ -342,12 +373,14 @@ int run_scaling(const Options &options, int rank, int ranks) {
         "scale ranks=%d target=%s config=%s method=%s schedule=%s size=%dx%d samples=%d "
         "bytes_sent_max=%.0f bytes_sent_mean=%.0f bytes_received_max=%.0f "
         "messages_sent_max=%.0f messages_received_max=%.0f active_max=%.0f active_mean=%.0f "
-        "model_ms=%.4f cpu_ms_max=%.3f cpu_ms_mean=%.3f wall_ms=%.3f identical=%s "
+        "model_ms=%.4f cpu_ms_max=%.3f cpu_ms_mean=%.3f wall_ms=%.3f wall_min_ms=%.3f identical=%s "
         "one_rank=%s runs=%zu%s%s\n",
         ranks, configs[c].bands ? "bands" : "root", configs[c].name.c_str(), st.method.c_str(),
         no_spaces(st.schedule).c_str(), width, height, options.samples, most[0], sum[0] / ranks,
         most[1], most[2], most[3], most[4], sum[4] / ranks, st.model_ms, most[5], sum[5] / ranks,
-        median(r.wall_ms), ok ? "yes" : "NO", one_rank.c_str(), r.wall_ms.size(),
+        median(r.wall_ms),
+        r.wall_ms.empty() ? 0.0 : *std::min_element(r.wall_ms.begin(), r.wall_ms.end()),
+        ok ? "yes" : "NO", one_rank.c_str(), r.wall_ms.size(),
         r.error.empty() ? "" : " error=", r.error.c_str());
   }
   std::fflush(stdout);
@@ -360,20 +393,23 @@ int run_model(const Options &o) {
   lantern::CompositeCostModel model;
   model.latency_s = o.latency_us * 1e-6;
   model.bytes_per_s = o.gb_per_s * 1e9;
+  model.scan_s = o.scan_ns * 1e-9;
+  model.encode_s = o.encode_ns * 1e-9;
+  model.merge_s = o.merge_ns * 1e-9;
+  model.dense_merge_s = o.dense_merge_ns * 1e-9;
   model.measured = false;
   if (o.model_ranks < 2 || o.model_pixels <= 0 || model.latency_s <= 0 || model.bytes_per_s <= 0)
     return 2;
   const int p = int(o.model_ranks);
   const size_t n = size_t(o.model_pixels), a = size_t(std::max(0LL, o.model_active));
-  // Today's method: dense binary swap (every pixel active), to the root.
+  // Today's method: dense binary swap (every pixel sent, no scan), to the root.
   lantern::CompositingSchedule dense_schedule;
   for (const lantern::CompositingSchedule &s : lantern::candidate_schedules(p, true))
     if (s.name().rfind("binary_swap", 0) == 0) {
       dense_schedule = s;
       break;
     }
-  const lantern::CostEstimate dense =
-      lantern::estimate_active_pixels(dense_schedule, n, n, true, model);
+  const lantern::CostEstimate dense = lantern::estimate_dense_binary_swap(p, n, model);
   lantern::CostEstimate active;
   const lantern::CompositingSchedule best =
       lantern::cheapest_schedule(p, n, a, true, model, &active);
@@ -408,7 +444,8 @@ int main(int argc, char **argv) {
                    "       lantern-bench-composite --scene=fcc:<cells> [--sizes=WxH] "
                    "[--samples=1|4|16] [--check] [--reps=N] [--warmup=N]\n"
                    "       lantern-bench-composite --model --ranks=P --pixels=N --active=A "
-                   "--latency-us=L --gb-per-s=G\n");
+                   "--latency-us=L --gb-per-s=G [--scan-ns=S --encode-ns=E --merge-ns=M "
+                   "--dense-merge-ns=D]\n");
     MPI_Finalize();
     return 2;
   }
