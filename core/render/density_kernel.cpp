@@ -1,12 +1,7 @@
 #include "core/render/density_kernel.h"
 
-// No fused multiply-adds, as in density_splat.cpp: the vectorised placement must round as the
-// scalar one.
-#if defined(__clang__)
-#pragma clang fp contract(off)
-#elif defined(__GNUC__)
-#pragma GCC optimize("fp-contract=off")
-#endif
+// No fused multiply-adds (core/render/CMakeLists.txt compiles this file with -ffp-contract=off,
+// as density_splat.cpp): the vectorised placement must round as the scalar one.
 
 #include <algorithm>
 #include <cmath>

@@ -1,13 +1,9 @@
 #include "core/render/density_splat.h"
 
-// No fused multiply-adds: project_all's vectorised projection must round every operation as the
-// baseline compilation (which has none) does, or the images would depend on the processor (GCC
-// contracts a * b + c wherever the target has FMA, and AVX-512 implies it).
-#if defined(__clang__)
-#pragma clang fp contract(off)
-#elif defined(__GNUC__)
-#pragma GCC optimize("fp-contract=off")
-#endif
+// No fused multiply-adds (core/render/CMakeLists.txt compiles this file with -ffp-contract=off):
+// project_all's vectorised projection must round every operation as the baseline compilation
+// (which has none) does, or the images would depend on the processor (GCC contracts a * b + c
+// wherever the target has FMA, and AVX-512 implies it).
 
 #include <algorithm>
 #include <cmath>
