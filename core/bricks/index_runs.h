@@ -23,6 +23,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <type_traits>
 #include <vector>
 
 #include <glm/common.hpp>
@@ -30,6 +31,7 @@
 
 #include "core/bricks/brick_set.h"
 #include "core/common/rank_threads.h"
+#include "core/particles/typed_access.h"
 
 namespace lantern {
 
@@ -61,6 +63,58 @@ struct BrickScan {
   bool finite = true;         // every such position finite
 };
 
+// One run's particles [first, last) added to its brick's scan *s[0], or - where `bits` is given
+// (a two-brick run) - to *s[1] for those whose in_other bit is set, for particles without a group
+// (every index kept). No branch per particle: a two-brick run's particles interleave (a crystal's
+// basis straddles the cut), so a branch on the bit mispredicts; the brick is picked by index
+// instead. Finiteness is summed (x - x is 0 for finite x, NaN otherwise, and a NaN stays in the
+// sum) and checked once per run; a non-finite position marks both bricks of its run, which changes
+// nothing downstream: any non-finite held position makes the refit ask for a rebuild. Min and max
+// are written as glm::min/max and std::max are ((v < lo) ? v : lo, (hi < v) ? v : hi) and visit
+// each brick's particles in the same order, so the bounds are the same bits.
+template <typename Positions, typename Radii>
+void scan_stretch(const Positions &pos, const Radii &radius, bool has_radius, const uint64_t *bits,
+                  int64_t first, int64_t last, BrickScan *const s[2]) {
+  const int n = bits ? 2 : 1;
+  double lo[2][3], hi[2][3], r[2];
+  for (int k = 0; k < n; ++k) {
+    for (int c = 0; c < 3; ++c) lo[k][c] = s[k]->lo[c], hi[k][c] = s[k]->hi[c];
+    r[k] = s[k]->r;
+  }
+  const auto lower = [](double a, double v) { return v < a ? v : a; };
+  const auto upper = [](double a, double v) { return a < v ? v : a; };
+  double nan_sum = 0.0;
+  if (!bits) {
+    double lx = lo[0][0], ly = lo[0][1], lz = lo[0][2], hx = hi[0][0], hy = hi[0][1], hz = hi[0][2];
+    double rr = r[0];
+    for (int64_t i = first; i < last; ++i) {
+      const glm::dvec3 x = pos.get(i);
+      nan_sum += (x.x - x.x) + (x.y - x.y) + (x.z - x.z);
+      lx = lower(lx, x.x), ly = lower(ly, x.y), lz = lower(lz, x.z);
+      hx = upper(hx, x.x), hy = upper(hy, x.y), hz = upper(hz, x.z);
+      if (has_radius) rr = upper(rr, radius.get(i));
+    }
+    lo[0][0] = lx, lo[0][1] = ly, lo[0][2] = lz, hi[0][0] = hx, hi[0][1] = hy, hi[0][2] = hz;
+    r[0] = rr;
+  } else {
+    for (int64_t i = first; i < last; ++i) {
+      const glm::dvec3 x = pos.get(i);
+      nan_sum += (x.x - x.x) + (x.y - x.y) + (x.z - x.z);
+      const auto k = size_t(bits[i >> 6] >> (i & 63) & 1);
+      lo[k][0] = lower(lo[k][0], x.x), lo[k][1] = lower(lo[k][1], x.y);
+      lo[k][2] = lower(lo[k][2], x.z);
+      hi[k][0] = upper(hi[k][0], x.x), hi[k][1] = upper(hi[k][1], x.y);
+      hi[k][2] = upper(hi[k][2], x.z);
+      if (has_radius) r[k] = upper(r[k], radius.get(i));
+    }
+  }
+  for (int k = 0; k < n; ++k) {
+    for (int c = 0; c < 3; ++c) s[k]->lo[c] = lo[k][c], s[k]->hi[c] = hi[k][c];
+    s[k]->r = r[k];
+    s[k]->finite &= nan_sum == 0.0;
+  }
+}
+
 // One streaming pass over the positions through set.runs: each brick's bounds, radius and
 // checks, for particles with index below `count` that are in the group (`keep`). In parts on up
 // to `threads` threads, merged in part order (min and max keep the first of equal values, so the
@@ -85,6 +139,13 @@ std::vector<BrickScan> scan_runs(const Positions &pos, const Radii &radius, cons
       // Indices past the particle count are no longer published: their brick does not fit.
       for (int64_t i = last; i < stop; ++i)
         acc[run.other != kNoBrick && in_other(i) ? run.other : run.brick].all_published = false;
+      if constexpr (std::is_same_v<Keep, KeepAll>) {
+        BrickScan *const two[2] = {&acc[run.brick],
+                                   run.other == kNoBrick ? nullptr : &acc[run.other]};
+        scan_stretch(pos, radius, has_radius, two[1] ? bits : nullptr, first, last, two);
+        continue;
+      }
+      // With a group: a branch per particle on whether it is kept.
       // The run's bricks in locals (registers), written back after the run.
       BrickScan a = acc[run.brick];
       const auto add = [&](BrickScan &s, int64_t i) {

@@ -313,6 +313,79 @@ TEST(BrickRefit, StreamingThroughRunsGivesTheGatheredBounds) {
   EXPECT_TRUE(std::all_of(seen.begin(), seen.end(), [](int s) { return s == 1; }));
 }
 
+// The streaming refit against brute force: a lattice in lattice order (long runs, many of them
+// shared by two bricks) published as records with a byte stride, in double and in float, with a
+// radius per particle, moved a little; every brick's bounds and largest radius must be exactly
+// the min and max over the brick's own particles.
+template <typename T>
+void check_refit_against_brute_force(unsigned seed) {
+  const Cloud lat = lattice(60, 0.5);
+  const int64_t n = int64_t(lat.xyz.size() / 3);
+  // A record per particle: an id, the position, a pad, the radius (stride 6 * sizeof(T)).
+  constexpr int kFields = 6;
+  std::vector<T> rec(size_t(n * kFields), T(0));
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> radius(0.1, 0.4);
+  for (int64_t i = 0; i < n; ++i)
+    for (int c = 0; c < 3; ++c) rec[size_t(i * kFields + 1 + c)] = T(lat.xyz[size_t(3 * i + c)]);
+  for (int64_t i = 0; i < n; ++i) rec[size_t(i * kFields + 5)] = T(radius(rng));
+  const DataType type = sizeof(T) == 4 ? DataType::kFloat32 : DataType::kFloat64;
+  const auto arrays = [&] {
+    ParticleDescription p{};
+    p.count = n;
+    p.position = {rec.data() + 1, type, int64_t(kFields * sizeof(T))};
+    p.radius = {rec.data() + 5, type, int64_t(kFields * sizeof(T))};
+    ParticleArrays a;
+    EXPECT_OK(ParticleArrays::validate(p, &a));
+    return a;
+  };
+  const BrickSet built = build_bricks(arrays(), BrickOptions{});
+  ASSERT_FALSE(built.runs.empty());
+  size_t two = 0;
+  for (const IndexRun &r : built.runs) two += r.other != kNoBrick;
+  ASSERT_GT(two, 0u);  // the two-brick path is taken
+  std::uniform_real_distribution<double> jitter(-0.05, 0.05);
+  for (int64_t i = 0; i < n; ++i) {
+    for (int c = 0; c < 3; ++c) rec[size_t(i * kFields + 1 + c)] += T(jitter(rng));
+    rec[size_t(i * kFields + 5)] = T(radius(rng));
+  }
+  const ParticleArrays moved = arrays();
+  for (const int threads : {1, 3}) {
+    BrickSet set = built;
+    BrickOptions options;
+    options.threads = threads;
+    ASSERT_TRUE(refit_bricks(moved, 1.25, &set, options));
+    ASSERT_EQ(set.runs.size(), built.runs.size());  // nothing strayed: it went through the runs
+    ASSERT_TRUE(set.order == built.order);
+    glm::dvec3 all_lo(INFINITY), all_hi(-INFINITY);
+    for (size_t b = 0; b < set.bricks.size(); ++b) {
+      const Brick &br = set.bricks[b];
+      glm::dvec3 lo(INFINITY), hi(-INFINITY);
+      double r = 0.0;
+      for (uint32_t k = 0; k < br.count; ++k) {
+        const uint32_t i = set.order[br.first + k];
+        const glm::dvec3 x(rec[i * kFields + 1], rec[i * kFields + 2], rec[i * kFields + 3]);
+        lo = glm::min(lo, x), hi = glm::max(hi, x);
+        r = std::max(r, double(rec[i * kFields + 5]));
+      }
+      ASSERT_TRUE(same_bits(br.lo, lo)) << "brick " << b;
+      ASSERT_TRUE(same_bits(br.hi, hi)) << "brick " << b;
+      ASSERT_EQ(br.max_radius, r) << "brick " << b;
+      all_lo = glm::min(all_lo, lo), all_hi = glm::max(all_hi, hi);
+    }
+    EXPECT_TRUE(same_bits(set.lo, all_lo));
+    EXPECT_TRUE(same_bits(set.hi, all_hi));
+  }
+}
+
+TEST(BrickRefit, StreamedBoundsAreTheBruteForceMinMaxOfStridedDoubles) {
+  check_refit_against_brute_force<double>(21);
+}
+
+TEST(BrickRefit, StreamedBoundsAreTheBruteForceMinMaxOfStridedFloats) {
+  check_refit_against_brute_force<float>(22);
+}
+
 // After a refit, the bricks' bounds stand in for the step's scan (the runtime then skips it):
 // the same Extent bit for bit, or a refusal where the bricks cannot tell.
 TEST(BrickRefit, BricksGiveTheScansExtent) {
