@@ -101,6 +101,67 @@ void build_brick_bonds(const ParticleArrays &particles, const BondArrays &bonds,
   for (size_t h = 0; h < n; ++h) r.halves[w.next[w.key[h]]++] = w.unsorted[h];
 }
 
+bool refit_brick_bonds(const ParticleArrays &particles, const BondArrays &bonds,
+                       const BrickSet &bricks, const PeriodicBox *box, BrickBonds *out) {
+  BrickBonds &r = *out;
+  const size_t brick_count = bricks.bricks.size();
+  if (r.first.size() != brick_count + 1) return false;
+  const glm::dvec3 inf(std::numeric_limits<double>::infinity());
+  r.lo.assign(brick_count, inf);
+  r.hi.assign(brick_count, -inf);
+  r.reach.assign(size_t(bonds.reach(particles)), 0.0);
+  bool ok = true;
+  // Brick after brick, as the halves are filed: min and max of non-zero finite values do not
+  // depend on the order they are met in, so the bounds are the build's (which meets them in list
+  // order), and so is every reach (a maximum of lengths).
+  visit_positions(particles, [&](const auto &pos) {
+    for (size_t b = 0; b < brick_count && ok; ++b) {
+      glm::dvec3 lo = inf, hi = -inf;
+      for (uint32_t k = r.first[b]; k < r.first[b + 1]; ++k) {
+        const HalfBond &h = r.halves[k];
+        const glm::dvec3 x = pos.get(h.atom), partner = pos.get(h.partner);
+        if (!finite_position(x) || !finite_position(partner)) return void(ok = false);
+        const glm::dvec3 end = half_bond_end(x, partner, box);
+        lo = glm::min(lo, glm::min(x, end));
+        hi = glm::max(hi, glm::max(x, end));
+        r.reach[h.atom] = std::max(r.reach[h.atom], glm::length(end - x));
+      }
+      if (r.first[b] != r.first[b + 1])
+        for (int c = 0; c < 3; ++c) ok &= lo[c] != 0.0 && hi[c] != 0.0;
+      r.lo[b] = lo, r.hi[b] = hi;
+    }
+  });
+  return ok;
+}
+
+bool BondCache::same_indices(const BondArrays &bonds) {
+  const auto n = size_t(bonds.count());
+  bool same = indices_valid_ && indices_.size() == 2 * n, valid = true;
+  indices_.resize(2 * n);
+  for (size_t k = 0; k < n; ++k) {
+    const int64_t a = bonds.first(int64_t(k)), b = bonds.second(int64_t(k));
+    constexpr int64_t kMax = std::numeric_limits<uint32_t>::max();
+    valid &= a >= 0 && a <= kMax && b >= 0 && b <= kMax;
+    same &= indices_[2 * k] == uint32_t(a) && indices_[2 * k + 1] == uint32_t(b);
+    indices_[2 * k] = uint32_t(a), indices_[2 * k + 1] = uint32_t(b);
+  }
+  indices_valid_ = valid;
+  return same && valid;
+}
+
+bool BondCache::can_refit(const ParticleArrays &particles, const BondArrays &bonds,
+                          const BrickSet &bricks, const PeriodicBox *box, bool indices_same) const {
+  // A build depends on the indices, the owned and ghost counts, the listing, the group, the
+  // bricks' slots and the box; on the positions only through the bounds, the reach and the
+  // finiteness check, all of which the refit redoes. A build that left a bond out is not kept:
+  // its halves would not cover every bond's ends.
+  const bool box_same = (box != nullptr) == had_box_ && (!box || same_box(*box, box_));
+  return used_ && indices_same && box_same && bricks.order_generation != 0 &&
+         bricks.order_generation == order_generation_ && owned_ == particles.count() &&
+         ghosts_ == bonds.ghost_count() && listing_ == bonds.listing() && !particles.has_mask() &&
+         built_.bonds == bonds.count() && built_.skipped == 0 && built_.ungrouped == 0;
+}
+
 const BrickBonds &BondCache::for_step(const ParticleArrays &particles, const BondArrays &bonds,
                                       uint64_t serial, const BrickSet &bricks,
                                       const PeriodicBox *box, int64_t step, double *build_ms) {
@@ -109,9 +170,19 @@ const BrickBonds &BondCache::for_step(const ParticleArrays &particles, const Bon
       box_same && step_ == step)
     return built_;
   const auto t0 = std::chrono::steady_clock::now();
-  build_brick_bonds(particles, bonds, bricks, box, &built_, &scratch_);
+  const bool indices_same = same_indices(bonds);
+  reused_ = can_refit(particles, bonds, bricks, box, indices_same) &&
+            refit_brick_bonds(particles, bonds, bricks, box, &built_);
+  if (reused_)
+    ++reuses_;
+  else
+    build_brick_bonds(particles, bonds, bricks, box, &built_, &scratch_);
   generation_ = bricks.generation;
+  order_generation_ = bricks.order_generation;
   serial_ = serial;
+  owned_ = particles.count();
+  ghosts_ = bonds.ghost_count();
+  listing_ = bonds.listing();
   had_box_ = box != nullptr;
   if (box) box_ = *box;
   step_ = step;

@@ -13,7 +13,7 @@
 //
 // Ownership: owns 12 bytes per half-bond, 8 per atom (reach) and a few dozen per brick; refers
 // to atoms and bonds by index, so it is valid for the arrays and bricks it was built from (one
-// step).
+// step, or later ones after refit_brick_bonds when neither the list nor the bricks' order changed).
 // Thread-safety: immutable after build; concurrent readers are fine.
 #pragma once
 
@@ -70,9 +70,24 @@ void build_brick_bonds(const ParticleArrays &particles, const BondArrays &bonds,
                        const BrickSet &bricks, const PeriodicBox *box, BrickBonds *out,
                        BrickBondsScratch *scratch = nullptr);
 
-// The step's BrickBonds, kept for every scene of a step: rebuilt when the bricks (their
-// generation), the bond publication (`serial`, which the owner bumps on every publish) or the
-// box changed. Ownership: owns its BrickBonds. Thread-safety: one thread.
+// Refits `out`, built by build_brick_bonds for the same bond list and bricks of the same
+// order_generation, to the particles' current positions: the halves and their grouping stay, the
+// bricks' bounds and the atoms' reach are recomputed from the positions, bit for bit what a build
+// gives. False - *out then stale, to be rebuilt - when a position is not finite (the build words
+// that bond) or a bound is exactly zero (-0 and +0 depend on the order the ends are met in).
+bool refit_brick_bonds(const ParticleArrays &particles, const BondArrays &bonds,
+                       const BrickSet &bricks, const PeriodicBox *box, BrickBonds *out);
+
+// The step's BrickBonds, kept for every scene of a step and between steps: within a step,
+// rebuilt when the bricks (their generation), the bond publication (`serial`, which the owner
+// bumps on every publish) or the box changed. On a later step the grouping (which halves, filed
+// under which brick, in which order) is kept and only refit (refit_brick_bonds) when it cannot
+// have changed: bricks of the same order_generation (no particle changed slot), the same box,
+// owned and ghost counts and listing, no group (mask), no bond left out, and every bond's two
+// indices the same as last step - compared in full with a copy, because hosts rewrite their list
+// in place at the same address (LAMMPS at every re-neighbouring). Else it is built afresh.
+// Ownership: owns its BrickBonds and the copy of the indices (8 bytes per bond). Thread-safety:
+// one thread.
 class BondCache {
  public:
   const BrickBonds &for_step(const ParticleArrays &particles, const BondArrays &bonds,
@@ -83,16 +98,27 @@ class BondCache {
   Status status(int64_t step) const {
     return used_ && step == step_ ? built_.first_error : Status();
   }
+  // Whether the last for_step() served its step with a refit of an earlier step's grouping.
+  bool reused() const { return reused_; }
+  int64_t reuses() const { return reuses_; }  // steps served by a refit instead of a build
   // Forgets the bonds (and the status): the next for_step() builds afresh.
   void clear() { *this = BondCache(); }
 
  private:
-  uint64_t generation_ = 0, serial_ = 0;
-  int64_t step_ = 0;
-  bool used_ = false, had_box_ = false;
+  // Compares the list's indices with last step's copy and updates the copy: true when the same.
+  bool same_indices(const BondArrays &bonds);
+  bool can_refit(const ParticleArrays &particles, const BondArrays &bonds, const BrickSet &bricks,
+                 const PeriodicBox *box, bool indices_same) const;
+
+  uint64_t generation_ = 0, serial_ = 0, order_generation_ = 0;
+  int64_t step_ = 0, owned_ = -1, ghosts_ = -1, reuses_ = 0;
+  BondListing listing_ = BondListing::kListedOnce;
+  bool used_ = false, had_box_ = false, reused_ = false;
   PeriodicBox box_;
   BrickBonds built_;
   BrickBondsScratch scratch_;
+  std::vector<uint32_t> indices_;  // last step's first and second of every bond, interleaved
+  bool indices_valid_ = false;     // indices_ holds a whole list (every index below 2^32)
 };
 
 }  // namespace lantern

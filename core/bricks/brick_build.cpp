@@ -415,6 +415,7 @@ BrickSet build_bricks(const ParticleArrays &particles, const BrickOptions &optio
   t.bounds_ms += ms_since(t0);
   set.spread_at_build = set.spread();
   set.generation = next_brick_generation();
+  set.order_generation = set.generation;
   if (timings) *timings = t;
   return set;
 }

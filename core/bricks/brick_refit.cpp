@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <utility>
 #include <vector>
 
 #include <glm/common.hpp>
@@ -118,6 +119,7 @@ void fresh_bounds(const Positions &pos, const Radii &radius, const Keep &keep, i
 bool refit_bricks(const ParticleArrays &particles, double max_growth, BrickSet *set,
                   const BrickOptions &options) {
   set->generation = next_brick_generation();  // the bounds change below, whatever the outcome
+  const uint64_t kept_order = std::exchange(set->order_generation, set->generation);
   const int64_t count = particles.count();
   const int threads = std::max(1, options.threads);
   if (set->nonfinite != 0 || particles.has_radius() != set->has_radius ||
@@ -138,6 +140,7 @@ bool refit_bricks(const ParticleArrays &particles, double max_growth, BrickSet *
   if (kept_total == set->particle_count() &&
       std::all_of(fits.begin(), fits.end(), [](uint8_t f) { return f != 0; })) {
     set->bricks = std::move(fresh);
+    set->order_generation = kept_order;  // every particle stayed in its slot
     glm::dvec3 lo(std::numeric_limits<double>::infinity()), hi(-lo);
     for (const Brick &b : set->bricks) lo = glm::min(lo, b.lo), hi = glm::max(hi, b.hi);
     set->lo = lo, set->hi = hi;

@@ -70,6 +70,10 @@ struct BrickSet {
   // A process-unique stamp of the build or refit that made these bounds (0: made by hand). State
   // derived from the bounds (culling's per-brick cut counts) is valid while the stamp is the same.
   uint64_t generation = 0;
+  // A process-unique stamp of the build or re-sort that made `order` and the bricks' slices (0:
+  // made by hand). A refit that keeps every particle in its brick keeps it, so state filed by
+  // slot (the half-bonds by brick, brick_bonds.h) is valid while it is the same.
+  uint64_t order_generation = 0;
 
   int64_t particle_count() const { return int64_t(order.size()); }
   // Sum of the bricks' bound extents (x + y + z): grows as particles drift out of their cells.
@@ -106,7 +110,8 @@ BrickSet build_bricks(const ParticleArrays &particles, const BrickOptions &optio
 // Returns false - and leaves *set unusable, to be rebuilt - when the radius array appeared or
 // went, a position is not finite, more than a tenth of the particles strayed, or the summed
 // brick extents grew beyond max_growth times those at build (bricks too loose to cull well).
-// Either way the set gets a new generation.
+// Either way the set gets a new generation; a new order_generation unless every particle stayed
+// in its brick (order and slices unchanged).
 bool refit_bricks(const ParticleArrays &particles, double max_growth, BrickSet *set,
                   const BrickOptions &options = {});
 }  // namespace lantern

@@ -26,6 +26,8 @@ struct BondCounts {
   int64_t lod_dropped = 0;       // in a brick that level of detail thinned
   int64_t occlusion_culled = 0;  // hidden (exactly: hzb, or the CPU raster's depth)
   int64_t drawn = 0;             // drawn as cylinders
+  // Ranks that refit an earlier step's half-bond grouping instead of building it (BondCache).
+  int64_t grouping_reused = 0;
 };
 
 struct CullStats {

@@ -30,13 +30,15 @@ void sum_counts_over_ranks(MPI_Comm comm, const CullStats &local, SceneStats *st
 }
 
 void sum_bond_counts_over_ranks(MPI_Comm comm, const BondCounts &local, SceneStats *stats) {
-  int64_t in[6] = {local.halves,      local.frustum_culled,   local.cut_culled,
-                   local.lod_dropped, local.occlusion_culled, local.drawn};
-  int64_t out[6] = {0, 0, 0, 0, 0, 0};
-  MPI_Allreduce(in, out, 6, MPI_INT64_T, MPI_SUM, comm);
+  int64_t in[7] = {local.halves,         local.frustum_culled,   local.cut_culled,
+                   local.lod_dropped,    local.occlusion_culled, local.drawn,
+                   local.grouping_reused};
+  int64_t out[7] = {0, 0, 0, 0, 0, 0, 0};
+  MPI_Allreduce(in, out, 7, MPI_INT64_T, MPI_SUM, comm);
   BondCounts c;
   c.halves = out[0], c.frustum_culled = out[1], c.cut_culled = out[2];
   c.lod_dropped = out[3], c.occlusion_culled = out[4], c.drawn = out[5];
+  c.grouping_reused = out[6];
   stats->bonds = c;
 }
 
@@ -93,7 +95,8 @@ nlohmann::json SceneStats::to_json() const {
                   {"frustum_culled", bonds->frustum_culled},
                   {"cut_culled", bonds->cut_culled},
                   {"lod_dropped", bonds->lod_dropped},
-                  {"occlusion_culled", bonds->occlusion_culled}};
+                  {"occlusion_culled", bonds->occlusion_culled},
+                  {"grouping_reused", bonds->grouping_reused}};
   if (composite) j["composite"] = composite->to_json();
   if (color_range) j["color_range"] = {(*color_range)[0], (*color_range)[1]};
   if (budget) j["budget"] = budget->to_json();

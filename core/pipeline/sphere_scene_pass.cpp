@@ -66,6 +66,7 @@ Status run_sphere_scene(const ScenePassInputs &in, const SceneSettings &settings
       local =
           with_context(where, draw_scene_on_rank(rank_scene, &in.scratch->draw, &frame, &drawn));
       cull = drawn.cull;
+      if (halves) cull.bonds.grouping_reused = in.scratch->bonds.reused() ? 1 : 0;
       stats->renderer = drawn.renderer;
       stats->occlusion = cull.occlusion;
       // Building (or refitting) the bricks counts as culling.

@@ -244,5 +244,94 @@ TEST_F(Bonds, ColorByTypeNeedsBondTypesAndStatsCountHalves) {
   EXPECT_EQ(s["occlusion_culled"], 0);
 }
 
+// Places the chain off the zero planes (a bound of exactly zero makes the half-bonds rebuild
+// rather than refit), each atom nudged by `d` along x.
+void place_chain(std::vector<double> *x, double d) {
+  for (size_t i = 0; i < x->size() / 3; ++i) {
+    (*x)[3 * i] = double(i) + 0.25 + d * std::sin(double(i));
+    (*x)[3 * i + 1] = 0.25, (*x)[3 * i + 2] = 0.125;
+  }
+}
+
+TEST_F(Bonds, AListRewrittenInPlaceIsDrawnAsAFreshContextDrawsIt) {
+  ASSERT_EQ(open(config("inplace")), LANTERN_OK) << message();
+  const lantern_particles p = particles();
+  const lantern_bonds b = bonds();
+  place_chain(&x, 0.0);
+  ASSERT_EQ(lantern_publish(ctx_, &p), LANTERN_OK);
+  ASSERT_EQ(lantern_publish_bonds(ctx_, &b), LANTERN_OK) << message();
+  ASSERT_EQ(lantern_execute(ctx_, 0, 0.0), LANTERN_OK) << message();
+  // The atoms moved a little, the list is the same: the grouping is kept.
+  place_chain(&x, 0.01);
+  ASSERT_EQ(lantern_execute(ctx_, 1, 0.0), LANTERN_OK) << message();
+  EXPECT_EQ(last_stats()["scenes"][0]["bonds"]["grouping_reused"], 1);
+  // The host rewrites its list in place, as LAMMPS does when it re-neighbours: same address and
+  // count, bond 4 is (0, 2) instead of (4, 5).
+  list[3 * 4] = 0, list[3 * 4 + 1] = 2;
+  place_chain(&x, 0.02);
+  ASSERT_EQ(lantern_execute(ctx_, 2, 0.0), LANTERN_OK) << message();
+  EXPECT_EQ(last_stats()["scenes"][0]["bonds"]["grouping_reused"], 0);
+  // Bond (0, 2) lies over (0, 1) and (1, 2): the gap between atoms 4 and 5 shows.
+  EXPECT_LT(lit_pixels("inplace", 2), lit_pixels("inplace", 1));
+  lantern_context *fresh = nullptr;
+  ASSERT_EQ(lantern_open(config("fresh").c_str(), LANTERN_COMM_WORLD, &fresh), LANTERN_OK);
+  ASSERT_EQ(lantern_publish(fresh, &p), LANTERN_OK);
+  ASSERT_EQ(lantern_publish_bonds(fresh, &b), LANTERN_OK);
+  ASSERT_EQ(lantern_execute(fresh, 2, 0.0), LANTERN_OK) << lantern_error_message(fresh);
+  lantern_close(fresh);
+  EXPECT_EQ(read_bytes(png("inplace", 2)), read_bytes(png("fresh", 2)));
+}
+
+TEST_F(Bonds, KeepingTheGroupingGivesTheBytesOfBuildingItAsAtomsMove) {
+  // A 12 x 12 x 3 network (bonds to the +x, +y and +z neighbours) seen at an angle: many bricks,
+  // halves hidden by others. Off the zero planes, so that no bound is exactly zero.
+  const int n = 12, layers = 3;
+  std::vector<double> pos, rest;
+  std::vector<int32_t> pairs;
+  const auto at = [n](int i, int j, int k) { return (k * n + j) * n + i; };
+  for (int k = 0; k < layers; ++k)
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i) {
+        rest.insert(rest.end(), {i + 0.3, j + 0.3, k + 0.3});
+        if (i + 1 < n) pairs.insert(pairs.end(), {at(i, j, k), at(i + 1, j, k), 0});
+        if (j + 1 < n) pairs.insert(pairs.end(), {at(i, j, k), at(i, j + 1, k), 1});
+        if (k + 1 < layers) pairs.insert(pairs.end(), {at(i, j, k), at(i, j, k + 1), 2});
+      }
+  pos = rest;
+  const std::string scene =
+      "    radius: 0.2\n    background: [0, 0, 0]\n    renderer: cpu\n"
+      "    camera: {position: [-4, -6, 14], look_at: [6, 6, 1], up: [0, 0, 1]}\n"
+      "    bonds: {radius: 0.1, color: by_atom}\n";
+  const std::string keep_config = scene_config("keep", 128, 96, scene);
+  std::string build_config = scene_config("build", 128, 96, scene);
+  build_config.replace(build_config.find("stats.jsonl"), 11, "stats_build.jsonl");
+  lantern_particles p = interleaved(pos);
+  lantern_bonds b{};
+  b.count = int64_t(pairs.size() / 3);
+  b.first = {&pairs[0], LANTERN_INT32, 12};
+  b.second = {&pairs[1], LANTERN_INT32, 12};
+  b.type = {&pairs[2], LANTERN_INT32, 12};
+  ASSERT_EQ(open(keep_config), LANTERN_OK) << message();
+  const int steps = 6;
+  for (int step = 0; step < steps; ++step) {
+    for (size_t c = 0; c < pos.size(); ++c)
+      pos[c] = rest[c] + 0.04 * std::sin(0.7 * double(c) + double(step));
+    // Published every step, as a host does: the bricks refit and the grouping is kept.
+    ASSERT_EQ(lantern_publish(ctx_, &p), LANTERN_OK) << message();
+    ASSERT_EQ(lantern_publish_bonds(ctx_, &b), LANTERN_OK) << message();
+    ASSERT_EQ(lantern_execute(ctx_, step, 0.0), LANTERN_OK) << message();
+    EXPECT_EQ(last_stats()["scenes"][0]["bonds"]["grouping_reused"], step > 0 ? 1 : 0) << step;
+    // A fresh context builds everything for this step alone.
+    lantern_context *fresh = nullptr;
+    ASSERT_EQ(lantern_open(build_config.c_str(), LANTERN_COMM_WORLD, &fresh), LANTERN_OK);
+    ASSERT_EQ(lantern_publish(fresh, &p), LANTERN_OK);
+    ASSERT_EQ(lantern_publish_bonds(fresh, &b), LANTERN_OK);
+    ASSERT_EQ(lantern_execute(fresh, step, 0.0), LANTERN_OK) << lantern_error_message(fresh);
+    lantern_close(fresh);
+    EXPECT_EQ(read_bytes(png("keep", step)), read_bytes(png("build", step))) << step;
+  }
+  EXPECT_NE(read_bytes(png("keep", 0)), read_bytes(png("keep", steps - 1)));
+}
+
 }  // namespace
 }  // namespace lantern::testing

@@ -486,6 +486,82 @@ ViewGeometry small_view(bool ortho) {
 // draw_bond casts only the columns CylinderRows gives each row of the cylinder's rectangle: every
 // pixel of the image whose ray the cast accepts must lie in the rectangle and in its row's span,
 // for cylinders of every size, orientation and distance, in perspective and orthographic views.
+// The half-bonds kept across steps: refit to moved atoms, their bounds and reach are the bits a
+// build gives; a non-finite position or a bound of exactly zero makes the refit refuse.
+TEST(BrickBondsRefit, GivesTheBitsOfABuildAndRefusesWhereItCannot) {
+  testing::BondedSystem s = testing::polymer_melt(60, 40, 18.0);
+  ParticleDescription p;
+  p.count = int64_t(s.atoms());
+  p.position = {s.xyz.data(), DataType::kFloat64, 0};
+  ParticleArrays particles;
+  EXPECT_OK(ParticleArrays::validate(p, &particles));
+  BondDescription b;
+  b.count = int64_t(s.bond_count());
+  b.first = {s.bonds.data(), DataType::kInt64, 16};
+  b.second = {s.bonds.data() + 1, DataType::kInt64, 16};
+  BondArrays bonds;
+  EXPECT_OK(BondArrays::validate(b, particles, &bonds));
+  PeriodicBox box;
+  box.length = {s.box, s.box, s.box};
+  box.periodic = {true, true, true};
+  BrickSet bricks = build_bricks(particles, BrickOptions{});
+  BrickBonds kept;
+  build_brick_bonds(particles, bonds, bricks, &box, &kept);
+  const uint64_t order = bricks.order_generation;
+  // Every atom moves a little: the bricks refit with every particle in its slot.
+  for (size_t c = 0; c < s.xyz.size(); ++c) s.xyz[c] += 0.01 * std::sin(double(c));
+  ASSERT_TRUE(refit_bricks(particles, 1.25, &bricks));
+  EXPECT_EQ(bricks.order_generation, order);
+  ASSERT_TRUE(refit_brick_bonds(particles, bonds, bricks, &box, &kept));
+  BrickBonds built;
+  build_brick_bonds(particles, bonds, bricks, &box, &built);
+  ASSERT_EQ(kept.halves.size(), built.halves.size());
+  EXPECT_EQ(0, std::memcmp(kept.halves.data(), built.halves.data(),
+                           built.halves.size() * sizeof(HalfBond)));
+  EXPECT_EQ(kept.first, built.first);
+  ASSERT_EQ(kept.lo.size(), built.lo.size());
+  ASSERT_EQ(kept.reach.size(), built.reach.size());
+  EXPECT_EQ(0, std::memcmp(kept.lo.data(), built.lo.data(), built.lo.size() * sizeof(glm::dvec3)));
+  EXPECT_EQ(0, std::memcmp(kept.hi.data(), built.hi.data(), built.hi.size() * sizeof(glm::dvec3)));
+  EXPECT_EQ(
+      0, std::memcmp(kept.reach.data(), built.reach.data(), built.reach.size() * sizeof(double)));
+  const auto atom = size_t(s.bonds[0]);
+  const double x0 = s.xyz[3 * atom];
+  // A NaN end: the build words the bond, the refit leaves it to the build.
+  s.xyz[3 * atom] = std::nan("");
+  EXPECT_FALSE(refit_brick_bonds(particles, bonds, bricks, &box, &kept));
+  s.xyz[3 * atom] = x0;
+  // A particle moved far: the bricks re-sort it, so their order is new.
+  s.xyz[0] += 3.0 * s.box;
+  ASSERT_TRUE(refit_bricks(particles, 1.25, &bricks));
+  EXPECT_NE(bricks.order_generation, order);
+}
+
+// A bound of exactly zero: which of -0 and +0 it holds depends on the order the ends are met
+// in, so the refit refuses and the build decides.
+TEST(BrickBondsRefit, RefusesABoundOfExactlyZero) {
+  std::vector<double> xyz = {0.0, 1.0, 1.0, 1.0, 1.0, 1.0};
+  std::vector<int64_t> pair = {0, 1};
+  ParticleDescription p;
+  p.count = 2;
+  p.position = {xyz.data(), DataType::kFloat64, 0};
+  ParticleArrays particles;
+  EXPECT_OK(ParticleArrays::validate(p, &particles));
+  BondDescription b;
+  b.count = 1;
+  b.first = {pair.data(), DataType::kInt64, 16};
+  b.second = {pair.data() + 1, DataType::kInt64, 16};
+  BondArrays bonds;
+  EXPECT_OK(BondArrays::validate(b, particles, &bonds));
+  const BrickSet bricks = build_bricks(particles, BrickOptions{});
+  BrickBonds halves;
+  build_brick_bonds(particles, bonds, bricks, nullptr, &halves);
+  EXPECT_FALSE(refit_brick_bonds(particles, bonds, bricks, nullptr, &halves));
+  xyz[0] = 0.5;  // off the plane: the refit stands
+  EXPECT_TRUE(refit_brick_bonds(particles, bonds, bricks, nullptr, &halves));
+  EXPECT_EQ(halves.lo[0].x, 0.5);
+}
+
 TEST(CylinderRows, HoldEveryPixelTheCastAccepts) {
   std::mt19937_64 rng(20261202);
   std::uniform_real_distribution<double> unit(-1.0, 1.0), pos(0.0, 1.0);
