@@ -120,9 +120,15 @@ TEST(PerRankStats, SpreadsSumToTheTotalsAndNameTheBusiestRank) {
   EXPECT_GT(composite["bytes_sent"]["max"].get<double>(), 0.0);
   EXPECT_GE(composite["messages_sent"]["max"].get<double>(), 1.0);
   EXPECT_LE(composite["bytes_sent"]["max"].get<double>(), 8.0 * 64 * 48 + 1024);
-  // Every rank drew something, and no more than the frame.
-  EXPECT_GT(composite["active_pixels"]["min"].get<double>(), 0.0);
-  EXPECT_LE(composite["active_pixels"]["max"].get<double>(), 64.0 * 48);
+  // The cost model measures this machine, so either schedule may win. Sending active pixels:
+  // every rank drew something, and no more than the frame. The dense schedule scans no frame
+  // whole, so it counts no active pixel.
+  if (composite["schedule"].get<std::string>().rfind("dense ", 0) == 0) {
+    EXPECT_EQ(composite["active_pixels"]["max"].get<double>(), 0.0);
+  } else {
+    EXPECT_GT(composite["active_pixels"]["min"].get<double>(), 0.0);
+    EXPECT_LE(composite["active_pixels"]["max"].get<double>(), 64.0 * 48);
+  }
 }
 
 }  // namespace
