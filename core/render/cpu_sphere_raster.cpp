@@ -5,8 +5,13 @@
 #include <limits>
 #include <optional>
 
+#if defined(__SSE2__)
+#include <immintrin.h>
+#endif
+
 #include <glm/geometric.hpp>
 
+#include "core/render/centred_cylinder_cast.h"
 #include "core/render/cylinder_cast.h"
 #include "core/render/screen_door.h"
 #include "core/render/shading.h"
@@ -331,6 +336,82 @@ uint64_t screen_door_mask(int n, int x0, int y0, int w, int h, uint8_t alpha8) {
   return keep;
 }
 
+// The rows of a cylinder wholly in front of the eye, kRun pixels at a time, in one call (the
+// rows' casts overlap in the pipeline); each run's n is a multiple of kRun. cylinder_pixel: a
+// pixel's result does not depend on the row or the call it is cast in.
+constexpr int kRun = 8;
+
+LANTERN_TILE_KERNEL void cast_cylinder_rows(const CentredCylinder &cylinder,
+                                            const CylinderRun *runs, int count,
+                                            float *__restrict wz, float *__restrict lambert2) {
+  const CentredCylinder p = cylinder;  // a local copy: the stores cannot alias it
+  for (int k = 0; k < count; ++k) {
+    const CylinderRun run = runs[k];
+    float *__restrict row_wz = wz + run.at, *__restrict row_lambert2 = lambert2 + run.at;
+    if (p.orthographic) {
+      for (int i = 0; i < run.n; ++i)
+        cylinder_pixel(p, run.kx + i, run.jy, &row_wz[i], &row_lambert2[i]);
+    } else {
+      for (int i = 0; i < run.n; ++i)
+        cylinder_pixel(p, run.kx + i, run.jy, &row_wz[i], &row_lambert2[i]);
+    }
+  }
+}
+
+// Comparisons of n <= kRun consecutive depths, as bits (bit k for entry k): where depth[k] >= z
+// (the pixels the early depth reject keeps), and where wz[k] < depth[k] and wz[k] == depth[k].
+// `whole`: kRun entries may be read from depth (not past the frame's end), whatever n.
+struct RunBits {
+  uint32_t nearer, tied;
+};
+#if defined(__SSE2__)
+LANTERN_INLINE uint32_t low_bits(int n) {
+  return (uint32_t(1) << n) - 1;
+}
+LANTERN_INLINE uint32_t kept_bits(const float *depth, int n, float z, bool whole) {
+  if (whole) {
+    const __m128 zz = _mm_set1_ps(z);
+    const int lo = _mm_movemask_ps(_mm_cmpge_ps(_mm_loadu_ps(depth), zz));
+    const int hi = _mm_movemask_ps(_mm_cmpge_ps(_mm_loadu_ps(depth + 4), zz));
+    return uint32_t(lo | hi << 4) & low_bits(n);
+  }
+  uint32_t bits = 0;
+  for (int k = 0; k < n; ++k) bits |= uint32_t(depth[k] >= z) << k;
+  return bits;
+}
+LANTERN_INLINE RunBits depth_bits(const float *wz, const float *depth, int n, bool whole) {
+  if (whole) {
+    const __m128 w0 = _mm_loadu_ps(wz), w1 = _mm_loadu_ps(wz + 4);
+    const __m128 d0 = _mm_loadu_ps(depth), d1 = _mm_loadu_ps(depth + 4);
+    const uint32_t nearer = uint32_t(_mm_movemask_ps(_mm_cmplt_ps(w0, d0)) |
+                                     _mm_movemask_ps(_mm_cmplt_ps(w1, d1)) << 4);
+    const uint32_t tied = uint32_t(_mm_movemask_ps(_mm_cmpeq_ps(w0, d0)) |
+                                   _mm_movemask_ps(_mm_cmpeq_ps(w1, d1)) << 4);
+    return {nearer & low_bits(n), tied & low_bits(n)};
+  }
+  RunBits bits{0, 0};
+  for (int k = 0; k < n; ++k) {
+    bits.nearer |= uint32_t(wz[k] < depth[k]) << k;
+    bits.tied |= uint32_t(wz[k] == depth[k]) << k;
+  }
+  return bits;
+}
+#else
+LANTERN_INLINE uint32_t kept_bits(const float *depth, int n, float z, bool) {
+  uint32_t bits = 0;
+  for (int k = 0; k < n; ++k) bits |= uint32_t(depth[k] >= z) << k;
+  return bits;
+}
+LANTERN_INLINE RunBits depth_bits(const float *wz, const float *depth, int n, bool) {
+  RunBits bits{0, 0};
+  for (int k = 0; k < n; ++k) {
+    bits.nearer |= uint32_t(wz[k] < depth[k]) << k;
+    bits.tied |= uint32_t(wz[k] == depth[k]) << k;
+  }
+  return bits;
+}
+#endif
+
 }  // namespace
 
 bool CpuSphereRaster::draw(const glm::dvec3 &c, double r, const uint8_t rgb[3], PixelRect rect,
@@ -451,11 +532,6 @@ bool CpuSphereRaster::draw_bond(const glm::dvec3 &a, const glm::dvec3 &b, double
   const double length = glm::length(b - a);
   if (rect.empty() || !(r > 0.0) || !(length > 0.0)) return false;
   const glm::dvec3 u = (b - a) / length;
-  const size_t width = size_t(g_.width);
-  float *depth = frame_->depth.data();
-  uint8_t *rgba = frame_->rgba.data();
-  const CylinderRows rows(g_, rays_, a, u, r, rect);
-  const CylinderCast cylinder(g_.orthographic, a, u, length, r);
   // Early depth reject: no point of the cylinder is nearer than view depth `nearest`, so a pixel
   // already holding something nearer than that (lowered by the margin covered() takes) would
   // reject any hit - its cast is skipped and the image is that of casting it. Behind an atom's
@@ -463,6 +539,13 @@ bool CpuSphereRaster::draw_bond(const glm::dvec3 &a, const glm::dvec3 &b, double
   const double nearest = std::min(-a.z, -b.z) - r;
   const float reject =
       nearest > g_.near_plane ? float(g_.window_depth(nearest) - kQueryMargin) : -1.0f;
+  if (CentredCylinder::applies(g_, a, b, r))
+    return draw_centred_bond(a, u, length, r, rgb, rect, alpha8, reject);
+  const size_t width = size_t(g_.width);
+  float *depth = frame_->depth.data();
+  uint8_t *rgba = frame_->rgba.data();
+  const CylinderRows rows(g_, rays_, a, u, r, rect);
+  const CylinderCast cylinder(g_.orthographic, a, u, length, r);
   PixelRect written;
   for (int y = rect.y0; y <= rect.y1; ++y) {
     int span0, span1;
@@ -493,6 +576,88 @@ bool CpuSphereRaster::draw_bond(const glm::dvec3 &a, const glm::dvec3 &b, double
       out[3] = 255;
       written.unite(PixelRect{x, y, x, y});
     }
+  }
+  pyramid_.propagate(written);
+  return !written.empty();
+}
+
+bool CpuSphereRaster::draw_centred_bond(const glm::dvec3 &a, const glm::dvec3 &u, double length,
+                                        double r, const uint8_t rgb[3], const PixelRect &rect,
+                                        uint8_t alpha8, float reject) {
+  const size_t width = size_t(g_.width);
+  float *depth = frame_->depth.data();
+  uint8_t *rgba = frame_->rgba.data();
+  const CentredCylinder cylinder(g_, rays_, a, u, length, r);
+  // Narrow rectangles are cast whole, row by row; wider ones only over the columns CylinderRows
+  // keeps, which hold every pixel the float cast accepts.
+  std::optional<CylinderRows> rows;
+  if (rect.x1 - rect.x0 >= 2 * kRun) rows.emplace(g_, rays_, a, u, r, rect);
+  // The rows' spans, less the pixels the early depth reject skips at both ends.
+  runs_.clear();
+  int cast = 0;
+  for (int y = rect.y0; y <= rect.y1; ++y) {
+    int lo = rect.x0, hi = rect.x1;
+    if (rows && !rows->span(rays_, y, &lo, &hi)) continue;
+    const float *row_depth = depth + size_t(y) * width;
+    // kRun depths can be read from any column but the last few of the frame's last row.
+    const bool last = y == g_.height - 1;
+    uint32_t keep = 0;
+    for (; lo <= hi; lo += kRun)
+      if ((keep = kept_bits(row_depth + lo, std::min(kRun, hi - lo + 1), reject,
+                            !last || lo + kRun <= g_.width)))
+        break;
+    if (!keep) continue;
+    lo += __builtin_ctz(keep);
+    for (keep = 0;; hi -= kRun) {
+      const int n = std::min(kRun, hi - lo + 1);
+      if ((keep = kept_bits(row_depth + hi - n + 1, n, reject,
+                            !last || hi + 1 - n + kRun <= g_.width))) {
+        hi -= __builtin_clz(keep) - (32 - n);
+        break;
+      }
+    }
+    const int n = (hi - lo + kRun) / kRun * kRun;
+    runs_.push_back(CylinderRun{lo - cylinder.ref_x, y - cylinder.ref_y, n, cast});
+    cast += n;
+  }
+  if (runs_.empty()) return false;
+  if (row_wz_.size() < size_t(cast))
+    row_wz_.resize(size_t(cast)), row_lambert2_.resize(size_t(cast));
+  float *wz = row_wz_.data(), *lambert2 = row_lambert2_.data();
+  cast_cylinder_rows(cylinder, runs_.data(), int(runs_.size()), wz, lambert2);
+  PixelRect written;
+  for (const CylinderRun &run : runs_) {
+    const int y = run.jy + cylinder.ref_y, x0 = run.kx + cylinder.ref_x;
+    const int x1 = std::min(x0 + run.n - 1, rect.x1);
+    float *row_depth = depth + size_t(y) * width;
+    int won0 = x1 + 1, won1 = x0 - 1;
+    for (int xs = x0; xs <= x1; xs += kRun) {
+      // Depth test without branches, kRun pixels at a time: nearer wins; an equal depth is
+      // settled by color below.
+      const int n = std::min(kRun, x1 - xs + 1);
+      const float *run_wz = wz + run.at + (xs - x0);
+      const RunBits test =
+          depth_bits(run_wz, row_depth + xs, n, y < g_.height - 1 || xs + kRun <= g_.width);
+      const uint32_t nearer = test.nearer;
+      for (uint32_t bits = test.nearer | test.tied; bits; bits &= bits - 1) {
+        const int k = __builtin_ctz(bits), x = xs + k;
+        if (alpha8 < 255 && !screen_door_keeps(x, y, alpha8)) continue;
+        uint32_t c;
+        if (light_) {
+          float nv[3], v[3];
+          cylinder_surface(cylinder, x - cylinder.ref_x, run.jy, nv, v);
+          c = shade_lit(*light_, nv, v, rgb);
+        } else {
+          c = shade_pixel(lambert2[run.at + (x - x0)], rgb[0], rgb[1], rgb[2]);
+        }
+        uint8_t *out = rgba + 4 * (size_t(y) * width + size_t(x));
+        if (!(nearer >> k & 1) && !(shaded_word(c) < frame_word(out))) continue;
+        row_depth[x] = run_wz[k];
+        out[0] = uint8_t(c), out[1] = uint8_t(c >> 8), out[2] = uint8_t(c >> 16), out[3] = 255;
+        won0 = std::min(won0, x), won1 = std::max(won1, x);
+      }
+    }
+    if (won0 <= won1) written.unite(PixelRect{won0, y, won1, y});
   }
   pyramid_.propagate(written);
   return !written.empty();

@@ -25,6 +25,7 @@
 
 #include <cstdint>
 #include <optional>
+#include <vector>
 
 #include <glm/vec3.hpp>
 
@@ -36,6 +37,12 @@
 #include "core/view/view_geometry.h"
 
 namespace lantern {
+
+// A row of a cylinder for the float cast: n pixels from kx columns and jy rows off its reference
+// pixel, their results stored from entry `at` (cpu_sphere_raster.cpp).
+struct CylinderRun {
+  int kx, jy, n, at;
+};
 
 class CpuSphereRaster {
  public:
@@ -66,19 +73,31 @@ class CpuSphereRaster {
   // pixels of `rect` inside the strip (cylinder_rect, core/view/cylinder_bounds.h, holds every
   // pixel it covers), with the spheres' rules: the first surface a pixel's ray enters (the curved
   // side, or an end disc), clipped by the near and far planes as a sphere's nearest hit is; the
-  // same light, in double precision; depth ties to the smaller color; `alpha8` as for draw().
-  // The cast is exact per pixel and depends only on the pixel and the cylinder. Returns true if
-  // it won at least one pixel.
+  // same light; depth ties to the smaller color; `alpha8` as for draw(). A cylinder wholly in
+  // front of the eye (every one, orthographic) is cast in float relative to the ray through a
+  // (centred_cylinder_cast.h), a row at a time in vector code, as spheres are; one reaching
+  // behind the eye plane in double (CylinderCast). The cast is exact per pixel and depends only
+  // on the pixel and the cylinder (not on the rows cast, the vector width or the CPU). Returns
+  // true if it won at least one pixel.
   bool draw_bond(const glm::dvec3 &a, const glm::dvec3 &b, double r, const uint8_t rgb[3],
                  PixelRect rect, uint8_t alpha8 = 255);
 
  private:
+  // draw_bond for a cylinder wholly in front of the eye (or any, orthographic): the float cast
+  // (centred_cylinder_cast.h), skipping pixels nearer than window depth `reject`.
+  bool draw_centred_bond(const glm::dvec3 &a, const glm::dvec3 &u, double length, double r,
+                         const uint8_t rgb[3], const PixelRect &rect, uint8_t alpha8, float reject);
+
   ViewGeometry g_;
   Frame *frame_ = nullptr;
   int x0_ = 0, x1_ = -1;
   MaxDepthPyramid pyramid_;  // over the frame's depth (level 0), kept between frames
   PixelRays rays_;
   std::optional<shading::LightModel<float>> light_;  // set for a lighting other than the default
+  // The rows of a cylinder to cast, and their window depths and squared Lambert factors
+  // (draw_bond).
+  std::vector<CylinderRun> runs_;
+  std::vector<float> row_wz_, row_lambert2_;
 };
 
 }  // namespace lantern

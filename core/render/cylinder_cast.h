@@ -1,6 +1,8 @@
 // The CPU raster's ray cast of a closed cylinder (a half-bond), per pixel, and the columns of each
-// row worth casting: CylinderCast decides a pixel, CylinderRows bounds the pixels it can accept,
-// so that draw_bond casts only those and its image is that of casting every pixel.
+// row worth casting: CylinderCast decides a pixel in double (cylinders reaching behind the eye
+// plane; centred_cylinder_cast.h casts the others in float), CylinderRows bounds the pixels
+// either cast can accept, so that draw_bond casts only those and its image is that of casting
+// every pixel.
 // Thread-safety: immutable values. Units: view space of ViewGeometry.
 #pragma once
 
@@ -128,9 +130,15 @@ class CylinderCast {
 // perspective (w = -a, m = w x u, c1 = ry uy - uz): q2 = 1 - ux^2, q1 = -2 ux c1,
 //   q0 = ry^2 + 1 - c1^2, kx = mx, k0 = ry my - mz;
 // orthographic: q2 = q1 = 0, q0 = 1 - uz^2, kx = -uy, k0 = ax uy + (ry - ay) ux.
-// A pixel is kept where the quadratic is >= -tol, tol a billion times the rounding of either
-// evaluation (so every pixel cast_cylinder finds h2 > 0 at is kept), widened by a column on each
-// side; where A >= 0 the set is not an interval and the whole row is kept.
+// A pixel is kept where the quadratic is >= -tol, widened by a column on each side; where A >= 0
+// the set is not an interval and the whole row is kept. tol holds 1e-5 of the terms' scale (far
+// above the rounding of either cast's evaluation of h2, double or float) plus what h2 can change
+// by when the ray moves by `slack`: the float cast (centred_cylinder_cast.h) builds its ray from
+// float steps, within about 1e-7 of its distance from the cylinder's reference ray of the double
+// ray (rays.x, rays.y), and slack is a hundredth of a pixel plus 1e-6 of that distance. Near
+// h2 = 0, |u . (D x w)| <= r |D|, so h2's gradient in the ray is at most 2 r |D| (r + |m|)
+// (perspective, m = w x u) or 2 r (orthographic), and its second derivatives 2 (r^2 + |m|^2).
+// So every pixel either cast accepts (h2 > 0, or a ray along the axis, where h2 = 0) is kept.
 class CylinderRows {
  public:
   CylinderRows(const ViewGeometry &g, const PixelRays &rays, const glm::dvec3 &a,
@@ -163,7 +171,13 @@ class CylinderRows {
     const double w2 =
         orthographic_ ? 2.0 * (rx2_ + ry * ry) + 2.0 * glm::dot(a_, a_) : glm::dot(a_, a_);
     const double scale = r2_ * d2 + kx * kx * rx2_ + k0 * k0 + 1e-7 * d2 * w2;
-    const double tol = 1e-9 * scale;
+    const double pixel = std::abs(rays.x(1) - rays.x(0)) + std::abs(rays.y(1) - rays.y(0));
+    const double reference = orthographic_ ? std::abs(a_.x) + std::abs(a_.y)
+                                           : (std::abs(a_.x) + std::abs(a_.y)) / std::abs(a_.z);
+    const double slack = 0.01 * pixel + 1e-6 * (std::sqrt(rx2_) + std::abs(ry) + reference);
+    const double mm = orthographic_ ? 1.0 : glm::length(m_), r = std::sqrt(r2_);
+    const double tol =
+        1e-5 * scale + 2.0 * r * std::sqrt(d2) * (r + mm) * slack + (r2_ + mm * mm) * slack * slack;
     const double disc = qb * qb - 4.0 * qa * (qc + tol);
     if (!(disc >= 0.0)) return !(disc < 0.0);  // no ray of the row comes near the axis
     const double sq = std::sqrt(disc);

@@ -19,6 +19,7 @@
 #include "core/camera/camera.h"
 #include "core/pipeline/rank_draw.h"
 #include "core/pipeline/scene_settings.h"
+#include "core/render/centred_cylinder_cast.h"
 #include "core/render/cpu_sphere_raster.h"
 #include "core/render/cylinder_cast.h"
 #include "core/render/gl/gl_session.h"
@@ -562,10 +563,12 @@ TEST(BrickBondsRefit, RefusesABoundOfExactlyZero) {
   EXPECT_EQ(halves.lo[0].x, 0.5);
 }
 
+// Both casts: the double one (CylinderCast) and, for cylinders wholly in front of the eye, the
+// float one (CentredCylinder), whose rays are built from float steps.
 TEST(CylinderRows, HoldEveryPixelTheCastAccepts) {
   std::mt19937_64 rng(20261202);
   std::uniform_real_distribution<double> unit(-1.0, 1.0), pos(0.0, 1.0);
-  int64_t hits = 0, cast = 0, pixels = 0;
+  int64_t hits = 0, float_hits = 0, cast = 0, pixels = 0;
   for (const bool ortho : {false, true}) {
     const ViewGeometry g = small_view(ortho);
     PixelRays rays;
@@ -582,6 +585,8 @@ TEST(CylinderRows, HoldEveryPixelTheCastAccepts) {
       const PixelRect rect = cylinder_rect(g, a, b, r, &near_depth);
       const CylinderRows rows(g, rays, a, u, r, rect);
       const CylinderCast cylinder(ortho, a, u, length, r);
+      std::optional<CentredCylinder> centred;
+      if (CentredCylinder::applies(g, a, b, r)) centred.emplace(g, rays, a, u, length, r);
       for (int y = 0; y < g.height; ++y) {
         int lo = 0, hi = -1;
         const bool any = y >= rect.y0 && y <= rect.y1 && rows.span(rays, y, &lo, &hi);
@@ -589,6 +594,16 @@ TEST(CylinderRows, HoldEveryPixelTheCastAccepts) {
           CylinderHit hit;
           ++pixels;
           if (any && x >= lo && x <= hi) ++cast;
+          if (centred) {
+            float wz, lambert2;
+            cylinder_pixel(*centred, x - centred->ref_x, y - centred->ref_y, &wz, &lambert2);
+            if (wz != kCylinderMiss) {
+              ++float_hits;
+              ASSERT_TRUE(any && x >= lo && x <= hi)
+                  << (ortho ? "orthographic" : "perspective") << " trial " << trial
+                  << " float cast, pixel " << x << "," << y << " span " << lo << ".." << hi;
+            }
+          }
           if (!cylinder.cast(rays.x(x), rays.y(y), &hit)) continue;
           ++hits;
           ASSERT_TRUE(any && x >= lo && x <= hi)
@@ -599,10 +614,55 @@ TEST(CylinderRows, HoldEveryPixelTheCastAccepts) {
       }
     }
   }
-  EXPECT_GT(hits, 10000);       // the cylinders are seen
+  EXPECT_GT(hits, 10000);  // the cylinders are seen
+  EXPECT_GT(float_hits, 10000);
   EXPECT_LT(cast, pixels / 4);  // and the spans leave most of the image out
-  std::printf("cylinder rows: %lld pixels hit, %lld cast, of %lld\n", static_cast<long long>(hits),
+  std::printf("cylinder rows: %lld pixels hit (%lld by the float cast), %lld cast, of %lld\n",
+              static_cast<long long>(hits), static_cast<long long>(float_hits),
               static_cast<long long>(cast), static_cast<long long>(pixels));
+}
+
+// The float cast near the silhouette of thin, distant cylinders in a large image, where a ray
+// built from float steps is furthest (relative to the cylinder) from the double ray CylinderRows
+// reasons about: its spans still hold every pixel the float cast accepts.
+TEST(CylinderRows, HoldTheFloatCastOfThinDistantCylinders) {
+  std::mt19937_64 rng(20261204);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0), pos(0.0, 1.0);
+  int64_t float_hits = 0;
+  for (const bool ortho : {false, true}) {
+    ViewGeometry g = small_view(ortho);
+    g.width = 2048, g.height = 1536;
+    PixelRays rays;
+    rays.reset(g);
+    for (int trial = 0; trial < 300; ++trial) {
+      const double depth = 20.0 + 150.0 * pos(rng);
+      const glm::dvec3 a(unit(rng) * 0.6 * depth * (ortho ? 0.02 : 1.0),
+                         unit(rng) * 0.4 * depth * (ortho ? 0.02 : 1.0), -depth);
+      const glm::dvec3 u = glm::normalize(glm::dvec3(unit(rng), unit(rng), unit(rng)));
+      const double length = (ortho ? 0.05 : 1.0) * (0.5 + 8.0 * pos(rng));
+      const double r = (ortho ? 0.0005 : 0.01) * (0.2 + pos(rng));
+      const glm::dvec3 b = a + length * u;
+      double near_depth;
+      const PixelRect rect = cylinder_rect(g, a, b, r, &near_depth);
+      if (rect.empty() || !CentredCylinder::applies(g, a, b, r)) continue;
+      const CylinderRows rows(g, rays, a, u, r, rect);
+      const CentredCylinder centred(g, rays, a, u, length, r);
+      for (int y = rect.y0; y <= rect.y1; ++y) {
+        int lo = 0, hi = -1;
+        const bool any = rows.span(rays, y, &lo, &hi);
+        for (int x = rect.x0; x <= rect.x1; ++x) {
+          float wz, lambert2;
+          cylinder_pixel(centred, x - centred.ref_x, y - centred.ref_y, &wz, &lambert2);
+          if (wz == kCylinderMiss) continue;
+          ++float_hits;
+          ASSERT_TRUE(any && x >= lo && x <= hi)
+              << (ortho ? "orthographic" : "perspective") << " trial " << trial << " pixel " << x
+              << "," << y << " span " << lo << ".." << hi;
+        }
+      }
+    }
+  }
+  EXPECT_GT(float_hits, 5000);
 }
 
 // draw_bond skips the pixels already nearer than the cylinder's nearest point (early depth
@@ -662,6 +722,59 @@ TEST(CpuBondRaster, EarlyDepthRejectLeavesTheImageOfCastingEveryPixel) {
   // Both outcomes occur often: the cylinder wins pixels and loses others to nearer spheres.
   EXPECT_GT(won, 1000);
   EXPECT_GT(kept_old, 1000);
+}
+
+// draw_bond casts a cylinder wholly in front of the eye in float through cylinder_pixel, in
+// vector code picked for the CPU at load time (AVX2 here where the CPU has it): its depths are
+// bit for bit those of cylinder_pixel run one pixel at a time in this file, built for the
+// baseline instruction set (and, as the raster, without fused multiply-adds:
+// tests/render/CMakeLists.txt), so an image does not depend on the vector width. Cylinders in
+// both projections, some reaching past the image's edges and its last row.
+TEST(CpuBondRaster, FloatCastIsThePixelFunctionAtAnyVectorWidth) {
+  std::mt19937_64 rng(20261205);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0), pos(0.0, 1.0);
+  const uint8_t background[4] = {0, 0, 0, 255};
+  int64_t compared = 0, hit = 0;
+  for (const bool ortho : {false, true}) {
+    const ViewGeometry g = small_view(ortho);
+    PixelRays rays;
+    rays.reset(g);
+    for (int trial = 0; trial < 200; ++trial) {
+      const double depth = 2.0 + 30.0 * pos(rng);
+      const double spread = ortho ? 1.0 / depth : 1.0;
+      const glm::dvec3 a(unit(rng) * 0.7 * depth * spread, unit(rng) * 0.5 * depth * spread,
+                         -depth);
+      const glm::dvec3 u = glm::normalize(glm::dvec3(unit(rng), unit(rng), unit(rng)));
+      const double length = 0.3 + 3.0 * pos(rng), r = 0.05 + 0.6 * pos(rng);
+      const glm::dvec3 b = a + length * u;
+      if (!CentredCylinder::applies(g, a, b, r)) continue;
+      Frame frame;
+      CpuSphereRaster raster;
+      CpuSphereRaster::clear_target(g, background, &frame);
+      raster.begin_strip(g, &frame, 0, g.width - 1);
+      double near_depth;
+      const PixelRect rect = cylinder_rect(g, a, b, r, &near_depth);
+      const uint8_t rgb[3] = {200, 100, 50};
+      raster.draw_bond(a, b, r, rgb, rect);
+      const CentredCylinder cylinder(g, rays, a, u, length, r);
+      for (int y = 0; y < g.height; ++y)
+        for (int x = 0; x < g.width; ++x) {
+          float wz = kCylinderMiss, lambert2;
+          if (x >= rect.x0 && x <= rect.x1 && y >= rect.y0 && y <= rect.y1)
+            cylinder_pixel(cylinder, x - cylinder.ref_x, y - cylinder.ref_y, &wz, &lambert2);
+          const float expect = wz < kBackgroundDepth ? wz : kBackgroundDepth;
+          const float got = frame.depth[size_t(y) * size_t(g.width) + size_t(x)];
+          ++compared;
+          hit += expect < kBackgroundDepth;
+          ASSERT_EQ(std::memcmp(&got, &expect, sizeof(float)), 0)
+              << (ortho ? "orthographic" : "perspective") << " trial " << trial << " pixel " << x
+              << "," << y << ": " << got << " vs " << expect;
+        }
+    }
+  }
+  EXPECT_GT(hit, 10000);
+  std::printf("float cast: %lld of %lld pixels hit, all as cylinder_pixel\n",
+              static_cast<long long>(hit), static_cast<long long>(compared));
 }
 
 }  // namespace

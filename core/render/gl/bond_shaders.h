@@ -7,8 +7,9 @@
 // from gl_FragCoord and the full image's inverse projection (so tiles, ranks and draw chunks
 // change no bit), the quad between the near and far planes, the nearest hit only (clipped by the
 // planes as a sphere's), screen-door opacity, the lighting block and the color key that the
-// renderer's second pass settles ties with. The CPU raster casts the same cylinder in double
-// (CpuSphereRaster::draw_bond).
+// renderer's second pass settles ties with. The CPU raster casts the same cylinder, in float
+// relative to the ray through its first end (or in double where it reaches behind the eye plane:
+// CpuSphereRaster::draw_bond).
 #pragma once
 
 #include <string>
@@ -108,7 +109,7 @@ void main() {
   vec3 dir = u_ortho ? vec3(0.0, 0.0, -1.0) : normalize(on_near.xyz / on_near.w);
   // The curved side: |wp + t dp| = r across the axis, its discriminant qa r^2 - (u . (dir x w))^2
   // free of cancellation; then the slab between the end discs. The ray enters the solid at the
-  // larger of the two entries (CpuSphereRaster::draw_bond does the same in double).
+  // larger of the two entries (CpuSphereRaster::draw_bond does the same).
   vec3 w = origin - v_start;
   float d_u = dot(dir, v_axis), w_u = dot(w, v_axis);
   vec3 dp = dir - d_u * v_axis, wp = w - w_u * v_axis;
