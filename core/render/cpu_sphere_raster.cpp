@@ -336,25 +336,21 @@ uint64_t screen_door_mask(int n, int x0, int y0, int w, int h, uint8_t alpha8) {
   return keep;
 }
 
-// The rows of a cylinder wholly in front of the eye, kRun pixels at a time, in one call (the
-// rows' casts overlap in the pipeline); each run's n is a multiple of kRun. cylinder_pixel: a
-// pixel's result does not depend on the row or the call it is cast in.
+// Pixels of a cylinder wholly in front of the eye, cast kRun at a time in one call: pixel i is
+// kx[i] columns and jy[i] rows off the cylinder's reference pixel (the rows' pixels one after
+// another, so that short rows share vectors); count is a multiple of kRun. cylinder_pixel: a
+// pixel's result does not depend on the lane or the call it is cast in.
 constexpr int kRun = 8;
 
-LANTERN_TILE_KERNEL void cast_cylinder_rows(const CentredCylinder &cylinder,
-                                            const CylinderRun *runs, int count,
-                                            float *__restrict wz, float *__restrict lambert2) {
+LANTERN_TILE_KERNEL void cast_cylinder_pixels(const CentredCylinder &cylinder,
+                                              const int *__restrict kx, const int *__restrict jy,
+                                              int count, float *__restrict wz,
+                                              float *__restrict lambert2) {
   const CentredCylinder p = cylinder;  // a local copy: the stores cannot alias it
-  for (int k = 0; k < count; ++k) {
-    const CylinderRun run = runs[k];
-    float *__restrict row_wz = wz + run.at, *__restrict row_lambert2 = lambert2 + run.at;
-    if (p.orthographic) {
-      for (int i = 0; i < run.n; ++i)
-        cylinder_pixel(p, run.kx + i, run.jy, &row_wz[i], &row_lambert2[i]);
-    } else {
-      for (int i = 0; i < run.n; ++i)
-        cylinder_pixel(p, run.kx + i, run.jy, &row_wz[i], &row_lambert2[i]);
-    }
+  if (p.orthographic) {
+    for (int i = 0; i < count; ++i) cylinder_pixel(p, kx[i], jy[i], &wz[i], &lambert2[i]);
+  } else {
+    for (int i = 0; i < count; ++i) cylinder_pixel(p, kx[i], jy[i], &wz[i], &lambert2[i]);
   }
 }
 
@@ -592,11 +588,33 @@ bool CpuSphereRaster::draw_centred_bond(const glm::dvec3 &a, const glm::dvec3 &u
   // keeps, which hold every pixel the float cast accepts.
   std::optional<CylinderRows> rows;
   if (rect.x1 - rect.x0 >= 2 * kRun) rows.emplace(g_, rays_, a, u, r, rect);
+  // The rows the cylinder can meet. A hit of row y lies on a ray of the row, so in its plane:
+  // n . q = 0 with n = (0, 1, ry) (perspective) or q.y = ry (orthographic); and within r of an
+  // axis point s(tau) = a + tau u, tau in [0, length], which is then within r of the plane:
+  // |h(tau)| <= r |n| <= r (1 + |ry|), h(tau) = n . s(tau) (less ry, orthographic) linear in tau,
+  // so [h(0), h(length)] meets that interval. The float cast's rays stray from the row's plane
+  // by less than `stray` (ray units, as CylinderRows' slack), which widens it by that times the
+  // farthest depth.
+  const glm::dvec3 b = a + length * u;
+  const double ray_step = std::abs(rays_.x(1) - rays_.x(0)) + std::abs(rays_.y(1) - rays_.y(0));
+  const double stray =
+      0.01 * ray_step + 1e-6 * (std::abs(rays_.y(rect.y0)) + std::abs(rays_.y(rect.y1)) +
+                                std::abs(a.y) / (g_.orthographic ? 1.0 : -a.z));
+  const double far_end = g_.orthographic ? 1.0 : std::max(-a.z, -b.z) + r;
+  const auto row_meets = [&](int y) {
+    const double ry = rays_.y(y);
+    const double ha = g_.orthographic ? a.y - ry : a.y + ry * a.z;
+    const double hb = g_.orthographic ? b.y - ry : b.y + ry * b.z;
+    const double reach =
+        (r * (1.0 + (g_.orthographic ? 0.0 : std::abs(ry))) + stray * far_end) * (1.0 + 1e-9);
+    return std::min(ha, hb) <= reach && std::max(ha, hb) >= -reach;
+  };
   // The rows' spans, less the pixels the early depth reject skips at both ends.
   runs_.clear();
   int cast = 0;
   for (int y = rect.y0; y <= rect.y1; ++y) {
     int lo = rect.x0, hi = rect.x1;
+    if (!row_meets(y)) continue;
     if (rows && !rows->span(rays_, y, &lo, &hi)) continue;
     const float *row_depth = depth + size_t(y) * width;
     // kRun depths can be read from any column but the last few of the frame's last row.
@@ -616,19 +634,27 @@ bool CpuSphereRaster::draw_centred_bond(const glm::dvec3 &a, const glm::dvec3 &u
         break;
       }
     }
-    const int n = (hi - lo + kRun) / kRun * kRun;
-    runs_.push_back(CylinderRun{lo - cylinder.ref_x, y - cylinder.ref_y, n, cast});
-    cast += n;
+    runs_.push_back(CylinderRun{lo - cylinder.ref_x, y - cylinder.ref_y, hi - lo + 1, cast});
+    cast += hi - lo + 1;
   }
   if (runs_.empty()) return false;
-  if (row_wz_.size() < size_t(cast))
-    row_wz_.resize(size_t(cast)), row_lambert2_.resize(size_t(cast));
-  float *wz = row_wz_.data(), *lambert2 = row_lambert2_.data();
-  cast_cylinder_rows(cylinder, runs_.data(), int(runs_.size()), wz, lambert2);
+  // The pixels to cast, row after row, padded to whole vectors with the last one; the results
+  // have kRun entries more, which the depth test may read.
+  const int padded = (cast + kRun - 1) / kRun * kRun;
+  if (cast_kx_.size() < size_t(padded + kRun)) {
+    cast_kx_.resize(size_t(padded + kRun)), cast_jy_.resize(size_t(padded + kRun));
+    cast_wz_.resize(size_t(padded + kRun)), cast_lambert2_.resize(size_t(padded + kRun));
+  }
+  int *kx = cast_kx_.data(), *jy = cast_jy_.data();
+  for (const CylinderRun &run : runs_)
+    for (int k = 0; k < run.n; ++k) kx[run.at + k] = run.kx + k, jy[run.at + k] = run.jy;
+  for (int i = cast; i < padded + kRun; ++i) kx[i] = kx[cast - 1], jy[i] = jy[cast - 1];
+  float *wz = cast_wz_.data(), *lambert2 = cast_lambert2_.data();
+  cast_cylinder_pixels(cylinder, kx, jy, padded, wz, lambert2);
   PixelRect written;
   for (const CylinderRun &run : runs_) {
     const int y = run.jy + cylinder.ref_y, x0 = run.kx + cylinder.ref_x;
-    const int x1 = std::min(x0 + run.n - 1, rect.x1);
+    const int x1 = x0 + run.n - 1;
     float *row_depth = depth + size_t(y) * width;
     int won0 = x1 + 1, won1 = x0 - 1;
     for (int xs = x0; xs <= x1; xs += kRun) {

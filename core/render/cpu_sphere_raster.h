@@ -39,7 +39,7 @@
 namespace lantern {
 
 // A row of a cylinder for the float cast: n pixels from kx columns and jy rows off its reference
-// pixel, their results stored from entry `at` (cpu_sphere_raster.cpp).
+// pixel, cast as entries at .. at + n - 1 of the cylinder's pixels (cpu_sphere_raster.cpp).
 struct CylinderRun {
   int kx, jy, n, at;
 };
@@ -94,10 +94,11 @@ class CpuSphereRaster {
   MaxDepthPyramid pyramid_;  // over the frame's depth (level 0), kept between frames
   PixelRays rays_;
   std::optional<shading::LightModel<float>> light_;  // set for a lighting other than the default
-  // The rows of a cylinder to cast, and their window depths and squared Lambert factors
-  // (draw_bond).
+  // The rows of a cylinder to cast, their pixels (columns and rows off its reference pixel), and
+  // the pixels' window depths and squared Lambert factors (draw_bond).
   std::vector<CylinderRun> runs_;
-  std::vector<float> row_wz_, row_lambert2_;
+  std::vector<int> cast_kx_, cast_jy_;
+  std::vector<float> cast_wz_, cast_lambert2_;
 };
 
 }  // namespace lantern
