@@ -137,9 +137,12 @@ void order_front_to_back(CandidateBuffers *b);
 // so each sphere would have been found covered on its own, at its turn (the pyramid only gets
 // nearer). Skipping the bucket then decides exactly what testing each sphere would: in a brick
 // at the surface, the layers behind the first cost one test each instead of one per particle.
+// A bucket of one sphere is not tested: the sphere's own test decides the same at half the cost
+// (a sphere's rectangle against the box's eight projected corners).
 template <typename Covered>
 bool bucket_hidden(const ViewGeometry &g, const DepthBucket &d, int x0, int x1,
                    const Covered &covered) {
+  if (d.end - d.begin < 2) return false;
   const glm::dvec3 lo = d.lo - g.eps, hi = d.hi + g.eps;
   const glm::dvec3 corners[8] = {{lo.x, lo.y, lo.z}, {hi.x, lo.y, lo.z}, {lo.x, hi.y, lo.z},
                                  {hi.x, hi.y, lo.z}, {lo.x, lo.y, hi.z}, {hi.x, lo.y, hi.z},

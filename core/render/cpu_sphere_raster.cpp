@@ -178,19 +178,18 @@ LANTERN_INLINE void orthographic_pixel(const CentredCast &p, int kx, int jy, boo
   *lambert2_out = h2 / p.r2;
 }
 
-// Pixels (x0 + k, y0 + j), k < w, j < h, of a tile of side n, as straight-line loops.
+// Pixels (x0 + k, y0 + j), k < w, j < h, of a tile of side n, as straight-line loops over the
+// tile's first h rows (the rows below are never read: the depth test stops at row h).
 template <int n>
 LANTERN_INLINE void cast_tile(const CentredCast &sphere, int x0, int y0, int w, int h, Tile *t) {
   const CentredCast p = sphere;  // a local copy: the tile's stores cannot alias it
   const int kx = x0 - p.ref_x, jy = y0 - p.ref_y;
   if (p.orthographic) {
-    for (int i = 0; i < n * n; ++i)
-      orthographic_pixel(p, kx + i % n, jy + i / n, (i % n < w) & (i / n < h), &t->wz[i],
-                         &t->lambert2[i]);
+    for (int i = 0; i < n * h; ++i)
+      orthographic_pixel(p, kx + i % n, jy + i / n, i % n < w, &t->wz[i], &t->lambert2[i]);
   } else {
-    for (int i = 0; i < n * n; ++i)
-      perspective_pixel(p, kx + i % n, jy + i / n, (i % n < w) & (i / n < h), &t->wz[i],
-                        &t->lambert2[i]);
+    for (int i = 0; i < n * h; ++i)
+      perspective_pixel(p, kx + i % n, jy + i / n, i % n < w, &t->wz[i], &t->lambert2[i]);
   }
 }
 
@@ -304,17 +303,19 @@ LANTERN_INLINE uint32_t shade_pixel(float lambert2, float red, float green, floa
          unorm8(blue * diffuse + highlight) << 16;
 }
 
+// The first h rows of a tile of side n.
 template <int n>
-LANTERN_INLINE void shade_tile_n(const float lambert2[], const uint8_t rgb[3], uint32_t out[]) {
-  for (int i = 0; i < n * n; ++i) out[i] = shade_pixel(lambert2[i], rgb[0], rgb[1], rgb[2]);
+LANTERN_INLINE void shade_tile_n(int h, const float lambert2[], const uint8_t rgb[3],
+                                 uint32_t out[]) {
+  for (int i = 0; i < n * h; ++i) out[i] = shade_pixel(lambert2[i], rgb[0], rgb[1], rgb[2]);
 }
 
-LANTERN_TILE_KERNEL void shade_tile(int n, const float lambert2[kTilePixels], const uint8_t rgb[3],
-                                    uint32_t out[kTilePixels]) {
+LANTERN_TILE_KERNEL void shade_tile(int n, int h, const float lambert2[kTilePixels],
+                                    const uint8_t rgb[3], uint32_t out[kTilePixels]) {
   if (n == kSmallTile)
-    shade_tile_n<kSmallTile>(lambert2, rgb, out);
+    shade_tile_n<kSmallTile>(h, lambert2, rgb, out);
   else
-    shade_tile_n<kTile>(lambert2, rgb, out);
+    shade_tile_n<kTile>(h, lambert2, rgb, out);
 }
 
 // A color of shade_pixel as compositing's word R<<24 | G<<16 | B<<8 | A (alpha 255), and the word
@@ -496,7 +497,7 @@ bool CpuSphereRaster::draw(const glm::dvec3 &c, double r, const uint8_t rgb[3], 
           color[i] = shade_lit(*light_, nv, v, rgb);
         }
       } else {
-        shade_tile(n, t.lambert2, rgb, color);
+        shade_tile(n, h, t.lambert2, rgb, color);
       }
       uint64_t won = nearer;
       for (uint64_t bits = tied; bits; bits &= bits - 1) {  // rare: exactly equal depths

@@ -1,18 +1,20 @@
 #include "core/view/max_depth_pyramid.h"
 
-#include <limits>
+#include <cstddef>
 
 namespace lantern {
 namespace {
 
-// The largest depth of the (up to) 2 x 2 pixels of the finer level `z` (w x h) under tile (tx,
-// ty) of the coarser one: fewer at the right and bottom edges of odd-sized levels, never none.
-float max_of_children(const float *z, int w, int h, int tx, int ty) {
-  float m = -std::numeric_limits<float>::infinity();
-  for (int y = 2 * ty; y <= std::min(2 * ty + 1, h - 1); ++y)
-    for (int x = 2 * tx; x <= std::min(2 * tx + 1, w - 1); ++x)
-      m = std::max(m, z[size_t(y) * size_t(w) + size_t(x)]);
-  return m;
+// Every pixel of [x0, x1] x [y0, y1] of the w-wide image `base` below z, row by row; the loop
+// over a row has no early exit, so the compiler turns it into vector compares.
+bool base_below(const float *base, int w, int x0, int y0, int x1, int y1, float z) {
+  for (int y = y0; y <= y1; ++y) {
+    const float *row = base + size_t(y) * size_t(w);
+    int above = 0;
+    for (int x = x0; x <= x1; ++x) above |= !(row[x] < z);
+    if (above) return false;
+  }
+  return true;
 }
 
 }  // namespace
@@ -32,26 +34,22 @@ void MaxDepthPyramid::reset(const float *base, int w, int h, float fill) {
   levels_.resize(k);
 }
 
-// Tiles of `level` overlapping the pixel rectangle [x0, x1] x [y0, y1] (level-0 pixels).
+// Tiles of `level` overlapping the pixel rectangle [x0, x1] x [y0, y1] (level-0 pixels). An
+// inconclusive tile of level kScanFromLevel or below (8 x 8 pixels at most) is settled on level 0
+// directly: one vector scan of its pixels costs less than walking the levels between.
 bool MaxDepthPyramid::covered_at(int level, int x0, int y0, int x1, int y1, float z) const {
-  if (level == 0) {
-    const int w = levels_[0].w;
-    for (int y = y0; y <= y1; ++y) {
-      const float *row = base_ + size_t(y) * size_t(w);
-      for (int x = x0; x <= x1; ++x)
-        if (!(row[x] < z)) return false;
-    }
-    return true;
-  }
+  if (level == 0) return base_below(base_, levels_[0].w, x0, y0, x1, y1, z);
   const Level &l = levels_[size_t(level)];
-  for (int ty = y0 >> level; ty <= (y1 >> level); ++ty)
+  for (int ty = y0 >> level; ty <= (y1 >> level); ++ty) {
+    const float *row = l.z.data() + size_t(ty) * size_t(l.w);
     for (int tx = x0 >> level; tx <= (x1 >> level); ++tx) {
-      if (l.z[size_t(ty) * l.w + tx] < z) continue;
+      if (row[tx] < z) continue;
       // Refine: this tile's pixels that lie inside the rectangle.
       const int px0 = std::max(x0, tx << level), px1 = std::min(x1, ((tx + 1) << level) - 1);
       const int py0 = std::max(y0, ty << level), py1 = std::min(y1, ((ty + 1) << level) - 1);
-      if (!covered_at(level - 1, px0, py0, px1, py1, z)) return false;
+      if (!covered_at(level <= kScanFromLevel ? 0 : level - 1, px0, py0, px1, py1, z)) return false;
     }
+  }
   return true;
 }
 
@@ -62,14 +60,21 @@ void MaxDepthPyramid::propagate(const PixelRect &rect) {
     Level &l = levels_[k];
     const float *finer = level_data(k - 1);
     const int sh = int(k);
+    const int tx0 = rect.x0 >> sh, tx1 = rect.x1 >> sh;
     bool changed = false;
-    for (int ty = rect.y0 >> sh; ty <= (rect.y1 >> sh); ++ty)
-      for (int tx = rect.x0 >> sh; tx <= (rect.x1 >> sh); ++tx) {
-        const float m = max_of_children(finer, below.w, below.h, tx, ty);
-        float &t = l.z[size_t(ty) * l.w + tx];
-        changed |= m != t;
-        t = m;
+    for (int ty = rect.y0 >> sh; ty <= (rect.y1 >> sh); ++ty) {
+      // The two child rows (one at the bottom edge of an odd-height level), and the children's
+      // second column clamped at the right edge: a pixel taken twice leaves the max unchanged.
+      const float *r0 = finer + size_t(2 * ty) * size_t(below.w);
+      const float *r1 = 2 * ty + 1 < below.h ? r0 + below.w : r0;
+      float *t = l.z.data() + size_t(ty) * size_t(l.w);
+      for (int tx = tx0; tx <= tx1; ++tx) {
+        const int a = 2 * tx, b = std::min(a + 1, below.w - 1);
+        const float m = std::max(std::max(r0[a], r0[b]), std::max(r1[a], r1[b]));
+        changed |= m != t[tx];
+        t[tx] = m;
       }
+    }
     if (!changed) return;  // maxima only shrink: levels above cannot change either
   }
 }
