@@ -3,6 +3,11 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <numeric>
+
+#ifdef __SSE2__
+#include <emmintrin.h>
+#endif
 
 #include "core/culling/cut_planes.h"
 #include "core/particles/typed_access.h"
@@ -77,6 +82,131 @@ double face_occupancy_of(double spacing) {
   return largest > 0.0 ? largest : 1.0;
 }
 
+// The 8 corner weights of one deposit as 16-bit lanes 4 c + 2 b + a (a, b, c: the upper node
+// along x, y, z): lane l of x[w] is the x weight of a = l & 1 for the upper weight w, lane l of
+// yz[wy (kSteps + 1) + wz] the product of the y and z weights; their product (at most
+// kSteps^3 = 4096) is the deposit.
+struct CornerTables {
+  alignas(16) uint16_t x[kSteps + 1][8];
+  alignas(16) uint16_t yz[(kSteps + 1) * (kSteps + 1)][8];
+};
+
+const CornerTables &corner_tables() {
+  static const CornerTables tables = [] {
+    CornerTables t{};
+    const auto weight = [](int upper, bool is_upper) { return is_upper ? upper : kSteps - upper; };
+    for (int w = 0; w <= kSteps; ++w)
+      for (int l = 0; l < 8; ++l) t.x[w][l] = uint16_t(weight(w, l & 1));
+    for (int wy = 0; wy <= kSteps; ++wy)
+      for (int wz = 0; wz <= kSteps; ++wz)
+        for (int l = 0; l < 8; ++l)
+          t.yz[wy * (kSteps + 1) + wz][l] = uint16_t(weight(wy, (l >> 1) & 1) * weight(wz, l >> 2));
+    return t;
+  }();
+  return tables;
+}
+
+// The node grid as locate_nodes() reads it.
+struct NodeGrid {
+  double lo[3], last[3];  // last: kSteps (n - 1)
+  double steps_per_unit;
+  int n[3];
+};
+
+constexpr int kLocateChunk = 256;
+// Per particle of a chunk: its lower node's index, and the table rows of its weights (code_x:
+// the upper x weight; code_yz: wy (kSteps + 1) + wz).
+struct NodeWeights {
+  int32_t node[kLocateChunk], code_x[kLocateChunk], code_yz[kLocateChunk];
+};
+
+// The nodes and weights of OcclusionVolume::deposit() for n <= kLocateChunk particles: one loop
+// per axis without branches, so it vectorises, also for AVX2 where the processor has it (no FMA
+// in that target: the same roundings as the baseline). Coordinates are finite.
+__attribute__((target_clones("avx2", "default"))) void locate_nodes(
+    const double (*coordinate)[kLocateChunk], int n, const NodeGrid &grid, NodeWeights *out) {
+  int32_t at[3][kLocateChunk], upper[3][kLocateChunk];
+  for (int a = 0; a < 3; ++a) {
+    const double lo = grid.lo[a], top = grid.last[a], steps_per_unit = grid.steps_per_unit;
+    const int32_t lower_last = grid.n[a] - 2;
+    const double *c = coordinate[a];
+    for (int k = 0; k < n; ++k) {
+      const double u = std::clamp((c[k] - lo) * steps_per_unit + 0.5, 0.0, top);
+      const int32_t v = int32_t(u);  // >= 0: v / kSteps is v >> 4
+      static_assert(kSteps == 16, "v / kSteps is v >> 4");
+      at[a][k] = std::min(v >> 4, lower_last);
+      upper[a][k] = v - kSteps * at[a][k];
+    }
+  }
+  const int32_t nx = grid.n[0], ny = grid.n[1];
+  for (int k = 0; k < n; ++k) {
+    out->node[k] = (at[2][k] * ny + at[1][k]) * nx + at[0][k];  // < kMaxOcclusionNodes
+    out->code_x[k] = upper[0][k];
+    out->code_yz[k] = upper[1][k] * (kSteps + 1) + upper[2][k];
+  }
+}
+
+// The deposits of consecutive particles on the same 8 nodes, summed (in unsigned 32-bit lanes:
+// at most kMaxRun particles, 4096 each) before they are added to the nodes: lane 4 c + 2 b + a to
+// node
+// + a + b dy + c dz. SSE2 where there is one (two vectors of four lanes), else one lane at a time:
+// the same integers.
+class CornerSums {
+ public:
+  CornerSums(int64_t *nodes, size_t dy, size_t dz) : nodes_(nodes), dy_(dy), dz_(dz) {}
+  void add(size_t node, const uint16_t *x, const uint16_t *yz) {
+    if (node != node_ || run_ == kMaxRun) {
+      flush();
+      node_ = node;
+    }
+    ++run_;
+#ifdef __SSE2__
+    const __m128i w = _mm_mullo_epi16(_mm_load_si128(reinterpret_cast<const __m128i *>(x)),
+                                      _mm_load_si128(reinterpret_cast<const __m128i *>(yz)));
+    const __m128i zero = _mm_setzero_si128();
+    low_ = _mm_add_epi32(low_, _mm_unpacklo_epi16(w, zero));
+    high_ = _mm_add_epi32(high_, _mm_unpackhi_epi16(w, zero));
+#else
+    for (int l = 0; l < 8; ++l) sum_[l] += uint32_t(x[l]) * uint32_t(yz[l]);
+#endif
+  }
+  void flush() {
+    if (run_ == 0) return;
+    int64_t *const rows[4] = {
+        nodes_ + node_, nodes_ + node_ + dy_, nodes_ + node_ + dz_,
+        nodes_ + node_ + dy_ + dz_};  // (b, c) = (0, 0), (1, 0), (0, 1), (1, 1)
+#ifdef __SSE2__
+    const __m128i zero = _mm_setzero_si128();
+    const __m128i pairs[4] = {_mm_unpacklo_epi32(low_, zero), _mm_unpackhi_epi32(low_, zero),
+                              _mm_unpacklo_epi32(high_, zero), _mm_unpackhi_epi32(high_, zero)};
+    for (int r = 0; r < 4; ++r) {
+      auto *row = reinterpret_cast<__m128i *>(rows[r]);
+      _mm_storeu_si128(row, _mm_add_epi64(_mm_loadu_si128(row), pairs[r]));
+    }
+    low_ = high_ = zero;
+#else
+    for (int r = 0; r < 4; ++r) {
+      rows[r][0] += int64_t(sum_[2 * r]);
+      rows[r][1] += int64_t(sum_[2 * r + 1]);
+    }
+    std::fill(sum_, sum_ + 8, 0u);
+#endif
+    run_ = 0;
+  }
+
+ private:
+  static constexpr int kMaxRun = (1 << 20) - 1;  // 4096 kMaxRun < 2^32: unsigned lanes
+  int64_t *nodes_;
+  size_t dy_, dz_;
+  size_t node_ = 0;
+  int run_ = 0;
+#ifdef __SSE2__
+  __m128i low_ = _mm_setzero_si128(), high_ = _mm_setzero_si128();
+#else
+  uint32_t sum_[8] = {};
+#endif
+};
+
 }  // namespace
 
 void OcclusionVolume::set_grid(const Extent &global, double radius) {
@@ -101,131 +231,143 @@ void OcclusionVolume::set_grid(const Extent &global, double radius) {
 // Trilinear deposits of this rank's drawn particles, kParticleWeight each. Per axis the position
 // in 1/kSteps of a node, v = round(kSteps u), gives the lower node v / kSteps and the upper
 // node's weight v mod kSteps (kSteps on the grid's last node): the weights of upper_weight().
+//
+// In chunks: the drawn particles' coordinates are gathered, then turned into nodes and weights in
+// one loop per axis (no branches: it vectorises), then the 8 corner weights of each particle are
+// one product of two small tables in 16-bit lanes (at most kSteps^3 = 4096) and added, widened to
+// 64 bits, to a sum held while consecutive particles share their 8 nodes (a crystal's basis
+// atoms, a brick's neighbours). Integers: the same sums in any order, so the same volume as one
+// particle at a time (fcc 1 M on 2 ranks: 5.3 -> 1.6 ms a rank).
 void OcclusionVolume::deposit(const ParticleArrays &particles, const std::vector<CutPlane> &cuts,
                               std::vector<int64_t> *nodes) const {
   const CutPlanes planes(cuts);
   const size_t dy = size_t(n_[0]), dz = size_t(n_[0]) * size_t(n_[1]);
   int64_t *out = nodes->data();
-  const double steps_per_unit = kSteps * inverse_cell_;
-  int last[3];
-  for (int a = 0; a < 3; ++a) last[a] = kSteps * (n_[a] - 1);
-  // Consecutive particles often share their 8 nodes (a crystal's basis atoms, a brick's
-  // neighbours): their deposits are summed here and added to the nodes when the nodes change
-  // (integers: the same sums in any order).
-  int64_t *held = nullptr;
-  int64_t sum[8] = {};
-  const auto flush = [&] {
-    if (!held) return;
-    for (int c = 0; c < 2; ++c)
-      for (int b = 0; b < 2; ++b) {
-        int64_t *row = held + size_t(b) * dy + size_t(c) * dz;
-        row[0] += sum[4 * c + 2 * b];
-        row[1] += sum[4 * c + 2 * b + 1];
-      }
-  };
+  NodeGrid grid;
+  grid.steps_per_unit = kSteps * inverse_cell_;
+  for (int a = 0; a < 3; ++a) {
+    grid.lo[a] = lo_[a];
+    grid.last[a] = double(kSteps * (n_[a] - 1));
+    grid.n[a] = n_[a];
+  }
+  const CornerTables &tables = corner_tables();
+  constexpr int kChunk = kLocateChunk;
+  double coordinate[3][kChunk];
+  NodeWeights located;
+  CornerSums held(out, dy, dz);
   visit_kept(particles, [&](const auto &kept) {
     visit_positions(particles, [&](const auto &positions) {
-      for (int64_t i = 0; i < particles.count(); ++i) {
-        if (!kept.get(i)) continue;
-        const glm::dvec3 x = positions.get(i);
-        if (!(std::isfinite(x.x) && std::isfinite(x.y) && std::isfinite(x.z))) continue;
-        if (!planes.empty() && planes.drops(x)) continue;
-        int at[3];
-        int64_t w[3][2];
-        for (int a = 0; a < 3; ++a) {
-          const double u = std::clamp((x[a] - lo_[a]) * steps_per_unit + 0.5, 0.0, double(last[a]));
-          const int v = int(u);
-          at[a] = std::min(v / kSteps, n_[a] - 2);
-          w[a][1] = v - kSteps * at[a];
-          w[a][0] = kSteps - w[a][1];
+      const int64_t count = particles.count();
+      for (int64_t i0 = 0; i0 < count; i0 += kChunk) {
+        int n = 0;
+        for (int64_t i = i0; i < std::min(count, i0 + kChunk); ++i) {
+          if (!kept.get(i)) continue;
+          const glm::dvec3 x = positions.get(i);
+          if (!(std::isfinite(x.x) && std::isfinite(x.y) && std::isfinite(x.z))) continue;
+          if (!planes.empty() && planes.drops(x)) continue;
+          coordinate[0][n] = x.x, coordinate[1][n] = x.y, coordinate[2][n] = x.z;
+          ++n;
         }
-        int64_t *node = out + index(at[0], at[1], at[2]);
-        if (node != held) {
-          flush();
-          held = node;
-          std::fill(sum, sum + 8, 0);
-        }
-        for (int c = 0; c < 2; ++c)
-          for (int b = 0; b < 2; ++b) {
-            const int64_t wyz = w[1][b] * w[2][c];
-            sum[4 * c + 2 * b] += w[0][0] * wyz;
-            sum[4 * c + 2 * b + 1] += w[0][1] * wyz;
-          }
+        locate_nodes(coordinate, n, grid, &located);
+        for (int k = 0; k < n; ++k)
+          held.add(size_t(located.node[k]), tables.x[located.code_x[k]],
+                   tables.yz[located.code_yz[k]]);
       }
     });
   });
-  flush();
+  held.flush();
 }
 
-// The filter along each axis (nodes beyond the grid hold nothing), exact in integers, then in
-// particles per cell^3. Written as loops over whole rows of nodes so that they vectorise.
-void OcclusionVolume::smooth(const std::vector<int64_t> &deposits) {
-  const size_t nx = size_t(n_[0]), plane = nx * size_t(n_[1]);
-  std::vector<int64_t> a(deposits.size()), b(deposits.size());
-  // Along x, straight from the deposits: the interior of each row in one loop, the kFilterReach
-  // nodes at either end (whose taps fall off the grid) apart.
-  for (size_t row = 0; row < deposits.size(); row += nx) {
-    const int64_t *in = &deposits[row];
-    int64_t *out = &a[row];
-    const auto tap = [&](size_t x) {
-      int64_t sum = 0;
-      for (int k = -kFilterReach; k <= kFilterReach; ++k) {
-        const ptrdiff_t at = ptrdiff_t(x) + k;
-        if (at >= 0 && at < ptrdiff_t(nx)) sum += kFilter[k + kFilterReach] * in[at];
+namespace {
+
+// out[i] = in[i] + 4 in[i + 1] + 6 in[i + 2] + 4 in[i + 3] + in[i + 4] (the filter kFilter) for
+// i in [0, count), each tap its own row: shifts and adds, so it vectorises (SSE2 has no 64-bit
+// multiply).
+void filter_rows(const int64_t *const in[5], int64_t *out, size_t count) {
+  static_assert(
+      kFilter[0] == 1 && kFilter[1] == 4 && kFilter[2] == 6 && kFilter[3] == 4 && kFilter[4] == 1,
+      "filter_rows() writes the taps out");
+  const int64_t *a = in[0], *b = in[1], *c = in[2], *d = in[3], *e = in[4];
+  for (size_t i = 0; i < count; ++i)
+    out[i] = (a[i] + e[i]) + ((b[i] + d[i]) << 2) + (c[i] << 2) + (c[i] << 1);
+}
+
+}  // namespace
+
+// The filter along each axis (nodes beyond the grid hold nothing: taps that fall off it add
+// zeros), exact in integers, then in particles per cell^3. Plane by plane of z: each plane is
+// filtered along x and y into a ring of the last five, from which the plane two behind is filtered
+// along z; the working set (six planes of 64^2 nodes at kMaxOcclusionNodes) stays in cache, and
+// the deposits are read once and the result written once (fcc 1 M: 1.8 -> 0.5 ms).
+float OcclusionVolume::smooth(const std::vector<int64_t> &deposits) {
+  const size_t nx = size_t(n_[0]), ny = size_t(n_[1]), nz = size_t(n_[2]), plane = nx * ny;
+  constexpr size_t kPad = kFilterReach;
+  // A row of deposits with kPad zeros either side; a plane filtered along x with kPad zero rows
+  // above and below; the ring of planes filtered along x and y; a plane of zeros (off the grid);
+  // a plane filtered along all three.
+  std::vector<int64_t> row(nx + 2 * kPad, 0), along_x((ny + 2 * kPad) * nx, 0), ring(5 * plane, 0),
+      zeros(plane, 0), along_xyz(plane);
+  smoothed_.resize(deposits.size());
+  const double scale = 1.0 / double(kParticleWeight * kFilterWeight);
+  int64_t largest = 0;
+  for (size_t z = 0; z < nz + kPad; ++z) {
+    if (z < nz) {
+      for (size_t y = 0; y < ny; ++y) {
+        std::copy_n(&deposits[z * plane + y * nx], nx, &row[kPad]);
+        const int64_t *taps[5] = {&row[0], &row[1], &row[2], &row[3], &row[4]};
+        filter_rows(taps, &along_x[(y + kPad) * nx], nx);
       }
-      return sum;
-    };
-    const size_t inner_end = nx > size_t(kFilterReach) ? nx - size_t(kFilterReach) : 0;
-    size_t x = 0;
-    for (; x < std::min(size_t(kFilterReach), nx); ++x) out[x] = tap(x);
-    for (; x < inner_end; ++x)
-      out[x] = kFilter[0] * in[x - 2] + kFilter[1] * in[x - 1] + kFilter[2] * in[x] +
-               kFilter[3] * in[x + 1] + kFilter[4] * in[x + 2];
-    for (; x < nx; ++x) out[x] = tap(x);
-  }
-  // Along y, then z: whole rows of x at a time.
-  for (int axis = 1; axis < 3; ++axis) {
-    const size_t step = axis == 1 ? nx : plane;
-    const int along = n_[axis];
-    for (size_t row = 0; row < a.size(); row += nx) {
-      const int at = axis == 1 ? int(row / nx % size_t(n_[1])) : int(row / plane);
-      int64_t *out = &b[row];
-      bool first = true;
-      for (int k = -kFilterReach; k <= kFilterReach; ++k) {
-        if (at + k < 0 || at + k >= along) continue;
-        const int64_t *in = &a[size_t(ptrdiff_t(row) + k * ptrdiff_t(step))];
-        const int64_t weight = kFilter[k + kFilterReach];
-        if (first)
-          for (size_t x = 0; x < nx; ++x) out[x] = weight * in[x];
-        else
-          for (size_t x = 0; x < nx; ++x) out[x] += weight * in[x];
-        first = false;
+      int64_t *xy = &ring[z % 5 * plane];
+      for (size_t y = 0; y < ny; ++y) {
+        const int64_t *taps[5];
+        for (size_t k = 0; k < 5; ++k) taps[k] = &along_x[(y + k) * nx];
+        filter_rows(taps, xy + y * nx, nx);
       }
     }
-    a.swap(b);
+    if (z < kPad) continue;
+    const size_t out = z - kPad;  // the plane whose five neighbours along z are in the ring
+    const int64_t *taps[5];
+    for (size_t k = 0; k < 5; ++k) {
+      const ptrdiff_t at = ptrdiff_t(out + k) - ptrdiff_t(kPad);
+      taps[k] = at >= 0 && at < ptrdiff_t(nz) ? &ring[size_t(at) % 5 * plane] : zeros.data();
+    }
+    filter_rows(taps, along_xyz.data(), plane);
+    float *to = &smoothed_[out * plane];
+    for (size_t i = 0; i < plane; ++i) {
+      to[i] = float(double(along_xyz[i]) * scale);
+      largest = std::max(largest, along_xyz[i]);
+    }
   }
-  smoothed_.resize(a.size());
-  const double scale = 1.0 / double(kParticleWeight * kFilterWeight);
-  for (size_t i = 0; i < a.size(); ++i) smoothed_[i] = float(double(a[i]) * scale);
+  // The conversion does not decrease: the largest value is that of the largest sum.
+  return float(double(largest) * scale);
 }
 
 // The bulk density (kOcclusionBulkQuantile of the deposits lie at nodes of at most this
 // smoothed value), then o_face for its mean spacing.
-void OcclusionVolume::find_bulk(const std::vector<int64_t> &deposits) {
+void OcclusionVolume::find_bulk(const std::vector<int64_t> &deposits, float top) {
   bulk_ = 0.0;
   face_ = 1.0;
-  int64_t total = 0;
-  float top = 0.0f;
-  for (size_t i = 0; i < deposits.size(); ++i) {
-    total += deposits[i];
-    top = std::max(top, smoothed_[i]);
-  }
+  const int64_t total = std::accumulate(deposits.begin(), deposits.end(), int64_t(0));
   if (total == 0 || !(top > 0.0f)) return;
+  // The bins in one loop without branches (it vectorises: the divisions), then the deposits added
+  // to them (a node without deposits adds nothing), neighbouring nodes to different copies of the
+  // histogram: they often share a bin, and adds to one counter wait for each other.
+  constexpr size_t kCopies = 4;
+  std::vector<int64_t> histograms(kCopies * kBulkBins, 0);
+  constexpr size_t kChunk = 1024;
+  static_assert(kChunk % kCopies == 0, "every chunk starts at copy 0");
+  int32_t bins[kChunk];
+  for (size_t i0 = 0; i0 < deposits.size(); i0 += kChunk) {
+    const size_t n = std::min(kChunk, deposits.size() - i0);
+    const float *value = &smoothed_[i0];
+    for (size_t k = 0; k < n; ++k)
+      bins[k] = std::min(kBulkBins - 1, int(value[k] / top * kBulkBins));
+    for (size_t k = 0; k < n; ++k)
+      histograms[k % kCopies * kBulkBins + size_t(bins[k])] += deposits[i0 + k];
+  }
   std::vector<int64_t> histogram(kBulkBins, 0);
-  for (size_t i = 0; i < deposits.size(); ++i)
-    if (deposits[i] > 0)
-      histogram[size_t(std::min(kBulkBins - 1, int(smoothed_[i] / top * kBulkBins)))] +=
-          deposits[i];
+  for (size_t c = 0; c < kCopies; ++c)
+    for (size_t b = 0; b < size_t(kBulkBins); ++b) histogram[b] += histograms[c * kBulkBins + b];
   const double wanted = kOcclusionBulkQuantile * double(total);
   int64_t below = 0;
   int bin = 0;
@@ -254,8 +396,8 @@ Status OcclusionVolume::build(MPI_Comm comm, const ParticleArrays &particles, co
   if (MPI_Allreduce(MPI_IN_PLACE, deposits.data(), int(nodes), MPI_INT64_T, MPI_SUM, comm) !=
       MPI_SUCCESS)
     return {StatusCode::kMpi, "ambient_occlusion (object): MPI_Allreduce of the density failed"};
-  smooth(deposits);
-  find_bulk(deposits);
+  const float top = smooth(deposits);
+  find_bulk(deposits, top);
   // Layers too far apart for the smoothing to see a surface (o_face near 1): nothing darkens.
   if (bulk_ > 0.0 && face_ < 0.999) {
     enclosure_.resize(smoothed_.size());

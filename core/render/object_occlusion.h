@@ -73,6 +73,10 @@ class OcclusionVolume {
   double node_spacing() const { return cell_; }
   // The bulk density, in particles per node cell (cell^3).
   double bulk_per_cell() const { return bulk_; }
+  // The node grid (x, y, z counts; its first node at the global bounds' low corner) and the
+  // enclosure per node, x fastest (empty where nothing darkens): tests.
+  std::array<int, 3> node_counts() const { return n_; }
+  const std::vector<float> &enclosure_nodes() const { return enclosure_; }
 
  private:
   size_t index(int x, int y, int z) const {
@@ -81,8 +85,10 @@ class OcclusionVolume {
   void set_grid(const Extent &global, double radius);
   void deposit(const ParticleArrays &particles, const std::vector<CutPlane> &cuts,
                std::vector<int64_t> *nodes) const;
-  void smooth(const std::vector<int64_t> &deposits);
-  void find_bulk(const std::vector<int64_t> &deposits);
+  // Fills smoothed_; returns its largest value.
+  float smooth(const std::vector<int64_t> &deposits);
+  // From the smoothed values and their largest, `top`.
+  void find_bulk(const std::vector<int64_t> &deposits, float top);
   float enclosure_at(const glm::dvec3 &x) const;
 
   glm::dvec3 lo_{0.0};

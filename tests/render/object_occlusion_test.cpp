@@ -9,10 +9,14 @@
 
 #include <mpi.h>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
+#include <cstdint>
 #include <functional>
 #include <vector>
 
+#include "core/culling/cut_planes.h"
 #include "core/particles/global_extent.h"
 #include "core/render/object_occlusion.h"
 #include "tests/support/mpi_world.h"
@@ -174,6 +178,156 @@ TEST(ObjectOcclusion, TheSameFactorsForEverySplit) {
       ASSERT_EQ(v.factor(x), alone.factor(x)) << "split " << split;
     }
   }
+}
+
+}  // namespace
+}  // namespace lantern::testing
+
+namespace lantern::testing {
+namespace {
+
+// The volume of the header comment computed one particle and one node at a time, in the
+// simplest form (the library's deposit and filter are vectorised and reordered): its enclosure
+// per node, given the grid the volume chose.
+std::vector<float> reference_enclosure(const std::vector<double> &xyz,
+                                       const std::vector<int32_t> &mask,
+                                       const std::vector<CutPlane> &cuts, const Extent &global,
+                                       const OcclusionVolume &v) {
+  constexpr int kSteps = 16;
+  const std::array<int, 3> n = v.node_counts();
+  const double inverse_cell = 1.0 / v.node_spacing();
+  const size_t nodes = size_t(n[0]) * size_t(n[1]) * size_t(n[2]);
+  const auto index = [&](int x, int y, int z) {
+    return (size_t(z) * size_t(n[1]) + size_t(y)) * size_t(n[0]) + size_t(x);
+  };
+  std::vector<int64_t> deposit(nodes, 0);
+  for (size_t p = 0; p < mask.size(); ++p) {
+    const glm::dvec3 x(xyz[3 * p], xyz[3 * p + 1], xyz[3 * p + 2]);
+    if (mask[p] == 0 || !std::isfinite(x.x) || !std::isfinite(x.y) || !std::isfinite(x.z)) continue;
+    if (CutPlanes(cuts).drops(x)) continue;
+    int at[3], w[3][2];
+    for (int a = 0; a < 3; ++a) {
+      const double u = std::clamp((x[a] - global.lo[a]) * (kSteps * inverse_cell) + 0.5, 0.0,
+                                  double(kSteps * (n[a] - 1)));
+      at[a] = std::min(int(u) / kSteps, n[a] - 2);
+      w[a][1] = int(u) - kSteps * at[a];
+      w[a][0] = kSteps - w[a][1];
+    }
+    for (int c = 0; c < 2; ++c)
+      for (int b = 0; b < 2; ++b)
+        for (int a = 0; a < 2; ++a)
+          deposit[index(at[0] + a, at[1] + b, at[2] + c)] += w[0][a] * w[1][b] * w[2][c];
+  }
+  // The 1 4 6 4 1 filter along each axis, taps beyond the grid dropped.
+  std::vector<int64_t> smooth = deposit;
+  for (int axis = 0; axis < 3; ++axis) {
+    std::vector<int64_t> next(nodes, 0);
+    const int64_t taps[5] = {1, 4, 6, 4, 1};
+    for (int z = 0; z < n[2]; ++z)
+      for (int y = 0; y < n[1]; ++y)
+        for (int x = 0; x < n[0]; ++x)
+          for (int k = -2; k <= 2; ++k) {
+            int at[3] = {x, y, z};
+            at[axis] += k;
+            if (at[axis] < 0 || at[axis] >= n[axis]) continue;
+            next[index(x, y, z)] += taps[k + 2] * smooth[index(at[0], at[1], at[2])];
+          }
+    smooth.swap(next);
+  }
+  std::vector<float> value(nodes);
+  float top = 0.0f;
+  int64_t total = 0;
+  for (size_t i = 0; i < nodes; ++i) {
+    value[i] = float(double(smooth[i]) / double(4096 * 4096));
+    top = std::max(top, value[i]);
+    total += deposit[i];
+  }
+  if (total == 0) return {};
+  std::vector<int64_t> histogram(4096, 0);
+  for (size_t i = 0; i < nodes; ++i)
+    if (deposit[i] > 0) histogram[size_t(std::min(4095, int(value[i] / top * 4096)))] += deposit[i];
+  int64_t below = 0;
+  int bin = 0;
+  for (; bin < 4095; ++bin) {
+    below += histogram[size_t(bin)];
+    if (double(below) >= kOcclusionBulkQuantile * double(total)) break;
+  }
+  const double bulk = double(top) * (bin + 0.5) / 4096;
+  EXPECT_EQ(bulk, v.bulk_per_cell());
+  const double face = v.face_occupancy();  // a function of the bulk alone
+  if (!(face < 0.999)) return {};
+  std::vector<float> enclosure(nodes);
+  for (size_t i = 0; i < nodes; ++i)
+    enclosure[i] = float((double(value[i]) * (1.0 / bulk) - face) * (1.0 / (1.0 - face)));
+  return enclosure;
+}
+
+// The vectorised volume against the reference, bit for bit: a scattered cloud in no spatial
+// order with clusters, masked-out and non-finite particles, a cut plane and particles beyond
+// the bounds (clamped to the grid's faces).
+TEST(ObjectOcclusion, TheVolumeIsTheOneParticleAtATimeSum) {
+  std::vector<double> xyz;
+  std::vector<int32_t> mask;
+  uint64_t state = 12345;
+  const auto uniform = [&state] {
+    state = state * 6364136223846793005ull + 1442695040888963407ull;
+    return double(state >> 11) / double(uint64_t(1) << 53);
+  };
+  for (int i = 0; i < 60000; ++i) {
+    const bool cluster = i % 3 == 0;
+    for (int a = 0; a < 3; ++a)
+      xyz.push_back(cluster ? 10.0 + 4.0 * uniform() : -1.0 + 42.0 * uniform());
+    mask.push_back(i % 17 != 0);
+  }
+  xyz[3 * 5] = std::nan(""), xyz[3 * 7 + 2] = HUGE_VAL;
+  ParticleDescription d;
+  d.count = int64_t(mask.size());
+  d.position = {xyz.data(), DataType::kFloat64, 0};
+  d.mask = {mask.data(), DataType::kInt32, 0};
+  d.mask_bits = 1;
+  ParticleArrays arrays;
+  ASSERT_OK(ParticleArrays::validate(d, &arrays));
+  Extent global;
+  global.add_particle(0.0, 0.0, 0.0, 0.5);
+  global.add_particle(40.0, 30.0, 35.0, 0.5);
+  CutPlane cut;
+  cut.normal = {0.6, 0.0, 0.8};
+  cut.offset = 30.0;
+  for (const std::vector<CutPlane> &cuts : {std::vector<CutPlane>{}, std::vector<CutPlane>{cut}}) {
+    OcclusionVolume v;
+    ASSERT_OK(v.build(MPI_COMM_SELF, arrays, global, cuts, kRadius, kStrength));
+    const std::vector<float> expected = reference_enclosure(xyz, mask, cuts, global, v);
+    ASSERT_FALSE(expected.empty());
+    ASSERT_EQ(v.enclosure_nodes().size(), expected.size());
+    for (size_t i = 0; i < expected.size(); ++i)
+      ASSERT_EQ(v.enclosure_nodes()[i], expected[i]) << "node " << i << ", cuts " << cuts.size();
+  }
+}
+
+// More particles on one node than a 32-bit sum of their deposits holds (2^20 x 4096, each on
+// the node: the whole weight at one corner): the runs the deposit sums before adding them to the
+// nodes are cut short in time.
+TEST(ObjectOcclusion, ALongRunOnOneNodeIsSummedExactly) {
+  constexpr int kCount = (1 << 20) + 1000;
+  std::vector<double> xyz;
+  xyz.reserve(3 * (kCount + 2));
+  for (int i = 0; i < kCount; ++i)
+    xyz.insert(xyz.end(), {4.0, 4.0, 4.0});  // a node (cell 1 from 0)
+  // Two particles elsewhere, so the bulk is not the pile.
+  xyz.insert(xyz.end(), {1.0, 1.0, 1.0, 9.0, 9.0, 9.0});
+  std::vector<int32_t> mask(kCount + 2, 1);
+  ParticleDescription d;
+  d.count = int64_t(mask.size());
+  d.position = {xyz.data(), DataType::kFloat64, 0};
+  ParticleArrays arrays;
+  ASSERT_OK(ParticleArrays::validate(d, &arrays));
+  Extent global;
+  global.add_particle(0.0, 0.0, 0.0, 0.5);
+  global.add_particle(10.0, 10.0, 10.0, 0.5);
+  OcclusionVolume v;
+  ASSERT_OK(v.build(MPI_COMM_SELF, arrays, global, {}, kRadius, kStrength));
+  const std::vector<float> expected = reference_enclosure(xyz, mask, {}, global, v);
+  ASSERT_EQ(v.enclosure_nodes(), expected);
 }
 
 }  // namespace
