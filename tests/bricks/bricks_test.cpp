@@ -89,10 +89,10 @@ TEST(Morton, FourPrefixesAtOnceAreTheScalarPrefixes) {
     for (const double o : {-3.0, 0.0, 1e-3})
       for (const double d : {-1e-12, 0.0, 1e-12}) v.push_back(o + step + d);
   }
-  for (const double e : {-3.0, 5.0, 0.0, -0.0, 2.0, 7.0, 1e-3, 1e300, -1e300,
-                         std::numeric_limits<double>::infinity(),
-                         -std::numeric_limits<double>::infinity(),
-                         std::numeric_limits<double>::denorm_min(), 4.999999999999999})
+  for (const double e :
+       {-3.0, 5.0, 0.0, -0.0, 2.0, 7.0, 1e-3, 1e300, -1e300,
+        std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity(),
+        std::numeric_limits<double>::denorm_min(), 4.999999999999999})
     v.push_back(e);
   std::shuffle(v.begin(), v.end(), rng);
   while (v.size() % 12) v.push_back(1.0);
