@@ -288,21 +288,27 @@ void bound_bricks(const Positions &pos, const Radii &radius, int threads, BrickS
   }
 }
 
-// Replaces each run's owner - its brick's first slot - by the brick's number. Neighbouring runs
-// come back to the same few bricks (a brick's rows follow each other in the host's arrays), so a
-// small table of recent answers spares most of the binary searches.
-void number_bricks(const std::vector<Brick> &bricks, std::vector<IndexRun> *runs) {
-  constexpr size_t kRecent = 1024;
-  std::vector<std::pair<uint32_t, uint32_t>> recent(kRecent, {kNoBrick, 0});
+// Replaces each run's owner - its brick's first slot - by the brick's number. The bricks' first
+// slots increase with their numbers; a table of the first brick at or after every 1024th slot
+// leaves a few entries to step over (a binary search over the bricks with a cache of recent
+// answers cost a tenth of the build at 100 M particles, where a gas's runs visit its bricks in
+// random order).
+void number_bricks(const std::vector<Brick> &bricks, int64_t slots, std::vector<IndexRun> *runs) {
+  constexpr int kShift = 10;
+  std::vector<uint32_t> first(bricks.size() + 1);
+  for (size_t b = 0; b < bricks.size(); ++b) first[b] = bricks[b].first;
+  first[bricks.size()] = ~0u;  // a sentinel past every slot
+  std::vector<uint32_t> at(size_t(slots >> kShift) + 1);
+  uint32_t b = 0;
+  for (size_t k = 0; k < at.size(); ++k) {
+    while (first[b] < (uint64_t(k) << kShift)) ++b;
+    at[k] = b;
+  }
   const auto number = [&](uint32_t *owner) {
     if (*owner == kNoBrick) return;
-    auto &hit = recent[(*owner * 2654435761u >> 16) % kRecent];
-    if (hit.first != *owner) {
-      const auto at = std::lower_bound(bricks.begin(), bricks.end(), *owner,
-                                       [](const Brick &b, uint32_t f) { return b.first < f; });
-      hit = {*owner, uint32_t(at - bricks.begin())};
-    }
-    *owner = hit.second;
+    uint32_t n = at[*owner >> kShift];
+    while (first[n] < *owner) ++n;
+    *owner = n;
   };
   for (IndexRun &r : *runs) number(&r.brick), number(&r.other);
 }
@@ -426,7 +432,7 @@ BrickSet build_bricks(const ParticleArrays &particles, const BrickOptions &optio
     }
     // The owners are the bricks' first slots: runs in index order, then brick numbers.
     set.runs = runs_of_owners(keys.data(), n, set.particle_count(), &set.in_other);
-    number_bricks(set.bricks, &set.runs);
+    number_bricks(set.bricks, set.particle_count(), &set.runs);
   }
   UninitializedBuffer<uint32_t>().swap(keys);
   t.cells_ms = ms_since(t0);
