@@ -3,7 +3,7 @@
 //
 // The simulation's arrays are never moved: a BrickSet holds a permutation of uint32 indices into
 // them (4 bytes per particle), the runs of consecutive indices per brick when they are long enough
-// to pay (12 bytes a run and a bit per particle, at most 1.6 bytes per particle; index_runs.h)
+// to pay (12 bytes a run and a bit per particle, at most 3.1 bytes per particle; index_runs.h)
 // and a few dozen bytes per brick.
 // Building it peaks at 8 bytes per particle (each particle's key, later its brick; the
 // permutation, which first holds the indices scattered to their top octree cells) plus the runs.
