@@ -3,12 +3,16 @@
 //
 // How, in few passes over memory: a first pass computes every particle's 32-bit key prefix and
 // counts the particles of each of the 4096 octree cells of level 4 (its top 12 bits); a second
-// pass scatters (prefix, index) words straight into those cells, in index order. Everything after
-// that happens one top cell at a time, in cache: sorting the cell's words, breaking ties by the
+// pass scatters the particle indices straight into those cells' slots of the permutation, in
+// index order. Everything after that happens one top cell at a time, in cache: making the cell's
+// (prefix, index) words from its indices and their prefixes, sorting them, breaking ties by the
 // full key, the octree split below it (above it, the split reads the cells' counts) and the level
-// layout. The top cells are independent, so threads take contiguous runs of them. Each particle's
-// brick is noted on the way, in the keys' array; the runs of consecutive indices it yields let the
-// bounds come from one streaming pass over the positions (index_runs.h).
+// layout, written back over the cell's slots. The top cells are independent, so threads take
+// contiguous runs of them. Each particle's brick is noted on the way, in the keys' array; the
+// runs of consecutive indices it yields let the bounds come from one streaming pass over the
+// positions (index_runs.h). Scattering 4-byte indices rather than 8-byte words halves that pass's
+// writes and leaves no second per-particle array to allocate (page faults cost about as much as
+// the writes here).
 #include "core/bricks/brick_set.h"
 
 #include <algorithm>
@@ -106,7 +110,17 @@ void key_pass(const Positions &pos, const Keep &keep, const MortonQuantiser &q, 
   uint32_t *c = counts->data();
   const int64_t begin = 64 * block_begin, end = std::min(n, 64 * block_end);
   if (left_out->bits.empty()) {  // every particle kept and finite: no test in the loop
-    for (int64_t i = begin; i < end; ++i) {
+    int64_t i = begin;
+    for (; i + 4 <= end; i += 4) {  // four at a time (MortonQuantiser::prefix4)
+      double x[4], y[4], z[4];
+      for (int k = 0; k < 4; ++k) {
+        const glm::dvec3 p = pos.get(i + k);
+        x[k] = p.x, y[k] = p.y, z[k] = p.z;
+      }
+      q.prefix4(x, y, z, keys + i);
+      for (int k = 0; k < 4; ++k) ++c[keys[i + k] >> kTopShift];
+    }
+    for (; i < end; ++i) {
       const uint32_t k = q.prefix(pos.get(i));
       keys[i] = k;
       ++c[k >> kTopShift];
@@ -125,19 +139,19 @@ void key_pass(const Positions &pos, const Keep &keep, const MortonQuantiser &q, 
   }
 }
 
-// Pass 2: the words of particles [begin, end) to their top cells, from `at` (this part's first
-// slot in each cell) on; in index order, so every cell lists its particles by index.
+// Pass 2: the indices of particles [begin, end) to their top cells' slots of *order, from `at`
+// (this part's first slot in each cell) on; in index order, so every cell lists its particles by
+// index. Indices only (4 bytes, not the 8 of a (prefix, index) word): the cell stage reads each
+// prefix back from `keys` while the cell is in cache, and the permutation needs no second array.
 void scatter_pass(const uint32_t *keys, const LeftOut &left_out, int64_t begin, int64_t end,
-                  CellCounts at, uint64_t *words) {
+                  CellCounts at, uint32_t *order) {
   uint32_t *slot = at.data();
   if (left_out.bits.empty()) {
-    for (int64_t i = begin; i < end; ++i)
-      words[slot[keys[i] >> kTopShift]++] = uint64_t(keys[i]) << 32 | uint32_t(i);
+    for (int64_t i = begin; i < end; ++i) order[slot[keys[i] >> kTopShift]++] = uint32_t(i);
     return;
   }
   for (int64_t i = begin; i < end; ++i)
-    if (!left_out.test(i))
-      words[slot[keys[i] >> kTopShift]++] = uint64_t(keys[i]) << 32 | uint32_t(i);
+    if (!left_out.test(i)) order[slot[keys[i] >> kTopShift]++] = uint32_t(i);
 }
 
 // After the scatter, the keys are spent and their array becomes the owners' (index_runs.h): each
@@ -205,33 +219,44 @@ void sort_top_cell(uint64_t *w, size_t n, UninitializedBuffer<uint64_t> *scratch
   if (src != w) std::copy(src, src + n, w);
 }
 
-// One thread's share of the units: sorted, split into bricks (appended to *bricks in curve order)
-// and laid out; each particle's owner set to its brick's first slot, a number every thread knows.
+// One thread's share of the units, one at a time in cache: the unit's (prefix, index) words made
+// from the indices the scatter left in *order and the prefixes in `keys`, sorted, split into
+// bricks (appended to *bricks in curve order) and laid out back into *order; each particle's
+// owner (its entry of `keys`, spent once read) set to its brick's first slot, a number every
+// thread knows.
 template <typename Positions>
 void build_units(const Positions &pos, const MortonQuantiser &q, const std::vector<uint32_t> &start,
-                 const Unit *units, size_t count, const BrickOptions &options, uint64_t *words,
-                 uint32_t *order, uint32_t *owner, std::vector<Brick> *bricks) {
-  UninitializedBuffer<uint64_t> scratch;
+                 const Unit *units, size_t count, const BrickOptions &options, uint32_t *order,
+                 uint32_t *keys, std::vector<Brick> *bricks) {
+  UninitializedBuffer<uint64_t> words, scratch;
   std::vector<std::pair<uint64_t, uint64_t>> run;
   const uint32_t max = std::max<uint32_t>(1, options.max_particles);
   for (size_t u = 0; u < count; ++u) {
     const Unit &unit = units[u];
+    const uint32_t n = unit.b - unit.a;
+    if (words.size() < n) words.resize(n);
+    uint64_t *w = words.data();
+    for (uint32_t k = 0; k < n; ++k) {
+      const uint32_t i = order[unit.a + k];
+      w[k] = uint64_t(keys[i]) << 32 | i;
+    }
     for (uint32_t c = unit.cell_begin; c < unit.cell_end; ++c)
-      sort_top_cell(words + start[c], start[c + 1] - start[c], &scratch);
-    break_ties(pos, q, words, unit.a, unit.b, &run);
+      sort_top_cell(w + (start[c] - unit.a), start[c + 1] - start[c], &scratch);
+    break_ties(pos, q, w, 0, n, &run);
     const size_t first_new = bricks->size();
     if (unit.one_brick) {
       Brick br;
-      br.first = unit.a;
-      br.count = unit.b - unit.a;
+      br.count = n;
       bricks->push_back(br);
     } else {
-      split_cells(words, unit.a, unit.b, kTopLevels, max, bricks);
+      split_cells(w, 0, n, kTopLevels, max, bricks);
     }
     for (size_t k = first_new; k < bricks->size(); ++k) {
-      const Brick &br = (*bricks)[k];
-      lay_out_brick(words, br, options.level_layout, order);
-      for (uint32_t j = 0; j < br.count; ++j) owner[order[br.first + j]] = br.first;
+      Brick &br = (*bricks)[k];
+      lay_out_brick(w, br, options.level_layout, order + unit.a);
+      br.first += unit.a;
+      const uint32_t *idx = order + br.first;
+      for (uint32_t j = 0; j < br.count; ++j) keys[idx[j]] = br.first;
     }
   }
 }
@@ -263,21 +288,27 @@ void bound_bricks(const Positions &pos, const Radii &radius, int threads, BrickS
   }
 }
 
-// Replaces each run's owner - its brick's first slot - by the brick's number. Neighbouring runs
-// come back to the same few bricks (a brick's rows follow each other in the host's arrays), so a
-// small table of recent answers spares most of the binary searches.
-void number_bricks(const std::vector<Brick> &bricks, std::vector<IndexRun> *runs) {
-  constexpr size_t kRecent = 1024;
-  std::vector<std::pair<uint32_t, uint32_t>> recent(kRecent, {kNoBrick, 0});
+// Replaces each run's owner - its brick's first slot - by the brick's number. The bricks' first
+// slots increase with their numbers; a table of the first brick at or after every 1024th slot
+// leaves a few entries to step over (a binary search over the bricks with a cache of recent
+// answers cost a tenth of the build at 100 M particles, where a gas's runs visit its bricks in
+// random order).
+void number_bricks(const std::vector<Brick> &bricks, int64_t slots, std::vector<IndexRun> *runs) {
+  constexpr int kShift = 10;
+  std::vector<uint32_t> first(bricks.size() + 1);
+  for (size_t b = 0; b < bricks.size(); ++b) first[b] = bricks[b].first;
+  first[bricks.size()] = ~0u;  // a sentinel past every slot
+  std::vector<uint32_t> at(size_t(slots >> kShift) + 1);
+  uint32_t b = 0;
+  for (size_t k = 0; k < at.size(); ++k) {
+    while (first[b] < (uint64_t(k) << kShift)) ++b;
+    at[k] = b;
+  }
   const auto number = [&](uint32_t *owner) {
     if (*owner == kNoBrick) return;
-    auto &hit = recent[(*owner * 2654435761u >> 16) % kRecent];
-    if (hit.first != *owner) {
-      const auto at = std::lower_bound(bricks.begin(), bricks.end(), *owner,
-                                       [](const Brick &b, uint32_t f) { return b.first < f; });
-      hit = {*owner, uint32_t(at - bricks.begin())};
-    }
-    *owner = hit.second;
+    uint32_t n = at[*owner >> kShift];
+    while (first[n] < *owner) ++n;
+    *owner = n;
   };
   for (IndexRun &r : *runs) number(&r.brick), number(&r.other);
 }
@@ -320,9 +351,8 @@ BrickSet build_bricks(const ParticleArrays &particles, const BrickOptions &optio
   const int threads = std::max(1, options.threads);
   set.has_radius = particles.has_radius();
   auto t0 = Clock::now();
-  UninitializedBuffer<uint64_t> words;
   UninitializedBuffer<uint32_t> keys;  // each particle's key prefix, then its brick (its owner)
-  std::vector<uint32_t> start(kTopCells + 1, 0);  // each top cell's first word
+  std::vector<uint32_t> start(kTopCells + 1, 0);  // each top cell's first slot
   MortonQuantiser q;
   visit_positions(particles, [&](const auto &pos) {
     visit_kept(particles, [&](const auto &keep) {
@@ -364,36 +394,35 @@ BrickSet build_bricks(const ParticleArrays &particles, const BrickOptions &optio
         }
       }
       start[kTopCells] = sum;
-      words.resize(sum);
+      set.order.resize(sum);
       run_in_parts(parts, blocks, [&](int p, int64_t b, int64_t e) {
         scatter_pass(keys.data(), left_out, 64 * b, std::min(n, 64 * e), counts[size_t(p)],
-                     words.data());
+                     set.order.data());
         clear_left_out_owners(left_out, 64 * b, std::min(n, 64 * e), keys.data());
       });
       t.scatter_ms = ms_since(t0);
     });
   });
   t0 = Clock::now();
-  set.order.resize(words.size());
-  if (!words.empty()) {
+  if (!set.order.empty()) {
     std::vector<Unit> units;
     plan_units(start, 0, 0, std::max<uint32_t>(1, options.max_particles), &units);
-    // Threads take contiguous runs of units of about equal word counts.
-    const int parts = parts_for(threads, int64_t(words.size()), kParticlesPerThread);
+    // Threads take contiguous runs of units of about equal particle counts.
+    const auto held = int64_t(set.order.size());
+    const int parts = parts_for(threads, held, kParticlesPerThread);
     std::vector<std::vector<Brick>> part(static_cast<size_t>(parts));
     visit_positions(particles, [&](const auto &pos) {
-      run_in_parts(parts, int64_t(words.size()), [&](int p, int64_t b, int64_t e) {
+      run_in_parts(parts, held, [&](int p, int64_t b, int64_t e) {
         const auto first = [&](int64_t at) {
           return size_t(std::lower_bound(units.begin(), units.end(), at,
                                          [](const Unit &u, int64_t x) { return u.a < x; }) -
                         units.begin());
         };
         const size_t u0 = p == 0 ? 0 : first(b), u1 = p + 1 == parts ? units.size() : first(e);
-        build_units(pos, q, start, units.data() + u0, u1 - u0, options, words.data(),
-                    set.order.data(), keys.data(), &part[size_t(p)]);
+        build_units(pos, q, start, units.data() + u0, u1 - u0, options, set.order.data(),
+                    keys.data(), &part[size_t(p)]);
       });
     });
-    UninitializedBuffer<uint64_t>().swap(words);  // before the bricks grow: keep the peak low
     size_t total = 0;
     for (const std::vector<Brick> &b : part) total += b.size();
     set.bricks.reserve(total);
@@ -403,7 +432,7 @@ BrickSet build_bricks(const ParticleArrays &particles, const BrickOptions &optio
     }
     // The owners are the bricks' first slots: runs in index order, then brick numbers.
     set.runs = runs_of_owners(keys.data(), n, set.particle_count(), &set.in_other);
-    number_bricks(set.bricks, &set.runs);
+    number_bricks(set.bricks, set.particle_count(), &set.runs);
   }
   UninitializedBuffer<uint32_t>().swap(keys);
   t.cells_ms = ms_since(t0);

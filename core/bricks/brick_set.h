@@ -3,10 +3,11 @@
 //
 // The simulation's arrays are never moved: a BrickSet holds a permutation of uint32 indices into
 // them (4 bytes per particle), the runs of consecutive indices per brick when they are long enough
-// to pay (12 bytes a run and a bit per particle, at most 1.6 bytes per particle; index_runs.h)
+// to pay (12 bytes a run and a bit per particle, at most 3.1 bytes per particle; index_runs.h)
 // and a few dozen bytes per brick.
-// Building it peaks at 16 bytes per particle (each particle's key, later its brick; the packed
-// key|index words; the permutation). Bricks depend only on the particles, not on a camera: build
+// Building it peaks at 8 bytes per particle (each particle's key, later its brick; the
+// permutation, which first holds the indices scattered to their top octree cells) plus the runs.
+// Bricks depend only on the particles, not on a camera: build
 // once per step and reuse for every scene of that step.
 //
 // Brick size: octree leaves of at most 1024 particles (uniform data: 128..1024). Smaller bricks

@@ -9,6 +9,10 @@
 
 #include <glm/vec3.hpp>
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 namespace lantern {
 
 inline constexpr int kMortonBitsPerAxis = 21;
@@ -81,6 +85,54 @@ struct MortonQuantiser {
   uint32_t prefix(const glm::dvec3 &p) const {  // key(p) >> 31
     return morton_prefix(axis(p.x, lo.x), axis(p.y, lo.y), axis(p.z, lo.z));
   }
+  // prefix() of four points given by their coordinates: out[k] = prefix({x[k], y[k], z[k]}) for
+  // points without NaN. The brick build's first pass spent most of its time in prefix() (a
+  // scalar prefix cost about four times what streaming the point's 24 bytes does), so with SSE2
+  // the four points go through the same steps two lanes at a time: the same subtraction,
+  // multiplication and clamping in doubles (max(s, 0) and min(s, max) are axis()'s tests), the
+  // truncation of cvttpd2dq (exact below 2^31), and the 11 top bits spread in 32-bit lanes
+  // instead of read from the table. Tested against prefix() (bricks_test, Morton).
+  void prefix4(const double x[4], const double y[4], const double z[4], uint32_t out[4]) const;
 };
+
+#if defined(__SSE2__)
+namespace morton_detail {
+// axis() of two values, to two 32-bit integers in the low half.
+inline __m128i axis2(__m128d v, __m128d origin, __m128d scale) {
+  __m128d s = _mm_mul_pd(_mm_sub_pd(v, origin), scale);
+  s = _mm_max_pd(s, _mm_setzero_pd());                     // s > 0 ? s : 0
+  s = _mm_min_pd(s, _mm_set1_pd(double(kMortonAxisMax)));  // s < max ? s : max
+  return _mm_cvttpd_epi32(s);
+}
+// The top 11 of 21 bits of four axis values spread so that bit k lands on bit 3k (kSpread11).
+inline __m128i spread_top11(__m128i v) {
+  v = _mm_srli_epi32(v, 10);
+  v = _mm_and_si128(_mm_or_si128(v, _mm_slli_epi32(v, 16)), _mm_set1_epi32(0x070000FF));
+  v = _mm_and_si128(_mm_or_si128(v, _mm_slli_epi32(v, 8)), _mm_set1_epi32(0x0700F00F));
+  v = _mm_and_si128(_mm_or_si128(v, _mm_slli_epi32(v, 4)), _mm_set1_epi32(0x430C30C3));
+  v = _mm_and_si128(_mm_or_si128(v, _mm_slli_epi32(v, 2)), _mm_set1_epi32(0x49249249));
+  return v;
+}
+inline __m128i axis4(const double v[4], double origin, double scale) {
+  const __m128d o = _mm_set1_pd(origin), k = _mm_set1_pd(scale);
+  return _mm_unpacklo_epi64(axis2(_mm_loadu_pd(v), o, k), axis2(_mm_loadu_pd(v + 2), o, k));
+}
+}  // namespace morton_detail
+
+inline void MortonQuantiser::prefix4(const double x[4], const double y[4], const double z[4],
+                                     uint32_t out[4]) const {
+  using namespace morton_detail;
+  const __m128i sx = spread_top11(axis4(x, lo.x, scale));
+  const __m128i sy = spread_top11(axis4(y, lo.y, scale));
+  const __m128i sz = spread_top11(axis4(z, lo.z, scale));
+  const __m128i p = _mm_or_si128(_mm_or_si128(_mm_slli_epi32(sx, 1), sy), _mm_srli_epi32(sz, 1));
+  _mm_storeu_si128(reinterpret_cast<__m128i *>(out), p);
+}
+#else
+inline void MortonQuantiser::prefix4(const double x[4], const double y[4], const double z[4],
+                                     uint32_t out[4]) const {
+  for (int k = 0; k < 4; ++k) out[k] = prefix({x[k], y[k], z[k]});
+}
+#endif
 
 }  // namespace lantern
