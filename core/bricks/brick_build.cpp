@@ -28,6 +28,7 @@
 #include "core/bricks/index_runs.h"
 #include "core/bricks/morton.h"
 #include "core/common/ms_since.h"
+#include "core/common/page_allocator.h"
 #include "core/common/rank_threads.h"
 #include "core/common/uninitialized_buffer.h"
 #include "core/particles/global_extent.h"
@@ -96,7 +97,7 @@ RangeBounds bounds_in_parts(const Positions &pos, const Keep &keep, int64_t n, i
 // Which particles get a brick: every one (no bit set) unless some are outside the group or not
 // finite; then a bit per particle, set for those left out.
 struct LeftOut {
-  std::vector<uint64_t> bits;  // empty: none left out
+  PageVector<uint64_t> bits;  // empty: none left out
   bool test(int64_t i) const { return !bits.empty() && (bits[size_t(i >> 6)] >> (i & 63) & 1); }
 };
 

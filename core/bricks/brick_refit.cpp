@@ -14,6 +14,7 @@
 #include "core/bricks/level_layout.h"
 #include "core/bricks/morton.h"
 #include "core/bricks/radix_sort.h"
+#include "core/common/page_allocator.h"
 #include "core/common/rank_threads.h"
 #include "core/particles/typed_access.h"
 
@@ -217,7 +218,7 @@ bool refit_bricks(const ParticleArrays &particles, double max_growth, BrickSet *
         for (const uint32_t i : outliers)
           lo = glm::min(lo, pos.get(i)), hi = glm::max(hi, pos.get(i));
         const MortonQuantiser q = MortonQuantiser::for_bounds(lo, hi);
-        std::vector<uint64_t> words(outliers.size()), scratch;
+        PageVector<uint64_t> words(outliers.size()), scratch;
         for (size_t k = 0; k < outliers.size(); ++k)
           words[k] = make_word(q.key(pos.get(outliers[k])), outliers[k]);
         radix_sort_words(&words, &scratch, 32, 64);

@@ -1,5 +1,7 @@
 #include "core/bricks/index_runs.h"
 
+#include "core/common/page_allocator.h"
+
 namespace lantern {
 
 namespace {
@@ -60,7 +62,7 @@ std::vector<IndexRun> runs_of_owners(const uint32_t *owner, int64_t n, int64_t h
 }
 
 void list_runs(int64_t bound, BrickSet *set) {
-  std::vector<uint32_t> owner(static_cast<size_t>(bound), kNoBrick);
+  PageVector<uint32_t> owner(static_cast<size_t>(bound), kNoBrick);
   for (size_t b = 0; b < set->bricks.size(); ++b) {
     const Brick &br = set->bricks[b];
     for (uint32_t k = 0; k < br.count; ++k) {

@@ -39,7 +39,7 @@ void scatter(const uint64_t *src, uint64_t *dst, size_t n, int shift, uint64_t m
 
 }  // namespace
 
-void radix_sort_words(std::vector<uint64_t> *words, std::vector<uint64_t> *scratch, int lo_bit,
+void radix_sort_words(PageVector<uint64_t> *words, PageVector<uint64_t> *scratch, int lo_bit,
                       int hi_bit, int threads) {
   const size_t n = words->size();
   scratch->resize(n);

@@ -9,12 +9,13 @@
 
 #include <cstdint>
 #include <vector>
+#include "core/common/page_allocator.h"
 
 namespace lantern {
 
 // Sorts `words` by bits [lo_bit, hi_bit) (0 <= lo_bit < hi_bit <= 64), stably. `scratch` is
 // resized to words->size() and left with unspecified contents (reuse it or free it).
-void radix_sort_words(std::vector<uint64_t> *words, std::vector<uint64_t> *scratch, int lo_bit,
+void radix_sort_words(PageVector<uint64_t> *words, PageVector<uint64_t> *scratch, int lo_bit,
                       int hi_bit, int threads = 1);
 
 }  // namespace lantern

@@ -1,18 +1,21 @@
 // Scratch storage that is not zero-filled on allocation or growth.
 //
 // Why: every element is written (packed or received) before it is read, and zero-filling would
-// cost a pass over memory as long as the packing itself.
+// cost a pass over memory as long as the packing itself. Large buffers are mapped pages, returned
+// to the system when freed (page_allocator.h).
 #pragma once
 
 #include <cstdint>
-#include <memory>
+#include <new>
 #include <utility>
 #include <vector>
+
+#include "core/common/page_allocator.h"
 
 namespace lantern {
 
 template <typename T>
-struct DefaultInitAllocator : std::allocator<T> {
+struct DefaultInitAllocator : PageAllocator<T> {
   template <typename U>
   struct rebind {
     using other = DefaultInitAllocator<U>;
@@ -28,8 +31,7 @@ struct DefaultInitAllocator : std::allocator<T> {
   }
   template <typename U, typename... Args>
   void construct(U *p, Args &&...args) {
-    std::allocator_traits<std::allocator<T>>::construct(static_cast<std::allocator<T> &>(*this), p,
-                                                        std::forward<Args>(args)...);
+    ::new (static_cast<void *>(p)) U(std::forward<Args>(args)...);
   }
 };
 

@@ -5,21 +5,21 @@
 namespace lantern {
 
 void merge_strips(const std::vector<VisibleBrick> &visible, const BrickSet &bricks,
-                  const std::vector<StripState> &s, int count, std::vector<uint64_t> *scratch,
+                  const std::vector<StripState> &s, int count, PageVector<uint64_t> *scratch,
                   CullStats *st, DrawList *out) {
   // Union of what any strip shows (a particle two strips show appears twice: same entry).
-  const auto merge = [&](auto list, std::vector<uint64_t> *merged) {
+  const auto merge = [&](auto list, PageVector<uint64_t> *merged) {
     merged->clear();
     for (int k = 0; k < count; ++k) {
-      const std::vector<uint64_t> &l = list(s[size_t(k)]);
+      const PageVector<uint64_t> &l = list(s[size_t(k)]);
       merged->insert(merged->end(), l.begin(), l.end());
     }
     radix_sort_words(merged, scratch, 32, 64);
     merged->erase(std::unique(merged->begin(), merged->end()), merged->end());
   };
-  merge([](const StripState &x) -> const std::vector<uint64_t> & { return x.out.spheres; },
+  merge([](const StripState &x) -> const PageVector<uint64_t> & { return x.out.spheres; },
         &out->spheres);
-  merge([](const StripState &x) -> const std::vector<uint64_t> & { return x.out.points; },
+  merge([](const StripState &x) -> const PageVector<uint64_t> & { return x.out.points; },
         &out->points);
   int64_t judged = 0;
   for (size_t k = 0; k < visible.size(); ++k) {

@@ -19,6 +19,7 @@
 #include <utility>
 #include <vector>
 
+#include "core/common/page_allocator.h"
 #include "core/common/rank_threads.h"
 #include "core/culling/cull_pass.h"
 
@@ -111,7 +112,7 @@ void run_strips(int count, Strip &&strip) {
 // brick gathered by any strip had the same per-particle frustum and cut drops. `scratch` is the
 // radix sort's buffer.
 void merge_strips(const std::vector<VisibleBrick> &visible, const BrickSet &bricks,
-                  const std::vector<StripState> &s, int count, std::vector<uint64_t> *scratch,
+                  const std::vector<StripState> &s, int count, PageVector<uint64_t> *scratch,
                   CullStats *stats, DrawList *out);
 
 }  // namespace lantern

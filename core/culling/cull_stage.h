@@ -17,6 +17,7 @@
 
 #include "core/bricks/brick_set.h"
 #include "core/camera/camera.h"
+#include "core/common/page_allocator.h"
 #include "core/config/config.h"
 #include "core/culling/brick_selection.h"
 #include "core/culling/column_strips.h"
@@ -70,7 +71,7 @@ class Culler {
   NineSpheresGrid nine_;
   bool nine_equivalent_ = false;  // nine-spheres compares equivalent radii, not world
   int hzb_strips_ = 0;            // the last cull()'s hzb pyramids: 0 (not hzb), else its strips
-  std::vector<uint64_t> scratch_;
+  PageVector<uint64_t> scratch_;
 };
 
 }  // namespace lantern

@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <cstring>
 #include <vector>
+#include "core/common/page_allocator.h"
 
 namespace lantern {
 
@@ -27,8 +28,8 @@ inline float entry_scale(uint64_t e) {
 }
 
 struct DrawList {
-  std::vector<uint64_t> spheres;  // GPU impostors
-  std::vector<uint64_t> points;   // CPU point path (sub-pixel spheres), when enabled
+  PageVector<uint64_t> spheres;  // GPU impostors
+  PageVector<uint64_t> points;   // CPU point path (sub-pixel spheres), when enabled
   // Nothing was culled and nothing changed size: draw every finite particle in published order
   // (`spheres` is then left empty; the caller streams the particles directly).
   bool everything = false;

@@ -4,6 +4,7 @@
 #include <cstring>
 
 #include "core/bricks/radix_sort.h"
+#include "core/common/page_allocator.h"
 #include "core/culling/cull_stage.h"
 #include "core/particles/typed_access.h"
 
@@ -80,7 +81,7 @@ CullStats Culler::cull(const ParticleArrays &particles, const BrickSet &bricks,
   // Published order, as brute force draws (see draw_list.h).
   radix_sort_words(&out->spheres, &scratch_, 32, 64);
   radix_sort_words(&out->points, &scratch_, 32, 64);
-  std::vector<uint64_t>().swap(scratch_);  // per-frame scratch: keep nothing between frames
+  PageVector<uint64_t>().swap(scratch_);  // per-frame scratch: keep nothing between frames
   st.drawn = int64_t(out->spheres.size());
   st.splatted = int64_t(out->points.size());
   return st;
@@ -188,14 +189,14 @@ template <typename Positions, typename Radii>
 void Culler::process_sorted(const CullPass<Positions, Radii> &pass, const BrickSelection &sel,
                             CullStats *st, DrawList *out) {
   CandidateBuffers &b = strips_[0].buffers;
-  std::vector<Candidate> all;
+  PageVector<Candidate> all;
   for (const VisibleBrick &v : sel.visible) {
     st->lod_dropped += pass.bricks.bricks[v.brick].count - v.keep;
     b.gathered.clear();
     gather(pass, v, true, &b, st, out);
     all.insert(all.end(), b.gathered.begin(), b.gathered.end());
   }
-  std::vector<uint64_t> keys(all.size());
+  PageVector<uint64_t> keys(all.size());
   for (size_t k = 0; k < all.size(); ++k)
     keys[k] = uint64_t(float_key(-all[k].c.z)) << 32 | uint32_t(k);
   radix_sort_words(&keys, &scratch_, 32, 64);

@@ -76,7 +76,7 @@ Status draw_scene_on_rank(const RankScene &in, RankDrawScratch *scratch, Frame *
       build_all_instances(recipe, &scratch->instances);
     else
       build_selected_instances(recipe, draw.spheres, &scratch->instances);
-    std::vector<uint64_t>().swap(draw.spheres);  // only the instances outlive this point
+    PageVector<uint64_t>().swap(draw.spheres);  // only the instances outlive this point
     if (bonds) {
       build_bond_instances(bond_recipe, scratch->bond_kept, &scratch->bond_instances);
       std::vector<uint32_t>().swap(scratch->bond_kept);
@@ -99,7 +99,7 @@ Status draw_scene_on_rank(const RankScene &in, RankDrawScratch *scratch, Frame *
         recipe.alpha_by_type.empty() ? AlphaOf()
                                      : AlphaOf([&recipe](int64_t i) { return recipe.alpha(i); }),
         shading.lighting);
-    std::vector<uint64_t>().swap(draw.points);
+    PageVector<uint64_t>().swap(draw.points);
     out->draw_ms += ms_since(t0);
   }
   return drawn;

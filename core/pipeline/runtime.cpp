@@ -14,7 +14,6 @@
 #include <utility>
 
 #include "core/common/collective_status.h"
-#include "core/common/freed_memory.h"
 #include "core/common/ms_since.h"
 #include "core/common/rank_threads.h"
 #include "core/config/config_loader.h"
@@ -373,8 +372,6 @@ Status Runtime::execute(int64_t step, double time) {
     std::fprintf(stderr, "lantern: step %lld rendered %zu scene(s) in %.1f ms%s\n",
                  static_cast<long long>(step), stats.size(), total_ms, budgets.c_str());
   }
-  // The step's temporaries go back to the system, not into the resident size (freed_memory.h).
-  release_freed_memory();
   last_render_end_ = Clock::now();
   if (result.ok()) return stats_written;
   // The step failed anyway; say that its stats were lost too.

@@ -165,7 +165,7 @@ CullStats CpuSpherePass::run(const ParticleArrays &particles, const BrickSet &br
   });
   // The merged lists are already in published order (draw_list.h).
   merge_strips(sel.visible, bricks, strips_, count, &scratch_, &st, out);
-  std::vector<uint64_t>().swap(scratch_);  // per-frame scratch: keep nothing between frames
+  PageVector<uint64_t>().swap(scratch_);  // per-frame scratch: keep nothing between frames
   st.drawn = int64_t(out->spheres.size());
   st.splatted = int64_t(out->points.size());
   if (bonds) st.bonds = count_bonds(*bonds, count);
@@ -241,7 +241,7 @@ CullStats CpuSpherePass::run_probabilistic(const ParticleArrays &particles, cons
   out->points = std::move(strips_[0].out.points);
   radix_sort_words(&out->spheres, &scratch_, 32, 64);
   radix_sort_words(&out->points, &scratch_, 32, 64);
-  std::vector<uint64_t>().swap(scratch_);
+  PageVector<uint64_t>().swap(scratch_);
   st.drawn = int64_t(out->spheres.size());
   st.splatted = int64_t(out->points.size());
   return st;

@@ -18,6 +18,7 @@
 
 #include "core/bricks/brick_bonds.h"
 #include "core/bricks/brick_set.h"
+#include "core/common/page_allocator.h"
 #include "core/config/config.h"
 #include "core/culling/bond_selection.h"
 #include "core/culling/brick_selection.h"
@@ -89,7 +90,7 @@ class CpuSpherePass {
   // strip, so that the strips' threads never write the same memory).
   std::vector<BondDrops> bond_drops_;
   std::vector<std::vector<uint8_t>> bond_marks_;
-  std::vector<uint64_t> scratch_;
+  PageVector<uint64_t> scratch_;
 };
 
 // True when the CPU pass can render a selection in `mode`: hzb, probabilistic, or no culling.

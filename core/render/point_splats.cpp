@@ -48,7 +48,7 @@ bool cast(const ViewGeometry &g, int x, int y, const glm::dvec3 &c, double r, gl
 }  // namespace
 
 void splat_points(const ParticleArrays &particles, bool per_particle, double radius,
-                  const std::vector<uint64_t> &entries, const ViewGeometry &g, const ColorOf &color,
+                  const PageVector<uint64_t> &entries, const ViewGeometry &g, const ColorOf &color,
                   Frame *frame, const AlphaOf &alpha, const Lighting &lighting) {
   // Default lighting: the original headlight code below, bit for bit.
   std::optional<shading::LightModel<double>> light;

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "core/color/colormap.h"
+#include "core/common/page_allocator.h"
 #include "core/config/lighting.h"
 #include "core/particles/particle_arrays.h"
 #include "core/view/frame.h"
@@ -26,7 +27,7 @@ using AlphaOf = std::function<uint8_t(int64_t)>;
 // `entries` as in DrawList::points. Radius: the published array when per_particle, else radius.
 // `alpha` (empty: all opaque) gives each particle's 8-bit opacity for screen_door.h's test.
 void splat_points(const ParticleArrays &particles, bool per_particle, double radius,
-                  const std::vector<uint64_t> &entries, const ViewGeometry &g, const ColorOf &color,
+                  const PageVector<uint64_t> &entries, const ViewGeometry &g, const ColorOf &color,
                   Frame *frame, const AlphaOf &alpha = AlphaOf(),
                   const Lighting &lighting = Lighting());
 

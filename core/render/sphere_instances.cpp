@@ -86,7 +86,7 @@ void build_all_instances(const InstanceRecipe &recipe, std::vector<SphereInstanc
   });
 }
 
-void build_selected_instances(const InstanceRecipe &recipe, const std::vector<uint64_t> &entries,
+void build_selected_instances(const InstanceRecipe &recipe, const PageVector<uint64_t> &entries,
                               std::vector<SphereInstance> *out) {
   out->resize(entries.size());
   with_readers(recipe, [&](const auto &pos, const auto &radius) {

@@ -7,6 +7,7 @@
 
 #include "core/camera/camera.h"
 #include "core/color/colormap.h"
+#include "core/common/page_allocator.h"
 #include "core/config/config.h"
 #include "core/particles/global_extent.h"
 #include "core/particles/particle_arrays.h"
@@ -95,7 +96,7 @@ void build_all_instances(const InstanceRecipe &recipe, std::vector<SphereInstanc
 
 // Instances of the culling stage's draw entries (core/culling/draw_list.h: particle index and
 // level-of-detail radius scale), in the entries' order.
-void build_selected_instances(const InstanceRecipe &recipe, const std::vector<uint64_t> &entries,
+void build_selected_instances(const InstanceRecipe &recipe, const PageVector<uint64_t> &entries,
                               std::vector<SphereInstance> *out);
 
 }  // namespace lantern

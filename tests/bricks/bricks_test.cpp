@@ -108,22 +108,22 @@ TEST(Morton, FourPrefixesAtOnceAreTheScalarPrefixes) {
 TEST(RadixSort, MatchesStdSortOnFullAndPartialBitRanges) {
   std::mt19937_64 rng(2);
   for (const size_t n : {size_t(0), size_t(1), size_t(7), size_t(1000), size_t(200000)}) {
-    std::vector<uint64_t> words(n);
+    PageVector<uint64_t> words(n);
     for (auto &w : words) w = rng() >> (rng() % 40);  // varied magnitudes, shared top bits
-    std::vector<uint64_t> full = words, scratch;
+    PageVector<uint64_t> full = words, scratch;
     radix_sort_words(&full, &scratch, 0, 64);
-    std::vector<uint64_t> expect = words;
+    PageVector<uint64_t> expect = words;
     std::sort(expect.begin(), expect.end());
     EXPECT_EQ(full, expect);
     // Upper half only: stable, so equal upper halves keep their input order.
-    std::vector<uint64_t> upper = words;
+    PageVector<uint64_t> upper = words;
     radix_sort_words(&upper, &scratch, 32, 64);
-    std::vector<uint64_t> stable = words;
+    PageVector<uint64_t> stable = words;
     std::stable_sort(stable.begin(), stable.end(),
                      [](uint64_t a, uint64_t b) { return (a >> 32) < (b >> 32); });
     EXPECT_EQ(upper, stable);
     for (const int threads : {2, 3, 5}) {  // parts scatter at once, still stably
-      std::vector<uint64_t> parted = words;
+      PageVector<uint64_t> parted = words;
       radix_sort_words(&parted, &scratch, 32, 64, threads);
       EXPECT_EQ(parted, stable) << threads;
     }

@@ -181,7 +181,7 @@ struct Crystal {
 struct Rendered {
   Frame frame;
   CullStats stats;
-  std::vector<uint64_t> drawn;
+  PageVector<uint64_t> drawn;
   std::vector<uint8_t> classes;  // per meshlet
   MeshletSet meshlets;
   std::vector<uint32_t> visible_bricks;

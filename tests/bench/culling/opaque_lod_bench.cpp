@@ -49,7 +49,7 @@ BenchScene random_sample(const BenchScene &bs, const ViewGeometry &g, double fra
 }
 
 // The particles at `indices` (their own radii): the set a frame ray-cast.
-BenchScene subset(const BenchScene &bs, const std::vector<uint64_t> &entries) {
+BenchScene subset(const BenchScene &bs, const PageVector<uint64_t> &entries) {
   BenchScene s;
   s.name = bs.name;
   s.config = bs.config;
@@ -107,7 +107,7 @@ class Renderer {
   }
 
   // The last draw's ray-cast spheres.
-  const std::vector<uint64_t> &ray_cast() const { return draw_.spheres; }
+  const PageVector<uint64_t> &ray_cast() const { return draw_.spheres; }
 
  private:
   BrickSelection selection_;
