@@ -35,11 +35,12 @@
 #include <glm/vec3.hpp>
 
 #include "core/view/pixel_rays.h"
+#include "core/view/reference_ray_grid.h"
 #include "core/view/view_geometry.h"
 
 namespace lantern {
 
-struct CentredCylinder {
+struct CentredCylinder : ReferenceRayGrid {
   // Usable when the cylinder lies wholly in front of the eye (perspective), or always (ortho).
   static bool applies(const ViewGeometry &g, const glm::dvec3 &a, const glm::dvec3 &b, double r) {
     return g.orthographic || std::min(-a.z, -b.z) - r > 0.0;
@@ -72,12 +73,7 @@ struct CentredCylinder {
     ux = tiny0(u.x), uy = tiny0(u.y), uz = tiny0(u.z);
     du0 = tiny0(glm::dot(d0, u));
     // Reference column and row: those of the ray through a (any fixed pair would do).
-    const double *rx = rays.x_data(), *ry = rays.y_data();
-    const double sx = rx[1] - rx[0], sy = ry[1] - ry[0];
-    ref_x = int(std::clamp(std::floor((cu - rx[0]) / sx), -1e9, 1e9));
-    ref_y = int(std::clamp(std::floor((cv - ry[0]) / sy), -1e9, 1e9));
-    step_x = float(sx), step_y = float(sy);
-    off_x = float(rx[0] + ref_x * sx - cu), off_y = float(ry[0] + ref_y * sy - cv);
+    place(rays, cu, cv);
   }
 
   bool orthographic;
@@ -88,8 +84,6 @@ struct CentredCylinder {
   float u0 = 0, v0 = 0, l0sq = 1;   // perspective: the reference ray and |D0|^2
   float wc = 0, wd = 0;             // window depth: wc - wd s / (1 + s), or wc + wd s
   float lo = 0, hi = 0;             // clip: 1 + s (perspective) or s (ortho) within [lo, hi]
-  int ref_x = 0, ref_y = 0;         // reference column and row
-  float step_x = 0, step_y = 0, off_x = 0, off_y = 0;  // ray steps; the reference's delta
 };
 
 // Window depth of a ray that misses or is clipped: loses every depth test (depths are <= 1).

@@ -15,6 +15,7 @@
 #include "core/render/cylinder_cast.h"
 #include "core/render/screen_door.h"
 #include "core/render/shading.h"
+#include "core/view/reference_ray_grid.h"
 
 namespace lantern {
 namespace {
@@ -93,7 +94,7 @@ struct Tile {
 // the hit at view depth d (L0^2 + e - hL/d) / L^2, and window depth wa + wb / depth =
 // (wa + wb/d) + (wb/d) delta with delta = (e + dx^2 + dy^2 + hL/d) / (L0^2 + e - hL/d).
 // Orthographic: the hit is h = sqrt(r^2 - dx^2 - dy^2) before the centre's depth d.
-struct CentredCast {
+struct CentredCast : ReferenceRayGrid {
   // Usable when the sphere lies wholly in front of the eye (perspective), or always (ortho).
   static bool applies(const ViewGeometry &g, const glm::dvec3 &c, double r) {
     return g.orthographic || -c.z - r > 0.0;
@@ -106,8 +107,6 @@ struct CentredCast {
   float r2 = 0;              // orthographic: r^2
   float wc = 0, wd = 0;      // perspective: wz = wc + wd delta; orthographic: wz = wc - wd h
   float lo = 0, hi = 0;      // clip: perspective near / d, far / d; ortho d - near, d - far
-  int ref_x = 0, ref_y = 0;  // reference column and row
-  float step_x = 0, step_y = 0, off_x = 0, off_y = 0;  // ray steps; the reference's (dx, dy)
 };
 
 CentredCast::CentredCast(const ViewGeometry &g, const PixelRays &rays, const glm::dvec3 &c,
@@ -129,12 +128,7 @@ CentredCast::CentredCast(const ViewGeometry &g, const PixelRays &rays, const glm
   // denormals, which are slow.
   u0 = std::abs(cu) < 1e-30 ? 0.0f : float(cu), v0 = std::abs(cv) < 1e-30 ? 0.0f : float(cv);
   // Reference column and row: those of the centre's ray (any fixed pair would do).
-  const double *rx = rays.x_data(), *ry = rays.y_data();
-  const double sx = rx[1] - rx[0], sy = ry[1] - ry[0];
-  ref_x = int(std::clamp(std::floor((cu - rx[0]) / sx), -1e9, 1e9));
-  ref_y = int(std::clamp(std::floor((cv - ry[0]) / sy), -1e9, 1e9));
-  step_x = float(sx), step_y = float(sy);
-  off_x = float(rx[0] + ref_x * sx - cu), off_y = float(ry[0] + ref_y * sy - cv);
+  place(rays, cu, cv);
 }
 
 // The tile kernels below come in an AVX2 clone and a baseline one, picked at load time. Both
