@@ -118,6 +118,7 @@ constexpr int kLocateChunk = 256;
 // the upper x weight; code_yz: wy (kSteps + 1) + wz).
 struct NodeWeights {
   int32_t node[kLocateChunk], code_x[kLocateChunk], code_yz[kLocateChunk];
+  int32_t lowest_z, highest_z;  // the lower nodes' planes of z: at least, at most (n > 0)
 };
 
 // The nodes and weights of OcclusionVolume::deposit() for n <= kLocateChunk particles: one loop
@@ -138,6 +139,13 @@ __attribute__((target_clones("avx2", "default"))) void locate_nodes(
       upper[a][k] = v - kSteps * at[a][k];
     }
   }
+  int32_t lowest = grid.n[2], highest = -1;
+  for (int k = 0; k < n; ++k) {
+    lowest = std::min(lowest, at[2][k]);
+    highest = std::max(highest, at[2][k]);
+  }
+  out->lowest_z = lowest;
+  out->highest_z = highest;
   const int32_t nx = grid.n[0], ny = grid.n[1];
   for (int k = 0; k < n; ++k) {
     out->node[k] = (at[2][k] * ny + at[1][k]) * nx + at[0][k];  // < kMaxOcclusionNodes
@@ -239,7 +247,7 @@ void OcclusionVolume::set_grid(const Extent &global, double radius) {
 // atoms, a brick's neighbours). Integers: the same sums in any order, so the same volume as one
 // particle at a time (fcc 1 M on 2 ranks: 5.3 -> 1.6 ms a rank).
 void OcclusionVolume::deposit(const ParticleArrays &particles, const std::vector<CutPlane> &cuts,
-                              std::vector<int64_t> *nodes) const {
+                              std::vector<int64_t> *nodes, Planes *occupied) const {
   const CutPlanes planes(cuts);
   const size_t dy = size_t(n_[0]), dz = size_t(n_[0]) * size_t(n_[1]);
   int64_t *out = nodes->data();
@@ -255,6 +263,7 @@ void OcclusionVolume::deposit(const ParticleArrays &particles, const std::vector
   double coordinate[3][kChunk];
   NodeWeights located;
   CornerSums held(out, dy, dz);
+  int lowest = n_[2], highest = -1;  // the lower nodes' planes of z
   visit_kept(particles, [&](const auto &kept) {
     visit_positions(particles, [&](const auto &positions) {
       const int64_t count = particles.count();
@@ -268,7 +277,10 @@ void OcclusionVolume::deposit(const ParticleArrays &particles, const std::vector
           coordinate[0][n] = x.x, coordinate[1][n] = x.y, coordinate[2][n] = x.z;
           ++n;
         }
+        if (n == 0) continue;
         locate_nodes(coordinate, n, grid, &located);
+        lowest = std::min(lowest, int(located.lowest_z));
+        highest = std::max(highest, int(located.highest_z));
         for (int k = 0; k < n; ++k)
           held.add(size_t(located.node[k]), tables.x[located.code_x[k]],
                    tables.yz[located.code_yz[k]]);
@@ -276,6 +288,8 @@ void OcclusionVolume::deposit(const ParticleArrays &particles, const std::vector
     });
   });
   held.flush();
+  // A deposit reaches the plane above its lower node's.
+  *occupied = highest < 0 ? Planes{0, 0} : Planes{lowest, highest + 2};
 }
 
 namespace {
@@ -294,61 +308,127 @@ void filter_rows(const int64_t *const in[5], int64_t *out, size_t count) {
 
 }  // namespace
 
+// The planes of z a rank smooths: the r-th of `ranks` nearly equal slabs (empty where there
+// are more ranks than planes).
+OcclusionVolume::Planes OcclusionVolume::slab_of(int rank, int ranks) const {
+  const int64_t nz = n_[2];
+  return {int(nz * rank / ranks), int(nz * (rank + 1) / ranks)};
+}
+
+// The planes whose deposits the smoothing of `slab` reads: kFilterReach more on either side,
+// within the grid (none for an empty slab).
+OcclusionVolume::Planes OcclusionVolume::reach_of(Planes slab) const {
+  if (slab.empty()) return slab;
+  return {std::max(0, slab.first - kFilterReach), std::min(n_[2], slab.end + kFilterReach)};
+}
+
+// The deposits of every rank summed over the planes `reach` (`summed`, plane after plane), from
+// this rank's `deposits` (the whole grid; nonzero only on the planes `occupied`). Each rank
+// sends every other only its occupied planes that the other's reach holds, so a domain
+// decomposition exchanges little more than the planes along the ranks' boundaries. Integers:
+// the same sums in any order. Collective over comm.
+Status OcclusionVolume::sum_over_ranks(MPI_Comm comm, const std::vector<int64_t> &deposits,
+                                       Planes occupied, Planes reach,
+                                       std::vector<int64_t> *summed) const {
+  int rank = 0, ranks = 1;
+  MPI_Comm_rank(comm, &rank);
+  MPI_Comm_size(comm, &ranks);
+  const int plane = n_[0] * n_[1];  // <= kMaxOcclusionNodes: every count below fits an int
+  const auto both = [](Planes a, Planes b) {
+    const Planes c{std::max(a.first, b.first), std::min(a.end, b.end)};
+    return c.empty() ? Planes{0, 0} : c;
+  };
+  int mine[2] = {occupied.first, occupied.end};
+  std::vector<int> occupied_by(2 * size_t(ranks));
+  if (MPI_Allgather(mine, 2, MPI_INT, occupied_by.data(), 2, MPI_INT, comm) != MPI_SUCCESS)
+    return {StatusCode::kMpi, "ambient_occlusion (object): MPI_Allgather of the planes failed"};
+  const size_t all = static_cast<size_t>(ranks);
+  std::vector<int> send_count(all, 0), send_at(all, 0), receive_count(all, 0), receive_at(all, 0);
+  std::vector<Planes> received(all);
+  int received_total = 0;
+  for (int q = 0; q < ranks; ++q) {
+    if (q == rank) continue;  // this rank's own deposits are copied below
+    const Planes out = both(occupied, reach_of(slab_of(q, ranks)));
+    send_count[size_t(q)] = out.count() * plane;
+    send_at[size_t(q)] = out.first * plane;
+    const Planes in = both({occupied_by[2 * size_t(q)], occupied_by[2 * size_t(q) + 1]}, reach);
+    received[size_t(q)] = in;
+    receive_count[size_t(q)] = in.count() * plane;
+    receive_at[size_t(q)] = received_total;
+    received_total += receive_count[size_t(q)];
+  }
+  std::vector<int64_t> incoming(static_cast<size_t>(received_total));
+  if (MPI_Alltoallv(deposits.data(), send_count.data(), send_at.data(), MPI_INT64_T,
+                    incoming.data(), receive_count.data(), receive_at.data(), MPI_INT64_T,
+                    comm) != MPI_SUCCESS)
+    return {StatusCode::kMpi, "ambient_occlusion (object): MPI_Alltoallv of the density failed"};
+  summed->assign(deposits.begin() + ptrdiff_t(reach.first) * plane,
+                 deposits.begin() + ptrdiff_t(reach.end) * plane);
+  for (int q = 0; q < ranks; ++q) {
+    const Planes in = received[size_t(q)];
+    if (in.empty()) continue;
+    int64_t *to = summed->data() + ptrdiff_t(in.first - reach.first) * plane;
+    const int64_t *from = incoming.data() + receive_at[size_t(q)];
+    for (ptrdiff_t i = 0; i < ptrdiff_t(in.count()) * plane; ++i) to[i] += from[i];
+  }
+  return {};
+}
+
 // The filter along each axis (nodes beyond the grid hold nothing: taps that fall off it add
-// zeros), exact in integers, then in particles per cell^3. Plane by plane of z: each plane is
-// filtered along x and y into a ring of the last five, from which the plane two behind is filtered
-// along z; the working set (six planes of 64^2 nodes at kMaxOcclusionNodes) stays in cache, and
-// the deposits are read once and the result written once (fcc 1 M: 1.8 -> 0.5 ms).
-float OcclusionVolume::smooth(const std::vector<int64_t> &deposits) {
-  const size_t nx = size_t(n_[0]), ny = size_t(n_[1]), nz = size_t(n_[2]), plane = nx * ny;
+// zeros), exact in integers, then in particles per cell^3, for the planes `slab` from the
+// deposits of the planes `given` (reach_of(slab): every plane the filter reads) into smoothed_.
+// Plane by plane of z: each plane is filtered along x and y into a ring of the last five, from
+// which the plane two behind is filtered along z; the working set (six planes of 64^2 nodes at
+// kMaxOcclusionNodes) stays in cache, and the deposits are read once and the result written once
+// (fcc 1 M: 1.8 -> 0.5 ms). Returns the largest sum of the slab (0 for an empty one).
+int64_t OcclusionVolume::smooth(const int64_t *deposits, Planes given, Planes slab) {
+  const size_t nx = size_t(n_[0]), ny = size_t(n_[1]), plane = nx * ny;
+  const int nz = n_[2];
+  smoothed_.resize(size_t(slab.count()) * plane);
+  if (slab.empty()) return 0;
   constexpr size_t kPad = kFilterReach;
   // A row of deposits with kPad zeros either side; a plane filtered along x with kPad zero rows
   // above and below; the ring of planes filtered along x and y; a plane of zeros (off the grid);
   // a plane filtered along all three.
   std::vector<int64_t> row(nx + 2 * kPad, 0), along_x((ny + 2 * kPad) * nx, 0), ring(5 * plane, 0),
       zeros(plane, 0), along_xyz(plane);
-  smoothed_.resize(deposits.size());
   const double scale = 1.0 / double(kParticleWeight * kFilterWeight);
   int64_t largest = 0;
-  for (size_t z = 0; z < nz + kPad; ++z) {
-    if (z < nz) {
+  for (int z = given.first; z < slab.end + kFilterReach; ++z) {
+    if (z < given.end) {
+      const int64_t *in = deposits + size_t(z - given.first) * plane;
       for (size_t y = 0; y < ny; ++y) {
-        std::copy_n(&deposits[z * plane + y * nx], nx, &row[kPad]);
+        std::copy_n(&in[y * nx], nx, &row[kPad]);
         const int64_t *taps[5] = {&row[0], &row[1], &row[2], &row[3], &row[4]};
         filter_rows(taps, &along_x[(y + kPad) * nx], nx);
       }
-      int64_t *xy = &ring[z % 5 * plane];
+      int64_t *xy = &ring[size_t(z) % 5 * plane];
       for (size_t y = 0; y < ny; ++y) {
         const int64_t *taps[5];
         for (size_t k = 0; k < 5; ++k) taps[k] = &along_x[(y + k) * nx];
         filter_rows(taps, xy + y * nx, nx);
       }
     }
-    if (z < kPad) continue;
-    const size_t out = z - kPad;  // the plane whose five neighbours along z are in the ring
+    const int out = z - kFilterReach;  // the plane whose five neighbours along z are in the ring
+    if (out < slab.first) continue;
     const int64_t *taps[5];
-    for (size_t k = 0; k < 5; ++k) {
-      const ptrdiff_t at = ptrdiff_t(out + k) - ptrdiff_t(kPad);
-      taps[k] = at >= 0 && at < ptrdiff_t(nz) ? &ring[size_t(at) % 5 * plane] : zeros.data();
+    for (int k = 0; k < 5; ++k) {
+      const int at = out + k - kFilterReach;  // in `given` when on the grid
+      taps[k] = at >= 0 && at < nz ? &ring[size_t(at) % 5 * plane] : zeros.data();
     }
     filter_rows(taps, along_xyz.data(), plane);
-    float *to = &smoothed_[out * plane];
+    float *to = &smoothed_[size_t(out - slab.first) * plane];
     for (size_t i = 0; i < plane; ++i) {
       to[i] = float(double(along_xyz[i]) * scale);
       largest = std::max(largest, along_xyz[i]);
     }
   }
-  // The conversion does not decrease: the largest value is that of the largest sum.
-  return float(double(largest) * scale);
+  return largest;
 }
 
-// The bulk density (kOcclusionBulkQuantile of the deposits lie at nodes of at most this
-// smoothed value), then o_face for its mean spacing.
-void OcclusionVolume::find_bulk(const std::vector<int64_t> &deposits, float top) {
-  bulk_ = 0.0;
-  face_ = 1.0;
-  const int64_t total = std::accumulate(deposits.begin(), deposits.end(), int64_t(0));
-  if (total == 0 || !(top > 0.0f)) return;
+// The histogram of smoothed_ (the nodes of one slab, whose summed deposits are `deposits`),
+// weighted by the deposits, into `histogram` (kBulkBins bins of [0, top]).
+void OcclusionVolume::bin_slab(const int64_t *deposits, float top, int64_t *histogram) const {
   // The bins in one loop without branches (it vectorises: the divisions), then the deposits added
   // to them (a node without deposits adds nothing), neighbouring nodes to different copies of the
   // histogram: they often share a bin, and adds to one counter wait for each other.
@@ -357,17 +437,26 @@ void OcclusionVolume::find_bulk(const std::vector<int64_t> &deposits, float top)
   constexpr size_t kChunk = 1024;
   static_assert(kChunk % kCopies == 0, "every chunk starts at copy 0");
   int32_t bins[kChunk];
-  for (size_t i0 = 0; i0 < deposits.size(); i0 += kChunk) {
-    const size_t n = std::min(kChunk, deposits.size() - i0);
+  const size_t nodes = smoothed_.size();
+  for (size_t i0 = 0; i0 < nodes; i0 += kChunk) {
+    const size_t n = std::min(kChunk, nodes - i0);
     const float *value = &smoothed_[i0];
     for (size_t k = 0; k < n; ++k)
       bins[k] = std::min(kBulkBins - 1, int(value[k] / top * kBulkBins));
     for (size_t k = 0; k < n; ++k)
       histograms[k % kCopies * kBulkBins + size_t(bins[k])] += deposits[i0 + k];
   }
-  std::vector<int64_t> histogram(kBulkBins, 0);
   for (size_t c = 0; c < kCopies; ++c)
     for (size_t b = 0; b < size_t(kBulkBins); ++b) histogram[b] += histograms[c * kBulkBins + b];
+}
+
+// The bulk density (kOcclusionBulkQuantile of the deposits lie at nodes of at most this
+// smoothed value) from the histogram of every node, then o_face for its mean spacing.
+void OcclusionVolume::find_bulk(const std::vector<int64_t> &histogram, float top) {
+  bulk_ = 0.0;
+  face_ = 1.0;
+  const int64_t total = std::accumulate(histogram.begin(), histogram.end(), int64_t(0));
+  if (total == 0 || !(top > 0.0f)) return;
   const double wanted = kOcclusionBulkQuantile * double(total);
   int64_t below = 0;
   int bin = 0;
@@ -379,6 +468,12 @@ void OcclusionVolume::find_bulk(const std::vector<int64_t> &deposits, float top)
   face_ = face_occupancy_of(std::cbrt(1.0 / bulk_));  // the mean spacing, in node units
 }
 
+// Every rank deposits its particles on the whole grid; then each smooths, bins and turns into
+// enclosures its own slab of planes of z (the deposits it reads summed over ranks: its slab and
+// kFilterReach planes either side), and the slabs' enclosures are gathered on every rank. Every
+// step is exact or per node, so the volume is the same for any split of the particles and any
+// number of ranks (fcc 1 M on 2 ranks: each rank smooths half the planes, and the ranks
+// exchange their boundary planes instead of summing the whole grid).
 Status OcclusionVolume::build(MPI_Comm comm, const ParticleArrays &particles, const Extent &global,
                               const std::vector<CutPlane> &cuts, double radius, double strength) {
   strength_ = float(strength);
@@ -389,21 +484,54 @@ Status OcclusionVolume::build(MPI_Comm comm, const ParticleArrays &particles, co
   if (global.empty()) return {};  // the same on every rank: no reduction to skip
   set_grid(global, radius);
   const size_t nodes = size_t(n_[0]) * size_t(n_[1]) * size_t(n_[2]);
+  const int plane = n_[0] * n_[1];
   std::vector<int64_t> deposits(nodes, 0);
-  deposit(particles, cuts, &deposits);
-  // One reduction of integers (in place): exact, so every split gives the same volume. A node's
-  // sum stays below 2^63 for up to 2^51 particles on it.
-  if (MPI_Allreduce(MPI_IN_PLACE, deposits.data(), int(nodes), MPI_INT64_T, MPI_SUM, comm) !=
-      MPI_SUCCESS)
-    return {StatusCode::kMpi, "ambient_occlusion (object): MPI_Allreduce of the density failed"};
-  const float top = smooth(deposits);
-  find_bulk(deposits, top);
+  Planes occupied;
+  deposit(particles, cuts, &deposits, &occupied);
+  int rank = 0, ranks = 1;
+  MPI_Comm_rank(comm, &rank);
+  MPI_Comm_size(comm, &ranks);
+  const Planes slab = slab_of(rank, ranks), reach = reach_of(slab);
+  // A node's sum stays below 2^63 for up to 2^51 particles on it.
+  std::vector<int64_t> summed;
+  const int64_t *slab_deposits = deposits.data();  // the planes `reach`
+  if (ranks > 1) {
+    if (Status s = sum_over_ranks(comm, deposits, occupied, reach, &summed); !s.ok()) return s;
+    slab_deposits = summed.data();
+  }
+  int64_t largest = smooth(slab_deposits, reach, slab);
+  if (ranks > 1 &&
+      MPI_Allreduce(MPI_IN_PLACE, &largest, 1, MPI_INT64_T, MPI_MAX, comm) != MPI_SUCCESS)
+    return {StatusCode::kMpi, "ambient_occlusion (object): MPI_Allreduce of the largest failed"};
+  // The conversion does not decrease: the largest value is that of the largest sum.
+  const float top = float(double(largest) * (1.0 / double(kParticleWeight * kFilterWeight)));
+  std::vector<int64_t> histogram(kBulkBins, 0);
+  if (largest > 0) {  // else nothing anywhere: no bins (the same on every rank)
+    bin_slab(slab_deposits + ptrdiff_t(slab.first - reach.first) * plane, top, histogram.data());
+    if (ranks > 1 && MPI_Allreduce(MPI_IN_PLACE, histogram.data(), kBulkBins, MPI_INT64_T, MPI_SUM,
+                                   comm) != MPI_SUCCESS)
+      return {StatusCode::kMpi, "ambient_occlusion (object): MPI_Allreduce of the bins failed"};
+  }
+  find_bulk(histogram, top);
   // Layers too far apart for the smoothing to see a surface (o_face near 1): nothing darkens.
   if (bulk_ > 0.0 && face_ < 0.999) {
-    enclosure_.resize(smoothed_.size());
+    enclosure_.resize(nodes);
     const double per_bulk = 1.0 / bulk_, open = 1.0 / (1.0 - face_);
+    float *to = enclosure_.data() + ptrdiff_t(slab.first) * plane;
     for (size_t i = 0; i < smoothed_.size(); ++i)
-      enclosure_[i] = float((double(smoothed_[i]) * per_bulk - face_) * open);
+      to[i] = float((double(smoothed_[i]) * per_bulk - face_) * open);
+    if (ranks > 1) {
+      std::vector<int> count(static_cast<size_t>(ranks)), at(count.size());
+      for (int q = 0; q < ranks; ++q) {
+        const Planes other = slab_of(q, ranks);
+        count[size_t(q)] = other.count() * plane;
+        at[size_t(q)] = other.first * plane;
+      }
+      if (MPI_Allgatherv(MPI_IN_PLACE, 0, MPI_DATATYPE_NULL, enclosure_.data(), count.data(),
+                         at.data(), MPI_FLOAT, comm) != MPI_SUCCESS)
+        return {StatusCode::kMpi,
+                "ambient_occlusion (object): MPI_Allgatherv of the volume failed"};
+    }
   }
   std::vector<float>().swap(smoothed_);
   return {};

@@ -16,8 +16,10 @@
 //     that would exceed kMaxOcclusionNodes nodes). Every rank deposits its drawn particles (kept
 //     by the mask, not cut away by an enabled cut plane) on the 8 nodes around each, with
 //     trilinear weights in 1/16 per axis (so a crystal's lattice does not alias against the
-//     nodes); the integer deposits are summed over ranks with MPI_Allreduce, so the volume, and
-//     every factor, is the same for any split of the particles.
+//     nodes); the integer deposits are summed over ranks (each rank sums, smooths and bins
+//     only its own slab of planes of z, from the planes the other ranks' particles reach, and
+//     the slabs' enclosures are gathered), so the volume, and every factor, is the same for any
+//     split of the particles.
 //   - Smoothing: the separable filter 1 2 1 along each axis (exact, in integers); a particle's
 //     value is the trilinear interpolation of the smoothed nodes at its centre.
 //   - The bulk density: the smoothed value below which kOcclusionBulkQuantile of the particles
@@ -82,13 +84,24 @@ class OcclusionVolume {
   size_t index(int x, int y, int z) const {
     return (size_t(z) * size_t(n_[1]) + size_t(y)) * size_t(n_[0]) + size_t(x);
   }
+  // Planes of z [first, end).
+  struct Planes {
+    int first = 0, end = 0;
+    int count() const { return end - first; }
+    bool empty() const { return end <= first; }
+  };
   void set_grid(const Extent &global, double radius);
   void deposit(const ParticleArrays &particles, const std::vector<CutPlane> &cuts,
-               std::vector<int64_t> *nodes) const;
-  // Fills smoothed_; returns its largest value.
-  float smooth(const std::vector<int64_t> &deposits);
-  // From the smoothed values and their largest, `top`.
-  void find_bulk(const std::vector<int64_t> &deposits, float top);
+               std::vector<int64_t> *nodes, Planes *occupied) const;
+  Planes slab_of(int rank, int ranks) const;
+  Planes reach_of(Planes slab) const;
+  Status sum_over_ranks(MPI_Comm comm, const std::vector<int64_t> &deposits, Planes occupied,
+                        Planes reach, std::vector<int64_t> *summed) const;
+  // Fills smoothed_ for `slab`; returns its largest sum.
+  int64_t smooth(const int64_t *deposits, Planes given, Planes slab);
+  void bin_slab(const int64_t *deposits, float top, int64_t *histogram) const;
+  // From the histogram of every node and the largest smoothed value, `top`.
+  void find_bulk(const std::vector<int64_t> &histogram, float top);
   float enclosure_at(const glm::dvec3 &x) const;
 
   glm::dvec3 lo_{0.0};
@@ -97,7 +110,8 @@ class OcclusionVolume {
   double bulk_ = 0.0;  // particles per cell^3 in the bulk (0: nothing drawn anywhere)
   double face_ = 1.0;  // o_face (1: no darkening at all)
   std::array<int, 3> n_{2, 2, 2};
-  std::vector<float> smoothed_;  // per node, in particles per cell^3 (while building)
+  // Per node of this rank's slab, in particles per cell^3 (while building).
+  std::vector<float> smoothed_;
   // Per node: (smoothed / bulk - o_face) / (1 - o_face), the share of a flat face's open
   // half-space that is filled; empty where nothing darkens.
   std::vector<float> enclosure_;

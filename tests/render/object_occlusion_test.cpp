@@ -330,5 +330,108 @@ TEST(ObjectOcclusion, ALongRunOnOneNodeIsSummedExactly) {
   ASSERT_EQ(v.enclosure_nodes(), expected);
 }
 
+// A scattered cloud as in TheVolumeIsTheOneParticleAtATimeSum: clusters, masked-out and
+// non-finite particles, some beyond the bounds; this rank's share when mine(k) holds.
+struct Cloud {
+  std::vector<double> xyz;
+  std::vector<int32_t> mask;
+  ParticleArrays arrays;
+};
+
+void make_cloud(int count, const std::function<bool(int, const double *)> &mine, Cloud *c) {
+  uint64_t state = 987654321;
+  const auto uniform = [&state] {
+    state = state * 6364136223846793005ull + 1442695040888963407ull;
+    return double(state >> 11) / double(uint64_t(1) << 53);
+  };
+  for (int i = 0; i < count; ++i) {
+    double x[3];
+    for (double &a : x) a = i % 3 == 0 ? 10.0 + 4.0 * uniform() : -1.0 + 42.0 * uniform();
+    if (i == 5) x[0] = std::nan("");
+    if (i == 7) x[2] = HUGE_VAL;
+    if (!mine(i, x)) continue;
+    c->xyz.insert(c->xyz.end(), x, x + 3);
+    c->mask.push_back(i % 17 != 0);
+  }
+  ParticleDescription d;
+  d.count = int64_t(c->mask.size());
+  d.position = {c->xyz.data(), DataType::kFloat64, 0};
+  d.mask = {c->mask.data(), DataType::kInt32, 0};
+  d.mask_bits = 1;
+  EXPECT_OK(ParticleArrays::validate(d, &c->arrays));
+}
+
+// Each rank sums and smooths only its slab of planes from the planes the others' particles
+// reach: the volume on every rank is the one-rank volume bit for bit, whichever rank holds which
+// particles (spread over every slab, in slabs of z that are not the ranks' own, all on one
+// rank), with and without a cut plane.
+TEST(ObjectOcclusion, EveryRankHasTheOneRankVolumeForEverySplit) {
+  constexpr int kCount = 40000;
+  Cloud all;
+  make_cloud(
+      kCount, [](int, const double *) { return true; }, &all);
+  Extent global;
+  global.add_particle(0.0, 0.0, 0.0, 0.5);
+  global.add_particle(40.0, 30.0, 35.0, 0.5);
+  CutPlane cut;
+  cut.normal = {0.6, 0.0, 0.8};
+  cut.offset = 30.0;
+  const int rank = world_rank(), ranks = world_size();
+  for (const std::vector<CutPlane> &cuts : {std::vector<CutPlane>{}, std::vector<CutPlane>{cut}}) {
+    OcclusionVolume alone;
+    ASSERT_OK(alone.build(MPI_COMM_SELF, all.arrays, global, cuts, kRadius, kStrength));
+    ASSERT_FALSE(alone.enclosure_nodes().empty());
+    for (const int split : {0, 1, 2}) {
+      Cloud mine;
+      make_cloud(
+          kCount,
+          [&](int k, const double *x) {
+            switch (split) {
+              case 0:
+                return k % ranks == rank;  // round robin
+              case 1: {  // slabs of z in reverse rank order, the non-finite ones on rank 0
+                if (!std::isfinite(x[2])) return rank == 0;
+                const int slab = std::clamp(int(x[2] / 35.0 * ranks), 0, ranks - 1);
+                return ranks - 1 - slab == rank;
+              }
+              default:
+                return rank == 0;  // all on the first rank
+            }
+          },
+          &mine);
+      OcclusionVolume v;
+      ASSERT_OK(v.build(MPI_COMM_WORLD, mine.arrays, global, cuts, kRadius, kStrength));
+      EXPECT_EQ(v.bulk_per_cell(), alone.bulk_per_cell()) << "split " << split;
+      EXPECT_EQ(v.face_occupancy(), alone.face_occupancy()) << "split " << split;
+      ASSERT_EQ(v.enclosure_nodes(), alone.enclosure_nodes())
+          << "split " << split << ", cuts " << cuts.size();
+    }
+  }
+}
+
+// Grids of fewer planes of z than the smoothing reaches across ranks' slabs (four planes: at 4
+// ranks one each, the filter reading two slabs away), and of fewer planes than ranks (two: some
+// slabs empty), with the particles round robin: the one-rank volume.
+TEST(ObjectOcclusion, ThinGridsAreTheOneRankVolumeOnEveryRank) {
+  for (const int layers : {3, 1}) {
+    const auto all = [](int) { return true; };
+    const auto inside = [](const Site &s) { return s.x < 4 || s.y < 4 || s.z == 0; };
+    const Lattice whole = lattice(24, 24, layers, inside, all);
+    const int rank = world_rank(), ranks = world_size();
+    const Lattice mine = lattice(24, 24, layers, inside, [&](int k) { return k % ranks == rank; });
+    // The bounds of the whole lattice on every rank.
+    Extent global;
+    for (const Site &s : whole.sites) global.add_particle(s.x, s.y, s.z, 0.5);
+    OcclusionVolume alone, v;
+    ASSERT_OK(alone.build(MPI_COMM_SELF, whole.arrays, global, {}, kRadius, kStrength));
+    ASSERT_OK(v.build(MPI_COMM_WORLD, mine.arrays, global, {}, kRadius, kStrength));
+    ASSERT_EQ(v.node_counts()[2], layers == 3 ? 4 : 2);
+    EXPECT_EQ(v.bulk_per_cell(), alone.bulk_per_cell()) << layers << " layers";
+    EXPECT_EQ(v.face_occupancy(), alone.face_occupancy()) << layers << " layers";
+    if (layers == 3) ASSERT_FALSE(alone.enclosure_nodes().empty());
+    ASSERT_EQ(v.enclosure_nodes(), alone.enclosure_nodes()) << layers << " layers";
+  }
+}
+
 }  // namespace
 }  // namespace lantern::testing
