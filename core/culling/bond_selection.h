@@ -13,6 +13,7 @@
 // index. Thread-safety: visit_bond_halves only reads; run it from any number of threads.
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 #include <vector>
 
@@ -75,6 +76,10 @@ inline void begin_bond_drops(const BondSelection &sel, BondDrops *drops) {
   drops->cut.assign(sel.visible.size(), -1);
 }
 
+// How many half-bonds ahead visit_bond_brick prefetches their atoms' and partners' positions:
+// about two atoms' runs, enough to cover a miss to memory at the cost of judging a run.
+inline constexpr uint32_t kBondPrefetch = 12;
+
 // Every half of visible brick k of `sel` that survives the cutting planes and the frustum:
 // hidden(rect, depth) is asked for the brick and then each half (true: every pixel of rect holds
 // something nearer than depth, so it is dropped as occluded); visit(view) gets the others.
@@ -90,12 +95,21 @@ void visit_bond_brick(size_t k, const BrickBonds &bonds, const BondSelection &se
   int64_t frustum_culled = 0, cut_culled = 0;
   const bool straddle = v.containment == Containment::kStraddling;
   const uint32_t end = bonds.first[v.brick + 1];
+  // The halves' atoms and partners lie scattered in the positions (and the atoms' reach): each
+  // is asked for kBondPrefetch halves ahead of its use (only a hint to the cache).
+  uint32_t ahead = bonds.first[v.brick];
   for (uint32_t h = bonds.first[v.brick]; h < end;) {
     // The run of halves of one atom (brick_bonds.h): they share its cut and, when the sphere
     // round the atom that holds them all (its reach plus the bond radius) is hidden, their fate.
     const uint32_t atom_index = bonds.halves[h].atom;
     uint32_t run_end = h + 1;
     while (run_end < end && bonds.halves[run_end].atom == atom_index) ++run_end;
+    for (const uint32_t to = std::min(end, run_end + kBondPrefetch); ahead < to; ++ahead) {
+      const HalfBond &next = bonds.halves[ahead];
+      pos.prefetch(next.atom);
+      pos.prefetch(next.partner);
+      __builtin_prefetch(bonds.reach.data() + next.atom, 0, 3);
+    }
     const glm::dvec3 atom = pos.get(atom_index);
     if (v.cut_each && cuts.drops(atom)) {
       cut_culled += run_end - h;

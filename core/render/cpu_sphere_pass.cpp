@@ -22,9 +22,10 @@ void CpuSpherePass::begin_bonds(const BondDrawing &bonds, int count) {
   if (int(bond_drops_.size()) < count) bond_drops_.resize(size_t(count));
   if (int(bond_marks_.size()) < count) bond_marks_.resize(size_t(count));
   for (int k = 0; k < count; ++k) {
-    bond_marks_[size_t(k)].assign(bonds.recipe->halves->half_count(), 0);
+    if (count > 1) bond_marks_[size_t(k)].assign(bonds.recipe->halves->half_count(), 0);
     begin_bond_drops(*bonds.selection, &bond_drops_[size_t(k)]);
   }
+  bond_drawn_ = 0, bond_strips_ = count;
 }
 
 template <typename Positions>
@@ -33,7 +34,8 @@ void CpuSpherePass::draw_bonds(int k, const Positions &pos, const ViewGeometry &
                                const BondDrawing &bonds, size_t from, size_t to) {
   CpuSphereRaster &raster = rasters_[size_t(k)];
   const StripState &strip = strips_[size_t(k)];
-  std::vector<uint8_t> &marks = bond_marks_[size_t(k)];
+  // One strip draws each half at most once (visit_bond_brick visits it once): a count will do.
+  uint8_t *marks = bond_strips_ > 1 ? bond_marks_[size_t(k)].data() : nullptr;
   const BondRecipe &recipe = *bonds.recipe;
   const BrickBonds &halves = *recipe.halves;
   const double radius = bonds.selection->radius;
@@ -49,7 +51,10 @@ void CpuSpherePass::draw_bonds(int k, const Positions &pos, const ViewGeometry &
     const HalfBond &h = halves.halves[v.index];
     const Rgb8 color = recipe.color(h);
     raster.draw_bond(v.a, v.b, radius, color.data(), v.rect, recipe.alpha(h));
-    marks[v.index] = 1;
+    if (marks)
+      marks[v.index] = 1;
+    else
+      ++bond_drawn_;
   };
   for (size_t b = from; b < to; ++b)
     visit_bond_brick(b, halves, *bonds.selection, pos, recipe.box, g, frustum, cuts, hidden, visit,
@@ -58,8 +63,8 @@ void CpuSpherePass::draw_bonds(int k, const Positions &pos, const ViewGeometry &
 
 BondCounts CpuSpherePass::count_bonds(const BondDrawing &bonds, int count) {
   // A half-bond is drawn when some strip drew its part of it.
-  const size_t n = bonds.recipe->halves->half_count();
-  int64_t drawn = 0;
+  const size_t n = count > 1 ? bonds.recipe->halves->half_count() : 0;
+  int64_t drawn = count > 1 ? 0 : bond_drawn_;
   for (size_t i = 0; i < n; ++i) {
     bool any = false;
     for (int k = 0; k < count && !any; ++k) any = bond_marks_[size_t(k)][i] != 0;

@@ -73,7 +73,8 @@ class CpuSpherePass {
   // Gives the first `count` strips their rasters, begun on `frame`.
   void begin_strips(int count, const ViewGeometry &g, const Lighting *lighting, Frame *frame);
   // Strip k's half-bonds of visible bond bricks [from, to); marks those it drew in
-  // bond_marks_[k] and records the bricks' drops in bond_drops_[k].
+  // bond_marks_[k] (one strip: counts them in bond_drawn_) and records the bricks' drops in
+  // bond_drops_[k].
   template <typename Positions>
   void draw_bonds(int k, const Positions &pos, const ViewGeometry &g, const Frustum &frustum,
                   const CutPlanes &cuts, bool occlusion, const BondDrawing &bonds, size_t from,
@@ -87,9 +88,12 @@ class CpuSpherePass {
   std::vector<StripState> strips_;
   std::vector<CpuSphereRaster> rasters_;
   // Per strip: its half-bonds' drops, and per half-bond whether it drew it (one byte vector per
-  // strip, so that the strips' threads never write the same memory).
+  // strip, so that the strips' threads never write the same memory). A single strip draws each
+  // half at most once: it only counts them (bond_drawn_), with no marks.
   std::vector<BondDrops> bond_drops_;
   std::vector<std::vector<uint8_t>> bond_marks_;
+  int64_t bond_drawn_ = 0;
+  int bond_strips_ = 0;  // the strips of the last begin_bonds
   PageVector<uint64_t> scratch_;
 };
 

@@ -641,8 +641,11 @@ bool CpuSphereRaster::draw_centred_bond(const glm::dvec3 &a, const glm::dvec3 &u
     cast_wz_.resize(size_t(padded + kRun)), cast_lambert2_.resize(size_t(padded + kRun));
   }
   int *kx = cast_kx_.data(), *jy = cast_jy_.data();
-  for (const CylinderRun &run : runs_)
-    for (int k = 0; k < run.n; ++k) kx[run.at + k] = run.kx + k, jy[run.at + k] = run.jy;
+  for (const CylinderRun &run : runs_) {
+    // The run's fields in locals: the stores below cannot change them (else they are reloaded).
+    const int at = run.at, n = run.n, run_kx = run.kx, run_jy = run.jy;
+    for (int k = 0; k < n; ++k) kx[at + k] = run_kx + k, jy[at + k] = run_jy;
+  }
   for (int i = cast; i < padded + kRun; ++i) kx[i] = kx[cast - 1], jy[i] = jy[cast - 1];
   float *wz = cast_wz_.data(), *lambert2 = cast_lambert2_.data();
   cast_cylinder_pixels(cylinder, kx, jy, padded, wz, lambert2);

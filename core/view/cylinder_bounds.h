@@ -41,10 +41,8 @@ inline void box_corners(const glm::dvec3 &lo, const glm::dvec3 &hi, glm::dvec3 o
 inline PixelRect cylinder_rect(const ViewGeometry &g, const glm::dvec3 &a, const glm::dvec3 &b,
                                double r, double *near_depth) {
   const CylinderBounds box = cylinder_bounds(a, b, r + g.eps);
-  glm::dvec3 corners[8];
-  box_corners(box.lo, box.hi, corners);
   *near_depth = -box.hi.z - g.eps;
-  return g.box_rect(corners);
+  return g.box_rect(box.lo, box.hi);
 }
 
 }  // namespace lantern

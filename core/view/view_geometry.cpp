@@ -129,4 +129,29 @@ PixelRect ViewGeometry::box_rect(const glm::dvec3 corners[8]) const {
   return ndc_rect(x_lo, x_hi, y_lo, y_hi);
 }
 
+PixelRect ViewGeometry::box_rect(const glm::dvec3 &lo, const glm::dvec3 &hi) const {
+  // Corner k is (k & 1 ? hi : lo).x, (k & 2 ? hi : lo).y, (k & 4 ? hi : lo).z: its projection
+  // takes x from qx[k & 1][k >> 2] and y from qy[(k >> 1) & 1][k >> 2], each the very expression
+  // box_rect evaluates, and they are taken in box_rect's order (min and max of a NaN depend on it).
+  double qx[2][2], qy[2][2];
+  const double xs[2] = {lo.x, hi.x}, ys[2] = {lo.y, hi.y};
+  if (orthographic) {
+    for (int i = 0; i < 2; ++i)
+      for (int j = 0; j < 2; ++j) qx[i][j] = sx * xs[i] + tx, qy[i][j] = sy * ys[i] + ty;
+  } else {
+    const double ds[2] = {-lo.z, -hi.z};
+    if (ds[0] <= 0.5 * near_plane || ds[1] <= 0.5 * near_plane)
+      return PixelRect{0, 0, width - 1, height - 1};
+    for (int i = 0; i < 2; ++i)
+      for (int j = 0; j < 2; ++j) qx[i][j] = sx * xs[i] / ds[j], qy[i][j] = sy * ys[i] / ds[j];
+  }
+  double x_lo = std::numeric_limits<double>::infinity(), x_hi = -x_lo, y_lo = x_lo, y_hi = -x_lo;
+  for (int k = 0; k < 8; ++k) {
+    const double x = qx[k & 1][k >> 2], y = qy[(k >> 1) & 1][k >> 2];
+    x_lo = std::min(x_lo, x), x_hi = std::max(x_hi, x);
+    y_lo = std::min(y_lo, y), y_hi = std::max(y_hi, y);
+  }
+  return ndc_rect(x_lo, x_hi, y_lo, y_hi);
+}
+
 }  // namespace lantern

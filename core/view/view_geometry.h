@@ -95,6 +95,9 @@ struct ViewGeometry {
   PixelRect sphere_rect_tight(const glm::dvec3 &c, double r, double slack) const;
   // The same for a view-space box given by its 8 corners' bounds (already expanded by radius).
   PixelRect box_rect(const glm::dvec3 corners[8]) const;
+  // box_rect of the axis-aligned box [lo, hi]'s corners (box_corners' order), the same rectangle
+  // bit for bit with half the divisions: the corners share two depths, x and y.
+  PixelRect box_rect(const glm::dvec3 &lo, const glm::dvec3 &hi) const;
 
   // Unnormalised ray direction (perspective) or ray origin x/y (orthographic) through the centre
   // of pixel column x / row y: perspective dir = (ray_x(x), ray_y(y), -1).

@@ -484,6 +484,38 @@ ViewGeometry small_view(bool ortho) {
   return g;
 }
 
+// cylinder_rect takes a box's rectangle from its bounds (ViewGeometry::box_rect(lo, hi)): the
+// very rectangle of its 8 corners, for boxes far and near, straddling the eye's axes, reaching
+// behind half the near plane, flat, and with NaN or infinite bounds.
+TEST(CylinderRows, BoxRectOfBoundsIsThatOfItsCorners) {
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0), pos(0.0, 1.0);
+  const double nan = std::nan(""), inf = INFINITY;
+  int64_t boxes = 0, whole = 0;
+  for (const bool ortho : {false, true}) {
+    const ViewGeometry g = small_view(ortho);
+    for (int trial = 0; trial < 4000; ++trial) {
+      const double depth = trial % 5 == 0 ? 0.3 * pos(rng) : 0.5 + 80.0 * pos(rng) * pos(rng);
+      glm::dvec3 lo(unit(rng) * depth, unit(rng) * depth, -depth);
+      glm::dvec3 hi = lo + glm::dvec3(3.0 * pos(rng), 3.0 * pos(rng), 3.0 * pos(rng));
+      if (trial % 13 == 0) hi.x = lo.x;  // flat
+      if (trial % 17 == 0) (trial % 2 ? lo.y : hi.z) = nan;
+      if (trial % 19 == 0) (trial % 2 ? hi.x : lo.z) = trial % 3 ? inf : -inf;
+      glm::dvec3 corners[8];
+      box_corners(lo, hi, corners);
+      const PixelRect want = g.box_rect(corners), got = g.box_rect(lo, hi);
+      EXPECT_EQ(got.x0, want.x0) << trial;
+      EXPECT_EQ(got.x1, want.x1) << trial;
+      EXPECT_EQ(got.y0, want.y0) << trial;
+      EXPECT_EQ(got.y1, want.y1) << trial;
+      ++boxes;
+      whole += want.x0 == 0 && want.y0 == 0 && want.x1 == g.width - 1 && want.y1 == g.height - 1;
+    }
+  }
+  EXPECT_GT(whole, 100);  // the cases behind half the near plane were reached
+  EXPECT_LT(whole, boxes / 2);
+}
+
 // draw_bond casts only the columns CylinderRows gives each row of the cylinder's rectangle: every
 // pixel of the image whose ray the cast accepts must lie in the rectangle and in its row's span,
 // for cylinders of every size, orientation and distance, in perspective and orthographic views.
