@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <limits>
 #include <utility>
 
@@ -14,6 +15,8 @@ namespace lantern {
 namespace {
 
 constexpr uint32_t kNoBrick = std::numeric_limits<uint32_t>::max();
+// How many halves ahead the refit asks for the memory it will read (refit_brick_bonds).
+constexpr size_t kAhead = 16;
 
 bool same_box(const PeriodicBox &a, const PeriodicBox &b) {
   return a.length == b.length && a.periodic == b.periodic;
@@ -113,20 +116,50 @@ bool refit_brick_bonds(const ParticleArrays &particles, const BondArrays &bonds,
   bool ok = true;
   // Brick after brick, as the halves are filed: min and max of non-zero finite values do not
   // depend on the order they are met in, so the bounds are the build's (which meets them in list
-  // order), and so is every reach (a maximum of lengths).
+  // order), and so is every reach (a maximum of lengths). A brick's halves come in runs of one
+  // atom (an owned atom's own halves are consecutive): each run reads its atom once, adds it to
+  // the bounds once, and writes its reach once, the square root of its longest squared length -
+  // sqrt is correctly rounded, so monotonic, and that root is the longest of the halves' lengths.
   visit_positions(particles, [&](const auto &pos) {
+    const HalfBond *const halves = r.halves.data();
+    double *const reach = r.reach.data();
+    const size_t count = r.halves.size();
+    // A copy the compiler may keep in registers: the stores to reach could alias *box.
+    const PeriodicBox local_box = box ? *box : PeriodicBox();
+    const PeriodicBox *const image = box ? &local_box : nullptr;
+    // The atoms, partners and reach entries are scattered over the host's order: ask for them
+    // kAhead halves before they are read, or nearly every half waits on a cache miss. Written
+    // out where it is used: GCC deletes a call to a helper that only prefetches (it deems it
+    // free of effects) unless the helper was inlined first.
+    for (size_t k = 0; k < std::min(kAhead, count); ++k) {
+      pos.prefetch(halves[k].atom), pos.prefetch(halves[k].partner);
+      __builtin_prefetch(reach + halves[k].atom, 0, 3);
+    }
     for (size_t b = 0; b < brick_count && ok; ++b) {
       glm::dvec3 lo = inf, hi = -inf;
-      for (uint32_t k = r.first[b]; k < r.first[b + 1]; ++k) {
-        const HalfBond &h = r.halves[k];
-        const glm::dvec3 x = pos.get(h.atom), partner = pos.get(h.partner);
-        if (!finite_position(x) || !finite_position(partner)) return void(ok = false);
-        const glm::dvec3 end = half_bond_end(x, partner, box);
-        lo = glm::min(lo, glm::min(x, end));
-        hi = glm::max(hi, glm::max(x, end));
-        r.reach[h.atom] = std::max(r.reach[h.atom], glm::length(end - x));
+      const uint32_t last = r.first[b + 1];
+      for (uint32_t k = r.first[b]; k < last;) {
+        const uint32_t atom = halves[k].atom;
+        const glm::dvec3 x = pos.get(atom);
+        if (!finite_position(x)) return void(ok = false);
+        lo = glm::min(lo, x), hi = glm::max(hi, x);
+        double longest = 0.0;  // squared
+        for (; k < last && halves[k].atom == atom; ++k) {
+          if (k + kAhead < count) {
+            const HalfBond &ahead = halves[k + kAhead];
+            pos.prefetch(ahead.atom), pos.prefetch(ahead.partner);
+            __builtin_prefetch(reach + ahead.atom, 0, 3);
+          }
+          const glm::dvec3 partner = pos.get(halves[k].partner);
+          if (!finite_position(partner)) return void(ok = false);
+          const glm::dvec3 end = half_bond_end(x, partner, image);
+          lo = glm::min(lo, end), hi = glm::max(hi, end);
+          const glm::dvec3 along = end - x;
+          longest = std::max(longest, glm::dot(along, along));
+        }
+        reach[atom] = std::max(reach[atom], std::sqrt(longest));
       }
-      if (r.first[b] != r.first[b + 1])
+      if (r.first[b] != last)
         for (int c = 0; c < 3; ++c) ok &= lo[c] != 0.0 && hi[c] != 0.0;
       r.lo[b] = lo, r.hi[b] = hi;
     }
