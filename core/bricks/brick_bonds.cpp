@@ -2,8 +2,13 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <limits>
 #include <utility>
+
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 #include <glm/geometric.hpp>
 
@@ -14,6 +19,46 @@ namespace lantern {
 namespace {
 
 constexpr uint32_t kNoBrick = std::numeric_limits<uint32_t>::max();
+// How many halves ahead the refit asks for the memory it will read (refit_brick_bonds).
+constexpr size_t kAhead = 16;
+
+// The x and y of a vector in one SSE2 register where the target has SSE2, else two doubles:
+// refit_brick_bonds does its arithmetic on them lane by lane with the IEEE operations the scalar
+// code does, so either gives the bits of half_bond_end, glm::min and glm::max.
+#if defined(__SSE2__)
+struct Pair {
+  __m128d v;
+  static Pair of(double x, double y) { return {_mm_set_pd(y, x)}; }
+  double x() const { return _mm_cvtsd_f64(v); }
+  double y() const { return _mm_cvtsd_f64(_mm_unpackhi_pd(v, v)); }
+  Pair operator+(Pair o) const { return {_mm_add_pd(v, o.v)}; }
+  Pair operator-(Pair o) const { return {_mm_sub_pd(v, o.v)}; }
+  Pair operator*(Pair o) const { return {_mm_mul_pd(v, o.v)}; }
+  // glm::min(*this, o), glm::max(*this, o): (o < a) ? o : a and (a < o) ? o : a per lane.
+  Pair min(Pair o) const { return {_mm_min_pd(o.v, v)}; }
+  Pair max(Pair o) const { return {_mm_max_pd(o.v, v)}; }
+  // Whether 2 |lane| <= limit's lane in both lanes.
+  bool twice_within(Pair limit) const {
+    const __m128d magnitude = _mm_and_pd(v, _mm_castsi128_pd(_mm_set1_epi64x(INT64_MAX)));
+    return _mm_movemask_pd(_mm_cmple_pd(_mm_add_pd(magnitude, magnitude), limit.v)) == 3;
+  }
+};
+#else
+struct Pair {
+  double a, b;
+  static Pair of(double x, double y) { return {x, y}; }
+  double x() const { return a; }
+  double y() const { return b; }
+  Pair operator+(Pair o) const { return {a + o.a, b + o.b}; }
+  Pair operator-(Pair o) const { return {a - o.a, b - o.b}; }
+  Pair operator*(Pair o) const { return {a * o.a, b * o.b}; }
+  Pair min(Pair o) const { return {o.a < a ? o.a : a, o.b < b ? o.b : b}; }
+  Pair max(Pair o) const { return {a < o.a ? o.a : a, b < o.b ? o.b : b}; }
+  bool twice_within(Pair limit) const {
+    return 2.0 * std::abs(a) <= limit.a && 2.0 * std::abs(b) <= limit.b;
+  }
+};
+#endif
 
 bool same_box(const PeriodicBox &a, const PeriodicBox &b) {
   return a.length == b.length && a.periodic == b.periodic;
@@ -113,20 +158,79 @@ bool refit_brick_bonds(const ParticleArrays &particles, const BondArrays &bonds,
   bool ok = true;
   // Brick after brick, as the halves are filed: min and max of non-zero finite values do not
   // depend on the order they are met in, so the bounds are the build's (which meets them in list
-  // order), and so is every reach (a maximum of lengths).
+  // order), and so is every reach (a maximum of lengths). A brick's halves come in runs of one
+  // atom (an owned atom's own halves are consecutive): each run reads its atom once, adds it to
+  // the bounds once, and writes its reach once, the square root of its longest squared length -
+  // sqrt is correctly rounded, so monotonic, and that root is the longest of the halves' lengths.
   visit_positions(particles, [&](const auto &pos) {
+    const HalfBond *const halves = r.halves.data();
+    double *const reach = r.reach.data();
+    const size_t count = r.halves.size();
+    // The atoms, partners and reach entries are scattered over the host's order: ask for them
+    // kAhead halves before they are read, or nearly every half waits on a cache miss. Written
+    // out where it is used: GCC deletes a call to a helper that only prefetches (it deems it
+    // free of effects) unless the helper was inlined first.
+    for (size_t k = 0; k < std::min(kAhead, count); ++k) {
+      pos.prefetch(halves[k].atom), pos.prefetch(halves[k].partner);
+      __builtin_prefetch(reach + halves[k].atom, 0, 3);
+    }
+    // minimum_image's shortcut, decided here for x and y together: per axis the limit of twice
+    // |d| (the length on an axis that wraps, inf on one that does not, -1 - never - where the
+    // length is inf) and what the shortcut adds (+0.0 where the axis wraps; -0.0, which changes
+    // no double, where it does not). A half off the shortcut goes through half_bond_end itself.
+    double limit[3], add[3];
+    for (int a = 0; a < 3; ++a) {
+      const bool wraps = box && box->periodic[a] && box->length[a] > 0.0;
+      limit[a] = !wraps                                                 ? inf.x
+                 : box->length[a] <= std::numeric_limits<double>::max() ? box->length[a]
+                                                                        : -1.0;
+      add[a] = wraps ? 0.0 : -0.0;
+    }
+    const Pair limit_xy = Pair::of(limit[0], limit[1]), add_xy = Pair::of(add[0], add[1]);
+    const Pair half = Pair::of(0.5, 0.5);
     for (size_t b = 0; b < brick_count && ok; ++b) {
-      glm::dvec3 lo = inf, hi = -inf;
-      for (uint32_t k = r.first[b]; k < r.first[b + 1]; ++k) {
-        const HalfBond &h = r.halves[k];
-        const glm::dvec3 x = pos.get(h.atom), partner = pos.get(h.partner);
-        if (!finite_position(x) || !finite_position(partner)) return void(ok = false);
-        const glm::dvec3 end = half_bond_end(x, partner, box);
-        lo = glm::min(lo, glm::min(x, end));
-        hi = glm::max(hi, glm::max(x, end));
-        r.reach[h.atom] = std::max(r.reach[h.atom], glm::length(end - x));
+      Pair lo_xy = Pair::of(inf.x, inf.x), hi_xy = Pair::of(-inf.x, -inf.x);
+      double lo_z = inf.x, hi_z = -inf.x;
+      const uint32_t last = r.first[b + 1];
+      for (uint32_t k = r.first[b]; k < last;) {
+        const uint32_t atom = halves[k].atom;
+        const glm::dvec3 x = pos.get(atom);
+        if (!finite_position(x)) return void(ok = false);
+        const Pair x_xy = Pair::of(x.x, x.y);
+        lo_xy = lo_xy.min(x_xy), hi_xy = hi_xy.max(x_xy);
+        lo_z = glm::min(lo_z, x.z), hi_z = glm::max(hi_z, x.z);
+        double longest = 0.0;  // squared
+        for (; k < last && halves[k].atom == atom; ++k) {
+          if (k + kAhead < count) {
+            const HalfBond &ahead = halves[k + kAhead];
+            pos.prefetch(ahead.atom), pos.prefetch(ahead.partner);
+            __builtin_prefetch(reach + ahead.atom, 0, 3);
+          }
+          const glm::dvec3 partner = pos.get(halves[k].partner);
+          if (!finite_position(partner)) return void(ok = false);
+          // half_bond_end: x + 0.5 * minimum_image(partner - x).
+          const Pair d_xy = Pair::of(partner.x, partner.y) - x_xy;
+          const double d_z = partner.z - x.z;
+          Pair end_xy;
+          double end_z;
+          if (d_xy.twice_within(limit_xy) && 2.0 * std::abs(d_z) <= limit[2]) {
+            end_xy = x_xy + half * (d_xy + add_xy);
+            end_z = x.z + 0.5 * (d_z + add[2]);
+          } else {
+            const glm::dvec3 end = half_bond_end(x, partner, box);
+            end_xy = Pair::of(end.x, end.y), end_z = end.z;
+          }
+          lo_xy = lo_xy.min(end_xy), hi_xy = hi_xy.max(end_xy);
+          lo_z = glm::min(lo_z, end_z), hi_z = glm::max(hi_z, end_z);
+          // glm::dot(end - x, end - x): (x * x + y * y) + z * z.
+          const Pair along = end_xy - x_xy, square = along * along;
+          const double along_z = end_z - x.z;
+          longest = std::max(longest, square.x() + square.y() + along_z * along_z);
+        }
+        reach[atom] = std::max(reach[atom], std::sqrt(longest));
       }
-      if (r.first[b] != r.first[b + 1])
+      const glm::dvec3 lo(lo_xy.x(), lo_xy.y(), lo_z), hi(hi_xy.x(), hi_xy.y(), hi_z);
+      if (r.first[b] != last)
         for (int c = 0; c < 3; ++c) ok &= lo[c] != 0.0 && hi[c] != 0.0;
       r.lo[b] = lo, r.hi[b] = hi;
     }

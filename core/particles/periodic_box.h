@@ -7,6 +7,7 @@
 
 #include <array>
 #include <cmath>
+#include <limits>
 
 #include <glm/vec3.hpp>
 
@@ -18,9 +19,22 @@ struct PeriodicBox {
 
   // The minimum image of the separation d: along each periodic axis of positive length, d minus
   // the multiple of the length that brings it into [-length / 2, length / 2]. Other axes as given.
+  //
+  // Nearly every bond is shorter than half the box: there the multiple, nearbyint(d / length), is
+  // a zero of d's sign (|d / length| <= 1/2 rounds to 0, a tie to even included), and d minus
+  // length times it is d + 0.0 (-0 becomes +0, anything else stays), so that case skips the
+  // division and the rounding - a call into libm without SSE4.1 - and gives the same bits.
+  // 2 |d| is exact (an overflow is inf, which takes the general path), and a length of inf (a
+  // box of finite ends can overflow high - low) takes it too: there the general path gives NaN.
   glm::dvec3 minimum_image(glm::dvec3 d) const {
+    constexpr double kMaxLength = std::numeric_limits<double>::max();
     for (int a = 0; a < 3; ++a)
-      if (periodic[a] && length[a] > 0.0) d[a] -= length[a] * std::nearbyint(d[a] / length[a]);
+      if (periodic[a] && length[a] > 0.0) {
+        if (2.0 * std::abs(d[a]) <= length[a] && length[a] <= kMaxLength)
+          d[a] += 0.0;
+        else
+          d[a] -= length[a] * std::nearbyint(d[a] / length[a]);
+      }
     return d;
   }
 };

@@ -62,13 +62,18 @@ void CpuSpherePass::draw_bonds(int k, const Positions &pos, const ViewGeometry &
 }
 
 BondCounts CpuSpherePass::count_bonds(const BondDrawing &bonds, int count) {
-  // A half-bond is drawn when some strip drew its part of it.
-  const size_t n = count > 1 ? bonds.recipe->halves->half_count() : 0;
-  int64_t drawn = count > 1 ? 0 : bond_drawn_;
-  for (size_t i = 0; i < n; ++i) {
-    bool any = false;
-    for (int k = 0; k < count && !any; ++k) any = bond_marks_[size_t(k)][i] != 0;
-    drawn += any;
+  // A half-bond is drawn when some strip drew its part of it. One strip counts as it draws; more
+  // or their marks (0 or 1) into the first strip's, then sum them - loops the compiler vectorises.
+  int64_t drawn = bond_drawn_;
+  if (count > 1) {
+    const size_t n = bonds.recipe->halves->half_count();
+    uint8_t *const any = bond_marks_[0].data();
+    for (int k = 1; k < count; ++k) {
+      const uint8_t *const marks = bond_marks_[size_t(k)].data();
+      for (size_t i = 0; i < n; ++i) any[i] |= marks[i];
+    }
+    drawn = 0;
+    for (size_t i = 0; i < n; ++i) drawn += any[i];
   }
   for (std::vector<uint8_t> &m : bond_marks_) std::vector<uint8_t>().swap(m);  // per-frame scratch
   std::vector<const BondDrops *> passes(static_cast<size_t>(count));

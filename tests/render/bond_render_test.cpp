@@ -570,6 +570,74 @@ TEST(BrickBondsRefit, GivesTheBitsOfABuildAndRefusesWhereItCannot) {
   EXPECT_NE(bricks.order_generation, order);
 }
 
+// With ghosts: under kListedOnce a ghost's halves are filed under their owned atoms, so one
+// ghost's halves lie in several runs (and bricks) and its reach is the longest over all of them;
+// under kListedByBoth the ghosts' halves are the other ranks'. The refit gives a build's bits.
+TEST(BrickBondsRefit, GivesTheBitsOfABuildWithGhosts) {
+  for (const BondListing listing : {BondListing::kListedOnce, BondListing::kListedByBoth}) {
+    testing::BondedSystem s = testing::polymer_melt(60, 40, 18.0);
+    // Every fourth atom of a chain becomes a ghost, moved after the owned ones: a ghost inside a
+    // chain is bonded to two owned atoms.
+    std::vector<int64_t> moved(s.atoms());
+    int64_t owned = 0;
+    for (size_t i = 0; i < s.atoms(); ++i)
+      if (i % 4 != 1) moved[i] = owned++;
+    for (size_t i = 0, ghost = size_t(owned); i < s.atoms(); ++i)
+      if (i % 4 == 1) moved[i] = int64_t(ghost++);
+    std::vector<double> xyz(s.xyz.size());
+    std::vector<int64_t> id(s.atoms());
+    for (size_t i = 0; i < s.atoms(); ++i) {
+      for (int c = 0; c < 3; ++c) xyz[3 * size_t(moved[i]) + size_t(c)] = s.xyz[3 * i + size_t(c)];
+      id[size_t(moved[i])] = s.id[i];
+    }
+    s.xyz = xyz, s.id = id;
+    for (int64_t &atom : s.bonds) atom = moved[size_t(atom)];
+    ParticleDescription p;
+    p.count = owned;
+    p.position = {s.xyz.data(), DataType::kFloat64, 0};
+    p.id = {s.id.data(), DataType::kInt64, 0};
+    ParticleArrays particles;
+    EXPECT_OK(ParticleArrays::validate(p, &particles));
+    BondDescription b;
+    b.count = int64_t(s.bond_count());
+    b.first = {s.bonds.data(), DataType::kInt64, 16};
+    b.second = {s.bonds.data() + 1, DataType::kInt64, 16};
+    b.ghost_count = int64_t(s.atoms()) - owned;
+    b.listing = listing;
+    BondArrays bonds;
+    EXPECT_OK(BondArrays::validate(b, particles, &bonds));
+    // Under kListedByBoth, z is not periodic: its bonds across the box are drawn as they are.
+    PeriodicBox box;
+    box.length = {s.box, s.box, s.box};
+    box.periodic = {true, true, listing == BondListing::kListedOnce};
+    BrickSet bricks = build_bricks(particles, BrickOptions{});
+    BrickBonds kept;
+    build_brick_bonds(particles, bonds, bricks, &box, &kept);
+    // Some ghost has halves in more than one run: the case the refit must merge.
+    std::vector<int> runs(s.atoms(), 0);
+    for (size_t h = 0; h < kept.halves.size(); ++h)
+      if (h == 0 || kept.halves[h].atom != kept.halves[h - 1].atom) ++runs[kept.halves[h].atom];
+    if (listing == BondListing::kListedOnce)
+      EXPECT_GT(*std::max_element(runs.begin() + owned, runs.end()), 1);
+    for (size_t c = 0; c < s.xyz.size(); ++c) s.xyz[c] += 0.01 * std::cos(double(c));
+    ASSERT_TRUE(refit_bricks(particles, 1.25, &bricks));
+    ASSERT_TRUE(refit_brick_bonds(particles, bonds, bricks, &box, &kept));
+    BrickBonds built;
+    build_brick_bonds(particles, bonds, bricks, &box, &built);
+    ASSERT_EQ(kept.halves.size(), built.halves.size());
+    EXPECT_EQ(0, std::memcmp(kept.halves.data(), built.halves.data(),
+                             built.halves.size() * sizeof(HalfBond)));
+    ASSERT_EQ(kept.lo.size(), built.lo.size());
+    ASSERT_EQ(kept.reach.size(), built.reach.size());
+    EXPECT_EQ(0,
+              std::memcmp(kept.lo.data(), built.lo.data(), built.lo.size() * sizeof(glm::dvec3)));
+    EXPECT_EQ(0,
+              std::memcmp(kept.hi.data(), built.hi.data(), built.hi.size() * sizeof(glm::dvec3)));
+    EXPECT_EQ(
+        0, std::memcmp(kept.reach.data(), built.reach.data(), built.reach.size() * sizeof(double)));
+  }
+}
+
 // A bound of exactly zero: which of -0 and +0 it holds depends on the order the ends are met
 // in, so the refit refuses and the build decides.
 TEST(BrickBondsRefit, RefusesABoundOfExactlyZero) {

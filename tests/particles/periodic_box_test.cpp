@@ -1,0 +1,79 @@
+// PeriodicBox::minimum_image: its shortcut for separations within half the box gives the bits of
+// the general formula, d - length * nearbyint(d / length), for every separation and length -
+// signed zeros, exact halves, the neighbours of the half, many box lengths away, non-finite.
+#include "core/particles/periodic_box.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <limits>
+#include <random>
+#include <vector>
+
+namespace lantern {
+namespace {
+
+double general(double d, double length) {
+  return d - length * std::nearbyint(d / length);
+}
+
+uint64_t bits(double v) {
+  uint64_t b;
+  std::memcpy(&b, &v, sizeof b);
+  return b;
+}
+
+// Compares every axis of minimum_image with the general formula, as bits.
+void expect_general(double d, double length) {
+  PeriodicBox box;
+  box.length = {length, length, length};
+  box.periodic = {true, true, true};
+  const glm::dvec3 got = box.minimum_image(glm::dvec3(d, -d, d));
+  const double want[3] = {general(d, length), general(-d, length), general(d, length)};
+  for (int a = 0; a < 3; ++a)
+    EXPECT_EQ(bits(got[a]), bits(want[a])) << "d " << d << " length " << length << " axis " << a;
+}
+
+TEST(PeriodicBox, MinimumImageIsTheGeneralFormulaBitForBit) {
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  const double lengths[] = {
+      1.0, 3.0, 80.0, 0.1, 1e-300, 5e-324, 1e300, std::numeric_limits<double>::max(), kInf};
+  for (const double length : lengths) {
+    const double half = 0.5 * length;
+    const double special[] = {0.0,
+                              -0.0,
+                              half,
+                              std::nextafter(half, 0.0),
+                              std::nextafter(half, kInf),
+                              length,
+                              1.5 * length,
+                              3.0 * length + 0.25,
+                              1e-310,
+                              std::numeric_limits<double>::max(),
+                              kInf,
+                              std::nan("")};
+    for (const double d : special) expect_general(d, length), expect_general(-d, length);
+  }
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> unit(-4.0, 4.0);
+  for (int i = 0; i < 100000; ++i) {
+    const double length = std::ldexp(1.0 + std::abs(unit(rng)), int(unit(rng) * 8));
+    expect_general(unit(rng) * length, length);
+  }
+}
+
+// Axes that are not periodic, or of zero length, keep the separation as given (-0 included).
+TEST(PeriodicBox, OtherAxesKeepTheSeparation) {
+  PeriodicBox box;
+  box.length = {10.0, 0.0, 10.0};
+  box.periodic = {true, true, false};
+  const glm::dvec3 got = box.minimum_image(glm::dvec3(-0.0, -0.0, 7.0));
+  EXPECT_EQ(bits(got.x), bits(0.0));
+  EXPECT_EQ(bits(got.y), bits(-0.0));
+  EXPECT_EQ(got.z, 7.0);
+}
+
+}  // namespace
+}  // namespace lantern
