@@ -30,7 +30,31 @@
 namespace lantern {
 namespace {
 
+// The bond list of `s` (pairs of int64 atom indices, 16 bytes apart), borrowed.
+BondDescription bond_pairs(const testing::BondedSystem &s) {
+  BondDescription b;
+  b.count = int64_t(s.bond_count());
+  b.first = {s.bonds.data(), DataType::kInt64, 16};
+  b.second = {s.bonds.data() + 1, DataType::kInt64, 16};
+  return b;
+}
+
 using testing::BondedSystem;
+
+// The half-bonds a refit kept are, bit for bit, those a build of the same step gives.
+void expect_same_bits(const BrickBonds &kept, const BrickBonds &built) {
+  ASSERT_EQ(kept.halves.size(), built.halves.size());
+  EXPECT_EQ(0, std::memcmp(kept.halves.data(), built.halves.data(),
+                           built.halves.size() * sizeof(HalfBond)));
+  EXPECT_EQ(kept.first, built.first);
+  ASSERT_EQ(kept.lo.size(), built.lo.size());
+  ASSERT_EQ(kept.hi.size(), built.hi.size());
+  ASSERT_EQ(kept.reach.size(), built.reach.size());
+  EXPECT_EQ(0, std::memcmp(kept.lo.data(), built.lo.data(), built.lo.size() * sizeof(glm::dvec3)));
+  EXPECT_EQ(0, std::memcmp(kept.hi.data(), built.hi.data(), built.hi.size() * sizeof(glm::dvec3)));
+  EXPECT_EQ(
+      0, std::memcmp(kept.reach.data(), built.reach.data(), built.reach.size() * sizeof(double)));
+}
 
 // A bonded system (owned here) lent to the pipeline's structures as a rank holds it.
 struct Lent {
@@ -49,10 +73,7 @@ struct Lent {
     p.type = {s.type.data(), DataType::kInt32, 0};
     p.id = {s.id.data(), DataType::kInt64, 0};
     EXPECT_OK(ParticleArrays::validate(p, &particles));
-    BondDescription b;
-    b.count = int64_t(s.bond_count());
-    b.first = {s.bonds.data(), DataType::kInt64, 16};
-    b.second = {s.bonds.data() + 1, DataType::kInt64, 16};
+    BondDescription b = bond_pairs(s);
     b.type = {s.bond_type.data(), DataType::kInt32, 0};
     b.listing = listing;
     EXPECT_OK(BondArrays::validate(b, particles, &bonds));
@@ -528,10 +549,7 @@ TEST(BrickBondsRefit, GivesTheBitsOfABuildAndRefusesWhereItCannot) {
   p.position = {s.xyz.data(), DataType::kFloat64, 0};
   ParticleArrays particles;
   EXPECT_OK(ParticleArrays::validate(p, &particles));
-  BondDescription b;
-  b.count = int64_t(s.bond_count());
-  b.first = {s.bonds.data(), DataType::kInt64, 16};
-  b.second = {s.bonds.data() + 1, DataType::kInt64, 16};
+  BondDescription b = bond_pairs(s);
   BondArrays bonds;
   EXPECT_OK(BondArrays::validate(b, particles, &bonds));
   PeriodicBox box;
@@ -548,16 +566,7 @@ TEST(BrickBondsRefit, GivesTheBitsOfABuildAndRefusesWhereItCannot) {
   ASSERT_TRUE(refit_brick_bonds(particles, bonds, bricks, &box, &kept));
   BrickBonds built;
   build_brick_bonds(particles, bonds, bricks, &box, &built);
-  ASSERT_EQ(kept.halves.size(), built.halves.size());
-  EXPECT_EQ(0, std::memcmp(kept.halves.data(), built.halves.data(),
-                           built.halves.size() * sizeof(HalfBond)));
-  EXPECT_EQ(kept.first, built.first);
-  ASSERT_EQ(kept.lo.size(), built.lo.size());
-  ASSERT_EQ(kept.reach.size(), built.reach.size());
-  EXPECT_EQ(0, std::memcmp(kept.lo.data(), built.lo.data(), built.lo.size() * sizeof(glm::dvec3)));
-  EXPECT_EQ(0, std::memcmp(kept.hi.data(), built.hi.data(), built.hi.size() * sizeof(glm::dvec3)));
-  EXPECT_EQ(
-      0, std::memcmp(kept.reach.data(), built.reach.data(), built.reach.size() * sizeof(double)));
+  expect_same_bits(kept, built);
   const auto atom = size_t(s.bonds[0]);
   const double x0 = s.xyz[3 * atom];
   // A NaN end: the build words the bond, the refit leaves it to the build.
@@ -598,10 +607,7 @@ TEST(BrickBondsRefit, GivesTheBitsOfABuildWithGhosts) {
     p.id = {s.id.data(), DataType::kInt64, 0};
     ParticleArrays particles;
     EXPECT_OK(ParticleArrays::validate(p, &particles));
-    BondDescription b;
-    b.count = int64_t(s.bond_count());
-    b.first = {s.bonds.data(), DataType::kInt64, 16};
-    b.second = {s.bonds.data() + 1, DataType::kInt64, 16};
+    BondDescription b = bond_pairs(s);
     b.ghost_count = int64_t(s.atoms()) - owned;
     b.listing = listing;
     BondArrays bonds;
@@ -624,17 +630,7 @@ TEST(BrickBondsRefit, GivesTheBitsOfABuildWithGhosts) {
     ASSERT_TRUE(refit_brick_bonds(particles, bonds, bricks, &box, &kept));
     BrickBonds built;
     build_brick_bonds(particles, bonds, bricks, &box, &built);
-    ASSERT_EQ(kept.halves.size(), built.halves.size());
-    EXPECT_EQ(0, std::memcmp(kept.halves.data(), built.halves.data(),
-                             built.halves.size() * sizeof(HalfBond)));
-    ASSERT_EQ(kept.lo.size(), built.lo.size());
-    ASSERT_EQ(kept.reach.size(), built.reach.size());
-    EXPECT_EQ(0,
-              std::memcmp(kept.lo.data(), built.lo.data(), built.lo.size() * sizeof(glm::dvec3)));
-    EXPECT_EQ(0,
-              std::memcmp(kept.hi.data(), built.hi.data(), built.hi.size() * sizeof(glm::dvec3)));
-    EXPECT_EQ(
-        0, std::memcmp(kept.reach.data(), built.reach.data(), built.reach.size() * sizeof(double)));
+    expect_same_bits(kept, built);
   }
 }
 

@@ -186,6 +186,21 @@ TEST(ObjectOcclusion, TheSameFactorsForEverySplit) {
 namespace lantern::testing {
 namespace {
 
+// The extent (a 40 x 30 x 35 box) and the oblique cutting plane the volume tests share.
+Extent cloud_extent() {
+  Extent global;
+  global.add_particle(0.0, 0.0, 0.0, 0.5);
+  global.add_particle(40.0, 30.0, 35.0, 0.5);
+  return global;
+}
+
+CutPlane oblique_cut() {
+  CutPlane cut;
+  cut.normal = {0.6, 0.0, 0.8};
+  cut.offset = 30.0;
+  return cut;
+}
+
 // The volume of the header comment computed one particle and one node at a time, in the
 // simplest form (the library's deposit and filter are vectorised and reordered): its enclosure
 // per node, given the grid the volume chose.
@@ -287,12 +302,8 @@ TEST(ObjectOcclusion, TheVolumeIsTheOneParticleAtATimeSum) {
   d.mask_bits = 1;
   ParticleArrays arrays;
   ASSERT_OK(ParticleArrays::validate(d, &arrays));
-  Extent global;
-  global.add_particle(0.0, 0.0, 0.0, 0.5);
-  global.add_particle(40.0, 30.0, 35.0, 0.5);
-  CutPlane cut;
-  cut.normal = {0.6, 0.0, 0.8};
-  cut.offset = 30.0;
+  const Extent global = cloud_extent();
+  const CutPlane cut = oblique_cut();
   for (const std::vector<CutPlane> &cuts : {std::vector<CutPlane>{}, std::vector<CutPlane>{cut}}) {
     OcclusionVolume v;
     ASSERT_OK(v.build(MPI_COMM_SELF, arrays, global, cuts, kRadius, kStrength));
@@ -370,12 +381,8 @@ TEST(ObjectOcclusion, EveryRankHasTheOneRankVolumeForEverySplit) {
   Cloud all;
   make_cloud(
       kCount, [](int, const double *) { return true; }, &all);
-  Extent global;
-  global.add_particle(0.0, 0.0, 0.0, 0.5);
-  global.add_particle(40.0, 30.0, 35.0, 0.5);
-  CutPlane cut;
-  cut.normal = {0.6, 0.0, 0.8};
-  cut.offset = 30.0;
+  const Extent global = cloud_extent();
+  const CutPlane cut = oblique_cut();
   const int rank = world_rank(), ranks = world_size();
   for (const std::vector<CutPlane> &cuts : {std::vector<CutPlane>{}, std::vector<CutPlane>{cut}}) {
     OcclusionVolume alone;
