@@ -285,17 +285,6 @@ class CornerSums {
 #endif
 };
 
-// The deposits on nodes from those on pairs: pair i holds what node i received as the lower
-// node along x (element 0) and what node i + 1 received as the upper (element 1), so node i has
-// element 0 of pair i and element 1 of pair i - 1. A lower node is never the last of its row,
-// so element 1 of a row's last pair is 0 and does not leak into the next row. For the nodes
-// [first, end).
-void pairs_to_nodes(const int64_t *pairs, size_t first, size_t end, int64_t *nodes) {
-  size_t i = first;
-  if (i == 0 && i < end) nodes[i] = pairs[0], ++i;
-  for (; i < end; ++i) nodes[i] = pairs[2 * i] + pairs[2 * i - 1];
-}
-
 }  // namespace
 
 void OcclusionVolume::set_grid(const Extent &global, double radius) {
@@ -325,16 +314,24 @@ void OcclusionVolume::set_grid(const Extent &global, double radius) {
 // one loop per axis (no branches: it vectorises), then the 8 corner weights of each particle are
 // one product of two small tables in 16-bit lanes (at most kSteps^3 = 4096) and added, widened to
 // 64 bits, to a sum held while consecutive particles share their 8 nodes (a crystal's basis
-// atoms, a brick's neighbours), which is then added to pairs of nodes along x (CornerSums) and
-// at the end to the nodes of the planes this rank's particles reach (`occupied`; the others
-// keep their zeros). Integers: the same sums in any order, so the same volume as one particle at
-// a time (fcc 1 M on 2 ranks: 5.3 -> 1.6 ms a rank).
+// atoms, a brick's neighbours), which is then added to pairs of nodes along x (CornerSums).
+// Integers: the same sums in any order, so the same volume as one particle at a time (fcc 1 M
+// on 2 ranks: 5.3 -> 1.6 ms a rank).
+//
+// The pairs are zeroed plane by plane as the chunks' deposits reach them (`occupied`: a domain
+// decomposition's rank reaches only its own planes and those along its boundaries), and left on
+// pairs: nodes_of() turns the planes that are sent and smoothed into nodes.
 void OcclusionVolume::deposit(const ParticleArrays &particles, const std::vector<CutPlane> &cuts,
-                              std::vector<int64_t> *nodes, Planes *occupied) const {
+                              std::unique_ptr<int64_t[]> *pairs, Planes *occupied) const {
   const CutPlanes planes(cuts);
   const size_t dy = size_t(n_[0]), dz = size_t(n_[0]) * size_t(n_[1]);
-  std::vector<int64_t> pairs(2 * nodes->size(), 0);
-  int64_t *out = pairs.data();
+  pairs->reset(new int64_t[2 * dz * size_t(n_[2])]);  // not zeroed
+  int64_t *out = pairs->get();
+  Planes zeroed;  // the pairs of these planes are zeroed; they grow as deposits reach more
+  const auto zero = [&](int first, int end) {
+    if (first < end)
+      std::fill(out + 2 * dz * size_t(first), out + 2 * dz * size_t(end), int64_t(0));
+  };
   NodeGrid grid;
   grid.steps_per_unit = kSteps * inverse_cell_;
   for (int a = 0; a < 3; ++a) {
@@ -347,7 +344,6 @@ void OcclusionVolume::deposit(const ParticleArrays &particles, const std::vector
   double coordinate[3][kChunk];
   NodeWeights located;
   CornerSums held(out, dy, dz);
-  int lowest = n_[2], highest = -1;  // the lower nodes' planes of z
   visit_kept(particles, [&](const auto &kept) {
     visit_positions(particles, [&](const auto &positions) {
       const int64_t count = particles.count();
@@ -383,17 +379,40 @@ void OcclusionVolume::deposit(const ParticleArrays &particles, const std::vector
         }
         if (n == 0) continue;
         if (!in_place) locate_nodes(coordinate, n, grid, &located);
-        lowest = std::min(lowest, int(located.lowest_z));
-        highest = std::max(highest, int(located.highest_z));
+        // A deposit reaches the plane above its lower node's.
+        const Planes reached{int(located.lowest_z), int(located.highest_z) + 2};
+        if (zeroed.empty()) {
+          zero(reached.first, reached.end);
+          zeroed = reached;
+        } else {
+          zero(reached.first, zeroed.first);
+          zero(zeroed.end, reached.end);
+          zeroed = {std::min(zeroed.first, reached.first), std::max(zeroed.end, reached.end)};
+        }
         held.add(located, n, tables);
       }
     });
   });
   held.flush();
-  // A deposit reaches the plane above its lower node's.
-  *occupied = highest < 0 ? Planes{0, 0} : Planes{lowest, highest + 2};
-  pairs_to_nodes(pairs.data(), size_t(occupied->first) * dz, size_t(occupied->end) * dz,
-                 nodes->data());
+  *occupied = zeroed.empty() ? Planes{0, 0} : zeroed;
+}
+
+// Pair i holds what node i received as the lower node along x (element 0) and what node i + 1
+// received as the upper (element 1), so node i has element 0 of pair i and element 1 of pair
+// i - 1; a plane's first node (x = 0) is never an upper node: element 0 alone.
+void OcclusionVolume::nodes_of(const int64_t *pairs, Planes occupied, Planes planes,
+                               int64_t *out) const {
+  const size_t plane = size_t(n_[0]) * size_t(n_[1]);
+  for (int z = planes.first; z < planes.end; ++z) {
+    int64_t *to = out + size_t(z - planes.first) * plane;
+    if (z < occupied.first || z >= occupied.end) {
+      std::fill(to, to + plane, int64_t(0));
+      continue;
+    }
+    const int64_t *from = pairs + 2 * size_t(z) * plane;
+    to[0] = from[0];
+    for (size_t i = 1; i < plane; ++i) to[i] = from[2 * i] + from[2 * i - 1];
+  }
 }
 
 namespace {
@@ -427,13 +446,12 @@ OcclusionVolume::Planes OcclusionVolume::reach_of(Planes slab) const {
 }
 
 // The deposits of every rank summed over the planes `reach` (`summed`, plane after plane), from
-// this rank's `deposits` (the whole grid; nonzero only on the planes `occupied`). Each rank
+// this rank's `pairs` (deposit(): held on the planes `occupied` only). Each rank
 // sends every other only its occupied planes that the other's reach holds, so a domain
 // decomposition exchanges little more than the planes along the ranks' boundaries. Integers:
 // the same sums in any order. Collective over comm.
-Status OcclusionVolume::sum_over_ranks(MPI_Comm comm, const std::vector<int64_t> &deposits,
-                                       Planes occupied, Planes reach,
-                                       std::vector<int64_t> *summed) const {
+Status OcclusionVolume::sum_over_ranks(MPI_Comm comm, const int64_t *pairs, Planes occupied,
+                                       Planes reach, std::vector<int64_t> *summed) const {
   int rank = 0, ranks = 1;
   MPI_Comm_rank(comm, &rank);
   MPI_Comm_size(comm, &ranks);
@@ -450,11 +468,21 @@ Status OcclusionVolume::sum_over_ranks(MPI_Comm comm, const std::vector<int64_t>
   std::vector<int> send_count(all, 0), send_at(all, 0), receive_count(all, 0), receive_at(all, 0);
   std::vector<Planes> received(all);
   int received_total = 0;
+  Planes sent{n_[2], 0};  // every plane sent to any rank (within `occupied`)
   for (int q = 0; q < ranks; ++q) {
-    if (q == rank) continue;  // this rank's own deposits are copied below
+    if (q == rank) continue;
+    const Planes out = both(occupied, reach_of(slab_of(q, ranks)));
+    if (out.empty()) continue;
+    sent = {std::min(sent.first, out.first), std::max(sent.end, out.end)};
+  }
+  if (sent.empty()) sent = {0, 0};
+  std::vector<int64_t> outgoing(size_t(sent.count()) * size_t(plane));
+  nodes_of(pairs, occupied, sent, outgoing.data());
+  for (int q = 0; q < ranks; ++q) {
+    if (q == rank) continue;  // this rank's own deposits are taken below
     const Planes out = both(occupied, reach_of(slab_of(q, ranks)));
     send_count[size_t(q)] = out.count() * plane;
-    send_at[size_t(q)] = out.first * plane;
+    send_at[size_t(q)] = out.empty() ? 0 : (out.first - sent.first) * plane;
     const Planes in = both({occupied_by[2 * size_t(q)], occupied_by[2 * size_t(q) + 1]}, reach);
     received[size_t(q)] = in;
     receive_count[size_t(q)] = in.count() * plane;
@@ -462,12 +490,12 @@ Status OcclusionVolume::sum_over_ranks(MPI_Comm comm, const std::vector<int64_t>
     received_total += receive_count[size_t(q)];
   }
   std::vector<int64_t> incoming(static_cast<size_t>(received_total));
-  if (MPI_Alltoallv(deposits.data(), send_count.data(), send_at.data(), MPI_INT64_T,
+  if (MPI_Alltoallv(outgoing.data(), send_count.data(), send_at.data(), MPI_INT64_T,
                     incoming.data(), receive_count.data(), receive_at.data(), MPI_INT64_T,
                     comm) != MPI_SUCCESS)
     return {StatusCode::kMpi, "ambient_occlusion (object): MPI_Alltoallv of the density failed"};
-  summed->assign(deposits.begin() + ptrdiff_t(reach.first) * plane,
-                 deposits.begin() + ptrdiff_t(reach.end) * plane);
+  summed->resize(size_t(reach.count()) * size_t(plane));
+  nodes_of(pairs, occupied, reach, summed->data());
   for (int q = 0; q < ranks; ++q) {
     const Planes in = received[size_t(q)];
     if (in.empty()) continue;
@@ -589,20 +617,23 @@ Status OcclusionVolume::build(MPI_Comm comm, const ParticleArrays &particles, co
   set_grid(global, radius);
   const size_t nodes = size_t(n_[0]) * size_t(n_[1]) * size_t(n_[2]);
   const int plane = n_[0] * n_[1];
-  std::vector<int64_t> deposits(nodes, 0);
+  std::unique_ptr<int64_t[]> pairs;
   Planes occupied;
-  deposit(particles, cuts, &deposits, &occupied);
+  deposit(particles, cuts, &pairs, &occupied);
   int rank = 0, ranks = 1;
   MPI_Comm_rank(comm, &rank);
   MPI_Comm_size(comm, &ranks);
   const Planes slab = slab_of(rank, ranks), reach = reach_of(slab);
   // A node's sum stays below 2^63 for up to 2^51 particles on it.
-  std::vector<int64_t> summed;
-  const int64_t *slab_deposits = deposits.data();  // the planes `reach`
+  std::vector<int64_t> summed;  // the planes `reach`
   if (ranks > 1) {
-    if (Status s = sum_over_ranks(comm, deposits, occupied, reach, &summed); !s.ok()) return s;
-    slab_deposits = summed.data();
+    if (Status s = sum_over_ranks(comm, pairs.get(), occupied, reach, &summed); !s.ok()) return s;
+  } else {
+    summed.resize(nodes);
+    nodes_of(pairs.get(), occupied, reach, summed.data());
   }
+  pairs.reset();
+  const int64_t *slab_deposits = summed.data();
   int64_t largest = smooth(slab_deposits, reach, slab);
   if (ranks > 1 &&
       MPI_Allreduce(MPI_IN_PLACE, &largest, 1, MPI_INT64_T, MPI_MAX, comm) != MPI_SUCCESS)
