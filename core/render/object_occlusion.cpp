@@ -3,7 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <numeric>
+#include <type_traits>
 
 #ifdef __SSE2__
 #include <emmintrin.h>
@@ -121,18 +123,20 @@ struct NodeWeights {
   int32_t lowest_z, highest_z;  // the lower nodes' planes of z: at least, at most (n > 0)
 };
 
-// The nodes and weights of OcclusionVolume::deposit() for n <= kLocateChunk particles: one loop
-// per axis without branches, so it vectorises, also for AVX2 where the processor has it (no FMA
-// in that target: the same roundings as the baseline). Coordinates are finite.
-__attribute__((target_clones("avx2", "default"))) void locate_nodes(
-    const double (*coordinate)[kLocateChunk], int n, const NodeGrid &grid, NodeWeights *out) {
+// The nodes and weights of OcclusionVolume::deposit() for n <= kLocateChunk particles, whose
+// coordinate a is c[a][k * kStride]: one loop per axis without branches, so it vectorises, also
+// for AVX2 where the processor has it (no FMA in that target: the same roundings as the
+// baseline). Coordinates are finite.
+template <int kStride>
+inline __attribute__((always_inline)) void locate_nodes_of(const double *const c[3], int n,
+                                                           const NodeGrid &grid, NodeWeights *out) {
   int32_t at[3][kLocateChunk], upper[3][kLocateChunk];
   for (int a = 0; a < 3; ++a) {
     const double lo = grid.lo[a], top = grid.last[a], steps_per_unit = grid.steps_per_unit;
     const int32_t lower_last = grid.n[a] - 2;
-    const double *c = coordinate[a];
+    const double *ca = c[a];
     for (int k = 0; k < n; ++k) {
-      const double u = std::clamp((c[k] - lo) * steps_per_unit + 0.5, 0.0, top);
+      const double u = std::clamp((ca[k * kStride] - lo) * steps_per_unit + 0.5, 0.0, top);
       const int32_t v = int32_t(u);  // >= 0: v / kSteps is v >> 4
       static_assert(kSteps == 16, "v / kSteps is v >> 4");
       at[a][k] = std::min(v >> 4, lower_last);
@@ -154,6 +158,27 @@ __attribute__((target_clones("avx2", "default"))) void locate_nodes(
   }
 }
 
+// Of gathered coordinates (coordinate[a][k]).
+__attribute__((target_clones("avx2", "default"))) void locate_nodes(
+    const double (*coordinate)[kLocateChunk], int n, const NodeGrid &grid, NodeWeights *out) {
+  const double *const c[3] = {coordinate[0], coordinate[1], coordinate[2]};
+  locate_nodes_of<1>(c, n, grid, out);
+}
+
+// Of n particles' positions x y z one after the other (xyz[3 k + a]) when all 3 n are finite
+// (true), else nothing (false): the particles of a chunk without gathering them first.
+__attribute__((target_clones("avx2", "default"))) bool locate_packed_nodes(const double *xyz, int n,
+                                                                           const NodeGrid &grid,
+                                                                           NodeWeights *out) {
+  int not_finite = 0;  // no branch: it vectorises
+  for (int k = 0; k < 3 * n; ++k)
+    not_finite |= int(!(std::fabs(xyz[k]) <= std::numeric_limits<double>::max()));
+  if (not_finite) return false;
+  const double *const c[3] = {xyz, xyz + 1, xyz + 2};
+  locate_nodes_of<3>(c, n, grid, out);
+  return true;
+}
+
 // The deposits of consecutive particles on the same 8 nodes, summed (in unsigned 32-bit lanes:
 // at most kMaxRun particles, 4096 each) before they are added to node pairs: lane 4 c + 2 b + a
 // to element a of pair node + b dy + c dz (pairs_of_nodes()). SSE2 where there is one (two
@@ -167,47 +192,87 @@ __attribute__((target_clones("avx2", "default"))) void locate_nodes(
 class CornerSums {
  public:
   CornerSums(int64_t *pairs, size_t dy, size_t dz) : nodes_(pairs), dy_(dy), dz_(dz) {}
-  void add(size_t node, const uint16_t *x, const uint16_t *yz) {
-    if (node != node_ || run_ == kMaxRun) {
-      flush();
-      node_ = node;
-    }
-    ++run_;
+  // The corners of the n particles of a chunk. The run's sums are held in locals through the
+  // loop (as members, reached through this, each add would store them and the next load them
+  // back: a chain of store-to-load forwards, about 1.5x slower).
+  void add(const NodeWeights &located, int n, const CornerTables &tables) {
+    size_t node = node_;
+    int run = run_;
 #ifdef __SSE2__
-    const __m128i w = _mm_mullo_epi16(_mm_load_si128(reinterpret_cast<const __m128i *>(x)),
-                                      _mm_load_si128(reinterpret_cast<const __m128i *>(yz)));
+    __m128i low = low_, high = high_;
     const __m128i zero = _mm_setzero_si128();
-    low_ = _mm_add_epi32(low_, _mm_unpacklo_epi16(w, zero));
-    high_ = _mm_add_epi32(high_, _mm_unpackhi_epi16(w, zero));
+    for (int k = 0; k < n; ++k) {
+      const size_t at = size_t(located.node[k]);
+      if (at != node || run == kMaxRun) {
+        if (run > 0) add_to_pairs(node, low, high);
+        low = high = zero;
+        node = at;
+        run = 0;
+      }
+      ++run;
+      const __m128i w = _mm_mullo_epi16(
+          _mm_load_si128(reinterpret_cast<const __m128i *>(tables.x[located.code_x[k]])),
+          _mm_load_si128(reinterpret_cast<const __m128i *>(tables.yz[located.code_yz[k]])));
+      low = _mm_add_epi32(low, _mm_unpacklo_epi16(w, zero));
+      high = _mm_add_epi32(high, _mm_unpackhi_epi16(w, zero));
+    }
+    low_ = low, high_ = high;
 #else
-    for (int l = 0; l < 8; ++l) sum_[l] += uint32_t(x[l]) * uint32_t(yz[l]);
+    for (int k = 0; k < n; ++k) {
+      const size_t at = size_t(located.node[k]);
+      if (at != node || run == kMaxRun) {
+        if (run > 0) add_to_pairs(node);
+        node = at;
+        run = 0;
+      }
+      ++run;
+      const uint16_t *x = tables.x[located.code_x[k]], *yz = tables.yz[located.code_yz[k]];
+      for (int l = 0; l < 8; ++l) sum_[l] += uint32_t(x[l]) * uint32_t(yz[l]);
+    }
 #endif
+    node_ = node, run_ = run;
   }
   void flush() {
     if (run_ == 0) return;
-    int64_t *const rows[4] = {
-        nodes_ + 2 * node_, nodes_ + 2 * (node_ + dy_), nodes_ + 2 * (node_ + dz_),
-        nodes_ + 2 * (node_ + dy_ + dz_)};  // (b, c) = (0, 0), (1, 0), (0, 1), (1, 1)
 #ifdef __SSE2__
-    const __m128i zero = _mm_setzero_si128();
-    const __m128i pairs[4] = {_mm_unpacklo_epi32(low_, zero), _mm_unpackhi_epi32(low_, zero),
-                              _mm_unpacklo_epi32(high_, zero), _mm_unpackhi_epi32(high_, zero)};
-    for (int r = 0; r < 4; ++r) {
-      auto *row = reinterpret_cast<__m128i *>(rows[r]);
-      _mm_storeu_si128(row, _mm_add_epi64(_mm_loadu_si128(row), pairs[r]));
-    }
-    low_ = high_ = zero;
+    add_to_pairs(node_, low_, high_);
+    low_ = high_ = _mm_setzero_si128();
 #else
-    for (int r = 0; r < 4; ++r) {
-      rows[r][0] += int64_t(sum_[2 * r]);
-      rows[r][1] += int64_t(sum_[2 * r + 1]);
-    }
-    std::fill(sum_, sum_ + 8, 0u);
+    add_to_pairs(node_);
 #endif
     run_ = 0;
   }
 
  private:
+  // The rows (b, c) = (0, 0), (1, 0), (0, 1), (1, 1) of the pairs a run at `node` adds to.
+  void rows_of(size_t node, int64_t *rows[4]) const {
+    rows[0] = nodes_ + 2 * node, rows[1] = nodes_ + 2 * (node + dy_);
+    rows[2] = nodes_ + 2 * (node + dz_), rows[3] = nodes_ + 2 * (node + dy_ + dz_);
+  }
+#ifdef __SSE2__
+  void add_to_pairs(size_t node, __m128i low, __m128i high) const {
+    int64_t *rows[4];
+    rows_of(node, rows);
+    const __m128i zero = _mm_setzero_si128();
+    const __m128i pairs[4] = {_mm_unpacklo_epi32(low, zero), _mm_unpackhi_epi32(low, zero),
+                              _mm_unpacklo_epi32(high, zero), _mm_unpackhi_epi32(high, zero)};
+    for (int r = 0; r < 4; ++r) {
+      auto *row = reinterpret_cast<__m128i *>(rows[r]);
+      _mm_storeu_si128(row, _mm_add_epi64(_mm_loadu_si128(row), pairs[r]));
+    }
+  }
+#else
+  void add_to_pairs(size_t node) {
+    int64_t *rows[4];
+    rows_of(node, rows);
+    for (int r = 0; r < 4; ++r) {
+      rows[r][0] += int64_t(sum_[2 * r]);
+      rows[r][1] += int64_t(sum_[2 * r + 1]);
+    }
+    std::fill(sum_, sum_ + 8, 0u);
+  }
+#endif
+
   static constexpr int kMaxRun = (1 << 20) - 1;  // 4096 kMaxRun < 2^32: unsigned lanes
   int64_t *nodes_;                               // pairs
   size_t dy_, dz_;
@@ -219,17 +284,6 @@ class CornerSums {
   uint32_t sum_[8] = {};
 #endif
 };
-
-// The deposits on nodes from those on pairs: pair i holds what node i received as the lower
-// node along x (element 0) and what node i + 1 received as the upper (element 1), so node i has
-// element 0 of pair i and element 1 of pair i - 1. A lower node is never the last of its row,
-// so element 1 of a row's last pair is 0 and does not leak into the next row. For the nodes
-// [first, end).
-void pairs_to_nodes(const int64_t *pairs, size_t first, size_t end, int64_t *nodes) {
-  size_t i = first;
-  if (i == 0 && i < end) nodes[i] = pairs[0], ++i;
-  for (; i < end; ++i) nodes[i] = pairs[2 * i] + pairs[2 * i - 1];
-}
 
 }  // namespace
 
@@ -260,16 +314,24 @@ void OcclusionVolume::set_grid(const Extent &global, double radius) {
 // one loop per axis (no branches: it vectorises), then the 8 corner weights of each particle are
 // one product of two small tables in 16-bit lanes (at most kSteps^3 = 4096) and added, widened to
 // 64 bits, to a sum held while consecutive particles share their 8 nodes (a crystal's basis
-// atoms, a brick's neighbours), which is then added to pairs of nodes along x (CornerSums) and
-// at the end to the nodes of the planes this rank's particles reach (`occupied`; the others
-// keep their zeros). Integers: the same sums in any order, so the same volume as one particle at
-// a time (fcc 1 M on 2 ranks: 5.3 -> 1.6 ms a rank).
+// atoms, a brick's neighbours), which is then added to pairs of nodes along x (CornerSums).
+// Integers: the same sums in any order, so the same volume as one particle at a time (fcc 1 M
+// on 2 ranks: 5.3 -> 1.6 ms a rank).
+//
+// The pairs are zeroed plane by plane as the chunks' deposits reach them (`occupied`: a domain
+// decomposition's rank reaches only its own planes and those along its boundaries), and left on
+// pairs: nodes_of() turns the planes that are sent and smoothed into nodes.
 void OcclusionVolume::deposit(const ParticleArrays &particles, const std::vector<CutPlane> &cuts,
-                              std::vector<int64_t> *nodes, Planes *occupied) const {
+                              std::unique_ptr<int64_t[]> *pairs, Planes *occupied) const {
   const CutPlanes planes(cuts);
   const size_t dy = size_t(n_[0]), dz = size_t(n_[0]) * size_t(n_[1]);
-  std::vector<int64_t> pairs(2 * nodes->size(), 0);
-  int64_t *out = pairs.data();
+  pairs->reset(new int64_t[2 * dz * size_t(n_[2])]);  // not zeroed
+  int64_t *out = pairs->get();
+  Planes zeroed;  // the pairs of these planes are zeroed; they grow as deposits reach more
+  const auto zero = [&](int first, int end) {
+    if (first < end)
+      std::fill(out + 2 * dz * size_t(first), out + 2 * dz * size_t(end), int64_t(0));
+  };
   NodeGrid grid;
   grid.steps_per_unit = kSteps * inverse_cell_;
   for (int a = 0; a < 3; ++a) {
@@ -282,35 +344,75 @@ void OcclusionVolume::deposit(const ParticleArrays &particles, const std::vector
   double coordinate[3][kChunk];
   NodeWeights located;
   CornerSums held(out, dy, dz);
-  int lowest = n_[2], highest = -1;  // the lower nodes' planes of z
   visit_kept(particles, [&](const auto &kept) {
     visit_positions(particles, [&](const auto &positions) {
       const int64_t count = particles.count();
+      constexpr bool kAllKept = std::is_same_v<std::decay_t<decltype(kept)>, KeepAll>;
+      const bool every = kAllKept && planes.empty();
+      // Every particle, positions as x y z doubles one after the other: located in place.
+      const double *packed = nullptr;
+      if constexpr (std::is_same_v<std::decay_t<decltype(positions)>, InterleavedPositions<double>>)
+        if (every && positions.stride == int64_t(3 * sizeof(double)))
+          packed = reinterpret_cast<const double *>(positions.base);
       for (int64_t i0 = 0; i0 < count; i0 += kChunk) {
+        const int64_t end = std::min(count, i0 + kChunk);
         int n = 0;
-        for (int64_t i = i0; i < std::min(count, i0 + kChunk); ++i) {
-          if (!kept.get(i)) continue;
-          const glm::dvec3 x = positions.get(i);
-          if (!(std::isfinite(x.x) && std::isfinite(x.y) && std::isfinite(x.z))) continue;
-          if (!planes.empty() && planes.drops(x)) continue;
-          coordinate[0][n] = x.x, coordinate[1][n] = x.y, coordinate[2][n] = x.z;
-          ++n;
+        const bool in_place = packed != nullptr &&
+                              locate_packed_nodes(packed + 3 * i0, int(end - i0), grid, &located);
+        if (in_place) {
+          n = int(end - i0);
+        } else if (every) {  // no branch per particle: each is written, and kept when finite
+          for (int64_t i = i0; i < end; ++i) {
+            const glm::dvec3 x = positions.get(i);
+            coordinate[0][n] = x.x, coordinate[1][n] = x.y, coordinate[2][n] = x.z;
+            n += int(std::isfinite(x.x)) & int(std::isfinite(x.y)) & int(std::isfinite(x.z));
+          }
+        } else {
+          for (int64_t i = i0; i < end; ++i) {
+            if (!kept.get(i)) continue;
+            const glm::dvec3 x = positions.get(i);
+            if (!(std::isfinite(x.x) && std::isfinite(x.y) && std::isfinite(x.z))) continue;
+            if (!planes.empty() && planes.drops(x)) continue;
+            coordinate[0][n] = x.x, coordinate[1][n] = x.y, coordinate[2][n] = x.z;
+            ++n;
+          }
         }
         if (n == 0) continue;
-        locate_nodes(coordinate, n, grid, &located);
-        lowest = std::min(lowest, int(located.lowest_z));
-        highest = std::max(highest, int(located.highest_z));
-        for (int k = 0; k < n; ++k)
-          held.add(size_t(located.node[k]), tables.x[located.code_x[k]],
-                   tables.yz[located.code_yz[k]]);
+        if (!in_place) locate_nodes(coordinate, n, grid, &located);
+        // A deposit reaches the plane above its lower node's.
+        const Planes reached{int(located.lowest_z), int(located.highest_z) + 2};
+        if (zeroed.empty()) {
+          zero(reached.first, reached.end);
+          zeroed = reached;
+        } else {
+          zero(reached.first, zeroed.first);
+          zero(zeroed.end, reached.end);
+          zeroed = {std::min(zeroed.first, reached.first), std::max(zeroed.end, reached.end)};
+        }
+        held.add(located, n, tables);
       }
     });
   });
   held.flush();
-  // A deposit reaches the plane above its lower node's.
-  *occupied = highest < 0 ? Planes{0, 0} : Planes{lowest, highest + 2};
-  pairs_to_nodes(pairs.data(), size_t(occupied->first) * dz, size_t(occupied->end) * dz,
-                 nodes->data());
+  *occupied = zeroed.empty() ? Planes{0, 0} : zeroed;
+}
+
+// Pair i holds what node i received as the lower node along x (element 0) and what node i + 1
+// received as the upper (element 1), so node i has element 0 of pair i and element 1 of pair
+// i - 1; a plane's first node (x = 0) is never an upper node: element 0 alone.
+void OcclusionVolume::nodes_of(const int64_t *pairs, Planes occupied, Planes planes,
+                               int64_t *out) const {
+  const size_t plane = size_t(n_[0]) * size_t(n_[1]);
+  for (int z = planes.first; z < planes.end; ++z) {
+    int64_t *to = out + size_t(z - planes.first) * plane;
+    if (z < occupied.first || z >= occupied.end) {
+      std::fill(to, to + plane, int64_t(0));
+      continue;
+    }
+    const int64_t *from = pairs + 2 * size_t(z) * plane;
+    to[0] = from[0];
+    for (size_t i = 1; i < plane; ++i) to[i] = from[2 * i] + from[2 * i - 1];
+  }
 }
 
 namespace {
@@ -344,13 +446,12 @@ OcclusionVolume::Planes OcclusionVolume::reach_of(Planes slab) const {
 }
 
 // The deposits of every rank summed over the planes `reach` (`summed`, plane after plane), from
-// this rank's `deposits` (the whole grid; nonzero only on the planes `occupied`). Each rank
+// this rank's `pairs` (deposit(): held on the planes `occupied` only). Each rank
 // sends every other only its occupied planes that the other's reach holds, so a domain
 // decomposition exchanges little more than the planes along the ranks' boundaries. Integers:
 // the same sums in any order. Collective over comm.
-Status OcclusionVolume::sum_over_ranks(MPI_Comm comm, const std::vector<int64_t> &deposits,
-                                       Planes occupied, Planes reach,
-                                       std::vector<int64_t> *summed) const {
+Status OcclusionVolume::sum_over_ranks(MPI_Comm comm, const int64_t *pairs, Planes occupied,
+                                       Planes reach, std::vector<int64_t> *summed) const {
   int rank = 0, ranks = 1;
   MPI_Comm_rank(comm, &rank);
   MPI_Comm_size(comm, &ranks);
@@ -367,11 +468,21 @@ Status OcclusionVolume::sum_over_ranks(MPI_Comm comm, const std::vector<int64_t>
   std::vector<int> send_count(all, 0), send_at(all, 0), receive_count(all, 0), receive_at(all, 0);
   std::vector<Planes> received(all);
   int received_total = 0;
+  Planes sent{n_[2], 0};  // every plane sent to any rank (within `occupied`)
   for (int q = 0; q < ranks; ++q) {
-    if (q == rank) continue;  // this rank's own deposits are copied below
+    if (q == rank) continue;
+    const Planes out = both(occupied, reach_of(slab_of(q, ranks)));
+    if (out.empty()) continue;
+    sent = {std::min(sent.first, out.first), std::max(sent.end, out.end)};
+  }
+  if (sent.empty()) sent = {0, 0};
+  std::vector<int64_t> outgoing(size_t(sent.count()) * size_t(plane));
+  nodes_of(pairs, occupied, sent, outgoing.data());
+  for (int q = 0; q < ranks; ++q) {
+    if (q == rank) continue;  // this rank's own deposits are taken below
     const Planes out = both(occupied, reach_of(slab_of(q, ranks)));
     send_count[size_t(q)] = out.count() * plane;
-    send_at[size_t(q)] = out.first * plane;
+    send_at[size_t(q)] = out.empty() ? 0 : (out.first - sent.first) * plane;
     const Planes in = both({occupied_by[2 * size_t(q)], occupied_by[2 * size_t(q) + 1]}, reach);
     received[size_t(q)] = in;
     receive_count[size_t(q)] = in.count() * plane;
@@ -379,12 +490,12 @@ Status OcclusionVolume::sum_over_ranks(MPI_Comm comm, const std::vector<int64_t>
     received_total += receive_count[size_t(q)];
   }
   std::vector<int64_t> incoming(static_cast<size_t>(received_total));
-  if (MPI_Alltoallv(deposits.data(), send_count.data(), send_at.data(), MPI_INT64_T,
+  if (MPI_Alltoallv(outgoing.data(), send_count.data(), send_at.data(), MPI_INT64_T,
                     incoming.data(), receive_count.data(), receive_at.data(), MPI_INT64_T,
                     comm) != MPI_SUCCESS)
     return {StatusCode::kMpi, "ambient_occlusion (object): MPI_Alltoallv of the density failed"};
-  summed->assign(deposits.begin() + ptrdiff_t(reach.first) * plane,
-                 deposits.begin() + ptrdiff_t(reach.end) * plane);
+  summed->resize(size_t(reach.count()) * size_t(plane));
+  nodes_of(pairs, occupied, reach, summed->data());
   for (int q = 0; q < ranks; ++q) {
     const Planes in = received[size_t(q)];
     if (in.empty()) continue;
@@ -506,20 +617,23 @@ Status OcclusionVolume::build(MPI_Comm comm, const ParticleArrays &particles, co
   set_grid(global, radius);
   const size_t nodes = size_t(n_[0]) * size_t(n_[1]) * size_t(n_[2]);
   const int plane = n_[0] * n_[1];
-  std::vector<int64_t> deposits(nodes, 0);
+  std::unique_ptr<int64_t[]> pairs;
   Planes occupied;
-  deposit(particles, cuts, &deposits, &occupied);
+  deposit(particles, cuts, &pairs, &occupied);
   int rank = 0, ranks = 1;
   MPI_Comm_rank(comm, &rank);
   MPI_Comm_size(comm, &ranks);
   const Planes slab = slab_of(rank, ranks), reach = reach_of(slab);
   // A node's sum stays below 2^63 for up to 2^51 particles on it.
-  std::vector<int64_t> summed;
-  const int64_t *slab_deposits = deposits.data();  // the planes `reach`
+  std::vector<int64_t> summed;  // the planes `reach`
   if (ranks > 1) {
-    if (Status s = sum_over_ranks(comm, deposits, occupied, reach, &summed); !s.ok()) return s;
-    slab_deposits = summed.data();
+    if (Status s = sum_over_ranks(comm, pairs.get(), occupied, reach, &summed); !s.ok()) return s;
+  } else {
+    summed.resize(nodes);
+    nodes_of(pairs.get(), occupied, reach, summed.data());
   }
+  pairs.reset();
+  const int64_t *slab_deposits = summed.data();
   int64_t largest = smooth(slab_deposits, reach, slab);
   if (ranks > 1 &&
       MPI_Allreduce(MPI_IN_PLACE, &largest, 1, MPI_INT64_T, MPI_MAX, comm) != MPI_SUCCESS)

@@ -40,6 +40,7 @@
 
 #include <array>
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include <glm/vec3.hpp>
@@ -91,12 +92,17 @@ class OcclusionVolume {
     bool empty() const { return end <= first; }
   };
   void set_grid(const Extent &global, double radius);
+  // This rank's deposits on pairs of nodes (see the .cpp), held on the planes `occupied` only
+  // (the others are not even zeroed).
   void deposit(const ParticleArrays &particles, const std::vector<CutPlane> &cuts,
-               std::vector<int64_t> *nodes, Planes *occupied) const;
+               std::unique_ptr<int64_t[]> *pairs, Planes *occupied) const;
+  // The deposits on the nodes of `planes` (zeros off `occupied`) from deposit()'s pairs, plane
+  // after plane.
+  void nodes_of(const int64_t *pairs, Planes occupied, Planes planes, int64_t *out) const;
   Planes slab_of(int rank, int ranks) const;
   Planes reach_of(Planes slab) const;
-  Status sum_over_ranks(MPI_Comm comm, const std::vector<int64_t> &deposits, Planes occupied,
-                        Planes reach, std::vector<int64_t> *summed) const;
+  Status sum_over_ranks(MPI_Comm comm, const int64_t *pairs, Planes occupied, Planes reach,
+                        std::vector<int64_t> *summed) const;
   // Fills smoothed_ for `slab`; returns its largest sum.
   int64_t smooth(const int64_t *deposits, Planes given, Planes slab);
   void bin_slab(const int64_t *deposits, float top, int64_t *histogram) const;

@@ -315,6 +315,53 @@ TEST(ObjectOcclusion, TheVolumeIsTheOneParticleAtATimeSum) {
   }
 }
 
+// Without a mask the deposit reads the positions in place where they are x y z doubles one
+// after the other (chunks with a non-finite coordinate gathered instead) and gathers them
+// without a branch otherwise: the one-particle-at-a-time volume for each layout, with non-finite
+// particles in the first chunks and far into the cloud, with and without a cut plane.
+TEST(ObjectOcclusion, TheVolumeIsTheOneParticleAtATimeSumForEveryLayout) {
+  constexpr int kCount = 60000;
+  std::vector<double> xyz;
+  uint64_t state = 24680;
+  const auto uniform = [&state] {
+    state = state * 6364136223846793005ull + 1442695040888963407ull;
+    return double(state >> 11) / double(uint64_t(1) << 53);
+  };
+  for (int i = 0; i < kCount; ++i)
+    for (int a = 0; a < 3; ++a)
+      xyz.push_back(i % 3 == 0 ? 10.0 + 4.0 * uniform() : -1.0 + 42.0 * uniform());
+  xyz[3 * 5] = std::nan(""), xyz[3 * 7 + 2] = HUGE_VAL, xyz[3 * 40001 + 1] = -HUGE_VAL;
+  const std::vector<int32_t> every(kCount, 1);  // the reference's mask: all kept
+  // The same positions as three arrays, and interleaved with a fourth value between them.
+  std::vector<double> x(kCount), y(kCount), z(kCount), padded(4 * size_t(kCount), -7.0);
+  for (int i = 0; i < kCount; ++i) {
+    x[size_t(i)] = xyz[3 * size_t(i)], y[size_t(i)] = xyz[3 * size_t(i) + 1];
+    z[size_t(i)] = xyz[3 * size_t(i) + 2];
+    std::copy_n(&xyz[3 * size_t(i)], 3, &padded[4 * size_t(i)]);
+  }
+  std::vector<ParticleDescription> layouts(3);
+  layouts[0].position = {xyz.data(), DataType::kFloat64, 0};
+  layouts[1].position_x = {x.data(), DataType::kFloat64, 0};
+  layouts[1].position_y = {y.data(), DataType::kFloat64, 0};
+  layouts[1].position_z = {z.data(), DataType::kFloat64, 0};
+  layouts[2].position = {padded.data(), DataType::kFloat64, 4 * sizeof(double)};
+  const Extent global = cloud_extent();
+  const CutPlane cut = oblique_cut();
+  for (size_t layout = 0; layout < layouts.size(); ++layout) {
+    layouts[layout].count = kCount;
+    ParticleArrays arrays;
+    ASSERT_OK(ParticleArrays::validate(layouts[layout], &arrays));
+    for (const std::vector<CutPlane> &cuts :
+         {std::vector<CutPlane>{}, std::vector<CutPlane>{cut}}) {
+      OcclusionVolume v;
+      ASSERT_OK(v.build(MPI_COMM_SELF, arrays, global, cuts, kRadius, kStrength));
+      const std::vector<float> expected = reference_enclosure(xyz, every, cuts, global, v);
+      ASSERT_FALSE(expected.empty());
+      ASSERT_EQ(v.enclosure_nodes(), expected) << "layout " << layout << ", cuts " << cuts.size();
+    }
+  }
+}
+
 // More particles on one node than a 32-bit sum of their deposits holds (2^20 x 4096, each on
 // the node: the whole weight at one corner): the runs the deposit sums before adding them to the
 // nodes are cut short in time.
