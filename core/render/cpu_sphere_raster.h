@@ -61,7 +61,20 @@ class CpuSphereRaster {
     rect.x0 = std::max(rect.x0, x0_), rect.x1 = std::min(rect.x1, x1_);
     if (rect.empty()) return true;
     if (!(z > g_.near_plane)) return false;
-    return pyramid_.covered(rect, float(g_.window_depth(z) - kQueryMargin));
+    const float zw = float(g_.window_depth(z) - kQueryMargin);
+    // A rectangle of at most 4 x 4 pixels (a sphere of a pixel or two, as a gas's are) is read
+    // on the frame's depth straight away, stopping at the first pixel not below: the pyramid
+    // would probe its centre, pick a level and refine there to the same pixels. The same answer.
+    if (rect.x1 - rect.x0 < 4 && rect.y1 - rect.y0 < 4) {
+      const float *depth = frame_->depth.data();
+      for (int y = rect.y0; y <= rect.y1; ++y) {
+        const float *row = depth + size_t(y) * size_t(g_.width);
+        for (int x = rect.x0; x <= rect.x1; ++x)
+          if (!(row[x] < zw)) return false;
+      }
+      return true;
+    }
+    return pyramid_.covered(rect, zw);
   }
 
   // The light of the spheres drawn from now on (lighting.h); the default (also before any call)
