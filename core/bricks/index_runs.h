@@ -69,13 +69,14 @@ struct BrickScan {
 
 // One run's particles [first, last) added to its brick's scan *s[0], or - where `bits` is given
 // (a two-brick run) - to *s[1] for those whose in_other bit is set, for particles without a group
-// (every index kept). No branch per particle: a two-brick run's particles interleave (a crystal's
-// basis straddles the cut), so a branch on the bit mispredicts; the brick is picked by index
-// instead. Finiteness is summed (x - x is 0 for finite x, NaN otherwise, and a NaN stays in the
-// sum) and checked once per run; a non-finite position marks both bricks of its run, which changes
-// nothing downstream: any non-finite held position makes the refit ask for a rebuild. Min and max
-// are written as glm::min/max and std::max are ((v < lo) ? v : lo, (hi < v) ? v : hi) and visit
-// each brick's particles in the same order, so the bounds are the same bits.
+// (every index kept). No branch on a particle's bit: a two-brick run's particles interleave (a
+// crystal's basis straddles the cut), so such a branch mispredicts; each brick's particles are
+// taken from the bits instead (count trailing zeros), one brick after the other. Finiteness is
+// summed (x - x is 0 for finite x, NaN otherwise, and a NaN stays in the sum) and checked once per
+// run; a non-finite position marks both bricks of its run, which changes nothing downstream: any
+// non-finite held position makes the refit ask for a rebuild. Min and max are written as
+// glm::min/max and std::max are ((v < lo) ? v : lo, (hi < v) ? v : hi) and visit each brick's
+// particles in the same order, so the bounds are the same bits.
 template <typename Positions, typename Radii>
 void scan_stretch(const Positions &pos, const Radii &radius, bool has_radius, const uint64_t *bits,
                   int64_t first, int64_t last, BrickScan *const s[2]) {
@@ -101,15 +102,29 @@ void scan_stretch(const Positions &pos, const Radii &radius, bool has_radius, co
     lo[0][0] = lx, lo[0][1] = ly, lo[0][2] = lz, hi[0][0] = hx, hi[0][1] = hy, hi[0][2] = hz;
     r[0] = rr;
   } else {
-    for (int64_t i = first; i < last; ++i) {
-      const glm::dvec3 x = pos.get(i);
-      nan_sum += (x.x - x.x) + (x.y - x.y) + (x.z - x.z);
-      const auto k = size_t(bits[i >> 6] >> (i & 63) & 1);
-      lo[k][0] = lower(lo[k][0], x.x), lo[k][1] = lower(lo[k][1], x.y);
-      lo[k][2] = lower(lo[k][2], x.z);
-      hi[k][0] = upper(hi[k][0], x.x), hi[k][1] = upper(hi[k][1], x.y);
-      hi[k][2] = upper(hi[k][2], x.z);
-      if (has_radius) r[k] = upper(r[k], radius.get(i));
+    // Each brick's particles apart, in index order (the order the bounds depend on), picked from
+    // the bits 64 at a time: a brick's bounds stay in registers, where writing them per particle
+    // to the brick the bit picks chained every particle on a store and a reload.
+    for (int k = 0; k < 2; ++k) {
+      double lx = lo[k][0], ly = lo[k][1], lz = lo[k][2], hx = hi[k][0], hy = hi[k][1];
+      double hz = hi[k][2], rr = r[k];
+      for (int64_t w = first >> 6; w <= (last - 1) >> 6; ++w) {
+        const int64_t base = w * 64;
+        uint64_t word = k == 0 ? ~bits[w] : bits[w];
+        if (base < first) word &= ~uint64_t(0) << (first - base);
+        if (base + 64 > last) word &= ~uint64_t(0) >> (base + 64 - last);
+        while (word != 0) {
+          const int64_t i = base + __builtin_ctzll(word);
+          word &= word - 1;
+          const glm::dvec3 x = pos.get(i);
+          nan_sum += (x.x - x.x) + (x.y - x.y) + (x.z - x.z);
+          lx = lower(lx, x.x), ly = lower(ly, x.y), lz = lower(lz, x.z);
+          hx = upper(hx, x.x), hy = upper(hy, x.y), hz = upper(hz, x.z);
+          if (has_radius) rr = upper(rr, radius.get(i));
+        }
+      }
+      lo[k][0] = lx, lo[k][1] = ly, lo[k][2] = lz, hi[k][0] = hx, hi[k][1] = hy, hi[k][2] = hz;
+      r[k] = rr;
     }
   }
   for (int k = 0; k < n; ++k) {

@@ -20,10 +20,6 @@
 namespace lantern {
 namespace {
 
-// Query depths are lowered by two float ulps below 1.0 before the strict comparison: the stored
-// depths are double results rounded to float, so this keeps "covered" a guarantee.
-constexpr double kQueryMargin = 2.0 * 5.96e-8;
-
 // Pixels are ray-cast in square tiles of side kTile, or kSmallTile for spheres that small
 // (PixelRays pads its tables for the overrun).
 constexpr int kTile = PixelRays::kPadding;
@@ -57,13 +53,6 @@ void CpuSphereRaster::set_lighting(const Lighting &lighting) {
     light_.reset();
   else
     light_.emplace(lighting);
-}
-
-bool CpuSphereRaster::covered(PixelRect rect, double z) const {
-  rect.x0 = std::max(rect.x0, x0_), rect.x1 = std::min(rect.x1, x1_);
-  if (rect.empty()) return true;
-  if (!(z > g_.near_plane)) return false;
-  return pyramid_.covered(rect, float(g_.window_depth(z) - kQueryMargin));
 }
 
 namespace {

@@ -23,6 +23,7 @@
 // Units: view space of ViewGeometry (camera looks down -z); depths stored as window depth.
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 #include <optional>
 #include <vector>
@@ -55,7 +56,26 @@ class CpuSphereRaster {
 
   // True if every pixel of `rect` (within the strip) already holds something strictly nearer
   // than view depth z: a sphere whose nearest point is at z would change none of them.
-  bool covered(PixelRect rect, double z) const;
+  // Inline: asked once per candidate particle.
+  bool covered(PixelRect rect, double z) const {
+    rect.x0 = std::max(rect.x0, x0_), rect.x1 = std::min(rect.x1, x1_);
+    if (rect.empty()) return true;
+    if (!(z > g_.near_plane)) return false;
+    const float zw = float(g_.window_depth(z) - kQueryMargin);
+    // A rectangle of at most 4 x 4 pixels (a sphere of a pixel or two, as a gas's are) is read
+    // on the frame's depth straight away, stopping at the first pixel not below: the pyramid
+    // would probe its centre, pick a level and refine there to the same pixels. The same answer.
+    if (rect.x1 - rect.x0 < 4 && rect.y1 - rect.y0 < 4) {
+      const float *depth = frame_->depth.data();
+      for (int y = rect.y0; y <= rect.y1; ++y) {
+        const float *row = depth + size_t(y) * size_t(g_.width);
+        for (int x = rect.x0; x <= rect.x1; ++x)
+          if (!(row[x] < zw)) return false;
+      }
+      return true;
+    }
+    return pyramid_.covered(rect, zw);
+  }
 
   // The light of the spheres drawn from now on (lighting.h); the default (also before any call)
   // draws through the original headlight code, bit for bit.
@@ -83,6 +103,9 @@ class CpuSphereRaster {
                  PixelRect rect, uint8_t alpha8 = 255);
 
  private:
+  // Query depths are lowered by two float ulps below 1.0 before the strict comparison: the stored
+  // depths are double results rounded to float, so this keeps "covered" a guarantee.
+  static constexpr double kQueryMargin = 2.0 * 5.96e-8;
   // draw_bond for a cylinder wholly in front of the eye (or any, orthographic): the float cast
   // (centred_cylinder_cast.h), skipping pixels nearer than window depth `reject`.
   bool draw_centred_bond(const glm::dvec3 &a, const glm::dvec3 &u, double length, double r,

@@ -61,54 +61,11 @@ PixelRect ViewGeometry::ndc_rect(double x_lo, double x_hi, double y_lo, double y
   return pixels_of(x_lo, x_hi, y_lo, y_hi, width, height, first, last);
 }
 
-PixelRect ViewGeometry::ndc_rect_tight(double x_lo, double x_hi, double y_lo, double y_hi,
-                                       double slack) const {
-  // The centres in [lo, hi] widened by `slack` pixels. NaN bounds give the whole range.
-  const auto first = [slack](double p, int n) {
-    const double f = std::ceil(p - slack);
-    return f > 0.0 ? int(std::min(f, double(n))) : 0;
-  };
-  const auto last = [slack](double p, int n) {
-    const double f = std::floor(p + slack);
-    return p != p ? n - 1 : f < double(n - 1) ? int(std::max(f, -1.0)) : n - 1;
-  };
-  return pixels_of(x_lo, x_hi, y_lo, y_hi, width, height, first, last);
-}
-
-bool ViewGeometry::sphere_ndc(const glm::dvec3 &c, double radius, double *x_lo, double *x_hi,
-                              double *y_lo, double *y_hi) const {
-  const double r = radius + eps;
-  if (orthographic) {
-    *x_lo = sx * (c.x - r) + tx, *x_hi = sx * (c.x + r) + tx;
-    *y_lo = sy * (c.y - r) + ty, *y_hi = sy * (c.y + r) + ty;
-    return true;
-  }
-  if (-c.z - r <= 0.5 * near_plane) return false;
-  // Tangent lines from the eye to the circle in the xz (yz) plane: slopes m = x / d with
-  // m^2 (d^2 - r^2) - 2 x d m + x^2 - r^2 = 0.
-  const double d = -c.z, dd = d * d - r * r;
-  const auto slopes = [&](double x, double scale, double *lo, double *hi) {
-    const double root = r * std::sqrt(std::max(x * x + dd, 0.0));
-    *lo = scale * ((x * d - root) / dd);
-    *hi = scale * ((x * d + root) / dd);
-  };
-  slopes(c.x, sx, x_lo, x_hi);
-  slopes(c.y, sy, y_lo, y_hi);
-  return true;
-}
-
 PixelRect ViewGeometry::sphere_rect(const glm::dvec3 &c, double radius) const {
   double x_lo, x_hi, y_lo, y_hi;
   if (!sphere_ndc(c, radius, &x_lo, &x_hi, &y_lo, &y_hi))
     return PixelRect{0, 0, width - 1, height - 1};
   return ndc_rect(x_lo, x_hi, y_lo, y_hi);
-}
-
-PixelRect ViewGeometry::sphere_rect_tight(const glm::dvec3 &c, double radius, double slack) const {
-  double x_lo, x_hi, y_lo, y_hi;
-  if (!sphere_ndc(c, radius, &x_lo, &x_hi, &y_lo, &y_hi))
-    return PixelRect{0, 0, width - 1, height - 1};
-  return ndc_rect_tight(x_lo, x_hi, y_lo, y_hi, slack);
 }
 
 PixelRect ViewGeometry::box_rect(const glm::dvec3 corners[8]) const {

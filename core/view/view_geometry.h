@@ -12,6 +12,10 @@
 #include <algorithm>
 #include <cmath>
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 #include <glm/mat4x4.hpp>
 #include <glm/vec3.hpp>
 
@@ -92,7 +96,13 @@ struct ViewGeometry {
   // The pixels whose centres lie within `slack` pixels of the sphere's projected outline (the
   // outline computed in double for radius r + eps), clamped to the image: for the CPU raster,
   // whose own per-pixel test errs far less than `slack`. Empty when no centre is that close.
-  PixelRect sphere_rect_tight(const glm::dvec3 &c, double r, double slack) const;
+  // Inline: the CPU raster asks it once per candidate particle.
+  PixelRect sphere_rect_tight(const glm::dvec3 &c, double r, double slack) const {
+    double x_lo, x_hi, y_lo, y_hi;
+    if (!sphere_ndc(c, r, &x_lo, &x_hi, &y_lo, &y_hi))
+      return PixelRect{0, 0, width - 1, height - 1};
+    return ndc_rect_tight(x_lo, x_hi, y_lo, y_hi, slack);
+  }
   // The same for a view-space box given by its 8 corners' bounds (already expanded by radius).
   PixelRect box_rect(const glm::dvec3 corners[8]) const;
   // box_rect of the axis-aligned box [lo, hi]'s corners (box_corners' order), the same rectangle
@@ -112,11 +122,61 @@ struct ViewGeometry {
 
  private:
   PixelRect ndc_rect(double x_lo, double x_hi, double y_lo, double y_hi) const;
-  PixelRect ndc_rect_tight(double x_lo, double x_hi, double y_lo, double y_hi, double slack) const;
+  // The centres in [lo, hi] widened by `slack` pixels. NaN bounds give the whole range.
+  PixelRect ndc_rect_tight(double x_lo, double x_hi, double y_lo, double y_hi, double slack) const {
+    const auto first = [slack](double p, int n) {
+      const double f = std::ceil(p - slack);
+      return f > 0.0 ? int(std::min(f, double(n))) : 0;
+    };
+    const auto last = [slack](double p, int n) {
+      const double f = std::floor(p + slack);
+      return p != p ? n - 1 : f < double(n - 1) ? int(std::max(f, -1.0)) : n - 1;
+    };
+    const double hw = 0.5 * width, hh = 0.5 * height;
+    PixelRect rect;
+    rect.x0 = first((x_lo + 1.0) * hw - 0.5, width);
+    rect.x1 = last((x_hi + 1.0) * hw - 0.5, width);
+    rect.y0 = first((1.0 - y_hi) * hh - 0.5, height);
+    rect.y1 = last((1.0 - y_lo) * hh - 0.5, height);
+    return rect;
+  }
   // NDC bounds of the sphere's outline for radius + eps (tangent lines from the eye, or the
   // orthographic box); false when the sphere reaches behind half the near plane.
   bool sphere_ndc(const glm::dvec3 &c, double radius, double *x_lo, double *x_hi, double *y_lo,
-                  double *y_hi) const;
+                  double *y_hi) const {
+    const double r = radius + eps;
+    if (orthographic) {
+      *x_lo = sx * (c.x - r) + tx, *x_hi = sx * (c.x + r) + tx;
+      *y_lo = sy * (c.y - r) + ty, *y_hi = sy * (c.y + r) + ty;
+      return true;
+    }
+    if (-c.z - r <= 0.5 * near_plane) return false;
+    // Tangent lines from the eye to the circle in the xz (yz) plane: slopes m = x / d with
+    // m^2 (d^2 - r^2) - 2 x d m + x^2 - r^2 = 0.
+    const double d = -c.z, dd = d * d - r * r;
+#if defined(__SSE2__)
+    // x and y side by side: the same IEEE operations, two divisions and one square root fewer.
+    // max(0, q) is std::max(q, 0.0) (a NaN q stays NaN).
+    const __m128d xy = _mm_set_pd(c.y, c.x);
+    const __m128d q = _mm_add_pd(_mm_mul_pd(xy, xy), _mm_set1_pd(dd));
+    const __m128d root = _mm_mul_pd(_mm_set1_pd(r), _mm_sqrt_pd(_mm_max_pd(_mm_setzero_pd(), q)));
+    const __m128d xd = _mm_mul_pd(xy, _mm_set1_pd(d)), den = _mm_set1_pd(dd);
+    const __m128d scale = _mm_set_pd(sy, sx);
+    const __m128d lo = _mm_mul_pd(scale, _mm_div_pd(_mm_sub_pd(xd, root), den));
+    const __m128d hi = _mm_mul_pd(scale, _mm_div_pd(_mm_add_pd(xd, root), den));
+    *x_lo = _mm_cvtsd_f64(lo), *y_lo = _mm_cvtsd_f64(_mm_unpackhi_pd(lo, lo));
+    *x_hi = _mm_cvtsd_f64(hi), *y_hi = _mm_cvtsd_f64(_mm_unpackhi_pd(hi, hi));
+#else
+    const auto slopes = [&](double x, double scale, double *lo, double *hi) {
+      const double root = r * std::sqrt(std::max(x * x + dd, 0.0));
+      *lo = scale * ((x * d - root) / dd);
+      *hi = scale * ((x * d + root) / dd);
+    };
+    slopes(c.x, sx, x_lo, x_hi);
+    slopes(c.y, sy, y_lo, y_hi);
+#endif
+    return true;
+  }
 };
 
 }  // namespace lantern
