@@ -349,35 +349,6 @@ LANTERN_TILE_KERNEL void cast_cylinder_pixels(const CentredCylinder &cylinder,
   }
 }
 
-// Columns and rows of the n pixels of a run (columns kx0, kx0 + 1, .. of row jy0), and kRun
-// copies of one pixel: whole vectors of 4 entries, so up to 3 entries past the run (or kRun
-// entries in all) are written, which the caller has room for.
-#if defined(__SSE2__)
-LANTERN_INLINE void store_run(int *kx, int *jy, int kx0, int jy0, int n) {
-  const __m128i lanes = _mm_setr_epi32(0, 1, 2, 3), row = _mm_set1_epi32(jy0);
-  for (int k = 0; k < n; k += 4) {
-    _mm_storeu_si128(reinterpret_cast<__m128i *>(kx + k),
-                     _mm_add_epi32(_mm_set1_epi32(kx0 + k), lanes));
-    _mm_storeu_si128(reinterpret_cast<__m128i *>(jy + k), row);
-  }
-}
-LANTERN_INLINE void store_copies(int *kx, int *jy, int kx0, int jy0) {
-  const __m128i column = _mm_set1_epi32(kx0), row = _mm_set1_epi32(jy0);
-  static_assert(kRun == 8, "store_copies writes two vectors of 4");
-  _mm_storeu_si128(reinterpret_cast<__m128i *>(kx), column);
-  _mm_storeu_si128(reinterpret_cast<__m128i *>(kx + 4), column);
-  _mm_storeu_si128(reinterpret_cast<__m128i *>(jy), row);
-  _mm_storeu_si128(reinterpret_cast<__m128i *>(jy + 4), row);
-}
-#else
-LANTERN_INLINE void store_run(int *kx, int *jy, int kx0, int jy0, int n) {
-  for (int k = 0; k < n; ++k) kx[k] = kx0 + k, jy[k] = jy0;
-}
-LANTERN_INLINE void store_copies(int *kx, int *jy, int kx0, int jy0) {
-  for (int k = 0; k < kRun; ++k) kx[k] = kx0, jy[k] = jy0;
-}
-#endif
-
 // Comparisons of n <= kRun consecutive depths, as bits (bit k for entry k): where depth[k] >= z
 // (the pixels the early depth reject keeps), and where wz[k] < depth[k] and wz[k] == depth[k].
 // `whole`: kRun entries may be read from depth (not past the frame's end), whatever n.
@@ -633,11 +604,9 @@ bool CpuSphereRaster::draw_centred_bond(const glm::dvec3 &a, const glm::dvec3 &u
         (r * (1.0 + (g_.orthographic ? 0.0 : std::abs(ry))) + stray * far_end) * (1.0 + 1e-9);
     return std::min(ha, hb) <= reach && std::max(ha, hb) >= -reach;
   };
-  // The rows' spans, less the pixels the early depth reject skips at both ends, and their pixels
-  // to cast, row after row (store_run), with room for the vector overruns below.
+  // The rows' spans, less the pixels the early depth reject skips at both ends.
   runs_.clear();
   int cast = 0;
-  int *kx = cast_kx_.data(), *jy = cast_jy_.data();
   for (int y = rect.y0; y <= rect.y1; ++y) {
     int lo = rect.x0, hi = rect.x1;
     if (!row_meets(y)) continue;
@@ -660,22 +629,24 @@ bool CpuSphereRaster::draw_centred_bond(const glm::dvec3 &a, const glm::dvec3 &u
         break;
       }
     }
-    const int n = hi - lo + 1;
-    if (cast_kx_.size() < size_t(cast + n + 2 * kRun)) {
-      const size_t size = std::max(2 * cast_kx_.size(), size_t(cast + n + 2 * kRun));
-      cast_kx_.resize(size), cast_jy_.resize(size), cast_wz_.resize(size);
-      cast_lambert2_.resize(size);
-      kx = cast_kx_.data(), jy = cast_jy_.data();
-    }
-    runs_.push_back(CylinderRun{lo - cylinder.ref_x, y - cylinder.ref_y, n, cast});
-    store_run(kx + cast, jy + cast, lo - cylinder.ref_x, y - cylinder.ref_y, n);
-    cast += n;
+    runs_.push_back(CylinderRun{lo - cylinder.ref_x, y - cylinder.ref_y, hi - lo + 1, cast});
+    cast += hi - lo + 1;
   }
   if (runs_.empty()) return false;
-  // The pixels to cast padded to whole vectors with the last one; the results have kRun entries
-  // more, which the depth test may read.
+  // The pixels to cast, row after row, padded to whole vectors with the last one; the results
+  // have kRun entries more, which the depth test may read.
   const int padded = (cast + kRun - 1) / kRun * kRun;
-  store_copies(kx + cast, jy + cast, kx[cast - 1], jy[cast - 1]);
+  if (cast_kx_.size() < size_t(padded + kRun)) {
+    cast_kx_.resize(size_t(padded + kRun)), cast_jy_.resize(size_t(padded + kRun));
+    cast_wz_.resize(size_t(padded + kRun)), cast_lambert2_.resize(size_t(padded + kRun));
+  }
+  int *kx = cast_kx_.data(), *jy = cast_jy_.data();
+  for (const CylinderRun &run : runs_) {
+    // The run's fields in locals: the stores below cannot change them (else they are reloaded).
+    const int at = run.at, n = run.n, run_kx = run.kx, run_jy = run.jy;
+    for (int k = 0; k < n; ++k) kx[at + k] = run_kx + k, jy[at + k] = run_jy;
+  }
+  for (int i = cast; i < padded + kRun; ++i) kx[i] = kx[cast - 1], jy[i] = jy[cast - 1];
   float *wz = cast_wz_.data(), *lambert2 = cast_lambert2_.data();
   cast_cylinder_pixels(cylinder, kx, jy, padded, wz, lambert2);
   PixelRect written;
