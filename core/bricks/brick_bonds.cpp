@@ -242,16 +242,13 @@ bool BondCache::same_indices(const BondArrays &bonds) {
   const auto n = size_t(bonds.count());
   bool same = indices_valid_ && indices_.size() == 2 * n, valid = true;
   indices_.resize(2 * n);
-  uint32_t *const copy = indices_.data();
-  bonds.visit_indices([&](const auto &first, const auto &second) {
-    for (size_t k = 0; k < n; ++k) {
-      const int64_t a = first(int64_t(k)), b = second(int64_t(k));
-      constexpr int64_t kMax = std::numeric_limits<uint32_t>::max();
-      valid &= a >= 0 && a <= kMax && b >= 0 && b <= kMax;
-      same &= copy[2 * k] == uint32_t(a) && copy[2 * k + 1] == uint32_t(b);
-      copy[2 * k] = uint32_t(a), copy[2 * k + 1] = uint32_t(b);
-    }
-  });
+  for (size_t k = 0; k < n; ++k) {
+    const int64_t a = bonds.first(int64_t(k)), b = bonds.second(int64_t(k));
+    constexpr int64_t kMax = std::numeric_limits<uint32_t>::max();
+    valid &= a >= 0 && a <= kMax && b >= 0 && b <= kMax;
+    same &= indices_[2 * k] == uint32_t(a) && indices_[2 * k + 1] == uint32_t(b);
+    indices_[2 * k] = uint32_t(a), indices_[2 * k + 1] = uint32_t(b);
+  }
   indices_valid_ = valid;
   return same && valid;
 }

@@ -105,14 +105,12 @@ Status check_bonds(const BondArrays &bonds, const ParticleArrays &particles) {
   // check_bond words the error.
   int64_t first_bad = bonds.count();
   visit_positions(particles, [&](const auto &pos) {
-    bonds.visit_indices([&](const auto &first, const auto &second) {
-      glm::dvec3 x0, x1;
-      for (int64_t k = 0; k < bonds.count(); ++k)
-        if (!bonds.drawable_ends(first(k), second(k), particles.count(), pos, &x0, &x1)) {
-          first_bad = k;
-          return;
-        }
-    });
+    glm::dvec3 x0, x1;
+    for (int64_t k = 0; k < bonds.count(); ++k)
+      if (!bonds.drawable(k, particles.count(), pos, &x0, &x1)) {
+        first_bad = k;
+        return;
+      }
   });
   for (int64_t k = first_bad; k < bonds.count(); ++k)
     if (Status s = bonds.check_bond(k, particles); !s.ok()) return s;

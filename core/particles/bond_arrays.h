@@ -11,7 +11,6 @@
 #pragma once
 
 #include <cstdint>
-#include <cstring>
 #include <string>
 
 #include <glm/vec3.hpp>
@@ -40,19 +39,6 @@ class BondArrays {
   int64_t second(int64_t k) const { return second_.integer(k); }
   bool has_type() const { return type_.present(); }
   int64_t type(int64_t k) const { return type_.integer(k); }
-  // Calls f(first, second) with readers of the bonds' indices (k -> first(k), k -> second(k),
-  // the same values) whose element type is settled once here for the common layouts, 32- or
-  // 64-bit integers both, rather than at every element: for the loops over every bond.
-  template <typename F>
-  decltype(auto) visit_indices(F &&f) const {
-    const DataType a = first_.type(), b = second_.type();
-    if (a == DataType::kInt32 && b == DataType::kInt32)
-      return f(TypedIndex<int32_t>(first_), TypedIndex<int32_t>(second_));
-    if (a == DataType::kInt64 && b == DataType::kInt64)
-      return f(TypedIndex<int64_t>(first_), TypedIndex<int64_t>(second_));
-    return f(AnyIndex{&first_}, AnyIndex{&second_});
-  }
-
   // Particles a bond may index: the owned ones, then the ghosts.
   int64_t reach(const ParticleArrays &particles) const { return particles.count() + ghost_count_; }
 
@@ -67,14 +53,7 @@ class BondArrays {
   template <typename Positions>
   bool drawable(int64_t k, int64_t owned, const Positions &pos, glm::dvec3 *x0,
                 glm::dvec3 *x1) const {
-    return drawable_ends(first(k), second(k), owned, pos, x0, x1);
-  }
-  // drawable() for a bond whose indices are e0 and e1 (first(k) and second(k), as read by
-  // visit_indices' readers).
-  template <typename Positions>
-  bool drawable_ends(int64_t e0, int64_t e1, int64_t owned, const Positions &pos, glm::dvec3 *x0,
-                     glm::dvec3 *x1) const {
-    const int64_t end = owned + ghost_count_;
+    const int64_t e0 = first(k), e1 = second(k), end = owned + ghost_count_;
     if (!(e0 >= 0 && e0 < end && e1 >= 0 && e1 < end && e0 != e1 && (e0 < owned || e1 < owned)))
       return false;
     *x0 = pos.get(e0), *x1 = pos.get(e1);
@@ -82,24 +61,6 @@ class BondArrays {
   }
 
  private:
-  // visit_indices' readers: an array of integers of type T, or of any type (StridedArray::integer).
-  template <typename T>
-  struct TypedIndex {
-    explicit TypedIndex(const StridedArray &a)
-        : base(static_cast<const unsigned char *>(a.data())), stride(a.stride_bytes()) {}
-    int64_t operator()(int64_t k) const {
-      T v;
-      std::memcpy(&v, base + k * stride, sizeof v);
-      return int64_t(v);
-    }
-    const unsigned char *base;
-    int64_t stride;
-  };
-  struct AnyIndex {
-    int64_t operator()(int64_t k) const { return array->integer(k); }
-    const StridedArray *array;
-  };
-
   int64_t count_ = 0, ghost_count_ = 0;
   BondListing listing_ = BondListing::kListedOnce;
   StridedArray first_, second_, type_;
