@@ -47,10 +47,20 @@ void CpuSpherePass::draw_bonds(int k, const Positions &pos, const ViewGeometry &
     in_strip.x1 = std::min(in_strip.x1, strip.x1);
     return in_strip.empty() || (occlusion && raster.covered(in_strip, z));
   };
+  // The halves of one atom come one after another (brick_bonds.h); colored by atom (or plainly),
+  // each takes its atom's color and opacity, so they are looked up once per atom's run. Colored
+  // by type, a half's color is its bond's: looked up for each.
+  const bool per_atom = recipe.by != BondColorBy::kType;
+  uint32_t last_atom = UINT32_MAX;
+  Rgb8 color{};
+  uint8_t alpha = 255;
   const auto visit = [&](const HalfBondView &v) {
     const HalfBond &h = halves.halves[v.index];
-    const Rgb8 color = recipe.color(h);
-    raster.draw_bond(v.a, v.b, radius, color.data(), v.rect, recipe.alpha(h));
+    if (!per_atom || h.atom != last_atom) {
+      color = recipe.color(h), alpha = recipe.alpha(h);
+      last_atom = h.atom;
+    }
+    raster.draw_bond(v.a, v.b, radius, color.data(), v.rect, alpha);
     if (marks)
       marks[v.index] = 1;
     else
