@@ -25,24 +25,6 @@ ViewGeometry ViewGeometry::from_camera(const Camera &camera, double scale) {
   return g;
 }
 
-namespace {
-
-// The pixel rectangle of NDC bounds, each edge mapped to continuous pixel coordinates (pixel
-// column x is sampled at NDC (x + 0.5) / W * 2 - 1) and rounded by `first` / `last`.
-template <typename First, typename Last>
-PixelRect pixels_of(double x_lo, double x_hi, double y_lo, double y_hi, int width, int height,
-                    First first, Last last) {
-  const double hw = 0.5 * width, hh = 0.5 * height;
-  PixelRect r;
-  r.x0 = first((x_lo + 1.0) * hw - 0.5, width);
-  r.x1 = last((x_hi + 1.0) * hw - 0.5, width);
-  r.y0 = first((1.0 - y_hi) * hh - 0.5, height);
-  r.y1 = last((1.0 - y_lo) * hh - 0.5, height);
-  return r;
-}
-
-}  // namespace
-
 PixelRect ViewGeometry::ndc_rect(double x_lo, double x_hi, double y_lo, double y_hi) const {
   // Every centre in [lo, hi] plus a pixel of slack on each side. Hand-rolled floor/ceil: this
   // runs once per tested particle.
@@ -58,7 +40,7 @@ PixelRect ViewGeometry::ndc_rect(double x_lo, double x_hi, double y_lo, double y
     const int t = int(p);  // p >= -2: truncation is ceil for p <= 0 and floor above
     return (p > 0.0 && p > double(t) ? t + 1 : t) + 1;
   };
-  return pixels_of(x_lo, x_hi, y_lo, y_hi, width, height, first, last);
+  return pixels_of(x_lo, x_hi, y_lo, y_hi, first, last);
 }
 
 PixelRect ViewGeometry::sphere_rect(const glm::dvec3 &c, double radius) const {

@@ -132,13 +132,20 @@ struct ViewGeometry {
       const double f = std::floor(p + slack);
       return p != p ? n - 1 : f < double(n - 1) ? int(std::max(f, -1.0)) : n - 1;
     };
+    return pixels_of(x_lo, x_hi, y_lo, y_hi, first, last);
+  }
+  // The pixel rectangle of NDC bounds, each edge mapped to continuous pixel coordinates (pixel
+  // column x is sampled at NDC (x + 0.5) / W * 2 - 1) and rounded by `first` / `last`.
+  template <typename First, typename Last>
+  PixelRect pixels_of(double x_lo, double x_hi, double y_lo, double y_hi, First first,
+                      Last last) const {
     const double hw = 0.5 * width, hh = 0.5 * height;
-    PixelRect rect;
-    rect.x0 = first((x_lo + 1.0) * hw - 0.5, width);
-    rect.x1 = last((x_hi + 1.0) * hw - 0.5, width);
-    rect.y0 = first((1.0 - y_hi) * hh - 0.5, height);
-    rect.y1 = last((1.0 - y_lo) * hh - 0.5, height);
-    return rect;
+    PixelRect r;
+    r.x0 = first((x_lo + 1.0) * hw - 0.5, width);
+    r.x1 = last((x_hi + 1.0) * hw - 0.5, width);
+    r.y0 = first((1.0 - y_hi) * hh - 0.5, height);
+    r.y1 = last((1.0 - y_lo) * hh - 0.5, height);
+    return r;
   }
   // NDC bounds of the sphere's outline for radius + eps (tangent lines from the eye, or the
   // orthographic box); false when the sphere reaches behind half the near plane.
