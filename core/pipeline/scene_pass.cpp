@@ -165,7 +165,8 @@ Status run_scene_pass(const ScenePassInputs &in, const SceneConfig &scene, Scene
   // before anything a rank may skip); colours are scaled as particles are drawn.
   const bool object_ao = scene.ambient_occlusion.enabled &&
                          scene.ambient_occlusion.method == AmbientOcclusionMethod::kObject;
-  OcclusionVolume occlusion;
+  OcclusionVolume &occlusion = buffers->occlusion;
+  if (!object_ao) occlusion = OcclusionVolume();  // a live change to no object AO frees it
   if (object_ao) {
     t0 = Clock::now();
     const double radius_ao =

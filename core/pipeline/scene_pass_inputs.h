@@ -28,6 +28,7 @@
 #include "core/pipeline/render_budget.h"
 #include "core/render/density_splat.h"
 #include "core/render/gl/sphere_renderer.h"
+#include "core/render/object_occlusion.h"
 #include "core/view/frame.h"
 
 namespace lantern {
@@ -80,6 +81,7 @@ struct SceneBuffers {
   BrickCutCounts cut_counts;     // this scene's cutting planes per brick (edits are incremental)
   DensityImage density;          // style: density - this rank's sums, then (rank 0) all ranks'
   ColorRange color_range;        // the scalar range of the colours, remembered across steps
+  OcclusionVolume occlusion;     // ambient_occlusion method object: rebuilt each step, buffers kept
   std::unique_ptr<MovieWriter> movie;        // rank 0, with output.movie (scene_movie.h)
   bool movie_warned = false;                 // the "encoder is behind" warning was printed
   bool warned_point_bounds = false;          // rank 0 warned that the camera had a point to frame

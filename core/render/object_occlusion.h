@@ -32,20 +32,21 @@
 //     spacing is at least the layer spacing of a cubic, fcc or bcc crystal's common faces, so
 //     such faces come out at or below o_face: they do not darken.
 //
-// Units: simulation lengths. Ownership: a value. Thread-safety: factor() is const and may run
-// on several threads at once.
+// Units: simulation lengths. Ownership: a value; one kept from frame to frame and built again
+// reuses its buffers (no allocation or page faults after the first). Thread-safety: factor() is
+// const and may run on several threads at once.
 #pragma once
 
 #include <mpi.h>
 
 #include <array>
 #include <cstdint>
-#include <memory>
 #include <vector>
 
 #include <glm/vec3.hpp>
 
 #include "core/common/status.h"
+#include "core/common/uninitialized_buffer.h"
 #include "core/config/config.h"
 #include "core/particles/global_extent.h"
 #include "core/particles/particle_arrays.h"
@@ -76,10 +77,10 @@ class OcclusionVolume {
   double node_spacing() const { return cell_; }
   // The bulk density, in particles per node cell (cell^3).
   double bulk_per_cell() const { return bulk_; }
-  // The node grid (x, y, z counts; its first node at the global bounds' low corner) and the
-  // enclosure per node, x fastest (empty where nothing darkens): tests.
+  // The node grid (x, y, z counts; its first node at the global bounds' low corner) and a copy
+  // of the enclosure per node, x fastest (empty where nothing darkens): tests.
   std::array<int, 3> node_counts() const { return n_; }
-  const std::vector<float> &enclosure_nodes() const { return enclosure_; }
+  std::vector<float> enclosure_nodes() const { return {enclosure_.begin(), enclosure_.end()}; }
 
  private:
   size_t index(int x, int y, int z) const {
@@ -92,18 +93,25 @@ class OcclusionVolume {
     bool empty() const { return end <= first; }
   };
   void set_grid(const Extent &global, double radius);
-  // This rank's deposits on pairs of nodes (see the .cpp), held on the planes `occupied` only
-  // (the others are not even zeroed).
+  // This rank's deposits on quads of nodes (see the .cpp) in quads_ (and spilled_), held on the
+  // planes `occupied` only (the others are not even zeroed).
   void deposit(const ParticleArrays &particles, const std::vector<CutPlane> &cuts,
-               std::unique_ptr<int64_t[]> *pairs, Planes *occupied) const;
-  // The deposits on the nodes of `planes` (zeros off `occupied`) from deposit()'s pairs, plane
-  // after plane.
-  void nodes_of(const int64_t *pairs, Planes occupied, Planes planes, int64_t *out) const;
+               Planes *occupied);
+  // Adds the quads of the planes `zeroed` to spilled_ and zeroes them (before a 32-bit sum
+  // could overflow).
+  void spill(Planes zeroed);
+  // The nodes of plane z from its quads alone.
+  void quad_nodes(int z, int64_t *out) const;
+  // This rank's deposits on the nodes of `planes` (zeros off `occupied`) from deposit()'s quads,
+  // plane after plane.
+  void nodes_of(Planes occupied, Planes planes, int64_t *out) const;
   Planes slab_of(int rank, int ranks) const;
   Planes reach_of(Planes slab) const;
-  Status sum_over_ranks(MPI_Comm comm, const int64_t *pairs, Planes occupied, Planes reach,
-                        std::vector<int64_t> *summed) const;
-  // Fills smoothed_ for `slab`; returns its largest sum.
+  Status sum_over_ranks(MPI_Comm comm, Planes occupied, Planes reach,
+                        UninitializedBuffer<int64_t> *summed);
+  // Fills smoothed_ for `slab`; returns its largest sum. In lanes of T (int32_t where every sum
+  // fits, else int64_t).
+  template <typename T>
   int64_t smooth(const int64_t *deposits, Planes given, Planes slab);
   void bin_slab(const int64_t *deposits, float top, int64_t *histogram) const;
   // From the histogram of every node and the largest smoothed value, `top`.
@@ -116,11 +124,19 @@ class OcclusionVolume {
   double bulk_ = 0.0;  // particles per cell^3 in the bulk (0: nothing drawn anywhere)
   double face_ = 1.0;  // o_face (1: no darkening at all)
   std::array<int, 3> n_{2, 2, 2};
-  // Per node of this rank's slab, in particles per cell^3 (while building).
-  std::vector<float> smoothed_;
   // Per node: (smoothed / bulk - o_face) / (1 - o_face), the share of a flat face's open
   // half-space that is filled; empty where nothing darkens.
-  std::vector<float> enclosure_;
+  UninitializedBuffer<float> enclosure_;
+  // The build's scratch, kept between builds (a volume kept from frame to frame allocates and
+  // faults in its pages once) and not zero-filled (every element is written before it is read):
+  // deposit()'s quads (per node, 32-bit sums of the deposits on it and its neighbours, see the
+  // .cpp), the 64-bit sums of earlier particles where more than 32 bits would be needed (else
+  // empty), the deposits sent to and received from other ranks, the deposits summed over ranks
+  // on the planes this rank smooths, and the smoothed values of its slab.
+  UninitializedBuffer<uint32_t> quads_;
+  std::vector<int64_t> spilled_;
+  UninitializedBuffer<int64_t> outgoing_, incoming_, summed_;
+  UninitializedBuffer<float> smoothed_;
 };
 
 }  // namespace lantern

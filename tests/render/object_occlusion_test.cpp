@@ -309,9 +309,10 @@ TEST(ObjectOcclusion, TheVolumeIsTheOneParticleAtATimeSum) {
     ASSERT_OK(v.build(MPI_COMM_SELF, arrays, global, cuts, kRadius, kStrength));
     const std::vector<float> expected = reference_enclosure(xyz, mask, cuts, global, v);
     ASSERT_FALSE(expected.empty());
-    ASSERT_EQ(v.enclosure_nodes().size(), expected.size());
+    const std::vector<float> enclosure = v.enclosure_nodes();
+    ASSERT_EQ(enclosure.size(), expected.size());
     for (size_t i = 0; i < expected.size(); ++i)
-      ASSERT_EQ(v.enclosure_nodes()[i], expected[i]) << "node " << i << ", cuts " << cuts.size();
+      ASSERT_EQ(enclosure[i], expected[i]) << "node " << i << ", cuts " << cuts.size();
   }
 }
 
@@ -363,8 +364,8 @@ TEST(ObjectOcclusion, TheVolumeIsTheOneParticleAtATimeSumForEveryLayout) {
 }
 
 // More particles on one node than a 32-bit sum of their deposits holds (2^20 x 4096, each on
-// the node: the whole weight at one corner): the runs the deposit sums before adding them to the
-// nodes are cut short in time.
+// the node: the whole weight at one corner): the deposit's 32-bit sums are moved to 64-bit ones
+// in time, and the smoothing is in 64 bits.
 TEST(ObjectOcclusion, ALongRunOnOneNodeIsSummedExactly) {
   constexpr int kCount = (1 << 20) + 1000;
   std::vector<double> xyz;
@@ -386,6 +387,9 @@ TEST(ObjectOcclusion, ALongRunOnOneNodeIsSummedExactly) {
   ASSERT_OK(v.build(MPI_COMM_SELF, arrays, global, {}, kRadius, kStrength));
   const std::vector<float> expected = reference_enclosure(xyz, mask, {}, global, v);
   ASSERT_EQ(v.enclosure_nodes(), expected);
+  // Built again (a volume kept between frames): the first build's sums are not added again.
+  ASSERT_OK(v.build(MPI_COMM_SELF, arrays, global, {}, kRadius, kStrength));
+  ASSERT_EQ(v.enclosure_nodes(), expected) << "built again";
 }
 
 // A scattered cloud as in TheVolumeIsTheOneParticleAtATimeSum: clusters, masked-out and
@@ -460,6 +464,46 @@ TEST(ObjectOcclusion, EveryRankHasTheOneRankVolumeForEverySplit) {
       ASSERT_EQ(v.enclosure_nodes(), alone.enclosure_nodes())
           << "split " << split << ", cuts " << cuts.size();
     }
+  }
+}
+
+// A volume kept from frame to frame and built again reuses its buffers without zeroing them:
+// each build is a fresh volume's bit for bit, whatever the builds before it reached - other
+// particles, other planes of z, another grid, a cut plane, particles on other ranks.
+TEST(ObjectOcclusion, AVolumeBuiltAgainIsAFreshVolume) {
+  constexpr int kCount = 40000;
+  const int rank = world_rank(), ranks = world_size();
+  Extent wide = cloud_extent();
+  wide.add_particle(-20.0, -10.0, -30.0, 0.5);  // a larger box: another grid
+  struct Frame {
+    Extent global;
+    std::function<bool(int, const double *)> mine;
+    std::vector<CutPlane> cuts;
+  };
+  const std::vector<Frame> frames = {
+      {cloud_extent(), [&](int k, const double *) { return k % ranks == rank; }, {}},
+      // Only the lowest planes, in reverse rank order, cut: fewer planes reached.
+      {cloud_extent(),
+       [&](int k, const double *x) {
+         return std::isfinite(x[2]) && x[2] < 12.0 && (k / 7) % ranks == ranks - 1 - rank;
+       },
+       {oblique_cut()}},
+      {wide, [&](int, const double *) { return rank == 0; }, {}},
+      {cloud_extent(), [&](int k, const double *) { return k % ranks == rank; }, {}},
+  };
+  OcclusionVolume kept;
+  for (size_t f = 0; f < frames.size(); ++f) {
+    Cloud mine;
+    make_cloud(kCount, frames[f].mine, &mine);
+    OcclusionVolume fresh;
+    ASSERT_OK(fresh.build(MPI_COMM_WORLD, mine.arrays, frames[f].global, frames[f].cuts, kRadius,
+                          kStrength));
+    ASSERT_OK(kept.build(MPI_COMM_WORLD, mine.arrays, frames[f].global, frames[f].cuts, kRadius,
+                         kStrength));
+    ASSERT_FALSE(fresh.enclosure_nodes().empty()) << "frame " << f;
+    EXPECT_EQ(kept.bulk_per_cell(), fresh.bulk_per_cell()) << "frame " << f;
+    EXPECT_EQ(kept.face_occupancy(), fresh.face_occupancy()) << "frame " << f;
+    ASSERT_EQ(kept.enclosure_nodes(), fresh.enclosure_nodes()) << "frame " << f;
   }
 }
 
