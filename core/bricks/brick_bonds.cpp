@@ -202,9 +202,11 @@ bool refit_brick_bonds(const ParticleArrays &particles, const BondArrays &bonds,
         double longest = 0.0;  // squared
         for (; k < last && halves[k].atom == atom; ++k) {
           if (k + kAhead < count) {
+            // The atom (and its reach) only where a run starts: the others are its run's.
             const HalfBond &ahead = halves[k + kAhead];
-            pos.prefetch(ahead.atom), pos.prefetch(ahead.partner);
-            __builtin_prefetch(reach + ahead.atom, 0, 3);
+            pos.prefetch(ahead.partner);
+            if (ahead.atom != halves[k + kAhead - 1].atom)
+              pos.prefetch(ahead.atom), __builtin_prefetch(reach + ahead.atom, 0, 3);
           }
           const glm::dvec3 partner = pos.get(halves[k].partner);
           if (!finite_position(partner)) return void(ok = false);

@@ -15,6 +15,8 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <type_traits>
+#include <utility>
 #include <vector>
 
 #include <glm/vec3.hpp>
@@ -79,12 +81,23 @@ inline void begin_bond_drops(const BondSelection &sel, BondDrops *drops) {
 // How many half-bonds ahead visit_bond_brick prefetches their atoms' and partners' positions:
 // about two atoms' runs, enough to cover a miss to memory at the cost of judging a run.
 inline constexpr uint32_t kBondPrefetch = 12;
+// How many halves of an atom's run visit_bond_brick prepares before testing them (the network
+// of tests/bench/lammps_dump_image_bonds.sh has 6 per atom).
+inline constexpr uint32_t kBondBatch = 8;
+
+// Whether an occlusion test has warm(rect): a hint that it will be asked about rect soon.
+template <typename Hidden, typename = void>
+inline constexpr bool kWarms = false;
+template <typename Hidden>
+inline constexpr bool
+    kWarms<Hidden, std::void_t<decltype(std::declval<const Hidden &>().warm(PixelRect()))>> = true;
 
 // Every half of visible brick k of `sel` that survives the cutting planes and the frustum:
 // hidden(rect, depth) is asked for the brick and then each half (true: every pixel of rect holds
 // something nearer than depth, so it is dropped as occluded); visit(view) gets the others.
 // Records the brick's drops in *drops (begin_bond_drops); `pos` reads the particle positions
-// (core/particles/typed_access.h); `frustum` is that of g.
+// (core/particles/typed_access.h); `frustum` is that of g. A `hidden` with a member
+// warm(rect) is told of each rectangle some time before it is asked about it (to prefetch).
 template <typename Positions, typename Hidden, typename Visit>
 void visit_bond_brick(size_t k, const BrickBonds &bonds, const BondSelection &sel,
                       const Positions &pos, const PeriodicBox *box, const ViewGeometry &g,
@@ -98,9 +111,18 @@ void visit_bond_brick(size_t k, const BrickBonds &bonds, const BondSelection &se
   // The halves' atoms and partners lie scattered in the positions (and the atoms' reach): each
   // is asked for kBondPrefetch halves ahead of its use (only a hint to the cache).
   uint32_t ahead = bonds.first[v.brick];
-  for (uint32_t h = bonds.first[v.brick]; h < end;) {
-    // The run of halves of one atom (brick_bonds.h): they share its cut and, when the sphere
-    // round the atom that holds them all (its reach plus the bond radius) is hidden, their fate.
+  // The run of halves of one atom (brick_bonds.h): they share its cut and, when the sphere round
+  // the atom that holds them all (its reach plus the bond radius) is hidden, their fate. Each
+  // run is prepared (its atom, cut, view position and sphere) one run ahead of its test, so
+  // that the depths the test reads first can be asked for meanwhile.
+  struct Run {
+    uint32_t begin, end;
+    bool cut;
+    glm::dvec3 atom, centre;
+    double reach;  // of the sphere round the halves, when there are two or more
+    PixelRect rect;
+  };
+  const auto prepare = [&](uint32_t h, Run *run) {
     const uint32_t atom_index = bonds.halves[h].atom;
     uint32_t run_end = h + 1;
     while (run_end < end && bonds.halves[run_end].atom == atom_index) ++run_end;
@@ -110,37 +132,60 @@ void visit_bond_brick(size_t k, const BrickBonds &bonds, const BondSelection &se
       pos.prefetch(next.partner);
       __builtin_prefetch(bonds.reach.data() + next.atom, 0, 3);
     }
-    const glm::dvec3 atom = pos.get(atom_index);
-    if (v.cut_each && cuts.drops(atom)) {
-      cut_culled += run_end - h;
-      h = run_end;
-      continue;
-    }
-    const glm::dvec3 centre = g.to_view(atom);
+    run->begin = h, run->end = run_end;
+    run->atom = pos.get(atom_index);
+    run->cut = v.cut_each && cuts.drops(run->atom);
+    if (run->cut) return;
+    run->centre = g.to_view(run->atom);
     if (run_end - h > 1) {
       // sphere_rect holds every pixel OpenGL could give the halves, as cylinder_rect does.
-      const double reach = bonds.reach[atom_index] + sel.radius + g.eps;
-      const PixelRect rect = g.sphere_rect(centre, reach);
-      if (!rect.empty() && hidden(rect, -centre.z - reach - g.eps)) {
-        h = run_end;  // occluded, every one
-        continue;
-      }
+      run->reach = bonds.reach[atom_index] + sel.radius + g.eps;
+      run->rect = g.sphere_rect(run->centre, run->reach);
+      if constexpr (kWarms<Hidden>) hidden.warm(run->rect);
     }
-    for (; h < run_end; ++h) {
-      HalfBondView view;
-      view.index = h;
-      view.a = centre;
-      view.b = g.to_view(half_bond_end(atom, pos.get(bonds.halves[h].partner), box));
-      if (straddle) {  // the half's bounding sphere
-        const glm::dvec3 mid = 0.5 * (view.a + view.b);
-        const double half_reach = 0.5 * glm::length(view.b - view.a) + sel.radius;
-        if (frustum.classify_sphere(mid, half_reach) == Containment::kOutside) {
-          ++frustum_culled;
-          continue;
+  };
+  Run runs[2];
+  int at = 0;
+  const uint32_t begin = bonds.first[v.brick];
+  if (begin < end) prepare(begin, &runs[0]);
+  for (bool more = begin < end; more;) {
+    const Run &run = runs[at];
+    more = run.end < end;
+    if (more) prepare(run.end, &runs[at ^ 1]);
+    at ^= 1;
+    if (run.cut) {
+      cut_culled += run.end - run.begin;
+      continue;
+    }
+    if (run.end - run.begin > 1 && !run.rect.empty() &&
+        hidden(run.rect, -run.centre.z - run.reach - g.eps))
+      continue;  // occluded, every one
+    // The run's halves a batch at a time: first every half's ends and rectangle - independent
+    // of one another and of the depth, so their divisions and square roots overlap - then the
+    // occlusion tests and draws in order.
+    for (uint32_t h = run.begin; h < run.end;) {
+      HalfBondView views[kBondBatch];
+      int n = 0;
+      for (const uint32_t batch_end = std::min(run.end, h + kBondBatch); h < batch_end; ++h) {
+        HalfBondView &view = views[n];
+        view.index = h;
+        view.a = run.centre;
+        view.b = g.to_view(half_bond_end(run.atom, pos.get(bonds.halves[h].partner), box));
+        if (straddle) {  // the half's bounding sphere
+          const glm::dvec3 mid = 0.5 * (view.a + view.b);
+          const double half_reach = 0.5 * glm::length(view.b - view.a) + sel.radius;
+          if (frustum.classify_sphere(mid, half_reach) == Containment::kOutside) {
+            ++frustum_culled;
+            continue;
+          }
         }
+        view.rect = cylinder_rect(g, view.a, view.b, sel.radius, &view.near_depth);
+        ++n;
       }
-      view.rect = cylinder_rect(g, view.a, view.b, sel.radius, &view.near_depth);
-      if (!view.rect.empty() && !hidden(view.rect, view.near_depth)) visit(view);
+      if constexpr (kWarms<Hidden>)
+        for (int j = 0; j < n; ++j) hidden.warm(views[j].rect);
+      for (int j = 0; j < n; ++j)
+        if (!views[j].rect.empty() && !hidden(views[j].rect, views[j].near_depth)) visit(views[j]);
     }
   }
   drops->frustum[k] = frustum_culled;

@@ -41,12 +41,21 @@ void CpuSpherePass::draw_bonds(int k, const Positions &pos, const ViewGeometry &
   const double radius = bonds.selection->radius;
   // A bond is hidden in this strip when its part of the strip is covered (or empty); the other
   // strips judge the rest (column_strips.h).
-  const auto hidden = [&](const PixelRect &r, double z) {
-    PixelRect in_strip = r;
-    in_strip.x0 = std::max(in_strip.x0, strip.x0);
-    in_strip.x1 = std::min(in_strip.x1, strip.x1);
-    return in_strip.empty() || (occlusion && raster.covered(in_strip, z));
+  struct StripHidden {
+    const CpuSphereRaster &raster;
+    const StripState &strip;
+    bool occlusion;
+    bool operator()(const PixelRect &r, double z) const {
+      PixelRect in_strip = r;
+      in_strip.x0 = std::max(in_strip.x0, strip.x0);
+      in_strip.x1 = std::min(in_strip.x1, strip.x1);
+      return in_strip.empty() || (occlusion && raster.covered(in_strip, z));
+    }
+    void warm(const PixelRect &r) const {
+      if (occlusion) raster.prefetch_covered(r);
+    }
   };
+  const StripHidden hidden{raster, strip, occlusion};
   // The halves of one atom come one after another (brick_bonds.h); colored by atom (or plainly),
   // each takes its atom's color and opacity, so they are looked up once per atom's run. Colored
   // by type, a half's color is its bond's: looked up for each.

@@ -77,6 +77,18 @@ class CpuSphereRaster {
     return pyramid_.covered(rect, zw);
   }
 
+  // Asks for the depths covered(rect, z) reads first - the rectangle's centre pixel and the
+  // middles of its top and bottom edges - ahead of the call (only a hint to the cache).
+  void prefetch_covered(PixelRect rect) const {
+    rect.x0 = std::max(rect.x0, x0_), rect.x1 = std::min(rect.x1, x1_);
+    if (rect.empty()) return;
+    const float *depth = frame_->depth.data() + ((rect.x0 + rect.x1) >> 1);
+    const size_t w = size_t(g_.width);
+    __builtin_prefetch(depth + size_t((rect.y0 + rect.y1) >> 1) * w, 0, 3);
+    __builtin_prefetch(depth + size_t(rect.y0) * w, 0, 3);
+    __builtin_prefetch(depth + size_t(rect.y1) * w, 0, 3);
+  }
+
   // The light of the spheres drawn from now on (lighting.h); the default (also before any call)
   // draws through the original headlight code, bit for bit.
   void set_lighting(const Lighting &lighting);

@@ -9,6 +9,10 @@
 #include <algorithm>
 #include <cmath>
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 #include <glm/geometric.hpp>
 #include <glm/vec3.hpp>
 
@@ -24,9 +28,19 @@ inline CylinderBounds cylinder_bounds(const glm::dvec3 &a, const glm::dvec3 &b, 
   const glm::dvec3 u = b - a;
   const double length2 = glm::dot(u, u);
   glm::dvec3 reach(r);
-  if (length2 > 0.0)
+  if (length2 > 0.0) {
+#if defined(__SSE2__)
+    // x and y side by side: the same IEEE operations (std::max(q, 0.0) is _mm_max_pd(0, q)).
+    const __m128d xy = _mm_set_pd(u.y, u.x), one = _mm_set1_pd(1.0);
+    const __m128d q = _mm_sub_pd(one, _mm_div_pd(_mm_mul_pd(xy, xy), _mm_set1_pd(length2)));
+    const __m128d root = _mm_mul_pd(_mm_set1_pd(r), _mm_sqrt_pd(_mm_max_pd(_mm_setzero_pd(), q)));
+    reach.x = _mm_cvtsd_f64(root), reach.y = _mm_cvtsd_f64(_mm_unpackhi_pd(root, root));
+    reach.z = r * std::sqrt(std::max(1.0 - u.z * u.z / length2, 0.0));
+#else
     for (int k = 0; k < 3; ++k)
       reach[k] = r * std::sqrt(std::max(1.0 - u[k] * u[k] / length2, 0.0));
+#endif
+  }
   return {glm::min(a, b) - reach, glm::max(a, b) + reach};
 }
 

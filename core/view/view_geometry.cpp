@@ -4,6 +4,10 @@
 #include <cmath>
 #include <limits>
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 namespace lantern {
 
 ViewGeometry ViewGeometry::from_camera(const Camera &camera, double scale) {
@@ -81,6 +85,33 @@ PixelRect ViewGeometry::box_rect(const glm::dvec3 &lo, const glm::dvec3 &hi) con
     const double ds[2] = {-lo.z, -hi.z};
     if (ds[0] <= 0.5 * near_plane || ds[1] <= 0.5 * near_plane)
       return PixelRect{0, 0, width - 1, height - 1};
+    if (std::isfinite(lo.x + lo.y + lo.z + hi.x + hi.y + hi.z)) {
+      // Finite bounds: the extremes of the 8 quotients n / d are 4 of them. For d > 0, n / d is
+      // non-decreasing in n, and in d non-increasing for n >= 0 and non-decreasing for n < 0
+      // (IEEE multiplication and division round monotonically), so the least is the least
+      // numerator over the far depth where it is >= 0, else over the near one - a quotient of
+      // the 8, so the same bits up to the sign of a zero, which (x + 1) in ndc_rect drops.
+      const double d_min = std::min(ds[0], ds[1]), d_max = std::max(ds[0], ds[1]);
+      const double ax = sx * lo.x, bx = sx * hi.x, ay = sy * lo.y, by = sy * hi.y;
+      const double nx_lo = std::min(ax, bx), nx_hi = std::max(ax, bx);
+      const double ny_lo = std::min(ay, by), ny_hi = std::max(ay, by);
+#if defined(__SSE2__)
+      const __m128d n_lo = _mm_set_pd(ny_lo, nx_lo), n_hi = _mm_set_pd(ny_hi, nx_hi);
+      const __m128d zero = _mm_setzero_pd(), near = _mm_set1_pd(d_min), far = _mm_set1_pd(d_max);
+      const __m128d lo_far = _mm_cmpge_pd(n_lo, zero), hi_far = _mm_cmplt_pd(n_hi, zero);
+      const __m128d q_lo =
+          _mm_div_pd(n_lo, _mm_or_pd(_mm_and_pd(lo_far, far), _mm_andnot_pd(lo_far, near)));
+      const __m128d q_hi =
+          _mm_div_pd(n_hi, _mm_or_pd(_mm_and_pd(hi_far, far), _mm_andnot_pd(hi_far, near)));
+      return ndc_rect(_mm_cvtsd_f64(q_lo), _mm_cvtsd_f64(q_hi),
+                      _mm_cvtsd_f64(_mm_unpackhi_pd(q_lo, q_lo)),
+                      _mm_cvtsd_f64(_mm_unpackhi_pd(q_hi, q_hi)));
+#else
+      return ndc_rect(nx_lo / (nx_lo >= 0.0 ? d_max : d_min), nx_hi / (nx_hi < 0.0 ? d_max : d_min),
+                      ny_lo / (ny_lo >= 0.0 ? d_max : d_min),
+                      ny_hi / (ny_hi < 0.0 ? d_max : d_min));
+#endif
+    }
     for (int i = 0; i < 2; ++i)
       for (int j = 0; j < 2; ++j) qx[i][j] = sx * xs[i] / ds[j], qy[i][j] = sy * ys[i] / ds[j];
   }

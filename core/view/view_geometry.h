@@ -106,7 +106,8 @@ struct ViewGeometry {
   // The same for a view-space box given by its 8 corners' bounds (already expanded by radius).
   PixelRect box_rect(const glm::dvec3 corners[8]) const;
   // box_rect of the axis-aligned box [lo, hi]'s corners (box_corners' order), the same rectangle
-  // bit for bit with half the divisions: the corners share two depths, x and y.
+  // bit for bit with fewer divisions: 8 (the corners share two depths, x and y), or where the
+  // bounds are finite 4 in two paired instructions (the extremes are among 4 of the quotients).
   PixelRect box_rect(const glm::dvec3 &lo, const glm::dvec3 &hi) const;
 
   // Unnormalised ray direction (perspective) or ray origin x/y (orthographic) through the centre
