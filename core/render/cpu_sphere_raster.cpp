@@ -45,6 +45,7 @@ void CpuSphereRaster::begin_strip(const ViewGeometry &g, Frame *frame, int x0, i
   frame_ = frame;
   x0_ = std::max(x0, 0), x1_ = std::min(x1, g.width - 1);
   pyramid_.reset(frame->depth.data(), g.width, g.height, kBackgroundDepth);
+  pending_ = PixelRect{};
   rays_.reset(g);
 }
 
@@ -703,7 +704,18 @@ bool CpuSphereRaster::draw_centred_bond(const glm::dvec3 &a, const glm::dvec3 &u
     }
   }
   const PixelRect written{won_x0, won_y0, won_x1, won_y1};
-  pyramid_.propagate(written);
+  if (!written.empty()) {
+    // Nearby bonds (an atom's halves) propagate together: a pyramid level left above the depths
+    // below it only makes covered() refine further, never changes its answer.
+    PixelRect both = pending_;
+    both.unite(written);
+    if (both.x1 - both.x0 < kDeferExtent && both.y1 - both.y0 < kDeferExtent) {
+      pending_ = both;
+    } else {
+      pyramid_.propagate(pending_);
+      pending_ = written;
+    }
+  }
   return !written.empty();
 }
 

@@ -109,6 +109,10 @@ class CpuSphereRaster {
   Frame *frame_ = nullptr;
   int x0_ = 0, x1_ = -1;
   MaxDepthPyramid pyramid_;  // over the frame's depth (level 0), kept between frames
+  // Pixels bond draws lowered that the pyramid's levels above 0 do not show yet, within a box of
+  // less than kDeferExtent pixels a side.
+  static constexpr int kDeferExtent = 16;
+  PixelRect pending_;
   PixelRays rays_;
   std::optional<shading::LightModel<float>> light_;  // set for a lighting other than the default
   // The pixels of a cylinder to cast (columns and rows), the depths they hold, and their window
