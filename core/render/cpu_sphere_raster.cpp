@@ -629,14 +629,24 @@ bool CpuSphereRaster::draw_centred_bond(const glm::dvec3 &a, const glm::dvec3 &u
         (r * (1.0 + (g_.orthographic ? 0.0 : std::abs(ry))) + stray * far_end) * (1.0 + 1e-9);
     return std::min(ha, hb) <= reach && std::max(ha, hb) >= -reach;
   };
+  // The rows meeting it are consecutive when both ends lie more than 2 r in front of the eye (or
+  // orthographic): h(0) and h(length), less or plus the reach, then all fall as ry grows (the
+  // reach grows by r |d ry| at most, h by -z |d ry| > 2 r |d ry|), so each of the two tests holds
+  // on one side of a row. Then they are found from both ends and the rows between not tested.
   // The pixels to cast, row after row: each row's span less the pixels the early depth reject
   // skips at both ends, as columns and rows, with the depths they hold now (nothing else writes
   // them before the depth test below). Runs are written kRun entries at a time, whatever their
   // length (the next run overwrites the excess), so the lists have room for kRun more.
+  int y_first = rect.y0, y_last = rect.y1;
+  const bool consecutive = g_.orthographic || std::min(-a.z, -b.z) > 2.0 * r;
+  if (consecutive) {
+    while (y_first <= y_last && !row_meets(y_first)) ++y_first;
+    while (y_last > y_first && !row_meets(y_last)) --y_last;
+  }
   int cast = 0;
-  for (int y = rect.y0; y <= rect.y1; ++y) {
+  for (int y = y_first; y <= y_last; ++y) {
     int lo = rect.x0, hi = rect.x1;
-    if (!row_meets(y)) continue;
+    if (!consecutive && !row_meets(y)) continue;
     if (rows && !rows->span(rays_, y, &lo, &hi)) continue;
     const float *row_depth = depth + size_t(y) * width;
     // kRun depths can be read from any column but the last few of the frame's last row.
