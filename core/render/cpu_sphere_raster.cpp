@@ -45,6 +45,7 @@ void CpuSphereRaster::begin_strip(const ViewGeometry &g, Frame *frame, int x0, i
   frame_ = frame;
   x0_ = std::max(x0, 0), x1_ = std::min(x1, g.width - 1);
   pyramid_.reset(frame->depth.data(), g.width, g.height, kBackgroundDepth);
+  pending_ = PixelRect{};
   rays_.reset(g);
 }
 
@@ -320,22 +321,58 @@ uint64_t screen_door_mask(int n, int x0, int y0, int w, int h, uint8_t alpha8) {
   return keep;
 }
 
-// Pixels of a cylinder wholly in front of the eye, cast kRun at a time in one call: pixel i is
-// kx[i] columns and jy[i] rows off the cylinder's reference pixel (the rows' pixels one after
-// another, so that short rows share vectors); count is a multiple of kRun. cylinder_pixel: a
-// pixel's result does not depend on the lane or the call it is cast in.
+// Cylinder pixels are cast and depth-tested kRun at a time.
 constexpr int kRun = 8;
 
+// Pixels of a cylinder wholly in front of the eye, cast kRun at a time in one call: pixel i is
+// (xs[i], ys[i]) (the rows' pixels one after another, so that short rows share vectors); count
+// is a multiple of kRun. cylinder_pixel: a pixel's result does not depend on the lane or the call
+// it is cast in.
 LANTERN_TILE_KERNEL void cast_cylinder_pixels(const CentredCylinder &cylinder,
-                                              const int *__restrict kx, const int *__restrict jy,
+                                              const int *__restrict xs, const int *__restrict ys,
                                               int count, float *__restrict wz,
                                               float *__restrict lambert2) {
   const CentredCylinder p = cylinder;  // a local copy: the stores cannot alias it
   if (p.orthographic) {
-    for (int i = 0; i < count; ++i) cylinder_pixel(p, kx[i], jy[i], &wz[i], &lambert2[i]);
+    for (int i = 0; i < count; ++i)
+      cylinder_pixel(p, xs[i] - p.ref_x, ys[i] - p.ref_y, &wz[i], &lambert2[i]);
   } else {
-    for (int i = 0; i < count; ++i) cylinder_pixel(p, kx[i], jy[i], &wz[i], &lambert2[i]);
+    for (int i = 0; i < count; ++i)
+      cylinder_pixel(p, xs[i] - p.ref_x, ys[i] - p.ref_y, &wz[i], &lambert2[i]);
   }
+}
+
+// Appends the n pixels (x0 .. x0 + n - 1, y) to the cast lists at xs, ys, with the depths
+// row_depth holds there, kRun entries at a time (entries up to the next multiple of kRun are
+// written too: the lists have room). `whole`: kRun depths may be read from any column of the run.
+LANTERN_INLINE void put_run(int *xs, int *ys, float *held, int x0, int y, const float *row_depth,
+                            int n, bool whole) {
+  for (int k = 0; k < n; k += kRun) {
+#if defined(__SSE2__)
+    const __m128i first = _mm_add_epi32(_mm_set1_epi32(x0 + k), _mm_setr_epi32(0, 1, 2, 3));
+    _mm_storeu_si128(reinterpret_cast<__m128i *>(xs + k), first);
+    _mm_storeu_si128(reinterpret_cast<__m128i *>(xs + k + 4),
+                     _mm_add_epi32(first, _mm_set1_epi32(4)));
+    const __m128i row = _mm_set1_epi32(y);
+    _mm_storeu_si128(reinterpret_cast<__m128i *>(ys + k), row);
+    _mm_storeu_si128(reinterpret_cast<__m128i *>(ys + k + 4), row);
+    if (whole) {
+      _mm_storeu_ps(held + k, _mm_loadu_ps(row_depth + x0 + k));
+      _mm_storeu_ps(held + k + 4, _mm_loadu_ps(row_depth + x0 + k + 4));
+      continue;
+    }
+#else
+    for (int j = 0; j < kRun; ++j) xs[k + j] = x0 + k + j, ys[k + j] = y;
+#endif
+    for (int j = 0; j < std::min(kRun, n - k); ++j) held[k + j] = row_depth[x0 + k + j];
+  }
+}
+
+// kRun entries of padding after the last pixel: its position again, and a held depth that no
+// depth test takes (every comparison with NaN is false).
+LANTERN_INLINE void pad_run(int *xs, int *ys, float *held, int x, int y) {
+  for (int k = 0; k < kRun; ++k)
+    xs[k] = x, ys[k] = y, held[k] = std::numeric_limits<float>::quiet_NaN();
 }
 
 // Comparisons of n <= kRun consecutive depths, as bits (bit k for entry k): where depth[k] >= z
@@ -567,7 +604,6 @@ bool CpuSphereRaster::draw_centred_bond(const glm::dvec3 &a, const glm::dvec3 &u
   const size_t width = size_t(g_.width);
   float *depth = frame_->depth.data();
   uint8_t *rgba = frame_->rgba.data();
-  const CentredCylinder cylinder(g_, rays_, a, u, length, r);
   // Narrow rectangles are cast whole, row by row; wider ones only over the columns CylinderRows
   // keeps, which hold every pixel the float cast accepts.
   std::optional<CylinderRows> rows;
@@ -593,87 +629,111 @@ bool CpuSphereRaster::draw_centred_bond(const glm::dvec3 &a, const glm::dvec3 &u
         (r * (1.0 + (g_.orthographic ? 0.0 : std::abs(ry))) + stray * far_end) * (1.0 + 1e-9);
     return std::min(ha, hb) <= reach && std::max(ha, hb) >= -reach;
   };
-  // The rows' spans, less the pixels the early depth reject skips at both ends.
-  runs_.clear();
+  // The rows meeting it are consecutive when both ends lie more than 2 r in front of the eye (or
+  // orthographic): h(0) and h(length), less or plus the reach, then all fall as ry grows (the
+  // reach grows by r |d ry| at most, h by -z |d ry| > 2 r |d ry|), so each of the two tests holds
+  // on one side of a row. Then they are found from both ends and the rows between not tested.
+  // The pixels to cast, row after row: each row's span less the pixels the early depth reject
+  // skips at both ends, as columns and rows, with the depths they hold now (nothing else writes
+  // them before the depth test below). Runs are written kRun entries at a time, whatever their
+  // length (the next run overwrites the excess), so the lists have room for kRun more.
+  int y_first = rect.y0, y_last = rect.y1;
+  const bool consecutive = g_.orthographic || std::min(-a.z, -b.z) > 2.0 * r;
+  if (consecutive) {
+    while (y_first <= y_last && !row_meets(y_first)) ++y_first;
+    while (y_last > y_first && !row_meets(y_last)) --y_last;
+  }
   int cast = 0;
-  for (int y = rect.y0; y <= rect.y1; ++y) {
+  for (int y = y_first; y <= y_last; ++y) {
     int lo = rect.x0, hi = rect.x1;
-    if (!row_meets(y)) continue;
+    if (!consecutive && !row_meets(y)) continue;
     if (rows && !rows->span(rays_, y, &lo, &hi)) continue;
     const float *row_depth = depth + size_t(y) * width;
     // kRun depths can be read from any column but the last few of the frame's last row.
     const bool last = y == g_.height - 1;
     uint32_t keep = 0;
-    for (; lo <= hi; lo += kRun)
-      if ((keep = kept_bits(row_depth + lo, std::min(kRun, hi - lo + 1), reject,
-                            !last || lo + kRun <= g_.width)))
-        break;
-    if (!keep) continue;
-    lo += __builtin_ctz(keep);
-    for (keep = 0;; hi -= kRun) {
-      const int n = std::min(kRun, hi - lo + 1);
-      if ((keep = kept_bits(row_depth + hi - n + 1, n, reject,
-                            !last || hi + 1 - n + kRun <= g_.width))) {
-        hi -= __builtin_clz(keep) - (32 - n);
-        break;
-      }
-    }
-    runs_.push_back(CylinderRun{lo - cylinder.ref_x, y - cylinder.ref_y, hi - lo + 1, cast});
-    cast += hi - lo + 1;
-  }
-  if (runs_.empty()) return false;
-  // The pixels to cast, row after row, padded to whole vectors with the last one; the results
-  // have kRun entries more, which the depth test may read.
-  const int padded = (cast + kRun - 1) / kRun * kRun;
-  if (cast_kx_.size() < size_t(padded + kRun)) {
-    cast_kx_.resize(size_t(padded + kRun)), cast_jy_.resize(size_t(padded + kRun));
-    cast_wz_.resize(size_t(padded + kRun)), cast_lambert2_.resize(size_t(padded + kRun));
-  }
-  int *kx = cast_kx_.data(), *jy = cast_jy_.data();
-  for (const CylinderRun &run : runs_) {
-    // The run's fields in locals: the stores below cannot change them (else they are reloaded).
-    const int at = run.at, n = run.n, run_kx = run.kx, run_jy = run.jy;
-    for (int k = 0; k < n; ++k) kx[at + k] = run_kx + k, jy[at + k] = run_jy;
-  }
-  for (int i = cast; i < padded + kRun; ++i) kx[i] = kx[cast - 1], jy[i] = jy[cast - 1];
-  float *wz = cast_wz_.data(), *lambert2 = cast_lambert2_.data();
-  cast_cylinder_pixels(cylinder, kx, jy, padded, wz, lambert2);
-  PixelRect written;
-  for (const CylinderRun &run : runs_) {
-    const int y = run.jy + cylinder.ref_y, x0 = run.kx + cylinder.ref_x;
-    const int x1 = x0 + run.n - 1;
-    float *row_depth = depth + size_t(y) * width;
-    int won0 = x1 + 1, won1 = x0 - 1;
-    for (int xs = x0; xs <= x1; xs += kRun) {
-      // Depth test without branches, kRun pixels at a time: nearer wins; an equal depth is
-      // settled by color below.
-      const int n = std::min(kRun, x1 - xs + 1);
-      const float *run_wz = wz + run.at + (xs - x0);
-      const RunBits test =
-          depth_bits(run_wz, row_depth + xs, n, y < g_.height - 1 || xs + kRun <= g_.width);
-      const uint32_t nearer = test.nearer;
-      for (uint32_t bits = test.nearer | test.tied; bits; bits &= bits - 1) {
-        const int k = __builtin_ctz(bits), x = xs + k;
-        if (alpha8 < 255 && !screen_door_keeps(x, y, alpha8)) continue;
-        uint32_t c;
-        if (light_) {
-          float nv[3], v[3];
-          cylinder_surface(cylinder, x - cylinder.ref_x, run.jy, nv, v);
-          c = shade_lit(*light_, nv, v, rgb);
-        } else {
-          c = shade_pixel(lambert2[run.at + (x - x0)], rgb[0], rgb[1], rgb[2]);
+    if (hi - lo < kRun) {  // the usual short span: one scan finds both ends
+      keep = kept_bits(row_depth + lo, hi - lo + 1, reject, !last || lo + kRun <= g_.width);
+      if (!keep) continue;
+      hi = lo + 31 - __builtin_clz(keep), lo += __builtin_ctz(keep);
+    } else {
+      for (; lo <= hi; lo += kRun)
+        if ((keep = kept_bits(row_depth + lo, std::min(kRun, hi - lo + 1), reject,
+                              !last || lo + kRun <= g_.width)))
+          break;
+      if (!keep) continue;
+      lo += __builtin_ctz(keep);
+      for (keep = 0;; hi -= kRun) {
+        const int n = std::min(kRun, hi - lo + 1);
+        if ((keep = kept_bits(row_depth + hi - n + 1, n, reject,
+                              !last || hi + 1 - n + kRun <= g_.width))) {
+          hi -= __builtin_clz(keep) - (32 - n);
+          break;
         }
-        uint8_t *out = rgba + 4 * (size_t(y) * width + size_t(x));
-        if (!(nearer >> k & 1) && !(shaded_word(c) < frame_word(out))) continue;
-        row_depth[x] = run_wz[k];
-        out[0] = uint8_t(c), out[1] = uint8_t(c >> 8), out[2] = uint8_t(c >> 16), out[3] = 255;
-        won0 = std::min(won0, x), won1 = std::max(won1, x);
       }
     }
-    if (won0 <= won1) written.unite(PixelRect{won0, y, won1, y});
+    const int n = hi - lo + 1;
+    if (cast + n + 2 * kRun > cast_capacity_) grow_cast_lists(cast + n + 2 * kRun);
+    put_run(cast_x_.data() + cast, cast_y_.data() + cast, cast_depth_.data() + cast, lo, y,
+            row_depth, n, !last || hi + kRun <= g_.width);
+    cast += n;
   }
-  pyramid_.propagate(written);
+  if (cast == 0) return false;
+  const CentredCylinder cylinder(g_, rays_, a, u, length, r);
+  int *xs = cast_x_.data(), *ys = cast_y_.data();
+  float *held = cast_depth_.data();
+  // Padded to whole vectors with the last pixel, which the depth test below never takes.
+  const int padded = (cast + kRun - 1) / kRun * kRun;
+  pad_run(xs + cast, ys + cast, held + cast, xs[cast - 1], ys[cast - 1]);
+  float *wz = cast_wz_.data(), *lambert2 = cast_lambert2_.data();
+  cast_cylinder_pixels(cylinder, xs, ys, padded, wz, lambert2);
+  int won_x0 = g_.width, won_x1 = -1, won_y0 = g_.height, won_y1 = -1;
+  for (int i0 = 0; i0 < cast; i0 += kRun) {
+    // Depth test without branches, kRun pixels at a time: nearer wins; an equal depth is
+    // settled by color below.
+    const RunBits test = depth_bits(wz + i0, held + i0, kRun, true);
+    const uint32_t nearer = test.nearer;
+    for (uint32_t bits = test.nearer | test.tied; bits; bits &= bits - 1) {
+      const int k = __builtin_ctz(bits), i = i0 + k, x = xs[i], y = ys[i];
+      if (alpha8 < 255 && !screen_door_keeps(x, y, alpha8)) continue;
+      uint32_t c;
+      if (light_) {
+        float nv[3], v[3];
+        cylinder_surface(cylinder, x - cylinder.ref_x, y - cylinder.ref_y, nv, v);
+        c = shade_lit(*light_, nv, v, rgb);
+      } else {
+        c = shade_pixel(lambert2[i], rgb[0], rgb[1], rgb[2]);
+      }
+      const size_t p = size_t(y) * width + size_t(x);
+      uint8_t *out = rgba + 4 * p;
+      if (!(nearer >> k & 1) && !(shaded_word(c) < frame_word(out))) continue;
+      depth[p] = wz[i];
+      out[0] = uint8_t(c), out[1] = uint8_t(c >> 8), out[2] = uint8_t(c >> 16), out[3] = 255;
+      won_x0 = std::min(won_x0, x), won_x1 = std::max(won_x1, x);
+      won_y0 = std::min(won_y0, y), won_y1 = std::max(won_y1, y);
+    }
+  }
+  const PixelRect written{won_x0, won_y0, won_x1, won_y1};
+  if (!written.empty()) {
+    // Nearby bonds (an atom's halves) propagate together: a pyramid level left above the depths
+    // below it only makes covered() refine further, never changes its answer.
+    PixelRect both = pending_;
+    both.unite(written);
+    if (both.x1 - both.x0 < kDeferExtent && both.y1 - both.y0 < kDeferExtent) {
+      pending_ = both;
+    } else {
+      pyramid_.propagate(pending_);
+      pending_ = written;
+    }
+  }
   return !written.empty();
+}
+
+void CpuSphereRaster::grow_cast_lists(int count) {
+  const size_t n = size_t(count) * 2;  // room to grow
+  cast_x_.resize(n), cast_y_.resize(n), cast_depth_.resize(n);
+  cast_wz_.resize(n), cast_lambert2_.resize(n);
+  cast_capacity_ = int(n);
 }
 
 }  // namespace lantern

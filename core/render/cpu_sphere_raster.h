@@ -39,12 +39,6 @@
 
 namespace lantern {
 
-// A row of a cylinder for the float cast: n pixels from kx columns and jy rows off its reference
-// pixel, cast as entries at .. at + n - 1 of the cylinder's pixels (cpu_sphere_raster.cpp).
-struct CylinderRun {
-  int kx, jy, n, at;
-};
-
 class CpuSphereRaster {
  public:
   // Clears `frame` (width x height of g) to `background` at background depth. Call once per
@@ -127,13 +121,18 @@ class CpuSphereRaster {
   Frame *frame_ = nullptr;
   int x0_ = 0, x1_ = -1;
   MaxDepthPyramid pyramid_;  // over the frame's depth (level 0), kept between frames
+  // Pixels bond draws lowered that the pyramid's levels above 0 do not show yet, within a box of
+  // less than kDeferExtent pixels a side.
+  static constexpr int kDeferExtent = 16;
+  PixelRect pending_;
   PixelRays rays_;
   std::optional<shading::LightModel<float>> light_;  // set for a lighting other than the default
-  // The rows of a cylinder to cast, their pixels (columns and rows off its reference pixel), and
-  // the pixels' window depths and squared Lambert factors (draw_bond).
-  std::vector<CylinderRun> runs_;
-  std::vector<int> cast_kx_, cast_jy_;
-  std::vector<float> cast_wz_, cast_lambert2_;
+  // The pixels of a cylinder to cast (columns and rows), the depths they hold, and their window
+  // depths and squared Lambert factors (draw_bond); each list has cast_capacity_ entries.
+  void grow_cast_lists(int count);
+  std::vector<int> cast_x_, cast_y_;
+  std::vector<float> cast_depth_, cast_wz_, cast_lambert2_;
+  int cast_capacity_ = 0;
 };
 
 }  // namespace lantern
