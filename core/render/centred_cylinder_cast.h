@@ -31,13 +31,10 @@
 #include <cmath>
 #include <limits>
 
-#if defined(__SSE2__)
-#include <emmintrin.h>
-#endif
-
 #include <glm/geometric.hpp>
 #include <glm/vec3.hpp>
 
+#include "core/view/divide_pair.h"
 #include "core/view/pixel_rays.h"
 #include "core/view/reference_ray_grid.h"
 #include "core/view/view_geometry.h"
@@ -65,10 +62,10 @@ struct CentredCylinder : ReferenceRayGrid {
       // The eight quotients by d, two to a division (each the quotient a division of its own
       // would give).
       double r_d, length_d, w_d, near_d, far_d, unused;
-      divide_pair(a.x, a.y, d, &cu, &cv);
-      divide_pair(r, length, d, &r_d, &length_d);
-      divide_pair(0.5 * g.p32, g.near_plane, d, &w_d, &near_d);
-      divide_pair(g.far_plane, 0.0, d, &far_d, &unused);
+      divide_pair(a.x, a.y, d, d, &cu, &cv);
+      divide_pair(r, length, d, d, &r_d, &length_d);
+      divide_pair(0.5 * g.p32, g.near_plane, d, d, &w_d, &near_d);
+      divide_pair(g.far_plane, 0.0, d, d, &far_d, &unused);
       d0 = glm::dvec3(cu, cv, -1.0);
       rho2 = float(r_d * r_d), lambda = float(length_d);
       wc = float(0.5 - 0.5 * g.p22 + w_d), wd = float(w_d);
@@ -84,16 +81,6 @@ struct CentredCylinder : ReferenceRayGrid {
     du0 = tiny0(glm::dot(d0, u));
     // Reference column and row: those of the ray through a (any fixed pair would do).
     place(rays, cu, cv);
-  }
-
-  // *q0 = n0 / d, *q1 = n1 / d, in one packed division where there is one.
-  static void divide_pair(double n0, double n1, double d, double *q0, double *q1) {
-#if defined(__SSE2__)
-    const __m128d q = _mm_div_pd(_mm_setr_pd(n0, n1), _mm_set1_pd(d));
-    *q0 = _mm_cvtsd_f64(q), *q1 = _mm_cvtsd_f64(_mm_unpackhi_pd(q, q));
-#else
-    *q0 = n0 / d, *q1 = n1 / d;
-#endif
   }
 
   bool orthographic;

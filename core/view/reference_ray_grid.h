@@ -7,10 +7,7 @@
 #include <algorithm>
 #include <cmath>
 
-#if defined(__SSE2__)
-#include <emmintrin.h>
-#endif
-
+#include "core/view/divide_pair.h"
 #include "core/view/pixel_rays.h"
 
 namespace lantern {
@@ -21,13 +18,8 @@ struct ReferenceRayGrid {
   void place(const PixelRays &rays, double cu, double cv) {
     const double *rx = rays.x_data(), *ry = rays.y_data();
     const double sx = rx[1] - rx[0], sy = ry[1] - ry[0];
-#if defined(__SSE2__)
-    // Both quotients in one packed division: the bits of two.
-    const __m128d q = _mm_div_pd(_mm_setr_pd(cu - rx[0], cv - ry[0]), _mm_setr_pd(sx, sy));
-    const double qx = _mm_cvtsd_f64(q), qy = _mm_cvtsd_f64(_mm_unpackhi_pd(q, q));
-#else
-    const double qx = (cu - rx[0]) / sx, qy = (cv - ry[0]) / sy;
-#endif
+    double qx, qy;  // both quotients in one packed division: the bits of two
+    divide_pair(cu - rx[0], cv - ry[0], sx, sy, &qx, &qy);
     ref_x = int(std::clamp(std::floor(qx), -1e9, 1e9));
     ref_y = int(std::clamp(std::floor(qy), -1e9, 1e9));
     step_x = float(sx), step_y = float(sy);
