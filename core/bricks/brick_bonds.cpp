@@ -1,6 +1,7 @@
 #include "core/bricks/brick_bonds.h"
 
 #include <algorithm>
+#include <cfloat>
 #include <chrono>
 #include <cmath>
 #include <limits>
@@ -42,6 +43,11 @@ struct Pair {
     const __m128d magnitude = _mm_and_pd(v, _mm_castsi128_pd(_mm_set1_epi64x(INT64_MAX)));
     return _mm_movemask_pd(_mm_cmple_pd(_mm_add_pd(magnitude, magnitude), limit.v)) == 3;
   }
+  // Whether both lanes are finite.
+  bool finite() const {
+    const __m128d magnitude = _mm_and_pd(v, _mm_castsi128_pd(_mm_set1_epi64x(INT64_MAX)));
+    return _mm_movemask_pd(_mm_cmple_pd(magnitude, _mm_set1_pd(DBL_MAX))) == 3;
+  }
 };
 #else
 struct Pair {
@@ -57,8 +63,20 @@ struct Pair {
   bool twice_within(Pair limit) const {
     return 2.0 * std::abs(a) <= limit.a && 2.0 * std::abs(b) <= limit.b;
   }
+  bool finite() const { return std::isfinite(a) && std::isfinite(b); }
 };
 #endif
+
+// std::sqrt of a square (never negative): the same correctly rounded root, without the call to
+// the library's sqrt that GCC keeps for a negative argument (errno), which would make the refit's
+// loop save and restore its sums around it.
+inline double root_of_square(double v) {
+#if defined(__SSE2__)
+  return _mm_cvtsd_f64(_mm_sqrt_sd(_mm_setzero_pd(), _mm_set_sd(v)));
+#else
+  return std::sqrt(v);
+#endif
+}
 
 bool same_box(const PeriodicBox &a, const PeriodicBox &b) {
   return a.length == b.length && a.periodic == b.periodic;
@@ -166,6 +184,7 @@ bool refit_brick_bonds(const ParticleArrays &particles, const BondArrays &bonds,
     const HalfBond *const halves = r.halves.data();
     double *const reach = r.reach.data();
     const size_t count = r.halves.size();
+    const auto owned = uint32_t(particles.count());
     // The atoms, partners and reach entries are scattered over the host's order: ask for them
     // kAhead halves before they are read, or nearly every half waits on a cache miss. Written
     // out where it is used: GCC deletes a call to a helper that only prefetches (it deems it
@@ -188,10 +207,19 @@ bool refit_brick_bonds(const ParticleArrays &particles, const BondArrays &bonds,
     }
     const Pair limit_xy = Pair::of(limit[0], limit[1]), add_xy = Pair::of(add[0], add[1]);
     const Pair half = Pair::of(0.5, 0.5);
+    // Halves off the shortcut, or with a partner not finite, wait in `slow` for the end of their
+    // brick: the loop below then calls nothing, so its sums stay in registers. A slow half adds
+    // its ends to the brick's bounds and its length to its atom's reach afterwards, which gives
+    // the same bits (min, max and a maximum of lengths, as above).
+    uint32_t most = 0;  // halves in a brick
+    for (size_t b = 0; b < brick_count; ++b) most = std::max(most, r.first[b + 1] - r.first[b]);
+    std::vector<uint32_t> slow_list(most);
+    uint32_t *const slow = slow_list.data();
     for (size_t b = 0; b < brick_count && ok; ++b) {
       Pair lo_xy = Pair::of(inf.x, inf.x), hi_xy = Pair::of(-inf.x, -inf.x);
       double lo_z = inf.x, hi_z = -inf.x;
       const uint32_t last = r.first[b + 1];
+      uint32_t slow_count = 0;
       for (uint32_t k = r.first[b]; k < last;) {
         const uint32_t atom = halves[k].atom;
         const glm::dvec3 x = pos.get(atom);
@@ -209,19 +237,17 @@ bool refit_brick_bonds(const ParticleArrays &particles, const BondArrays &bonds,
               pos.prefetch(ahead.atom), __builtin_prefetch(reach + ahead.atom, 0, 3);
           }
           const glm::dvec3 partner = pos.get(halves[k].partner);
-          if (!finite_position(partner)) return void(ok = false);
-          // half_bond_end: x + 0.5 * minimum_image(partner - x).
+          // half_bond_end: x + 0.5 * minimum_image(partner - x). The shortcut's test fails for
+          // a NaN; an infinite partner (passing it on an axis that does not wrap) goes slow too.
           const Pair d_xy = Pair::of(partner.x, partner.y) - x_xy;
           const double d_z = partner.z - x.z;
-          Pair end_xy;
-          double end_z;
-          if (d_xy.twice_within(limit_xy) && 2.0 * std::abs(d_z) <= limit[2]) {
-            end_xy = x_xy + half * (d_xy + add_xy);
-            end_z = x.z + 0.5 * (d_z + add[2]);
-          } else {
-            const glm::dvec3 end = half_bond_end(x, partner, box);
-            end_xy = Pair::of(end.x, end.y), end_z = end.z;
+          if (!(d_xy.twice_within(limit_xy) && 2.0 * std::abs(d_z) <= limit[2]) ||
+              !(std::abs(d_z) <= std::numeric_limits<double>::max() && d_xy.finite())) {
+            slow[slow_count++] = k;
+            continue;
           }
+          const Pair end_xy = x_xy + half * (d_xy + add_xy);
+          const double end_z = x.z + 0.5 * (d_z + add[2]);
           lo_xy = lo_xy.min(end_xy), hi_xy = hi_xy.max(end_xy);
           lo_z = glm::min(lo_z, end_z), hi_z = glm::max(hi_z, end_z);
           // glm::dot(end - x, end - x): (x * x + y * y) + z * z.
@@ -229,9 +255,26 @@ bool refit_brick_bonds(const ParticleArrays &particles, const BondArrays &bonds,
           const double along_z = end_z - x.z;
           longest = std::max(longest, square.x() + square.y() + along_z * along_z);
         }
-        reach[atom] = std::max(reach[atom], std::sqrt(longest));
+        // An owned atom's halves are one run (its own, filed under it), and its reach was just
+        // cleared to +0: the root is its reach, written without reading the entry first (a
+        // cache miss the loop would wait on). A ghost's halves may lie in several runs.
+        const double run_reach = root_of_square(longest);
+        if (atom < owned)
+          reach[atom] = run_reach;
+        else
+          reach[atom] = std::max(reach[atom], run_reach);
       }
-      const glm::dvec3 lo(lo_xy.x(), lo_xy.y(), lo_z), hi(hi_xy.x(), hi_xy.y(), hi_z);
+      glm::dvec3 lo(lo_xy.x(), lo_xy.y(), lo_z), hi(hi_xy.x(), hi_xy.y(), hi_z);
+      for (uint32_t j = 0; j < slow_count; ++j) {
+        const uint32_t k = slow[j];
+        const glm::dvec3 x = pos.get(halves[k].atom), partner = pos.get(halves[k].partner);
+        if (!finite_position(partner)) return void(ok = false);
+        const glm::dvec3 end = half_bond_end(x, partner, box);
+        lo = glm::min(lo, end), hi = glm::max(hi, end);
+        const glm::dvec3 along = end - x;
+        double &atom_reach = reach[halves[k].atom];
+        atom_reach = std::max(atom_reach, std::sqrt(glm::dot(along, along)));
+      }
       if (r.first[b] != last)
         for (int c = 0; c < 3; ++c) ok &= lo[c] != 0.0 && hi[c] != 0.0;
       r.lo[b] = lo, r.hi[b] = hi;

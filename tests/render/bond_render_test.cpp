@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <limits>
 #include <optional>
 #include <random>
 #include <string>
@@ -572,6 +573,10 @@ TEST(BrickBondsRefit, GivesTheBitsOfABuildAndRefusesWhereItCannot) {
   // A NaN end: the build words the bond, the refit leaves it to the build.
   s.xyz[3 * atom] = std::nan("");
   EXPECT_FALSE(refit_brick_bonds(particles, bonds, bricks, &box, &kept));
+  // So does an infinite one, also where no axis wraps (minimum_image's shortcut lets it by).
+  s.xyz[3 * atom] = std::numeric_limits<double>::infinity();
+  EXPECT_FALSE(refit_brick_bonds(particles, bonds, bricks, &box, &kept));
+  EXPECT_FALSE(refit_brick_bonds(particles, bonds, bricks, nullptr, &kept));
   s.xyz[3 * atom] = x0;
   // A particle moved far: the bricks re-sort it, so their order is new.
   s.xyz[0] += 3.0 * s.box;
@@ -631,6 +636,12 @@ TEST(BrickBondsRefit, GivesTheBitsOfABuildWithGhosts) {
     BrickBonds built;
     build_brick_bonds(particles, bonds, bricks, &box, &built);
     expect_same_bits(kept, built);
+    // A ghost only ever a partner (kListedByBoth keeps no ghost's half), moved to infinity along
+    // z, which does not wrap: the refit refuses, as for a NaN.
+    if (listing == BondListing::kListedByBoth) {
+      s.xyz[3 * size_t(owned) + 2] = std::numeric_limits<double>::infinity();
+      EXPECT_FALSE(refit_brick_bonds(particles, bonds, bricks, &box, &kept));
+    }
   }
 }
 
