@@ -15,6 +15,7 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <limits>
 #include <type_traits>
 #include <utility>
 #include <vector>
@@ -108,13 +109,12 @@ void visit_bond_brick(size_t k, const BrickBonds &bonds, const BondSelection &se
   int64_t frustum_culled = 0, cut_culled = 0;
   const bool straddle = v.containment == Containment::kStraddling;
   const uint32_t end = bonds.first[v.brick + 1];
-  // The halves' atoms and partners lie scattered in the positions (and the atoms' reach): each
-  // is asked for kBondPrefetch halves ahead of its use (only a hint to the cache).
+  // The halves' atoms lie scattered in the positions (and the atoms' reach): each is asked for
+  // kBondPrefetch halves ahead of its use (only a hint to the cache); the partners a few runs
+  // ahead of theirs.
   uint32_t ahead = bonds.first[v.brick];
   // The run of halves of one atom (brick_bonds.h): they share its cut and, when the sphere round
-  // the atom that holds them all (its reach plus the bond radius) is hidden, their fate. Each
-  // run is prepared (its atom, cut, view position and sphere) one run ahead of its test, so
-  // that the depths the test reads first can be asked for meanwhile.
+  // the atom that holds them all (its reach plus the bond radius) is hidden, their fate.
   struct Run {
     uint32_t begin, end;
     bool cut;
@@ -122,41 +122,66 @@ void visit_bond_brick(size_t k, const BrickBonds &bonds, const BondSelection &se
     double reach;  // of the sphere round the halves, when there are two or more
     PixelRect rect;
   };
-  const auto prepare = [&](uint32_t h, Run *run) {
+  // The brick's runs are prepared first (atom, cut, view position, sphere), then judged and drawn
+  // nearest first - by their atom's depth, in kRunBins bins over the brick's depth range - so
+  // that nearer halves are in the depth before farther ones are asked about: more of those are
+  // then found hidden before any pixel work (on the bonded-network bench a third fewer halves
+  // are drawn). The image does not depend on the order (cpu_sphere_raster.h). The lists are
+  // per thread and kept between calls (a few kilobytes per thousand runs).
+  thread_local std::vector<Run> prepared;
+  thread_local std::vector<uint32_t> order;
+  prepared.clear();
+  const uint32_t begin = bonds.first[v.brick];
+  double near = std::numeric_limits<double>::infinity(), far = -near;
+  for (uint32_t h = begin; h < end;) {
     const uint32_t atom_index = bonds.halves[h].atom;
     uint32_t run_end = h + 1;
     while (run_end < end && bonds.halves[run_end].atom == atom_index) ++run_end;
     for (const uint32_t to = std::min(end, run_end + kBondPrefetch); ahead < to; ++ahead) {
       const HalfBond &next = bonds.halves[ahead];
       pos.prefetch(next.atom);
-      pos.prefetch(next.partner);
       __builtin_prefetch(bonds.reach.data() + next.atom, 0, 3);
     }
-    run->begin = h, run->end = run_end;
-    run->atom = pos.get(atom_index);
-    run->cut = v.cut_each && cuts.drops(run->atom);
-    if (run->cut) return;
-    run->centre = g.to_view(run->atom);
-    if (run_end - h > 1) {
-      // sphere_rect holds every pixel OpenGL could give the halves, as cylinder_rect does.
-      run->reach = bonds.reach[atom_index] + sel.radius + g.eps;
-      run->rect = g.sphere_rect(run->centre, run->reach);
-      if constexpr (kWarms<Hidden>) hidden.warm(run->rect);
-    }
-  };
-  Run runs[2];
-  int at = 0;
-  const uint32_t begin = bonds.first[v.brick];
-  if (begin < end) prepare(begin, &runs[0]);
-  for (bool more = begin < end; more;) {
-    const Run &run = runs[at];
-    more = run.end < end;
-    if (more) prepare(run.end, &runs[at ^ 1]);
-    at ^= 1;
+    Run run;
+    run.begin = h, run.end = run_end;
+    run.atom = pos.get(atom_index);
+    run.cut = v.cut_each && cuts.drops(run.atom);
+    h = run_end;
     if (run.cut) {
       cut_culled += run.end - run.begin;
       continue;
     }
+    run.centre = g.to_view(run.atom);
+    if (run_end - run.begin > 1) {
+      // sphere_rect holds every pixel OpenGL could give the halves, as cylinder_rect does.
+      run.reach = bonds.reach[atom_index] + sel.radius + g.eps;
+      run.rect = g.sphere_rect(run.centre, run.reach);
+    }
+    near = std::min(near, -run.centre.z), far = std::max(far, -run.centre.z);
+    prepared.push_back(run);
+  }
+  // Counting sort by depth bin (stable: the halves' order within a bin).
+  constexpr int kRunBins = 64;
+  uint32_t first_of[kRunBins + 1] = {};
+  const double scale = far > near ? (kRunBins - 1) / (far - near) : 0.0;
+  const auto bin_of = [&](const Run &run) {
+    const double t = (-run.centre.z - near) * scale;
+    return t >= 0.0 && t < kRunBins ? int(t) : t >= kRunBins ? kRunBins - 1 : 0;
+  };
+  for (const Run &run : prepared) ++first_of[bin_of(run) + 1];
+  for (int b = 0; b < kRunBins; ++b) first_of[b + 1] += first_of[b];
+  order.resize(prepared.size());
+  for (uint32_t i = 0; i < prepared.size(); ++i) order[first_of[bin_of(prepared[i])]++] = i;
+  uint32_t partner_ahead = 0;  // into order: runs whose partners were asked for
+  for (uint32_t next_run = 0; next_run < order.size(); ++next_run) {
+    for (const uint32_t to = std::min(uint32_t(order.size()), next_run + 3); partner_ahead < to;
+         ++partner_ahead) {
+      const Run &next = prepared[order[partner_ahead]];
+      for (uint32_t h = next.begin; h < next.end; ++h) pos.prefetch(bonds.halves[h].partner);
+      if constexpr (kWarms<Hidden>)
+        if (next.end - next.begin > 1) hidden.warm(next.rect);
+    }
+    const Run &run = prepared[order[next_run]];
     if (run.end - run.begin > 1 && !run.rect.empty() &&
         hidden(run.rect, -run.centre.z - run.reach - g.eps))
       continue;  // occluded, every one
