@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 
 #if defined(__x86_64__) && defined(__GNUC__)
 #include <immintrin.h>
@@ -36,12 +37,12 @@ struct Factors {
 // arithmetic, so every path gives the same bits. With the kernel table this replaced double
 // products, float->int conversions and an exact rounded / 255 per colour channel: fcc 1 M at
 // 1024^2, r 0.5, 175 -> 128 ms CPU for the two together.
-void add_scalar(int64_t *image, int width, int channels, const AxisTaps &ax, const AxisTaps &ay,
+void add_scalar(int64_t *image, int pitch, int channels, const AxisTaps &ax, const AxisTaps &ay,
                 const Factors &f) {
   const uint64_t half = uint64_t(1) << (f.shift - 1);
   for (int y = 0; y < ay.count; ++y) {
     int64_t *out =
-        image + (size_t(ay.first + y) * size_t(width) + size_t(ax.first)) * size_t(channels);
+        image + (size_t(ay.first + y) * size_t(pitch) + size_t(ax.first)) * size_t(channels);
     const uint32_t ty = ay.taps[y];
     for (int i = 0; i < ax.count; ++i, out += channels) {
       const uint64_t p = uint64_t(uint32_t(ax.taps[i]) * ty);
@@ -50,13 +51,13 @@ void add_scalar(int64_t *image, int width, int channels, const AxisTaps &ax, con
   }
 }
 
-void add4_scalar(int64_t *image, int width, const AxisTaps &ax, const AxisTaps &ay,
+void add4_scalar(int64_t *image, int pitch, const AxisTaps &ax, const AxisTaps &ay,
                  const uint64_t m[4], int shift) {
-  add_scalar(image, width, 4, ax, ay, Factors{{m[0], m[1], m[2], m[3]}, shift});
+  add_scalar(image, pitch, 4, ax, ay, Factors{{m[0], m[1], m[2], m[3]}, shift});
 }
 
 #ifdef LANTERN_DENSITY_X86
-void add4_sse2(int64_t *image, int width, const AxisTaps &ax, const AxisTaps &ay,
+void add4_sse2(int64_t *image, int pitch, const AxisTaps &ax, const AxisTaps &ay,
                const uint64_t m[4], int shift) {
   const __m128i m01 = _mm_set_epi64x(int64_t(m[1]), int64_t(m[0]));
   const __m128i m23 = _mm_set_epi64x(int64_t(m[3]), int64_t(m[2]));
@@ -64,7 +65,7 @@ void add4_sse2(int64_t *image, int width, const AxisTaps &ax, const AxisTaps &ay
   const __m128i by = _mm_cvtsi32_si128(shift);
   for (int y = 0; y < ay.count; ++y) {
     auto *out = reinterpret_cast<__m128i *>(
-        image + (size_t(ay.first + y) * size_t(width) + size_t(ax.first)) * 4);
+        image + (size_t(ay.first + y) * size_t(pitch) + size_t(ax.first)) * 4);
     const uint32_t ty = ay.taps[y];
     for (int i = 0; i < ax.count; ++i, out += 2) {
       const __m128i p = _mm_set1_epi64x(int64_t(uint32_t(ax.taps[i]) * ty));
@@ -76,14 +77,14 @@ void add4_sse2(int64_t *image, int width, const AxisTaps &ax, const AxisTaps &ay
   }
 }
 
-__attribute__((target("avx2"))) void add4_avx2(int64_t *image, int width, const AxisTaps &ax,
+__attribute__((target("avx2"))) void add4_avx2(int64_t *image, int pitch, const AxisTaps &ax,
                                                const AxisTaps &ay, const uint64_t m[4], int shift) {
   const __m256i mv = _mm256_set_epi64x(int64_t(m[3]), int64_t(m[2]), int64_t(m[1]), int64_t(m[0]));
   const __m256i half = _mm256_set1_epi64x(int64_t(1) << (shift - 1));
   const __m128i by = _mm_cvtsi32_si128(shift);
   for (int y = 0; y < ay.count; ++y) {
     auto *out = reinterpret_cast<__m256i *>(
-        image + (size_t(ay.first + y) * size_t(width) + size_t(ax.first)) * 4);
+        image + (size_t(ay.first + y) * size_t(pitch) + size_t(ax.first)) * 4);
     const uint32_t ty = ay.taps[y];
     for (int i = 0; i < ax.count; ++i, ++out) {
       const __m256i p = _mm256_set1_epi64x(int64_t(uint32_t(ax.taps[i]) * ty));
@@ -103,9 +104,9 @@ __attribute__((target("avx2"))) void add4_avx2(int64_t *image, int width, const 
 // pixels per register: a row's 4 products tx ty in one multiply, each pair of pixels' four
 // channels in one, masked to the footprint (so nothing is read or written beyond it).
 __attribute__((target("avx512f,avx512vl,avx512dq,avx512bw"))) void add4_avx512(
-    int64_t *image, int width, const AxisTaps &ax, const AxisTaps &ay, const uint64_t m[4],
+    int64_t *image, int pitch, const AxisTaps &ax, const AxisTaps &ay, const uint64_t m[4],
     int shift) {
-  if (ax.count > 4) return add4_avx2(image, width, ax, ay, m, shift);
+  if (ax.count > 4) return add4_avx2(image, pitch, ax, ay, m, shift);
   const __m512i mv = _mm512_set_epi64(int64_t(m[3]), int64_t(m[2]), int64_t(m[1]), int64_t(m[0]),
                                       int64_t(m[3]), int64_t(m[2]), int64_t(m[1]), int64_t(m[0]));
   const __m512i half = _mm512_set1_epi64(int64_t(1) << (shift - 1));
@@ -118,7 +119,7 @@ __attribute__((target("avx512f,avx512vl,avx512dq,avx512bw"))) void add4_avx512(
   const __mmask8 first = ax.count >= 2 ? 0xff : 0x0f;
   const __mmask8 second = ax.count >= 4 ? 0xff : ax.count == 3 ? 0x0f : 0x00;
   for (int y = 0; y < ay.count; ++y) {
-    int64_t *out = image + (size_t(ay.first + y) * size_t(width) + size_t(ax.first)) * 4;
+    int64_t *out = image + (size_t(ay.first + y) * size_t(pitch) + size_t(ax.first)) * 4;
     // tx ty < 2^32: taps are below 2^16 (a single tap of the whole 2^16 never occurs).
     const __m512i p =
         _mm512_zextsi256_si512(_mm256_mul_epu32(tx, _mm256_set1_epi64x(int64_t(ay.taps[y]))));
@@ -194,6 +195,16 @@ __attribute__((target("avx2"))) void project_avx2(const ViewGeometry &g, const d
 #endif
 
 }  // namespace
+
+void DensityImage::compact() {
+  if (pitch == width) return;
+  const size_t row = size_t(width) * size_t(channels), from = size_t(pitch) * size_t(channels);
+  // Row y moves down to y row: never past where a later row is still to be read.
+  for (size_t y = 1; y < size_t(height); ++y)
+    std::memmove(sum.data() + y * row, sum.data() + y * from, row * sizeof(int64_t));
+  sum.resize(row * size_t(height));
+  pitch = width;
+}
 
 DensitySplatter::DensitySplatter(const ViewGeometry &g, DensityImage *image)
     : g_(g), image_(image), table_(DensityKernelTable::get()) {
@@ -343,10 +354,10 @@ void DensitySplatter::add(const AxisTaps &ax, const AxisTaps &ay, double weight,
   pixels_written_ += int64_t(ax.count) * ay.count;
   set_factors(weight, color);
   if (image_->channels == 4)
-    add4_(image_->sum.data(), g_.width, ax, ay, factors_m_, factors_shift_);
+    add4_(image_->sum.data(), image_->pitch, ax, ay, factors_m_, factors_shift_);
   else
     add_scalar(
-        image_->sum.data(), g_.width, image_->channels, ax, ay,
+        image_->sum.data(), image_->pitch, image_->channels, ax, ay,
         Factors{{factors_m_[0], factors_m_[1], factors_m_[2], factors_m_[3]}, factors_shift_});
 }
 

@@ -147,6 +147,49 @@ TEST(DensitySplat, EveryPixelLoopGivesTheSameSums) {
   EXPECT_GT(nonzero, 10000);
 }
 
+// Splatting into rows padded apart (reset_padded, as the density pass does), then compact(),
+// gives the sums of dense rows, bit for bit, with one and four channels, every pixel loop, for
+// footprints across the right and bottom edges and beyond the table.
+TEST(DensitySplat, PaddedRowsCompactToTheDenseSums) {
+  CameraConfig cc;
+  cc.projection = Projection::kOrthographic;
+  cc.position = std::array<double, 3>{5, 5, 50};
+  cc.look_at = {5, 5, 5};
+  cc.up = {0, 1, 0};
+  Camera camera;
+  ASSERT_TRUE(make_camera(cc, {0, 0, 0}, {10, 10, 10}, 0.5, 256, 256, &camera).ok());
+  const ViewGeometry g = ViewGeometry::from_camera(camera, 100.0);
+  for (const int channels : {1, 4})
+    for (const DensityPixelLoop loop : {DensityPixelLoop::kAuto, DensityPixelLoop::kScalar}) {
+      DensityImage dense, padded;
+      dense.reset(g.width, g.height, channels);
+      padded.reset_padded(g.width, g.height, channels);
+      ASSERT_GT(padded.pitch, g.width);  // 256 px rows of 8 or 32 bytes a pixel are padded
+      DensitySplatter a(g, &dense), b(g, &padded);
+      a.set_pixel_loop(loop), b.set_pixel_loop(loop);
+      uint32_t h = 5;
+      const auto next = [&h] {
+        h ^= h << 13, h ^= h >> 17, h ^= h << 5;
+        return double(h) / 4294967296.0;
+      };
+      for (int n = 0; n < 20000; ++n) {
+        const glm::dvec3 c = g.to_view({20.0 * next() - 5.0, 20.0 * next() - 5.0, 5.0});
+        const double r = n % 40 == 0 ? 2.0 * next() : 0.02 + 0.2 * next();
+        const double w = n % 3 == 0 ? 1.0 : 1.0 + 100.0 * next();
+        const Rgb8 color{uint8_t(n % 256), uint8_t(255 - n % 256), uint8_t(n % 7)};
+        EXPECT_EQ(a.splat(c, r, w, color), b.splat(c, r, w, color));
+      }
+      padded.compact();
+      EXPECT_EQ(padded.pitch, padded.width);
+      EXPECT_TRUE(padded.sum == dense.sum) << channels;
+      int64_t right_edge = 0;
+      for (int y = 0; y < g.height; ++y)
+        right_edge +=
+            dense.sum[(size_t(y) * size_t(g.width) + size_t(g.width - 1)) * size_t(channels)] != 0;
+      EXPECT_GT(right_edge, 20);
+    }
+}
+
 // project_all (the vectorised projection of world positions) gives project(g.to_view(x)), bit for
 // bit, in both projections, with per-particle and constant radii, for particles in front of,
 // on and behind the near plane.
