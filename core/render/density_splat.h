@@ -217,6 +217,9 @@ class DensitySplatter {
   // The pixel loop for four channels, chosen once (set_pixel_loop).
   void (*add4_)(int64_t *image, int width, const AxisTaps &ax, const AxisTaps &ay,
                 const uint64_t m[4], int shift) = nullptr;
+  // Whether weight-1 footprints of a four-channel image take the AVX-512 loop made for them
+  // (the processor has it and the pixel loop is kAuto; the same sums as add4_).
+  bool units_ = false;
   // The previous particle's weight and colour, and the factors made of them (see the .cpp).
   // Adds the footprint of taps ax x ay with `weight` and `color` to the image.
   void add(const AxisTaps &ax, const AxisTaps &ay, double weight, const Rgb8 &color);
