@@ -246,16 +246,16 @@ bool has_avx512() {
 // loop without branches (the projection type is hoisted) so the compiler vectorises it, with
 // every operation in project()'s and glm's order (view = (m0 x + m1 y) + (m2 z + m3)), so the
 // same bits.
-template <bool kOrthographic>
-inline __attribute__((always_inline)) void project_loop(const ViewGeometry &g, const double *x,
-                                                        const double *y, const double *z,
-                                                        const double *r, double radius,
-                                                        double scale, int count,
-                                                        DensityFootprints *out) {
+template <bool kOrthographic, bool kPerParticle>
+inline __attribute__((always_inline)) void project_loop(
+    const ViewGeometry &g, const double *__restrict x, const double *__restrict y,
+    const double *__restrict z, const double *__restrict r, double radius, double scale, int count,
+    DensityFootprints *out) {
   const glm::dmat4 &m = g.view;
   const double ppu = 0.5 * g.height * g.sy, w = g.width, h = g.height, near = g.near_plane;
-  double *px = out->px.data(), *py = out->py.data(), *sigma2 = out->sigma2.data();
-  uint8_t *in_front = out->in_front.data();
+  double *__restrict px = out->px.data(), *__restrict py = out->py.data(),
+                     *__restrict sigma2 = out->sigma2.data();
+  uint8_t *__restrict in_front = out->in_front.data();
   for (int k = 0; k < count; ++k) {
     const double cx = (m[0][0] * x[k] + m[1][0] * y[k]) + (m[2][0] * z[k] + m[3][0]);
     const double cy = (m[0][1] * x[k] + m[1][1] * y[k]) + (m[2][1] * z[k] + m[3][1]);
@@ -267,7 +267,7 @@ inline __attribute__((always_inline)) void project_loop(const ViewGeometry &g, c
     const double y_ndc = kOrthographic ? g.sy * cy + g.ty : g.sy * cy * inv_d;
     px[k] = 0.5 * (x_ndc + 1.0) * w;
     py[k] = 0.5 * (1.0 - y_ndc) * h;
-    const double s = (r ? r[k] * scale : radius * scale) / 3.0 * ppu * inv_d;
+    const double s = (kPerParticle ? r[k] * scale : radius * scale) / 3.0 * ppu * inv_d;
     sigma2[k] = s * s + 0.25;
   }
 }
@@ -276,9 +276,11 @@ void project_portable(const ViewGeometry &g, const double *x, const double *y, c
                       const double *r, double radius, double scale, int count,
                       DensityFootprints *out) {
   if (g.orthographic)
-    project_loop<true>(g, x, y, z, r, radius, scale, count, out);
+    r ? project_loop<true, true>(g, x, y, z, r, radius, scale, count, out)
+      : project_loop<true, false>(g, x, y, z, r, radius, scale, count, out);
   else
-    project_loop<false>(g, x, y, z, r, radius, scale, count, out);
+    r ? project_loop<false, true>(g, x, y, z, r, radius, scale, count, out)
+      : project_loop<false, false>(g, x, y, z, r, radius, scale, count, out);
 }
 
 #ifdef LANTERN_DENSITY_X86
@@ -287,9 +289,11 @@ __attribute__((target("avx2"))) void project_avx2(const ViewGeometry &g, const d
                                                   double radius, double scale, int count,
                                                   DensityFootprints *out) {
   if (g.orthographic)
-    project_loop<true>(g, x, y, z, r, radius, scale, count, out);
+    r ? project_loop<true, true>(g, x, y, z, r, radius, scale, count, out)
+      : project_loop<true, false>(g, x, y, z, r, radius, scale, count, out);
   else
-    project_loop<false>(g, x, y, z, r, radius, scale, count, out);
+    r ? project_loop<false, true>(g, x, y, z, r, radius, scale, count, out)
+      : project_loop<false, false>(g, x, y, z, r, radius, scale, count, out);
 }
 #endif
 
