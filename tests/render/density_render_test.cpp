@@ -148,8 +148,8 @@ TEST(DensitySplat, EveryPixelLoopGivesTheSameSums) {
 }
 
 // Splatting into rows padded apart (reset_padded, as the density pass does), then compact(),
-// gives the sums of dense rows, bit for bit, with one and four channels, every pixel loop, for
-// footprints across the right and bottom edges and beyond the table.
+// gives the sums of dense rows, bit for bit, with one and four channels, the automatic and the
+// scalar pixel loop, for footprints across the right and bottom edges and beyond the table.
 TEST(DensitySplat, PaddedRowsCompactToTheDenseSums) {
   CameraConfig cc;
   cc.projection = Projection::kOrthographic;
