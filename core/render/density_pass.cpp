@@ -149,7 +149,8 @@ CullStats render_density(const ParticleArrays &particles, const BrickSet &bricks
                          int64_t *pixels_written) {
   CullStats st = sel.stats;
   const ViewGeometry &g = sel.g;
-  image->reset(g.width, g.height, density_channels(recipe.coloring.by));
+  // Splatted into rows padded apart (DensityImage::padded_pitch), then made dense again.
+  image->reset_padded(g.width, g.height, density_channels(recipe.coloring.by));
   DensitySplatter splatter(g, image);
   const CutPlanes cuts(cull.cuts);
   const DensityColors colors(recipe, image->channels > 1);
@@ -159,6 +160,7 @@ CullStats render_density(const ParticleArrays &particles, const BrickSet &bricks
       });
   if (everything) {
     render_every_particle(particles, cull.cuts, sel, colors, &splatter, &st);
+    image->compact();
     if (pixels_written) *pixels_written = splatter.pixels_written();
     return st;
   }
@@ -213,6 +215,7 @@ CullStats render_density(const ParticleArrays &particles, const BrickSet &bricks
       }
     });
   });
+  image->compact();
   if (pixels_written) *pixels_written = splatter.pixels_written();
   return st;
 }

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 
 #if defined(__x86_64__) && defined(__GNUC__)
 #include <immintrin.h>
@@ -21,6 +22,8 @@ constexpr double kPixelFilterSigma = 0.5;  // px: the reconstruction filter ever
 // W of the header lies in [2^23, 2^24): times 256 or times an 8-bit colour it stays below 2^32,
 // which is what a 32 x 32 -> 64-bit vector multiply (SSE2 pmuludq) takes.
 constexpr int kWeightMantissaBits = 24;
+// The widest footprint row (pixels) of the weight-1 loop below: three registers of two pixels.
+constexpr int kUnitMaxWidth = 6;
 
 // One footprint's factors: the four per-channel multipliers M (W 256, W c0, W c1, W c2, each
 // < 2^32), and the shift that takes M p (p = tx ty) to 2^-24 units of weight (+ 8 bits for the
@@ -36,12 +39,12 @@ struct Factors {
 // arithmetic, so every path gives the same bits. With the kernel table this replaced double
 // products, float->int conversions and an exact rounded / 255 per colour channel: fcc 1 M at
 // 1024^2, r 0.5, 175 -> 128 ms CPU for the two together.
-void add_scalar(int64_t *image, int width, int channels, const AxisTaps &ax, const AxisTaps &ay,
+void add_scalar(int64_t *image, int pitch, int channels, const AxisTaps &ax, const AxisTaps &ay,
                 const Factors &f) {
   const uint64_t half = uint64_t(1) << (f.shift - 1);
   for (int y = 0; y < ay.count; ++y) {
     int64_t *out =
-        image + (size_t(ay.first + y) * size_t(width) + size_t(ax.first)) * size_t(channels);
+        image + (size_t(ay.first + y) * size_t(pitch) + size_t(ax.first)) * size_t(channels);
     const uint32_t ty = ay.taps[y];
     for (int i = 0; i < ax.count; ++i, out += channels) {
       const uint64_t p = uint64_t(uint32_t(ax.taps[i]) * ty);
@@ -50,13 +53,13 @@ void add_scalar(int64_t *image, int width, int channels, const AxisTaps &ax, con
   }
 }
 
-void add4_scalar(int64_t *image, int width, const AxisTaps &ax, const AxisTaps &ay,
+void add4_scalar(int64_t *image, int pitch, const AxisTaps &ax, const AxisTaps &ay,
                  const uint64_t m[4], int shift) {
-  add_scalar(image, width, 4, ax, ay, Factors{{m[0], m[1], m[2], m[3]}, shift});
+  add_scalar(image, pitch, 4, ax, ay, Factors{{m[0], m[1], m[2], m[3]}, shift});
 }
 
 #ifdef LANTERN_DENSITY_X86
-void add4_sse2(int64_t *image, int width, const AxisTaps &ax, const AxisTaps &ay,
+void add4_sse2(int64_t *image, int pitch, const AxisTaps &ax, const AxisTaps &ay,
                const uint64_t m[4], int shift) {
   const __m128i m01 = _mm_set_epi64x(int64_t(m[1]), int64_t(m[0]));
   const __m128i m23 = _mm_set_epi64x(int64_t(m[3]), int64_t(m[2]));
@@ -64,7 +67,7 @@ void add4_sse2(int64_t *image, int width, const AxisTaps &ax, const AxisTaps &ay
   const __m128i by = _mm_cvtsi32_si128(shift);
   for (int y = 0; y < ay.count; ++y) {
     auto *out = reinterpret_cast<__m128i *>(
-        image + (size_t(ay.first + y) * size_t(width) + size_t(ax.first)) * 4);
+        image + (size_t(ay.first + y) * size_t(pitch) + size_t(ax.first)) * 4);
     const uint32_t ty = ay.taps[y];
     for (int i = 0; i < ax.count; ++i, out += 2) {
       const __m128i p = _mm_set1_epi64x(int64_t(uint32_t(ax.taps[i]) * ty));
@@ -76,14 +79,14 @@ void add4_sse2(int64_t *image, int width, const AxisTaps &ax, const AxisTaps &ay
   }
 }
 
-__attribute__((target("avx2"))) void add4_avx2(int64_t *image, int width, const AxisTaps &ax,
+__attribute__((target("avx2"))) void add4_avx2(int64_t *image, int pitch, const AxisTaps &ax,
                                                const AxisTaps &ay, const uint64_t m[4], int shift) {
   const __m256i mv = _mm256_set_epi64x(int64_t(m[3]), int64_t(m[2]), int64_t(m[1]), int64_t(m[0]));
   const __m256i half = _mm256_set1_epi64x(int64_t(1) << (shift - 1));
   const __m128i by = _mm_cvtsi32_si128(shift);
   for (int y = 0; y < ay.count; ++y) {
     auto *out = reinterpret_cast<__m256i *>(
-        image + (size_t(ay.first + y) * size_t(width) + size_t(ax.first)) * 4);
+        image + (size_t(ay.first + y) * size_t(pitch) + size_t(ax.first)) * 4);
     const uint32_t ty = ay.taps[y];
     for (int i = 0; i < ax.count; ++i, ++out) {
       const __m256i p = _mm256_set1_epi64x(int64_t(uint32_t(ax.taps[i]) * ty));
@@ -103,9 +106,9 @@ __attribute__((target("avx2"))) void add4_avx2(int64_t *image, int width, const 
 // pixels per register: a row's 4 products tx ty in one multiply, each pair of pixels' four
 // channels in one, masked to the footprint (so nothing is read or written beyond it).
 __attribute__((target("avx512f,avx512vl,avx512dq,avx512bw"))) void add4_avx512(
-    int64_t *image, int width, const AxisTaps &ax, const AxisTaps &ay, const uint64_t m[4],
+    int64_t *image, int pitch, const AxisTaps &ax, const AxisTaps &ay, const uint64_t m[4],
     int shift) {
-  if (ax.count > 4) return add4_avx2(image, width, ax, ay, m, shift);
+  if (ax.count > 4) return add4_avx2(image, pitch, ax, ay, m, shift);
   const __m512i mv = _mm512_set_epi64(int64_t(m[3]), int64_t(m[2]), int64_t(m[1]), int64_t(m[0]),
                                       int64_t(m[3]), int64_t(m[2]), int64_t(m[1]), int64_t(m[0]));
   const __m512i half = _mm512_set1_epi64(int64_t(1) << (shift - 1));
@@ -118,7 +121,7 @@ __attribute__((target("avx512f,avx512vl,avx512dq,avx512bw"))) void add4_avx512(
   const __mmask8 first = ax.count >= 2 ? 0xff : 0x0f;
   const __mmask8 second = ax.count >= 4 ? 0xff : ax.count == 3 ? 0x0f : 0x00;
   for (int y = 0; y < ay.count; ++y) {
-    int64_t *out = image + (size_t(ay.first + y) * size_t(width) + size_t(ax.first)) * 4;
+    int64_t *out = image + (size_t(ay.first + y) * size_t(pitch) + size_t(ax.first)) * 4;
     // tx ty < 2^32: taps are below 2^16 (a single tap of the whole 2^16 never occurs).
     const __m512i p =
         _mm512_zextsi256_si512(_mm256_mul_epu32(tx, _mm256_set1_epi64x(int64_t(ay.taps[y]))));
@@ -131,6 +134,103 @@ __attribute__((target("avx512f,avx512vl,avx512dq,avx512bw"))) void add4_avx512(
     _mm512_mask_storeu_epi64(out + 8, second,
                              _mm512_add_epi64(_mm512_maskz_loadu_epi64(second, out + 8), b));
   }
+}
+
+// Weight-1 footprints (every particle without level of detail) of a four-channel image. Weight 1
+// has W = 2^23 and shift 39 (set_factors), so a channel's share is (2^23 c p + 2^38) >> 39 =
+// (c p + 2^15) >> 16 with c = 256 for the weight and the colour component for the others, the
+// same integers; and c p = (c tx) ty, so the 24-bit products c tx of a footprint's row of taps
+// are made once per footprint (two pixels' four channels a register, up to three registers for
+// 6 pixels) and each image row costs one 32 x 32 -> 64-bit multiply, add and shift per
+// register: no per-row permutes of the general loop (which multiplies the 32-bit p = tx ty by
+// 64-bit factors). Taps beyond the footprint are zero, and the masks keep the loads and stores
+// within it.
+#define LANTERN_DENSITY_AVX512 __attribute__((target("avx512f,avx512vl,avx512dq,avx512bw")))
+
+// c per channel, for both pixels of a register: (256, c0, c1, c2, 256, c0, c1, c2).
+LANTERN_DENSITY_AVX512 inline __m512i unit_factors(const Rgb8 &color) {
+  const uint32_t bytes =
+      uint32_t(color[0]) << 8 | uint32_t(color[1]) << 16 | uint32_t(color[2]) << 24;
+  const __m512i v = _mm512_cvtepu8_epi64(_mm_set1_epi32(int(bytes)));
+  return _mm512_mask_mov_epi64(v, 0x11, _mm512_set1_epi64(256));
+}
+
+// One weight-1 footprint of 1 .. kUnitMaxWidth pixels a row, taps tx (count_x of them) x ty.
+LANTERN_DENSITY_AVX512 inline __attribute__((always_inline)) void add_unit(
+    int64_t *image, size_t row_pitch, const uint16_t *tx_taps, int first_x, int count_x,
+    const uint16_t *ty, int first_y, int count_y, __m512i c) {
+  const __m512i tx =
+      _mm512_cvtepu16_epi64(_mm_maskz_loadu_epi16(__mmask8((1u << count_x) - 1), tx_taps));
+  const __m512i pair = _mm512_set_epi64(1, 1, 1, 1, 0, 0, 0, 0);
+  const __m512i two = _mm512_set1_epi64(2);
+  const __m512i rnd = _mm512_set1_epi64(int64_t(1) << 15);
+  // c tx < 2^24 and ty < 2^16: the low 32 bits of each lane are the whole factor.
+  const __m512i a0 = _mm512_mul_epu32(c, _mm512_permutexvar_epi64(pair, tx));
+  const __m512i a1 = _mm512_mul_epu32(c, _mm512_permutexvar_epi64(_mm512_add_epi64(pair, two), tx));
+  const uint32_t lanes = (uint32_t(1) << (4 * count_x)) - 1;
+  const __mmask8 m0 = __mmask8(lanes), m1 = __mmask8(lanes >> 8);
+  int64_t *row = image + size_t(first_y) * row_pitch + size_t(first_x) * 4;
+  if (count_x <= 4) {
+    for (int y = 0; y < count_y; ++y, row += row_pitch) {
+      const __m512i t = _mm512_set1_epi64(int64_t(ty[y]));
+      const __m512i q0 = _mm512_srli_epi64(_mm512_add_epi64(_mm512_mul_epu32(a0, t), rnd), 16);
+      _mm512_mask_storeu_epi64(row, m0, _mm512_add_epi64(_mm512_maskz_loadu_epi64(m0, row), q0));
+      if (m1 == 0) continue;
+      const __m512i q1 = _mm512_srli_epi64(_mm512_add_epi64(_mm512_mul_epu32(a1, t), rnd), 16);
+      _mm512_mask_storeu_epi64(row + 8, m1,
+                               _mm512_add_epi64(_mm512_maskz_loadu_epi64(m1, row + 8), q1));
+    }
+    return;
+  }
+  const __m512i a2 = _mm512_mul_epu32(
+      c, _mm512_permutexvar_epi64(_mm512_add_epi64(pair, _mm512_add_epi64(two, two)), tx));
+  const __mmask8 m2 = __mmask8(lanes >> 16);
+  for (int y = 0; y < count_y; ++y, row += row_pitch) {
+    const __m512i t = _mm512_set1_epi64(int64_t(ty[y]));
+    const __m512i q0 = _mm512_srli_epi64(_mm512_add_epi64(_mm512_mul_epu32(a0, t), rnd), 16);
+    const __m512i q1 = _mm512_srli_epi64(_mm512_add_epi64(_mm512_mul_epu32(a1, t), rnd), 16);
+    const __m512i q2 = _mm512_srli_epi64(_mm512_add_epi64(_mm512_mul_epu32(a2, t), rnd), 16);
+    _mm512_storeu_si512(row, _mm512_add_epi64(_mm512_loadu_si512(row), q0));
+    _mm512_storeu_si512(row + 8, _mm512_add_epi64(_mm512_loadu_si512(row + 8), q1));
+    _mm512_mask_storeu_epi64(row + 16, m2,
+                             _mm512_add_epi64(_mm512_maskz_loadu_epi64(m2, row + 16), q2));
+  }
+}
+
+// add_unit() of every footprint k in [0, count) that is in front, in the table and at most
+// kUnitMaxWidth pixels wide on the image (the caller deposits the others). Returns how many;
+// adds their pixels to *pixels.
+LANTERN_DENSITY_AVX512 int64_t add_units_placed(int64_t *image, int pitch_px, const uint16_t *taps,
+                                                const DensityPlacements &p, const uint8_t *in_front,
+                                                const Rgb8 *color, int count, int64_t *pixels) {
+  const size_t pitch = size_t(pitch_px) * 4;
+  int64_t done = 0, written = 0;
+  for (int i = 0; i < count; ++i) {
+    const auto at = size_t(i);
+    const int cx = p.count_x[at];
+    if (!in_front[at] || p.k[at] >= kDensitySigmaCount || cx == 0 || cx > kUnitMaxWidth) continue;
+    const int cy = p.count_y[at];
+    add_unit(image, pitch, taps + p.taps_x[at], p.first_x[at], cx, taps + p.taps_y[at],
+             p.first_y[at], cy, unit_factors(color[i]));
+    ++done, written += int64_t(cx) * cy;
+  }
+  *pixels += written;
+  return done;
+}
+
+// add_unit() of the records of at most kUnitMaxWidth pixels a row; the caller deposits the rest.
+LANTERN_DENSITY_AVX512 void add_units_binned(int64_t *image, int pitch_px, const uint16_t *taps,
+                                             const std::vector<DensityRecord> &records,
+                                             int64_t *pixels) {
+  const size_t pitch = size_t(pitch_px) * 4;
+  int64_t written = 0;
+  for (const DensityRecord &r : records) {
+    if (r.count_x > kUnitMaxWidth) continue;
+    add_unit(image, pitch, taps + r.taps_x, r.first_x, r.count_x, taps + r.taps_y, r.first_y,
+             r.count_y, unit_factors({r.color[0], r.color[1], r.color[2]}));
+    written += int64_t(r.count_x) * r.count_y;
+  }
+  *pixels += written;
 }
 
 bool has_avx2() {
@@ -146,16 +246,16 @@ bool has_avx512() {
 // loop without branches (the projection type is hoisted) so the compiler vectorises it, with
 // every operation in project()'s and glm's order (view = (m0 x + m1 y) + (m2 z + m3)), so the
 // same bits.
-template <bool kOrthographic>
-inline __attribute__((always_inline)) void project_loop(const ViewGeometry &g, const double *x,
-                                                        const double *y, const double *z,
-                                                        const double *r, double radius,
-                                                        double scale, int count,
-                                                        DensityFootprints *out) {
+template <bool kOrthographic, bool kPerParticle>
+inline __attribute__((always_inline)) void project_loop(
+    const ViewGeometry &g, const double *__restrict x, const double *__restrict y,
+    const double *__restrict z, const double *__restrict r, double radius, double scale, int count,
+    DensityFootprints *out) {
   const glm::dmat4 &m = g.view;
   const double ppu = 0.5 * g.height * g.sy, w = g.width, h = g.height, near = g.near_plane;
-  double *px = out->px.data(), *py = out->py.data(), *sigma2 = out->sigma2.data();
-  uint8_t *in_front = out->in_front.data();
+  double *__restrict px = out->px.data(), *__restrict py = out->py.data(),
+                     *__restrict sigma2 = out->sigma2.data();
+  uint8_t *__restrict in_front = out->in_front.data();
   for (int k = 0; k < count; ++k) {
     const double cx = (m[0][0] * x[k] + m[1][0] * y[k]) + (m[2][0] * z[k] + m[3][0]);
     const double cy = (m[0][1] * x[k] + m[1][1] * y[k]) + (m[2][1] * z[k] + m[3][1]);
@@ -167,7 +267,7 @@ inline __attribute__((always_inline)) void project_loop(const ViewGeometry &g, c
     const double y_ndc = kOrthographic ? g.sy * cy + g.ty : g.sy * cy * inv_d;
     px[k] = 0.5 * (x_ndc + 1.0) * w;
     py[k] = 0.5 * (1.0 - y_ndc) * h;
-    const double s = (r ? r[k] * scale : radius * scale) / 3.0 * ppu * inv_d;
+    const double s = (kPerParticle ? r[k] * scale : radius * scale) / 3.0 * ppu * inv_d;
     sigma2[k] = s * s + 0.25;
   }
 }
@@ -176,9 +276,11 @@ void project_portable(const ViewGeometry &g, const double *x, const double *y, c
                       const double *r, double radius, double scale, int count,
                       DensityFootprints *out) {
   if (g.orthographic)
-    project_loop<true>(g, x, y, z, r, radius, scale, count, out);
+    r ? project_loop<true, true>(g, x, y, z, r, radius, scale, count, out)
+      : project_loop<true, false>(g, x, y, z, r, radius, scale, count, out);
   else
-    project_loop<false>(g, x, y, z, r, radius, scale, count, out);
+    r ? project_loop<false, true>(g, x, y, z, r, radius, scale, count, out)
+      : project_loop<false, false>(g, x, y, z, r, radius, scale, count, out);
 }
 
 #ifdef LANTERN_DENSITY_X86
@@ -187,13 +289,25 @@ __attribute__((target("avx2"))) void project_avx2(const ViewGeometry &g, const d
                                                   double radius, double scale, int count,
                                                   DensityFootprints *out) {
   if (g.orthographic)
-    project_loop<true>(g, x, y, z, r, radius, scale, count, out);
+    r ? project_loop<true, true>(g, x, y, z, r, radius, scale, count, out)
+      : project_loop<true, false>(g, x, y, z, r, radius, scale, count, out);
   else
-    project_loop<false>(g, x, y, z, r, radius, scale, count, out);
+    r ? project_loop<false, true>(g, x, y, z, r, radius, scale, count, out)
+      : project_loop<false, false>(g, x, y, z, r, radius, scale, count, out);
 }
 #endif
 
 }  // namespace
+
+void DensityImage::compact() {
+  if (pitch == width) return;
+  const size_t row = size_t(width) * size_t(channels), from = size_t(pitch) * size_t(channels);
+  // Row y moves down to y row: never past where a later row is still to be read.
+  for (size_t y = 1; y < size_t(height); ++y)
+    std::memmove(sum.data() + y * row, sum.data() + y * from, row * sizeof(int64_t));
+  sum.resize(row * size_t(height));
+  pitch = width;
+}
 
 DensitySplatter::DensitySplatter(const ViewGeometry &g, DensityImage *image)
     : g_(g), image_(image), table_(DensityKernelTable::get()) {
@@ -202,6 +316,7 @@ DensitySplatter::DensitySplatter(const ViewGeometry &g, DensityImage *image)
 
 void DensitySplatter::set_pixel_loop(DensityPixelLoop loop) {
   add4_ = add4_scalar;
+  units_ = false;
 #ifdef LANTERN_DENSITY_X86
   static const bool avx2 = has_avx2(), avx512 = has_avx512();
   if (loop == DensityPixelLoop::kScalar) return;
@@ -210,6 +325,7 @@ void DensitySplatter::set_pixel_loop(DensityPixelLoop loop) {
   add4_ = add4_avx2;
   if (loop == DensityPixelLoop::kAvx2 || !avx512) return;
   add4_ = add4_avx512;
+  units_ = loop == DensityPixelLoop::kAuto;
 #else
   (void)loop;
 #endif
@@ -313,6 +429,13 @@ int64_t DensitySplatter::bin_all(const DensityFootprints &footprints, const Rgb8
   const bool direct = coherent_on_image(p, footprints.in_front.data(), count);
   const uint16_t *taps = table_.tap_data();
   int64_t touched = 0;
+  // Coherent with four channels: the weight-1 loop first, then the rest below.
+  const bool units = direct && units_ && image_->channels == 4;
+#ifdef LANTERN_DENSITY_X86
+  if (units)
+    touched += add_units_placed(image_->sum.data(), image_->pitch, taps, p,
+                                footprints.in_front.data(), color, count, &pixels_written_);
+#endif
   for (int i = 0; i < count; ++i) {
     const auto at = size_t(i);
     if (!footprints.in_front[at]) continue;
@@ -321,7 +444,7 @@ int64_t DensitySplatter::bin_all(const DensityFootprints &footprints, const Rgb8
           deposit({footprints.px[at], footprints.py[at], footprints.sigma2[at]}, 1.0, color[i]);
       continue;
     }
-    if (p.count_x[at] == 0) continue;
+    if (p.count_x[at] == 0 || (units && p.count_x[at] <= kUnitMaxWidth)) continue;
     ++touched;
     if (direct) {
       add({taps + p.taps_x[at], p.first_x[at], p.count_x[at]},
@@ -343,19 +466,25 @@ void DensitySplatter::add(const AxisTaps &ax, const AxisTaps &ay, double weight,
   pixels_written_ += int64_t(ax.count) * ay.count;
   set_factors(weight, color);
   if (image_->channels == 4)
-    add4_(image_->sum.data(), g_.width, ax, ay, factors_m_, factors_shift_);
+    add4_(image_->sum.data(), image_->pitch, ax, ay, factors_m_, factors_shift_);
   else
     add_scalar(
-        image_->sum.data(), g_.width, image_->channels, ax, ay,
+        image_->sum.data(), image_->pitch, image_->channels, ax, ay,
         Factors{{factors_m_[0], factors_m_[1], factors_m_[2], factors_m_[3]}, factors_shift_});
 }
 
 void DensitySplatter::deposit_bins(const DensityBins &bins) {
   const uint16_t *taps = table_.tap_data();
-  for (const std::vector<DensityRecord> &tile : bins.tiles)
+  const bool units = units_ && image_->channels == 4;
+  for (const std::vector<DensityRecord> &tile : bins.tiles) {
+#ifdef LANTERN_DENSITY_X86
+    if (units) add_units_binned(image_->sum.data(), image_->pitch, taps, tile, &pixels_written_);
+#endif
     for (const DensityRecord &r : tile)
-      add({taps + r.taps_x, r.first_x, r.count_x}, {taps + r.taps_y, r.first_y, r.count_y}, 1.0,
-          {r.color[0], r.color[1], r.color[2]});
+      if (!units || r.count_x > kUnitMaxWidth)
+        add({taps + r.taps_x, r.first_x, r.count_x}, {taps + r.taps_y, r.first_y, r.count_y}, 1.0,
+            {r.color[0], r.color[1], r.color[2]});
+  }
 }
 
 int64_t DensitySplatter::deposit_all(const DensityFootprints &footprints, const uint8_t *skip,

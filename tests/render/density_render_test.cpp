@@ -147,18 +147,62 @@ TEST(DensitySplat, EveryPixelLoopGivesTheSameSums) {
   EXPECT_GT(nonzero, 10000);
 }
 
+// Splatting into rows padded apart (reset_padded, as the density pass does), then compact(),
+// gives the sums of dense rows, bit for bit, with one and four channels, the automatic and the
+// scalar pixel loop, for footprints across the right and bottom edges and beyond the table.
+TEST(DensitySplat, PaddedRowsCompactToTheDenseSums) {
+  CameraConfig cc;
+  cc.projection = Projection::kOrthographic;
+  cc.position = std::array<double, 3>{5, 5, 50};
+  cc.look_at = {5, 5, 5};
+  cc.up = {0, 1, 0};
+  Camera camera;
+  ASSERT_TRUE(make_camera(cc, {0, 0, 0}, {10, 10, 10}, 0.5, 256, 256, &camera).ok());
+  const ViewGeometry g = ViewGeometry::from_camera(camera, 100.0);
+  for (const int channels : {1, 4})
+    for (const DensityPixelLoop loop : {DensityPixelLoop::kAuto, DensityPixelLoop::kScalar}) {
+      DensityImage dense, padded;
+      dense.reset(g.width, g.height, channels);
+      padded.reset_padded(g.width, g.height, channels);
+      ASSERT_GT(padded.pitch, g.width);  // 256 px rows of 8 or 32 bytes a pixel are padded
+      DensitySplatter a(g, &dense), b(g, &padded);
+      a.set_pixel_loop(loop), b.set_pixel_loop(loop);
+      uint32_t h = 5;
+      const auto next = [&h] {
+        h ^= h << 13, h ^= h >> 17, h ^= h << 5;
+        return double(h) / 4294967296.0;
+      };
+      for (int n = 0; n < 20000; ++n) {
+        const glm::dvec3 c = g.to_view({20.0 * next() - 5.0, 20.0 * next() - 5.0, 5.0});
+        const double r = n % 40 == 0 ? 2.0 * next() : 0.02 + 0.2 * next();
+        const double w = n % 3 == 0 ? 1.0 : 1.0 + 100.0 * next();
+        const Rgb8 color{uint8_t(n % 256), uint8_t(255 - n % 256), uint8_t(n % 7)};
+        EXPECT_EQ(a.splat(c, r, w, color), b.splat(c, r, w, color));
+      }
+      padded.compact();
+      EXPECT_EQ(padded.pitch, padded.width);
+      EXPECT_TRUE(padded.sum == dense.sum) << channels;
+      int64_t right_edge = 0;
+      for (int y = 0; y < g.height; ++y)
+        right_edge +=
+            dense.sum[(size_t(y) * size_t(g.width) + size_t(g.width - 1)) * size_t(channels)] != 0;
+      EXPECT_GT(right_edge, 20);
+    }
+}
+
 // project_all (the vectorised projection of world positions) gives project(g.to_view(x)), bit for
 // bit, in both projections, with per-particle and constant radii, for particles in front of,
 // on and behind the near plane.
-// A 300 x 200 view of the box [0, 10]^3 from z = 30 (false when the camera is refused).
-bool box_view(Projection projection, ViewGeometry *g) {
+// A 300 x 200 (or width x height) view of the box [0, 10]^3 from z = 30 (false when the camera is
+// refused).
+bool box_view(Projection projection, ViewGeometry *g, int width = 300, int height = 200) {
   CameraConfig cc;
   cc.projection = projection;
   cc.position = std::array<double, 3>{5, 5, 30};
   cc.look_at = {5, 5, 5};
   cc.up = {0.1, 1, 0};
   Camera camera;
-  if (!make_camera(cc, {0, 0, 0}, {10, 10, 10}, 0.5, 300, 200, &camera).ok()) return false;
+  if (!make_camera(cc, {0, 0, 0}, {10, 10, 10}, 0.5, width, height, &camera).ok()) return false;
   *g = ViewGeometry::from_camera(camera, 100.0);
   return true;
 }
@@ -208,42 +252,52 @@ TEST(DensitySplat, ProjectAllIsProjectParticleByParticle) {
 // coherent order (along a line), a random one, and footprints beyond the table, behind the near
 // plane or off the image.
 TEST(DensitySplat, BinAllGivesTheSumsOfDepositOneByOne) {
-  ViewGeometry g;
-  ASSERT_TRUE(box_view(Projection::kPerspective, &g));
   uint32_t h = 31;
   const auto next = [&h] {
     h ^= h << 13, h ^= h >> 17, h ^= h << 5;
     return double(h) / 4294967296.0;
   };
-  for (const bool coherent : {true, false}) {
-    std::vector<double> x, y, z, r;
-    std::vector<Rgb8> color;
-    for (int k = 0; k < 3001; ++k) {
-      const double t = double(k) / 3000.0;
-      x.push_back(coherent ? -1.0 + 12.0 * t : 14.0 * next() - 2.0);
-      y.push_back(coherent ? 5.0 + 3.0 * std::sin(20.0 * t) : 14.0 * next() - 2.0);
-      z.push_back(k % 500 == 0 ? 30.0 - 0.5 * g.near_plane : 10.0 * next());
-      r.push_back(k % 250 == 0 ? 6.0 : 0.02 + 0.3 * next());  // some beyond the table
-      color.push_back({uint8_t(k), uint8_t(7 * k), uint8_t(255 - k % 256)});
+  // The second time into rows padded apart (256 px of 32 bytes: DensityImage::reset_padded), as
+  // the density pass splats, compacted before comparing.
+  for (const bool padded : {false, true})
+    for (const bool coherent : {true, false}) {
+      ViewGeometry g;
+      ASSERT_TRUE(box_view(Projection::kPerspective, &g, padded ? 256 : 300, 200));
+      std::vector<double> x, y, z, r;
+      std::vector<Rgb8> color;
+      for (int k = 0; k < 3001; ++k) {
+        const double t = double(k) / 3000.0;
+        x.push_back(coherent ? -1.0 + 12.0 * t : 14.0 * next() - 2.0);
+        y.push_back(coherent ? 5.0 + 3.0 * std::sin(20.0 * t) : 14.0 * next() - 2.0);
+        z.push_back(k % 500 == 0 ? 30.0 - 0.5 * g.near_plane : 10.0 * next());
+        r.push_back(k % 250 == 0 ? 6.0 : 0.02 + 0.3 * next());  // some beyond the table
+        color.push_back({uint8_t(k), uint8_t(7 * k), uint8_t(255 - k % 256)});
+      }
+      DensityImage binned, one_by_one;
+      if (padded) {
+        binned.reset_padded(g.width, g.height, 4);
+        ASSERT_GT(binned.pitch, binned.width);
+      } else {
+        binned.reset(g.width, g.height, 4);
+      }
+      one_by_one.reset(g.width, g.height, 4);
+      DensitySplatter a(g, &binned), b(g, &one_by_one);
+      DensityFootprints f;
+      DensityBins bins;
+      bins.reset(g.width, g.height);
+      a.project_all(x.data(), y.data(), z.data(), r.data(), 0.0, 1.0, int(x.size()), &f);
+      const int64_t touched = a.bin_all(f, color.data(), int(x.size()), &bins);
+      a.deposit_bins(bins);
+      binned.compact();
+      int64_t expected = 0;
+      for (size_t k = 0; k < x.size(); ++k)
+        expected += f.in_front[k] && b.deposit({f.px[k], f.py[k], f.sigma2[k]}, 1.0, color[k]);
+      EXPECT_EQ(touched, expected) << coherent;
+      EXPECT_GT(expected, 2000) << coherent;
+      EXPECT_LT(expected, 3001) << coherent;
+      EXPECT_TRUE(binned.sum == one_by_one.sum) << coherent;
+      EXPECT_EQ(a.pixels_written(), b.pixels_written()) << coherent;
     }
-    DensityImage binned, one_by_one;
-    binned.reset(g.width, g.height, 4), one_by_one.reset(g.width, g.height, 4);
-    DensitySplatter a(g, &binned), b(g, &one_by_one);
-    DensityFootprints f;
-    DensityBins bins;
-    bins.reset(g.width, g.height);
-    a.project_all(x.data(), y.data(), z.data(), r.data(), 0.0, 1.0, int(x.size()), &f);
-    const int64_t touched = a.bin_all(f, color.data(), int(x.size()), &bins);
-    a.deposit_bins(bins);
-    int64_t expected = 0;
-    for (size_t k = 0; k < x.size(); ++k)
-      expected += f.in_front[k] && b.deposit({f.px[k], f.py[k], f.sigma2[k]}, 1.0, color[k]);
-    EXPECT_EQ(touched, expected) << coherent;
-    EXPECT_GT(expected, 2000) << coherent;
-    EXPECT_LT(expected, 3001) << coherent;
-    EXPECT_TRUE(binned.sum == one_by_one.sum) << coherent;
-    EXPECT_EQ(a.pixels_written(), b.pixels_written()) << coherent;
-  }
 }
 
 // Perspective: the footprint's centroid is the projected centre (within 0.05 px, see
