@@ -12,6 +12,8 @@
 #include <cstring>
 #include <vector>
 
+#include "core/common/page_allocator.h"
+
 namespace lantern {
 
 inline constexpr float kBackgroundDepth = 1.0f;
@@ -19,8 +21,8 @@ inline constexpr float kBackgroundDepth = 1.0f;
 struct Frame {
   int width = 0;
   int height = 0;
-  std::vector<uint8_t> rgba;  // 4 * width * height
-  std::vector<float> depth;   // width * height
+  PageVector<uint8_t> rgba;  // 4 * width * height
+  PageVector<float> depth;   // width * height
 
   Frame() = default;
   Frame(int w, int h) : width(w), height(h), rgba(size_t(w) * h * 4), depth(size_t(w) * h) {}
