@@ -7,6 +7,7 @@
 // projections, so "nearer" is "smaller" everywhere. Ownership: a Frame owns its buffers.
 #pragma once
 
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
@@ -26,6 +27,20 @@ struct Frame {
 
   Frame() = default;
   Frame(int w, int h) : width(w), height(h), rgba(size_t(w) * h * 4), depth(size_t(w) * h) {}
+
+  // Makes this what Frame(w, h) makes (zero colour and depth), reusing the buffers when they
+  // already have the size: the buffers are mapped pages (page_allocator.h), so a frame made anew
+  // every step would fault all of them in again.
+  void reset(int w, int h) {
+    const size_t pixels = size_t(w) * size_t(h);
+    if (rgba.size() != 4 * pixels || depth.size() != pixels) {
+      *this = Frame(w, h);
+      return;
+    }
+    width = w, height = h;
+    std::fill(rgba.begin(), rgba.end(), uint8_t(0));
+    std::fill(depth.begin(), depth.end(), 0.0f);
+  }
 
   size_t pixel_count() const { return size_t(width) * size_t(height); }
   size_t index(int x, int y) const { return size_t(y) * size_t(width) + size_t(x); }

@@ -83,6 +83,30 @@ TEST(PageAllocator, FramesAndBrickSetsReleaseTheirPages) {
   EXPECT_LT(resident_bytes() - before, 2 * kMiB) << "a freed brick set's pages are still resident";
 }
 
+// Frame::reset gives what Frame(w, h) gives, in the same buffers when the size is unchanged (a
+// density or OpenGL frame made every step then maps and faults in no new pages).
+TEST(PageAllocator, FrameResetReusesItsBuffers) {
+  Frame f(512, 512);  // 1 MiB of colour, 1 MiB of depth: mapped pages
+  f.rgba[7] = 9, f.depth[3] = 0.5f;
+  const uint8_t *rgba = f.rgba.data();
+  const float *depth = f.depth.data();
+  f.reset(512, 512);
+  EXPECT_EQ(f.rgba.data(), rgba);
+  EXPECT_EQ(f.depth.data(), depth);
+  const Frame fresh(512, 512);
+  EXPECT_TRUE(f.rgba == fresh.rgba);
+  EXPECT_TRUE(f.depth == fresh.depth);
+  f.reset(256, 1024);  // the same pixel count in another shape
+  EXPECT_EQ(f.width, 256);
+  EXPECT_EQ(f.height, 1024);
+  EXPECT_EQ(f.rgba.data(), rgba);
+  f.reset(100, 30);
+  EXPECT_EQ(f.width, 100);
+  EXPECT_EQ(f.height, 30);
+  EXPECT_EQ(f.rgba.size(), 4u * 100 * 30);
+  EXPECT_EQ(f.depth.size(), 100u * 30);
+}
+
 TEST(PageAllocator, SmallAndGrowingVectorsKeepTheirContents) {
   PageVector<int> v;
   for (int i = 0; i < 1 << 20; ++i) v.push_back(i);  // crosses kPageBlockBytes while growing
