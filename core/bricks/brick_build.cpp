@@ -294,7 +294,7 @@ void bound_bricks(const Positions &pos, const Radii &radius, int threads, BrickS
 // leaves a few entries to step over (a binary search over the bricks with a cache of recent
 // answers cost a tenth of the build at 100 M particles, where a gas's runs visit its bricks in
 // random order).
-void number_bricks(const std::vector<Brick> &bricks, int64_t slots, std::vector<IndexRun> *runs) {
+void number_bricks(const std::vector<Brick> &bricks, int64_t slots, PageVector<IndexRun> *runs) {
   constexpr int kShift = 10;
   std::vector<uint32_t> first(bricks.size() + 1);
   for (size_t b = 0; b < bricks.size(); ++b) first[b] = bricks[b].first;

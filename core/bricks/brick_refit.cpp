@@ -88,19 +88,20 @@ BrickScan scan_brick(const Positions &pos, const Radii &radius, const Keep &keep
 // them, else gathers brick by brick; the bounds are the same bits either way (index_runs.h).
 template <typename Positions, typename Radii, typename Keep>
 void fresh_bounds(const Positions &pos, const Radii &radius, const Keep &keep, int64_t count,
-                  const BrickSet &set, int threads, std::vector<Brick> *fresh,
+                  const BrickSet &set, int threads, std::vector<BrickScan> *bounds,
                   std::vector<uint8_t> *fits) {
-  *fresh = set.bricks;
   fits->assign(set.bricks.size(), 0);
-  std::vector<BrickScan> scans;
-  if (!set.runs.empty()) scans = scan_runs(pos, radius, keep, set.has_radius, count, set, threads);
+  bounds->clear();
+  if (!set.runs.empty())
+    *bounds = scan_runs(pos, radius, keep, set.has_radius, count, set, threads);
+  const bool streamed = !bounds->empty();
+  if (!streamed) bounds->resize(set.bricks.size());
   const int parts = parts_for(threads, set.particle_count(), kParticlesPerThread);
-  run_in_parts(parts, int64_t(fresh->size()), [&](int, int64_t first, int64_t last) {
+  run_in_parts(parts, int64_t(set.bricks.size()), [&](int, int64_t first, int64_t last) {
     for (int64_t k = first; k < last; ++k) {
       const size_t b = size_t(k);
-      const BrickScan s = scans.empty() || has_zero_bound(scans[b])
-                              ? scan_brick(pos, radius, keep, count, set, b)
-                              : scans[b];
+      BrickScan &s = (*bounds)[b];
+      if (!streamed || has_zero_bound(s)) s = scan_brick(pos, radius, keep, count, set, b);
       const Brick &old = set.bricks[b];
       const glm::dvec3 grow = 0.25 * (old.hi - old.lo);
       // Written so that NaN (a NaN bound) fails the test.
@@ -109,10 +110,13 @@ void fresh_bounds(const Positions &pos, const Radii &radius, const Keep &keep, i
                           s.hi.y <= old.hi.y + grow.y && s.hi.z <= old.hi.z + grow.z &&
                           std::isfinite(s.r) && s.finite;
       (*fits)[b] = s.all_published && inside;
-      Brick &f = (*fresh)[b];
-      f.lo = s.lo, f.hi = s.hi, f.max_radius = s.r;
     }
   });
+}
+
+// A brick's bounds and radius from its fresh scan.
+void take_bounds(const BrickScan &s, Brick *b) {
+  b->lo = s.lo, b->hi = s.hi, b->max_radius = s.r;
 }
 
 }  // namespace
@@ -129,7 +133,8 @@ bool refit_bricks(const ParticleArrays &particles, double max_growth, BrickSet *
   // With a group, the bricks must end up holding exactly its members: a particle that joined the
   // group under an index the bricks do not hold makes the count differ, and a rebuild follows.
   const int64_t kept_total = particles.kept_count();
-  std::vector<Brick> fresh;
+  // The new bounds stay in the scans until the bricks take them (no copy of the bricks).
+  std::vector<BrickScan> fresh;
   std::vector<uint8_t> fits;
   visit_positions(particles, [&](const auto &pos) {
     visit_radii(particles, true, 0.0, [&](const auto &radius) {
@@ -140,7 +145,7 @@ bool refit_bricks(const ParticleArrays &particles, double max_growth, BrickSet *
   });
   if (kept_total == set->particle_count() &&
       std::all_of(fits.begin(), fits.end(), [](uint8_t f) { return f != 0; })) {
-    set->bricks = std::move(fresh);
+    for (size_t b = 0; b < set->bricks.size(); ++b) take_bounds(fresh[b], &set->bricks[b]);
     set->order_generation = kept_order;  // every particle stayed in its slot
     glm::dvec3 lo(std::numeric_limits<double>::infinity()), hi(-lo);
     for (const Brick &b : set->bricks) lo = glm::min(lo, b.lo), hi = glm::max(hi, b.hi);
@@ -169,7 +174,7 @@ bool refit_bricks(const ParticleArrays &particles, double max_growth, BrickSet *
           for (int64_t k = first; k < last && h.finite; ++k) {
             Brick &br = set->bricks[size_t(k)];
             if (fits[size_t(k)])
-              br = fresh[size_t(k)];  // still fits: the first pass's bounds stand
+              take_bounds(fresh[size_t(k)], &br);  // still fits: the first pass's bounds stand
             else
               h.finite = sort_out(pos, radius, keep, set->has_radius, count,
                                   set->order.data() + br.first, &br, &h.outliers);

@@ -26,6 +26,7 @@
 
 #include <glm/vec3.hpp>
 
+#include "core/common/page_allocator.h"
 #include "core/particles/particle_arrays.h"
 
 namespace lantern {
@@ -56,13 +57,13 @@ struct BrickOptions {
 };
 
 struct BrickSet {
-  std::vector<uint32_t> order;  // particle indices, brick after brick
-  std::vector<Brick> bricks;    // in z-order along the curve
+  PageVector<uint32_t> order;  // particle indices, brick after brick
+  std::vector<Brick> bricks;   // in z-order along the curve
   // The bricks' particles as runs of consecutive indices, in index order and closed by a run of
   // no brick, for refits that stream the positions (index_runs.h); empty where runs would be too
   // short to pay. in_other: a bit per index, set where a run's particle is in its `other` brick.
-  std::vector<IndexRun> runs;
-  std::vector<uint64_t> in_other;
+  PageVector<IndexRun> runs;
+  PageVector<uint64_t> in_other;
   glm::dvec3 lo{0.0}, hi{0.0};  // bounds of the finite centres (lo > hi when there are none)
   int64_t nonfinite = 0;        // kept particles left out for a NaN or infinite coordinate
   bool has_radius = false;      // bricks carry max_radius from the published radius array

@@ -27,8 +27,8 @@ int64_t run_end(const uint32_t *owner, int64_t n, int64_t i, uint32_t *other) {
 
 }  // namespace
 
-std::vector<IndexRun> runs_of_owners(const uint32_t *owner, int64_t n, int64_t held,
-                                     std::vector<uint64_t> *in_other) {
+PageVector<IndexRun> runs_of_owners(const uint32_t *owner, int64_t n, int64_t held,
+                                    PageVector<uint64_t> *in_other) {
   // Counted first, then listed into a vector of the exact size: growing it run by run copied it
   // about twice over (and faulted in each new block) at 100 M particles.
   const size_t most = size_t(held / kMinMeanRun) + 1;
@@ -43,7 +43,7 @@ std::vector<IndexRun> runs_of_owners(const uint32_t *owner, int64_t n, int64_t h
     ++count;
     i = e;
   }
-  std::vector<IndexRun> runs;
+  PageVector<IndexRun> runs;
   runs.reserve(count + 1);
   in_other->assign(size_t((n + 63) / 64), 0);
   for (int64_t i = 0; i < n;) {

@@ -50,8 +50,8 @@ inline constexpr uint32_t kNoBrick = ~0u;
 // run of no brick at n, with their in_other bits (*in_other, a bit per index); each run as long as
 // its particles belong to at most two bricks. None (both empty) when they would average fewer
 // than kMinMeanRun of the `held` indices that have an owner.
-std::vector<IndexRun> runs_of_owners(const uint32_t *owner, int64_t n, int64_t held,
-                                     std::vector<uint64_t> *in_other);
+PageVector<IndexRun> runs_of_owners(const uint32_t *owner, int64_t n, int64_t held,
+                                    PageVector<uint64_t> *in_other);
 
 // The runs of `set` from scratch (after a refit moved particles between bricks) into set->runs and
 // set->in_other, or none when too short to pay. Needs a temporary of 4 bytes per index below
@@ -141,7 +141,7 @@ void scan_stretch(const Positions &pos, const Radii &radius, bool has_radius, co
 template <typename Positions, typename Radii, typename Keep>
 std::vector<BrickScan> scan_runs(const Positions &pos, const Radii &radius, const Keep &keep,
                                  bool has_radius, int64_t count, const BrickSet &set, int threads) {
-  const std::vector<IndexRun> &runs = set.runs;
+  const PageVector<IndexRun> &runs = set.runs;
   const int parts = parts_for(threads, set.particle_count(), int64_t(1) << 16);
   std::vector<std::vector<BrickScan>> part(static_cast<size_t>(parts));
   const int64_t stretches = runs.empty() ? 0 : int64_t(runs.size()) - 1;  // the last closes

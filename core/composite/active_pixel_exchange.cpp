@@ -17,7 +17,8 @@ size_t share_of(size_t pool, size_t streams, PixelRange range) {
 }  // namespace
 
 void ActivePixelScratch::prepare(size_t chunk_pixels, int ranks) {
-  const size_t words = std::max(chunk_pixels + 2, size_t(ranks) * kMinMessageWords);
+  const size_t words =
+      std::max(std::min(chunk_pixels + 2, kActivePoolWords), size_t(ranks) * kMinMessageWords);
   if (send.size() < words) send.resize(words);
   if (receive.size() < words) receive.resize(words);
   pool_words = words;

@@ -29,14 +29,20 @@
 
 namespace lantern {
 
+// The most words a pool holds (256 KiB): thread-local scratch stays between frames, and a pool
+// of a whole 1024 x 1024 chunk kept 16 MiB mapped and several MiB resident (0.5 bytes per
+// particle at 5 M particles per rank) where streams of smaller messages move the same bytes.
+inline constexpr size_t kActivePoolWords = size_t(1) << 15;
+
 // Message buffers, carved per phase among the streams: pool_words each for sending and receiving.
 struct ActivePixelScratch {
   UninitializedBuffer<uint64_t> send, receive;  // at least pool_words each (kept between calls)
   // This call's pool: a function of (chunk_pixels, ranks) only, so the same on every rank once
   // those are agreed, however large the buffers grew in earlier calls.
   size_t pool_words = 0;
-  // Sets pool_words to about chunk_pixels encoded pixels and at least a minimal message for each
-  // of `ranks` streams, and grows both buffers to hold it. May throw std::bad_alloc.
+  // Sets pool_words to about chunk_pixels encoded pixels, at most kActivePoolWords, and at least
+  // a minimal message for each of `ranks` streams, and grows both buffers to hold it. May throw
+  // std::bad_alloc.
   void prepare(size_t chunk_pixels, int ranks);
 };
 

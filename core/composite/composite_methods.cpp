@@ -27,9 +27,11 @@ void prepare_scratch(CompositeMethod method, size_t pixels, int ranks, size_t ch
     }
     case CompositeMethod::kBinarySwap:
     case CompositeMethod::kDirectSend: {
-      // Frames are merged in place; only a partner's segment (at most one chunk) is received.
-      // Binary swap's largest message is half the frame, direct send's 1/p of it.
-      const size_t segment = std::max<size_t>(1, std::min(ceil_div(pixels, 2), chunk));
+      // Frames are merged in place; only a partner's segment (at most one chunk, and at most
+      // kExchangeSegmentPixels) is received. Binary swap's largest message is half the frame,
+      // direct send's 1/p of it.
+      const size_t segment =
+          std::max<size_t>(1, std::min({ceil_div(pixels, 2), chunk, kExchangeSegmentPixels}));
       s.depth.resize(segment);
       s.rgba.resize(4 * segment);
       break;

@@ -20,6 +20,12 @@
 
 namespace lantern {
 
+// The most pixels binary swap and direct send receive per step (a segment): 256 KiB of depth and
+// 256 KiB of colour of scratch, kept between frames. Half a 1024 x 1024 frame in one step kept
+// 4 MiB resident between frames (0.8 bytes per particle at 5 M particles per rank) for a buffer
+// only compositing uses; segments cost a few more messages of the same total bytes.
+inline constexpr size_t kExchangeSegmentPixels = size_t(1) << 16;
+
 struct MethodScratch {
   PackedBuffer packed;                // reductions: one chunk of packed pixels
   PackedBuffer block;                 // reduce-scatter: this rank's reduced block of a chunk

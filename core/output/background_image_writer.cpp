@@ -35,24 +35,32 @@ Status BackgroundImageWriter::wait() {
 }
 
 Status BackgroundImageWriter::submit(Frame frame, const OutputConfig &out, const std::string &path,
-                                     DepthToDistance depth_to_distance) {
+                                     DepthToDistance depth_to_distance, Frame *spare) {
   const Status error = check_writable_directory(path);
   Status previous = wait();
+  if (spare) *spare = written_ ? std::move(*written_) : Frame();
+  written_.reset();
   if (!error.ok()) {
     if (previous.ok()) return error;
     previous.message += "; " + error.message;  // both failures, under the earlier one's code
     return previous;
   }
   // Shared so that the task stays here if no thread can be started.
+  // The frame goes back to written_ when the image is written (before the future is ready).
+  auto written = std::make_shared<Frame>();
   auto task = std::make_shared<std::packaged_task<Status()>>(
-      [frame = std::move(frame), out, path,
-       to_distance = std::move(depth_to_distance)]() -> Status {
+      [frame = std::move(frame), out, path, to_distance = std::move(depth_to_distance),
+       written]() mutable -> Status {
+        Status status;
         try {
-          return write_image(frame, out, path, to_distance);
+          status = write_image(frame, out, path, to_distance);
         } catch (const std::exception &e) {
-          return {StatusCode::kIo, "writing '" + path + "': " + e.what()};
+          status = {StatusCode::kIo, "writing '" + path + "': " + e.what()};
         }
+        *written = std::move(frame);
+        return status;
       });
+  written_ = std::move(written);
   in_flight_ = task->get_future();
   try {
     std::thread([task] { (*task)(); }).detach();

@@ -13,6 +13,7 @@
 #pragma once
 
 #include <future>
+#include <memory>
 #include <string>
 
 #include "core/common/status.h"
@@ -31,14 +32,18 @@ class BackgroundImageWriter {
   // Checks that `path`'s directory exists (creating it) and is writable, waits for the previous
   // image, then writes `frame` (taken over) to `path` in the background. Returns OK or the error
   // of the check (kIo) or of the previous image (write_image's status, which names its own path).
+  // `spare`, where not null, receives the previous image's frame once it is written (an empty
+  // Frame when there was none), so that the caller renders the next image into its buffers
+  // rather than into freshly allocated pages every step.
   Status submit(Frame frame, const OutputConfig &out, const std::string &path,
-                DepthToDistance depth_to_distance);
+                DepthToDistance depth_to_distance, Frame *spare = nullptr);
 
   // Waits for the image in flight. OK or its write_image status.
   Status wait();
 
  private:
   std::future<Status> in_flight_;
+  std::shared_ptr<Frame> written_;  // the image in flight's frame, once the writer is done with it
 };
 
 }  // namespace lantern

@@ -81,7 +81,7 @@ Status write_image_file(const ScenePassInputs &in, const SceneConfig &scene, con
     written = with_context(
         where, scene.output.asynchronous
                    ? buffers->writer.submit(std::move(buffers->frame), scene.output, stats->file,
-                                            to_distance)
+                                            to_distance, &buffers->frame)
                    : write_image(buffers->frame, scene.output, stats->file, to_distance));
     stats->write_ms = ms_since(t0);
   }

@@ -7,10 +7,13 @@
 // projections, so "nearer" is "smaller" everywhere. Ownership: a Frame owns its buffers.
 #pragma once
 
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
 #include <vector>
+
+#include "core/common/page_allocator.h"
 
 namespace lantern {
 
@@ -19,11 +22,25 @@ inline constexpr float kBackgroundDepth = 1.0f;
 struct Frame {
   int width = 0;
   int height = 0;
-  std::vector<uint8_t> rgba;  // 4 * width * height
-  std::vector<float> depth;   // width * height
+  PageVector<uint8_t> rgba;  // 4 * width * height
+  PageVector<float> depth;   // width * height
 
   Frame() = default;
   Frame(int w, int h) : width(w), height(h), rgba(size_t(w) * h * 4), depth(size_t(w) * h) {}
+
+  // Makes this what Frame(w, h) makes (zero colour and depth), reusing the buffers when they
+  // already have the size: the buffers are mapped pages (page_allocator.h), so a frame made anew
+  // every step would fault all of them in again.
+  void reset(int w, int h) {
+    const size_t pixels = size_t(w) * size_t(h);
+    if (rgba.size() != 4 * pixels || depth.size() != pixels) {
+      *this = Frame(w, h);
+      return;
+    }
+    width = w, height = h;
+    std::fill(rgba.begin(), rgba.end(), uint8_t(0));
+    std::fill(depth.begin(), depth.end(), 0.0f);
+  }
 
   size_t pixel_count() const { return size_t(width) * size_t(height); }
   size_t index(int x, int y) const { return size_t(y) * size_t(width) + size_t(x); }

@@ -1,5 +1,6 @@
 // PageAllocator: a large block freed leaves the resident size at once, whatever glibc's heap holds
-// (its pages are unmapped, not handed to malloc), and small blocks still work as usual.
+// (its pages are unmapped, not handed to malloc), and small blocks still work as usual; so do the
+// frames and the bricks' permutation and runs, which live from step to step.
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -8,8 +9,10 @@
 #include <memory>
 #include <vector>
 
+#include "core/bricks/brick_set.h"
 #include "core/common/page_allocator.h"
 #include "core/common/uninitialized_buffer.h"
+#include "core/view/frame.h"
 
 namespace lantern {
 namespace {
@@ -24,16 +27,21 @@ int64_t resident_bytes() {
 
 constexpr int64_t kMiB = int64_t(1) << 20;
 
+// Raises glibc's dynamic mmap threshold to 24 MiB (and its trim threshold to 48 MiB), as a host
+// that freed a large array does: blocks below that from malloc then come from the heap and stay
+// resident when freed.
+void raise_malloc_threshold() {
+  std::vector<uint8_t> warm(size_t(24 * kMiB), 1);
+  volatile uint8_t sink = warm[warm.size() / 2];
+  (void)sink;
+}
+
 TEST(PageAllocator, FreedLargeVectorLeavesTheResidentSize) {
   if (resident_bytes() < 0) GTEST_SKIP() << "no /proc/self/statm";
   // First grow and free a heap block of the same size through malloc, so that glibc's dynamic
   // mmap threshold is raised (to 24 MiB) as after a rendered step: a 16 MiB block from malloc
   // would now come from the heap and stay resident when freed.
-  {
-    std::vector<uint8_t> warm(size_t(24 * kMiB), 1);
-    volatile uint8_t sink = warm[warm.size() / 2];
-    (void)sink;
-  }
+  raise_malloc_threshold();
   const int64_t before = resident_bytes();
   {
     PageVector<uint64_t> v(size_t(16 * kMiB) / sizeof(uint64_t), 7);  // every page touched
@@ -52,6 +60,51 @@ TEST(PageAllocator, UninitializedBufferReleasesToo) {
     ASSERT_GE(resident_bytes() - before, 11 * kMiB);
   }
   EXPECT_LT(resident_bytes() - before, 2 * kMiB);
+}
+
+TEST(PageAllocator, FramesAndBrickSetsReleaseTheirPages) {
+  if (resident_bytes() < 0) GTEST_SKIP() << "no /proc/self/statm";
+  raise_malloc_threshold();
+  const int64_t before = resident_bytes();
+  {
+    Frame frame(2048, 1024);  // 8 MiB of colour and 8 MiB of depth
+    const uint8_t grey[4] = {9, 9, 9, 255};
+    frame.clear(grey);
+    ASSERT_GE(resident_bytes() - before, 15 * kMiB);
+  }
+  EXPECT_LT(resident_bytes() - before, 2 * kMiB) << "a freed frame's pages are still resident";
+  {
+    BrickSet set;
+    set.order.assign(size_t(12 * kMiB) / sizeof(uint32_t), 5);
+    set.runs.assign(size_t(3 * kMiB) / sizeof(IndexRun), IndexRun{});
+    set.in_other.assign(size_t(2 * kMiB) / sizeof(uint64_t), 1);
+    ASSERT_GE(resident_bytes() - before, 16 * kMiB);
+  }
+  EXPECT_LT(resident_bytes() - before, 2 * kMiB) << "a freed brick set's pages are still resident";
+}
+
+// Frame::reset gives what Frame(w, h) gives, in the same buffers when the size is unchanged (a
+// density or OpenGL frame made every step then maps and faults in no new pages).
+TEST(PageAllocator, FrameResetReusesItsBuffers) {
+  Frame f(512, 512);  // 1 MiB of colour, 1 MiB of depth: mapped pages
+  f.rgba[7] = 9, f.depth[3] = 0.5f;
+  const uint8_t *rgba = f.rgba.data();
+  const float *depth = f.depth.data();
+  f.reset(512, 512);
+  EXPECT_EQ(f.rgba.data(), rgba);
+  EXPECT_EQ(f.depth.data(), depth);
+  const Frame fresh(512, 512);
+  EXPECT_TRUE(f.rgba == fresh.rgba);
+  EXPECT_TRUE(f.depth == fresh.depth);
+  f.reset(256, 1024);  // the same pixel count in another shape
+  EXPECT_EQ(f.width, 256);
+  EXPECT_EQ(f.height, 1024);
+  EXPECT_EQ(f.rgba.data(), rgba);
+  f.reset(100, 30);
+  EXPECT_EQ(f.width, 100);
+  EXPECT_EQ(f.height, 30);
+  EXPECT_EQ(f.rgba.size(), 4u * 100 * 30);
+  EXPECT_EQ(f.depth.size(), 100u * 30);
 }
 
 TEST(PageAllocator, SmallAndGrowingVectorsKeepTheirContents) {

@@ -12,7 +12,9 @@
 #include <ostream>
 #include <vector>
 
+#include "core/composite/active_pixel_exchange.h"
 #include "core/composite/composite_cost_model.h"
+#include "core/composite/composite_methods.h"
 #include "core/composite/compositing_schedule.h"
 #include "core/composite/depth_compositor.h"
 #include "core/composite/packed_pixel.h"
@@ -539,6 +541,32 @@ TEST(PackedPixel, KeysOrderByDepthThenColorAndRoundTrip) {
   unpack_pixel(pack_pixel(0.375f, red), &depth, rgba);
   EXPECT_EQ(depth, 0.375f);
   EXPECT_EQ(std::vector<uint8_t>(rgba, rgba + 4), std::vector<uint8_t>(red, red + 4));
+}
+
+// The scratch compositing keeps between frames stays bounded whatever the frame: binary swap and
+// direct send receive a partner's pixels a segment at a time, active pixels stream messages
+// carved from a pool of at most kActivePoolWords.
+TEST(CompositeScratch, StaysBoundedWhateverTheFrame) {
+  for (const CompositeMethod m : {CompositeMethod::kBinarySwap, CompositeMethod::kDirectSend}) {
+    MethodScratch s;
+    prepare_scratch(m, size_t(1024) * 1024, 2, size_t(1024) * 1024, s);
+    EXPECT_EQ(s.depth.size(), kExchangeSegmentPixels);
+    EXPECT_EQ(s.rgba.size(), 4 * kExchangeSegmentPixels);
+    MethodScratch small;
+    prepare_scratch(m, 1000, 2, size_t(1024) * 1024, small);
+    EXPECT_EQ(small.depth.size(), 500u);  // half a small frame
+  }
+  ActivePixelScratch a;
+  a.prepare(size_t(1024) * 1024, 2);
+  EXPECT_EQ(a.pool_words, kActivePoolWords);
+  EXPECT_EQ(a.send.size(), kActivePoolWords);
+  EXPECT_EQ(a.receive.size(), kActivePoolWords);
+  ActivePixelScratch small;
+  small.prepare(100, 2);
+  EXPECT_EQ(small.pool_words, 102u);  // a whole small chunk and its header
+  ActivePixelScratch many;
+  many.prepare(size_t(1024) * 1024, 1 << 15);  // still a minimal message for every stream
+  EXPECT_EQ(many.pool_words, size_t(1 << 15) * kMinMessageWords);
 }
 
 // 6144 x 3072 (the tiled-display size of Rizzi et al. 2015); run at 2 ranks.

@@ -26,6 +26,10 @@ Frame gradient(int w, int h, uint8_t seed) {
   return f;
 }
 
+std::vector<uint8_t> rgba_of(const Frame &f) {
+  return std::vector<uint8_t>(f.rgba.begin(), f.rgba.end());
+}
+
 // RGBA bytes of an image file; opaque frames are stored as RGB, so alpha then reads as 255.
 std::vector<uint8_t> read_rgba(const std::string &path) {
   auto in = OIIO::ImageInput::open(path);
@@ -48,7 +52,8 @@ TEST(BackgroundImageWriter, EveryImageLandsWholeAfterWait) {
                             nullptr));
   ASSERT_OK(writer.wait());
   for (int i = 0; i < 4; ++i)
-    EXPECT_EQ(read_rgba(dir.file(std::to_string(i) + ".png")), gradient(64, 48, uint8_t(i)).rgba);
+    EXPECT_EQ(read_rgba(dir.file(std::to_string(i) + ".png")),
+              rgba_of(gradient(64, 48, uint8_t(i))));
   EXPECT_EQ(dir.entry_count(), 4u);  // no temporary left behind
 }
 
@@ -76,6 +81,27 @@ TEST(BackgroundImageWriter, AFailedWriteSurfacesAtTheNextCall) {
   EXPECT_NE(error.find("taken.png"), std::string::npos) << error;
   EXPECT_OK(writer.wait());
   EXPECT_TRUE(std::filesystem::is_regular_file(dir.file("next.png")));
+}
+
+TEST(BackgroundImageWriter, HandsBackTheWrittenFrameForTheNextImage) {
+  // The previous image's buffers come back (the same storage, its pixels as written), so a
+  // caller rendering every step reuses them instead of allocating a frame per step.
+  ScratchDir dir;
+  BackgroundImageWriter writer;
+  const OutputConfig png;
+  Frame spare(1, 1);
+  Frame first = gradient(32, 16, 1);
+  const uint8_t *first_pixels = first.rgba.data();
+  ASSERT_OK(writer.submit(std::move(first), png, dir.file("a.png"), nullptr, &spare));
+  EXPECT_EQ(spare.width, 0);  // no image before the first
+  EXPECT_TRUE(spare.rgba.empty());
+  ASSERT_OK(writer.submit(gradient(32, 16, 2), png, dir.file("b.png"), nullptr, &spare));
+  EXPECT_EQ(spare.width, 32);
+  EXPECT_EQ(spare.height, 16);
+  EXPECT_EQ(spare.rgba.data(), first_pixels);
+  EXPECT_EQ(rgba_of(spare), rgba_of(gradient(32, 16, 1)));
+  ASSERT_OK(writer.wait());
+  EXPECT_EQ(read_rgba(dir.file("b.png")), rgba_of(gradient(32, 16, 2)));
 }
 
 }  // namespace

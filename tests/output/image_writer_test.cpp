@@ -90,7 +90,7 @@ TEST(ImageWriter, PngIsLosslessRgba8) {
   EXPECT_EQ(r.spec.width, frame.width);
   EXPECT_EQ(r.spec.height, frame.height);
   EXPECT_EQ(r.spec.nchannels, 4);
-  EXPECT_EQ(r.bytes, frame.rgba);
+  EXPECT_EQ(r.bytes, std::vector<uint8_t>(frame.rgba.begin(), frame.rgba.end()));
 }
 
 TEST(ImageWriter, TiffIsLosslessRgba8) {
@@ -100,7 +100,7 @@ TEST(ImageWriter, TiffIsLosslessRgba8) {
   ASSERT_OK(write_image(frame, output_as(ImageFormat::kTiff), path, to_distance));
   const ReadBack r = read_back(path);
   EXPECT_EQ(r.spec.nchannels, 4);
-  EXPECT_EQ(r.bytes, frame.rgba);
+  EXPECT_EQ(r.bytes, std::vector<uint8_t>(frame.rgba.begin(), frame.rgba.end()));
 }
 
 TEST(ImageWriter, JpegIsRgbWithinTolerance) {

@@ -266,6 +266,34 @@ TEST(PngBands, ContainerIsWellFormedWithMebibyteIdatChunks) {
   EXPECT_EQ(out_len, raw_len);
 }
 
+// stream_png hands out the file assemble_png builds, piece by piece (the root writes it to disk
+// that way, without a buffer of the whole file), and stops with kIo when the sink fails.
+TEST(PngBands, StreamedFileIsTheAssembledFileAndStopsWhenTheSinkFails) {
+  const Image img = noise_image(1024, 700, 5);  // several IDAT chunks
+  std::vector<PngBand> bands(3);
+  const int split[4] = {0, 250, 500, 700};
+  for (int b = 0; b < 3; ++b)
+    ASSERT_OK(deflate_png_band(img.rgba.data() + size_t(split[b]) * 1024 * 4, 1024,
+                               split[b + 1] - split[b], 4, b == 2, 1, &bands[size_t(b)]));
+  std::vector<uint8_t> whole, streamed;
+  ASSERT_OK(assemble_png(bands, 1024, 700, 4, &whole));
+  size_t calls = 0;
+  ASSERT_OK(stream_png(bands, 1024, 700, 4, [&](const uint8_t *p, size_t n) {
+    ++calls;
+    streamed.insert(streamed.end(), p, p + n);
+    return true;
+  }));
+  EXPECT_EQ(streamed, whole);
+  EXPECT_GT(calls, 3u);  // in pieces, not one buffer
+  for (const size_t stop_at : {size_t(1), size_t(3), calls - 1}) {
+    size_t seen = 0;
+    const Status s =
+        stream_png(bands, 1024, 700, 4, [&](const uint8_t *, size_t) { return ++seen < stop_at; });
+    EXPECT_EQ(s.code, StatusCode::kIo) << stop_at;
+    EXPECT_EQ(seen, stop_at);  // nothing more after the failure
+  }
+}
+
 TEST(PngBands, MismatchedBandsAreRejectedWithAMessage) {
   const Image img = rendered_image(16, 8, 9);
   const auto band = [&](int y0, int rows, bool last, int channels = 4, int width = 16) {

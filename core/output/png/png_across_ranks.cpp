@@ -1,9 +1,13 @@
 #include "core/output/png/png_across_ranks.h"
 
 #include <algorithm>
+#include <cerrno>
 #include <climits>
 #include <cstdint>
+#include <cstdio>
+#include <cstring>
 #include <exception>
+#include <filesystem>
 #include <thread>
 #include <vector>
 
@@ -16,6 +20,8 @@ namespace {
 
 constexpr int kChannels = 4;  // the frame's RGBA8 pixels
 constexpr int kHeaderWords = 4;
+constexpr int kBandTag = 0x4c70;  // + band: that band's compressed bytes, to the root
+constexpr int kRowsTag = 0x4c80;  // + band: that band's pixel rows, from the root
 
 // First row of band k of n over `height` rows (k == n gives height).
 int first_row(int k, int n, int height) {
@@ -52,12 +58,25 @@ int file_channels(const Frame &frame) {
   return 3;
 }
 
+// The file straight from the bands' pieces (stream_png): no buffer of the whole file.
 Status write_file(const std::vector<PngBand> &bands, int width, int height, int channels,
                   const std::string &path) {
-  std::vector<uint8_t> file;
-  if (Status s = assemble_png(bands, width, height, channels, &file); !s.ok())
-    return {StatusCode::kIo, "cannot encode " + path + ": " + s.message};
-  return write_bytes_atomically(path, file.data(), file.size());
+  Status encoded;
+  const std::string extension = std::filesystem::path(path).extension().string();
+  const Status written = write_atomically(path, extension, [&](const std::string &temp) -> Status {
+    std::FILE *f = std::fopen(temp.c_str(), "wb");
+    if (!f) return {StatusCode::kIo, std::strerror(errno)};
+    encoded = stream_png(bands, width, height, channels,
+                         [f](const uint8_t *p, size_t n) { return std::fwrite(p, 1, n, f) == n; });
+    const int error = std::ferror(f) ? errno : 0;
+    if (std::fclose(f) != 0 && encoded.ok()) return {StatusCode::kIo, std::strerror(errno)};
+    if (!encoded.ok() && encoded.code == StatusCode::kIo)
+      return {StatusCode::kIo, std::strerror(error != 0 ? error : EIO)};
+    return encoded;
+  });
+  if (!encoded.ok() && encoded.code != StatusCode::kIo)
+    return {StatusCode::kIo, "cannot encode " + path + ": " + encoded.message};
+  return written;
 }
 
 }  // namespace
@@ -102,74 +121,98 @@ Status write_png_across_ranks(MPI_Comm comm, int root, const Frame &frame, int w
   // Each rank's rows: those of its bands (none when there are more ranks than bands). Bands
   // are far below 2 GiB (16384 x 16384 RGBA is 1 GiB in all), so MPI's int counts suffice.
   const int64_t row_bytes = int64_t(width) * kChannels;
-  std::vector<int> counts(static_cast<size_t>(size)), offsets(static_cast<size_t>(size));
+  std::vector<int64_t> offsets(static_cast<size_t>(size));
   for (int r = 0; r < size; ++r) {
     const int b0 = first_band(r, size, n), b1 = first_band(r + 1, size, n);
     const int64_t first = first_row(b0, n, height), last = first_row(b1, n, height);
     if ((last - first) * row_bytes > INT_MAX || first * row_bytes > INT_MAX)
       return rank == root ? write_png(frame, level, path, 2) : Status();  // same on every rank
-    counts[size_t(r)] = int((last - first) * row_bytes);
-    offsets[size_t(r)] = int(first * row_bytes);
+    offsets[size_t(r)] = first * row_bytes;
   }
   int channels = rank == root ? file_channels(frame) : 4;
   MPI_Bcast(&channels, 1, MPI_INT, root, comm);
-  std::vector<uint8_t> mine(static_cast<size_t>(counts[size_t(rank)]));
-  MPI_Scatterv(rank == root ? frame.rgba.data() : nullptr, counts.data(), offsets.data(),
-               MPI_UINT8_T, mine.data(), counts[size_t(rank)], MPI_UINT8_T, root, comm);
-
+  // The root sends every other rank its bands' rows straight from the frame, a band per message,
+  // and compresses its own rows where they are; the others receive and compress a band at a
+  // time, so no rank holds a copy of its whole share.
   const int b0 = first_band(rank, size, n), b1 = first_band(rank + 1, size, n);
   std::vector<PngBand> bands(static_cast<size_t>(n));
-  const Status failure =
-      deflate_bands(mine.data(), width, height, n, b0, b1, level, channels, &bands);
-  std::vector<uint8_t>().swap(mine);
+  std::vector<MPI_Request> requests;
+  Status failure;
+  if (rank == root) {
+    for (int r = 0; r < size; ++r) {
+      if (r == root) continue;
+      for (int b = first_band(r, size, n); b < first_band(r + 1, size, n); ++b) {
+        const int64_t first = first_row(b, n, height), count = first_row(b + 1, n, height) - first;
+        if (count == 0) continue;
+        requests.emplace_back();
+        MPI_Isend(frame.rgba.data() + first * row_bytes, int(count * row_bytes), MPI_UINT8_T, r,
+                  kRowsTag + b, comm, &requests.back());
+      }
+    }
+    failure = deflate_bands(frame.rgba.data() + offsets[size_t(rank)], width, height, n, b0, b1,
+                            level, channels, &bands);
+    MPI_Waitall(int(requests.size()), requests.data(), MPI_STATUSES_IGNORE);
+    requests.clear();
+  } else {
+    int64_t most = 0;
+    for (int b = b0; b < b1; ++b)
+      most = std::max<int64_t>(most, first_row(b + 1, n, height) - first_row(b, n, height));
+    std::vector<uint8_t> rows(static_cast<size_t>(most * row_bytes));
+    for (int b = b0; b < b1; ++b) {
+      const int64_t count = first_row(b + 1, n, height) - first_row(b, n, height);
+      if (count == 0) continue;
+      MPI_Recv(rows.data(), int(count * row_bytes), MPI_UINT8_T, root, kRowsTag + b, comm,
+               MPI_STATUS_IGNORE);
+      if (failure.ok())
+        failure = deflate_bands(rows.data(), width, height, n, b, b + 1, level, channels, &bands);
+    }
+  }
 
   // Every rank sends a header per band (zeros for bands it does not own) plus a failure flag,
-  // then its bands' bytes back to back.
+  // then each of its non-empty bands' bytes as one message, which the root receives straight
+  // into that band (no gathered copy, no second copy into the bands).
   std::vector<int64_t> header(size_t(n) * kHeaderWords + 1, 0);
-  std::vector<uint8_t> bytes;
   for (int b = b0; b < b1; ++b) {
     const PngBand &p = bands[size_t(b)];
     int64_t *h = &header[size_t(b) * kHeaderWords];
     h[0] = int64_t(p.bytes.size()), h[1] = p.adler, h[2] = int64_t(p.raw_len), h[3] = p.rows;
-    bytes.insert(bytes.end(), p.bytes.begin(), p.bytes.end());
   }
   header.back() = failure.ok() ? 0 : 1;
   const int words = int(header.size());
   std::vector<int64_t> headers(rank == root ? size_t(size) * words : 0);
   MPI_Gather(header.data(), words, MPI_INT64_T, headers.data(), words, MPI_INT64_T, root, comm);
-  std::vector<int> piece_counts(static_cast<size_t>(size), 0),
-      piece_offsets(static_cast<size_t>(size), 0);
-  std::vector<uint8_t> pieces;
-  bool failed = false;
-  if (rank == root) {
-    int64_t total = 0;
-    for (int r = 0; r < size; ++r) {
-      piece_offsets[size_t(r)] = int(total);
-      for (int b = first_band(r, size, n); b < first_band(r + 1, size, n); ++b)
-        piece_counts[size_t(r)] += int(headers[size_t(r) * words + size_t(b) * kHeaderWords]);
-      total += piece_counts[size_t(r)];
-      failed |= headers[size_t(r) * words + size_t(words - 1)] != 0;
+  if (rank != root) {
+    for (int b = b0; b < b1; ++b) {
+      const std::vector<uint8_t> &bytes = bands[size_t(b)].bytes;
+      if (bytes.empty()) continue;
+      requests.emplace_back();
+      MPI_Isend(bytes.data(), int(bytes.size()), MPI_UINT8_T, root, kBandTag + b, comm,
+                &requests.back());
     }
-    pieces.resize(size_t(total));
+    MPI_Waitall(int(requests.size()), requests.data(), MPI_STATUSES_IGNORE);
+    return with_context("cannot encode a band of " + path + ": ", failure);
   }
-  MPI_Gatherv(bytes.data(), int(bytes.size()), MPI_UINT8_T, pieces.data(), piece_counts.data(),
-              piece_offsets.data(), MPI_UINT8_T, root, comm);
-  if (rank != root) return with_context("cannot encode a band of " + path + ": ", failure);
-  if (failed)
-    return {StatusCode::kIo, "cannot encode " + path + ": a rank failed to compress its band"};
-
-  size_t at = 0;
-  for (int r = 0; r < size; ++r)
+  bool failed = false;
+  for (int r = 0; r < size; ++r) failed |= headers[size_t(r) * words + size_t(words - 1)] != 0;
+  for (int r = 0; r < size; ++r) {
+    if (r == root) continue;
     for (int b = first_band(r, size, n); b < first_band(r + 1, size, n); ++b) {
       const int64_t *h = &headers[size_t(r) * words + size_t(b) * kHeaderWords];
       PngBand &p = bands[size_t(b)];
-      p.bytes.assign(pieces.begin() + long(at), pieces.begin() + long(at + size_t(h[0])));
-      at += size_t(h[0]);
+      p.bytes.resize(size_t(h[0]));
       p.adler = uint32_t(h[1]);
       p.raw_len = uint64_t(h[2]);
       p.rows = int(h[3]);
       p.last = b == n - 1;
+      if (p.bytes.empty()) continue;
+      requests.emplace_back();
+      MPI_Irecv(p.bytes.data(), int(p.bytes.size()), MPI_UINT8_T, r, kBandTag + b, comm,
+                &requests.back());
     }
+  }
+  MPI_Waitall(int(requests.size()), requests.data(), MPI_STATUSES_IGNORE);
+  if (failed)
+    return {StatusCode::kIo, "cannot encode " + path + ": a rank failed to compress its band"};
   return write_file(bands, width, height, channels, path);
 }
 

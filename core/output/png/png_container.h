@@ -12,7 +12,9 @@
 // buffers. Errors: assemble_png never throws and returns a Status.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -37,5 +39,14 @@ struct PngBand {
 // file does not fit in memory.
 Status assemble_png(const std::vector<PngBand> &bands, int width, int height, int channels_out,
                     std::vector<uint8_t> *file);
+
+// Receives a file's bytes in order, in pieces; false stops the file (an I/O error).
+using PngSink = std::function<bool(const uint8_t *data, size_t n)>;
+
+// The same bytes as assemble_png, handed to `put` in order without being gathered into one
+// buffer: the bands' compressed pieces pass straight through (a file's worth of memory less at
+// the root). Returns assemble_png's errors, or kIo when `put` returned false.
+Status stream_png(const std::vector<PngBand> &bands, int width, int height, int channels_out,
+                  const PngSink &put);
 
 }  // namespace lantern

@@ -135,7 +135,9 @@ std::vector<std::pair<uint8_t, uint8_t>> code_length_symbols(const uint8_t *leng
 }  // namespace
 
 void RunDeflater::reserve(size_t bytes) {
-  if (out_.size() < used_ + bytes) out_.resize(std::max(2 * out_.size(), used_ + bytes));
+  // A quarter more than asked: a few growths per piece, and at most a quarter of it unused
+  // (blocks come exactly sized, so doubling would leave up to half of the buffer idle).
+  if (out_.size() < used_ + bytes) out_.resize(used_ + bytes + used_ / 4);
 }
 
 void RunDeflater::put(uint64_t bits, int count) {
@@ -205,16 +207,23 @@ void RunDeflater::add_block(const uint8_t *data, size_t n, bool final) {
   int hclen = 19;
   while (hclen > 4 && cl_len[kCodeLengthOrder[size_t(hclen - 1)]] == 0) --hclen;
 
-  // Block header (RFC 1951 3.2.7); a literal takes at most 15 bits and a run at most 21 bits for
-  // 3 or more bytes, so 2 bytes per input byte bound the data.
-  reserve(2 * n + 1024);
+  // Block header (RFC 1951 3.2.7). The block's exact size in bits, from the code lengths and
+  // the symbol counts: the output grows by what the block takes, not by a bound on it.
+  static constexpr int kExtraBits[3] = {2, 3, 7};  // of symbols 16, 17, 18
+  uint64_t bits = 3 + 5 + 5 + 4 + 3 * uint64_t(hclen);
+  for (const auto &s : symbols)
+    bits += cl_len[s.first] + (s.first >= 16 ? kExtraBits[s.first - 16] : 0);
+  for (size_t k = 0; k < size_t(kLitLenSymbols); ++k) bits += uint64_t(lit_freq[k]) * lengths[k];
+  for (size_t c = 0; c < kLengthExtra.size(); ++c)
+    bits += uint64_t(lit_freq[257 + c]) * kLengthExtra[c];
+  bits += uint64_t(runs) * dist_len[0];
+  reserve(size_t(bits / 8) + 16);  // put() stores 4 bytes at a time
   put(final ? 1 : 0, 1);
   put(2, 2);  // dynamic Huffman codes
   put(uint64_t(nlit - 257), 5);
   put(uint64_t(2 - 1), 5);
   put(uint64_t(hclen - 4), 4);
   for (int k = 0; k < hclen; ++k) put(cl_len[kCodeLengthOrder[size_t(k)]], 3);
-  static constexpr int kExtraBits[3] = {2, 3, 7};  // of symbols 16, 17, 18
   for (const auto &[sym, extra] : symbols) {
     put(cl_code[sym], cl_len[sym]);
     if (sym >= 16) put(extra, kExtraBits[sym - 16]);

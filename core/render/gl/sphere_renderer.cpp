@@ -328,7 +328,7 @@ Status SphereRenderer::render(const RenderView &view, const SphereInstance *sphe
                               RenderTimings *timings) {
   Impl &m = *impl_;
   const auto t0 = std::chrono::steady_clock::now();
-  *frame = Frame(view.width, view.height);
+  frame->reset(view.width, view.height);
   const int tile_w = std::min(view.width, m.tile_limit);
   const int tile_h = std::min(view.height, m.tile_limit);
   if (Status s = m.ensure_framebuffer(tile_w, tile_h); !s.ok()) return s;

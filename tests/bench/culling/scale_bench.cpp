@@ -243,7 +243,16 @@ bool run_one(const ScaleOptions &opt, const std::string &scene, double millions,
   const double kept = max_over_ranks((after.rss_kib - before.rss_kib) * kib / double(local));
   const double peak_mib = max_over_ranks((after.hwm_kib - before.rss_kib) / kib);
   const double hwm_mib = max_over_ranks(after.hwm_kib / kib);
+  // Every rank's retained MiB and bytes per particle: which rank the maximum above comes from.
+  const double mine[2] = {(after.rss_kib - before.rss_kib) / kib,
+                          (after.rss_kib - before.rss_kib) * kib / double(local)};
+  std::vector<double> each(rank == 0 ? 2 * size_t(ranks) : 0);
+  MPI_Gather(mine, 2, MPI_DOUBLE, each.data(), 2, MPI_DOUBLE, 0, MPI_COMM_WORLD);
   if (rank != 0) return true;
+  std::printf("   retained by rank (MiB, B/p):");
+  for (int r = 0; r < ranks; ++r)
+    std::printf(" %d: %.1f, %.2f;", r, each[2 * size_t(r)], each[2 * size_t(r) + 1]);
+  std::printf("\n");
   if (!hwm_reset) std::printf("   (VmHWM could not be reset: peak includes the generation)\n");
   row->scene = name;
   row->particles = share.global;
