@@ -75,8 +75,7 @@ double density_transfer(double w, DensityTransfer transfer, const DensityRange &
 
 void map_density(const DensityImage &image, const DensityConfig &config, const Colormap &colormap,
                  const uint8_t background[4], Frame *frame) {
-  frame->reset(image.width, image.height);
-  frame->clear(background);
+  frame->reset(image.width, image.height, background);
   const bool transparent = background[3] == 0;  // background: transparent
   const DensityRange range = density_range(image, config);
   const size_t ch = size_t(image.channels);

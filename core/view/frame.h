@@ -42,6 +42,16 @@ struct Frame {
     std::fill(depth.begin(), depth.end(), 0.0f);
   }
 
+  // The same as reset(w, h) then clear(background_rgba), without zeroing the buffers first.
+  void reset(int w, int h, const uint8_t background_rgba[4]) {
+    const size_t pixels = size_t(w) * size_t(h);
+    if (rgba.size() != 4 * pixels || depth.size() != pixels)
+      *this = Frame(w, h);
+    else
+      width = w, height = h;
+    clear(background_rgba);
+  }
+
   size_t pixel_count() const { return size_t(width) * size_t(height); }
   size_t index(int x, int y) const { return size_t(y) * size_t(width) + size_t(x); }
 
