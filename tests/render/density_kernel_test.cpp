@@ -112,6 +112,29 @@ TEST(DensityKernel, ComputedTapsBeyondTheTableAreNormalised) {
   EXPECT_NEAR(double(sum_of(t)), 65536.0 * 0.56, 0.02 * 65536.0);
 }
 
+// place_all's widths at the table's boundaries: for 4 sigma^2 at each boundary 2^((i - 0.5) / 16)
+// of every octave of the table (and the octaves around it), one ulp below and one above,
+// place_all's k is index_of_variance()'s.
+TEST(DensityKernel, PlaceAllFindsTheWidthAtEveryBoundary) {
+  const DensityKernelTable &table = DensityKernelTable::get();
+  std::vector<double> sigma2;
+  for (int octave = -2; octave <= 18; ++octave)
+    for (int i = 0; i <= 17; ++i) {
+      const double x = std::ldexp(std::exp2((i - 0.5) / 16.0), octave);  // 4 sigma^2
+      for (const double v : {std::nextafter(x, 0.0), x, std::nextafter(x, HUGE_VAL)})
+        sigma2.push_back(v / 4.0);
+    }
+  const std::vector<double> px(sigma2.size(), 50.5), py(sigma2.size(), 40.25);
+  DensityPlacements all;
+  table.place_all(px.data(), py.data(), sigma2.data(), int(sigma2.size()), 100, 100, &all);
+  int steps = 0;
+  for (size_t i = 0; i < sigma2.size(); ++i) {
+    ASSERT_EQ(all.k[i], table.index_of_variance(sigma2[i])) << i << " sigma2 " << sigma2[i];
+    steps += i > 0 && all.k[i] != all.k[i - 1];
+  }
+  EXPECT_GT(steps, kDensitySigmaCount);  // every boundary of the table steps k
+}
+
 // place_all (the vectorised look-ups of a batch) gives index_of_variance(), then place() and
 // taps_at() per axis, integer for integer: for widths across the table and beyond it, centres
 // on, beside and far off the image, and non-finite ones; a count that is not a multiple of the
