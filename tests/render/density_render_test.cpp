@@ -423,6 +423,62 @@ TEST(DensityLevelOfDetail, WeightsKeepTheTotalIntensityAtTenPercent) {
   EXPECT_NEAR(tenth, full, 0.01 * full);
 }
 
+// Colours by type read from a type array of either datatype (int32, int64), with types beyond
+// the pass's table (negative, 64 and more, coloured by the palette's own lookup): the streamed
+// pass gives the sums of splat() particle by particle with recipe.color(), bit for bit.
+TEST(DensityPass, ColorsByTypeOfEveryDatatypeMatchOneSplatPerParticle) {
+  Camera camera;
+  const ViewGeometry g = ortho_geometry(&camera);
+  constexpr int kCount = 20000;
+  std::vector<double> xyz;
+  std::vector<int32_t> t32;
+  std::vector<int64_t> t64;
+  uint32_t h = 99;
+  const auto next = [&h] {
+    h ^= h << 13, h ^= h >> 17, h ^= h << 5;
+    return double(h) / 4294967296.0;
+  };
+  for (int i = 0; i < kCount; ++i) {
+    for (int k = 0; k < 3; ++k) xyz.push_back(1.0 + 8.0 * next());
+    const int type = i % 75 - 5;  // -5 .. 69
+    t32.push_back(type), t64.push_back(type);
+  }
+  for (const DataType datatype : {DataType::kInt32, DataType::kInt64}) {
+    ParticleDescription d{};
+    d.count = kCount;
+    d.position = {xyz.data(), DataType::kFloat64, 0};
+    d.type = {datatype == DataType::kInt32 ? static_cast<const void *>(t32.data())
+                                           : static_cast<const void *>(t64.data()),
+              datatype, 0};
+    ParticleArrays arrays;
+    ASSERT_TRUE(ParticleArrays::validate(d, &arrays).ok());
+    const BrickSet bricks = build_bricks(arrays, BrickOptions{});
+    SceneConfig scene;
+    scene.style = SceneStyle::kDensity;
+    scene.radius = 0.1;
+    scene.color.by = ColorBy::kType;
+    // Five colours: types t and t mod 64 differ in colour, as do -5 and 59.
+    scene.color.palette = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {1, 1, 0}, {0.2, 0.4, 0.6}};
+    BrickSelection sel;
+    const RadiusRule radius = radius_rule(scene, arrays);
+    select_density_bricks(bricks, camera, cull_settings(scene), radius, &sel, nullptr);
+    Extent ext;
+    ext.lo = {1, 1, 1}, ext.hi = {9, 9, 9};
+    const InstanceRecipe recipe = make_recipe(arrays, shading_settings(scene), radius, camera, ext);
+    DensityImage pass;
+    const CullStats st = render_density(arrays, bricks, cull_settings(scene), sel, recipe, &pass);
+    DensityImage one_by_one;
+    one_by_one.reset(g.width, g.height, 4);
+    DensitySplatter splat(sel.g, &one_by_one);
+    int64_t drawn = 0;
+    for (int64_t i = 0; i < kCount; ++i)
+      drawn += splat.splat(sel.g.to_view(arrays.position(i)), 0.1, 1.0, recipe.color(i));
+    EXPECT_EQ(st.drawn, drawn) << int(datatype);
+    EXPECT_EQ(drawn, kCount) << int(datatype);
+    EXPECT_TRUE(pass.sum == one_by_one.sum) << int(datatype);
+  }
+}
+
 // The density pass gives the sums of splat() called particle by particle, bit for bit, coloured
 // by type, through a cutting plane: at LOD 100 % (the particles streamed in published order,
 // binned by image tile) and at LOD 30 % (each brick's prefix gathered with prefetching,
