@@ -215,7 +215,8 @@ LANTERN_DENSITY_AVX512 int64_t add_units_placed(int64_t *image, int pitch_px, co
     // coherent order walks the image in rows of the lattice whose pixels the next rows reach
     // again only after the caches have let them go (fcc 10 M at 1024^2, alternated in one
     // process: about 7 % of the frame).
-    if (i + kAhead < count && p.count_x[at + kAhead] != 0) {
+    if (i + kAhead < count && p.count_x[at + kAhead] != 0 &&
+        p.count_x[at + kAhead] <= kUnitMaxWidth) {
       const int64_t *ahead =
           image + size_t(p.first_y[at + kAhead]) * pitch + size_t(p.first_x[at + kAhead]) * 4;
       for (int y = 0; y < p.count_y[at + kAhead]; ++y, ahead += pitch) {
