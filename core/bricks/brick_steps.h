@@ -100,7 +100,8 @@ inline void lay_out_brick(const uint64_t *words, const Brick &b, bool level_layo
     for (uint32_t k = 0; k < b.count; ++k) out[k] = word_index(w[k]);
     return;
   }
-  for_each_in_level_layout(b.count, [&](uint32_t j) { *out++ = word_index(w[j]); });
+  gather_in_level_layout(
+      b.count, [w](uint32_t j) { return word_index(w[j]); }, out);
 }
 
 }  // namespace lantern::brick_steps
