@@ -183,6 +183,20 @@ void clear_left_out_owners(const LeftOut &left_out, int64_t begin, int64_t end, 
     if (left_out.test(i)) owner[i] = kNoBrick;
 }
 
+// Asks for transparent huge pages for a fresh mapped block of `bytes` at `p`, before its first
+// write (the brick build's per-particle arrays).
+void ask_huge_pages(void *p, size_t bytes) {
+#if defined(MADV_HUGEPAGE)
+  if (bytes < kPageBlockBytes) return;  // from the heap, not mapped for it
+  const auto page = uintptr_t(4096);
+  const uintptr_t a = (reinterpret_cast<uintptr_t>(p) + page - 1) & ~(page - 1);
+  const uintptr_t b = (reinterpret_cast<uintptr_t>(p) + bytes) & ~(page - 1);
+  if (b > a) (void)madvise(reinterpret_cast<void *>(a), b - a, MADV_HUGEPAGE);
+#else
+  (void)p, (void)bytes;
+#endif
+}
+
 // A run of top cells handled as one: either one brick already (a cell above level 4 with at most
 // max_particles, covering top cells [cell_begin, cell_end)), or one top cell to split further.
 struct Unit {
@@ -410,6 +424,7 @@ BrickSet build_bricks(const ParticleArrays &particles, const BrickOptions &optio
       q = MortonQuantiser::for_bounds(set.lo, set.hi);
       // Pass 1: key prefixes and the top cells' counts.
       keys.resize(static_cast<size_t>(n));
+      ask_huge_pages(keys.data(), keys.size() * sizeof(uint32_t));
       LeftOut left_out;
       if (finite_count < n) left_out.bits.assign(size_t((n + 63) / 64), 0);
       const int64_t blocks = (n + 63) / 64;
@@ -436,6 +451,8 @@ BrickSet build_bricks(const ParticleArrays &particles, const BrickOptions &optio
         }
       }
       start[kTopCells] = sum;
+      set.order.reserve(sum);  // mapped, not yet written: huge pages before resize() zeroes it
+      ask_huge_pages(set.order.data(), size_t(sum) * sizeof(uint32_t));
       set.order.resize(sum);
       run_in_parts(parts, blocks, [&](int p, int64_t b, int64_t e) {
         scatter_pass(keys.data(), left_out, 64 * b, std::min(n, 64 * e), counts[size_t(p)],
