@@ -245,17 +245,20 @@ void sort_top_cell(uint64_t *w, size_t n, UninitializedBuffer<uint64_t> *scratch
     ++count[0][v & (kBuckets - 1)];
     ++count[1][(v >> kDigit) & (kBuckets - 1)];
   }
+  // A digit every word shares reorders nothing (checked before the sums replace the counts).
+  const bool sort[2] = {count[0][(w[0] >> 32) & (kBuckets - 1)] != n,
+                        count[1][(w[0] >> (32 + kDigit)) & (kBuckets - 1)] != n};
+  uint32_t sum0 = 0, sum1 = 0;  // both digits' exclusive sums in one walk over the buckets
+  for (size_t b = 0; b < kBuckets; ++b) {
+    const uint32_t k0 = count[0][b], k1 = count[1][b];
+    count[0][b] = sum0, count[1][b] = sum1;
+    sum0 += k0, sum1 += k1;
+  }
   uint64_t *src = w, *dst = scratch->data();
   for (int d = 0; d < 2; ++d) {
+    if (!sort[d]) continue;
     const int shift = 32 + d * kDigit;
     std::array<uint32_t, kBuckets> &c = count[size_t(d)];
-    if (c[(src[0] >> shift) & (kBuckets - 1)] == n) continue;  // every word shares the digit
-    uint32_t sum = 0;
-    for (uint32_t &x : c) {
-      const uint32_t k = x;
-      x = sum;
-      sum += k;
-    }
     for (size_t i = 0; i < n; ++i) dst[c[(src[i] >> shift) & (kBuckets - 1)]++] = src[i];
     std::swap(src, dst);
   }
