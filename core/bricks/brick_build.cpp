@@ -168,7 +168,15 @@ void scatter_pass(const uint32_t *keys, const LeftOut &left_out, int64_t begin, 
                   CellCounts at, uint32_t *order) {
   uint32_t *slot = at.data();
   if (left_out.bits.empty()) {
-    for (int64_t i = begin; i < end; ++i) order[slot[keys[i] >> kTopShift]++] = uint32_t(i);
+    // By runs of particles in one cell (a row of a crystal): its slot in a register meanwhile,
+    // where slot after slot chained each particle on a store and a reload of the same counter.
+    for (int64_t i = begin; i < end;) {
+      const uint32_t cell = keys[i] >> kTopShift;
+      uint32_t o = slot[cell];
+      do order[o++] = uint32_t(i++);
+      while (i < end && keys[i] >> kTopShift == cell);
+      slot[cell] = o;
+    }
     return;
   }
   for (int64_t i = begin; i < end; ++i)
