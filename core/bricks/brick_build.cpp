@@ -19,6 +19,7 @@
 #include <array>
 #include <atomic>
 #include <chrono>
+#include <cstring>
 #include <limits>
 #include <vector>
 
@@ -103,31 +104,50 @@ struct LeftOut {
 
 // Pass 1 over particles [64 block_begin, 64 block_end): key prefixes into keys[i], the top cells'
 // counts into *counts, left-out particles marked (blocks of 64 so parts share no mask word).
+// *negative_zero: whether a coordinate of a held particle may be -0 (bound_bricks).
 template <typename Positions, typename Keep>
 void key_pass(const Positions &pos, const Keep &keep, const MortonQuantiser &q, int64_t n,
               int64_t block_begin, int64_t block_end, uint32_t *keys, LeftOut *left_out,
-              CellCounts *counts) {
+              CellCounts *counts, bool *negative_zero) {
   counts->assign(kTopCells, 0);
   uint32_t *c = counts->data();
   const int64_t begin = 64 * block_begin, end = std::min(n, 64 * block_end);
   if (left_out->bits.empty()) {  // every particle kept and finite: no test in the loop
+    // Four count tables, one per lane of four: consecutive particles mostly fall in the same top
+    // cell, and one table chained every increment on the one before (a store and a reload).
+    std::vector<uint32_t> lanes(3 * kTopCells, 0);
+    uint32_t *c1 = lanes.data(), *c2 = c1 + kTopCells, *c3 = c2 + kTopCells;
+    uint64_t zero_sign = 0;  // set when some coordinate is -0: zero with its sign bit
+    const auto minus_zero = [](double v) {
+      uint64_t b;
+      std::memcpy(&b, &v, sizeof b);
+      return uint64_t(b == (uint64_t(1) << 63));
+    };
     int64_t i = begin;
     for (; i + 4 <= end; i += 4) {  // four at a time (MortonQuantiser::prefix4)
       double x[4], y[4], z[4];
       for (int k = 0; k < 4; ++k) {
         const glm::dvec3 p = pos.get(i + k);
         x[k] = p.x, y[k] = p.y, z[k] = p.z;
+        zero_sign |= minus_zero(p.x) | minus_zero(p.y) | minus_zero(p.z);
       }
-      q.prefix4(x, y, z, keys + i);
-      for (int k = 0; k < 4; ++k) ++c[keys[i + k] >> kTopShift];
+      uint32_t *key = keys + i;
+      q.prefix4(x, y, z, key);
+      ++c[key[0] >> kTopShift], ++c1[key[1] >> kTopShift];
+      ++c2[key[2] >> kTopShift], ++c3[key[3] >> kTopShift];
     }
     for (; i < end; ++i) {
-      const uint32_t k = q.prefix(pos.get(i));
+      const glm::dvec3 p = pos.get(i);
+      zero_sign |= minus_zero(p.x) | minus_zero(p.y) | minus_zero(p.z);
+      const uint32_t k = q.prefix(p);
       keys[i] = k;
       ++c[k >> kTopShift];
     }
+    for (size_t cell = 0; cell < kTopCells; ++cell) c[cell] += c1[cell] + c2[cell] + c3[cell];
+    *negative_zero = zero_sign != 0;
     return;
   }
+  *negative_zero = true;  // not looked for here: every zero bound is checked
   for (int64_t i = begin; i < end; ++i) {
     const glm::dvec3 p = pos.get(i);
     if (!keep.get(i) || !finite(p)) {
@@ -148,7 +168,15 @@ void scatter_pass(const uint32_t *keys, const LeftOut &left_out, int64_t begin, 
                   CellCounts at, uint32_t *order) {
   uint32_t *slot = at.data();
   if (left_out.bits.empty()) {
-    for (int64_t i = begin; i < end; ++i) order[slot[keys[i] >> kTopShift]++] = uint32_t(i);
+    // By runs of particles in one cell (a row of a crystal): its slot in a register meanwhile,
+    // where slot after slot chained each particle on a store and a reload of the same counter.
+    for (int64_t i = begin; i < end;) {
+      const uint32_t cell = keys[i] >> kTopShift;
+      uint32_t o = slot[cell];
+      do order[o++] = uint32_t(i++);
+      while (i < end && keys[i] >> kTopShift == cell);
+      slot[cell] = o;
+    }
     return;
   }
   for (int64_t i = begin; i < end; ++i)
@@ -161,6 +189,20 @@ void clear_left_out_owners(const LeftOut &left_out, int64_t begin, int64_t end, 
   if (left_out.bits.empty()) return;
   for (int64_t i = begin; i < end; ++i)
     if (left_out.test(i)) owner[i] = kNoBrick;
+}
+
+// Asks for transparent huge pages for a fresh mapped block of `bytes` at `p`, before its first
+// write (the brick build's per-particle arrays).
+void ask_huge_pages(void *p, size_t bytes) {
+#if defined(MADV_HUGEPAGE)
+  if (bytes < kPageBlockBytes) return;  // from the heap, not mapped for it
+  const auto page = uintptr_t(4096);
+  const uintptr_t a = (reinterpret_cast<uintptr_t>(p) + page - 1) & ~(page - 1);
+  const uintptr_t b = (reinterpret_cast<uintptr_t>(p) + bytes) & ~(page - 1);
+  if (b > a) (void)madvise(reinterpret_cast<void *>(a), b - a, MADV_HUGEPAGE);
+#else
+  (void)p, (void)bytes;
+#endif
 }
 
 // A run of top cells handled as one: either one brick already (a cell above level 4 with at most
@@ -193,7 +235,8 @@ void plan_units(const std::vector<uint32_t> &start, int level, uint32_t cell, ui
 
 // Sorts words [a, b) of one top cell - all share its top prefix bits and are in index order - by
 // value, i.e. by (prefix, index): an LSD radix sort on the 20 prefix bits below the top cell's,
-// in cache, skipping digits every word shares; std::sort for a few words.
+// in cache, in two 10-bit digits counted in one read, skipping a digit every word shares;
+// std::sort for a few words.
 void sort_top_cell(uint64_t *w, size_t n, UninitializedBuffer<uint64_t> *scratch) {
   if (n < 64) {
     std::sort(w, w + n);
@@ -201,20 +244,30 @@ void sort_top_cell(uint64_t *w, size_t n, UninitializedBuffer<uint64_t> *scratch
   }
   constexpr int kDigit = 10;
   constexpr size_t kBuckets = size_t(1) << kDigit;
+  static_assert(kTopShift == 2 * kDigit, "two digits cover the prefix bits below a top cell");
   scratch->resize(std::max(scratch->size(), n));
-  std::array<uint32_t, kBuckets> count;
+  std::array<std::array<uint32_t, kBuckets>, 2> count;
+  count[0].fill(0), count[1].fill(0);
+  for (size_t i = 0; i < n; ++i) {
+    const uint64_t v = w[i] >> 32;
+    ++count[0][v & (kBuckets - 1)];
+    ++count[1][(v >> kDigit) & (kBuckets - 1)];
+  }
+  // A digit every word shares reorders nothing (checked before the sums replace the counts).
+  const bool sort[2] = {count[0][(w[0] >> 32) & (kBuckets - 1)] != n,
+                        count[1][(w[0] >> (32 + kDigit)) & (kBuckets - 1)] != n};
+  uint32_t sum0 = 0, sum1 = 0;  // both digits' exclusive sums in one walk over the buckets
+  for (size_t b = 0; b < kBuckets; ++b) {
+    const uint32_t k0 = count[0][b], k1 = count[1][b];
+    count[0][b] = sum0, count[1][b] = sum1;
+    sum0 += k0, sum1 += k1;
+  }
   uint64_t *src = w, *dst = scratch->data();
-  for (int shift = 32; shift < 32 + kTopShift; shift += kDigit) {
-    count.fill(0);
-    for (size_t i = 0; i < n; ++i) ++count[(src[i] >> shift) & (kBuckets - 1)];
-    if (count[(src[0] >> shift) & (kBuckets - 1)] == n) continue;  // every word shares the digit
-    uint32_t sum = 0;
-    for (uint32_t &c : count) {
-      const uint32_t k = c;
-      c = sum;
-      sum += k;
-    }
-    for (size_t i = 0; i < n; ++i) dst[count[(src[i] >> shift) & (kBuckets - 1)]++] = src[i];
+  for (int d = 0; d < 2; ++d) {
+    if (!sort[d]) continue;
+    const int shift = 32 + d * kDigit;
+    std::array<uint32_t, kBuckets> &c = count[size_t(d)];
+    for (size_t i = 0; i < n; ++i) dst[c[(src[i] >> shift) & (kBuckets - 1)]++] = src[i];
     std::swap(src, dst);
   }
   if (src != w) std::copy(src, src + n, w);
@@ -237,8 +290,13 @@ void build_units(const Positions &pos, const MortonQuantiser &q, const std::vect
     const uint32_t n = unit.b - unit.a;
     if (words.size() < n) words.resize(n);
     uint64_t *w = words.data();
+    // The prefixes are read in index order but with gaps (a cell's particles are rows of the
+    // host's arrays): asked for a few dozen particles ahead.
+    const uint32_t *idx = order + unit.a;
+    constexpr uint32_t kAhead = 32;
     for (uint32_t k = 0; k < n; ++k) {
-      const uint32_t i = order[unit.a + k];
+      if (k + kAhead < n) __builtin_prefetch(keys + idx[k + kAhead]);
+      const uint32_t i = idx[k];
       w[k] = uint64_t(keys[i]) << 32 | i;
     }
     for (uint32_t c = unit.cell_begin; c < unit.cell_end; ++c)
@@ -263,9 +321,10 @@ void build_units(const Positions &pos, const MortonQuantiser &q, const std::vect
 }
 
 // Every brick's bounds and largest radius: streaming the positions through set->runs where the
-// set has them, else brick by brick.
+// set has them, else brick by brick. negative_zero: whether a held coordinate may be -0.
 template <typename Positions, typename Radii>
-void bound_bricks(const Positions &pos, const Radii &radius, int threads, BrickSet *set) {
+void bound_bricks(const Positions &pos, const Radii &radius, int threads, bool negative_zero,
+                  BrickSet *set) {
   const auto by_brick = [&](size_t b) {
     Brick &br = set->bricks[b];
     bound_brick(pos, radius, set->has_radius, set->order.data() + br.first, br.count, &br);
@@ -280,7 +339,9 @@ void bound_bricks(const Positions &pos, const Radii &radius, int threads, BrickS
   const std::vector<BrickScan> scans = scan_runs(
       pos, radius, KeepAll{}, set->has_radius, std::numeric_limits<int64_t>::max(), *set, threads);
   for (size_t b = 0; b < scans.size(); ++b) {
-    if (has_zero_bound(scans[b])) {  // -0 or +0: the brick's own order decides, as it always did
+    // A bound of zero is -0 or +0 as the brick's own order decides, as it always did - unless no
+    // held coordinate is -0: then every zero is +0 and the order changes no bit.
+    if (negative_zero && has_zero_bound(scans[b])) {
       by_brick(b);
       continue;
     }
@@ -355,6 +416,7 @@ BrickSet build_bricks(const ParticleArrays &particles, const BrickOptions &optio
   UninitializedBuffer<uint32_t> keys;  // each particle's key prefix, then its brick (its owner)
   std::vector<uint32_t> start(kTopCells + 1, 0);  // each top cell's first slot
   MortonQuantiser q;
+  bool negative_zero = true;  // whether a held particle may have a coordinate of -0
   visit_positions(particles, [&](const auto &pos) {
     visit_kept(particles, [&](const auto &keep) {
       int64_t finite_count = 0;
@@ -373,14 +435,19 @@ BrickSet build_bricks(const ParticleArrays &particles, const BrickOptions &optio
       q = MortonQuantiser::for_bounds(set.lo, set.hi);
       // Pass 1: key prefixes and the top cells' counts.
       keys.resize(static_cast<size_t>(n));
+      ask_huge_pages(keys.data(), keys.size() * sizeof(uint32_t));
       LeftOut left_out;
       if (finite_count < n) left_out.bits.assign(size_t((n + 63) / 64), 0);
       const int64_t blocks = (n + 63) / 64;
       const int parts = parts_for(threads, n, kParticlesPerThread);
       std::vector<CellCounts> counts(static_cast<size_t>(parts));
+      std::vector<char> minus_zero(static_cast<size_t>(parts), 0);
       run_in_parts(parts, blocks, [&](int p, int64_t b, int64_t e) {
-        key_pass(pos, keep, q, n, b, e, keys.data(), &left_out, &counts[size_t(p)]);
+        bool z = true;
+        key_pass(pos, keep, q, n, b, e, keys.data(), &left_out, &counts[size_t(p)], &z);
+        minus_zero[size_t(p)] = z;
       });
+      negative_zero = std::find(minus_zero.begin(), minus_zero.end(), 1) != minus_zero.end();
       t.keys_ms = ms_since(t0);
       t0 = Clock::now();
       // Pass 2: each part scatters from its own slots, after the earlier parts' particles of the
@@ -395,6 +462,8 @@ BrickSet build_bricks(const ParticleArrays &particles, const BrickOptions &optio
         }
       }
       start[kTopCells] = sum;
+      set.order.reserve(sum);  // mapped, not yet written: huge pages before resize() zeroes it
+      ask_huge_pages(set.order.data(), size_t(sum) * sizeof(uint32_t));
       set.order.resize(sum);
       run_in_parts(parts, blocks, [&](int p, int64_t b, int64_t e) {
         scatter_pass(keys.data(), left_out, 64 * b, std::min(n, 64 * e), counts[size_t(p)],
@@ -439,8 +508,9 @@ BrickSet build_bricks(const ParticleArrays &particles, const BrickOptions &optio
   t.cells_ms = ms_since(t0);
   t0 = Clock::now();
   visit_positions(particles, [&](const auto &pos) {
-    visit_radii(particles, true, 0.0,
-                [&](const auto &radius) { bound_bricks(pos, radius, threads, &set); });
+    visit_radii(particles, true, 0.0, [&](const auto &radius) {
+      bound_bricks(pos, radius, threads, negative_zero, &set);
+    });
   });
   t.bounds_ms += ms_since(t0);
   set.spread_at_build = set.spread();

@@ -284,6 +284,25 @@ TEST(Bricks, RefitRepairsWrappedAndMigratedParticles) {
   expect_valid_bricks(shrunk, borrow(fewer));
 }
 
+// The build's branch-free gather (8 bit-reversed positions at a time, then one by one) against
+// the plain walk over the bit-reversed counter, at every size up to a few bricks and around powers
+// of two; no slot past n - 1 is written.
+TEST(LevelLayout, GatherIsTheWalkOverTheBitReversedCounter) {
+  std::vector<uint32_t> sizes;
+  for (uint32_t n = 0; n <= 2100; ++n) sizes.push_back(n);
+  for (const uint32_t p : {4096u, 65536u}) sizes.insert(sizes.end(), {p - 1, p, p + 1, p + 7});
+  for (const uint32_t n : sizes) {
+    std::vector<uint32_t> want;
+    for_each_in_level_layout(n, [&](uint32_t j) { want.push_back(j * 3 + 1); });
+    std::vector<uint32_t> got(size_t(n) + 1, 0xdeadbeefu);
+    gather_in_level_layout(
+        n, [](uint32_t j) { return j * 3 + 1; }, got.data());
+    ASSERT_EQ(got.back(), 0xdeadbeefu) << n;
+    got.pop_back();
+    ASSERT_EQ(got, want) << n;
+  }
+}
+
 TEST(LevelLayout, MatchesFigure3OfRizzi2015) {
   // Eight particles in z-order 0..7: L0 = {0}, L1 = {4}, L2 = {2, 6}, L3 = {1, 5, 3, 7}.
   std::vector<uint32_t> items{0, 1, 2, 3, 4, 5, 6, 7}, scratch;
