@@ -74,7 +74,9 @@ TEST(IndexRuns, CutsRunsAtBlockBoundaries) {
   PageVector<uint64_t> in_other;
   const IndexRuns runs = runs_of_owners(owner.data(), n, n, &in_other);
   const std::vector<IndexRun> expected = {
-      {0, 3, kNoBrick},      {kBlock, 3, kNoBrick},        {2 * kBlock, 3, kNoBrick},
+      {0, 3, kNoBrick},
+      {kBlock, 3, kNoBrick},
+      {2 * kBlock, 3, kNoBrick},
       {3 * kBlock, 3, 9},  // brick 3's last half block, then the first of brick 9
       {3 * kBlock + kBlock / 2 + 1, 7, 9},
       {4 * kBlock, 9, 7},  // cut at the block: the same two bricks, now 9 first
@@ -134,10 +136,10 @@ TEST(IndexRuns, RunsOfRandomOwnersAreExactAndMaximal) {
       ASSERT_EQ(other_seen, r.other != kNoBrick) << "run " << k;
       if (stop == n || stop % kBlock == 0) continue;
       const uint32_t next = owner[size_t(stop)];
-      const bool could_take = r.brick == kNoBrick ? next == kNoBrick
-                                                  : next != kNoBrick && (next == r.brick ||
-                                                                         next == r.other ||
-                                                                         r.other == kNoBrick);
+      const bool could_take =
+          r.brick == kNoBrick
+              ? next == kNoBrick
+              : next != kNoBrick && (next == r.brick || next == r.other || r.other == kNoBrick);
       ASSERT_FALSE(could_take) << "run " << k << " stops short at " << stop;
     }
   }
