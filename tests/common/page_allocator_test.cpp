@@ -79,8 +79,8 @@ TEST(PageAllocator, FramesAndBrickSetsReleaseTheirPages) {
   {
     BrickSet set;
     set.order.assign(size_t(12 * kMiB) / sizeof(uint32_t), 5);
-    for (uint32_t k = 0; k < uint32_t(3 * kMiB / 8); ++k)  // 8 bytes a run
-      set.runs.push_back({k * IndexRuns::kBlock, k % 7, kNoBrick});
+    for (uint32_t k = 0; k < uint32_t(3 * kMiB / 8); ++k)  // 8 bytes a run, 8 indices long
+      set.runs.push_back({k * 8, k % 7, kNoBrick});
     set.in_other.assign(size_t(2 * kMiB) / sizeof(uint64_t), 1);
     ASSERT_GE(resident_bytes() - before, 16 * kMiB);
   }
