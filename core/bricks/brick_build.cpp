@@ -350,31 +350,6 @@ void bound_bricks(const Positions &pos, const Radii &radius, int threads, bool n
   }
 }
 
-// Replaces each run's owner - its brick's first slot - by the brick's number. The bricks' first
-// slots increase with their numbers; a table of the first brick at or after every 1024th slot
-// leaves a few entries to step over (a binary search over the bricks with a cache of recent
-// answers cost a tenth of the build at 100 M particles, where a gas's runs visit its bricks in
-// random order).
-void number_bricks(const std::vector<Brick> &bricks, int64_t slots, PageVector<IndexRun> *runs) {
-  constexpr int kShift = 10;
-  std::vector<uint32_t> first(bricks.size() + 1);
-  for (size_t b = 0; b < bricks.size(); ++b) first[b] = bricks[b].first;
-  first[bricks.size()] = ~0u;  // a sentinel past every slot
-  std::vector<uint32_t> at(size_t(slots >> kShift) + 1);
-  uint32_t b = 0;
-  for (size_t k = 0; k < at.size(); ++k) {
-    while (first[b] < (uint64_t(k) << kShift)) ++b;
-    at[k] = b;
-  }
-  const auto number = [&](uint32_t *owner) {
-    if (*owner == kNoBrick) return;
-    uint32_t n = at[*owner >> kShift];
-    while (first[n] < *owner) ++n;
-    *owner = n;
-  };
-  for (IndexRun &r : *runs) number(&r.brick), number(&r.other);
-}
-
 }  // namespace
 
 namespace brick_steps {
@@ -501,8 +476,7 @@ BrickSet build_bricks(const ParticleArrays &particles, const BrickOptions &optio
       std::vector<Brick>().swap(b);
     }
     // The owners are the bricks' first slots: runs in index order, then brick numbers.
-    set.runs = runs_of_owners(keys.data(), n, set.particle_count(), &set.in_other);
-    number_bricks(set.bricks, set.particle_count(), &set.runs);
+    set.runs = runs_of_owners(keys.data(), n, set.particle_count(), &set.in_other, &set.bricks);
   }
   UninitializedBuffer<uint32_t>().swap(keys);
   t.cells_ms = ms_since(t0);

@@ -3,7 +3,7 @@
 //
 // The simulation's arrays are never moved: a BrickSet holds a permutation of uint32 indices into
 // them (4 bytes per particle), the runs of consecutive indices per brick when they are long enough
-// to pay (12 bytes a run and a bit per particle, at most 3.1 bytes per particle; index_runs.h)
+// to pay (8 bytes a run and a bit per particle, at most 2.1 bytes per particle; index_runs.h)
 // and a few dozen bytes per brick.
 // Building it peaks at 8 bytes per particle (each particle's key, later its brick; the
 // permutation, which first holds the indices scattered to their top octree cells) plus the runs.
@@ -47,6 +47,108 @@ struct IndexRun {
   uint32_t first = 0, brick = 0, other = ~0u;
 };
 
+// A list of IndexRun in index order, 8 bytes a run (12 unpacked): each run's start as an offset
+// into its block of kBlock indices, its brick and other brick in kBrickBits each, and the first
+// run of every block in a table. Runs never cross a block boundary (a run that would is cut
+// there, at most one extra run per kBlock indices), so every block starts a run. Bricks numbered
+// above kLargestBrick cannot be stored (the set then keeps no runs and a refit gathers).
+class IndexRuns {
+ public:
+  static constexpr int kOffsetBits = 12;
+  static constexpr int kBrickBits = 26;
+  static constexpr uint32_t kBlock = 1u << kOffsetBits;
+  static constexpr uint32_t kLargestBrick = (1u << kBrickBits) - 2;  // all ones: no brick
+
+  size_t size() const { return packed_.size(); }
+  bool empty() const { return packed_.empty(); }
+  // Run k, unpacked (a search over the blocks: for loops, visit()).
+  IndexRun operator[](size_t k) const;
+  IndexRun front() const { return (*this)[0]; }
+  IndexRun back() const { return (*this)[size() - 1]; }
+  // f(first, stop, brick, other) for runs [begin, end) (each needs its successor: end < size()).
+  template <typename F>
+  void visit(size_t begin, size_t end, const F &f) const;
+  // Run after run, unpacked (range-for).
+  class Iterator {
+   public:
+    Iterator(const IndexRuns *runs, size_t k) : runs_(runs), k_(k) {}
+    IndexRun operator*() const { return (*runs_)[k_]; }
+    Iterator &operator++() {
+      ++k_;
+      return *this;
+    }
+    bool operator!=(const Iterator &o) const { return k_ != o.k_; }
+
+   private:
+    const IndexRuns *runs_;
+    size_t k_;
+  };
+  Iterator begin() const { return {this, 0}; }
+  Iterator end() const { return {this, size()}; }
+
+  void clear() {
+    PageVector<uint64_t>().swap(packed_);
+    std::vector<uint32_t>().swap(block_first_);
+  }
+  void reserve(size_t runs) { packed_.reserve(runs); }
+  // Appends a run starting after the last one, in the same block or at the start of the next;
+  // brick and other at most kLargestBrick or ~0u.
+  void push_back(const IndexRun &run) {
+    const uint32_t offset = run.first & (kBlock - 1);
+    if (offset == 0) block_first_.push_back(uint32_t(packed_.size()));
+    packed_.push_back(uint64_t(offset) | uint64_t(run.brick & kMask) << kOffsetBits |
+                      uint64_t(run.other & kMask) << (kOffsetBits + kBrickBits));
+  }
+
+ private:
+  static constexpr uint32_t kMask = (1u << kBrickBits) - 1;
+  static uint32_t unpack_brick(uint64_t w, int shift) {
+    const auto b = uint32_t(w >> shift) & kMask;
+    return b == kMask ? ~0u : b;
+  }
+  // The block of run k: the last block whose first run is at or before k.
+  uint32_t block_of(size_t k) const;
+
+  PageVector<uint64_t> packed_;
+  std::vector<uint32_t> block_first_;  // the first run of each block
+};
+
+inline uint32_t IndexRuns::block_of(size_t k) const {
+  size_t lo = 0, hi = block_first_.size();  // block_first_[0] == 0 <= k
+  while (hi - lo > 1) {
+    const size_t mid = (lo + hi) / 2;
+    if (block_first_[mid] <= k)
+      lo = mid;
+    else
+      hi = mid;
+  }
+  return uint32_t(lo);
+}
+
+inline IndexRun IndexRuns::operator[](size_t k) const {
+  const uint64_t w = packed_[k];
+  IndexRun r;
+  r.first = block_of(k) << kOffsetBits | uint32_t(w & (kBlock - 1));
+  r.brick = unpack_brick(w, kOffsetBits);
+  r.other = unpack_brick(w, kOffsetBits + kBrickBits);
+  return r;
+}
+
+template <typename F>
+void IndexRuns::visit(size_t begin, size_t end, const F &f) const {
+  if (begin >= end) return;
+  uint32_t block = block_of(begin);
+  uint32_t first = block << kOffsetBits | uint32_t(packed_[begin] & (kBlock - 1));
+  for (size_t k = begin; k < end; ++k) {
+    const uint64_t w = packed_[k], next = packed_[k + 1];
+    const uint32_t offset = uint32_t(next & (kBlock - 1));
+    if (offset == 0) ++block;  // the next run starts the next block
+    const uint32_t stop = block << kOffsetBits | offset;
+    f(first, stop, unpack_brick(w, kOffsetBits), unpack_brick(w, kOffsetBits + kBrickBits));
+    first = stop;
+  }
+}
+
 struct BrickOptions {
   uint32_t max_particles = 1024;  // a brick never holds more (see the note on BrickSet)
   bool level_layout = true;       // z-order level layout inside bricks (prefix = uniform sample)
@@ -62,7 +164,7 @@ struct BrickSet {
   // The bricks' particles as runs of consecutive indices, in index order and closed by a run of
   // no brick, for refits that stream the positions (index_runs.h); empty where runs would be too
   // short to pay. in_other: a bit per index, set where a run's particle is in its `other` brick.
-  PageVector<IndexRun> runs;
+  IndexRuns runs;
   PageVector<uint64_t> in_other;
   glm::dvec3 lo{0.0}, hi{0.0};  // bounds of the finite centres (lo > hi when there are none)
   int64_t nonfinite = 0;        // kept particles left out for a NaN or infinite coordinate

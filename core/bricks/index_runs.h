@@ -35,8 +35,8 @@
 
 namespace lantern {
 
-// Runs shorter than this on average are not kept (12 bytes a run and a bit per particle: at most
-// 3.1 bytes per particle). A crystal in lattice order gives about 10-40 (a row of two bricks; the
+// Runs shorter than this on average are not kept (8 bytes a run and a bit per particle: at most
+// 2.1 bytes per particle). A crystal in lattice order gives about 10-40 (a row of two bricks; the
 // shorter where the octree's cells leave bricks of a few hundred particles). Streaming even runs
 // of 4-8 beats gathering brick by brick: at 100 M particles (lantern-bench --scale, the crystal
 // beside a gas, whose bricks average 155 particles and whose runs 7.5) a refit took 6.9 passes
@@ -48,10 +48,14 @@ inline constexpr uint32_t kNoBrick = ~0u;
 
 // The runs of owner[0, n) (a brick number per index, kNoBrick for none) in index order, closed by a
 // run of no brick at n, with their in_other bits (*in_other, a bit per index); each run as long as
-// its particles belong to at most two bricks. None (both empty) when they would average fewer
-// than kMinMeanRun of the `held` indices that have an owner.
-PageVector<IndexRun> runs_of_owners(const uint32_t *owner, int64_t n, int64_t held,
-                                    PageVector<uint64_t> *in_other);
+// its particles belong to at most two bricks, and cut at every IndexRuns::kBlock-th index. None
+// (both empty) when they would average fewer than kMinMeanRun of the `held` indices that have an
+// owner, or when a brick is numbered above IndexRuns::kLargestBrick. With `numbered_by`, the
+// owners are the bricks' first slots (Brick::first of `*numbered_by`, increasing with the brick
+// numbers), and the runs get the bricks' numbers.
+IndexRuns runs_of_owners(const uint32_t *owner, int64_t n, int64_t held,
+                         PageVector<uint64_t> *in_other,
+                         const std::vector<Brick> *numbered_by = nullptr);
 
 // The runs of `set` from scratch (after a refit moved particles between bricks) into set->runs and
 // set->in_other, or none when too short to pay. Needs a temporary of 4 bytes per index below
@@ -141,7 +145,7 @@ void scan_stretch(const Positions &pos, const Radii &radius, bool has_radius, co
 template <typename Positions, typename Radii, typename Keep>
 std::vector<BrickScan> scan_runs(const Positions &pos, const Radii &radius, const Keep &keep,
                                  bool has_radius, int64_t count, const BrickSet &set, int threads) {
-  const PageVector<IndexRun> &runs = set.runs;
+  const IndexRuns &runs = set.runs;
   const int parts = parts_for(threads, set.particle_count(), int64_t(1) << 16);
   std::vector<std::vector<BrickScan>> part(static_cast<size_t>(parts));
   const int64_t stretches = runs.empty() ? 0 : int64_t(runs.size()) - 1;  // the last closes
@@ -149,49 +153,48 @@ std::vector<BrickScan> scan_runs(const Positions &pos, const Radii &radius, cons
   run_in_parts(parts, stretches, [&](int p, int64_t begin, int64_t end) {
     std::vector<BrickScan> &acc = part[size_t(p)];
     acc.assign(set.bricks.size(), BrickScan{});
-    for (int64_t k = begin; k < end; ++k) {
-      const IndexRun &run = runs[size_t(k)];
-      if (run.brick == kNoBrick) continue;
-      const int64_t first = run.first, stop = runs[size_t(k) + 1].first;
-      const int64_t last = std::min<int64_t>(stop, count);
-      const auto in_other = [bits](int64_t i) { return (bits[i >> 6] >> (i & 63) & 1) != 0; };
-      // Indices past the particle count are no longer published: their brick does not fit.
-      for (int64_t i = last; i < stop; ++i)
-        acc[run.other != kNoBrick && in_other(i) ? run.other : run.brick].all_published = false;
-      if constexpr (std::is_same_v<Keep, KeepAll>) {
-        BrickScan *const two[2] = {&acc[run.brick],
-                                   run.other == kNoBrick ? nullptr : &acc[run.other]};
-        scan_stretch(pos, radius, has_radius, two[1] ? bits : nullptr, first, last, two);
-        continue;
-      }
-      // With a group: a branch per particle on whether it is kept.
-      // The run's bricks in locals (registers), written back after the run.
-      BrickScan a = acc[run.brick];
-      const auto add = [&](BrickScan &s, int64_t i) {
-        if (!keep.get(i)) {
-          s.all_published = false;
-          return;
-        }
-        const glm::dvec3 x = pos.get(i);
-        // x - x is 0 for finite x and NaN otherwise: a test without branches.
-        s.finite &= (x.x - x.x == 0.0) & (x.y - x.y == 0.0) & (x.z - x.z == 0.0);
-        s.lo = glm::min(s.lo, x), s.hi = glm::max(s.hi, x);
-        if (has_radius) s.r = std::max(s.r, radius.get(i));
-      };
-      if (run.other == kNoBrick) {
-        for (int64_t i = first; i < last; ++i) add(a, i);
-      } else {
-        BrickScan b = acc[run.other];
-        for (int64_t i = first; i < last; ++i) {
-          if (in_other(i))
-            add(b, i);
-          else
-            add(a, i);
-        }
-        acc[run.other] = b;
-      }
-      acc[run.brick] = a;
-    }
+    runs.visit(
+        size_t(begin), size_t(end),
+        [&](int64_t first, int64_t stop, uint32_t brick, uint32_t other) {
+          if (brick == kNoBrick) return;
+          const int64_t last = std::min<int64_t>(stop, count);
+          const auto in_other = [bits](int64_t i) { return (bits[i >> 6] >> (i & 63) & 1) != 0; };
+          // Indices past the particle count are no longer published: their brick does not fit.
+          for (int64_t i = last; i < stop; ++i)
+            acc[other != kNoBrick && in_other(i) ? other : brick].all_published = false;
+          if constexpr (std::is_same_v<Keep, KeepAll>) {
+            BrickScan *const two[2] = {&acc[brick], other == kNoBrick ? nullptr : &acc[other]};
+            scan_stretch(pos, radius, has_radius, two[1] ? bits : nullptr, first, last, two);
+            return;
+          }
+          // With a group: a branch per particle on whether it is kept.
+          // The run's bricks in locals (registers), written back after the run.
+          BrickScan a = acc[brick];
+          const auto add = [&](BrickScan &s, int64_t i) {
+            if (!keep.get(i)) {
+              s.all_published = false;
+              return;
+            }
+            const glm::dvec3 x = pos.get(i);
+            // x - x is 0 for finite x and NaN otherwise: a test without branches.
+            s.finite &= (x.x - x.x == 0.0) & (x.y - x.y == 0.0) & (x.z - x.z == 0.0);
+            s.lo = glm::min(s.lo, x), s.hi = glm::max(s.hi, x);
+            if (has_radius) s.r = std::max(s.r, radius.get(i));
+          };
+          if (other == kNoBrick) {
+            for (int64_t i = first; i < last; ++i) add(a, i);
+          } else {
+            BrickScan b = acc[other];
+            for (int64_t i = first; i < last; ++i) {
+              if (in_other(i))
+                add(b, i);
+              else
+                add(a, i);
+            }
+            acc[other] = b;
+          }
+          acc[brick] = a;
+        });
   });
   std::vector<BrickScan> all = std::move(part[0]);
   for (size_t p = 1; p < part.size(); ++p)

@@ -25,9 +25,12 @@
 
 namespace lantern {
 
-// Blocks from this size on are mapped directly (a mapping costs a system call and its page
-// faults; below a MiB the heap is cheaper and what it keeps is small).
-inline constexpr size_t kPageBlockBytes = size_t(1) << 20;
+// Blocks from this size on are mapped directly. A mapping costs a system call and its page
+// faults; below 64 KiB the heap is cheaper and what it keeps is small. Per-frame buffers of a
+// few hundred KiB (a frame's merged draw list and its sort scratch, compressed PNG bands, depth
+// pyramids) are above it: freed between frames, they would otherwise leave their pages in the
+// heap (about 2 MiB per rank at 1024^2).
+inline constexpr size_t kPageBlockBytes = size_t(64) << 10;
 
 // Returns `bytes` bytes: mapped pages from kPageBlockBytes on, else from operator new.
 inline void *allocate_pages_or_heap(size_t bytes) {

@@ -24,8 +24,8 @@
 namespace lantern {
 
 struct BrickSelection {
-  ViewGeometry g;                     // the double-precision camera of this frame
-  std::vector<VisibleBrick> visible;  // front to back unless the mode is none (as configured)
+  ViewGeometry g;         // the double-precision camera of this frame
+  VisibleBricks visible;  // front to back unless the mode is none (as configured)
   OcclusionMode mode = OcclusionMode::kNone;  // resolved: never kAuto
   RadiusRule radius;                          // the scene's radius rule
   bool reduced = false;                       // level of detail keeps less than some brick holds

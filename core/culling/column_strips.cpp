@@ -4,7 +4,7 @@
 
 namespace lantern {
 
-void merge_strips(const std::vector<VisibleBrick> &visible, const BrickSet &bricks,
+void merge_strips(const VisibleBricks &visible, const BrickSet &bricks,
                   const std::vector<StripState> &s, int count, PageVector<uint64_t> *scratch,
                   CullStats *st, DrawList *out) {
   // Union of what any strip shows (a particle two strips show appears twice: same entry).

@@ -61,7 +61,7 @@ inline int split_strips(int width, int threads, std::vector<StripState> *s) {
 // a caller that draws other primitives (bonds) front to back along with the bricks, so that they
 // occlude and are occluded too.
 template <typename Positions, typename Radii, typename Covered, typename Visit, typename Between>
-void walk_strip(const CullPass<Positions, Radii> &pass, const std::vector<VisibleBrick> &visible,
+void walk_strip(const CullPass<Positions, Radii> &pass, const VisibleBricks &visible,
                 bool bricks_first, bool buckets_first, const Covered &covered, Visit &&visit,
                 StripState *s, Between &&between) {
   s->out.clear();
@@ -95,7 +95,7 @@ void walk_strip(const CullPass<Positions, Radii> &pass, const std::vector<Visibl
 }
 
 template <typename Positions, typename Radii, typename Covered, typename Visit>
-void walk_strip(const CullPass<Positions, Radii> &pass, const std::vector<VisibleBrick> &visible,
+void walk_strip(const CullPass<Positions, Radii> &pass, const VisibleBricks &visible,
                 bool bricks_first, bool buckets_first, const Covered &covered, Visit &&visit,
                 StripState *s) {
   walk_strip(pass, visible, bricks_first, buckets_first, covered, std::forward<Visit>(visit), s,
@@ -111,7 +111,7 @@ void run_strips(int count, Strip &&strip) {
 // The union of what strips s[0, count) kept, in published order (draw_list.h), and the counts: a
 // brick gathered by any strip had the same per-particle frustum and cut drops. `scratch` is the
 // radix sort's buffer.
-void merge_strips(const std::vector<VisibleBrick> &visible, const BrickSet &bricks,
+void merge_strips(const VisibleBricks &visible, const BrickSet &bricks,
                   const std::vector<StripState> &s, int count, PageVector<uint64_t> *scratch,
                   CullStats *stats, DrawList *out);
 

@@ -31,7 +31,7 @@ float growth_of(LodGrowth growth, const ViewGeometry &g, const VisibleBrick &v, 
 // a solid front gets next to nothing, and the ones that show get what they need to keep their
 // front. Returns the target per brick, in `visible` order.
 std::vector<double> visible_weighted_keep(const BrickSet &set, const ViewGeometry &g, double share,
-                                          const std::vector<VisibleBrick> &visible) {
+                                          const VisibleBricks &visible) {
   std::vector<uint32_t> order(visible.size());
   for (uint32_t k = 0; k < order.size(); ++k) order[k] = k;
   std::stable_sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) {
@@ -66,7 +66,7 @@ std::vector<double> visible_weighted_keep(const BrickSet &set, const ViewGeometr
 }  // namespace
 
 bool apply_level_of_detail(const LodConfig &lod, const BrickSet &set, const ViewGeometry &g,
-                           LodGrowth growth, bool nearest, std::vector<VisibleBrick> *visible) {
+                           LodGrowth growth, bool nearest, VisibleBricks *visible) {
   int64_t total = 0;
   for (const VisibleBrick &v : *visible) total += set.bricks[v.brick].count;
   double share = std::min(1.0, lod.fraction);

@@ -42,6 +42,6 @@ inline constexpr double kCoveragePixels = 1.0;
 // `nearest` allows lod.select: nearest (opaque spheres whose pass honours VisibleBrick::nearest).
 // Returns whether any brick keeps less than all of its particles.
 bool apply_level_of_detail(const LodConfig &lod, const BrickSet &set, const ViewGeometry &g,
-                           LodGrowth growth, bool nearest, std::vector<VisibleBrick> *visible);
+                           LodGrowth growth, bool nearest, VisibleBricks *visible);
 
 }  // namespace lantern

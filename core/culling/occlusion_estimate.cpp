@@ -44,7 +44,7 @@ double CoarseTransmittance::splat(const VisibleBrick &v, const ViewGeometry &g) 
   return double(v.keep) * t_mean * self;
 }
 
-OcclusionChoice choose_occlusion(const std::vector<VisibleBrick> &visible, const ViewGeometry &g) {
+OcclusionChoice choose_occlusion(const VisibleBricks &visible, const ViewGeometry &g) {
   OcclusionChoice c;
   int64_t candidates = 0;
   double weighted_px = 0.0;

@@ -36,6 +36,6 @@ struct OcclusionChoice {
 };
 
 // `visible` must be sorted front to back (near_depth ascending).
-OcclusionChoice choose_occlusion(const std::vector<VisibleBrick> &visible, const ViewGeometry &g);
+OcclusionChoice choose_occlusion(const VisibleBricks &visible, const ViewGeometry &g);
 
 }  // namespace lantern

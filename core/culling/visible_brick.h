@@ -5,6 +5,7 @@
 
 #include <cstdint>
 
+#include "core/common/page_allocator.h"
 #include "core/culling/frustum.h"
 #include "core/view/view_geometry.h"
 
@@ -22,5 +23,9 @@ struct VisibleBrick {
   float radius_scale = 1.0f;  // level of detail: radius growth that keeps the covered area
                               // (of the prefix; a brick drawn from its front keeps 1)
 };
+
+// A scene's visible bricks. Mapped pages from kPageBlockBytes on: growing the list in a scene's
+// first frame (about 1 MiB at 10 M particles a rank) leaves no freed blocks in the heap.
+using VisibleBricks = PageVector<VisibleBrick>;
 
 }  // namespace lantern

@@ -110,6 +110,10 @@ void CpuSpherePass::begin_strips(int count, const ViewGeometry &g, const Lightin
   }
 }
 
+void CpuSpherePass::end_strips() {
+  for (CpuSphereRaster &raster : rasters_) raster.end_strip();
+}
+
 CullStats CpuSpherePass::run(const ParticleArrays &particles, const BrickSet &bricks,
                              const CullSettings &cull, const Lighting &lighting,
                              const BrickSelection &sel, const InstanceRecipe &recipe,
@@ -118,7 +122,10 @@ CullStats CpuSpherePass::run(const ParticleArrays &particles, const BrickSet &br
   if (sel.mode == OcclusionMode::kProbabilistic) {
     CullStats st = run_probabilistic(particles, bricks, cull, sel, recipe, background, frame, out,
                                      step, threads);
-    if (!bonds) return st;
+    if (!bonds) {
+      end_strips();
+      return st;
+    }
     // The probabilistic culler judges particles only; bonds are culled exactly, against the
     // depth the raster drew (the strips run_probabilistic split, with their rasters).
     const int count = split_strips(sel.g.width, threads, &strips_);
@@ -132,6 +139,7 @@ CullStats CpuSpherePass::run(const ParticleArrays &particles, const BrickSet &br
       });
     });
     st.bonds = count_bonds(*bonds, count);
+    end_strips();
     return st;
   }
   CullStats st = sel.stats;
@@ -207,6 +215,7 @@ CullStats CpuSpherePass::run(const ParticleArrays &particles, const BrickSet &br
   st.drawn = int64_t(out->spheres.size());
   st.splatted = int64_t(out->points.size());
   if (bonds) st.bonds = count_bonds(*bonds, count);
+  end_strips();
   return st;
 }
 

@@ -72,6 +72,8 @@ class CpuSpherePass {
 
   // Gives the first `count` strips their rasters, begun on `frame`.
   void begin_strips(int count, const ViewGeometry &g, const Lighting *lighting, Frame *frame);
+  // Ends every raster's strip (their depth pyramids are not kept between frames).
+  void end_strips();
   // Strip k's half-bonds of visible bond bricks [from, to); marks those it drew in
   // bond_marks_[k] (one strip: counts them in bond_drawn_) and records the bricks' drops in
   // bond_drops_[k].

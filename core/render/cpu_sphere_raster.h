@@ -47,6 +47,9 @@ class CpuSphereRaster {
 
   // Draw into columns [x0, x1] of the cleared `frame`.
   void begin_strip(const ViewGeometry &g, Frame *frame, int x0, int x1);
+  // Done drawing the strip: frees the depth pyramid (begin_strip makes it again), so that no
+  // pyramid stays resident between frames. Nothing may be drawn or asked until begin_strip.
+  void end_strip() { pyramid_.release(); }
 
   // True if every pixel of `rect` (within the strip) already holds something strictly nearer
   // than view depth z: a sphere whose nearest point is at z would change none of them.
@@ -120,7 +123,7 @@ class CpuSphereRaster {
   ViewGeometry g_;
   Frame *frame_ = nullptr;
   int x0_ = 0, x1_ = -1;
-  MaxDepthPyramid pyramid_;  // over the frame's depth (level 0), kept between frames
+  MaxDepthPyramid pyramid_;  // over the frame's depth (level 0), from begin_strip to end_strip
   // Pixels bond draws lowered that the pyramid's levels above 0 do not show yet, within a box of
   // less than kDeferExtent pixels a side.
   static constexpr int kDeferExtent = 16;

@@ -8,8 +8,9 @@
 // image) and by the CPU sphere raster (core/render/cpu_sphere_raster.h, over the frame's depth).
 //
 // Ownership: level 0 is borrowed (the caller's depth image, valid until the next reset); levels
-// 1.. are owned and kept between resets (refilled, not reallocated). Thread-safety: none; one
-// thread writes and reads a pyramid (two threads may each own a pyramid over disjoint column
+// 1.. are owned and kept between resets (refilled, not reallocated) until release(); the larger
+// levels are mapped pages, so that release() hands them back to the system. Thread-safety: none;
+// one thread writes and reads a pyramid (two threads may each own a pyramid over disjoint column
 // strips of one image). Units: whatever depth the caller stores (window depth in Lantern).
 #pragma once
 
@@ -17,6 +18,7 @@
 #include <cstddef>
 #include <vector>
 
+#include "core/common/page_allocator.h"
 #include "core/view/view_geometry.h"
 
 namespace lantern {
@@ -58,10 +60,17 @@ class MaxDepthPyramid {
   // The number of levels above level 0.
   int levels() const { return int(levels_.size()) - 1; }
 
+  // Frees the levels (a pyramid kept between frames costs a third of its image's depth); the next
+  // reset() makes them again. covered() and propagate() need a reset() first.
+  void release() {
+    std::vector<Level>().swap(levels_);
+    base_ = nullptr;
+  }
+
  private:
   struct Level {
     int w = 0, h = 0;
-    std::vector<float> z;  // level 0: empty (the borrowed base is read instead)
+    PageVector<float> z;  // level 0: empty (the borrowed base is read instead)
   };
   // Tiles of levels up to this one (8 x 8 pixels) are refined on level 0 at once.
   static constexpr int kScanFromLevel = 3;

@@ -4,15 +4,18 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdint>
 #include <cstdio>
 #include <memory>
 #include <vector>
 
 #include "core/bricks/brick_set.h"
+#include "core/bricks/index_runs.h"
 #include "core/common/page_allocator.h"
 #include "core/common/uninitialized_buffer.h"
 #include "core/view/frame.h"
+#include "core/view/max_depth_pyramid.h"
 
 namespace lantern {
 namespace {
@@ -76,11 +79,34 @@ TEST(PageAllocator, FramesAndBrickSetsReleaseTheirPages) {
   {
     BrickSet set;
     set.order.assign(size_t(12 * kMiB) / sizeof(uint32_t), 5);
-    set.runs.assign(size_t(3 * kMiB) / sizeof(IndexRun), IndexRun{});
+    for (uint32_t k = 0; k < uint32_t(3 * kMiB / 8); ++k)  // 8 bytes a run, 8 indices long
+      set.runs.push_back({k * 8, k % 7, kNoBrick});
     set.in_other.assign(size_t(2 * kMiB) / sizeof(uint64_t), 1);
     ASSERT_GE(resident_bytes() - before, 16 * kMiB);
   }
   EXPECT_LT(resident_bytes() - before, 2 * kMiB) << "a freed brick set's pages are still resident";
+}
+
+// A depth pyramid's levels above 0 (a third of its image's depth) leave the resident size when
+// it is released between frames, and a pyramid reset after release() answers as a fresh one.
+TEST(PageAllocator, ReleasedDepthPyramidLeavesTheResidentSize) {
+  if (resident_bytes() < 0) GTEST_SKIP() << "no /proc/self/statm";
+  raise_malloc_threshold();
+  std::vector<float> depth(size_t(2048) * 2048, 1.0f);  // 16 MiB: levels above 0 about 5.3 MiB
+  MaxDepthPyramid pyramid;
+  const int64_t before = resident_bytes();
+  pyramid.reset(depth.data(), 2048, 2048, 1.0f);
+  ASSERT_GE(resident_bytes() - before, 5 * kMiB);
+  pyramid.release();
+  EXPECT_LT(resident_bytes() - before, kMiB) << "a released pyramid's levels are still resident";
+  pyramid.reset(depth.data(), 2048, 2048, 1.0f);
+  const PixelRect all{0, 0, 2047, 2047}, corner{0, 0, 600, 700};
+  EXPECT_FALSE(pyramid.covered(all, 1.0f));
+  for (int y = 0; y <= 700; ++y) std::fill_n(&depth[size_t(y) * 2048], 601, 0.25f);
+  pyramid.propagate(corner);
+  EXPECT_TRUE(pyramid.covered(corner, 0.5f));
+  EXPECT_FALSE(pyramid.covered(PixelRect{0, 0, 601, 700}, 0.5f));
+  EXPECT_FALSE(pyramid.covered(corner, 0.25f));
 }
 
 // Frame::reset gives what Frame(w, h) gives, in the same buffers when the size is unchanged (a

@@ -34,7 +34,8 @@ std::vector<uint8_t> one_piece(const std::vector<uint8_t> &data, size_t block) {
     d.add_block(data.data() + i, n, i + n == data.size());
   }
   d.finish(true);
-  return d.take();
+  const PageVector<uint8_t> bytes = d.take();
+  return std::vector<uint8_t>(bytes.begin(), bytes.end());
 }
 
 TEST(RunDeflater, RoundTripsRunsLiteralsAndEdgeCases) {
@@ -79,7 +80,7 @@ TEST(RunDeflater, PiecesConcatenateIntoOneStream) {
     RunDeflater d;
     d.add_block(data.data(), data.size(), piece == 4);
     d.finish(piece == 4);
-    const std::vector<uint8_t> bytes = d.take();
+    const PageVector<uint8_t> bytes = d.take();
     if (piece < 4) ASSERT_GE(bytes.size(), 4u);
     if (piece < 4)  // the sync marker: LEN 0, NLEN 0xffff
       EXPECT_EQ(std::vector<uint8_t>(bytes.end() - 4, bytes.end()),

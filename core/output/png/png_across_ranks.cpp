@@ -183,7 +183,7 @@ Status write_png_across_ranks(MPI_Comm comm, int root, const Frame &frame, int w
   MPI_Gather(header.data(), words, MPI_INT64_T, headers.data(), words, MPI_INT64_T, root, comm);
   if (rank != root) {
     for (int b = b0; b < b1; ++b) {
-      const std::vector<uint8_t> &bytes = bands[size_t(b)].bytes;
+      const PageVector<uint8_t> &bytes = bands[size_t(b)].bytes;
       if (bytes.empty()) continue;
       requests.emplace_back();
       MPI_Isend(bytes.data(), int(bytes.size()), MPI_UINT8_T, root, kBandTag + b, comm,

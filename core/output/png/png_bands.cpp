@@ -67,14 +67,14 @@ class Deflater {
     }
   }
 
-  std::vector<uint8_t> take() {
+  PageVector<uint8_t> take() {
     out_.resize(used_);
     return std::move(out_);
   }
 
  private:
   z_stream z_{};
-  std::vector<uint8_t> out_;
+  PageVector<uint8_t> out_;
   size_t used_ = 0;
 };
 

@@ -18,17 +18,18 @@
 #include <string>
 #include <vector>
 
+#include "core/common/page_allocator.h"
 #include "core/common/status.h"
 
 namespace lantern {
 
 // One band's compressed piece and what the root needs to join it to the others.
 struct PngBand {
-  std::vector<uint8_t> bytes;  // raw deflate data (no zlib header or trailer), owned
-  uint32_t adler = 1;          // adler32 of the band's uncompressed filtered scanlines
-  uint64_t raw_len = 0;        // their length: rows * (1 + width * channels_out)
-  int rows = 0;                // scanlines in the band
-  bool last = false;           // ends the deflate stream (Z_FINISH)
+  PageVector<uint8_t> bytes;  // raw deflate data (no zlib header or trailer), owned
+  uint32_t adler = 1;         // adler32 of the band's uncompressed filtered scanlines
+  uint64_t raw_len = 0;       // their length: rows * (1 + width * channels_out)
+  int rows = 0;               // scanlines in the band
+  bool last = false;          // ends the deflate stream (Z_FINISH)
 };
 
 // Lays out a PNG file from the bands of one image, top band first: signature, IHDR (8-bit,

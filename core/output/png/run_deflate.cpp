@@ -269,9 +269,9 @@ void RunDeflater::finish(bool end_of_stream) {
   for (const uint8_t b : {0x00, 0x00, 0xff, 0xff}) out_[used_++] = b;
 }
 
-std::vector<uint8_t> RunDeflater::take() {
+PageVector<uint8_t> RunDeflater::take() {
   out_.resize(used_);
-  std::vector<uint8_t> out;
+  PageVector<uint8_t> out;
   out.swap(out_);
   acc_ = 0, pending_ = 0, used_ = 0, ended_ = false;
   return out;

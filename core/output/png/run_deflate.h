@@ -18,6 +18,8 @@
 #include <cstdint>
 #include <vector>
 
+#include "core/common/page_allocator.h"
+
 namespace lantern {
 
 class RunDeflater {
@@ -28,19 +30,21 @@ class RunDeflater {
   // stored block (an empty final block first, when the stream is to end but no block was final).
   void finish(bool end_of_stream);
   // The compressed bytes so far; the deflater is empty afterwards.
-  std::vector<uint8_t> take();
+  PageVector<uint8_t> take();
 
  private:
   void reserve(size_t bytes);  // room for `bytes` more output bytes
   void put(uint64_t bits, int count);
   void align();
 
-  std::vector<uint8_t> out_;  // the first used_ bytes are output
+  // The first used_ bytes are output. Mapped pages from kPageBlockBytes on, as tokens_: a band's
+  // buffers are freed once it is written, and would otherwise stay in the heap between frames.
+  PageVector<uint8_t> out_;
   size_t used_ = 0;
   uint64_t acc_ = 0;  // pending bits, least significant first
   int pending_ = 0;   // how many
   bool ended_ = false;
-  std::vector<uint16_t> tokens_;  // literal byte, or 256 + run length
+  PageVector<uint16_t> tokens_;  // literal byte, or 256 + run length
 };
 
 }  // namespace lantern

@@ -1,0 +1,149 @@
+// The packed index runs (IndexRuns, 8 bytes a run): what goes in comes out, at the limits of
+// every field (the largest brick numbers, offsets up to the last index below 2^32), runs are cut
+// at every block boundary, and runs_of_owners' runs are the maximal runs of at most two bricks
+// (within a block) that describe the owners exactly.
+#include <gtest/gtest.h>
+
+#include <cstdint>
+#include <random>
+#include <vector>
+
+#include "core/bricks/brick_set.h"
+#include "core/bricks/index_runs.h"
+
+namespace lantern {
+namespace {
+
+constexpr uint32_t kBlock = IndexRuns::kBlock;
+constexpr uint32_t kLargest = IndexRuns::kLargestBrick;
+
+bool bit(const PageVector<uint64_t> &bits, int64_t i) {
+  return (bits[size_t(i >> 6)] >> (i & 63) & 1) != 0;
+}
+
+// Every run read back by operator[] and by visit() agrees with `expected` (the closing run last).
+void expect_runs(const IndexRuns &runs, const std::vector<IndexRun> &expected) {
+  ASSERT_EQ(runs.size(), expected.size());
+  for (size_t k = 0; k < expected.size(); ++k) {
+    const IndexRun r = runs[k];
+    ASSERT_EQ(r.first, expected[k].first) << "run " << k;
+    ASSERT_EQ(r.brick, expected[k].brick) << "run " << k;
+    ASSERT_EQ(r.other, expected[k].other) << "run " << k;
+  }
+  // visit() from every part start the parts of a refit could use, including mid-block ones.
+  for (const size_t begin : {size_t(0), expected.size() / 3, expected.size() - 2}) {
+    size_t k = begin;
+    runs.visit(begin, expected.size() - 1,
+               [&](int64_t first, int64_t stop, uint32_t brick, uint32_t other) {
+                 ASSERT_EQ(first, int64_t(expected[k].first)) << "run " << k;
+                 ASSERT_EQ(stop, int64_t(expected[k + 1].first)) << "run " << k;
+                 ASSERT_EQ(brick, expected[k].brick) << "run " << k;
+                 ASSERT_EQ(other, expected[k].other) << "run " << k;
+                 ++k;
+               });
+    EXPECT_EQ(k, expected.size() - 1);
+  }
+}
+
+TEST(IndexRuns, RoundTripsTheLargestBricksAndOffsets) {
+  // A run at the start of every block up to 2^32 (brick numbers cycling through the largest
+  // ones), then in the last block the largest offsets: a run at 2^32 - 2, closed at 2^32 - 1.
+  std::vector<IndexRun> expected;
+  const uint32_t blocks = uint32_t((uint64_t(1) << 32) / kBlock);
+  expected.reserve(blocks + 2);
+  for (uint32_t b = 0; b < blocks; ++b) {
+    const uint32_t brick = kLargest - b % 7;
+    const uint32_t other = b % 3 == 0 ? kNoBrick : kLargest - (b + 1) % 5 - 1;
+    expected.push_back({b * kBlock, b % 11 == 5 ? kNoBrick : brick, other});
+  }
+  expected.push_back({~0u - 1, kLargest, 0});
+  expected.push_back({~0u, kNoBrick, kNoBrick});
+  IndexRuns runs;
+  for (const IndexRun &r : expected) runs.push_back(r);
+  expect_runs(runs, expected);
+  EXPECT_EQ(runs.back().first, ~0u);
+  EXPECT_EQ(runs.front().brick, kLargest);
+}
+
+TEST(IndexRuns, CutsRunsAtBlockBoundaries) {
+  // One brick over three and a half blocks, then bricks 7 and 9 interleaved across a boundary.
+  const int64_t n = 5 * int64_t(kBlock);
+  std::vector<uint32_t> owner(static_cast<size_t>(n), 3);
+  const int64_t two = 3 * kBlock + kBlock / 2;
+  for (int64_t i = two; i < n; ++i) owner[size_t(i)] = i % 2 ? 7 : 9;
+  PageVector<uint64_t> in_other;
+  const IndexRuns runs = runs_of_owners(owner.data(), n, n, &in_other);
+  const std::vector<IndexRun> expected = {
+      {0, 3, kNoBrick},
+      {kBlock, 3, kNoBrick},
+      {2 * kBlock, 3, kNoBrick},
+      {3 * kBlock, 3, 9},  // brick 3's last half block, then the first of brick 9
+      {3 * kBlock + kBlock / 2 + 1, 7, 9},
+      {4 * kBlock, 9, 7},  // cut at the block: the same two bricks, now 9 first
+      {uint32_t(n), kNoBrick, kNoBrick}};
+  expect_runs(runs, expected);
+  // Which of the two bricks each index is in: the other one exactly where its bit is set.
+  for (size_t k = 0; k + 1 < expected.size(); ++k)
+    for (int64_t i = expected[k].first; i < int64_t(expected[k + 1].first); ++i)
+      ASSERT_EQ(bit(in_other, i) ? expected[k].other : expected[k].brick, owner[size_t(i)]) << i;
+}
+
+TEST(IndexRuns, RefusesBricksAboveTheLargest) {
+  std::vector<uint32_t> owner(100, kLargest);
+  PageVector<uint64_t> in_other;
+  IndexRuns runs = runs_of_owners(owner.data(), 100, 100, &in_other);
+  ASSERT_EQ(runs.size(), 2u);
+  EXPECT_EQ(runs[0].brick, kLargest);
+  owner[60] = kLargest + 1;  // the other brick of the run: not storable either
+  runs = runs_of_owners(owner.data(), 100, 100, &in_other);
+  EXPECT_TRUE(runs.empty());
+  EXPECT_TRUE(in_other.empty());
+  owner.assign(100, kLargest + 1);
+  EXPECT_TRUE(runs_of_owners(owner.data(), 100, 100, &in_other).empty());
+}
+
+// runs_of_owners on random owners (bricks drawn from a few, with stretches of no brick): the runs
+// cover the indices in order, stay inside their blocks, give every index its owner, and are
+// maximal (each ends at the last index, a block boundary, or an owner it cannot take).
+TEST(IndexRuns, RunsOfRandomOwnersAreExactAndMaximal) {
+  std::mt19937 rng(7);
+  for (const int64_t n : {int64_t(1), int64_t(kBlock), int64_t(3 * kBlock + 17)}) {
+    std::vector<uint32_t> owner(static_cast<size_t>(n));
+    uint32_t current = 0;
+    for (auto &o : owner) {
+      if (rng() % 16 == 0) current = rng() % 9 == 0 ? kNoBrick : uint32_t(rng() % 4) + kLargest - 4;
+      o = rng() % 3 == 0 && current != kNoBrick ? current + 1 : current;
+    }
+    PageVector<uint64_t> in_other;
+    // Held counted high enough that the runs are kept however short they are.
+    const IndexRuns runs = runs_of_owners(owner.data(), n, kMinMeanRun * n, &in_other);
+    ASSERT_FALSE(runs.empty());
+    ASSERT_EQ(runs[0].first, 0u);
+    ASSERT_EQ(runs.back().first, uint32_t(n));
+    ASSERT_EQ(runs.back().brick, kNoBrick);
+    for (size_t k = 0; k + 1 < runs.size(); ++k) {
+      const IndexRun r = runs[k];
+      const int64_t stop = runs[k + 1].first;
+      ASSERT_LT(r.first, stop);
+      ASSERT_EQ(r.first / kBlock, (stop - 1) / kBlock) << "run " << k << " crosses a block";
+      bool other_seen = false;
+      for (int64_t i = r.first; i < stop; ++i) {
+        const bool in = bit(in_other, i);
+        ASSERT_EQ(in ? r.other : r.brick, owner[size_t(i)]) << i;
+        ASSERT_TRUE(!in || r.other != kNoBrick) << i;
+        other_seen |= in;
+      }
+      ASSERT_EQ(other_seen, r.other != kNoBrick) << "run " << k;
+      if (stop == n || stop % kBlock == 0) continue;
+      const uint32_t next = owner[size_t(stop)];
+      const bool could_take =
+          r.brick == kNoBrick
+              ? next == kNoBrick
+              : next != kNoBrick && (next == r.brick || next == r.other || r.other == kNoBrick);
+      ASSERT_FALSE(could_take) << "run " << k << " stops short at " << stop;
+    }
+  }
+}
+
+}  // namespace
+}  // namespace lantern
