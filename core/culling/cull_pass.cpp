@@ -9,7 +9,20 @@
 namespace lantern {
 namespace {
 
-constexpr int kDepthBuckets = 64;
+// A brick's candidates go to cells: kSlabs slabs of depth, nearest first, each split in
+// kSide x kSide by view x and y. Depth slabs alone give boxes as wide as the brick, which at a
+// surface seen at a slant always hold some particle that shows, so their box test rarely hides
+// anything; cut across, the cells behind the front are hidden by one test. The slabs keep the
+// order as near front to back as 64 slabs would (the particles drawn are those of depth order).
+constexpr int kSlabs = 16;
+constexpr int kSide = 2;
+constexpr int kCells = kSlabs * kSide * kSide;
+
+// The scale that maps [lo, hi] onto cells [0, n) (with a clamp of the top end): 0 when the range
+// is empty.
+double cell_scale(double lo, double hi, int n) {
+  return hi > lo ? n / (hi - lo) : 0.0;
+}
 
 }  // namespace
 
@@ -20,17 +33,25 @@ void order_front_to_back(CandidateBuffers *b) {
   out.resize(in.size());
   buckets.clear();
   if (in.empty()) return;
-  double lo = std::numeric_limits<double>::infinity(), hi = -lo;
-  for (const Candidate &c : in) lo = std::min(lo, -c.c.z), hi = std::max(hi, -c.c.z);
-  const double scale = hi > lo ? (kDepthBuckets - 1) / (hi - lo) : 0.0;
+  glm::dvec3 lo(std::numeric_limits<double>::infinity()), hi = -lo;
+  for (const Candidate &c : in) lo = glm::min(lo, c.c), hi = glm::max(hi, c.c);
+  // Depth -z grows from -hi.z.
+  const double sx = cell_scale(lo.x, hi.x, kSide), sy = cell_scale(lo.y, hi.y, kSide);
+  const double sz = cell_scale(-hi.z, -lo.z, kSlabs);
+  const auto cell = [&](const Candidate &c) {
+    const auto index = [](double offset, double scale, int n) {
+      return std::min(size_t(offset * scale), size_t(n - 1));
+    };
+    const size_t ix = index(c.c.x - lo.x, sx, kSide), iy = index(c.c.y - lo.y, sy, kSide);
+    return (index(hi.z - c.c.z, sz, kSlabs) * kSide + iy) * kSide + ix;
+  };
   std::vector<uint32_t> &counts = b->bucket_counts;
-  counts.assign(kDepthBuckets + 1, 0);
-  const auto bucket = [&](const Candidate &c) { return size_t((-c.c.z - lo) * scale); };
-  for (const Candidate &c : in) ++counts[bucket(c) + 1];
+  counts.assign(kCells + 1, 0);
+  for (const Candidate &c : in) ++counts[cell(c) + 1];
   for (size_t k = 1; k < counts.size(); ++k) counts[k] += counts[k - 1];
-  // The non-empty buckets, nearest first; which[k]: bucket k's place among them.
-  std::array<uint32_t, kDepthBuckets> which{};
-  for (size_t k = 0; k < kDepthBuckets; ++k)
+  // The non-empty cells, nearest slab first; which[k]: cell k's place among them.
+  std::array<uint32_t, kCells> which{};
+  for (size_t k = 0; k < kCells; ++k)
     if (counts[k + 1] > counts[k]) {
       which[k] = uint32_t(buckets.size());
       DepthBucket d;
@@ -39,10 +60,10 @@ void order_front_to_back(CandidateBuffers *b) {
       d.near = std::numeric_limits<double>::infinity();
       buckets.push_back(d);
     }
-  // Scatter into the buckets, growing each one's box.
+  // Scatter into the cells, growing each one's box.
   std::vector<uint32_t> &slot = counts;
   for (const Candidate &c : in) {
-    const size_t k = bucket(c);
+    const size_t k = cell(c);
     DepthBucket &d = buckets[which[k]];
     d.lo = glm::min(d.lo, c.c - c.r), d.hi = glm::max(d.hi, c.c + c.r);
     d.near = std::min(d.near, -c.c.z - c.r);

@@ -45,8 +45,8 @@ struct Candidate {
   float scale;  // level-of-detail radius scale
 };
 
-// A depth bucket of a brick's candidates (order_front_to_back): sorted[begin, end), and the
-// view-space box holding their spheres, nearest point first.
+// A bucket of a brick's candidates (order_front_to_back: a cell of a depth slab): sorted[begin,
+// end), and the view-space box holding their spheres, nearest point first.
 struct DepthBucket {
   uint32_t begin = 0, end = 0;
   glm::dvec3 lo{0.0}, hi{0.0};  // bounds of c - r and c + r
@@ -133,8 +133,10 @@ void gather(const CullPass<Positions, Radii> &pass, const VisibleBrick &v, bool 
       pass, v, keep_candidates, [](const glm::dvec3 &, double) { return false; }, b, counts, out);
 }
 
-// b->gathered -> b->sorted, nearest first by depth bucket (inside a brick a bucket sort suffices:
-// the order only makes occluders come early, it decides nothing exact), and b->buckets.
+// b->gathered -> b->sorted, nearest first by depth slab (inside a brick a bucket sort suffices:
+// the order only makes occluders come early, it decides nothing exact), and b->buckets: each
+// slab's candidates split further into cells by view x and y, so that a bucket's box is small
+// across the view as well as in depth (bucket_hidden then hides the cells behind a surface).
 void order_front_to_back(CandidateBuffers *b);
 
 // True when the depth test `covered` (a strip's pyramid over columns [x0, x1]) proves every
