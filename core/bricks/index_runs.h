@@ -169,8 +169,8 @@ __attribute__((target("avx512f,avx512vl"))) inline void scan(const double *xyz,
   __m256d lo[2][2] = {{inf, inf}, {inf, inf}},
           hi[2][2] = {{minus_inf, minus_inf}, {minus_inf, minus_inf}};
   __m256i odd = _mm256_setzero_si256();
-  for (int64_t i = first; i < last; ++i) {
-    const int set = int(i & 1);
+  // Particle i into set `set` (0 or 1: every particle's min and max depend on the set's last).
+  const auto add = [&](int64_t i, int set) __attribute__((target("avx512f,avx512vl"))) {
     const __m256d v = _mm256_maskz_loadu_pd(0x7, xyz + 3 * i);  // x, y, z, 0
     odd = _mm256_or_si256(odd, _mm256_castpd_si256(_mm256_sub_pd(v, v)));
     if (kTwo) {
@@ -184,7 +184,10 @@ __attribute__((target("avx512f,avx512vl"))) inline void scan(const double *xyz,
       lo[0][set] = _mm256_min_pd(lo[0][set], v);
       hi[0][set] = _mm256_max_pd(hi[0][set], v);
     }
-  }
+  };
+  int64_t i = first;
+  for (; i + 2 <= last; i += 2) add(i, 0), add(i + 1, 1);  // constant sets: kept in registers
+  if (i < last) add(i, 0);
   const bool finite = _mm256_testz_si256(odd, odd) != 0;
   for (int k = 0; k < (kTwo ? 2 : 1); ++k) {
     alignas(32) double l[4], h[4];
