@@ -4,12 +4,16 @@
 // (within a block) that describe the owners exactly.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <random>
 #include <vector>
 
 #include "core/bricks/brick_set.h"
 #include "core/bricks/index_runs.h"
+#include "core/particles/typed_access.h"
 
 namespace lantern {
 namespace {
@@ -142,6 +146,70 @@ TEST(IndexRuns, RunsOfRandomOwnersAreExactAndMaximal) {
               : next != kNoBrick && (next == r.brick || next == r.other || r.other == kNoBrick);
       ASSERT_FALSE(could_take) << "run " << k << " stops short at " << stop;
     }
+  }
+}
+
+// scan_runs with the AVX-512 kernel (scan_avx512::scan, where the processor has it) against
+// scan_stretch, on packed xyz doubles owned at random by a few bricks in runs of every length
+// (one particle up to hundreds, one brick or two interleaved at random), jittered, with a few
+// NaN and infinite coordinates in some of them: every brick's bounds, finiteness and
+// publication bit for bit, wherever no bound is exactly zero (those are bounded again in the
+// brick's own order).
+TEST(IndexRuns, VectorScanGivesTheScalarScansBounds) {
+  if (!LANTERN_SCAN_AVX512 || !scan_avx512::available()) GTEST_SKIP() << "no AVX-512 here";
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> coord(-3.0, 5.0);
+  for (const bool non_finite : {false, true}) {
+    const int64_t n = 3 * kBlock + 101;
+    const uint32_t bricks = 40;
+    std::vector<uint32_t> owner(static_cast<size_t>(n));
+    for (int64_t i = 0; i < n;) {
+      const int64_t len = std::min<int64_t>(n - i, rng() % 4 == 0 ? 1 + rng() % 3 : rng() % 300);
+      const uint32_t a = uint32_t(rng() % bricks), b = uint32_t(rng() % bricks);
+      const unsigned share = unsigned(rng() % 3);  // none, some, most in the second brick
+      for (int64_t k = i; k < i + len; ++k)
+        owner[size_t(k)] = share != 0 && rng() % 4 < 2 * share - 1 ? b : a;
+      i += len;
+    }
+    PageVector<uint64_t> in_other;
+    BrickSet set;
+    set.runs = runs_of_owners(owner.data(), n, kMinMeanRun * n, &in_other);
+    ASSERT_FALSE(set.runs.empty());
+    set.in_other = std::move(in_other);
+    set.bricks.resize(bricks);
+    set.order.resize(size_t(n));  // particle_count(): every index held
+    std::vector<double> xyz(static_cast<size_t>(3 * n));
+    for (double &v : xyz) v = coord(rng);
+    if (non_finite)
+      for (int k = 0; k < 6; ++k)
+        xyz[size_t(rng() % xyz.size())] = k % 3 == 0   ? std::nan("")
+                                          : k % 3 == 1 ? INFINITY
+                                                       : -INFINITY;
+    const InterleavedPositions<double> pos{reinterpret_cast<const unsigned char *>(xyz.data()),
+                                           int64_t(3 * sizeof(double))};
+    // The last published index below n: the indices past it mark their bricks unpublished.
+    const int64_t count = n - 7;
+    std::vector<BrickScan> scans[2];
+    for (const bool vector : {false, true}) {
+      scan_avx512::enabled() = vector;
+      scans[vector] = scan_runs(pos, ConstantReal{0.0}, KeepAll{}, false, count, set, 1);
+    }
+    scan_avx512::enabled() = true;
+    ASSERT_EQ(scans[0].size(), scans[1].size());
+    int non_finite_bricks = 0;
+    for (size_t b = 0; b < scans[0].size(); ++b) {
+      const BrickScan &s = scans[0][b], &v = scans[1][b];
+      EXPECT_EQ(s.finite, v.finite) << "brick " << b;
+      EXPECT_EQ(s.all_published, v.all_published) << "brick " << b;
+      non_finite_bricks += !s.finite;
+      if (!s.finite || has_zero_bound(s)) continue;
+      for (int c = 0; c < 3; ++c) {
+        EXPECT_EQ(std::memcmp(&s.lo[c], &v.lo[c], sizeof(double)), 0) << "brick " << b << " " << c;
+        EXPECT_EQ(std::memcmp(&s.hi[c], &v.hi[c], sizeof(double)), 0) << "brick " << b << " " << c;
+      }
+      EXPECT_EQ(s.r, v.r);
+    }
+    EXPECT_EQ(non_finite_bricks > 0, non_finite);
   }
 }
 
