@@ -74,6 +74,11 @@ DensityKernelTable::DensityKernelTable() {
     next_.push_back(bounds[size_t(n)]);
   }
   below32_.assign(below_.begin(), below_.end());
+  // Where each k starts: k = 16 octave + c (c = 1 .. 16) from the c-th boundary of the octave
+  // on (scaled by a power of two: exact), k 0 from minus infinity.
+  starts_.push_back(-HUGE_VAL);
+  for (int k = 1; k <= kDensitySigmaCount; ++k)
+    starts_.push_back(std::ldexp(bounds[size_t((k - 1) % kSteps)], (k - 1) / kSteps));
 }
 
 // The scalar placement: the calls place_all() stands for, one footprint at a time.
@@ -117,8 +122,10 @@ namespace {
 struct AxisLanes {
   __m256i offset, first, count;
 };
+// `row`, when not null: the 32 entries (4 vectors of 8) of the one k every lane shares (all
+// live), looked up by phase with permutes instead of a gather.
 LANTERN_AVX512 inline AxisLanes axis_lanes(__m512d centre, __m256i k, __mmask8 live,
-                                           const void *entries, int size) {
+                                           const void *entries, int size, const __m512i *row) {
   const __m512d u = _mm512_sub_pd(centre, _mm512_set1_pd(0.5));
   const __m512d b = _mm512_roundscale_pd(u, _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC);
   const __m256i phase = _mm256_min_epi32(
@@ -128,7 +135,15 @@ LANTERN_AVX512 inline AxisLanes axis_lanes(__m512d centre, __m256i k, __mmask8 l
   const __m256i index = _mm256_add_epi32(_mm256_slli_epi32(k, 5), phase);  // k * 32 + phase
   static_assert(kDensityPhases == 32, "k * 32 is a shift by 5");
   // Entry: offset (bits 0-31), first (int16, bits 32-47), count (uint16, bits 48-63).
-  const __m512i e = _mm512_mask_i32gather_epi64(_mm512_setzero_si512(), live, index, entries, 8);
+  __m512i e;
+  if (row) {
+    const __m512i j = _mm512_cvtepi32_epi64(phase);
+    const __m512i low = _mm512_permutex2var_epi64(row[0], j, row[1]);
+    const __m512i high = _mm512_permutex2var_epi64(row[2], j, row[3]);
+    e = _mm512_mask_mov_epi64(low, _mm512_test_epi64_mask(j, _mm512_set1_epi64(16)), high);
+  } else {
+    e = _mm512_mask_i32gather_epi64(_mm512_setzero_si512(), live, index, entries, 8);
+  }
   const __m256i offset = _mm512_cvtepi64_epi32(e);
   const __m256i first = _mm512_cvtepi64_epi32(_mm512_srai_epi64(_mm512_slli_epi64(e, 16), 48));
   const __m256i count = _mm512_cvtepi64_epi32(_mm512_srli_epi64(e, 48));
@@ -149,33 +164,64 @@ LANTERN_AVX512 inline void store8(T *to, __m256i lanes) {
 
 }  // namespace
 
+// index_of_variance() of 8 lanes of x = 4 sigma^2: k = 16 octave + below[bin] + (m >= next[bin])
+// for x in [1, 65536), 0 below (and for NaN), kDensitySigmaCount at or above.
+LANTERN_AVX512 static inline __m256i variance_index_lanes(__m512d x, const int32_t *below,
+                                                          const double *next, __m512i mantissa,
+                                                          __m512i exponent_one) {
+  const __mmask8 at_least_one = _mm512_cmp_pd_mask(x, _mm512_set1_pd(1.0), _CMP_GE_OQ);
+  const __mmask8 below_top = _mm512_cmp_pd_mask(x, _mm512_set1_pd(65536.0), _CMP_LT_OQ);
+  const __m512i bits = _mm512_castpd_si512(x);
+  const __m512i octave = _mm512_sub_epi64(_mm512_srli_epi64(bits, 52), _mm512_set1_epi64(1023));
+  const __m512i bin = _mm512_and_si512(_mm512_srli_epi64(bits, 42), _mm512_set1_epi64(1023));
+  const __m512d m =
+      _mm512_castsi512_pd(_mm512_or_si512(_mm512_and_si512(bits, mantissa), exponent_one));
+  // Footprints in a row of the published order mostly share a bin (and k, below): then
+  // broadcasts and permutes instead of gathers (the same values).
+  __m256i below_bin;
+  __m512d next_bin;
+  const __m512i bin0 = _mm512_permutexvar_epi64(_mm512_setzero_si512(), bin);
+  if (_mm512_cmpeq_epi64_mask(bin, bin0) == 0xff) {
+    const auto b0 = size_t(_mm_cvtsi128_si64(_mm512_castsi512_si128(bin)));
+    below_bin = _mm256_set1_epi32(below[b0]);
+    next_bin = _mm512_set1_pd(next[b0]);
+  } else {
+    below_bin = _mm512_i64gather_epi32(bin, below, 4);
+    next_bin = _mm512_i64gather_pd(bin, next, 8);
+  }
+  const __mmask8 step = _mm512_cmp_pd_mask(m, next_bin, _CMP_GE_OQ);
+  const __m256i k = _mm256_add_epi32(
+      _mm256_add_epi32(_mm256_slli_epi32(_mm512_cvtepi64_epi32(octave), 4), below_bin),
+      _mm256_maskz_mov_epi32(step, _mm256_set1_epi32(1)));
+  static_assert(kDensitySigmaSteps / 2 == 16, "16 octave is a shift by 4");
+  return _mm256_maskz_mov_epi32(
+      at_least_one, _mm256_mask_mov_epi32(_mm256_set1_epi32(kDensitySigmaCount), below_top, k));
+}
+
 LANTERN_AVX512 static void place_avx512(const void *entries, const int32_t *below,
-                                        const double *next, const double *px, const double *py,
-                                        const double *sigma2, int count, int width, int height,
-                                        DensityPlacements *out) {
+                                        const double *next, const double *starts, const double *px,
+                                        const double *py, const double *sigma2, int count,
+                                        int width, int height, DensityPlacements *out) {
   const __m512d far = _mm512_set1_pd(double(1 << 30));
   const __m512i mantissa = _mm512_set1_epi64((int64_t(1) << 52) - 1);
   const __m512i exponent_one = _mm512_set1_epi64(int64_t(1023) << 52);
+  // The last vector's k (lane 0) and the range of 4 sigma^2 that has it, [lo, hi): sigma varies
+  // slowly along a published order, so most vectors lie wholly in it (NaN never does).
+  int last = kDensitySigmaCount;
+  __m512d lo = _mm512_set1_pd(HUGE_VAL), hi = lo;
   for (int i = 0; i + 8 <= count; i += 8) {
-    // index_of_variance(): k = 16 octave + below[bin] + (m >= next[bin]) for 4 sigma^2 in
-    // [1, 65536), 0 below (and for NaN), kDensitySigmaCount at or above.
     const __m512d x = _mm512_mul_pd(_mm512_set1_pd(4.0), _mm512_loadu_pd(sigma2 + i));
-    const __mmask8 at_least_one = _mm512_cmp_pd_mask(x, _mm512_set1_pd(1.0), _CMP_GE_OQ);
-    const __mmask8 below_top = _mm512_cmp_pd_mask(x, _mm512_set1_pd(65536.0), _CMP_LT_OQ);
-    const __m512i bits = _mm512_castpd_si512(x);
-    const __m512i octave = _mm512_sub_epi64(_mm512_srli_epi64(bits, 52), _mm512_set1_epi64(1023));
-    const __m512i bin = _mm512_and_si512(_mm512_srli_epi64(bits, 42), _mm512_set1_epi64(1023));
-    const __m512d m =
-        _mm512_castsi512_pd(_mm512_or_si512(_mm512_and_si512(bits, mantissa), exponent_one));
-    const __m256i below_bin = _mm512_i64gather_epi32(bin, below, 4);
-    const __m512d next_bin = _mm512_i64gather_pd(bin, next, 8);
-    const __mmask8 step = _mm512_cmp_pd_mask(m, next_bin, _CMP_GE_OQ);
-    __m256i k = _mm256_add_epi32(
-        _mm256_add_epi32(_mm256_slli_epi32(_mm512_cvtepi64_epi32(octave), 4), below_bin),
-        _mm256_maskz_mov_epi32(step, _mm256_set1_epi32(1)));
-    static_assert(kDensitySigmaSteps / 2 == 16, "16 octave is a shift by 4");
-    k = _mm256_mask_mov_epi32(_mm256_set1_epi32(kDensitySigmaCount), below_top, k);
-    k = _mm256_maskz_mov_epi32(at_least_one, k);
+    __m256i k;
+    if ((_mm512_cmp_pd_mask(x, lo, _CMP_GE_OQ) & _mm512_cmp_pd_mask(x, hi, _CMP_LT_OQ)) == 0xff) {
+      k = _mm256_set1_epi32(last);
+    } else {
+      k = variance_index_lanes(x, below, next, mantissa, exponent_one);
+      last = _mm_cvtsi128_si32(_mm256_castsi256_si128(k));
+      if (last < kDensitySigmaCount)
+        lo = _mm512_set1_pd(starts[last]), hi = _mm512_set1_pd(starts[last + 1]);
+      else
+        lo = hi = _mm512_set1_pd(HUGE_VAL);
+    }
     store8(out->k.data() + i, k);
     // The farness test (also false for NaN), then every far lane's centre at 0 so that the
     // integer conversions stay in range.
@@ -184,8 +230,21 @@ LANTERN_AVX512 static void place_avx512(const void *entries, const int32_t *belo
                           _mm512_cmp_pd_mask(_mm512_abs_pd(cy), far, _CMP_LT_OQ);
     const __mmask8 live = near & _mm256_cmplt_epi32_mask(k, _mm256_set1_epi32(kDensitySigmaCount));
     const __m256i kl = _mm256_maskz_mov_epi32(live, k);
-    const AxisLanes ax = axis_lanes(_mm512_maskz_mov_pd(live, cx), kl, live, entries, width);
-    const AxisLanes ay = axis_lanes(_mm512_maskz_mov_pd(live, cy), kl, live, entries, height);
+    __m512i row[4];
+    const __m512i *shared = nullptr;
+    if (live == 0xff) {
+      const __m256i k0 = _mm256_permutexvar_epi32(_mm256_setzero_si256(), kl);
+      if (_mm256_cmpeq_epi32_mask(kl, k0) == 0xff) {
+        const auto *e0 = static_cast<const int64_t *>(entries) +
+                         size_t(_mm_cvtsi128_si32(_mm256_castsi256_si128(kl))) * kDensityPhases;
+        for (int v = 0; v < 4; ++v) row[v] = _mm512_loadu_si512(e0 + 8 * v);
+        shared = row;
+      }
+    }
+    const AxisLanes ax =
+        axis_lanes(_mm512_maskz_mov_pd(live, cx), kl, live, entries, width, shared);
+    const AxisLanes ay =
+        axis_lanes(_mm512_maskz_mov_pd(live, cy), kl, live, entries, height, shared);
     const __mmask8 on = live & _mm256_cmpgt_epi32_mask(ax.count, _mm256_setzero_si256()) &
                         _mm256_cmpgt_epi32_mask(ay.count, _mm256_setzero_si256());
     store8(out->first_x.data() + i, ax.first), store8(out->first_y.data() + i, ay.first);
@@ -213,8 +272,8 @@ void DensityKernelTable::place_all(const double *px, const double *py, const dou
   static const bool avx512 = has_avx512_placement();
   if (avx512) {
     static_assert(sizeof(Entry) == 8, "an entry is gathered as one 64-bit word");
-    place_avx512(entries_.data(), below32_.data(), next_.data(), px, py, sigma2, count, width,
-                 height, out);
+    place_avx512(entries_.data(), below32_.data(), next_.data(), starts_.data(), px, py, sigma2,
+                 count, width, height, out);
     done = count / 8 * 8;
   }
 #endif

@@ -136,6 +136,9 @@ class DensityKernelTable {
   std::vector<uint8_t> below_;
   std::vector<double> next_;
   std::vector<int32_t> below32_;  // below_ widened, for a vector gather
+  // starts_[k]: the least 4 sigma^2 whose index_of_variance() is k (k <= kDensitySigmaCount);
+  // starts_[0] is minus infinity.
+  std::vector<double> starts_;
   void place_range(const double *px, const double *py, const double *sigma2, int from, int to,
                    int width, int height, DensityPlacements *out) const;
 };

@@ -157,6 +157,13 @@ struct DensityBins {
   }
 };
 
+// Up to two byte ranges a caller will read next (the next batch of particles): bin_all()'s
+// weight-1 loop prefetches them a cache line per footprint, between its pixel work.
+struct DensityStreamAhead {
+  const char *at[2] = {nullptr, nullptr};
+  size_t bytes[2] = {0, 0};
+};
+
 class DensitySplatter {
  public:
   // Splats into `image` (already reset to the geometry's size) as seen through `g`.
@@ -180,6 +187,14 @@ class DensitySplatter {
   void project_all(const double *x, const double *y, const double *z, const double *r,
                    double radius, double scale, int count, DensityFootprints *out) const;
 
+  // project_all(x, y, z, nullptr, radius, 1, count, out) of `count` particles whose world
+  // positions are interleaved doubles (x, y, z: 24 bytes a particle, any alignment) at `xyz`,
+  // without copying them into arrays first: the same bits, 8 particles per AVX-512 vector.
+  // False, `out` then unspecified, where the processor lacks AVX-512, `count` is not a multiple
+  // of 8, or a coordinate is not finite (the caller gathers those particles and drops them).
+  bool project_xyz(const unsigned char *xyz, double radius, int count,
+                   DensityFootprints *out) const;
+
   // deposit(f, 1, color) in two steps, for a pass that visits the particles in an order that
   // wanders over the image: bin() files a table footprint under its image tile (a wider one,
   // beyond the table, is deposited at once) and returns whether it touches the image;
@@ -199,6 +214,8 @@ class DensitySplatter {
                       int count, double weight);
 
   void set_pixel_loop(DensityPixelLoop loop);
+  // What the next bin_all() prefetches (once; a hint only: the sums do not depend on it).
+  void stream_ahead(const DensityStreamAhead &next) { ahead_ = next; }
 
   // Pixels written so far (for the benchmark's bytes per particle).
   int64_t pixels_written() const { return pixels_written_; }
@@ -230,6 +247,7 @@ class DensitySplatter {
   uint64_t factors_m_[4] = {0, 0, 0, 0};
   int factors_shift_ = 1;
   int64_t pixels_written_ = 0;
+  DensityStreamAhead ahead_;
 };
 
 }  // namespace lantern

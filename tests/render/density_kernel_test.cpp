@@ -135,12 +135,42 @@ TEST(DensityKernel, PlaceAllFindsTheWidthAtEveryBoundary) {
   EXPECT_GT(steps, kDensitySigmaCount);  // every boundary of the table steps k
 }
 
+// Expects place_all() of the footprints to give index_of_variance(), then place() and taps_at()
+// per axis on a width x height image, footprint by footprint; counts those on the image and those
+// beyond the table.
+void expect_placed_one_by_one(const std::vector<double> &px, const std::vector<double> &py,
+                              const std::vector<double> &sigma2, int width, int height, int *on,
+                              int *wide) {
+  const DensityKernelTable &table = DensityKernelTable::get();
+  DensityPlacements all;
+  table.place_all(px.data(), py.data(), sigma2.data(), int(px.size()), width, height, &all);
+  for (size_t i = 0; i < px.size(); ++i) {
+    const int k = table.index_of_variance(sigma2[i]);
+    ASSERT_EQ(all.k[i], k) << i;
+    if (k >= kDensitySigmaCount) {
+      ++*wide;
+      continue;
+    }
+    bool touches = std::abs(px[i]) < double(1 << 30) && std::abs(py[i]) < double(1 << 30);
+    AxisTaps ax, ay;
+    touches = touches && table.taps(px[i], k, width, &ax) && table.taps(py[i], k, height, &ay);
+    ASSERT_EQ(all.count_x[i] > 0, touches) << i;
+    if (!touches) continue;
+    ++*on;
+    ASSERT_EQ(table.tap_data() + all.taps_x[i], ax.taps) << i;
+    ASSERT_EQ(table.tap_data() + all.taps_y[i], ay.taps) << i;
+    ASSERT_EQ(all.first_x[i], ax.first) << i;
+    ASSERT_EQ(all.first_y[i], ay.first) << i;
+    ASSERT_EQ(all.count_x[i], ax.count) << i;
+    ASSERT_EQ(all.count_y[i], ay.count) << i;
+  }
+}
+
 // place_all (the vectorised look-ups of a batch) gives index_of_variance(), then place() and
 // taps_at() per axis, integer for integer: for widths across the table and beyond it, centres
 // on, beside and far off the image, and non-finite ones; a count that is not a multiple of the
 // vector width.
 TEST(DensityKernel, PlaceAllIsPlaceAndTapsAtOneByOne) {
-  const DensityKernelTable &table = DensityKernelTable::get();
   uint32_t h = 4242;
   const auto next = [&h] {
     h ^= h << 13, h ^= h >> 17, h ^= h << 5;
@@ -178,30 +208,47 @@ TEST(DensityKernel, PlaceAllIsPlaceAndTapsAtOneByOne) {
         break;
     }
   }
-  DensityPlacements all;
-  table.place_all(px.data(), py.data(), sigma2.data(), int(px.size()), kWidth, kHeight, &all);
   int on = 0, wide = 0;
-  for (size_t i = 0; i < px.size(); ++i) {
-    const int k = table.index_of_variance(sigma2[i]);
-    ASSERT_EQ(all.k[i], k) << i;
-    if (k >= kDensitySigmaCount) {
-      ++wide;
-      continue;
-    }
-    bool touches = std::abs(px[i]) < double(1 << 30) && std::abs(py[i]) < double(1 << 30);
-    AxisTaps ax, ay;
-    touches = touches && table.taps(px[i], k, kWidth, &ax) && table.taps(py[i], k, kHeight, &ay);
-    ASSERT_EQ(all.count_x[i] > 0, touches) << i;
-    if (!touches) continue;
-    ++on;
-    ASSERT_EQ(table.tap_data() + all.taps_x[i], ax.taps) << i;
-    ASSERT_EQ(table.tap_data() + all.taps_y[i], ay.taps) << i;
-    ASSERT_EQ(all.first_x[i], ax.first) << i;
-    ASSERT_EQ(all.first_y[i], ay.first) << i;
-    ASSERT_EQ(all.count_x[i], ax.count) << i;
-    ASSERT_EQ(all.count_y[i], ay.count) << i;
-  }
+  expect_placed_one_by_one(px, py, sigma2, kWidth, kHeight, &on, &wide);
   EXPECT_GT(on, 2500);
+  EXPECT_GT(wide, 500);
+}
+
+// place_all on widths that vary slowly along the batch, as a published order's do (most
+// vectors of 8 share one k, which place_all then takes from the last vector's range): the
+// same integers one by one, with every boundary of the table met exactly, just below and just
+// above, and non-finite, negative and huge widths among them.
+TEST(DensityKernel, PlaceAllOfSlowlyVaryingWidthsIsPlaceOneByOne) {
+  std::vector<double> px, py, sigma2;
+  double x = 0.5;  // 4 sigma^2, from sigma 0.35 to beyond the table
+  for (int n = 0; x < 400.0; ++n) {
+    px.push_back(20.0 + 0.37 * (n % 700)), py.push_back(30.0 + 0.011 * n);
+    sigma2.push_back(x / 4.0);
+    x *= 1.0007;
+    switch (n % 2003) {
+      case 11:
+        sigma2.back() = std::nan("");
+        break;
+      case 12:
+        sigma2.back() = -1.0;
+        break;
+      case 13:
+        sigma2.back() = 1e300;
+        break;
+      default:
+        break;
+    }
+    if (n % 61 == 0) {  // the boundary at or just above x, met exactly and beside it
+      const double b = std::exp2(std::ceil(16.0 * std::log2(x) - 0.5) / 16.0 + 0.5 / 16.0);
+      for (const double v : {std::nextafter(b, 0.0), b, std::nextafter(b, HUGE_VAL)}) {
+        px.push_back(px.back()), py.push_back(py.back());
+        sigma2.push_back(v / 4.0);
+      }
+    }
+  }
+  int on = 0, wide = 0;
+  expect_placed_one_by_one(px, py, sigma2, 300, 200, &on, &wide);
+  EXPECT_GT(on, 8000);
   EXPECT_GT(wide, 500);
 }
 

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <vector>
 
 #include "core/bricks/brick_set.h"
@@ -247,6 +248,58 @@ TEST(DensitySplat, ProjectAllIsProjectParticleByParticle) {
   }
 }
 
+// project_xyz (the projection read straight from interleaved double positions) gives
+// project_all's bits in both projections, for particles in front of, on and behind the near
+// plane, at any alignment; it declines a count that is not a multiple of 8 and a batch with a
+// coordinate that is not finite.
+TEST(DensitySplat, ProjectXyzIsProjectAll) {
+  for (const Projection projection : {Projection::kPerspective, Projection::kOrthographic}) {
+    ViewGeometry g;
+    ASSERT_TRUE(box_view(projection, &g));
+    DensityImage image;
+    image.reset(g.width, g.height, 1);
+    const DensitySplatter splat(g, &image);
+    std::vector<double> x, y, z;
+    uint32_t h = 11;
+    const auto next = [&h] {
+      h ^= h << 13, h ^= h >> 17, h ^= h << 5;
+      return double(h) / 4294967296.0;
+    };
+    constexpr int kCount = 1000;
+    for (int k = 0; k < kCount; ++k) {
+      x.push_back(14.0 * next() - 2.0), y.push_back(14.0 * next() - 2.0);
+      z.push_back(k % 100 == 0 ? 30.0 - g.near_plane : 40.0 * next() - 5.0);
+    }
+    std::vector<unsigned char> bytes(kCount * 24 + 1);  // offset by one: unaligned
+    for (int k = 0; k < kCount; ++k)
+      for (int c = 0; c < 3; ++c) {
+        const double v = (c == 0 ? x : c == 1 ? y : z)[size_t(k)];
+        std::memcpy(bytes.data() + 1 + 24 * k + 8 * c, &v, 8);
+      }
+    DensityFootprints all, direct;
+    splat.project_all(x.data(), y.data(), z.data(), nullptr, 0.37, 1.0, kCount, &all);
+    ASSERT_TRUE(splat.project_xyz(bytes.data() + 1, 0.37, kCount, &direct));
+    int in_front = 0;
+    for (size_t k = 0; k < size_t(kCount); ++k) {
+      ASSERT_EQ(direct.in_front[k], all.in_front[k]) << k;
+      if (!all.in_front[k]) continue;
+      ++in_front;
+      ASSERT_EQ(direct.px[k], all.px[k]) << k;
+      ASSERT_EQ(direct.py[k], all.py[k]) << k;
+      ASSERT_EQ(direct.sigma2[k], all.sigma2[k]) << k;
+    }
+    EXPECT_GT(in_front, 300);
+    EXPECT_LT(in_front, kCount);
+    EXPECT_FALSE(splat.project_xyz(bytes.data() + 1, 0.37, kCount - 4, &direct));
+    for (const double bad : {std::nan(""), HUGE_VAL, -HUGE_VAL})
+      for (const int c : {0, 1, 2}) {
+        std::vector<unsigned char> spoilt = bytes;
+        std::memcpy(spoilt.data() + 1 + 24 * 997 + 8 * c, &bad, 8);
+        EXPECT_FALSE(splat.project_xyz(spoilt.data() + 1, 0.37, kCount, &direct)) << c;
+      }
+  }
+}
+
 // bin_all (vectorised look-ups; a batch that follows itself on the image deposited at once,
 // another filed in tile bins) then deposit_bins gives the sums of deposit() one by one: for a
 // coherent order (along a line), a random one, and footprints beyond the table, behind the near
@@ -476,6 +529,72 @@ TEST(DensityPass, ColorsByTypeOfEveryDatatypeMatchOneSplatPerParticle) {
     EXPECT_EQ(st.drawn, drawn) << int(datatype);
     EXPECT_EQ(drawn, kCount) << int(datatype);
     EXPECT_TRUE(pass.sum == one_by_one.sum) << int(datatype);
+  }
+}
+
+// Without level of detail, mask or cutting plane, the pass reads positions in published order
+// straight into the projection (interleaved doubles) or copies them without a branch (other
+// layouts): batches holding a particle whose position is not finite take the path that drops
+// it, and a count that is not a multiple of 8 ends in a short batch; the sums are those of
+// splat() particle by particle, for interleaved and separate, double and float positions.
+TEST(DensityPass, NonFinitePositionsAreDroppedInEveryLayout) {
+  Camera camera;
+  const ViewGeometry g = ortho_geometry(&camera);
+  constexpr int kCount = 5003;  // 4 full batches and a short one
+  std::vector<double> xyz, xs, ys, zs;
+  std::vector<float> xyz32;
+  uint32_t h = 5;
+  const auto next = [&h] {
+    h ^= h << 13, h ^= h >> 17, h ^= h << 5;
+    return double(h) / 4294967296.0;
+  };
+  for (int i = 0; i < kCount; ++i)
+    for (int k = 0; k < 3; ++k) {
+      double v = 1.0 + 8.0 * next();
+      if (i == 1500 + k || i == 4999) v = k == 1 ? std::nan("") : HUGE_VAL;
+      if (i == 3100 && k == 2) v = -HUGE_VAL;
+      xyz.push_back(v), xyz32.push_back(float(v));
+      (k == 0 ? xs : k == 1 ? ys : zs).push_back(v);
+    }
+  for (int layout = 0; layout < 3; ++layout) {
+    ParticleDescription d{};
+    d.count = kCount;
+    if (layout == 0) d.position = {xyz.data(), DataType::kFloat64, 0};
+    if (layout == 1) d.position = {xyz32.data(), DataType::kFloat32, 0};
+    if (layout == 2) {
+      d.position_x = {xs.data(), DataType::kFloat64, 0};
+      d.position_y = {ys.data(), DataType::kFloat64, 0};
+      d.position_z = {zs.data(), DataType::kFloat64, 0};
+    }
+    ParticleArrays arrays;
+    ASSERT_TRUE(ParticleArrays::validate(d, &arrays).ok()) << layout;
+    const BrickSet bricks = build_bricks(arrays, BrickOptions{});
+    SceneConfig scene;
+    scene.style = SceneStyle::kDensity;
+    scene.radius = 0.1;
+    scene.color.by = ColorBy::kSolid;
+    BrickSelection sel;
+    const RadiusRule radius = radius_rule(scene, arrays);
+    select_density_bricks(bricks, camera, cull_settings(scene), radius, &sel, nullptr);
+    Extent ext;
+    ext.lo = {1, 1, 1}, ext.hi = {9, 9, 9};
+    const InstanceRecipe recipe = make_recipe(arrays, shading_settings(scene), radius, camera, ext);
+    DensityImage pass;
+    const CullStats st = render_density(arrays, bricks, cull_settings(scene), sel, recipe, &pass);
+    DensityImage one_by_one;
+    one_by_one.reset(g.width, g.height, 1);
+    DensitySplatter splat(sel.g, &one_by_one);
+    int64_t drawn = 0;
+    for (int64_t i = 0; i < kCount; ++i) {
+      const glm::dvec3 x = arrays.position(i);
+      if (std::isfinite(x.x) && std::isfinite(x.y) && std::isfinite(x.z))
+        drawn += splat.splat(sel.g.to_view(x), 0.1, 1.0, {0, 0, 0});
+    }
+    EXPECT_EQ(st.drawn, drawn) << layout;
+    EXPECT_EQ(drawn, kCount - 5) << layout;
+    // Dropped before projection, not projected and missed: no particle counts as off the image.
+    EXPECT_EQ(st.frustum_culled, 0) << layout;
+    EXPECT_TRUE(pass.sum == one_by_one.sum) << layout;
   }
 }
 
