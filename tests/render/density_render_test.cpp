@@ -479,6 +479,28 @@ TEST(DensityLevelOfDetail, WeightsKeepTheTotalIntensityAtTenPercent) {
 // Colours by type read from a type array of either datatype (int32, int64), with types beyond
 // the pass's table (negative, 64 and more, coloured by the palette's own lookup): the streamed
 // pass gives the sums of splat() particle by particle with recipe.color(), bit for bit.
+// The density pass over `arrays` (bricks built here, the bricks `camera` sees selected) with the
+// selection and recipe it used: what the DensityPass tests compare with one splat per particle.
+struct DensityPassResult {
+  BrickSelection sel;
+  InstanceRecipe recipe;
+  DensityImage image;
+  CullStats st;
+};
+
+DensityPassResult run_density_pass(const ParticleArrays &arrays, const SceneConfig &scene,
+                                   const Camera &camera) {
+  const BrickSet bricks = build_bricks(arrays, BrickOptions{});
+  DensityPassResult r;
+  const RadiusRule radius = radius_rule(scene, arrays);
+  select_density_bricks(bricks, camera, cull_settings(scene), radius, &r.sel, nullptr);
+  Extent ext;
+  ext.lo = {1, 1, 1}, ext.hi = {9, 9, 9};
+  r.recipe = make_recipe(arrays, shading_settings(scene), radius, camera, ext);
+  r.st = render_density(arrays, bricks, cull_settings(scene), r.sel, r.recipe, &r.image);
+  return r;
+}
+
 TEST(DensityPass, ColorsByTypeOfEveryDatatypeMatchOneSplatPerParticle) {
   Camera camera;
   const ViewGeometry g = ortho_geometry(&camera);
@@ -505,30 +527,22 @@ TEST(DensityPass, ColorsByTypeOfEveryDatatypeMatchOneSplatPerParticle) {
               datatype, 0};
     ParticleArrays arrays;
     ASSERT_TRUE(ParticleArrays::validate(d, &arrays).ok());
-    const BrickSet bricks = build_bricks(arrays, BrickOptions{});
     SceneConfig scene;
     scene.style = SceneStyle::kDensity;
     scene.radius = 0.1;
     scene.color.by = ColorBy::kType;
     // Five colours: types t and t mod 64 differ in colour, as do -5 and 59.
     scene.color.palette = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {1, 1, 0}, {0.2, 0.4, 0.6}};
-    BrickSelection sel;
-    const RadiusRule radius = radius_rule(scene, arrays);
-    select_density_bricks(bricks, camera, cull_settings(scene), radius, &sel, nullptr);
-    Extent ext;
-    ext.lo = {1, 1, 1}, ext.hi = {9, 9, 9};
-    const InstanceRecipe recipe = make_recipe(arrays, shading_settings(scene), radius, camera, ext);
-    DensityImage pass;
-    const CullStats st = render_density(arrays, bricks, cull_settings(scene), sel, recipe, &pass);
+    const DensityPassResult pass = run_density_pass(arrays, scene, camera);
     DensityImage one_by_one;
     one_by_one.reset(g.width, g.height, 4);
-    DensitySplatter splat(sel.g, &one_by_one);
+    DensitySplatter splat(pass.sel.g, &one_by_one);
     int64_t drawn = 0;
     for (int64_t i = 0; i < kCount; ++i)
-      drawn += splat.splat(sel.g.to_view(arrays.position(i)), 0.1, 1.0, recipe.color(i));
-    EXPECT_EQ(st.drawn, drawn) << int(datatype);
+      drawn += splat.splat(pass.sel.g.to_view(arrays.position(i)), 0.1, 1.0, pass.recipe.color(i));
+    EXPECT_EQ(pass.st.drawn, drawn) << int(datatype);
     EXPECT_EQ(drawn, kCount) << int(datatype);
-    EXPECT_TRUE(pass.sum == one_by_one.sum) << int(datatype);
+    EXPECT_TRUE(pass.image.sum == one_by_one.sum) << int(datatype);
   }
 }
 
@@ -568,33 +582,25 @@ TEST(DensityPass, NonFinitePositionsAreDroppedInEveryLayout) {
     }
     ParticleArrays arrays;
     ASSERT_TRUE(ParticleArrays::validate(d, &arrays).ok()) << layout;
-    const BrickSet bricks = build_bricks(arrays, BrickOptions{});
     SceneConfig scene;
     scene.style = SceneStyle::kDensity;
     scene.radius = 0.1;
     scene.color.by = ColorBy::kSolid;
-    BrickSelection sel;
-    const RadiusRule radius = radius_rule(scene, arrays);
-    select_density_bricks(bricks, camera, cull_settings(scene), radius, &sel, nullptr);
-    Extent ext;
-    ext.lo = {1, 1, 1}, ext.hi = {9, 9, 9};
-    const InstanceRecipe recipe = make_recipe(arrays, shading_settings(scene), radius, camera, ext);
-    DensityImage pass;
-    const CullStats st = render_density(arrays, bricks, cull_settings(scene), sel, recipe, &pass);
+    const DensityPassResult pass = run_density_pass(arrays, scene, camera);
     DensityImage one_by_one;
     one_by_one.reset(g.width, g.height, 1);
-    DensitySplatter splat(sel.g, &one_by_one);
+    DensitySplatter splat(pass.sel.g, &one_by_one);
     int64_t drawn = 0;
     for (int64_t i = 0; i < kCount; ++i) {
       const glm::dvec3 x = arrays.position(i);
       if (std::isfinite(x.x) && std::isfinite(x.y) && std::isfinite(x.z))
-        drawn += splat.splat(sel.g.to_view(x), 0.1, 1.0, {0, 0, 0});
+        drawn += splat.splat(pass.sel.g.to_view(x), 0.1, 1.0, {0, 0, 0});
     }
-    EXPECT_EQ(st.drawn, drawn) << layout;
+    EXPECT_EQ(pass.st.drawn, drawn) << layout;
     EXPECT_EQ(drawn, kCount - 5) << layout;
     // Dropped before projection, not projected and missed: no particle counts as off the image.
-    EXPECT_EQ(st.frustum_culled, 0) << layout;
-    EXPECT_TRUE(pass.sum == one_by_one.sum) << layout;
+    EXPECT_EQ(pass.st.frustum_culled, 0) << layout;
+    EXPECT_TRUE(pass.image.sum == one_by_one.sum) << layout;
   }
 }
 
