@@ -22,6 +22,15 @@ namespace lantern {
 namespace {
 
 // An orthographic camera framing [0, 10]^3 from +z, at 200 x 200 px (20 px per unit).
+// xorshift32 numbers in [0, 1): the same test data on every machine.
+struct Uniform {
+  uint32_t h;
+  double operator()() {
+    h ^= h << 13, h ^= h >> 17, h ^= h << 5;
+    return double(h) / 4294967296.0;
+  }
+};
+
 ViewGeometry ortho_geometry(Camera *camera) {
   CameraConfig cc;
   cc.projection = Projection::kOrthographic;
@@ -90,11 +99,7 @@ TEST(DensitySplat, FourChannelWeightIsTheOneChannelImage) {
   one.reset(g.width, g.height, 1);
   four.reset(g.width, g.height, 4);
   DensitySplatter s1(g, &one), s4(g, &four);
-  uint32_t h = 7;
-  const auto next = [&h] {
-    h ^= h << 13, h ^= h >> 17, h ^= h << 5;
-    return double(h) / 4294967296.0;
-  };
+  Uniform next{7u};
   for (int n = 0; n < 3000; ++n) {
     const glm::dvec3 c = g.to_view({10.4 * next() - 0.2, 10.4 * next() - 0.2, 5.0});
     const double r = 0.02 + 0.5 * next(), w = 1.0 + 20.0 * next();
@@ -127,11 +132,7 @@ TEST(DensitySplat, EveryPixelLoopGivesTheSameSums) {
     image.reset(g.width, g.height, 4);
     DensitySplatter splat(g, &image);
     splat.set_pixel_loop(loops[l]);
-    uint32_t h = 3;
-    const auto next = [&h] {
-      h ^= h << 13, h ^= h >> 17, h ^= h << 5;
-      return double(h) / 4294967296.0;
-    };
+    Uniform next{3u};
     for (int n = 0; n < 2000; ++n) {
       const glm::dvec3 c = g.to_view({10.4 * next() - 0.2, 10.4 * next() - 0.2, 5.0});
       const double r = n % 50 == 0 ? 3.0 * next() : 0.02 + 0.4 * next();  // some beyond the table
@@ -168,11 +169,7 @@ TEST(DensitySplat, PaddedRowsCompactToTheDenseSums) {
       ASSERT_GT(padded.pitch, g.width);  // 256 px rows of 8 or 32 bytes a pixel are padded
       DensitySplatter a(g, &dense), b(g, &padded);
       a.set_pixel_loop(loop), b.set_pixel_loop(loop);
-      uint32_t h = 5;
-      const auto next = [&h] {
-        h ^= h << 13, h ^= h >> 17, h ^= h << 5;
-        return double(h) / 4294967296.0;
-      };
+      Uniform next{5u};
       for (int n = 0; n < 20000; ++n) {
         const glm::dvec3 c = g.to_view({20.0 * next() - 5.0, 20.0 * next() - 5.0, 5.0});
         const double r = n % 40 == 0 ? 2.0 * next() : 0.02 + 0.2 * next();
@@ -216,11 +213,7 @@ TEST(DensitySplat, ProjectAllIsProjectParticleByParticle) {
     image.reset(g.width, g.height, 1);
     const DensitySplatter splat(g, &image);
     std::vector<double> x, y, z, r;
-    uint32_t h = 7;
-    const auto next = [&h] {
-      h ^= h << 13, h ^= h >> 17, h ^= h << 5;
-      return double(h) / 4294967296.0;
-    };
+    Uniform next{7u};
     for (int k = 0; k < 1003; ++k) {
       x.push_back(14.0 * next() - 2.0), y.push_back(14.0 * next() - 2.0);
       z.push_back(k % 100 == 0 ? 30.0 - g.near_plane : 40.0 * next() - 5.0);  // some not in front
@@ -260,11 +253,7 @@ TEST(DensitySplat, ProjectXyzIsProjectAll) {
     image.reset(g.width, g.height, 1);
     const DensitySplatter splat(g, &image);
     std::vector<double> x, y, z;
-    uint32_t h = 11;
-    const auto next = [&h] {
-      h ^= h << 13, h ^= h >> 17, h ^= h << 5;
-      return double(h) / 4294967296.0;
-    };
+    Uniform next{11u};
     constexpr int kCount = 1000;
     for (int k = 0; k < kCount; ++k) {
       x.push_back(14.0 * next() - 2.0), y.push_back(14.0 * next() - 2.0);
@@ -305,11 +294,7 @@ TEST(DensitySplat, ProjectXyzIsProjectAll) {
 // coherent order (along a line), a random one, and footprints beyond the table, behind the near
 // plane or off the image.
 TEST(DensitySplat, BinAllGivesTheSumsOfDepositOneByOne) {
-  uint32_t h = 31;
-  const auto next = [&h] {
-    h ^= h << 13, h ^= h >> 17, h ^= h << 5;
-    return double(h) / 4294967296.0;
-  };
+  Uniform next{31u};
   // The second time into rows padded apart (256 px of 32 bytes: DensityImage::reset_padded), as
   // the density pass splats, compacted before comparing.
   for (const bool padded : {false, true})
@@ -425,11 +410,7 @@ TEST(DensitySplat, ParticlesBehindTheNearPlaneOrOffTheImageDepositNothing) {
 // A cloud of 60,000 particles in [1, 9]^3 in bricks with the z-order level layout.
 struct Cloud : testing::BrickedParticles {
   Cloud() {
-    uint32_t h = 12345;
-    const auto next = [&h] {
-      h ^= h << 13, h ^= h >> 17, h ^= h << 5;
-      return double(h) / 4294967296.0;
-    };
+    Uniform next{12345u};
     for (int i = 0; i < 60000; ++i) {
       // Half uniform, half in a dense blob: uneven brick sizes.
       const bool blob = i % 2 == 0;
@@ -508,11 +489,7 @@ TEST(DensityPass, ColorsByTypeOfEveryDatatypeMatchOneSplatPerParticle) {
   std::vector<double> xyz;
   std::vector<int32_t> t32;
   std::vector<int64_t> t64;
-  uint32_t h = 99;
-  const auto next = [&h] {
-    h ^= h << 13, h ^= h >> 17, h ^= h << 5;
-    return double(h) / 4294967296.0;
-  };
+  Uniform next{99u};
   for (int i = 0; i < kCount; ++i) {
     for (int k = 0; k < 3; ++k) xyz.push_back(1.0 + 8.0 * next());
     const int type = i % 75 - 5;  // -5 .. 69
@@ -557,11 +534,7 @@ TEST(DensityPass, NonFinitePositionsAreDroppedInEveryLayout) {
   constexpr int kCount = 5003;  // 4 full batches and a short one
   std::vector<double> xyz, xs, ys, zs;
   std::vector<float> xyz32;
-  uint32_t h = 5;
-  const auto next = [&h] {
-    h ^= h << 13, h ^= h >> 17, h ^= h << 5;
-    return double(h) / 4294967296.0;
-  };
+  Uniform next{5u};
   for (int i = 0; i < kCount; ++i)
     for (int k = 0; k < 3; ++k) {
       double v = 1.0 + 8.0 * next();
