@@ -205,12 +205,18 @@ bool box_view(Projection projection, ViewGeometry *g, int width = 300, int heigh
   return true;
 }
 
+// box_view and an empty one-channel image of its size.
+bool box_view_image(Projection projection, ViewGeometry *g, DensityImage *image) {
+  if (!box_view(projection, g)) return false;
+  image->reset(g->width, g->height, 1);
+  return true;
+}
+
 TEST(DensitySplat, ProjectAllIsProjectParticleByParticle) {
   for (const Projection projection : {Projection::kPerspective, Projection::kOrthographic}) {
     ViewGeometry g;
-    ASSERT_TRUE(box_view(projection, &g));
     DensityImage image;
-    image.reset(g.width, g.height, 1);
+    ASSERT_TRUE(box_view_image(projection, &g, &image));
     const DensitySplatter splat(g, &image);
     std::vector<double> x, y, z, r;
     Uniform next{7u};
@@ -248,9 +254,8 @@ TEST(DensitySplat, ProjectAllIsProjectParticleByParticle) {
 TEST(DensitySplat, ProjectXyzIsProjectAll) {
   for (const Projection projection : {Projection::kPerspective, Projection::kOrthographic}) {
     ViewGeometry g;
-    ASSERT_TRUE(box_view(projection, &g));
     DensityImage image;
-    image.reset(g.width, g.height, 1);
+    ASSERT_TRUE(box_view_image(projection, &g, &image));
     const DensitySplatter splat(g, &image);
     std::vector<double> x, y, z;
     Uniform next{11u};
