@@ -169,25 +169,32 @@ __attribute__((target("avx512f,avx512vl"))) inline void scan(const double *xyz,
   __m256d lo[2][2] = {{inf, inf}, {inf, inf}},
           hi[2][2] = {{minus_inf, minus_inf}, {minus_inf, minus_inf}};
   __m256i odd = _mm256_setzero_si256();
-  // Particle i into set `set` (0 or 1: every particle's min and max depend on the set's last).
-  const auto add = [&](int64_t i, int set) __attribute__((target("avx512f,avx512vl"))) {
-    const __m256d v = _mm256_maskz_loadu_pd(0x7, xyz + 3 * i);  // x, y, z, 0
+  // Particle i into set `set` (0 or 1: every particle's min and max depend on the set's last);
+  // none where `lanes` is 0 (the masked load reads nothing, and then no lane is taken), and then
+  // its bit is read at `at` (an index of the run) rather than at i.
+  const auto add = [&](int64_t i, int set, unsigned lanes = 7u, int64_t at = -1)
+      __attribute__((target("avx512f,avx512vl"))) {
+    const __m256d v = _mm256_maskz_loadu_pd(__mmask8(lanes), xyz + 3 * i);  // x, y, z, 0
     odd = _mm256_or_si256(odd, _mm256_castpd_si256(_mm256_sub_pd(v, v)));
     if (kTwo) {
-      const unsigned b = unsigned(bits[i >> 6] >> (i & 63)) & 1u;
-      const auto k1 = __mmask8(-b & 7u), k0 = __mmask8(k1 ^ 7u);
+      const int64_t j = at < 0 ? i : at;
+      const unsigned b = unsigned(bits[j >> 6] >> (j & 63)) & 1u;
+      const auto k1 = __mmask8(-b & lanes), k0 = __mmask8(k1 ^ lanes);
       lo[0][set] = _mm256_mask_min_pd(lo[0][set], k0, lo[0][set], v);
       hi[0][set] = _mm256_mask_max_pd(hi[0][set], k0, hi[0][set], v);
       lo[1][set] = _mm256_mask_min_pd(lo[1][set], k1, lo[1][set], v);
       hi[1][set] = _mm256_mask_max_pd(hi[1][set], k1, hi[1][set], v);
     } else {
-      lo[0][set] = _mm256_min_pd(lo[0][set], v);
-      hi[0][set] = _mm256_max_pd(hi[0][set], v);
+      lo[0][set] = _mm256_mask_min_pd(lo[0][set], __mmask8(lanes), lo[0][set], v);
+      hi[0][set] = _mm256_mask_max_pd(hi[0][set], __mmask8(lanes), hi[0][set], v);
     }
   };
   int64_t i = first;
   for (; i + 2 <= last; i += 2) add(i, 0), add(i + 1, 1);  // constant sets: kept in registers
-  if (i < last) add(i, 0);
+  // The odd particle out without a branch (a run's length is odd or even at random, and the
+  // branch mispredicted about once every other run).
+  const bool one_more = i < last;
+  add(i, 0, one_more ? 7u : 0u, one_more ? i : last - 1);
   const bool finite = _mm256_testz_si256(odd, odd) != 0;
   for (int k = 0; k < (kTwo ? 2 : 1); ++k) {
     alignas(32) double l[4], h[4];

@@ -213,5 +213,53 @@ TEST(IndexRuns, VectorScanGivesTheScalarScansBounds) {
   }
 }
 
+// The AVX-512 kernel on short runs (1 to 9 particles, two bricks interleaved at random, or one),
+// starting at odd and even indices and across the words of the in_other bits, against each
+// brick's bounds taken directly from the owners, bit for bit: the kernel takes two particles a
+// step and a run's odd particle out in a step whose lanes are masked off for even runs, which must
+// then add nothing to either brick (the coordinates keep away from zero, where a masked-off lane's
+// zero would show).
+TEST(IndexRuns, VectorScanBoundsShortRunsOfEveryParity) {
+  if (!LANTERN_SCAN_AVX512 || !scan_avx512::available()) GTEST_SKIP() << "no AVX-512 here";
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> coord(1.0, 2.0);
+  const int64_t n = 2 * kBlock + 333;
+  std::vector<uint32_t> owner(static_cast<size_t>(n));
+  uint32_t bricks = 0;
+  for (int64_t i = 0; i < n; bricks += 2) {  // each run two new bricks: the runs are these
+    const int64_t len = std::min<int64_t>(n - i, 1 + int64_t(rng() % 9));
+    const bool two = rng() % 4 != 0;
+    for (int64_t k = i; k < i + len; ++k) owner[size_t(k)] = bricks + (two && rng() % 2 != 0);
+    i += len;
+  }
+  PageVector<uint64_t> in_other;
+  BrickSet set;
+  set.runs = runs_of_owners(owner.data(), n, kMinMeanRun * n, &in_other);
+  ASSERT_FALSE(set.runs.empty());
+  set.in_other = std::move(in_other);
+  set.bricks.resize(bricks);
+  set.order.resize(size_t(n));
+  std::vector<double> xyz(static_cast<size_t>(3 * n));
+  for (size_t k = 0; k < xyz.size(); ++k) xyz[k] = (k % 2 == 0 ? 1.0 : -1.0) * coord(rng);
+  const InterleavedPositions<double> pos{reinterpret_cast<const unsigned char *>(xyz.data()),
+                                         int64_t(3 * sizeof(double))};
+  std::vector<BrickScan> expected(bricks);
+  for (int64_t i = 0; i < n; ++i) {
+    BrickScan &e = expected[owner[size_t(i)]];
+    e.lo = glm::min(e.lo, pos.get(i)), e.hi = glm::max(e.hi, pos.get(i));
+  }
+  const std::vector<BrickScan> got = scan_runs(pos, ConstantReal{0.0}, KeepAll{}, false, n, set, 1);
+  ASSERT_EQ(got.size(), expected.size());
+  for (size_t b = 0; b < got.size(); ++b) {
+    EXPECT_TRUE(got[b].finite && got[b].all_published) << "brick " << b;
+    for (int c = 0; c < 3; ++c) {
+      EXPECT_EQ(std::memcmp(&got[b].lo[c], &expected[b].lo[c], sizeof(double)), 0)
+          << "brick " << b << " " << c;
+      EXPECT_EQ(std::memcmp(&got[b].hi[c], &expected[b].hi[c], sizeof(double)), 0)
+          << "brick " << b << " " << c;
+    }
+  }
+}
+
 }  // namespace
 }  // namespace lantern
