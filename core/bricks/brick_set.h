@@ -68,6 +68,33 @@ class IndexRuns {
   // f(first, stop, brick, other) for runs [begin, end) (each needs its successor: end < size()).
   template <typename F>
   void visit(size_t begin, size_t end, const F &f) const;
+  // Runs from run k on, one per next(), as visit() gives them: for a loop compiled for wider
+  // instructions than its caller (a function with a target attribute), into which visit()'s
+  // callback could not be inlined (it would cost a call per run).
+  class Reader {
+   public:
+    Reader(const IndexRuns &runs, size_t k)
+        : runs_(&runs),
+          k_(k),
+          block_(runs.block_of(k)),
+          first_(block_ << kOffsetBits | uint32_t(runs.packed_[k] & (kBlock - 1))) {}
+    // Run k's first index, stop (its successor's first), brick and other brick; then k + 1.
+    void next(uint32_t *first, uint32_t *stop, uint32_t *brick, uint32_t *other) {
+      const uint64_t w = runs_->packed_[k_], following = runs_->packed_[k_ + 1];
+      const auto offset = uint32_t(following & (kBlock - 1));
+      if (offset == 0) ++block_;  // the next run starts the next block
+      *first = first_;
+      *stop = first_ = block_ << kOffsetBits | offset;
+      *brick = unpack_brick(w, kOffsetBits);
+      *other = unpack_brick(w, kOffsetBits + kBrickBits);
+      ++k_;
+    }
+
+   private:
+    const IndexRuns *runs_;
+    size_t k_;
+    uint32_t block_, first_;
+  };
   // Run after run, unpacked (range-for).
   class Iterator {
    public:
@@ -137,15 +164,11 @@ inline IndexRun IndexRuns::operator[](size_t k) const {
 template <typename F>
 void IndexRuns::visit(size_t begin, size_t end, const F &f) const {
   if (begin >= end) return;
-  uint32_t block = block_of(begin);
-  uint32_t first = block << kOffsetBits | uint32_t(packed_[begin] & (kBlock - 1));
+  Reader reader(*this, begin);
   for (size_t k = begin; k < end; ++k) {
-    const uint64_t w = packed_[k], next = packed_[k + 1];
-    const uint32_t offset = uint32_t(next & (kBlock - 1));
-    if (offset == 0) ++block;  // the next run starts the next block
-    const uint32_t stop = block << kOffsetBits | offset;
-    f(first, stop, unpack_brick(w, kOffsetBits), unpack_brick(w, kOffsetBits + kBrickBits));
-    first = stop;
+    uint32_t first, stop, brick, other;
+    reader.next(&first, &stop, &brick, &other);
+    f(first, stop, brick, other);
   }
 }
 

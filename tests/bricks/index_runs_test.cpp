@@ -11,6 +11,9 @@
 #include <random>
 #include <vector>
 
+#include <sys/mman.h>
+#include <unistd.h>
+
 #include "core/bricks/brick_set.h"
 #include "core/bricks/index_runs.h"
 #include "core/particles/typed_access.h"
@@ -149,14 +152,82 @@ TEST(IndexRuns, RunsOfRandomOwnersAreExactAndMaximal) {
   }
 }
 
-// scan_runs with the AVX-512 kernel (scan_avx512::scan, where the processor has it) against
-// scan_stretch, on packed xyz doubles owned at random by a few bricks in runs of every length
-// (one particle up to hundreds, one brick or two interleaved at random), jittered, with a few
-// NaN and infinite coordinates in some of them: every brick's bounds, finiteness and
-// publication bit for bit, wherever no bound is exactly zero (those are bounded again in the
-// brick's own order).
+// The vector kernels of scan_runs this processor runs, one at a time: while a Kernel lives,
+// scan_runs may use only its kernel (none: scan_stretch).
+class Kernel {
+ public:
+  enum Which { kScalar, kAvx2, kAvx512 };
+  explicit Kernel(Which k) {
+#if LANTERN_SCAN_X86
+    scan_avx512::enabled() = k == kAvx512;
+    scan_avx2::enabled() = k == kAvx2;
+#endif
+  }
+  ~Kernel() {
+#if LANTERN_SCAN_X86
+    scan_avx512::enabled() = true;
+    scan_avx2::enabled() = true;
+#endif
+  }
+  Kernel(const Kernel &) = delete;
+  Kernel &operator=(const Kernel &) = delete;
+
+  static std::vector<Which> vector_kernels() {
+    std::vector<Which> k;
+#if LANTERN_SCAN_X86
+    if (scan_avx512::available()) k.push_back(kAvx512);
+    if (scan_avx2::available()) k.push_back(kAvx2);
+#endif
+    return k;
+  }
+  static const char *name(Which k) {
+    return k == kAvx512 ? "AVX-512" : k == kAvx2 ? "AVX2" : "scalar";
+  }
+};
+
+// A set over indices [0, n) whose runs are those of `owner` (kept however short), every index
+// held.
+BrickSet set_of_owners(const std::vector<uint32_t> &owner, uint32_t bricks) {
+  const auto n = int64_t(owner.size());
+  PageVector<uint64_t> in_other;
+  BrickSet set;
+  set.runs = runs_of_owners(owner.data(), n, kMinMeanRun * n, &in_other);
+  set.in_other = std::move(in_other);
+  set.bricks.resize(bricks);
+  set.order.resize(size_t(n));  // particle_count(): every index held
+  return set;
+}
+
+bool same_bits(double a, double b) {
+  return std::memcmp(&a, &b, sizeof a) == 0;
+}
+
+// Every field of two scans, bit for bit where `zeros` (else where no bound is exactly zero, as
+// the AVX-512 kernel gives either sign there: those bricks are bounded again in their own order).
+void expect_same_scans(const std::vector<BrickScan> &want, const std::vector<BrickScan> &got,
+                       bool zeros, const char *kernel) {
+  ASSERT_EQ(want.size(), got.size());
+  for (size_t b = 0; b < want.size(); ++b) {
+    const BrickScan &s = want[b], &v = got[b];
+    EXPECT_EQ(s.finite, v.finite) << kernel << " brick " << b;
+    EXPECT_EQ(s.all_published, v.all_published) << kernel << " brick " << b;
+    EXPECT_TRUE(same_bits(s.r, v.r)) << kernel << " brick " << b;
+    if (!s.finite || (!zeros && has_zero_bound(s))) continue;
+    for (int c = 0; c < 3; ++c) {
+      EXPECT_TRUE(same_bits(s.lo[c], v.lo[c])) << kernel << " brick " << b << " " << c;
+      EXPECT_TRUE(same_bits(s.hi[c], v.hi[c])) << kernel << " brick " << b << " " << c;
+    }
+  }
+}
+
+// scan_runs with each vector kernel the processor runs against scan_stretch, on packed xyz
+// doubles owned at random by a few bricks in runs of every length (one particle up to hundreds,
+// one brick or two interleaved at random), jittered, with exact zeros of both signs, and with a
+// few NaN and infinite coordinates in some of them: every brick's bounds, radius, finiteness and
+// publication bit for bit (the AVX2 kernel visits each brick's particles in scan_stretch's order,
+// so even its zero bounds keep the same sign; the AVX-512 kernel's are bounded again).
 TEST(IndexRuns, VectorScanGivesTheScalarScansBounds) {
-  if (!LANTERN_SCAN_AVX512 || !scan_avx512::available()) GTEST_SKIP() << "no AVX-512 here";
+  if (Kernel::vector_kernels().empty()) GTEST_SKIP() << "no vector kernel here";
   std::mt19937_64 rng(11);
   std::uniform_real_distribution<double> coord(-3.0, 5.0);
   for (const bool non_finite : {false, true}) {
@@ -171,15 +242,16 @@ TEST(IndexRuns, VectorScanGivesTheScalarScansBounds) {
         owner[size_t(k)] = share != 0 && rng() % 4 < 2 * share - 1 ? b : a;
       i += len;
     }
-    PageVector<uint64_t> in_other;
-    BrickSet set;
-    set.runs = runs_of_owners(owner.data(), n, kMinMeanRun * n, &in_other);
+    const BrickSet set = set_of_owners(owner, bricks);
     ASSERT_FALSE(set.runs.empty());
-    set.in_other = std::move(in_other);
-    set.bricks.resize(bricks);
-    set.order.resize(size_t(n));  // particle_count(): every index held
     std::vector<double> xyz(static_cast<size_t>(3 * n));
     for (double &v : xyz) v = coord(rng);
+    // Every fourth brick's x at or above zero, and some of them exactly zero, of either sign:
+    // bounds of exactly zero, whose sign depends on the order the particles are met in.
+    for (int64_t i = 0; i < n; ++i)
+      if (owner[size_t(i)] % 4 == 0)
+        xyz[size_t(3 * i)] =
+            rng() % 8 == 0 ? (rng() % 2 ? -0.0 : 0.0) : std::abs(xyz[size_t(3 * i)]);
     if (non_finite)
       for (int k = 0; k < 6; ++k)
         xyz[size_t(rng() % xyz.size())] = k % 3 == 0   ? std::nan("")
@@ -189,38 +261,63 @@ TEST(IndexRuns, VectorScanGivesTheScalarScansBounds) {
                                            int64_t(3 * sizeof(double))};
     // The last published index below n: the indices past it mark their bricks unpublished.
     const int64_t count = n - 7;
-    std::vector<BrickScan> scans[2];
-    for (const bool vector : {false, true}) {
-      scan_avx512::enabled() = vector;
-      scans[vector] = scan_runs(pos, ConstantReal{0.0}, KeepAll{}, false, count, set, 1);
-    }
-    scan_avx512::enabled() = true;
-    ASSERT_EQ(scans[0].size(), scans[1].size());
-    int non_finite_bricks = 0;
-    for (size_t b = 0; b < scans[0].size(); ++b) {
-      const BrickScan &s = scans[0][b], &v = scans[1][b];
-      EXPECT_EQ(s.finite, v.finite) << "brick " << b;
-      EXPECT_EQ(s.all_published, v.all_published) << "brick " << b;
-      non_finite_bricks += !s.finite;
-      if (!s.finite || has_zero_bound(s)) continue;
-      for (int c = 0; c < 3; ++c) {
-        EXPECT_EQ(std::memcmp(&s.lo[c], &v.lo[c], sizeof(double)), 0) << "brick " << b << " " << c;
-        EXPECT_EQ(std::memcmp(&s.hi[c], &v.hi[c], sizeof(double)), 0) << "brick " << b << " " << c;
+    for (const int threads : {1, 3}) {
+      std::vector<BrickScan> want;
+      {
+        const Kernel scalar(Kernel::kScalar);
+        want = scan_runs(pos, ConstantReal{0.0}, KeepAll{}, false, count, set, threads);
       }
-      EXPECT_EQ(s.r, v.r);
+      int non_finite_bricks = 0, zero_bricks = 0;
+      for (const BrickScan &s : want)
+        non_finite_bricks += !s.finite, zero_bricks += has_zero_bound(s);
+      EXPECT_EQ(non_finite_bricks > 0, non_finite);
+      EXPECT_GT(zero_bricks, 0);
+      for (const Kernel::Which k : Kernel::vector_kernels()) {
+        const Kernel only(k);
+        expect_same_scans(want,
+                          scan_runs(pos, ConstantReal{0.0}, KeepAll{}, false, count, set, threads),
+                          k == Kernel::kAvx2, Kernel::name(k));
+      }
     }
-    EXPECT_EQ(non_finite_bricks > 0, non_finite);
   }
 }
 
-// The AVX-512 kernel on short runs (1 to 9 particles, two bricks interleaved at random, or one),
+// Positions that end where the process's memory does: a page that may not be read follows the
+// last coordinate, so a kernel that reads past the last particle crashes the test.
+class GuardedPositions {
+ public:
+  explicit GuardedPositions(size_t doubles) {
+    const size_t page = size_t(sysconf(_SC_PAGESIZE));
+    const size_t bytes = doubles * sizeof(double);
+    size_ = (bytes + page - 1) / page * page + page;
+    void *m = mmap(nullptr, size_, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
+    if (m == MAP_FAILED) return;
+    base_ = static_cast<unsigned char *>(m);
+    if (mprotect(base_ + size_ - page, page, PROT_NONE) != 0) return;
+    data_ = reinterpret_cast<double *>(base_ + size_ - page - bytes);
+  }
+  ~GuardedPositions() {
+    if (base_) munmap(base_, size_);
+  }
+  GuardedPositions(const GuardedPositions &) = delete;
+  GuardedPositions &operator=(const GuardedPositions &) = delete;
+  double *data() const { return data_; }  // null if the guard could not be set up
+
+ private:
+  unsigned char *base_ = nullptr;
+  size_t size_ = 0;
+  double *data_ = nullptr;
+};
+
+// Each vector kernel on short runs (1 to 9 particles, two bricks interleaved at random, or one),
 // starting at odd and even indices and across the words of the in_other bits, against each
-// brick's bounds taken directly from the owners, bit for bit: the kernel takes two particles a
-// step and a run's odd particle out in a step whose lanes are masked off for even runs, which must
-// then add nothing to either brick (the coordinates keep away from zero, where a masked-off lane's
-// zero would show).
+// brick's bounds taken directly from the owners, bit for bit: the AVX-512 kernel takes a run's
+// odd particle out in a step whose lanes are masked off for even runs, which must then add
+// nothing to either brick (the coordinates keep away from zero, where a masked-off lane's zero
+// would show), and the AVX2 kernel reads a particle with the next one's x, poisoned, except for the
+// last particle, whose positions end at a page that may not be read.
 TEST(IndexRuns, VectorScanBoundsShortRunsOfEveryParity) {
-  if (!LANTERN_SCAN_AVX512 || !scan_avx512::available()) GTEST_SKIP() << "no AVX-512 here";
+  if (Kernel::vector_kernels().empty()) GTEST_SKIP() << "no vector kernel here";
   std::mt19937_64 rng(5);
   std::uniform_real_distribution<double> coord(1.0, 2.0);
   const int64_t n = 2 * kBlock + 333;
@@ -232,15 +329,11 @@ TEST(IndexRuns, VectorScanBoundsShortRunsOfEveryParity) {
     for (int64_t k = i; k < i + len; ++k) owner[size_t(k)] = bricks + (two && rng() % 2 != 0);
     i += len;
   }
-  PageVector<uint64_t> in_other;
-  BrickSet set;
-  set.runs = runs_of_owners(owner.data(), n, kMinMeanRun * n, &in_other);
+  const BrickSet set = set_of_owners(owner, bricks);
   ASSERT_FALSE(set.runs.empty());
-  set.in_other = std::move(in_other);
-  set.bricks.resize(bricks);
-  set.order.resize(size_t(n));
-  std::vector<double> xyz(static_cast<size_t>(3 * n));
-  for (size_t k = 0; k < xyz.size(); ++k) xyz[k] = (k % 2 == 0 ? 1.0 : -1.0) * coord(rng);
+  const GuardedPositions xyz(size_t(3 * n));
+  ASSERT_NE(xyz.data(), nullptr);
+  for (size_t k = 0; k < size_t(3 * n); ++k) xyz.data()[k] = (k % 2 == 0 ? 1.0 : -1.0) * coord(rng);
   const InterleavedPositions<double> pos{reinterpret_cast<const unsigned char *>(xyz.data()),
                                          int64_t(3 * sizeof(double))};
   std::vector<BrickScan> expected(bricks);
@@ -248,15 +341,40 @@ TEST(IndexRuns, VectorScanBoundsShortRunsOfEveryParity) {
     BrickScan &e = expected[owner[size_t(i)]];
     e.lo = glm::min(e.lo, pos.get(i)), e.hi = glm::max(e.hi, pos.get(i));
   }
-  const std::vector<BrickScan> got = scan_runs(pos, ConstantReal{0.0}, KeepAll{}, false, n, set, 1);
-  ASSERT_EQ(got.size(), expected.size());
-  for (size_t b = 0; b < got.size(); ++b) {
-    EXPECT_TRUE(got[b].finite && got[b].all_published) << "brick " << b;
-    for (int c = 0; c < 3; ++c) {
-      EXPECT_EQ(std::memcmp(&got[b].lo[c], &expected[b].lo[c], sizeof(double)), 0)
-          << "brick " << b << " " << c;
-      EXPECT_EQ(std::memcmp(&got[b].hi[c], &expected[b].hi[c], sizeof(double)), 0)
-          << "brick " << b << " " << c;
+  for (const Kernel::Which k : Kernel::vector_kernels()) {
+    const Kernel only(k);
+    expect_same_scans(expected, scan_runs(pos, ConstantReal{0.0}, KeepAll{}, false, n, set, 1),
+                      true, Kernel::name(k));
+  }
+}
+
+// A non-finite position right after a run, in no brick (the build leaves such particles out):
+// the AVX2 kernel reads its x with the run's last particle, in a lane it ignores, so the run's
+// bricks stay finite and bounded by their own particles.
+TEST(IndexRuns, VectorScanIgnoresTheNextParticlesCoordinates) {
+  if (Kernel::vector_kernels().empty()) GTEST_SKIP() << "no vector kernel here";
+  const int64_t n = 40;
+  std::vector<uint32_t> owner(static_cast<size_t>(n), kNoBrick);
+  for (int64_t i = 0; i < 30; ++i) owner[size_t(i)] = i < 10 ? 0 : 1 + uint32_t(i % 2);
+  const BrickSet set = set_of_owners(owner, 3);
+  std::vector<double> xyz(static_cast<size_t>(3 * n));
+  for (int64_t i = 0; i < n; ++i)
+    for (int c = 0; c < 3; ++c) xyz[size_t(3 * i + c)] = 1.0 + double(i) + 0.25 * c;
+  for (const double bad : {std::nan(""), -double(INFINITY), -1e300}) {
+    xyz[3 * 30] = bad;  // the x after brick 1 and 2's run: smaller than every bound
+    const InterleavedPositions<double> pos{reinterpret_cast<const unsigned char *>(xyz.data()),
+                                           int64_t(3 * sizeof(double))};
+    std::vector<BrickScan> want;
+    {
+      const Kernel scalar(Kernel::kScalar);
+      want = scan_runs(pos, ConstantReal{0.0}, KeepAll{}, false, n, set, 1);
+    }
+    ASSERT_TRUE(want[0].finite && want[1].finite && want[2].finite);
+    EXPECT_EQ(want[1].lo.x, 11.0);
+    for (const Kernel::Which k : Kernel::vector_kernels()) {
+      const Kernel only(k);
+      expect_same_scans(want, scan_runs(pos, ConstantReal{0.0}, KeepAll{}, false, n, set, 1), true,
+                        Kernel::name(k));
     }
   }
 }
