@@ -336,8 +336,8 @@ void bound_bricks(const Positions &pos, const Radii &radius, int threads, bool n
     });
     return;
   }
-  const std::vector<BrickScan> scans = scan_runs(
-      pos, radius, KeepAll{}, set->has_radius, std::numeric_limits<int64_t>::max(), *set, threads);
+  const PageVector<BrickScan> scans = scan_runs(pos, radius, KeepAll{}, set->has_radius,
+                                                std::numeric_limits<int64_t>::max(), *set, threads);
   for (size_t b = 0; b < scans.size(); ++b) {
     // A bound of zero is -0 or +0 as the brick's own order decides, as it always did - unless no
     // held coordinate is -0: then every zero is +0 and the order changes no bit.

@@ -88,7 +88,7 @@ BrickScan scan_brick(const Positions &pos, const Radii &radius, const Keep &keep
 // them, else gathers brick by brick; the bounds are the same bits either way (index_runs.h).
 template <typename Positions, typename Radii, typename Keep>
 void fresh_bounds(const Positions &pos, const Radii &radius, const Keep &keep, int64_t count,
-                  const BrickSet &set, int threads, std::vector<BrickScan> *bounds,
+                  const BrickSet &set, int threads, PageVector<BrickScan> *bounds,
                   std::vector<uint8_t> *fits) {
   fits->assign(set.bricks.size(), 0);
   bounds->clear();
@@ -134,7 +134,7 @@ bool refit_bricks(const ParticleArrays &particles, double max_growth, BrickSet *
   // group under an index the bricks do not hold makes the count differ, and a rebuild follows.
   const int64_t kept_total = particles.kept_count();
   // The new bounds stay in the scans until the bricks take them (no copy of the bricks).
-  std::vector<BrickScan> fresh;
+  PageVector<BrickScan> fresh;
   std::vector<uint8_t> fits;
   visit_positions(particles, [&](const auto &pos) {
     visit_radii(particles, true, 0.0, [&](const auto &radius) {

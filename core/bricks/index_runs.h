@@ -40,6 +40,7 @@
 #include <glm/vec3.hpp>
 
 #include "core/bricks/brick_set.h"
+#include "core/common/page_allocator.h"
 #include "core/common/rank_threads.h"
 #include "core/particles/typed_access.h"
 
@@ -337,11 +338,12 @@ inline bool available() {
 // to `threads` threads, merged in part order (min and max keep the first of equal values, so the
 // result is the one-thread result).
 template <typename Positions, typename Radii, typename Keep>
-std::vector<BrickScan> scan_runs(const Positions &pos, const Radii &radius, const Keep &keep,
-                                 bool has_radius, int64_t count, const BrickSet &set, int threads) {
+PageVector<BrickScan> scan_runs(const Positions &pos, const Radii &radius, const Keep &keep,
+                                bool has_radius, int64_t count, const BrickSet &set, int threads) {
   const IndexRuns &runs = set.runs;
   const int parts = parts_for(threads, set.particle_count(), int64_t(1) << 16);
-  std::vector<std::vector<BrickScan>> part(static_cast<size_t>(parts));
+  // In mapped pages (a few dozen bytes per brick): freed to the system, not left in the heap.
+  std::vector<PageVector<BrickScan>> part(static_cast<size_t>(parts));
   const int64_t stretches = runs.empty() ? 0 : int64_t(runs.size()) - 1;  // the last closes
   const uint64_t *bits = set.in_other.data();
 #if LANTERN_SCAN_X86
@@ -359,7 +361,7 @@ std::vector<BrickScan> scan_runs(const Positions &pos, const Radii &radius, cons
   }
 #endif
   run_in_parts(parts, stretches, [&](int p, int64_t begin, int64_t end) {
-    std::vector<BrickScan> &acc = part[size_t(p)];
+    PageVector<BrickScan> &acc = part[size_t(p)];
     acc.assign(set.bricks.size(), BrickScan{});
 #if LANTERN_SCAN_X86
     if (packed_avx2) {
@@ -419,7 +421,7 @@ std::vector<BrickScan> scan_runs(const Positions &pos, const Radii &radius, cons
           acc[brick] = a;
         });
   });
-  std::vector<BrickScan> all = std::move(part[0]);
+  PageVector<BrickScan> all = std::move(part[0]);
   for (size_t p = 1; p < part.size(); ++p)
     for (size_t b = 0; b < all.size(); ++b) {
       BrickScan &a = all[b];

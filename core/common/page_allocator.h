@@ -32,8 +32,9 @@ namespace lantern {
 // heap (about 2 MiB per rank at 1024^2).
 inline constexpr size_t kPageBlockBytes = size_t(64) << 10;
 
-// Returns `bytes` bytes: mapped pages from kPageBlockBytes on, else from operator new.
-inline void *allocate_pages_or_heap(size_t bytes) {
+// Returns `bytes` bytes aligned to `align`: mapped pages from kPageBlockBytes on, else from
+// operator new.
+inline void *allocate_pages_or_heap(size_t bytes, size_t align = __STDCPP_DEFAULT_NEW_ALIGNMENT__) {
 #if defined(LANTERN_PAGE_ALLOCATOR_MMAP)
   if (bytes >= kPageBlockBytes) {
     void *p = mmap(nullptr, bytes, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
@@ -41,17 +42,22 @@ inline void *allocate_pages_or_heap(size_t bytes) {
     return p;
   }
 #endif
+  if (align > __STDCPP_DEFAULT_NEW_ALIGNMENT__)
+    return ::operator new(bytes, std::align_val_t(align));
   return ::operator new(bytes);
 }
 
-// Frees a block from allocate_pages_or_heap(bytes) (the same `bytes`).
-inline void free_pages_or_heap(void *p, size_t bytes) noexcept {
+// Frees a block from allocate_pages_or_heap(bytes, align) (the same `bytes` and `align`).
+inline void free_pages_or_heap(void *p, size_t bytes,
+                               size_t align = __STDCPP_DEFAULT_NEW_ALIGNMENT__) noexcept {
 #if defined(LANTERN_PAGE_ALLOCATOR_MMAP)
   if (bytes >= kPageBlockBytes) {
     munmap(p, bytes);
     return;
   }
 #endif
+  if (align > __STDCPP_DEFAULT_NEW_ALIGNMENT__)
+    return ::operator delete(p, std::align_val_t(align));
   ::operator delete(p);
 }
 
@@ -64,9 +70,9 @@ struct PageAllocator {
 
   T *allocate(size_t n) {
     if (n > size_t(-1) / sizeof(T)) throw std::bad_alloc();
-    return static_cast<T *>(allocate_pages_or_heap(n * sizeof(T)));
+    return static_cast<T *>(allocate_pages_or_heap(n * sizeof(T), alignof(T)));
   }
-  void deallocate(T *p, size_t n) noexcept { free_pages_or_heap(p, n * sizeof(T)); }
+  void deallocate(T *p, size_t n) noexcept { free_pages_or_heap(p, n * sizeof(T), alignof(T)); }
 };
 
 template <typename T, typename U>

@@ -204,7 +204,7 @@ bool same_bits(double a, double b) {
 
 // Every field of two scans, bit for bit where `zeros` (else where no bound is exactly zero, as
 // the AVX-512 kernel gives either sign there: those bricks are bounded again in their own order).
-void expect_same_scans(const std::vector<BrickScan> &want, const std::vector<BrickScan> &got,
+void expect_same_scans(const PageVector<BrickScan> &want, const PageVector<BrickScan> &got,
                        bool zeros, const char *kernel) {
   ASSERT_EQ(want.size(), got.size());
   for (size_t b = 0; b < want.size(); ++b) {
@@ -262,7 +262,7 @@ TEST(IndexRuns, VectorScanGivesTheScalarScansBounds) {
     // The last published index below n: the indices past it mark their bricks unpublished.
     const int64_t count = n - 7;
     for (const int threads : {1, 3}) {
-      std::vector<BrickScan> want;
+      PageVector<BrickScan> want;
       {
         const Kernel scalar(Kernel::kScalar);
         want = scan_runs(pos, ConstantReal{0.0}, KeepAll{}, false, count, set, threads);
@@ -336,7 +336,7 @@ TEST(IndexRuns, VectorScanBoundsShortRunsOfEveryParity) {
   for (size_t k = 0; k < size_t(3 * n); ++k) xyz.data()[k] = (k % 2 == 0 ? 1.0 : -1.0) * coord(rng);
   const InterleavedPositions<double> pos{reinterpret_cast<const unsigned char *>(xyz.data()),
                                          int64_t(3 * sizeof(double))};
-  std::vector<BrickScan> expected(bricks);
+  PageVector<BrickScan> expected(bricks);
   for (int64_t i = 0; i < n; ++i) {
     BrickScan &e = expected[owner[size_t(i)]];
     e.lo = glm::min(e.lo, pos.get(i)), e.hi = glm::max(e.hi, pos.get(i));
@@ -364,7 +364,7 @@ TEST(IndexRuns, VectorScanIgnoresTheNextParticlesCoordinates) {
     xyz[3 * 30] = bad;  // the x after brick 1 and 2's run: smaller than every bound
     const InterleavedPositions<double> pos{reinterpret_cast<const unsigned char *>(xyz.data()),
                                            int64_t(3 * sizeof(double))};
-    std::vector<BrickScan> want;
+    PageVector<BrickScan> want;
     {
       const Kernel scalar(Kernel::kScalar);
       want = scan_runs(pos, ConstantReal{0.0}, KeepAll{}, false, n, set, 1);
