@@ -47,7 +47,12 @@ void order_front_to_back(CandidateBuffers *b) {
   };
   std::vector<uint32_t> &counts = b->bucket_counts;
   counts.assign(kCells + 1, 0);
-  for (const Candidate &c : in) ++counts[cell(c) + 1];
+  // Each candidate's cell, found once for the count and the scatter.
+  static_assert(kCells <= 256, "a cell fits a byte");
+  std::vector<uint8_t> &cells = b->cells;
+  cells.resize(in.size());
+  for (size_t j = 0; j < in.size(); ++j) cells[j] = uint8_t(cell(in[j]));
+  for (const uint8_t k : cells) ++counts[size_t(k) + 1];
   for (size_t k = 1; k < counts.size(); ++k) counts[k] += counts[k - 1];
   // The non-empty cells, nearest slab first; which[k]: cell k's place among them.
   std::array<uint32_t, kCells> which{};
@@ -62,8 +67,9 @@ void order_front_to_back(CandidateBuffers *b) {
     }
   // Scatter into the cells, growing each one's box.
   std::vector<uint32_t> &slot = counts;
-  for (const Candidate &c : in) {
-    const size_t k = cell(c);
+  for (size_t j = 0; j < in.size(); ++j) {
+    const Candidate &c = in[j];
+    const size_t k = cells[j];
     DepthBucket &d = buckets[which[k]];
     d.lo = glm::min(d.lo, c.c - c.r), d.hi = glm::max(d.hi, c.c + c.r);
     d.near = std::min(d.near, -c.c.z - c.r);

@@ -57,6 +57,7 @@ struct DepthBucket {
 struct CandidateBuffers {
   std::vector<Candidate> gathered, sorted;
   std::vector<uint32_t> bucket_counts;
+  std::vector<uint8_t> cells;        // order_front_to_back: each gathered candidate's cell
   std::vector<DepthBucket> buckets;  // the non-empty ones, nearest first
   FrontScratch front;                // lod.select: nearest (front_selection.h)
 };
@@ -102,6 +103,11 @@ void gather(const CullPass<Positions, Radii> &pass, const VisibleBrick &v, bool 
   // The prefetch changes no value read: decisions and images stay as they were.
   constexpr uint32_t kAhead = 16;
   for (uint32_t k = 0; k < std::min(kAhead, v.keep); ++k) pass.pos.prefetch(idx[k]);
+  // Candidates are written in place (room for every kept particle, trimmed after the loop): no
+  // call per candidate.
+  std::vector<Candidate> &gathered = b->gathered;
+  size_t count = gathered.size();
+  if (keep_candidates) gathered.resize(count + v.keep);
   for (uint32_t k = 0; k < v.keep; ++k) {
     const uint32_t i = idx[k];
     if (k + kAhead < v.keep) pass.pos.prefetch(idx[k + kAhead]);
@@ -121,8 +127,9 @@ void gather(const CullPass<Positions, Radii> &pass, const VisibleBrick &v, bool 
           .push_back(draw_entry(i, scale));
       continue;
     }
-    b->gathered.push_back({c, r, i, scale});
+    gathered[count++] = {c, r, i, scale};
   }
+  if (keep_candidates) gathered.resize(count);
 }
 
 // The same without a depth pyramid: nothing is proven hidden.
@@ -151,11 +158,8 @@ template <typename Covered>
 bool bucket_hidden(const ViewGeometry &g, const DepthBucket &d, int x0, int x1,
                    const Covered &covered) {
   if (d.end - d.begin < 2) return false;
-  const glm::dvec3 lo = d.lo - g.eps, hi = d.hi + g.eps;
-  const glm::dvec3 corners[8] = {{lo.x, lo.y, lo.z}, {hi.x, lo.y, lo.z}, {lo.x, hi.y, lo.z},
-                                 {hi.x, hi.y, lo.z}, {lo.x, lo.y, hi.z}, {hi.x, lo.y, hi.z},
-                                 {lo.x, hi.y, hi.z}, {hi.x, hi.y, hi.z}};
-  PixelRect r = g.box_rect(corners);
+  // box_rect of the box's bounds: the rectangle of its 8 corners bit for bit, in 2 divisions.
+  PixelRect r = g.box_rect(d.lo - g.eps, d.hi + g.eps);
   r.x0 = std::max(r.x0, x0), r.x1 = std::min(r.x1, x1);
   return r.empty() || covered(r, d.near - g.eps);
 }

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <optional>
 
@@ -429,6 +430,130 @@ LANTERN_INLINE RunBits depth_bits(const float *wz, const float *depth, int n, bo
 }
 #endif
 
+// The frame a raster draws into, for the tile loops below.
+struct Target {
+  float *depth;
+  uint8_t *rgba;
+  int width, height;
+  const shading::LightModel<float> *light;  // null: the default headlight
+};
+
+// Writes a color of shade_pixel (R | G << 8 | B << 16) to 4 bytes of the frame as R, G, B, 255:
+// one 32-bit store where bytes are little-endian, the same bytes as four byte stores.
+LANTERN_INLINE void store_color(uint8_t *out, uint32_t color) {
+#if defined(__BYTE_ORDER__) && __BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__
+  const uint32_t word = color | 0xFF000000u;
+  std::memcpy(out, &word, sizeof word);
+#else
+  out[0] = uint8_t(color), out[1] = uint8_t(color >> 8), out[2] = uint8_t(color >> 16);
+  out[3] = 255;
+#endif
+}
+
+// Depth test of one tile row: bit k of *nearer where wz[k] < depth[k], of *tied where they are
+// equal, for k < w. `whole`: n depths may be read (the row does not end the frame), so the
+// comparisons run as vectors over all n and the bits past w are dropped; the same bits.
+template <int n>
+LANTERN_INLINE void depth_row(const float *wz, const float *depth, int w, bool whole,
+                              uint32_t *nearer, uint32_t *tied) {
+#if defined(__SSE2__)
+  if (whole) {
+    uint32_t lt = 0, eq = 0;
+    for (int q = 0; q < n; q += 4) {
+      const __m128 a = _mm_loadu_ps(wz + q), d = _mm_loadu_ps(depth + q);
+      lt |= uint32_t(_mm_movemask_ps(_mm_cmplt_ps(a, d))) << q;
+      eq |= uint32_t(_mm_movemask_ps(_mm_cmpeq_ps(a, d))) << q;
+    }
+    const uint32_t low = (uint32_t(1) << w) - 1;
+    *nearer = lt & low, *tied = eq & low;
+    return;
+  }
+#endif
+  uint32_t lt = 0, eq = 0;
+  for (int k = 0; k < w; ++k) {
+    lt |= uint32_t(wz[k] < depth[k]) << k;
+    eq |= uint32_t(wz[k] == depth[k]) << k;
+  }
+  *nearer = lt, *tied = eq;
+}
+
+// Ray-casts a sphere (the float cast `centred` when there is one, else `general`) over `rect`
+// (within the strip) in tiles of side n, depth-tests and shades them and writes the pixels it
+// wins. Returns the rectangle of the pixels written.
+template <int n>
+PixelRect draw_tiles(const CentredCast *centred, const GeneralCast *general, const uint8_t rgb[3],
+                     const PixelRect &rect, uint8_t alpha8, const Target &f) {
+  static_assert(n * n <= 64, "a tile's pixels are bits of one word");
+  const size_t width = size_t(f.width);
+  // The rows' colours are written only after the cast and the depth test: ask for their lines
+  // now, so that the stores do not wait on them (only a hint to the cache).
+  for (int y = rect.y0; y <= rect.y1; ++y) {
+    const uint8_t *row = f.rgba + 4 * (size_t(y) * width);
+    __builtin_prefetch(row + 4 * size_t(rect.x0), 1, 3);
+    __builtin_prefetch(row + 4 * size_t(rect.x1), 1, 3);
+  }
+  PixelRect written;
+  for (int y0 = rect.y0; y0 <= rect.y1; y0 += n)
+    for (int x0 = rect.x0; x0 <= rect.x1; x0 += n) {
+      const int w = std::min(n, rect.x1 - x0 + 1), h = std::min(n, rect.y1 - y0 + 1);
+      Tile t;
+      if (centred)
+        cast_centred(*centred, n, x0, y0, w, h, &t);
+      else
+        general->cast(n, x0, y0, w, h, &t);
+      // Depth test without branches: nearer wins; an equal depth is settled by color below.
+      // n depths of a row can be read unless the tile passes the row's end on the frame's last
+      // row (or the frame is narrower than a tile).
+      const bool whole = x0 + n <= f.width || (f.width >= n && y0 + h < f.height);
+      uint64_t nearer = 0, tied = 0;
+      for (int j = 0; j < h; ++j) {
+        uint32_t lt, eq;
+        depth_row<n>(t.wz + j * n, f.depth + size_t(y0 + j) * width + size_t(x0), w, whole, &lt,
+                     &eq);
+        nearer |= uint64_t(lt) << (j * n), tied |= uint64_t(eq) << (j * n);
+      }
+      if (alpha8 < 255) {
+        const uint64_t keep = screen_door_mask(n, x0, y0, w, h, alpha8);
+        nearer &= keep, tied &= keep;
+      }
+      if (!(nearer | tied)) continue;
+      uint32_t color[kTilePixels];
+      if (f.light) {
+        for (uint64_t bits = nearer | tied; bits; bits &= bits - 1) {  // the pixels that may win
+          const unsigned i = unsigned(__builtin_ctzll(bits));
+          const int x = x0 + int(i % n), y = y0 + int(i / n);
+          float nv[3], v[3];
+          if (centred)
+            centred_surface(*centred, x, y, nv, v);
+          else
+            general->surface(x, y, nv, v);
+          color[i] = shade_lit(*f.light, nv, v, rgb);
+        }
+      } else {
+        shade_tile(n, h, t.lambert2, rgb, color);
+      }
+      uint64_t won = nearer;
+      for (uint64_t bits = tied; bits; bits &= bits - 1) {  // rare: exactly equal depths
+        const unsigned i = unsigned(__builtin_ctzll(bits));
+        const uint8_t *out =
+            f.rgba + 4 * (size_t(y0) * width + size_t(x0) + (i / n) * width + i % n);
+        if (shaded_word(color[i]) < frame_word(out)) won |= uint64_t(1) << i;
+      }
+      if (!won) continue;
+      int kmin = n, kmax = -1;
+      for (uint64_t bits = won; bits; bits &= bits - 1) {
+        const unsigned i = unsigned(__builtin_ctzll(bits)), k = i % n;
+        const size_t p = size_t(y0 + int(i / n)) * width + size_t(x0) + k;
+        f.depth[p] = t.wz[i];
+        store_color(f.rgba + 4 * p, color[i]);
+        kmin = std::min(kmin, int(k)), kmax = std::max(kmax, int(k));
+      }
+      written.unite(PixelRect{x0 + kmin, y0 + __builtin_ctzll(won) / n, x0 + kmax,
+                              y0 + (63 - __builtin_clzll(won)) / n});
+    }
+  return written;
+}
+
 }  // namespace
 
 bool CpuSphereRaster::draw(const glm::dvec3 &c, double r, const uint8_t rgb[3], PixelRect rect,
@@ -471,74 +596,20 @@ bool CpuSphereRaster::draw(const glm::dvec3 &c, double r, const uint8_t rgb[3], 
         uint8_t *out = rgba + 4 * p;
         if (!(wz < depth[p]) && !(shaded_word(color) < frame_word(out))) continue;
         depth[p] = wz;
-        out[0] = uint8_t(color), out[1] = uint8_t(color >> 8), out[2] = uint8_t(color >> 16);
-        out[3] = 255;
+        store_color(out, color);
         written.unite(PixelRect{x, y, x, y});
       }
     pyramid_.propagate(written);
     return !written.empty();
   }
   // Tile side: small spheres get small tiles (a pixel's result does not depend on the tile).
-  const int n =
-      rect.x1 - rect.x0 < kSmallTile && rect.y1 - rect.y0 < kSmallTile ? kSmallTile : kTile;
-  for (int y0 = rect.y0; y0 <= rect.y1; y0 += n)
-    for (int x0 = rect.x0; x0 <= rect.x1; x0 += n) {
-      const int w = std::min(n, rect.x1 - x0 + 1), h = std::min(n, rect.y1 - y0 + 1);
-      Tile t;
-      if (centred)
-        cast_centred(*centred, n, x0, y0, w, h, &t);
-      else
-        general->cast(n, x0, y0, w, h, &t);
-      // Depth test without branches: nearer wins; an equal depth is settled by color below.
-      uint64_t nearer = 0, tied = 0;
-      for (int j = 0; j < h; ++j) {
-        const size_t row = size_t(y0 + j) * width + size_t(x0);
-        for (int k = 0; k < w; ++k) {
-          const int i = j * n + k;
-          const float dz = depth[row + k];
-          nearer |= uint64_t(t.wz[i] < dz) << i;
-          tied |= uint64_t(t.wz[i] == dz) << i;
-        }
-      }
-      if (alpha8 < 255) {
-        const uint64_t keep = screen_door_mask(n, x0, y0, w, h, alpha8);
-        nearer &= keep, tied &= keep;
-      }
-      if (!(nearer | tied)) continue;
-      uint32_t color[kTilePixels];
-      if (light_) {
-        for (uint64_t bits = nearer | tied; bits; bits &= bits - 1) {  // the pixels that may win
-          const int i = __builtin_ctzll(bits), x = x0 + i % n, y = y0 + i / n;
-          float nv[3], v[3];
-          if (centred)
-            centred_surface(*centred, x, y, nv, v);
-          else
-            general->surface(x, y, nv, v);
-          color[i] = shade_lit(*light_, nv, v, rgb);
-        }
-      } else {
-        shade_tile(n, h, t.lambert2, rgb, color);
-      }
-      uint64_t won = nearer;
-      for (uint64_t bits = tied; bits; bits &= bits - 1) {  // rare: exactly equal depths
-        const int i = __builtin_ctzll(bits);
-        const uint8_t *out = rgba + 4 * (size_t(y0 + i / n) * width + size_t(x0 + i % n));
-        if (shaded_word(color[i]) < frame_word(out)) won |= uint64_t(1) << i;
-      }
-      if (!won) continue;
-      int kmin = n, kmax = -1;
-      for (uint64_t bits = won; bits; bits &= bits - 1) {
-        const int i = __builtin_ctzll(bits), k = i % n;
-        const size_t p = size_t(y0 + i / n) * width + size_t(x0 + k);
-        depth[p] = t.wz[i];
-        uint8_t *out = rgba + 4 * p;
-        out[0] = uint8_t(color[i]), out[1] = uint8_t(color[i] >> 8);
-        out[2] = uint8_t(color[i] >> 16), out[3] = 255;
-        kmin = std::min(kmin, k), kmax = std::max(kmax, k);
-      }
-      written.unite(PixelRect{x0 + kmin, y0 + __builtin_ctzll(won) / n, x0 + kmax,
-                              y0 + (63 - __builtin_clzll(won)) / n});
-    }
+  const Target target{depth, rgba, g_.width, g_.height, light_ ? &*light_ : nullptr};
+  if (rect.x1 - rect.x0 < kSmallTile && rect.y1 - rect.y0 < kSmallTile)
+    written = draw_tiles<kSmallTile>(centred ? &*centred : nullptr, general ? &*general : nullptr,
+                                     rgb, rect, alpha8, target);
+  else
+    written = draw_tiles<kTile>(centred ? &*centred : nullptr, general ? &*general : nullptr, rgb,
+                                rect, alpha8, target);
   pyramid_.propagate(written);
   return !written.empty();
 }

@@ -586,5 +586,74 @@ TEST(CpuSphereRaster, PixelsDoNotDependOnTheRectangleOrItsTilesAndTheTightRectHo
   EXPECT_GT(drawn_pixels, 10000);
 }
 
+TEST(CpuSphereRaster, TilesDrawWhatPixelByPixelDraws) {
+  // Spheres of a fraction of a pixel to ~15 px, many at the frame's right and bottom edges and in
+  // its last rows (where a tile passes the frame's end), some coincident with another of a
+  // different color (depth ties), some see-through, under the default and a custom light, on
+  // frames narrower than a tile too. Frame A draws each over its tight rectangle (tiles of 4 or 8
+  // px, vector depth tests); frame B draws each pixel of that rectangle on its own (the
+  // one-by-one path), in the same order: every depth and color must agree bit for bit.
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  const uint8_t bg[4] = {0, 0, 0, 255};
+  Lighting custom;
+  custom.direction = {-0.4, 0.6, 0.7}, custom.specular = 0.6, custom.shininess = 12.0;
+  int64_t drawn_pixels = 0, ties = 0;
+  const int sizes[][2] = {{5, 7}, {7, 30}, {13, 9}, {64, 64}, {61, 37}, {203, 117}, {96, 150}};
+  int it = 0;
+  for (const auto &size : sizes)
+    for (int variant = 0; variant < 4; ++variant, ++it) {
+      const int w = size[0], h = size[1];
+      CameraConfig cfg;
+      if (variant == 3) cfg.projection = Projection::kOrthographic;
+      Camera cam;
+      ASSERT_OK(make_camera(cfg, glm::dvec3(-5), glm::dvec3(5), 0.5, w, h, &cam));
+      const ViewGeometry g = ViewGeometry::from_camera(cam, 20.0);
+      Frame tiles, pixels;
+      CpuSphereRaster::clear_target(g, bg, &tiles);
+      CpuSphereRaster::clear_target(g, bg, &pixels);
+      CpuSphereRaster a, b;
+      a.begin_strip(g, &tiles, 0, w - 1);
+      b.begin_strip(g, &pixels, 0, w - 1);
+      if (variant == 1) a.set_lighting(custom), b.set_lighting(custom);
+      const double units = 10.0 / std::max(w, h);  // about a pixel, in world units
+      glm::dvec3 last(0.0);
+      double last_r = 1.0;
+      for (uint32_t i = 0; i < 150; ++i) {
+        // Centres near the frame's last row and column half of the time, anywhere otherwise.
+        glm::dvec3 p(12 * u(rng) - 6, 12 * u(rng) - 6, 12 * u(rng) - 6);
+        const glm::dvec3 q = g.to_view(p);
+        double r = units * (0.3 + std::pow(u(rng), 2) * 8.0);
+        glm::dvec3 c = q;
+        if (i % 2 == 0) {
+          // The view-space point that projects near pixel (w - 1 - e, h - 1 - e) at depth -q.z.
+          const double ex = u(rng) * 6.0, ey = u(rng) * 6.0;
+          const double rx = g.ray_x(int(w - 1 - ex)), ry = g.ray_y(int(h - 1 - ey));
+          c = g.orthographic ? glm::dvec3(rx, ry, q.z) : glm::dvec3(-q.z * rx, -q.z * ry, q.z);
+        }
+        if (i % 7 == 3) c = last, r = last_r;  // a tie with the sphere before
+        last = c, last_r = r;
+        const uint8_t rgb[3] = {uint8_t(40 + i), uint8_t(200 - i), uint8_t(i * 37)};
+        const uint8_t alpha = i % 5 == 4 ? uint8_t(90 + i % 100) : uint8_t(255);
+        const PixelRect t = g.sphere_rect_tight(c, r, 0.05);
+        if (t.empty()) continue;
+        a.draw(c, r, rgb, t, alpha);
+        for (int y = t.y0; y <= t.y1; ++y)
+          for (int x = t.x0; x <= t.x1; ++x) b.draw(c, r, rgb, PixelRect{x, y, x, y}, alpha);
+        ties += i % 7 == 3;
+      }
+      for (size_t k = 0; k < tiles.pixel_count(); ++k) {
+        ASSERT_EQ(tiles.depth[k], pixels.depth[k]) << "case " << it << " pixel " << k;
+        ASSERT_EQ(std::memcmp(&tiles.rgba[4 * k], &pixels.rgba[4 * k], 4), 0)
+            << "case " << it << " pixel " << k;
+        drawn_pixels += tiles.depth[k] != kBackgroundDepth;
+      }
+    }
+  std::printf("tiles against pixels: %lld pixels drawn, %lld ties\n", (long long)drawn_pixels,
+              (long long)ties);
+  EXPECT_GT(drawn_pixels, 5000);
+  EXPECT_GT(ties, 200);
+}
+
 }  // namespace
 }  // namespace lantern

@@ -5,6 +5,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -91,6 +92,31 @@ TEST(ImageWriter, PngIsLosslessRgba8) {
   EXPECT_EQ(r.spec.height, frame.height);
   EXPECT_EQ(r.spec.nchannels, 4);
   EXPECT_EQ(r.bytes, std::vector<uint8_t>(frame.rgba.begin(), frame.rgba.end()));
+}
+
+TEST(ImageWriter, PngIsRgbExactlyWhenEveryPixelIsOpaque) {
+  // An opaque frame of 1100 x 5 pixels (blocks of the opacity check and a partial one) is written
+  // as RGB; one pixel of alpha 254 anywhere - first, at a block's end or start, last - makes it
+  // RGBA. Both read back as the frame's bytes.
+  const ScratchDir dir;
+  Frame frame(1100, 5);
+  for (size_t i = 0; i < frame.pixel_count(); ++i)
+    for (int c = 0; c < 4; ++c) frame.rgba[4 * i + c] = c == 3 ? 255 : uint8_t(i * (c + 3));
+  const std::string path = dir.file("opaque.png");
+  ASSERT_OK(write_image(frame, output_as(ImageFormat::kPng), path, to_distance));
+  const ReadBack opaque = read_back(path);
+  ASSERT_EQ(opaque.spec.nchannels, 3);
+  for (size_t i = 0; i < frame.pixel_count(); ++i)
+    ASSERT_EQ(std::memcmp(&opaque.bytes[3 * i], &frame.rgba[4 * i], 3), 0) << i;
+  for (const size_t at : {size_t(0), size_t(1023), size_t(1024), frame.pixel_count() - 1}) {
+    Frame one = frame;
+    one.rgba[4 * at + 3] = 254;
+    const std::string p = dir.file("alpha_" + std::to_string(at) + ".png");
+    ASSERT_OK(write_image(one, output_as(ImageFormat::kPng), p, to_distance));
+    const ReadBack r = read_back(p);
+    EXPECT_EQ(r.spec.nchannels, 4) << at;
+    EXPECT_EQ(r.bytes, std::vector<uint8_t>(one.rgba.begin(), one.rgba.end())) << at;
+  }
 }
 
 TEST(ImageWriter, TiffIsLosslessRgba8) {

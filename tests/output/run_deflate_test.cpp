@@ -91,5 +91,56 @@ TEST(RunDeflater, PiecesConcatenateIntoOneStream) {
   EXPECT_EQ(inflate_raw(stream, all.size()), all);
 }
 
+// FNV-1a over a piece's bytes.
+uint64_t fnv1a(const std::vector<uint8_t> &bytes) {
+  uint64_t h = 1469598103934665603ull;
+  for (const uint8_t b : bytes) h = (h ^ b) * 1099511628211ull;
+  return h;
+}
+
+TEST(RunDeflater, BytesAreThoseOfTheFirstEncoder) {
+  // PNG files must stay byte-identical, so the encoder's choices (which bytes are literals and
+  // which are runs, the trees, the bit packing) must not change: the pieces of these inputs hash
+  // as the first version of the encoder made them. Runs of every length from 1 to 600 (258 and
+  // its neighbours, the limit), stretches without runs of every length, at every offset in the
+  // vector widths and in blocks of several sizes.
+  std::mt19937 rng(21);
+  std::vector<uint8_t> data;
+  for (int k = 0; k < 3000; ++k) {
+    const uint32_t kind = rng() % 4;
+    if (kind == 0) {  // a run of 1..600 bytes, often of the byte before
+      const size_t len = 1 + rng() % (k % 5 == 0 ? 600 : 12);
+      const uint8_t b = data.empty() || rng() % 2 ? uint8_t(rng()) : data.back();
+      data.insert(data.end(), len, b);
+    } else if (kind == 1) {  // literals, no two equal in a row
+      for (size_t len = rng() % 70; len > 0; --len) {
+        uint8_t b = uint8_t(rng());
+        if (!data.empty() && b == data.back()) ++b;
+        data.push_back(b);
+      }
+    } else {  // a Sub-filtered shaded span: small differences, short runs
+      for (size_t len = rng() % 200; len > 0; --len) data.push_back(uint8_t(rng() % 4));
+    }
+  }
+  ASSERT_EQ(data.size(), 226213u);
+  const uint64_t expected[] = {0x9aac60c8c3935991ull, 0xd90338173bbe092bull, 0x44a268afca3f2e75ull,
+                               0xfc7e30c4ff8f5fc5ull, 0xf09c9d1cdcc17053ull, 0x745bcec4c592491full,
+                               0x625d90634c6190c4ull, 0x0cdb0c196c357f46ull, 0xd89122857e2678c5ull};
+  int e = 0;
+  for (const size_t block : {size_t(7), size_t(17), size_t(1000), size_t(65536), data.size()}) {
+    const uint64_t h = fnv1a(one_piece(data, block));
+    EXPECT_EQ(h, expected[e++]) << "block " << block;
+  }
+  // Non-final pieces (the sync flush), as bands are.
+  for (const size_t len : {size_t(0), size_t(5), size_t(300), size_t(70001)}) {
+    RunDeflater d;
+    d.add_block(data.data() + 11, len, false);
+    d.finish(false);
+    const PageVector<uint8_t> bytes = d.take();
+    const uint64_t h = fnv1a(std::vector<uint8_t>(bytes.begin(), bytes.end()));
+    EXPECT_EQ(h, expected[e++]) << "piece " << len;
+  }
+}
+
 }  // namespace
 }  // namespace lantern

@@ -52,9 +52,23 @@ Status deflate_bands(const uint8_t *rows, int width, int height, int n, int b0, 
 
 // RGB when every pixel is opaque (every frame but those of background: transparent): a quarter
 // less to compress.
+// Blocks of kOpaqueBlock pixels are checked with no exit inside, as the AND of their 4-byte words
+// (a loop the compiler vectorises): its alpha byte is 255 exactly when every pixel's is.
 int file_channels(const Frame &frame) {
-  for (size_t i = 0; i < frame.pixel_count(); ++i)
-    if (frame.rgba[4 * i + 3] != 255) return 4;
+  constexpr size_t kOpaqueBlock = 1024;
+  const uint8_t *rgba = frame.rgba.data();
+  const size_t n = frame.pixel_count();
+  for (size_t i = 0; i < n; i += kOpaqueBlock) {
+    uint32_t all = ~uint32_t(0);
+    for (size_t k = i; k < std::min(n, i + kOpaqueBlock); ++k) {
+      uint32_t word;
+      std::memcpy(&word, rgba + 4 * k, sizeof word);
+      all &= word;
+    }
+    uint8_t bytes[4];
+    std::memcpy(bytes, &all, sizeof bytes);
+    if (bytes[3] != 255) return 4;
+  }
   return 3;
 }
 

@@ -4,6 +4,10 @@
 #include <array>
 #include <cstring>
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 namespace lantern {
 namespace {
 
@@ -161,29 +165,60 @@ void RunDeflater::align() {
 
 void RunDeflater::add_block(const uint8_t *data, size_t n, bool final) {
   if (n == 0) return;
-  // Tokens: a literal, or a run of the previous byte of kMinRun..kMaxRun (distance 1).
-  tokens_.clear();
-  tokens_.reserve(n);
+  // Tokens: a literal, or a run of the previous byte of kMinRun..kMaxRun (distance 1), taken
+  // wherever one starts (a byte equal to the one before it, with at least kMinRun - 1 more).
+  // Stretches without two equal bytes in a row are found 16 bytes at a time and copied as
+  // literals; their counts go to four tables by position, so that a repeated byte's counts do
+  // not wait on each other, and are summed afterwards.
+  if (tokens_.size() < n) tokens_.resize(n);  // kept between blocks: never shrunk
+  uint16_t *const tokens = tokens_.data();
+  size_t count = 0;
   std::array<uint32_t, kLitLenSymbols> lit_freq{};
+  uint32_t literal_freq[4][256] = {};
   uint32_t runs = 0;
-  for (size_t i = 0; i < n;) {
-    const uint8_t b = data[i];
-    if (i > 0 && b == data[i - 1]) {
-      const size_t end = std::min(n, i + kMaxRun);
-      size_t j = i + 1;
-      while (j < end && data[j] == b) ++j;
-      if (j - i >= size_t(kMinRun)) {
-        tokens_.push_back(uint16_t(256 + (j - i)));
-        ++lit_freq[size_t(257 + kLengthCodes.code[j - i])];
-        ++runs;
-        i = j;
-        continue;
+  const auto literals = [&](size_t from, size_t to) {
+    for (size_t k = from; k < to; ++k) {
+      tokens[count++] = data[k];
+      ++literal_freq[k & 3][data[k]];
+    }
+  };
+  size_t i = 0;
+  while (i < n) {
+    // The next byte from i on (i > 0) that equals the byte before it, or n.
+    size_t k = std::max<size_t>(i, 1);
+#if defined(__SSE2__)
+    for (; k + 16 <= n; k += 16) {
+      const __m128i now = _mm_loadu_si128(reinterpret_cast<const __m128i *>(data + k));
+      const __m128i before = _mm_loadu_si128(reinterpret_cast<const __m128i *>(data + k - 1));
+      const int equal = _mm_movemask_epi8(_mm_cmpeq_epi8(now, before));
+      if (equal) {
+        k += size_t(__builtin_ctz(unsigned(equal)));
+        break;
       }
     }
-    tokens_.push_back(b);
-    ++lit_freq[b];
-    ++i;
+    if (k + 16 > n)
+#endif
+      while (k < n && data[k] != data[k - 1]) ++k;
+    literals(i, k);
+    i = k;
+    if (i >= n) break;
+    const uint8_t b = data[i];
+    const size_t end = std::min(n, i + kMaxRun);
+    size_t j = i + 1;
+    while (j < end && data[j] == b) ++j;
+    if (j - i >= size_t(kMinRun)) {
+      tokens[count++] = uint16_t(256 + (j - i));
+      ++lit_freq[size_t(257 + kLengthCodes.code[j - i])];
+      ++runs;
+      i = j;
+    } else {
+      literals(i, i + 1);
+      ++i;
+    }
   }
+  for (int b = 0; b < 256; ++b)
+    lit_freq[size_t(b)] =
+        literal_freq[0][b] + literal_freq[1][b] + literal_freq[2][b] + literal_freq[3][b];
   lit_freq[kEndOfBlock] = 1;
 
   // The two trees: literal/length, and distance (only distance 1, code 0, is ever used).
@@ -229,23 +264,41 @@ void RunDeflater::add_block(const uint8_t *data, size_t n, bool final) {
     if (sym >= 16) put(extra, kExtraBits[sym - 16]);
   }
 
-  // Data: each token as one put of at most 15 + 5 + 1 bits.
+  // Data: each token as one put of at most 15 + 5 + 1 bits, looked up whole (its code, and for
+  // a run the length's extra bits and the distance code after it) in a table by token, and
+  // packed with the bit buffer in registers.
   std::array<uint16_t, kLitLenSymbols> code{};
   canonical_codes(lengths.data(), kLitLenSymbols, code.data());
   uint16_t dist_code[2];
   canonical_codes(dist_len, 2, dist_code);
-  for (const uint16_t t : tokens_) {
-    if (t < 256) {
-      put(code[t], lengths[t]);
-      continue;
+  std::array<uint32_t, 256 + kMaxRun + 1> symbol{};  // bits | count << 24, by token
+  for (int t = 0; t < 256; ++t)
+    symbol[size_t(t)] = code[size_t(t)] | uint32_t(lengths[size_t(t)]) << 24;
+  for (int len = kMinRun; len <= kMaxRun; ++len) {
+    const int c = kLengthCodes.code[size_t(len)], sym = 257 + c;
+    uint32_t bits = code[size_t(sym)];
+    int width = lengths[size_t(sym)];
+    bits |= uint32_t(len - kLengthBase[size_t(c)]) << width, width += kLengthExtra[size_t(c)];
+    bits |= uint32_t(dist_code[0]) << width, width += dist_len[0];
+    symbol[size_t(256 + len)] = bits | uint32_t(width) << 24;
+  }
+  {
+    uint64_t acc = acc_;
+    int pending = pending_;
+    uint8_t *out = out_.data() + used_;
+    for (size_t k = 0; k < count; ++k) {
+      const uint32_t e = symbol[tokens[k]];
+      acc |= uint64_t(e & 0xFFFFFFu) << pending;
+      pending += int(e >> 24);
+      if (pending >= 32) {  // room reserved above
+        out[0] = uint8_t(acc), out[1] = uint8_t(acc >> 8), out[2] = uint8_t(acc >> 16);
+        out[3] = uint8_t(acc >> 24);
+        out += 4;
+        acc >>= 32;
+        pending -= 32;
+      }
     }
-    const int len = t - 256, c = kLengthCodes.code[size_t(len)], sym = 257 + c;
-    const int extra = kLengthExtra[size_t(c)];
-    uint64_t bits = code[size_t(sym)];
-    int count = lengths[size_t(sym)];
-    bits |= uint64_t(len - kLengthBase[size_t(c)]) << count, count += extra;
-    bits |= uint64_t(dist_code[0]) << count, count += dist_len[0];
-    put(bits, count);
+    acc_ = acc, pending_ = pending, used_ = size_t(out - out_.data());
   }
   put(code[kEndOfBlock], lengths[kEndOfBlock]);
   ended_ |= final;
