@@ -123,7 +123,8 @@ struct DensityFootprint {
 // The pixel loop of a four-channel image. kAuto: AVX-512 where the processor has it (footprints
 // of at most 4 pixels a row, two pixels per register; wider ones as AVX2), else AVX2, else SSE2
 // on x86-64, else scalar; the others force one (falling back to the next where the processor
-// lacks it), for tests. All give the same bits: the arithmetic is integer.
+// lacks it), for tests. The AVX-512 and AVX2 loops each come with a loop for weight-1
+// footprints of coherent batches (bin_all). All give the same bits: the arithmetic is integer.
 enum class DensityPixelLoop { kAuto, kAvx2, kSse2, kScalar };
 
 // Footprints of a batch of particles, one array per quantity (see DensitySplatter::project_all).
@@ -189,9 +190,10 @@ class DensitySplatter {
 
   // project_all(x, y, z, nullptr, radius, 1, count, out) of `count` particles whose world
   // positions are interleaved doubles (x, y, z: 24 bytes a particle, any alignment) at `xyz`,
-  // without copying them into arrays first: the same bits, 8 particles per AVX-512 vector.
-  // False, `out` then unspecified, where the processor lacks AVX-512, `count` is not a multiple
-  // of 8, or a coordinate is not finite (the caller gathers those particles and drops them).
+  // without copying them into arrays first: the same bits, 8 particles per AVX-512 vector (4 per
+  // AVX2 one where the processor has only that). False, `out` then unspecified, where the
+  // processor lacks AVX2, `count` is not a multiple of 8, or a coordinate is not finite (the
+  // caller gathers those particles and drops them).
   bool project_xyz(const unsigned char *xyz, double radius, int count,
                    DensityFootprints *out) const;
 
@@ -237,6 +239,9 @@ class DensitySplatter {
   // Whether weight-1 footprints of a four-channel image take the AVX-512 loop made for them
   // (the processor has it and the pixel loop is kAuto; the same sums as add4_).
   bool units_ = false;
+  // Whether they take the AVX2 weight-1 loop instead (where AVX2 is the pixel loop: the
+  // processor lacks AVX-512 or the loop is kAvx2; the same sums). Coherent batches only.
+  bool units_avx2_ = false;
   // The previous particle's weight and colour, and the factors made of them (see the .cpp).
   // Adds the footprint of taps ax x ay with `weight` and `color` to the image.
   void add(const AxisTaps &ax, const AxisTaps &ay, double weight, const Rgb8 &color);

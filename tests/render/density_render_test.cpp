@@ -250,8 +250,13 @@ TEST(DensitySplat, ProjectAllIsProjectParticleByParticle) {
 // project_xyz (the projection read straight from interleaved double positions) gives
 // project_all's bits in both projections, for particles in front of, on and behind the near
 // plane, at any alignment; it declines a count that is not a multiple of 8 and a batch with a
-// coordinate that is not finite.
+// coordinate that is not finite. Its AVX-512 path where the processor has it, else its AVX2 one.
 TEST(DensitySplat, ProjectXyzIsProjectAll) {
+#if defined(__x86_64__) && defined(__GNUC__)
+  if (!__builtin_cpu_supports("avx2")) GTEST_SKIP() << "project_xyz needs AVX2";
+#else
+  GTEST_SKIP() << "project_xyz needs AVX2";
+#endif
   for (const Projection projection : {Projection::kPerspective, Projection::kOrthographic}) {
     ViewGeometry g;
     DensityImage image;
@@ -297,50 +302,53 @@ TEST(DensitySplat, ProjectXyzIsProjectAll) {
 // bin_all (vectorised look-ups; a batch that follows itself on the image deposited at once,
 // another filed in tile bins) then deposit_bins gives the sums of deposit() one by one: for a
 // coherent order (along a line), a random one, and footprints beyond the table, behind the near
-// plane or off the image.
+// plane or off the image; with the automatic pixel loops and the AVX2 ones (each has its own
+// weight-1 loop for coherent batches).
 TEST(DensitySplat, BinAllGivesTheSumsOfDepositOneByOne) {
   Uniform next{31u};
   // The second time into rows padded apart (256 px of 32 bytes: DensityImage::reset_padded), as
   // the density pass splats, compacted before comparing.
-  for (const bool padded : {false, true})
-    for (const bool coherent : {true, false}) {
-      ViewGeometry g;
-      ASSERT_TRUE(box_view(Projection::kPerspective, &g, padded ? 256 : 300, 200));
-      std::vector<double> x, y, z, r;
-      std::vector<Rgb8> color;
-      for (int k = 0; k < 3001; ++k) {
-        const double t = double(k) / 3000.0;
-        x.push_back(coherent ? -1.0 + 12.0 * t : 14.0 * next() - 2.0);
-        y.push_back(coherent ? 5.0 + 3.0 * std::sin(20.0 * t) : 14.0 * next() - 2.0);
-        z.push_back(k % 500 == 0 ? 30.0 - 0.5 * g.near_plane : 10.0 * next());
-        r.push_back(k % 250 == 0 ? 6.0 : 0.02 + 0.3 * next());  // some beyond the table
-        color.push_back({uint8_t(k), uint8_t(7 * k), uint8_t(255 - k % 256)});
+  for (const DensityPixelLoop loop : {DensityPixelLoop::kAuto, DensityPixelLoop::kAvx2})
+    for (const bool padded : {false, true})
+      for (const bool coherent : {true, false}) {
+        ViewGeometry g;
+        ASSERT_TRUE(box_view(Projection::kPerspective, &g, padded ? 256 : 300, 200));
+        std::vector<double> x, y, z, r;
+        std::vector<Rgb8> color;
+        for (int k = 0; k < 3001; ++k) {
+          const double t = double(k) / 3000.0;
+          x.push_back(coherent ? -1.0 + 12.0 * t : 14.0 * next() - 2.0);
+          y.push_back(coherent ? 5.0 + 3.0 * std::sin(20.0 * t) : 14.0 * next() - 2.0);
+          z.push_back(k % 500 == 0 ? 30.0 - 0.5 * g.near_plane : 10.0 * next());
+          r.push_back(k % 250 == 0 ? 6.0 : 0.02 + 0.3 * next());  // some beyond the table
+          color.push_back({uint8_t(k), uint8_t(7 * k), uint8_t(255 - k % 256)});
+        }
+        DensityImage binned, one_by_one;
+        if (padded) {
+          binned.reset_padded(g.width, g.height, 4);
+          ASSERT_GT(binned.pitch, binned.width);
+        } else {
+          binned.reset(g.width, g.height, 4);
+        }
+        one_by_one.reset(g.width, g.height, 4);
+        DensitySplatter a(g, &binned), b(g, &one_by_one);
+        a.set_pixel_loop(loop);
+        DensityFootprints f;
+        DensityBins bins;
+        bins.reset(g.width, g.height);
+        a.project_all(x.data(), y.data(), z.data(), r.data(), 0.0, 1.0, int(x.size()), &f);
+        const int64_t touched = a.bin_all(f, color.data(), int(x.size()), &bins);
+        a.deposit_bins(bins);
+        binned.compact();
+        int64_t expected = 0;
+        for (size_t k = 0; k < x.size(); ++k)
+          expected += f.in_front[k] && b.deposit({f.px[k], f.py[k], f.sigma2[k]}, 1.0, color[k]);
+        EXPECT_EQ(touched, expected) << coherent;
+        EXPECT_GT(expected, 2000) << coherent;
+        EXPECT_LT(expected, 3001) << coherent;
+        EXPECT_TRUE(binned.sum == one_by_one.sum) << coherent;
+        EXPECT_EQ(a.pixels_written(), b.pixels_written()) << coherent;
       }
-      DensityImage binned, one_by_one;
-      if (padded) {
-        binned.reset_padded(g.width, g.height, 4);
-        ASSERT_GT(binned.pitch, binned.width);
-      } else {
-        binned.reset(g.width, g.height, 4);
-      }
-      one_by_one.reset(g.width, g.height, 4);
-      DensitySplatter a(g, &binned), b(g, &one_by_one);
-      DensityFootprints f;
-      DensityBins bins;
-      bins.reset(g.width, g.height);
-      a.project_all(x.data(), y.data(), z.data(), r.data(), 0.0, 1.0, int(x.size()), &f);
-      const int64_t touched = a.bin_all(f, color.data(), int(x.size()), &bins);
-      a.deposit_bins(bins);
-      binned.compact();
-      int64_t expected = 0;
-      for (size_t k = 0; k < x.size(); ++k)
-        expected += f.in_front[k] && b.deposit({f.px[k], f.py[k], f.sigma2[k]}, 1.0, color[k]);
-      EXPECT_EQ(touched, expected) << coherent;
-      EXPECT_GT(expected, 2000) << coherent;
-      EXPECT_LT(expected, 3001) << coherent;
-      EXPECT_TRUE(binned.sum == one_by_one.sum) << coherent;
-      EXPECT_EQ(a.pixels_written(), b.pixels_written()) << coherent;
-    }
 }
 
 // Perspective: the footprint's centroid is the projected centre (within 0.05 px, see
