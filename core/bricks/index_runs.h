@@ -284,27 +284,15 @@ __attribute__((target("avx2"))) inline void scan_run(const double *xyz, const ui
   *odd = nan;
 }
 
-// How far past the run being scanned scan_part prefetches the positions, in particles (6 KiB of
-// packed xyz doubles). A particle costs the kernel about twenty instructions, so the processor's
-// window reaches only a few cache lines past the loads, and with the hardware prefetcher alone the
-// scan waited on memory about as long as it computed. Prefetched, the scan alone of rank 0's share
-// of lantern-bench --scale 10 took 0.84x the time (fcc 12.4 -> 10.5 ms, heterogeneous 12.3 -> 10.2
-// ms, a streaming pass 8.4 ms; 128 to 1024 particles ahead all within 2 % of each other).
-inline constexpr int64_t kPrefetchAhead = 256;
-
 // Runs [begin, end) of set.runs (particles below `count`) into acc, a BrickScan per brick; false
 // if a position may not be finite (then acc is to be scanned again).
 __attribute__((target("avx2"))) inline bool scan_part(const double *xyz, const BrickSet &set,
                                                       size_t begin, size_t end, int64_t count,
                                                       BrickScan *acc) {
-  if (begin >= end) return true;
   const uint64_t *bits = set.in_other.data();
   // The particles whose four-lane load stays inside the positions (the runs end at the array's
   // end, or - in a refit - at the count of the particles when they were listed).
   const int64_t whole = std::min<int64_t>(count, set.runs.back().first) - 1;
-  // The next double to prefetch (a line at a time, never past the positions' end).
-  int64_t ahead = 3 * int64_t(set.runs[begin].first);
-  const int64_t ahead_end = 3 * (whole + 1);
   __m256d odd = _mm256_setzero_pd();
   IndexRuns::Reader reader(set.runs, begin);
   for (size_t k = begin; k < end; ++k) {
@@ -312,10 +300,6 @@ __attribute__((target("avx2"))) inline bool scan_part(const double *xyz, const B
     reader.next(&first, &stop, &brick, &other);
     if (brick == kNoBrick) continue;
     const int64_t last = std::min<int64_t>(stop, count);
-    ahead = std::max(ahead, 3 * int64_t(first));  // past a stretch of no brick
-    for (const int64_t to = std::min(3 * (last + kPrefetchAhead), ahead_end); ahead < to;
-         ahead += 8)
-      _mm_prefetch(reinterpret_cast<const char *>(xyz + ahead), _MM_HINT_T0);
     // Indices past the particle count are no longer published: their brick does not fit.
     for (int64_t i = last; i < stop; ++i)
       acc[other != kNoBrick && (bits[i >> 6] >> (i & 63) & 1) ? other : brick].all_published =

@@ -239,7 +239,7 @@ TEST(IndexRuns, VectorScanGivesTheScalarScansBounds) {
       const int64_t len = std::min<int64_t>(n - i, rng() % 4 == 0 ? 1 + rng() % 3 : rng() % 300);
       const uint32_t a = uint32_t(rng() % bricks), b = uint32_t(rng() % bricks);
       const unsigned share = unsigned(rng() % 3);  // none, some, most in the second brick
-      // Now and then a stretch in no brick: the kernels skip it (and their prefetching jumps it).
+      // Now and then a stretch in no brick, which the kernels skip.
       const bool held = rng() % 8 != 0;
       for (int64_t k = i; k < i + len; ++k)
         owner[size_t(k)] = !held ? kNoBrick : share != 0 && rng() % 4 < 2 * share - 1 ? b : a;
