@@ -216,21 +216,6 @@ __attribute__((target("avx512f,avx512vl"))) inline void scan(const double *xyz,
   }
 }
 
-// Whether scan_runs may use the kernel above (tests turn it off to compare with scan_stretch).
-inline std::atomic<bool> &enabled() {
-  static std::atomic<bool> on{true};
-  return on;
-}
-
-// Whether this processor (and its operating system) runs the AVX-512 code above.
-inline bool available() {
-  static const bool yes = [] {
-    __builtin_cpu_init();
-    return __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512vl");
-  }();
-  return yes;
-}
-
 }  // namespace scan_avx512
 
 // scan_runs's loop over a part's runs for positions stored as packed xyz doubles without a radius
@@ -315,22 +300,34 @@ __attribute__((target("avx2"))) inline bool scan_part(const double *xyz, const B
   return _mm256_testz_si256(_mm256_castpd_si256(odd), xyz_lanes) != 0;
 }
 
-// Whether scan_runs may use the kernel above (tests turn it off to compare with scan_stretch).
-inline std::atomic<bool> &enabled() {
-  static std::atomic<bool> on{true};
-  return on;
+}  // namespace scan_avx2
+
+// The vector kernels above.
+enum class ScanKernel { kAvx512, kAvx2 };
+
+// Whether scan_runs may use `kernel` (tests turn kernels off to compare with scan_stretch).
+inline std::atomic<bool> &scan_kernel_enabled(ScanKernel kernel) {
+  static std::atomic<bool> on[2] = {true, true};
+  return on[kernel == ScanKernel::kAvx512 ? 0 : 1];
 }
 
-// Whether this processor (and its operating system) runs the AVX2 code above.
-inline bool available() {
-  static const bool yes = [] {
+// Whether this processor (and its operating system) runs `kernel`.
+inline bool scan_kernel_available(ScanKernel kernel) {
+  static const bool avx512 = [] {
+    __builtin_cpu_init();
+    return __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512vl");
+  }();
+  static const bool avx2 = [] {
     __builtin_cpu_init();
     return __builtin_cpu_supports("avx2");
   }();
-  return yes;
+  return kernel == ScanKernel::kAvx512 ? avx512 : avx2;
 }
 
-}  // namespace scan_avx2
+// Whether scan_runs uses `kernel` where the positions' layout allows it.
+inline bool scan_kernel_usable(ScanKernel kernel) {
+  return scan_kernel_enabled(kernel) && scan_kernel_available(kernel);
+}
 #endif
 
 // One streaming pass over the positions through set.runs: each brick's bounds, radius and
@@ -355,8 +352,8 @@ PageVector<BrickScan> scan_runs(const Positions &pos, const Radii &radius, const
                 std::is_same_v<Keep, KeepAll>) {
     const bool layout = !has_radius && pos.stride == int64_t(3 * sizeof(double)) &&
                         reinterpret_cast<uintptr_t>(pos.base) % alignof(double) == 0;
-    packed = layout && scan_avx512::enabled() && scan_avx512::available();
-    packed_avx2 = layout && !packed && scan_avx2::enabled() && scan_avx2::available();
+    packed = layout && scan_kernel_usable(ScanKernel::kAvx512);
+    packed_avx2 = layout && !packed && scan_kernel_usable(ScanKernel::kAvx2);
     xyz = reinterpret_cast<const double *>(pos.base);
   }
 #endif

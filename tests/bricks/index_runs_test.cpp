@@ -159,14 +159,14 @@ class Kernel {
   enum Which { kScalar, kAvx2, kAvx512 };
   explicit Kernel(Which k) {
 #if LANTERN_SCAN_X86
-    scan_avx512::enabled() = k == kAvx512;
-    scan_avx2::enabled() = k == kAvx2;
+    scan_kernel_enabled(ScanKernel::kAvx512) = k == kAvx512;
+    scan_kernel_enabled(ScanKernel::kAvx2) = k == kAvx2;
 #endif
   }
   ~Kernel() {
 #if LANTERN_SCAN_X86
-    scan_avx512::enabled() = true;
-    scan_avx2::enabled() = true;
+    scan_kernel_enabled(ScanKernel::kAvx512) = true;
+    scan_kernel_enabled(ScanKernel::kAvx2) = true;
 #endif
   }
   Kernel(const Kernel &) = delete;
@@ -175,8 +175,8 @@ class Kernel {
   static std::vector<Which> vector_kernels() {
     std::vector<Which> k;
 #if LANTERN_SCAN_X86
-    if (scan_avx512::available()) k.push_back(kAvx512);
-    if (scan_avx2::available()) k.push_back(kAvx2);
+    if (scan_kernel_available(ScanKernel::kAvx512)) k.push_back(kAvx512);
+    if (scan_kernel_available(ScanKernel::kAvx2)) k.push_back(kAvx2);
 #endif
     return k;
   }
