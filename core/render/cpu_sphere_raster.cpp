@@ -436,6 +436,7 @@ struct Target {
   uint8_t *rgba;
   int width, height;
   const shading::LightModel<float> *light;  // null: the default headlight
+  int last_column;                          // the strip's last column: none past it is written
 };
 
 // Writes a color of shade_pixel (R | G << 8 | B << 16) to 4 bytes of the frame as R, G, B, 255:
@@ -449,6 +450,40 @@ LANTERN_INLINE void store_color(uint8_t *out, uint32_t color) {
   out[3] = 255;
 #endif
 }
+
+#if defined(__SSE2__) && defined(__BYTE_ORDER__) && __BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__
+#define LANTERN_BLEND_ROWS 1
+// Writes the pixels of one tile row that the sphere won (bit k of `won` for column k < n): their
+// depths from wz and colors (shade_pixel's, as store_color writes them) from color, 4 columns
+// per vector, the other columns rewritten with what they hold. A few whole-vector stores instead
+// of two stores a pixel, which fill the store buffer when the row's lines are still on their way.
+// The n columns must lie in the caller's strip (no other thread writes them) and in the frame.
+template <int n>
+LANTERN_INLINE void blend_row(uint32_t won, const float *wz, const uint32_t *color, float *depth,
+                              uint8_t *rgba) {
+  const __m128i lane_bits = _mm_setr_epi32(1, 2, 4, 8), alpha = _mm_set1_epi32(int(0xFF000000u));
+  for (int q = 0; q < n; q += 4) {
+    const uint32_t bits = won >> q & 0xFu;
+    if (!bits) continue;
+    const __m128 new_depth = _mm_loadu_ps(wz + q);
+    const __m128i new_rgba =
+        _mm_or_si128(_mm_loadu_si128(reinterpret_cast<const __m128i *>(color + q)), alpha);
+    __m128i *out = reinterpret_cast<__m128i *>(rgba + 4 * q);
+    if (bits == 0xFu) {
+      _mm_storeu_ps(depth + q, new_depth);
+      _mm_storeu_si128(out, new_rgba);
+      continue;
+    }
+    const __m128i keep =
+        _mm_cmpeq_epi32(_mm_and_si128(_mm_set1_epi32(int(bits)), lane_bits), lane_bits);
+    const __m128 keep_ps = _mm_castsi128_ps(keep);
+    _mm_storeu_ps(depth + q, _mm_or_ps(_mm_and_ps(keep_ps, new_depth),
+                                       _mm_andnot_ps(keep_ps, _mm_loadu_ps(depth + q))));
+    _mm_storeu_si128(out, _mm_or_si128(_mm_and_si128(keep, new_rgba),
+                                       _mm_andnot_si128(keep, _mm_loadu_si128(out))));
+  }
+}
+#endif
 
 // Depth test of one tile row: bit k of *nearer where wz[k] < depth[k], of *tied where they are
 // equal, for k < w. `whole`: n depths may be read (the row does not end the frame), so the
@@ -530,7 +565,11 @@ PixelRect draw_tiles(const CentredCast *centred, const GeneralCast *general, con
           color[i] = shade_lit(*f.light, nv, v, rgb);
         }
       } else {
-        shade_tile(n, h, t.lambert2, rgb, color);
+        // Only the rows from the first to the last that may win (a pixel's color does not
+        // depend on the rows shaded with it).
+        const int j0 = __builtin_ctzll(nearer | tied) / n,
+                  j1 = (63 - __builtin_clzll(nearer | tied)) / n;
+        shade_tile(n, j1 - j0 + 1, t.lambert2 + j0 * n, rgb, color + j0 * n);
       }
       uint64_t won = nearer;
       for (uint64_t bits = tied; bits; bits &= bits - 1) {  // rare: exactly equal depths
@@ -541,13 +580,28 @@ PixelRect draw_tiles(const CentredCast *centred, const GeneralCast *general, con
       }
       if (!won) continue;
       int kmin = n, kmax = -1;
-      for (uint64_t bits = won; bits; bits &= bits - 1) {
-        const unsigned i = unsigned(__builtin_ctzll(bits)), k = i % n;
-        const size_t p = size_t(y0 + int(i / n)) * width + size_t(x0) + k;
-        f.depth[p] = t.wz[i];
-        store_color(f.rgba + 4 * p, color[i]);
-        kmin = std::min(kmin, int(k)), kmax = std::max(kmax, int(k));
-      }
+#if defined(LANTERN_BLEND_ROWS)
+      if (!f.light && x0 + n - 1 <= f.last_column) {
+        // Every color of the rows holding a won pixel is set (shade_tile): rows at once.
+        uint32_t columns = 0;
+        const size_t p0 = size_t(y0) * width + size_t(x0);
+        for (int j = 0; j < h; ++j) {
+          const uint32_t row = uint32_t(won >> (j * n)) & ((uint32_t(1) << n) - 1);
+          if (!row) continue;
+          columns |= row;
+          const size_t p = p0 + size_t(j) * width;
+          blend_row<n>(row, t.wz + j * n, color + j * n, f.depth + p, f.rgba + 4 * p);
+        }
+        kmin = __builtin_ctz(columns), kmax = 31 - __builtin_clz(columns);
+      } else
+#endif
+        for (uint64_t bits = won; bits; bits &= bits - 1) {
+          const unsigned i = unsigned(__builtin_ctzll(bits)), k = i % n;
+          const size_t p = size_t(y0 + int(i / n)) * width + size_t(x0) + k;
+          f.depth[p] = t.wz[i];
+          store_color(f.rgba + 4 * p, color[i]);
+          kmin = std::min(kmin, int(k)), kmax = std::max(kmax, int(k));
+        }
       written.unite(PixelRect{x0 + kmin, y0 + __builtin_ctzll(won) / n, x0 + kmax,
                               y0 + (63 - __builtin_clzll(won)) / n});
     }
@@ -603,7 +657,7 @@ bool CpuSphereRaster::draw(const glm::dvec3 &c, double r, const uint8_t rgb[3], 
     return !written.empty();
   }
   // Tile side: small spheres get small tiles (a pixel's result does not depend on the tile).
-  const Target target{depth, rgba, g_.width, g_.height, light_ ? &*light_ : nullptr};
+  const Target target{depth, rgba, g_.width, g_.height, light_ ? &*light_ : nullptr, x1_};
   if (rect.x1 - rect.x0 < kSmallTile && rect.y1 - rect.y0 < kSmallTile)
     written = draw_tiles<kSmallTile>(centred ? &*centred : nullptr, general ? &*general : nullptr,
                                      rgb, rect, alpha8, target);

@@ -655,5 +655,69 @@ TEST(CpuSphereRaster, TilesDrawWhatPixelByPixelDraws) {
   EXPECT_GT(ties, 200);
 }
 
+TEST(CpuSphereRaster, StripsWriteOnlyTheirColumnsAndTogetherDrawTheWholeFrame) {
+  // Two rasters on column strips split at a column no tile is aligned to, drawing the same
+  // spheres (many across the split) into one frame, against one raster over every column: the
+  // frames must agree bit for bit. A third raster draws the spheres into the left strip alone:
+  // no pixel right of the split may change. (Tile rows are written whole, with the pixels not
+  // won rewritten as they were, only where the row lies inside the strip: drawn one after the
+  // other, as here, a rewrite past the strip's end would not show; two threads could lose a
+  // pixel.)
+  std::mt19937 rng(23);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  const uint8_t bg[4] = {10, 20, 30, 255};
+  int64_t drawn_pixels = 0;
+  for (int variant = 0; variant < 4; ++variant) {
+    const int w = 150 + 7 * variant, h = 90, split = 61 + 3 * variant;
+    CameraConfig cfg;
+    if (variant == 3) cfg.projection = Projection::kOrthographic;
+    Camera cam;
+    ASSERT_OK(make_camera(cfg, glm::dvec3(-5), glm::dvec3(5), 0.5, w, h, &cam));
+    const ViewGeometry g = ViewGeometry::from_camera(cam, 20.0);
+    Frame whole, strips, left_only;
+    CpuSphereRaster::clear_target(g, bg, &whole);
+    CpuSphereRaster::clear_target(g, bg, &strips);
+    CpuSphereRaster::clear_target(g, bg, &left_only);
+    CpuSphereRaster one, left, right, alone;
+    one.begin_strip(g, &whole, 0, w - 1);
+    left.begin_strip(g, &strips, 0, split - 1);
+    right.begin_strip(g, &strips, split, w - 1);
+    alone.begin_strip(g, &left_only, 0, split - 1);
+    const double units = 10.0 / w;  // about a pixel, in world units
+    for (uint32_t i = 0; i < 300; ++i) {
+      const glm::dvec3 q = g.to_view(glm::dvec3(12 * u(rng) - 6, 12 * u(rng) - 6, 12 * u(rng) - 6));
+      glm::dvec3 c = q;
+      if (i % 2 == 0) {  // centred within a few pixels of the split
+        const double rx = g.ray_x(split - 4 + int(u(rng) * 8)), ry = g.ray_y(int(u(rng) * h));
+        c = g.orthographic ? glm::dvec3(rx, ry, q.z) : glm::dvec3(-q.z * rx, -q.z * ry, q.z);
+      }
+      const double r = units * (0.5 + std::pow(u(rng), 2) * 6.0);
+      const uint8_t rgb[3] = {uint8_t(40 + i), uint8_t(200 - i), uint8_t(i * 37)};
+      const PixelRect t = g.sphere_rect_tight(c, r, 0.05);
+      if (t.empty()) continue;
+      one.draw(c, r, rgb, t);
+      left.draw(c, r, rgb, t);
+      right.draw(c, r, rgb, t);
+      alone.draw(c, r, rgb, t);
+    }
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) {
+        const size_t k = size_t(y) * size_t(w) + size_t(x);
+        ASSERT_EQ(whole.depth[k], strips.depth[k]) << "variant " << variant << " pixel " << k;
+        ASSERT_EQ(std::memcmp(&whole.rgba[4 * k], &strips.rgba[4 * k], 4), 0)
+            << "variant " << variant << " pixel " << k;
+        const Frame &expect = x < split ? whole : strips;  // right of the split: untouched
+        const float depth = x < split ? expect.depth[k] : kBackgroundDepth;
+        ASSERT_EQ(left_only.depth[k], depth) << "variant " << variant << " pixel " << k;
+        if (x >= split)
+          ASSERT_EQ(std::memcmp(&left_only.rgba[4 * k], bg, 4), 0) << "variant " << variant;
+        else
+          ASSERT_EQ(std::memcmp(&left_only.rgba[4 * k], &whole.rgba[4 * k], 4), 0);
+        drawn_pixels += whole.depth[k] != kBackgroundDepth;
+      }
+  }
+  EXPECT_GT(drawn_pixels, 2000);
+}
+
 }  // namespace
 }  // namespace lantern
