@@ -545,6 +545,18 @@ TEST(CpuSphereRaster, CoveredIsFalseUntilEveryPixelHoldsSomethingNearer) {
   EXPECT_FALSE(raster.covered(PixelRect{0, 0, 31, 31}, -c.z + 2.0));  // corners are background
 }
 
+// The CPU raster tests' view: the default camera framing the box offset + [-5, 5]^3 (spheres up to
+// 0.5) in a w x h frame, perspective or orthographic, at scale 20.
+Status box_view(int w, int h, bool orthographic, double offset, ViewGeometry *g) {
+  CameraConfig cfg;
+  if (orthographic) cfg.projection = Projection::kOrthographic;
+  Camera cam;
+  const Status s =
+      make_camera(cfg, glm::dvec3(offset - 5), glm::dvec3(offset + 5), 0.5, w, h, &cam);
+  if (s.ok()) *g = ViewGeometry::from_camera(cam, 20.0);
+  return s;
+}
+
 TEST(CpuSphereRaster, PixelsDoNotDependOnTheRectangleOrItsTilesAndTheTightRectHoldsThemAll) {
   // Every sphere drawn once over the whole image and once over its tight rectangle, which starts
   // its tiles elsewhere and picks small tiles or the one-by-one path for small spheres: the
@@ -554,13 +566,10 @@ TEST(CpuSphereRaster, PixelsDoNotDependOnTheRectangleOrItsTilesAndTheTightRectHo
   const uint8_t bg[4] = {0, 0, 0, 255};
   int64_t drawn_pixels = 0;
   for (int it = 0; it < 40; ++it) {
-    CameraConfig cfg;
-    if (it % 3 == 0) cfg.projection = Projection::kOrthographic;
     const double offset = it % 4 == 1 ? 1e4 : 0.0;
-    Camera cam;
     const int w = 40 + int(u(rng) * 300), h = 40 + int(u(rng) * 300);
-    ASSERT_OK(make_camera(cfg, glm::dvec3(offset - 5), glm::dvec3(offset + 5), 0.5, w, h, &cam));
-    const ViewGeometry g = ViewGeometry::from_camera(cam, 20.0);
+    ViewGeometry g;
+    ASSERT_OK(box_view(w, h, it % 3 == 0, offset, &g));
     Frame whole, tight;
     CpuSphereRaster::clear_target(g, bg, &whole);
     CpuSphereRaster::clear_target(g, bg, &tight);
@@ -604,11 +613,8 @@ TEST(CpuSphereRaster, TilesDrawWhatPixelByPixelDraws) {
   for (const auto &size : sizes)
     for (int variant = 0; variant < 4; ++variant, ++it) {
       const int w = size[0], h = size[1];
-      CameraConfig cfg;
-      if (variant == 3) cfg.projection = Projection::kOrthographic;
-      Camera cam;
-      ASSERT_OK(make_camera(cfg, glm::dvec3(-5), glm::dvec3(5), 0.5, w, h, &cam));
-      const ViewGeometry g = ViewGeometry::from_camera(cam, 20.0);
+      ViewGeometry g;
+      ASSERT_OK(box_view(w, h, variant == 3, 0.0, &g));
       Frame tiles, pixels;
       CpuSphereRaster::clear_target(g, bg, &tiles);
       CpuSphereRaster::clear_target(g, bg, &pixels);
@@ -669,11 +675,8 @@ TEST(CpuSphereRaster, StripsWriteOnlyTheirColumnsAndTogetherDrawTheWholeFrame) {
   int64_t drawn_pixels = 0;
   for (int variant = 0; variant < 4; ++variant) {
     const int w = 150 + 7 * variant, h = 90, split = 61 + 3 * variant;
-    CameraConfig cfg;
-    if (variant == 3) cfg.projection = Projection::kOrthographic;
-    Camera cam;
-    ASSERT_OK(make_camera(cfg, glm::dvec3(-5), glm::dvec3(5), 0.5, w, h, &cam));
-    const ViewGeometry g = ViewGeometry::from_camera(cam, 20.0);
+    ViewGeometry g;
+    ASSERT_OK(box_view(w, h, variant == 3, 0.0, &g));
     Frame whole, strips, left_only;
     CpuSphereRaster::clear_target(g, bg, &whole);
     CpuSphereRaster::clear_target(g, bg, &strips);
