@@ -21,6 +21,7 @@
 #include <chrono>
 #include <cstring>
 #include <limits>
+#include <type_traits>
 #include <vector>
 
 #include <glm/common.hpp>
@@ -124,6 +125,26 @@ void key_pass(const Positions &pos, const Keep &keep, const MortonQuantiser &q, 
       return uint64_t(b == (uint64_t(1) << 63));
     };
     int64_t i = begin;
+    if constexpr (std::is_same_v<Positions, InterleavedPositions<double>>) {
+      // Packed doubles: their prefixes a chunk at a time (packed_prefixes), then the chunk's
+      // keys counted while they are in L1.
+      if (pos.stride == int64_t(3 * sizeof(double)) &&
+          reinterpret_cast<uintptr_t>(pos.base) % alignof(double) == 0) {
+        const auto *xyz = reinterpret_cast<const double *>(pos.base);
+        constexpr int64_t kChunk = 2048;
+        for (; i < end; i += kChunk) {
+          const int64_t m = std::min(kChunk, end - i);
+          uint32_t *key = keys + i;
+          zero_sign |= uint64_t(packed_prefixes(q, xyz + 3 * i, m, key));
+          int64_t k = 0;
+          for (; k + 4 <= m; k += 4) {
+            ++c[key[k] >> kTopShift], ++c1[key[k + 1] >> kTopShift];
+            ++c2[key[k + 2] >> kTopShift], ++c3[key[k + 3] >> kTopShift];
+          }
+          for (; k < m; ++k) ++c[key[k] >> kTopShift];
+        }
+      }
+    }
     for (; i + 4 <= end; i += 4) {  // four at a time (MortonQuantiser::prefix4)
       double x[4], y[4], z[4];
       for (int k = 0; k < 4; ++k) {

@@ -135,4 +135,14 @@ inline void MortonQuantiser::prefix4(const double x[4], const double y[4], const
 }
 #endif
 
+// prefix() of `count` points given as packed xyz doubles (point k at xyz[3k], xyz[3k + 1],
+// xyz[3k + 2]) into out[0, count), for points without NaN. Returns whether some coordinate is -0.
+// The brick build's first pass over simulations that publish packed doubles (LAMMPS, most
+// codes): with AVX2 the twelve doubles of four points come in three loads and are turned into x,
+// y and z vectors in registers, where reading them one by one (prefix4's arrays) cost twice a
+// streaming pass. Four lanes of the same operations as prefix4's two: the same keys, bit for bit.
+// `vector`: false keeps to prefix4 (tests compare the two).
+bool packed_prefixes(const MortonQuantiser &q, const double *xyz, int64_t count, uint32_t *out,
+                     bool vector = true);
+
 }  // namespace lantern

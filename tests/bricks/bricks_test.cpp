@@ -105,6 +105,41 @@ TEST(Morton, FourPrefixesAtOnceAreTheScalarPrefixes) {
   }
 }
 
+// Packed xyz doubles (the brick build's first pass), with AVX2 where the processor has it and
+// without: every prefix the scalar one, over counts that leave tails of 0-3 points, and -0
+// reported exactly when some coordinate is -0 (in the vector part or the tail).
+TEST(Morton, PackedPrefixesAreTheScalarPrefixes) {
+  const MortonQuantiser q = MortonQuantiser::for_bounds({-3.0, 0.0, 1e-3}, {5.0, 2.0, 7.0});
+  std::mt19937_64 rng(12);
+  std::uniform_real_distribution<double> u(-12.0, 14.0);
+  std::vector<double> xyz(3 * 4099);
+  for (double &v : xyz) v = u(rng);
+  for (int k = 0; k <= 2048; k += 7) xyz[size_t(k) * 3 % xyz.size()] = -3.0 + 8.0 * k / 2048.0;
+  xyz[5] = 1e300, xyz[6] = -std::numeric_limits<double>::infinity(), xyz[7] = 0.0;
+  for (const int64_t count :
+       {int64_t(0), int64_t(1), int64_t(3), int64_t(4), int64_t(5), int64_t(4096), int64_t(4099)}) {
+    for (const bool vector : {true, false}) {
+      std::vector<uint32_t> out(static_cast<size_t>(count) + 1, 0xdeadbeefu);
+      EXPECT_FALSE(packed_prefixes(q, xyz.data(), count, out.data(), vector));
+      for (int64_t i = 0; i < count; ++i) {
+        const double *p = &xyz[size_t(3 * i)];
+        ASSERT_EQ(out[size_t(i)], q.prefix({p[0], p[1], p[2]})) << i << " of " << count;
+      }
+      EXPECT_EQ(out[size_t(count)], 0xdeadbeefu);  // nothing written past the last
+    }
+  }
+  for (const size_t at : {size_t(0), size_t(4), size_t(11), size_t(3 * 4096 + 1)}) {
+    std::vector<double> signed_zero = xyz;
+    signed_zero[at] = -0.0;
+    std::vector<uint32_t> out(4099);
+    for (const bool vector : {true, false}) {
+      EXPECT_TRUE(packed_prefixes(q, signed_zero.data(), 4099, out.data(), vector)) << at;
+      EXPECT_EQ(out[at / 3], q.prefix({signed_zero[at / 3 * 3], signed_zero[at / 3 * 3 + 1],
+                                       signed_zero[at / 3 * 3 + 2]}));
+    }
+  }
+}
+
 TEST(RadixSort, MatchesStdSortOnFullAndPartialBitRanges) {
   std::mt19937_64 rng(2);
   for (const size_t n : {size_t(0), size_t(1), size_t(7), size_t(1000), size_t(200000)}) {

@@ -1,0 +1,108 @@
+#include "core/bricks/morton.h"
+
+#include <cstring>
+
+#if defined(__x86_64__) && defined(__SSE2__) && (defined(__GNUC__) || defined(__clang__))
+#define LANTERN_MORTON_AVX2 1
+#include <immintrin.h>
+#else
+#define LANTERN_MORTON_AVX2 0
+#endif
+
+namespace lantern {
+namespace {
+
+bool minus_zero(double v) {
+  uint64_t b;
+  std::memcpy(&b, &v, sizeof b);
+  return b == uint64_t(1) << 63;
+}
+
+// prefix4 four points at a time, read from packed xyz.
+bool packed_prefixes_by_four(const MortonQuantiser &q, const double *xyz, int64_t count,
+                             uint32_t *out) {
+  bool zero_sign = false;
+  int64_t i = 0;
+  for (; i + 4 <= count; i += 4) {
+    double x[4], y[4], z[4];
+    for (int k = 0; k < 4; ++k) {
+      const double *p = xyz + 3 * (i + k);
+      x[k] = p[0], y[k] = p[1], z[k] = p[2];
+      zero_sign |= minus_zero(p[0]) | minus_zero(p[1]) | minus_zero(p[2]);
+    }
+    q.prefix4(x, y, z, out + i);
+  }
+  for (; i < count; ++i) {
+    const double *p = xyz + 3 * i;
+    zero_sign |= minus_zero(p[0]) | minus_zero(p[1]) | minus_zero(p[2]);
+    out[i] = q.prefix({p[0], p[1], p[2]});
+  }
+  return zero_sign;
+}
+
+#if LANTERN_MORTON_AVX2
+// axis() of four values: morton_detail::axis2's steps on four lanes (maxpd and minpd with the
+// same operand order, so a NaN-free value clamps the same way; cvttpd2dq truncates the same).
+__attribute__((target("avx2"))) inline __m128i axis_four(__m256d v, __m256d origin,
+                                                         __m256d scale) {
+  __m256d s = _mm256_mul_pd(_mm256_sub_pd(v, origin), scale);
+  s = _mm256_max_pd(s, _mm256_setzero_pd());
+  s = _mm256_min_pd(s, _mm256_set1_pd(double(kMortonAxisMax)));
+  return _mm256_cvttpd_epi32(s);
+}
+
+__attribute__((target("avx2"))) bool packed_prefixes_avx2(const MortonQuantiser &q,
+                                                          const double *xyz, int64_t count,
+                                                          uint32_t *out) {
+  using namespace morton_detail;
+  const __m256d lox = _mm256_set1_pd(q.lo.x), loy = _mm256_set1_pd(q.lo.y),
+                loz = _mm256_set1_pd(q.lo.z), scale = _mm256_set1_pd(q.scale);
+  const __m256i sign = _mm256_set1_epi64x(int64_t(uint64_t(1) << 63));
+  __m256i zeros = _mm256_setzero_si256();
+  int64_t i = 0;
+  for (; i + 4 <= count; i += 4) {
+    // a = x0 y0 z0 x1, b = y1 z1 x2 y2, c = z2 x3 y3 z3.
+    const double *p = xyz + 3 * i;
+    const __m256d a = _mm256_loadu_pd(p), b = _mm256_loadu_pd(p + 4), c = _mm256_loadu_pd(p + 8);
+    const __m256i za = _mm256_cmpeq_epi64(_mm256_castpd_si256(a), sign);
+    const __m256i zb = _mm256_cmpeq_epi64(_mm256_castpd_si256(b), sign);
+    const __m256i zc = _mm256_cmpeq_epi64(_mm256_castpd_si256(c), sign);
+    zeros = _mm256_or_si256(zeros, _mm256_or_si256(za, _mm256_or_si256(zb, zc)));
+    const __m256d m1 = _mm256_permute2f128_pd(a, b, 0x30);  // x0 y0 x2 y2
+    const __m256d m2 = _mm256_permute2f128_pd(a, c, 0x21);  // z0 x1 z2 x3
+    const __m256d m3 = _mm256_permute2f128_pd(b, c, 0x30);  // y1 z1 y3 z3
+    const __m256d x = _mm256_blend_pd(m1, m2, 0xA);
+    const __m256d y = _mm256_shuffle_pd(m1, m3, 0x5);
+    const __m256d z = _mm256_blend_pd(m2, m3, 0xA);
+    const __m128i sx = spread_top11(axis_four(x, lox, scale));
+    const __m128i sy = spread_top11(axis_four(y, loy, scale));
+    const __m128i sz = spread_top11(axis_four(z, loz, scale));
+    const __m128i key =
+        _mm_or_si128(_mm_or_si128(_mm_slli_epi32(sx, 1), sy), _mm_srli_epi32(sz, 1));
+    _mm_storeu_si128(reinterpret_cast<__m128i *>(out + i), key);
+  }
+  const bool tail = packed_prefixes_by_four(q, xyz + 3 * i, count - i, out + i);
+  return tail || !_mm256_testz_si256(zeros, zeros);
+}
+
+bool has_avx2() {
+  static const bool yes = [] {
+    __builtin_cpu_init();
+    return __builtin_cpu_supports("avx2");
+  }();
+  return yes;
+}
+#endif
+
+}  // namespace
+
+bool packed_prefixes(const MortonQuantiser &q, const double *xyz, int64_t count, uint32_t *out,
+                     bool vector) {
+#if LANTERN_MORTON_AVX2
+  if (vector && has_avx2()) return packed_prefixes_avx2(q, xyz, count, out);
+#endif
+  (void)vector;
+  return packed_prefixes_by_four(q, xyz, count, out);
+}
+
+}  // namespace lantern
