@@ -43,8 +43,7 @@ bool packed_prefixes_by_four(const MortonQuantiser &q, const double *xyz, int64_
 #if LANTERN_MORTON_AVX2
 // axis() of four values: morton_detail::axis2's steps on four lanes (maxpd and minpd with the
 // same operand order, so a NaN-free value clamps the same way; cvttpd2dq truncates the same).
-__attribute__((target("avx2"))) inline __m128i axis_four(__m256d v, __m256d origin,
-                                                         __m256d scale) {
+__attribute__((target("avx2"))) inline __m128i axis_four(__m256d v, __m256d origin, __m256d scale) {
   __m256d s = _mm256_mul_pd(_mm256_sub_pd(v, origin), scale);
   s = _mm256_max_pd(s, _mm256_setzero_pd());
   s = _mm256_min_pd(s, _mm256_set1_pd(double(kMortonAxisMax)));
