@@ -105,10 +105,11 @@ class BrickNumbers {
 
 IndexRuns runs_of_owners(const uint32_t *owner, int64_t n, int64_t held,
                          PageVector<uint64_t> *in_other, const std::vector<Brick> *numbered_by) {
-  // One pass, into a vector reserved for the most runs kept (held runs at most `most`, a run of
-  // no brick at most before each and at the end): mapped pages, so only those written are
-  // faulted in. Counting the runs first cost a second pass over the owners as long as the first
-  // (a tenth of the build at 10 M particles).
+  // One pass, into a vector reserved for runs of 8 on average (a crystal's are 11-16; shorter
+  // ones grow it, a copy of a few bytes a particle at worst): mapped pages, so only those
+  // written are faulted in. Counting the runs first cost a second pass over the owners as long
+  // as the first (a tenth of the build at 10 M particles); reserving for the most runs kept
+  // would map 4 bytes a particle, which a node that does not overcommit counts in full.
   const size_t most = size_t(held / kMinMeanRun) + 1;
   const auto block_end = [n](int64_t i) {
     return std::min<int64_t>(n, (i / IndexRuns::kBlock + 1) * int64_t(IndexRuns::kBlock));
@@ -122,7 +123,7 @@ IndexRuns runs_of_owners(const uint32_t *owner, int64_t n, int64_t held,
   if (numbered_by) numbers.emplace(*numbered_by, held);
   const auto number = [&](uint32_t o) { return numbers ? (*numbers)(o) : o; };
   IndexRuns runs;
-  runs.reserve(size_t(std::min<int64_t>(n, int64_t(2 * most))) + 2);
+  runs.reserve(size_t(n / 8) + size_t(n / IndexRuns::kBlock) + 2);
   in_other->assign(size_t((n + 63) / 64), 0);
   uint64_t *bits = in_other->data();
   size_t held_runs = 0;
