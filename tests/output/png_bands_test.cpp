@@ -294,6 +294,111 @@ TEST(PngBands, StreamedFileIsTheAssembledFileAndStopsWhenTheSinkFails) {
   }
 }
 
+// PngBandStream (bands written as they arrive, the compressed total unknown until the end) gives
+// assemble_png's bytes: one IDAT chunk, several, and a stream that ends exactly on a chunk
+// boundary, where no length needs correcting; put() sees each band's bytes before the next band
+// is added.
+TEST(PngBands, BandStreamIsTheAssembledFile) {
+  const auto streamed = [](const std::vector<PngBand> &bands, int width, int height, int channels,
+                           std::vector<uint8_t> *file) {
+    file->clear();
+    size_t patches = 0;
+    PngBandStream png(
+        width, height, channels, int(bands.size()),
+        [&](const uint8_t *p, size_t n) {
+          file->insert(file->end(), p, p + n);
+          return true;
+        },
+        [&](uint64_t at, const uint8_t *p, size_t n) {
+          EXPECT_LE(at + n, file->size());
+          std::copy(p, p + n, file->begin() + long(at));
+          ++patches;
+          return true;
+        });
+    for (const PngBand &b : bands) {
+      const size_t before = file->size();
+      EXPECT_OK(png.add(b));
+      EXPECT_GE(file->size(), before + b.bytes.size());  // written at once, not held back
+    }
+    EXPECT_OK(png.finish());
+    return patches;
+  };
+  // Real bands: 2.8 MB of noise (three chunks, the last short) and a small render (one chunk).
+  for (const bool noise : {true, false}) {
+    const int w = noise ? 1024 : 96, h = noise ? 700 : 64;
+    const Image img = noise ? noise_image(w, h, 5) : rendered_image(w, h, 5);
+    std::vector<PngBand> bands(3);
+    const int split[4] = {0, h / 3, 2 * h / 3, h};
+    for (int b = 0; b < 3; ++b)
+      ASSERT_OK(deflate_png_band(img.rgba.data() + size_t(split[b]) * w * 4, w,
+                                 split[b + 1] - split[b], 4, b == 2, 1, &bands[size_t(b)]));
+    std::vector<uint8_t> whole, file;
+    ASSERT_OK(assemble_png(bands, w, h, 4, &whole));
+    EXPECT_EQ(streamed(bands, w, h, 4, &file), 1u) << noise;
+    EXPECT_EQ(file, whole) << noise;
+  }
+  // Pieces sized so that the stream (2 header bytes, the pieces, 4 trailer bytes) fills exactly
+  // two chunks: the length announced for each is right, nothing is patched.
+  const uint64_t line = 1 + 4 * 4;
+  std::vector<PngBand> exact(2);
+  for (size_t b = 0; b < 2; ++b) {
+    exact[b].rows = 1, exact[b].raw_len = line, exact[b].last = b == 1, exact[b].adler = 7 + b;
+    exact[b].bytes.assign(b == 0 ? (1u << 20) + 1000 : (1u << 20) - 1000 - 6, uint8_t(b + 1));
+  }
+  std::vector<uint8_t> whole, file;
+  ASSERT_OK(assemble_png(exact, 4, 2, 4, &whole));
+  EXPECT_EQ(streamed(exact, 4, 2, 4, &file), 0u);
+  EXPECT_EQ(file, whole);
+}
+
+// A band that does not fit, too few bands at finish(), or a sink that fails: an error, and
+// nothing more is put after it.
+TEST(PngBands, BandStreamRejectsWhatAssemblyRejects) {
+  const Image img = rendered_image(16, 8, 9);
+  std::vector<PngBand> bands(2);
+  ASSERT_OK(deflate_png_band(img.rgba.data(), 16, 4, 4, false, 1, &bands[0]));
+  ASSERT_OK(deflate_png_band(img.rgba.data() + 16 * 4 * 4, 16, 4, 4, true, 1, &bands[1]));
+  size_t puts = 0;
+  const auto count = [&puts](const uint8_t *, size_t) { return ++puts, true; };
+  const auto no_patch = [](uint64_t, const uint8_t *, size_t) { return true; };
+  {
+    PngBandStream png(16, 8, 3, 2, count, no_patch);  // compressed as RGBA, announced as RGB
+    EXPECT_EQ(png.add(bands[0]).code, StatusCode::kInvalidArgument);
+    EXPECT_EQ(png.finish().code, StatusCode::kInvalidArgument);
+    EXPECT_EQ(puts, 0u);
+  }
+  {
+    PngBandStream png(16, 8, 4, 2, count, no_patch);
+    EXPECT_EQ(png.add(bands[1]).code, StatusCode::kInvalidArgument);  // the last band first
+  }
+  {
+    PngBandStream png(16, 8, 4, 3, count, no_patch);  // three announced, two added
+    EXPECT_OK(png.add(bands[0]));
+    EXPECT_EQ(png.add(bands[1]).code, StatusCode::kInvalidArgument);  // not the last of three
+  }
+  {
+    PngBandStream png(16, 9, 4, 2, count, no_patch);  // a row more than the bands hold
+    EXPECT_OK(png.add(bands[0]));
+    EXPECT_OK(png.add(bands[1]));
+    EXPECT_EQ(png.finish().code, StatusCode::kInvalidArgument);
+  }
+  {
+    size_t seen = 0;
+    PngBandStream png(
+        16, 8, 4, 2, [&](const uint8_t *, size_t) { return ++seen < 3; }, no_patch);
+    EXPECT_EQ(png.add(bands[0]).code, StatusCode::kIo);
+    EXPECT_EQ(png.add(bands[1]).code, StatusCode::kIo);
+    EXPECT_EQ(png.finish().code, StatusCode::kIo);
+    EXPECT_EQ(seen, 3u);
+  }
+  {
+    PngBandStream png(16, 8, 4, 2, count, [](uint64_t, const uint8_t *, size_t) { return false; });
+    EXPECT_OK(png.add(bands[0]));
+    EXPECT_OK(png.add(bands[1]));
+    EXPECT_EQ(png.finish().code, StatusCode::kIo);  // the last chunk's length cannot be set
+  }
+}
+
 TEST(PngBands, MismatchedBandsAreRejectedWithAMessage) {
   const Image img = rendered_image(16, 8, 9);
   const auto band = [&](int y0, int rows, bool last, int channels = 4, int width = 16) {

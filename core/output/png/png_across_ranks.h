@@ -29,8 +29,9 @@ int png_band_count(int height);
 Status write_png(const Frame &frame, int level, const std::string &path, int threads);
 
 // Collective over `comm` (same width, height and level on every rank), same files as write_png:
-// the root's `frame` is
-// scattered in rows, every rank compresses its share of the bands, and the root writes `path`.
+// the root's `frame` is scattered in rows, every rank compresses its share of the bands and
+// sends each band on as soon as it is compressed, and the root writes `path` band by band as
+// they come (PngBandStream), so writing overlaps the other ranks' compression.
 // `frame` and `path` matter on root only. Returns OK or, on root, kIo naming the path (a rank
 // whose compression failed also reports it; the others still finish the call).
 Status write_png_across_ranks(MPI_Comm comm, int root, const Frame &frame, int width, int height,

@@ -15,6 +15,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -49,5 +50,36 @@ using PngSink = std::function<bool(const uint8_t *data, size_t n)>;
 // the root). Returns assemble_png's errors, or kIo when `put` returned false.
 Status stream_png(const std::vector<PngBand> &bands, int width, int height, int channels_out,
                   const PngSink &put);
+
+// Rewrites n bytes already handed to a PngSink, from file offset `offset`; false: an I/O error.
+using PngPatch = std::function<bool(uint64_t offset, const uint8_t *data, size_t n)>;
+
+// stream_png for bands that arrive one at a time (the root of write_png_across_ranks writes each
+// band as soon as it has it, while other ranks still compress theirs): the same file bytes, with
+// the compressed total unknown until finish(). Every IDAT chunk's length precedes its data and
+// is announced as 1 MiB, which every chunk but the last holds; finish() corrects the last one's
+// through `patch` (4 bytes). add() the bands top first, then finish(). Each returns stream_png's
+// errors for what it has seen so far (kInvalidArgument for a band that does not fit, or for
+// fewer bands or rows than announced at finish; kIo once `put` or `patch` returned false);
+// after an error every call returns it and nothing more is put.
+class PngBandStream {
+ public:
+  PngBandStream(int width, int height, int channels_out, int bands, PngSink put, PngPatch patch);
+  ~PngBandStream();
+  PngBandStream(const PngBandStream &) = delete;
+  PngBandStream &operator=(const PngBandStream &) = delete;
+
+  Status add(const PngBand &band);
+  Status finish();
+
+ private:
+  struct State;
+  int width_, height_, channels_, bands_;
+  PngSink put_;
+  PngPatch patch_;
+  int added_ = 0;
+  Status failure_;
+  std::unique_ptr<State> state_;  // from the first add: the IDAT chunks so far
+};
 
 }  // namespace lantern

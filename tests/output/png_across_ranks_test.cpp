@@ -1,0 +1,112 @@
+// write_png_across_ranks under mpiexec (2, 3 and 9 ranks): the root's file is byte for byte the
+// file assemble_png makes of the same bands in memory (and write_png's on one process),
+// whichever rank is the root, for frames
+// whose file takes one IDAT chunk or several, RGB and RGBA, and more ranks than bands; a path
+// that cannot be written fails on the root, every rank returns, and no temporary file is left.
+// (The root writes each band as it arrives, so the first IDAT chunk's length is set last.)
+#include <gtest/gtest.h>
+#include <mpi.h>
+
+#include <cstdint>
+#include <fstream>
+#include <iterator>
+#include <string>
+#include <vector>
+
+#include "core/output/png/png_across_ranks.h"
+#include "core/output/png/png_bands.h"
+#include "tests/output/scratch_dir.h"
+#include "tests/support/hash_noise.h"
+#include "tests/support/mpi_world.h"
+#include "tests/support/status_expect.h"
+
+namespace lantern {
+namespace {
+
+using testing::hash;
+using testing::world_rank;
+using testing::world_size;
+
+std::vector<uint8_t> read_file(const std::string &path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::vector<uint8_t>(std::istreambuf_iterator<char>(in), {});
+}
+
+// Noise compresses to about its own size (several 1 MiB IDAT chunks at 1024 x 700); the other
+// pattern, flat rows with a few changes, compresses to a few KiB (one chunk). `opaque`: alpha
+// 255 everywhere (an RGB file), else a few translucent pixels (RGBA).
+Frame test_frame(int width, int height, bool noise, bool opaque, uint32_t seed) {
+  Frame f(width, height);
+  for (size_t i = 0; i < f.rgba.size(); ++i) {
+    const uint32_t k = hash(seed * 2654435761u + uint32_t(i));
+    f.rgba[i] = noise ? uint8_t(k) : uint8_t((i / 4 / size_t(width)) * 7 + (k % 97 == 0 ? k : 0));
+  }
+  for (size_t p = 0; p < f.pixel_count(); ++p)
+    f.rgba[4 * p + 3] = opaque || hash(seed + uint32_t(p)) % 50 ? 255 : uint8_t(p % 200);
+  return f;
+}
+
+struct Case {
+  int width, height;
+  bool noise, opaque;
+};
+
+TEST(PngAcrossRanks, FileIsTheOneProcessFileOnEveryRoot) {
+  const ScratchDir dir;                            // per rank; the root's is the one written
+  const Case cases[] = {{1024, 700, true, true},   // RGB, three IDAT chunks
+                        {1024, 700, true, false},  // RGBA, four chunks
+                        {333, 257, false, true},   // 8 bands of uneven rows, one chunk
+                        {40, 40, false, false}};   // one band: every rank but one has none
+  for (const Case &c : cases)
+    for (int root = 0; root < world_size(); root += world_size() - 1) {
+      SCOPED_TRACE(std::to_string(c.width) + "x" + std::to_string(c.height) + " root " +
+                   std::to_string(root));
+      // Only the root's frame is read; the others pass an empty one, as the pipeline may.
+      const Frame frame =
+          world_rank() == root ? test_frame(c.width, c.height, c.noise, c.opaque, 3) : Frame();
+      const std::string across = dir.file("across.png"), alone = dir.file("alone.png");
+      const Status s =
+          write_png_across_ranks(MPI_COMM_WORLD, root, frame, c.width, c.height, 1, across);
+      EXPECT_OK(s);
+      if (world_rank() != root) continue;
+      // The reference: the same bands assembled in memory (encode_png cuts png_band_count
+      // bands as the writers do; Sub needs no row above a band), through assemble_png, which
+      // knows every IDAT chunk's length before writing it.
+      std::vector<uint8_t> expected;
+      ASSERT_OK(encode_png(frame.rgba.data(), c.width, c.height, c.opaque ? 3 : 4, 1,
+                           png_band_count(c.height), &expected, png_options_for_level(1)));
+      ASSERT_GT(expected.size(), 100u);
+      EXPECT_EQ(read_file(across), expected);
+      ASSERT_OK(write_png(frame, 1, alone, 2));
+      EXPECT_EQ(read_file(alone), expected);
+      EXPECT_EQ(dir.entry_count(), 2u);  // no temporary file left
+      if (root == world_size() - 1) break;
+    }
+}
+
+TEST(PngAcrossRanks, UnwritablePathFailsOnTheRootAndEveryRankReturns) {
+  const ScratchDir dir;
+  const Frame frame = world_rank() == 0 ? test_frame(1024, 700, true, true, 4) : Frame();
+  // A directory where the file's parent directory would be: nothing can be created under it.
+  const std::string blocker = dir.file("not_a_dir");
+  if (world_rank() == 0) std::ofstream(blocker) << "x";
+  const Status s =
+      write_png_across_ranks(MPI_COMM_WORLD, 0, frame, 1024, 700, 1, blocker + "/image.png");
+  if (world_rank() == 0) {
+    EXPECT_EQ(s.code, StatusCode::kIo);
+    EXPECT_NE(s.message.find("image.png"), std::string::npos) << s.message;
+    EXPECT_EQ(dir.entry_count(), 1u);
+  } else {
+    EXPECT_OK(s);
+  }
+  // The communicator is still usable: nothing of the failed call is left in flight.
+  int sum = 0, one = 1;
+  MPI_Allreduce(&one, &sum, 1, MPI_INT, MPI_SUM, MPI_COMM_WORLD);
+  EXPECT_EQ(sum, world_size());
+  const Status again =
+      write_png_across_ranks(MPI_COMM_WORLD, 0, frame, 1024, 700, 1, dir.file("ok.png"));
+  EXPECT_OK(again);
+}
+
+}  // namespace
+}  // namespace lantern
