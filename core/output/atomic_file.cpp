@@ -30,21 +30,21 @@ void remove_quietly(const std::string &path) {
   fs::remove(path, ignored);
 }
 
-// Writes the whole buffer to `fd`, retrying on short writes and EINTR. Returns errno or 0.
-int write_all(int fd, const char *data, size_t size) {
+}  // namespace
+
+int write_all(int fd, const void *data, size_t size) {
+  const char *p = static_cast<const char *>(data);
   while (size > 0) {
-    const ssize_t n = ::write(fd, data, size);
+    const ssize_t n = ::write(fd, p, size);
     if (n < 0) {
       if (errno == EINTR) continue;
       return errno;
     }
-    data += n;
+    p += n;
     size -= static_cast<size_t>(n);
   }
   return 0;
 }
-
-}  // namespace
 
 Status create_parent_directories(const std::string &path) {
   const fs::path parent = fs::path(path).parent_path();
@@ -134,7 +134,7 @@ Status write_bytes_atomically(const std::string &final_path, const void *data, s
   return write_atomically(final_path, extension, [&](const std::string &temp) -> Status {
     const int fd = ::open(temp.c_str(), O_WRONLY | O_TRUNC | O_CLOEXEC);
     if (fd < 0) return {StatusCode::kIo, os_reason(errno)};
-    int error = write_all(fd, static_cast<const char *>(data), size);
+    int error = write_all(fd, data, size);
     if (::close(fd) != 0 && error == 0) error = errno;
     if (error != 0) return {StatusCode::kIo, os_reason(error)};
     return {};

@@ -33,6 +33,10 @@ std::string temporary_path_for(const std::string &final_path, const std::string 
 Status write_atomically(const std::string &final_path, const std::string &extension,
                         const std::function<Status(const std::string &)> &write);
 
+// Writes all `size` bytes of `data` to the open descriptor `fd`, retrying on short writes and
+// EINTR. Returns 0, or the errno of the write that failed.
+int write_all(int fd, const void *data, size_t size);
+
 // Convenience: atomically writes `size` bytes from `data` (not owned; read during the call).
 // OK or kIo.
 Status write_bytes_atomically(const std::string &final_path, const void *data, size_t size);

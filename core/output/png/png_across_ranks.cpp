@@ -86,20 +86,6 @@ int file_channels(const Frame &frame) {
   return 3;
 }
 
-// Writes the whole buffer, retrying on short writes and EINTR. Returns errno or 0.
-int write_all(int fd, const uint8_t *data, size_t size) {
-  while (size > 0) {
-    const ssize_t n = ::write(fd, data, size);
-    if (n < 0) {
-      if (errno == EINTR) continue;
-      return errno;
-    }
-    data += n;
-    size -= size_t(n);
-  }
-  return 0;
-}
-
 // The file's bytes to one descriptor: the small pieces (chunk headers and CRCs) gathered, the
 // bands' bytes written straight from where they are; patch() rewrites bytes already written.
 class FileSink {
