@@ -310,7 +310,7 @@ void RunDeflater::add_block(const uint8_t *data, size_t n, bool final) {
       std::memcpy(out, &acc, sizeof acc);
       const int whole = pending >> 3;
       out += whole;
-      acc = whole == 8 ? 0 : acc >> (8 * whole);
+      acc >>= 8 * whole;  // whole <= 6: at most 7 + 42 bits pending here (31 on entry)
       pending &= 7;
     };
     flush();  // put() leaves up to 31 bits pending
