@@ -2,6 +2,8 @@
 
 #include <cstring>
 
+#include "core/common/cpu_features.h"
+
 #if defined(__x86_64__) && defined(__SSE2__) && (defined(__GNUC__) || defined(__clang__))
 #define LANTERN_MORTON_AVX2 1
 #include <immintrin.h>
@@ -83,14 +85,6 @@ __attribute__((target("avx2"))) bool packed_prefixes_avx2(const MortonQuantiser 
   const bool tail = packed_prefixes_by_four(q, xyz + 3 * i, count - i, out + i);
   return tail || !_mm256_testz_si256(zeros, zeros);
 }
-
-bool has_avx2() {
-  static const bool yes = [] {
-    __builtin_cpu_init();
-    return __builtin_cpu_supports("avx2");
-  }();
-  return yes;
-}
 #endif
 
 }  // namespace
@@ -98,7 +92,7 @@ bool has_avx2() {
 bool packed_prefixes(const MortonQuantiser &q, const double *xyz, int64_t count, uint32_t *out,
                      bool vector) {
 #if LANTERN_MORTON_AVX2
-  if (vector && has_avx2()) return packed_prefixes_avx2(q, xyz, count, out);
+  if (vector && cpu_has_avx2()) return packed_prefixes_avx2(q, xyz, count, out);
 #endif
   (void)vector;
   return packed_prefixes_by_four(q, xyz, count, out);

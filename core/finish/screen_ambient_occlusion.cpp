@@ -18,6 +18,8 @@
 #include <glm/geometric.hpp>
 #include <glm/vec3.hpp>
 
+#include "core/common/cpu_features.h"
+
 #if defined(__x86_64__)
 #include <immintrin.h>
 #endif
@@ -529,25 +531,6 @@ void half_resolution_portable(const ViewPositions &v, const AmbientOcclusionStyl
   half_resolution_pass(v, style, band);
 }
 
-bool has_avx2() {
-#if defined(__x86_64__) && defined(__GNUC__)
-  static const bool yes = __builtin_cpu_supports("avx2");
-  return yes;
-#else
-  return false;
-#endif
-}
-
-bool has_avx512() {
-#if defined(__x86_64__) && defined(__GNUC__)
-  static const bool yes = __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512vl") &&
-                          __builtin_cpu_supports("avx512dq") && __builtin_cpu_supports("avx512bw");
-  return yes;
-#else
-  return false;
-#endif
-}
-
 }  // namespace
 
 int screen_ambient_occlusion_halo(const AmbientOcclusionStyle &style) {
@@ -563,9 +546,9 @@ void apply_screen_ambient_occlusion(const ViewPositions &v, const AmbientOcclusi
                                     BandFrame *band, AoVectorPath path) {
   if (!style.half_resolution)
     full_resolution(v, style, band);
-  else if (path == AoVectorPath::kAuto && has_avx512())
+  else if (path == AoVectorPath::kAuto && cpu_has_avx512_bw())
     half_resolution_avx512(v, style, band);
-  else if (path != AoVectorPath::kPortable && has_avx2())
+  else if (path != AoVectorPath::kPortable && cpu_has_avx2())
     half_resolution_avx2(v, style, band);
   else
     half_resolution_portable(v, style, band);

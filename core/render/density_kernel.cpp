@@ -8,6 +8,8 @@
 #include <cstring>
 #include <numeric>
 
+#include "core/common/cpu_features.h"
+
 #if defined(__x86_64__) && defined(__GNUC__)
 #include <immintrin.h>
 #endif
@@ -348,9 +350,6 @@ __attribute__((target("avx2"))) static void place_avx2(const DensityKernelTable 
   }
 }
 
-static bool has_avx2_placement() {
-  return __builtin_cpu_supports("avx2");
-}
 #endif
 
 void DensityKernelTable::place_all(const double *px, const double *py, const double *sigma2,
@@ -358,7 +357,7 @@ void DensityKernelTable::place_all(const double *px, const double *py, const dou
   out->resize(size_t(count));
   int done = 0;
 #if defined(__x86_64__) && defined(__GNUC__)
-  static const bool avx512 = has_avx512_placement(), avx2 = has_avx2_placement();
+  static const bool avx512 = has_avx512_placement(), avx2 = cpu_has_avx2();
   static_assert(sizeof(Entry) == 8, "an entry is gathered as one 64-bit word");
   if (avx512) {
     place_avx512(entries_.data(), below32_.data(), next_.data(), starts_.data(), px, py, sigma2,

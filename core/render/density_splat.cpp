@@ -9,6 +9,8 @@
 #include <cmath>
 #include <cstring>
 
+#include "core/common/cpu_features.h"
+
 #if defined(__x86_64__) && defined(__GNUC__)
 #include <immintrin.h>
 #define LANTERN_DENSITY_X86 1
@@ -341,13 +343,6 @@ __attribute__((target("avx2"))) int64_t add_units_placed_avx2(
   return done;
 }
 
-bool has_avx2() {
-  return __builtin_cpu_supports("avx2");
-}
-bool has_avx512() {
-  return __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512vl") &&
-         __builtin_cpu_supports("avx512dq") && __builtin_cpu_supports("avx512bw");
-}
 #endif
 
 // The world -> view transform and project() of DensitySplatter, over arrays: written as one
@@ -549,7 +544,7 @@ __attribute__((target("avx2"))) bool project_xyz_avx2(const ViewGeometry &g,
 bool DensitySplatter::project_xyz(const unsigned char *xyz, double radius, int count,
                                   DensityFootprints *out) const {
 #ifdef LANTERN_DENSITY_X86
-  static const bool avx2 = has_avx2(), avx512 = has_avx512();
+  const bool avx2 = cpu_has_avx2(), avx512 = cpu_has_avx512_bw();
   if (!avx2 || count % 8 != 0) return false;
   out->resize(size_t(count));
   if (!avx512)
@@ -582,7 +577,7 @@ void DensitySplatter::set_pixel_loop(DensityPixelLoop loop) {
   add4_ = add4_scalar;
   units_ = units_avx2_ = false;
 #ifdef LANTERN_DENSITY_X86
-  static const bool avx2 = has_avx2(), avx512 = has_avx512();
+  const bool avx2 = cpu_has_avx2(), avx512 = cpu_has_avx512_bw();
   if (loop == DensityPixelLoop::kScalar) return;
   add4_ = add4_sse2;
   if (loop == DensityPixelLoop::kSse2 || !avx2) return;
@@ -602,7 +597,7 @@ void DensitySplatter::project_all(const double *x, const double *y, const double
                                   DensityFootprints *out) const {
   out->resize(size_t(count));
 #ifdef LANTERN_DENSITY_X86
-  static const bool avx2 = has_avx2();
+  const bool avx2 = cpu_has_avx2();
   if (avx2) return project_avx2(g_, x, y, z, r, radius, scale, count, out);
 #endif
   project_portable(g_, x, y, z, r, radius, scale, count, out);
