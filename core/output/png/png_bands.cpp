@@ -1,5 +1,6 @@
 #include "core/output/png/png_bands.h"
 
+#include "core/output/png/adler32.h"
 #include "core/output/png/run_deflate.h"
 
 #include <zlib.h>
@@ -106,12 +107,16 @@ PngBand deflate_checked_band(const uint8_t *rgba, int width, int rows, int chann
   if (!runs) {
     z.emplace(level, options.strategy);
     z->reserve(band.raw_len);
+  } else {
+    run_deflater.expect(band.raw_len);
   }
   const size_t chunk_rows = std::max<size_t>(1, kChunkBytes / line_bytes);
   std::vector<uint8_t> chunk(std::min<size_t>(chunk_rows, std::max(rows, 1)) * line_bytes);
-  // RGB copies of the current and previous rows (channels_out == 3 only).
+  // RGB rows filtered with Sub (Lantern's default) come straight from the RGBA rows in one pass.
+  const bool sub_of_rgba = channels_out == 3 && options.filter == PngFilter::kSub;
+  // RGB copies of the current and previous rows (channels_out == 3 with another filter only).
   std::vector<uint8_t> rgb_cur, rgb_prev;
-  if (channels_out == 3) {
+  if (channels_out == 3 && !sub_of_rgba) {
     rgb_cur.resize(row_bytes);
     rgb_prev.resize(row_bytes);
     if (previous_row) drop_alpha(previous_row, width, rgb_prev.data());
@@ -125,6 +130,10 @@ PngBand deflate_checked_band(const uint8_t *rgba, int width, int rows, int chann
     uint8_t *out = chunk.data();
     for (int r = 0; r < n; ++r, ++row, out += line_bytes) {
       const uint8_t *src = rgba + size_t(row) * src_stride;
+      if (sub_of_rgba) {
+        sub_filter_rgb_of_rgba(src, width, out);
+        continue;
+      }
       const uint8_t *cur = src;
       if (channels_out == 3) {
         drop_alpha(src, width, rgb_cur.data());
@@ -144,7 +153,7 @@ PngBand deflate_checked_band(const uint8_t *rgba, int width, int rows, int chann
       }
     }
     const size_t bytes = size_t(n) * line_bytes;
-    adler = static_cast<uint32_t>(adler32_z(adler, chunk.data(), bytes));
+    adler = adler32_extend(adler, chunk.data(), bytes);
     if (runs) {
       run_deflater.add_block(chunk.data(), bytes, last_band && row >= rows);
     } else {

@@ -138,10 +138,22 @@ std::vector<std::pair<uint8_t, uint8_t>> code_length_symbols(const uint8_t *leng
 
 }  // namespace
 
+void RunDeflater::expect(size_t input_bytes) {
+  // A dynamic block's codes average at most about 9.2 bits a token (Huffman codes are within a
+  // bit of the entropy, at most log2(286) bits), so 5/4 of the input holds any piece but a tiny
+  // one.
+  out_.reserve(used_ + input_bytes + input_bytes / 4 + 4096);
+}
+
 void RunDeflater::reserve(size_t bytes) {
-  // A quarter more than asked: a few growths per piece, and at most a quarter of it unused
-  // (blocks come exactly sized, so doubling would leave up to half of the buffer idle).
-  if (out_.size() < used_ + bytes) out_.resize(used_ + bytes + used_ / 4);
+  if (out_.size() >= used_ + bytes) return;
+  // Within the capacity (expect()): exactly what is asked, in place. Past it: a quarter more
+  // than asked, a few growths per piece and at most a quarter of it unused (blocks come exactly
+  // sized, so doubling would leave up to half of the buffer idle).
+  if (out_.capacity() >= used_ + bytes)
+    out_.resize(used_ + bytes);
+  else
+    out_.resize(used_ + bytes + used_ / 4);
 }
 
 void RunDeflater::put(uint64_t bits, int count) {
@@ -166,10 +178,11 @@ void RunDeflater::align() {
 void RunDeflater::add_block(const uint8_t *data, size_t n, bool final) {
   if (n == 0) return;
   // Tokens: a literal, or a run of the previous byte of kMinRun..kMaxRun (distance 1), taken
-  // wherever one starts (a byte equal to the one before it, with at least kMinRun - 1 more).
-  // Stretches without two equal bytes in a row are found 16 bytes at a time and copied as
-  // literals; their counts go to four tables by position, so that a repeated byte's counts do
-  // not wait on each other, and are summed afterwards.
+  // wherever one starts: at the first byte from which kMinRun bytes equal the one before them.
+  // (Taking a run wherever a byte equals the one before it, and a literal when fewer than
+  // kMinRun follow, makes the same tokens.) Where a run may start is found 16 positions at a
+  // time; the literals before it are copied to tokens 16 at a time, and their counts go to four
+  // tables, so that a repeated byte's counts do not wait on each other, summed afterwards.
   if (tokens_.size() < n) tokens_.resize(n);  // kept between blocks: never shrunk
   uint16_t *const tokens = tokens_.data();
   size_t count = 0;
@@ -177,34 +190,64 @@ void RunDeflater::add_block(const uint8_t *data, size_t n, bool final) {
   uint32_t literal_freq[4][256] = {};
   uint32_t runs = 0;
   const auto literals = [&](size_t from, size_t to) {
-    for (size_t k = from; k < to; ++k) {
-      tokens[count++] = data[k];
-      ++literal_freq[k & 3][data[k]];
+    size_t k = from;
+#if defined(__SSE2__)
+    const __m128i zero = _mm_setzero_si128();
+    for (; k + 16 <= to; k += 16) {
+      const __m128i v = _mm_loadu_si128(reinterpret_cast<const __m128i *>(data + k));
+      _mm_storeu_si128(reinterpret_cast<__m128i *>(tokens + count), _mm_unpacklo_epi8(v, zero));
+      _mm_storeu_si128(reinterpret_cast<__m128i *>(tokens + count + 8), _mm_unpackhi_epi8(v, zero));
+      count += 16;
+      // The counts from the bytes in registers, four at a time into the four tables.
+      for (uint64_t w :
+           {uint64_t(_mm_cvtsi128_si64(v)), uint64_t(_mm_cvtsi128_si64(_mm_unpackhi_epi64(v, v)))})
+        for (int half = 0; half < 2; ++half, w >>= 32) {
+          ++literal_freq[0][w & 0xFF];
+          ++literal_freq[1][(w >> 8) & 0xFF];
+          ++literal_freq[2][(w >> 16) & 0xFF];
+          ++literal_freq[3][(w >> 24) & 0xFF];
+        }
     }
+#endif
+    for (; k < to; ++k) {
+      const uint8_t b = data[k];
+      tokens[count++] = b;
+      ++literal_freq[k & 3][b];
+    }
+  };
+  // The first position from `from` (>= 1) where a run can start (kMinRun bytes from it equal
+  // the byte before it, all before n), or n.
+  static_assert(kMinRun == 3, "run_start tests three equal bytes");
+  const auto run_start = [&](size_t from) {
+    size_t k = from;
+#if defined(__SSE2__)
+    // Bit m of `equal`: byte k + m equals the one before it, for m < 32; a run starts at k + m
+    // where bits m, m + 1 and m + 2 are set. Positions k .. k + 15 are settled in each step.
+    for (; k + 32 <= n; k += 16) {
+      const auto eq16 = [&](size_t at) {
+        const __m128i now = _mm_loadu_si128(reinterpret_cast<const __m128i *>(data + at));
+        const __m128i before = _mm_loadu_si128(reinterpret_cast<const __m128i *>(data + at - 1));
+        return uint32_t(_mm_movemask_epi8(_mm_cmpeq_epi8(now, before)));
+      };
+      const uint32_t equal = eq16(k) | eq16(k + 16) << 16;
+      const uint32_t starts = equal & equal >> 1 & equal >> 2 & 0xFFFFu;
+      if (starts) return k + size_t(__builtin_ctz(starts));
+    }
+#endif
+    for (; k + 3 <= n; ++k)
+      if (data[k] == data[k - 1] && data[k + 1] == data[k - 1] && data[k + 2] == data[k - 1])
+        return k;
+    return n;
   };
   size_t i = 0;
   while (i < n) {
-    // The next byte from i on (i > 0) that equals the byte before it, or n.
-    size_t k = std::max<size_t>(i, 1);
-#if defined(__SSE2__)
-    for (; k + 16 <= n; k += 16) {
-      const __m128i now = _mm_loadu_si128(reinterpret_cast<const __m128i *>(data + k));
-      const __m128i before = _mm_loadu_si128(reinterpret_cast<const __m128i *>(data + k - 1));
-      const int equal = _mm_movemask_epi8(_mm_cmpeq_epi8(now, before));
-      if (equal) {
-        k += size_t(__builtin_ctz(unsigned(equal)));
-        break;
-      }
-    }
-    if (k + 16 > n)
-#endif
-      while (k < n && data[k] != data[k - 1]) ++k;
+    const size_t k = run_start(std::max<size_t>(i, 1));
     literals(i, k);
-    i = k;
-    if (i >= n) break;
-    const uint8_t b = data[i];
-    const size_t end = std::min(n, i + kMaxRun);
-    size_t j = i + 1;
+    if (k >= n) break;
+    // A run of data[k] from k: at least kMinRun bytes, at most kMaxRun.
+    const uint8_t b = data[k];
+    const size_t end = std::min(n, k + kMaxRun);
+    size_t j = k + kMinRun;
 #if defined(__SSE2__)
     // A background's runs are long: their end found 16 bytes at a time.
     const __m128i same = _mm_set1_epi8(char(b));
@@ -219,15 +262,10 @@ void RunDeflater::add_block(const uint8_t *data, size_t n, bool final) {
     if (j + 16 > end)
 #endif
       while (j < end && data[j] == b) ++j;
-    if (j - i >= size_t(kMinRun)) {
-      tokens[count++] = uint16_t(256 + (j - i));
-      ++lit_freq[size_t(257 + kLengthCodes.code[j - i])];
-      ++runs;
-      i = j;
-    } else {
-      literals(i, i + 1);
-      ++i;
-    }
+    tokens[count++] = uint16_t(256 + (j - k));
+    ++lit_freq[size_t(257 + kLengthCodes.code[j - k])];
+    ++runs;
+    i = j;
   }
   for (int b = 0; b < 256; ++b)
     lit_freq[size_t(b)] =
@@ -301,19 +339,38 @@ void RunDeflater::add_block(const uint8_t *data, size_t n, bool final) {
     uint8_t *out = out_.data() + used_;
     size_t k = 0;
 #if defined(__BYTE_ORDER__) && __BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__
-    // Two tokens a step: their bits joined first (independent of the buffer), then one shift
-    // into the buffer and its whole bytes stored, eight at a time with no branch (the spare
-    // bytes are rewritten by the next store; the room reserved above holds the last). One
-    // serial step per two tokens where each token waited on the one before. At most 7 bits
-    // are pending between steps and a token is at most 21 bits, so 7 + 42 < 64.
+    // Three tokens a step where their bits fit, else two: their bits joined first (independent
+    // of the buffer), then one shift into the buffer and its whole bytes stored, eight at a time
+    // with no branch (the spare bytes are rewritten by the next store; the room reserved above
+    // holds the last). One serial step per two or three tokens where each token waited on the
+    // one before. At most 7 bits are pending between steps and a token is at most 21 bits: two
+    // always fit (7 + 42 < 64); a third joins them when the three take at most 56 bits, so that
+    // fewer than 64 are pending when the whole bytes are shifted out (literal codes are at most
+    // 15 bits, so three literals always do).
     const auto flush = [&]() {
       std::memcpy(out, &acc, sizeof acc);
       const int whole = pending >> 3;
       out += whole;
-      acc >>= 8 * whole;  // whole <= 6: at most 7 + 42 bits pending here (31 on entry)
+      acc >>= 8 * whole;  // whole <= 7: at most 7 + 56 bits pending here (31 on entry)
       pending &= 7;
     };
     flush();  // put() leaves up to 31 bits pending
+    for (; k + 3 <= count;) {
+      const uint32_t e1 = symbol[tokens[k]], e2 = symbol[tokens[k + 1]], e3 = symbol[tokens[k + 2]];
+      const int n1 = int(e1 >> 24), n12 = n1 + int(e2 >> 24), n3 = int(e3 >> 24);
+      uint64_t joined = uint64_t(e1 & 0xFFFFFFu) | uint64_t(e2 & 0xFFFFFFu) << n1;
+      int width = n12;
+      if (n12 + n3 <= 56) {
+        joined |= uint64_t(e3 & 0xFFFFFFu) << n12;
+        width += n3;
+        k += 3;
+      } else {
+        k += 2;
+      }
+      acc |= joined << pending;
+      pending += width;
+      flush();
+    }
     for (; k + 2 <= count; k += 2) {
       const uint32_t e1 = symbol[tokens[k]], e2 = symbol[tokens[k + 1]];
       const int n1 = int(e1 >> 24);

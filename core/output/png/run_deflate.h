@@ -19,11 +19,17 @@
 #include <vector>
 
 #include "core/common/page_allocator.h"
+#include "core/common/uninitialized_buffer.h"
 
 namespace lantern {
 
 class RunDeflater {
  public:
+  // Room for a piece of about `input_bytes` input bytes, asked before the first block: the output
+  // then grows in place, where growing by a quarter at a time moved (and faulted in) about three
+  // times the piece's bytes. Only address space until written (mapped pages, page_allocator.h).
+  // Optional: without it, or past it, the output grows as before. Changes no byte.
+  void expect(size_t input_bytes);
   // Compresses `n` bytes as one block (nothing for n == 0); `final` sets the block's BFINAL.
   void add_block(const uint8_t *data, size_t n, bool final);
   // Ends the piece on a byte boundary: after a final block by padding, otherwise with an empty
@@ -44,7 +50,7 @@ class RunDeflater {
   uint64_t acc_ = 0;  // pending bits, least significant first
   int pending_ = 0;   // how many
   bool ended_ = false;
-  PageVector<uint16_t> tokens_;  // literal byte, or 256 + run length
+  UninitializedBuffer<uint16_t> tokens_;  // literal byte, or 256 + run length (written first)
 };
 
 }  // namespace lantern
