@@ -1,6 +1,6 @@
 #include "core/output/png/png_bands.h"
 
-#include "core/output/png/adler32.h"
+#include "core/output/png/checksums.h"
 #include "core/output/png/run_deflate.h"
 
 #include <zlib.h>

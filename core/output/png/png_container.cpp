@@ -8,6 +8,8 @@
 #include <string>
 #include <utility>
 
+#include "core/output/png/checksums.h"
+
 namespace lantern {
 
 namespace {
@@ -31,7 +33,7 @@ void put_chunk(std::vector<uint8_t> *out, const char type[4], const uint8_t *dat
   const size_t start = out->size();
   out->insert(out->end(), type, type + 4);
   if (n) out->insert(out->end(), data, data + n);
-  put_be32(out, static_cast<uint32_t>(crc32(0, out->data() + start, uInt(out->size() - start))));
+  put_be32(out, crc32_extend(0, out->data() + start, out->size() - start));
 }
 
 // Hands IDAT chunks of at most kIdatBytes, holding one stream given in pieces, to `put`: each
@@ -49,7 +51,7 @@ class IdatStream {
       if (in_chunk_ == chunk_ && !begin()) return false;
       const size_t take = std::min<size_t>(n, chunk_ - in_chunk_);
       if (!put_(data, take)) return false;
-      crc_ = crc32(crc_, data, uInt(take));
+      crc_ = crc32_extend(crc_, data, take);
       in_chunk_ += take;
       offset_ += take;
       data += take;
@@ -77,7 +79,7 @@ class IdatStream {
     be32(head, static_cast<uint32_t>(chunk_));
     const char type[4] = {'I', 'D', 'A', 'T'};
     std::copy(type, type + 4, head + 4);
-    crc_ = crc32(0, head + 4, 4);
+    crc_ = crc32_extend(0, head + 4, 4);
     chunk_offset_ = offset_;
     offset_ += 8;
     return put_(head, 8);
@@ -95,7 +97,7 @@ class IdatStream {
   uint64_t offset_ = 0;        // file offset of the next byte put
   uint64_t chunk_offset_ = 0;  // of the current chunk's header
   size_t chunk_ = 0, in_chunk_ = 0;
-  uLong crc_ = 0;
+  uint32_t crc_ = 0;
 };
 
 // Signature and IHDR: 8-bit, color type 2 (RGB) or 6 (RGBA), deflate, adaptive filtering, no

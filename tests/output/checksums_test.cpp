@@ -1,7 +1,7 @@
-// adler32_extend: zlib's adler32_z, value for value, on every length around the vector loop's
-// steps and blocks, from any starting checksum, and on all-0xFF bytes (the largest sums, where a
-// lane or a block too long would overflow).
-#include "core/output/png/adler32.h"
+// adler32_extend and crc32_extend: zlib's adler32_z and crc32_z, value for value, on every length
+// around the vector loops' steps and blocks, at any alignment, from any starting checksum, and
+// (Adler-32) on all-0xFF bytes, the largest sums, where a lane or a block too long would overflow.
+#include "core/output/png/checksums.h"
 
 #include <gtest/gtest.h>
 #include <zlib.h>
@@ -55,6 +55,38 @@ TEST(Adler32, LargestBytesDoNotOverflow) {
   const std::vector<uint8_t> v(3 << 20, 0xFF);
   for (size_t n : {size_t(5536), size_t(5552), size_t(65536), v.size()})
     EXPECT_EQ(adler32_extend(0xFFF0FFF0u, v.data(), n), zlib_adler(0xFFF0FFF0u, v, 0, n)) << n;
+}
+
+uint32_t zlib_crc(uint32_t crc, const std::vector<uint8_t> &v, size_t from, size_t n) {
+  return uint32_t(crc32_z(crc, v.data() + from, n));
+}
+
+TEST(Crc32, IsZlibsAtEveryLengthAndOffset) {
+  const std::vector<uint8_t> v = noise_bytes(70000, 5);
+  for (size_t n = 0; n <= 300; ++n)
+    for (size_t from : {size_t(0), size_t(1), size_t(7)})
+      ASSERT_EQ(crc32_extend(0, v.data() + from, n), zlib_crc(0, v, from, n))
+          << n << " bytes from " << from;
+  for (size_t n : {1023, 1024, 1025, 4096 + 15, 65536, 69999})
+    EXPECT_EQ(crc32_extend(0, v.data(), n), zlib_crc(0, v, 0, n)) << n << " bytes";
+  // All zeros and all ones (the folds see no carries to hide behind).
+  for (const uint8_t b : {uint8_t(0), uint8_t(0xFF)}) {
+    const std::vector<uint8_t> flat(5000, b);
+    EXPECT_EQ(crc32_extend(0, flat.data(), flat.size()), zlib_crc(0, flat, 0, flat.size()));
+  }
+}
+
+TEST(Crc32, ContinuesAnyCrcAsZlibDoes) {
+  const std::vector<uint8_t> v = noise_bytes(200000, 13);
+  uint32_t mine = 0, theirs = 0;
+  for (size_t at = 0, n = 1; at < v.size(); at += n, n = n * 2 + 5) {
+    const size_t take = std::min(n, v.size() - at);
+    mine = crc32_extend(mine, v.data() + at, take);
+    theirs = zlib_crc(theirs, v, at, take);
+    ASSERT_EQ(mine, theirs) << "after " << at + take << " bytes";
+  }
+  for (uint32_t start : {0xFFFFFFFFu, 0x12345678u, 0x80000001u})
+    EXPECT_EQ(crc32_extend(start, v.data(), 777), zlib_crc(start, v, 0, 777)) << start;
 }
 
 }  // namespace
