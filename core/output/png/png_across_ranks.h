@@ -4,8 +4,10 @@
 // (atomic_file.h). Because the bands do not depend on who compresses them, a frame gives the
 // same file bytes on any number of ranks, threads, synchronous or asynchronous.
 //
-// Measured (tests/bench/png, 1024x1024 sphere render, level 1): one libpng stream through
-// OpenImageIO ~86 ms; these bands on one thread ~31 ms; per rank with 2 ranks ~16 ms.
+// Measured (lantern-bench-png --image, a 1 M-atom LJ frame at 1024x1024, level 1,
+// tests/bench/png/results/run_encoder_checksums_ab.txt): one libpng stream through OpenImageIO
+// 93-107 ms; these bands on one thread 6.8-7.6 ms (RGB); the slower of 2 bands plus the root's
+// assembly 5.0-5.3 ms (RGBA).
 //
 // Ownership: the functions read the frame during the call. Never throw.
 #pragma once

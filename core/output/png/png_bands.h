@@ -19,10 +19,11 @@
 //
 // Default filter and strategy (PngBandOptions): Sub + PngStrategy::kRuns, Lantern's own
 // literal + byte-run deflate encoder (run_deflate.h). It finds what zlib's Z_RLE finds (runs at
-// distance 1), so files are the same size (1643 vs 1645 KiB on a 1 M-atom 1024^2 render), at
-// 2.3x zlib's speed (9.5 vs 21.6 ms, RGBA, one thread, lantern-bench-png). The zlib strategies
-// stay available: {kNone, kDefault} (LZ77) gives 0.71x of OpenImageIO's size on one-color
-// crystals, whose repeated sphere sprites LZ77 exploits, at ~2.5x the time of the default. Up /
+// distance 1), so files are the same size (1668 vs 1670 KiB on a 1 M-atom 1024^2 render), at
+// 4.3x zlib's speed (9.4-9.5 vs 40-42 ms, RGBA, one thread, lantern-bench-png). The zlib
+// strategies stay available: {kNone, kDefault} (LZ77) gives 0.71x of OpenImageIO's size on
+// one-color crystals, whose repeated sphere sprites LZ77 exploits, at ~6x the time of the
+// default. Up /
 // Average are as fast and ~2% smaller but want `previous_row`; Paeth costs ~1.5x; Sub needs no
 // row above, so bands need no halo row.
 //
