@@ -25,6 +25,20 @@ uint32_t zlib_adler(uint32_t adler, const std::vector<uint8_t> &v, size_t from, 
   return uint32_t(adler32_z(adler, v.data() + from, n));
 }
 
+// Extends `start` by the bytes of v in pieces of growing, uneven lengths (as chunks of rows come)
+// with both functions, expecting the same value after every piece.
+template <typename Mine, typename Theirs>
+void expect_same_over_pieces(const std::vector<uint8_t> &v, uint32_t start, size_t growth,
+                             const Mine &mine, const Theirs &theirs) {
+  uint32_t a = start, b = start;
+  for (size_t at = 0, n = 1; at < v.size(); at += n, n = n * growth + 7) {
+    const size_t take = std::min(n, v.size() - at);
+    a = mine(a, v.data() + at, take);
+    b = theirs(b, v.data() + at, take);
+    ASSERT_EQ(a, b) << "after " << at + take << " bytes";
+  }
+}
+
 TEST(Adler32, IsZlibsAtEveryLengthAndOffset) {
   const std::vector<uint8_t> v = noise_bytes(3 * 5552 + 200, 7);
   for (size_t n = 0; n <= 200; ++n)
@@ -38,14 +52,9 @@ TEST(Adler32, IsZlibsAtEveryLengthAndOffset) {
 
 TEST(Adler32, ContinuesAnyChecksumAsZlibDoes) {
   const std::vector<uint8_t> v = noise_bytes(100000, 11);
-  uint32_t mine = 1, theirs = 1;
-  // Pieces of uneven lengths, as chunks of rows come.
-  for (size_t at = 0, n = 1; at < v.size(); at += n, n = n * 3 + 7) {
-    const size_t take = std::min(n, v.size() - at);
-    mine = adler32_extend(mine, v.data() + at, take);
-    theirs = zlib_adler(theirs, v, at, take);
-    ASSERT_EQ(mine, theirs) << "after " << at + take << " bytes";
-  }
+  expect_same_over_pieces(v, 1, 3, adler32_extend, [](uint32_t a, const uint8_t *p, size_t n) {
+    return uint32_t(adler32_z(a, p, n));
+  });
   // Starting checksums with both halves near the modulus.
   for (uint32_t start : {0u, 0xFFF0FFF0u, 0xFFF00001u, 0x0001FFF0u})
     EXPECT_EQ(adler32_extend(start, v.data(), 9000), zlib_adler(start, v, 0, 9000)) << start;
@@ -78,13 +87,9 @@ TEST(Crc32, IsZlibsAtEveryLengthAndOffset) {
 
 TEST(Crc32, ContinuesAnyCrcAsZlibDoes) {
   const std::vector<uint8_t> v = noise_bytes(200000, 13);
-  uint32_t mine = 0, theirs = 0;
-  for (size_t at = 0, n = 1; at < v.size(); at += n, n = n * 2 + 5) {
-    const size_t take = std::min(n, v.size() - at);
-    mine = crc32_extend(mine, v.data() + at, take);
-    theirs = zlib_crc(theirs, v, at, take);
-    ASSERT_EQ(mine, theirs) << "after " << at + take << " bytes";
-  }
+  expect_same_over_pieces(v, 0, 2, crc32_extend, [](uint32_t c, const uint8_t *p, size_t n) {
+    return uint32_t(crc32_z(c, p, n));
+  });
   for (uint32_t start : {0xFFFFFFFFu, 0x12345678u, 0x80000001u})
     EXPECT_EQ(crc32_extend(start, v.data(), 777), zlib_crc(start, v, 0, 777)) << start;
 }
