@@ -26,8 +26,6 @@ constexpr double kPixelFilterSigma = 0.5;  // px: the reconstruction filter ever
 constexpr int kWeightMantissaBits = 24;
 // The widest footprint row (pixels) of the weight-1 loop below: three registers of two pixels.
 constexpr int kUnitMaxWidth = 6;
-// How many footprints ahead the weight-1 loop prefetches the image rows.
-constexpr int kAhead = 16;
 
 // One footprint's factors: the four per-channel multipliers M (W 256, W c0, W c1, W c2, each
 // < 2^32), and the shift that takes M p (p = tx ty) to 2^-24 units of weight (+ 8 bits for the
@@ -217,19 +215,9 @@ LANTERN_DENSITY_AVX512 int64_t add_units_placed(int64_t *image, int pitch_px, co
     // asked for between the pixel work so that its misses overlap it.
     for (int s = 0; s < 2; ++s)
       if (size_t(i) * 64 < next.bytes[s]) __builtin_prefetch(next.at[s] + size_t(i) * 64, 0, 3);
-    // The image rows of the footprint kAhead further on, asked for now (for writing): a
-    // coherent order walks the image in rows of the lattice whose pixels the next rows reach
-    // again only after the caches have let them go (fcc 10 M at 1024^2, alternated in one
-    // process: about 7 % of the frame).
-    if (i + kAhead < count && p.count_x[at + kAhead] != 0 &&
-        p.count_x[at + kAhead] <= kUnitMaxWidth) {
-      const int64_t *ahead =
-          image + size_t(p.first_y[at + kAhead]) * pitch + size_t(p.first_x[at + kAhead]) * 4;
-      for (int y = 0; y < p.count_y[at + kAhead]; ++y, ahead += pitch) {
-        __builtin_prefetch(ahead, 1, 3);
-        __builtin_prefetch(ahead + 8, 1, 3);
-      }
-    }
+    // No prefetch of the image rows of the footprints ahead (this loop and the AVX2 one below
+    // had one): on an AVX-512 EPYC, fcc 10 M at 1024^2, the frame was 10 % faster without it
+    // (tests/bench/culling/results/density/README.md, 4 December 2026).
     const int cx = p.count_x[at];
     if (!in_front[at]) continue;
     if (p.k[at] >= kDensitySigmaCount || cx > kUnitMaxWidth) {
@@ -295,15 +283,6 @@ __attribute__((target("avx2"))) int64_t add_units_placed_avx2(
     const auto at = size_t(i);
     for (int s = 0; s < 2; ++s)
       if (size_t(i) * 64 < next.bytes[s]) __builtin_prefetch(next.at[s] + size_t(i) * 64, 0, 3);
-    if (i + kAhead < count && p.count_x[at + kAhead] != 0 &&
-        p.count_x[at + kAhead] <= kUnitMaxWidth) {
-      const int64_t *ahead =
-          image + size_t(p.first_y[at + kAhead]) * pitch + size_t(p.first_x[at + kAhead]) * 4;
-      for (int y = 0; y < p.count_y[at + kAhead]; ++y, ahead += pitch) {
-        __builtin_prefetch(ahead, 1, 3);
-        __builtin_prefetch(ahead + 8, 1, 3);
-      }
-    }
     const int cx = p.count_x[at];
     if (!in_front[at]) continue;
     if (p.k[at] >= kDensitySigmaCount || cx > kUnitMaxWidth) {
