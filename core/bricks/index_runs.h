@@ -155,71 +155,11 @@ void scan_stretch(const Positions &pos, const Radii &radius, bool has_radius, co
 }
 
 #if LANTERN_SCAN_X86
-// scan_stretch for positions stored as packed xyz doubles (`xyz`, 24 bytes a particle) without a
-// radius array, on a processor with AVX-512 (scan_runs checks): a particle's x, y and z in one
-// register, added to the running minima and maxima of its brick under a mask made from its
-// in_other bit (no branch per particle, where scan_stretch went through a two-brick run once per
-// brick, its loop exits mispredicted), with two sets of minima and maxima for even and odd
-// particles so that no chain of dependent min/max links every particle. Min and max of a set do
-// not depend on the order its values are visited in, except which of -0 and +0 an exactly zero
-// bound keeps, and such bounds are bounded again in the brick's own order (has_zero_bound): the
-// same bounds as scan_stretch bit for bit. Finiteness: x - x has no bit set for finite x and is
-// NaN otherwise, OR-ed together; a non-finite position marks both bricks of its run, as in
-// scan_stretch.
-namespace scan_avx512 {
-
-template <bool kTwo>
-__attribute__((target("avx512f,avx512vl"))) inline void scan(const double *xyz,
-                                                             const uint64_t *bits, int64_t first,
-                                                             int64_t last, BrickScan *const s[2]) {
-  const __m256d inf = _mm256_set1_pd(std::numeric_limits<double>::infinity());
-  const __m256d minus_inf = _mm256_set1_pd(-std::numeric_limits<double>::infinity());
-  __m256d lo[2][2] = {{inf, inf}, {inf, inf}},
-          hi[2][2] = {{minus_inf, minus_inf}, {minus_inf, minus_inf}};
-  __m256i odd = _mm256_setzero_si256();
-  // Particle i into set `set` (0 or 1: every particle's min and max depend on the set's last);
-  // none where `lanes` is 0 (the masked load reads nothing, and then no lane is taken), and then
-  // its bit is read at `at` (an index of the run) rather than at i.
-  const auto add = [&](int64_t i, int set, unsigned lanes = 7u, int64_t at = -1)
-      __attribute__((target("avx512f,avx512vl"))) {
-    const __m256d v = _mm256_maskz_loadu_pd(__mmask8(lanes), xyz + 3 * i);  // x, y, z, 0
-    odd = _mm256_or_si256(odd, _mm256_castpd_si256(_mm256_sub_pd(v, v)));
-    if (kTwo) {
-      const int64_t j = at < 0 ? i : at;
-      const unsigned b = unsigned(bits[j >> 6] >> (j & 63)) & 1u;
-      const auto k1 = __mmask8(-b & lanes), k0 = __mmask8(k1 ^ lanes);
-      lo[0][set] = _mm256_mask_min_pd(lo[0][set], k0, lo[0][set], v);
-      hi[0][set] = _mm256_mask_max_pd(hi[0][set], k0, hi[0][set], v);
-      lo[1][set] = _mm256_mask_min_pd(lo[1][set], k1, lo[1][set], v);
-      hi[1][set] = _mm256_mask_max_pd(hi[1][set], k1, hi[1][set], v);
-    } else {
-      lo[0][set] = _mm256_mask_min_pd(lo[0][set], __mmask8(lanes), lo[0][set], v);
-      hi[0][set] = _mm256_mask_max_pd(hi[0][set], __mmask8(lanes), hi[0][set], v);
-    }
-  };
-  int64_t i = first;
-  for (; i + 2 <= last; i += 2) add(i, 0), add(i + 1, 1);  // constant sets: kept in registers
-  // The odd particle out without a branch (a run's length is odd or even at random, and the
-  // branch mispredicted about once every other run).
-  const bool one_more = i < last;
-  add(i, 0, one_more ? 7u : 0u, one_more ? i : last - 1);
-  const bool finite = _mm256_testz_si256(odd, odd) != 0;
-  for (int k = 0; k < (kTwo ? 2 : 1); ++k) {
-    alignas(32) double l[4], h[4];
-    _mm256_store_pd(l, _mm256_min_pd(lo[k][0], lo[k][1]));
-    _mm256_store_pd(h, _mm256_max_pd(hi[k][0], hi[k][1]));
-    for (int c = 0; c < 3; ++c) {
-      s[k]->lo[c] = l[c] < s[k]->lo[c] ? l[c] : s[k]->lo[c];
-      s[k]->hi[c] = s[k]->hi[c] < h[c] ? h[c] : s[k]->hi[c];
-    }
-    s[k]->finite &= finite;
-  }
-}
-
-}  // namespace scan_avx512
-
 // scan_runs's loop over a part's runs for positions stored as packed xyz doubles without a radius
-// array and without a group, on a processor with AVX2 (and without AVX-512: scan_runs checks).
+// array and without a group, on a processor with AVX2 (scan_runs checks). It is also the kernel
+// on processors with AVX-512: a masked AVX-512 kernel (masked loads, masked min and max in the
+// particle's brick) took 1.2-1.5x its time on an AVX-512 EPYC (19 M fcc particles, the kernels
+// alternated in one process; docs/benchmarks.md, 4 December 2026) and was removed.
 // A particle's x, y, z and the next particle's x in one register, added to both bricks of its
 // run: OR-ed first with all ones (a NaN) in the lanes of the brick it is not in, and in the fourth
 // lane always; _mm256_min_pd(w, lo) is (w < lo) ? w : lo, so a NaN lane leaves the bound as it
@@ -302,26 +242,22 @@ __attribute__((target("avx2"))) inline bool scan_part(const double *xyz, const B
 
 }  // namespace scan_avx2
 
-// The vector kernels above.
-enum class ScanKernel { kAvx512, kAvx2 };
+// The vector kernel above.
+enum class ScanKernel { kAvx2 };
 
-// Whether scan_runs may use `kernel` (tests turn kernels off to compare with scan_stretch).
-inline std::atomic<bool> &scan_kernel_enabled(ScanKernel kernel) {
-  static std::atomic<bool> on[2] = {true, true};
-  return on[kernel == ScanKernel::kAvx512 ? 0 : 1];
+// Whether scan_runs may use `kernel` (tests turn it off to compare with scan_stretch).
+inline std::atomic<bool> &scan_kernel_enabled(ScanKernel) {
+  static std::atomic<bool> on{true};
+  return on;
 }
 
 // Whether this processor (and its operating system) runs `kernel`.
-inline bool scan_kernel_available(ScanKernel kernel) {
-  static const bool avx512 = [] {
-    __builtin_cpu_init();
-    return __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512vl");
-  }();
+inline bool scan_kernel_available(ScanKernel) {
   static const bool avx2 = [] {
     __builtin_cpu_init();
     return __builtin_cpu_supports("avx2");
   }();
-  return kernel == ScanKernel::kAvx512 ? avx512 : avx2;
+  return avx2;
 }
 
 // Whether scan_runs uses `kernel` where the positions' layout allows it.
@@ -344,16 +280,15 @@ PageVector<BrickScan> scan_runs(const Positions &pos, const Radii &radius, const
   const int64_t stretches = runs.empty() ? 0 : int64_t(runs.size()) - 1;  // the last closes
   const uint64_t *bits = set.in_other.data();
 #if LANTERN_SCAN_X86
-  // Packed xyz doubles without radii (and without a group): on a processor with AVX-512 the
-  // masked kernel, else with AVX2 the poisoned-lanes kernel.
-  bool packed = false, packed_avx2 = false;
+  // Packed xyz doubles without radii (and without a group): with AVX2, the poisoned-lanes
+  // kernel.
+  bool packed_avx2 = false;
   const double *xyz = nullptr;
   if constexpr (std::is_same_v<Positions, InterleavedPositions<double>> &&
                 std::is_same_v<Keep, KeepAll>) {
     const bool layout = !has_radius && pos.stride == int64_t(3 * sizeof(double)) &&
                         reinterpret_cast<uintptr_t>(pos.base) % alignof(double) == 0;
-    packed = layout && scan_kernel_usable(ScanKernel::kAvx512);
-    packed_avx2 = layout && !packed && scan_kernel_usable(ScanKernel::kAvx2);
+    packed_avx2 = layout && scan_kernel_usable(ScanKernel::kAvx2);
     xyz = reinterpret_cast<const double *>(pos.base);
   }
 #endif
@@ -377,15 +312,6 @@ PageVector<BrickScan> scan_runs(const Positions &pos, const Radii &radius, const
             acc[other != kNoBrick && in_other(i) ? other : brick].all_published = false;
           if constexpr (std::is_same_v<Keep, KeepAll>) {
             BrickScan *const two[2] = {&acc[brick], other == kNoBrick ? nullptr : &acc[other]};
-#if LANTERN_SCAN_X86
-            if (packed) {
-              if (two[1])
-                scan_avx512::scan<true>(xyz, bits, first, last, two);
-              else
-                scan_avx512::scan<false>(xyz, nullptr, first, last, two);
-              return;
-            }
-#endif
             scan_stretch(pos, radius, has_radius, two[1] ? bits : nullptr, first, last, two);
             return;
           }

@@ -156,16 +156,14 @@ TEST(IndexRuns, RunsOfRandomOwnersAreExactAndMaximal) {
 // scan_runs may use only its kernel (none: scan_stretch).
 class Kernel {
  public:
-  enum Which { kScalar, kAvx2, kAvx512 };
+  enum Which { kScalar, kAvx2 };
   explicit Kernel(Which k) {
 #if LANTERN_SCAN_X86
-    scan_kernel_enabled(ScanKernel::kAvx512) = k == kAvx512;
     scan_kernel_enabled(ScanKernel::kAvx2) = k == kAvx2;
 #endif
   }
   ~Kernel() {
 #if LANTERN_SCAN_X86
-    scan_kernel_enabled(ScanKernel::kAvx512) = true;
     scan_kernel_enabled(ScanKernel::kAvx2) = true;
 #endif
   }
@@ -175,13 +173,12 @@ class Kernel {
   static std::vector<Which> vector_kernels() {
     std::vector<Which> k;
 #if LANTERN_SCAN_X86
-    if (scan_kernel_available(ScanKernel::kAvx512)) k.push_back(kAvx512);
     if (scan_kernel_available(ScanKernel::kAvx2)) k.push_back(kAvx2);
 #endif
     return k;
   }
   static const char *name(Which k) {
-    return k == kAvx512 ? "AVX-512" : k == kAvx2 ? "AVX2" : "scalar";
+    return k == kAvx2 ? "AVX2" : "scalar";
   }
 };
 
@@ -202,17 +199,16 @@ bool same_bits(double a, double b) {
   return std::memcmp(&a, &b, sizeof a) == 0;
 }
 
-// Every field of two scans, bit for bit where `zeros` (else where no bound is exactly zero, as
-// the AVX-512 kernel gives either sign there: those bricks are bounded again in their own order).
+// Every field of two scans, bit for bit (zero bounds included).
 void expect_same_scans(const PageVector<BrickScan> &want, const PageVector<BrickScan> &got,
-                       bool zeros, const char *kernel) {
+                       const char *kernel) {
   ASSERT_EQ(want.size(), got.size());
   for (size_t b = 0; b < want.size(); ++b) {
     const BrickScan &s = want[b], &v = got[b];
     EXPECT_EQ(s.finite, v.finite) << kernel << " brick " << b;
     EXPECT_EQ(s.all_published, v.all_published) << kernel << " brick " << b;
     EXPECT_TRUE(same_bits(s.r, v.r)) << kernel << " brick " << b;
-    if (!s.finite || (!zeros && has_zero_bound(s))) continue;
+    if (!s.finite) continue;
     for (int c = 0; c < 3; ++c) {
       EXPECT_TRUE(same_bits(s.lo[c], v.lo[c])) << kernel << " brick " << b << " " << c;
       EXPECT_TRUE(same_bits(s.hi[c], v.hi[c])) << kernel << " brick " << b << " " << c;
@@ -225,8 +221,7 @@ void expect_same_scans(const PageVector<BrickScan> &want, const PageVector<Brick
 // one brick or two interleaved at random, now and then none), jittered, with exact zeros of both
 // signs, and with a few NaN and infinite coordinates in some of them: every brick's bounds,
 // radius, finiteness and publication bit for bit (the AVX2 kernel visits each brick's particles in
-// scan_stretch's order, so even its zero bounds keep the same sign; the AVX-512 kernel's are
-// bounded again).
+// scan_stretch's order, so even its zero bounds keep the same sign).
 TEST(IndexRuns, VectorScanGivesTheScalarScansBounds) {
   if (Kernel::vector_kernels().empty()) GTEST_SKIP() << "no vector kernel here";
   std::mt19937_64 rng(11);
@@ -279,7 +274,7 @@ TEST(IndexRuns, VectorScanGivesTheScalarScansBounds) {
         const Kernel only(k);
         expect_same_scans(want,
                           scan_runs(pos, ConstantReal{0.0}, KeepAll{}, false, count, set, threads),
-                          k == Kernel::kAvx2, Kernel::name(k));
+                          Kernel::name(k));
       }
     }
   }
@@ -314,11 +309,9 @@ class GuardedPositions {
 
 // Each vector kernel on short runs (1 to 9 particles, two bricks interleaved at random, or one),
 // starting at odd and even indices and across the words of the in_other bits, against each
-// brick's bounds taken directly from the owners, bit for bit: the AVX-512 kernel takes a run's
-// odd particle out in a step whose lanes are masked off for even runs, which must then add
-// nothing to either brick (the coordinates keep away from zero, where a masked-off lane's zero
-// would show), and the AVX2 kernel reads a particle with the next one's x, poisoned, except for the
-// last particle, whose positions end at a page that may not be read.
+// brick's bounds taken directly from the owners, bit for bit: the AVX2 kernel reads a particle with
+// the next one's x, poisoned, except for the last particle, whose positions end at a page that may
+// not be read.
 TEST(IndexRuns, VectorScanBoundsShortRunsOfEveryParity) {
   if (Kernel::vector_kernels().empty()) GTEST_SKIP() << "no vector kernel here";
   std::mt19937_64 rng(5);
@@ -347,7 +340,7 @@ TEST(IndexRuns, VectorScanBoundsShortRunsOfEveryParity) {
   for (const Kernel::Which k : Kernel::vector_kernels()) {
     const Kernel only(k);
     expect_same_scans(expected, scan_runs(pos, ConstantReal{0.0}, KeepAll{}, false, n, set, 1),
-                      true, Kernel::name(k));
+                      Kernel::name(k));
   }
 }
 
@@ -376,7 +369,7 @@ TEST(IndexRuns, VectorScanIgnoresTheNextParticlesCoordinates) {
     EXPECT_EQ(want[1].lo.x, 11.0);
     for (const Kernel::Which k : Kernel::vector_kernels()) {
       const Kernel only(k);
-      expect_same_scans(want, scan_runs(pos, ConstantReal{0.0}, KeepAll{}, false, n, set, 1), true,
+      expect_same_scans(want, scan_runs(pos, ConstantReal{0.0}, KeepAll{}, false, n, set, 1),
                         Kernel::name(k));
     }
   }
