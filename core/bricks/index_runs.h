@@ -157,9 +157,9 @@ void scan_stretch(const Positions &pos, const Radii &radius, bool has_radius, co
 #if LANTERN_SCAN_X86
 // scan_runs's loop over a part's runs for positions stored as packed xyz doubles without a radius
 // array and without a group, on a processor with AVX2 (scan_runs checks). It is also the kernel
-// on processors with AVX-512: a masked AVX-512 kernel (masked loads, masked min and max in the
-// particle's brick) took 1.2-1.5x its time on an AVX-512 EPYC (19 M fcc particles, the kernels
-// alternated in one process; docs/benchmarks.md, 4 December 2026) and was removed.
+// on processors with AVX-512: on an AVX-512 EPYC (19 M fcc particles, the kernels alternated in
+// one process; docs/benchmarks.md, 4 December 2026) the masked AVX-512 kernel used until then
+// took 1.45x its time, and this kernel rewritten with masked loads and masked min and max 1.2x.
 // A particle's x, y, z and the next particle's x in one register, added to both bricks of its
 // run: OR-ed first with all ones (a NaN) in the lanes of the brick it is not in, and in the fourth
 // lane always; _mm256_min_pd(w, lo) is (w < lo) ? w : lo, so a NaN lane leaves the bound as it
