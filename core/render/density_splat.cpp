@@ -216,7 +216,8 @@ LANTERN_DENSITY_AVX512 int64_t add_units_placed(int64_t *image, int pitch_px, co
     for (int s = 0; s < 2; ++s)
       if (size_t(i) * 64 < next.bytes[s]) __builtin_prefetch(next.at[s] + size_t(i) * 64, 0, 3);
     // No prefetch of the image rows of the footprints ahead (this loop and the AVX2 one below
-    // had one): on an AVX-512 EPYC, fcc 10 M at 1024^2, the frame was 10 % faster without it
+    // had one): on an AVX-512 EPYC, fcc 10 M at 1024^2, the frame was 6 % faster without it
+    // (median of 20 alternated rounds; 10 % on a quiet host), though more variable on a busy one
     // (tests/bench/culling/results/density/README.md, 4 December 2026).
     const int cx = p.count_x[at];
     if (!in_front[at]) continue;
