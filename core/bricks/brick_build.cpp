@@ -212,20 +212,6 @@ void clear_left_out_owners(const LeftOut &left_out, int64_t begin, int64_t end, 
     if (left_out.test(i)) owner[i] = kNoBrick;
 }
 
-// Asks for transparent huge pages for a fresh mapped block of `bytes` at `p`, before its first
-// write (the brick build's per-particle arrays).
-void ask_huge_pages(void *p, size_t bytes) {
-#if defined(MADV_HUGEPAGE)
-  if (bytes < kPageBlockBytes) return;  // from the heap, not mapped for it
-  const auto page = uintptr_t(4096);
-  const uintptr_t a = (reinterpret_cast<uintptr_t>(p) + page - 1) & ~(page - 1);
-  const uintptr_t b = (reinterpret_cast<uintptr_t>(p) + bytes) & ~(page - 1);
-  if (b > a) (void)madvise(reinterpret_cast<void *>(a), b - a, MADV_HUGEPAGE);
-#else
-  (void)p, (void)bytes;
-#endif
-}
-
 // A run of top cells handled as one: either one brick already (a cell above level 4 with at most
 // max_particles, covering top cells [cell_begin, cell_end)), or one top cell to split further.
 struct Unit {
