@@ -6,11 +6,51 @@
 #include <type_traits>
 #include <vector>
 
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+#include <immintrin.h>
+#endif
+
+#include "core/common/cpu_features.h"
 #include "core/culling/cut_planes.h"
 #include "core/particles/typed_access.h"
 
 namespace lantern {
 namespace {
+
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+#define LANTERN_COLORS_X86 1
+// The colours of types[k, n) (int32, contiguous) from a table of 64 packed words, 16 at a time
+// while all 16 lie in [0, 64); returns where it stopped: n less its last n - k mod 16, or the
+// first block holding a type beyond the table (the caller colours those one by one). Why: one
+// load, two permutes and four stores per 16 particles instead of a load, a bounds test and two
+// loads and stores each: 3 % of a weight-1 density frame (fcc 10 M, 1024^2, an AVX-512 EPYC).
+__attribute__((target("avx512f,avx512vl,avx512dq,avx512bw"))) int fill_table16(
+    const int32_t *types, const uint32_t *packed, int k, int n, Rgb8 *out) {
+  const __m512i t0 = _mm512_load_si512(packed), t1 = _mm512_load_si512(packed + 16);
+  const __m512i t2 = _mm512_load_si512(packed + 32), t3 = _mm512_load_si512(packed + 48);
+  // Each 128-bit lane's four words to its first 12 bytes (r, g, b of each).
+  const __m512i squeeze =
+      _mm512_broadcast_i32x4(_mm_setr_epi8(0, 1, 2, 4, 5, 6, 8, 9, 10, 12, 13, 14, -1, -1, -1, -1));
+  auto *bytes = reinterpret_cast<unsigned char *>(out);
+  for (; k + 16 <= n; k += 16) {
+    const __m512i t = _mm512_loadu_si512(types + k);
+    if (_mm512_cmpge_epu32_mask(t, _mm512_set1_epi32(64)) != 0) break;  // a type beyond the table
+    const __m512i low = _mm512_permutex2var_epi32(t0, t, t1);           // types 0 .. 31 (bits 0-4)
+    const __m512i high = _mm512_permutex2var_epi32(t2, t, t3);          // types 32 .. 63
+    const __m512i c = _mm512_shuffle_epi8(
+        _mm512_mask_blend_epi32(_mm512_test_epi32_mask(t, _mm512_set1_epi32(32)), low, high),
+        squeeze);
+    unsigned char *o = bytes + size_t(k) * 3;
+    _mm_mask_storeu_epi8(o, 0x0fff, _mm512_castsi512_si128(c));
+    _mm_mask_storeu_epi8(o + 12, 0x0fff, _mm512_extracti32x4_epi32(c, 1));
+    _mm_mask_storeu_epi8(o + 24, 0x0fff, _mm512_extracti32x4_epi32(c, 2));
+    _mm_mask_storeu_epi8(o + 36, 0x0fff, _mm512_extracti32x4_epi32(c, 3));
+  }
+  return k;
+}
+#else
+#define LANTERN_COLORS_X86 0
+#endif
 
 // The colour of particle i. By type without object-space occlusion (the common case), types
 // 0 .. 63 read a table made once: the palette's own lookup costs two integer divisions (type mod
@@ -21,7 +61,11 @@ class DensityColors {
     by_table_ = colored && recipe.coloring.by == ColorBy::kType && !recipe.occlusion &&
                 recipe.particles->has_type();
     if (by_table_)
-      for (int t = 0; t < kTypes; ++t) table_[size_t(t)] = recipe.coloring.palette.at(t);
+      for (int t = 0; t < kTypes; ++t) {
+        const Rgb8 c = recipe.coloring.palette.at(t);
+        table_[size_t(t)] = c;
+        packed_[size_t(t)] = uint32_t(c[0]) | uint32_t(c[1]) << 8 | uint32_t(c[2]) << 16;
+      }
   }
   // operator() of particles [from, from + n) into out[0, n): the table case as one loop over
   // the type array's own integers (no per-particle type dispatch), with the same colours.
@@ -49,14 +93,28 @@ class DensityColors {
   void fill_table(const StridedArray &a, int64_t from, int n, Rgb8 *out) const {
     const auto *base = static_cast<const unsigned char *>(a.data());
     const int64_t stride = a.stride_bytes();
-    for (int k = 0; k < n; ++k) {
+    const auto one = [&](int k) {
       const int64_t t = int64_t(load_unaligned<T>(base + (from + k) * stride));
       out[k] = t >= 0 && t < kTypes ? table_[size_t(t)] : recipe_.color(from + k);
-    }
+    };
+#if LANTERN_COLORS_X86
+    if constexpr (std::is_same_v<T, int32_t>)
+      if (stride == 4 && cpu_has_avx512_bw()) {
+        const auto *types = reinterpret_cast<const int32_t *>(base + from * 4);
+        // Sixteen at a time; a block holding a type beyond the table, and the tail, one by one.
+        for (int k = 0; k < n;) {
+          k = fill_table16(types, packed_.data(), k, n, out);
+          for (const int stop = std::min(n, k + 16); k < stop; ++k) one(k);
+        }
+        return;
+      }
+#endif
+    for (int k = 0; k < n; ++k) one(k);
   }
   const InstanceRecipe &recipe_;
   bool colored_ = false, by_table_ = false;
   std::array<Rgb8, kTypes> table_{};
+  alignas(64) std::array<uint32_t, kTypes> packed_{};  // table_ as words: r | g << 8 | b << 16
 };
 
 // Prefetches what gathering particle i reads: its position (and type, when colours come from

@@ -536,6 +536,46 @@ TEST(DensityPass, ColorsByTypeOfEveryDatatypeMatchOneSplatPerParticle) {
   }
 }
 
+// int32 types are coloured sixteen at a time where the processor allows (AVX-512), and a block
+// holding a type beyond the pass's table one particle at a time: long stretches of types 0 .. 63
+// with a stray type every 1000 particles, negative at every 3000th, and a count that is not a
+// multiple of 16 give the sums of splat() particle by particle with recipe.color().
+TEST(DensityPass, Int32TypesInBlocksAndStraysMatchOneSplatPerParticle) {
+  Camera camera;
+  const ViewGeometry g = ortho_geometry(&camera);
+  constexpr int kCount = 20011;
+  std::vector<double> xyz;
+  std::vector<int32_t> type;
+  Uniform next{7u};
+  for (int i = 0; i < kCount; ++i) {
+    for (int k = 0; k < 3; ++k) xyz.push_back(1.0 + 8.0 * next());
+    type.push_back(i % 3000 == 1500 ? -2 : i % 1000 == 999 ? 64 + i % 7 : (i * 7) % 64);
+  }
+  ParticleDescription d{};
+  d.count = kCount;
+  d.position = {xyz.data(), DataType::kFloat64, 0};
+  d.type = {type.data(), DataType::kInt32, 0};
+  ParticleArrays arrays;
+  ASSERT_TRUE(ParticleArrays::validate(d, &arrays).ok());
+  SceneConfig scene;
+  scene.style = SceneStyle::kDensity;
+  scene.radius = 0.1;
+  scene.color.by = ColorBy::kType;
+  // Seven colours: types t and t + 32 differ (32 mod 7 = 4), as do t and t + 64.
+  scene.color.palette = {{1, 0, 0}, {0, 1, 0},       {0, 0, 1},      {1, 1, 0},
+                         {0, 1, 1}, {0.2, 0.4, 0.6}, {0.9, 0.1, 0.5}};
+  const DensityPassResult pass = run_density_pass(arrays, scene, camera);
+  DensityImage one_by_one;
+  one_by_one.reset(g.width, g.height, 4);
+  DensitySplatter splat(pass.sel.g, &one_by_one);
+  int64_t drawn = 0;
+  for (int64_t i = 0; i < kCount; ++i)
+    drawn += splat.splat(pass.sel.g.to_view(arrays.position(i)), 0.1, 1.0, pass.recipe.color(i));
+  EXPECT_EQ(pass.st.drawn, drawn);
+  EXPECT_EQ(drawn, kCount);
+  EXPECT_TRUE(pass.image.sum == one_by_one.sum);
+}
+
 // Without level of detail, mask or cutting plane, the pass reads positions in published order
 // straight into the projection (interleaved doubles) or copies them without a branch (other
 // layouts): batches holding a particle whose position is not finite take the path that drops
