@@ -495,9 +495,43 @@ DensityPassResult run_density_pass(const ParticleArrays &arrays, const SceneConf
   return r;
 }
 
-TEST(DensityPass, ColorsByTypeOfEveryDatatypeMatchOneSplatPerParticle) {
+// splat() of every finite particle of `arrays` one by one, with the pass's view, footprint radius
+// `radius` and recipe colours (none in a one-channel image), into *out: the sums the pass must
+// give. Returns how many touched the image.
+int64_t splat_one_by_one(const ParticleArrays &arrays, const DensityPassResult &pass, double radius,
+                         int channels, DensityImage *out) {
+  out->reset(pass.sel.g.width, pass.sel.g.height, channels);
+  DensitySplatter splat(pass.sel.g, out);
+  int64_t drawn = 0;
+  for (int64_t i = 0; i < arrays.count(); ++i) {
+    const glm::dvec3 x = arrays.position(i);
+    if (!(std::isfinite(x.x) && std::isfinite(x.y) && std::isfinite(x.z))) continue;
+    const Rgb8 color = channels == 1 ? Rgb8{0, 0, 0} : pass.recipe.color(i);
+    drawn += splat.splat(pass.sel.g.to_view(x), radius, 1.0, color);
+  }
+  return drawn;
+}
+
+// The density pass over `arrays` coloured by type with `color_keys` (radius 0.1, every particle in
+// view) gives the count and sums of splat() particle by particle with recipe.color().
+void expect_type_colors_of_one_splat_per_particle(const ParticleArrays &arrays,
+                                                  const ColorConfig &color_keys, const char *what) {
   Camera camera;
-  const ViewGeometry g = ortho_geometry(&camera);
+  ortho_geometry(&camera);
+  SceneConfig scene;
+  scene.style = SceneStyle::kDensity;
+  scene.radius = 0.1;
+  scene.color = color_keys;
+  scene.color.by = ColorBy::kType;
+  const DensityPassResult pass = run_density_pass(arrays, scene, camera);
+  DensityImage one_by_one;
+  const int64_t drawn = splat_one_by_one(arrays, pass, 0.1, 4, &one_by_one);
+  EXPECT_EQ(pass.st.drawn, drawn) << what;
+  EXPECT_EQ(drawn, arrays.count()) << what;
+  EXPECT_TRUE(pass.image.sum == one_by_one.sum) << what;
+}
+
+TEST(DensityPass, ColorsByTypeOfEveryDatatypeMatchOneSplatPerParticle) {
   constexpr int kCount = 20000;
   std::vector<double> xyz;
   std::vector<int32_t> t32;
@@ -517,22 +551,11 @@ TEST(DensityPass, ColorsByTypeOfEveryDatatypeMatchOneSplatPerParticle) {
               datatype, 0};
     ParticleArrays arrays;
     ASSERT_TRUE(ParticleArrays::validate(d, &arrays).ok());
-    SceneConfig scene;
-    scene.style = SceneStyle::kDensity;
-    scene.radius = 0.1;
-    scene.color.by = ColorBy::kType;
+    ColorConfig colors;
     // Five colours: types t and t mod 64 differ in colour, as do -5 and 59.
-    scene.color.palette = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {1, 1, 0}, {0.2, 0.4, 0.6}};
-    const DensityPassResult pass = run_density_pass(arrays, scene, camera);
-    DensityImage one_by_one;
-    one_by_one.reset(g.width, g.height, 4);
-    DensitySplatter splat(pass.sel.g, &one_by_one);
-    int64_t drawn = 0;
-    for (int64_t i = 0; i < kCount; ++i)
-      drawn += splat.splat(pass.sel.g.to_view(arrays.position(i)), 0.1, 1.0, pass.recipe.color(i));
-    EXPECT_EQ(pass.st.drawn, drawn) << int(datatype);
-    EXPECT_EQ(drawn, kCount) << int(datatype);
-    EXPECT_TRUE(pass.image.sum == one_by_one.sum) << int(datatype);
+    colors.palette = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {1, 1, 0}, {0.2, 0.4, 0.6}};
+    expect_type_colors_of_one_splat_per_particle(arrays, colors,
+                                                 datatype == DataType::kInt32 ? "int32" : "int64");
   }
 }
 
@@ -541,8 +564,6 @@ TEST(DensityPass, ColorsByTypeOfEveryDatatypeMatchOneSplatPerParticle) {
 // with a stray type every 1000 particles, negative at every 3000th, and a count that is not a
 // multiple of 16 give the sums of splat() particle by particle with recipe.color().
 TEST(DensityPass, Int32TypesInBlocksAndStraysMatchOneSplatPerParticle) {
-  Camera camera;
-  const ViewGeometry g = ortho_geometry(&camera);
   constexpr int kCount = 20011;
   std::vector<double> xyz;
   std::vector<int32_t> type;
@@ -557,23 +578,11 @@ TEST(DensityPass, Int32TypesInBlocksAndStraysMatchOneSplatPerParticle) {
   d.type = {type.data(), DataType::kInt32, 0};
   ParticleArrays arrays;
   ASSERT_TRUE(ParticleArrays::validate(d, &arrays).ok());
-  SceneConfig scene;
-  scene.style = SceneStyle::kDensity;
-  scene.radius = 0.1;
-  scene.color.by = ColorBy::kType;
+  ColorConfig colors;
   // Seven colours: types t and t + 32 differ (32 mod 7 = 4), as do t and t + 64.
-  scene.color.palette = {{1, 0, 0}, {0, 1, 0},       {0, 0, 1},      {1, 1, 0},
-                         {0, 1, 1}, {0.2, 0.4, 0.6}, {0.9, 0.1, 0.5}};
-  const DensityPassResult pass = run_density_pass(arrays, scene, camera);
-  DensityImage one_by_one;
-  one_by_one.reset(g.width, g.height, 4);
-  DensitySplatter splat(pass.sel.g, &one_by_one);
-  int64_t drawn = 0;
-  for (int64_t i = 0; i < kCount; ++i)
-    drawn += splat.splat(pass.sel.g.to_view(arrays.position(i)), 0.1, 1.0, pass.recipe.color(i));
-  EXPECT_EQ(pass.st.drawn, drawn);
-  EXPECT_EQ(drawn, kCount);
-  EXPECT_TRUE(pass.image.sum == one_by_one.sum);
+  colors.palette = {{1, 0, 0}, {0, 1, 0},       {0, 0, 1},      {1, 1, 0},
+                    {0, 1, 1}, {0.2, 0.4, 0.6}, {0.9, 0.1, 0.5}};
+  expect_type_colors_of_one_splat_per_particle(arrays, colors, "int32 in blocks");
 }
 
 // Without level of detail, mask or cutting plane, the pass reads positions in published order
@@ -583,7 +592,7 @@ TEST(DensityPass, Int32TypesInBlocksAndStraysMatchOneSplatPerParticle) {
 // splat() particle by particle, for interleaved and separate, double and float positions.
 TEST(DensityPass, NonFinitePositionsAreDroppedInEveryLayout) {
   Camera camera;
-  const ViewGeometry g = ortho_geometry(&camera);
+  ortho_geometry(&camera);
   constexpr int kCount = 5003;  // 4 full batches and a short one
   std::vector<double> xyz, xs, ys, zs;
   std::vector<float> xyz32;
@@ -614,14 +623,7 @@ TEST(DensityPass, NonFinitePositionsAreDroppedInEveryLayout) {
     scene.color.by = ColorBy::kSolid;
     const DensityPassResult pass = run_density_pass(arrays, scene, camera);
     DensityImage one_by_one;
-    one_by_one.reset(g.width, g.height, 1);
-    DensitySplatter splat(pass.sel.g, &one_by_one);
-    int64_t drawn = 0;
-    for (int64_t i = 0; i < kCount; ++i) {
-      const glm::dvec3 x = arrays.position(i);
-      if (std::isfinite(x.x) && std::isfinite(x.y) && std::isfinite(x.z))
-        drawn += splat.splat(pass.sel.g.to_view(x), 0.1, 1.0, {0, 0, 0});
-    }
+    const int64_t drawn = splat_one_by_one(arrays, pass, 0.1, 1, &one_by_one);
     EXPECT_EQ(pass.st.drawn, drawn) << layout;
     EXPECT_EQ(drawn, kCount - 5) << layout;
     // Dropped before projection, not projected and missed: no particle counts as off the image.
