@@ -91,4 +91,32 @@ Status finish_image(MPI_Comm comm, Frame &frame, const FinishSettings &finish,
   return {};
 }
 
+Status finish_image_to_bands(MPI_Comm comm, Frame &frame, const FinishSettings &finish,
+                             const CompositeCostModel *model, int band_rows, Frame *band,
+                             ImageBand *owned, FinishStats *stats) {
+  const int s = finish.samples_per_axis;
+  if (wants_screen_cues(finish.cues) || band_rows < 1 || finish.height % band_rows != 0)
+    return {StatusCode::kInvalidArgument,
+            "finish_image_to_bands: screen cues, or bands that do not divide the image"};
+  CompositeOptions options;
+  options.model = model;
+  RowBand rows;  // sample rows
+  if (Status st =
+          composite_to_row_bands(comm, frame, s * band_rows, &rows, options, &stats->composite);
+      !st.ok())
+    return with_context("compositing: ", std::move(st));
+  owned->rows = {rows.y0 / s, rows.y1 / s};
+  if (s == 1) {  // the band's rows stay where compositing left them
+    owned->first = 0;
+    return {};
+  }
+  const auto t0 = Clock::now();
+  const SampleAlpha alpha =
+      finish.transparent_background ? SampleAlpha::kStraight : SampleAlpha::kOpaque;
+  downsample_band(frame, s, owned->rows.y0, owned->rows.rows(), band, alpha);
+  owned->first = owned->rows.y0;
+  stats->downsample_ms = ms_since(t0);
+  return {};
+}
+
 }  // namespace lantern

@@ -7,7 +7,8 @@
 // down-samples it, adds the halo rows the cues read from its neighbours and cues it, and root
 // gathers the finished bands: the merged frame is never gathered on one rank. The bands depend
 // only on (height, ranks) and each pixel only on its own samples and halo, so the bytes never
-// depend on the rank count.
+// depend on the rank count. finish_image_to_bands stops before the gathering, for an output that
+// works band by band.
 //
 // Collective over comm; every rank calls with the same settings and returns the same status.
 // Ownership: reads and consumes `frame` (this rank's frame); writes *image on root only.
@@ -18,6 +19,7 @@
 #include "core/camera/camera.h"
 #include "core/common/status.h"
 #include "core/composite/depth_compositor.h"
+#include "core/composite/row_bands.h"
 #include "core/config/config.h"
 #include "core/finish/overlays/overlays.h"
 #include "core/finish/screen_cues.h"
@@ -54,5 +56,25 @@ struct FinishStats {
 Status finish_image(MPI_Comm comm, Frame &frame, const FinishSettings &finish,
                     const Camera &image_camera, double sphere_radius,
                     const CompositeCostModel *model, Frame *image, FinishStats *stats);
+
+// This rank's rows of an image left in row bands: image rows [rows.y0, rows.y1), held in a frame
+// whose row 0 is image row `first`.
+struct ImageBand {
+  RowBand rows;
+  int first = 0;
+};
+
+// finish_image without gathering the image on root, for an output that works band by band (the
+// PNG writer, core/output/png/png_across_ranks.h): the frames are composited so that every rank
+// ends with its own row band of the image, every boundary a multiple of `band_rows` image rows
+// (which must divide finish.height), down-sampled when s > 1. On return *owned says which rows
+// this rank holds: in `frame` itself when s is 1 (its other rows are unspecified), else in *band
+// (width x owned->rows.rows() pixels). The bands depend only on (height, ranks, band_rows), the
+// pixels on nothing but their samples, so the bytes do not depend on the rank count. No screen-
+// space cues (their halo exchange wants bands of any row): kInvalidArgument, on every rank, when
+// finish.cues asks for some or band_rows does not divide the height.
+Status finish_image_to_bands(MPI_Comm comm, Frame &frame, const FinishSettings &finish,
+                             const CompositeCostModel *model, int band_rows, Frame *band,
+                             ImageBand *owned, FinishStats *stats);
 
 }  // namespace lantern

@@ -53,6 +53,23 @@ std::optional<std::array<double, 2>> scalar_range_of(const Extent &global) {
   return std::array<double, 2>{global.scalar_min, global.scalar_max};
 }
 
+// Row bands the finished image can stay in (SceneSettings::image_band_rows), or 0: when its only
+// use is a PNG file written now (no movie, no overlays drawn on root, no background writer), the
+// ranks are no more than the file's bands and those divide the image, and nothing after
+// compositing reads rows beyond a band (no screen-space cues). Then the merged frame is never
+// gathered on rank 0 to be handed out again for compression: every rank composites and
+// compresses its own bands (write_png_from_row_bands). The same decision on every rank.
+int image_band_rows(MPI_Comm comm, const SceneConfig &scene, const SceneSettings &settings) {
+  int ranks = 1;
+  MPI_Comm_size(comm, &ranks);
+  const OutputConfig &out = scene.output;
+  if (ranks == 1 || out.format != ImageFormat::kPng || out.asynchronous || !out.images ||
+      out.movie.enabled || settings.finish.overlays.any() ||
+      wants_screen_cues(settings.finish.cues) || ranks > png_band_count(scene.height))
+    return 0;
+  return png_band_rows(scene.height, scene.width);
+}
+
 // The composited image (rank 0's frame) to the scene's file. Collective; same status everywhere.
 Status write_image_file(const ScenePassInputs &in, const SceneConfig &scene, const Camera &camera,
                         Clock::time_point t_start, SceneBuffers *buffers, SceneStats *stats) {
@@ -61,6 +78,20 @@ Status write_image_file(const ScenePassInputs &in, const SceneConfig &scene, con
   const std::string where = "scenes '" + scene.name + "': ";
   Clock::time_point t0;
   Status written;
+  if (buffers->image_band) {
+    // The image is in row bands, one per rank: each compresses its own bands where they are.
+    t0 = Clock::now();
+    stats->file = expand_pattern(scene.output.pattern, in.step, scene.name);
+    const ImageBand &band = *buffers->image_band;
+    const uint8_t *rows =
+        buffers->frame.rgba.data() + size_t(band.rows.y0 - band.first) * size_t(scene.width) * 4;
+    written = with_context(
+        where, write_png_from_row_bands(in.comm, 0, rows, band.rows.y0, band.rows.y1, scene.width,
+                                        scene.height, scene.output.compression_level, stats->file));
+    stats->write_ms = ms_since(t0);
+    stats->total_ms = ms_since(t_start);
+    return agree_on_status(in.comm, written);
+  }
   if (scene.output.format == ImageFormat::kPng && !scene.output.asynchronous) {
     // Every rank compresses a share of the PNG: the root's encoder is off the critical path.
     t0 = Clock::now();
@@ -182,6 +213,8 @@ Status run_scene_pass(const ScenePassInputs &in, const SceneConfig &scene, Scene
   // The colours use this frame's range (fixed, or remembered across steps).
   SceneSettings settings = scene_settings(scene);
   settings.shading.color.range = color_range;
+  settings.image_band_rows = image_band_rows(in.comm, scene, settings);
+  buffers->image_band.reset();
   Status local = check_scene_needs(scene, radius, *in.particles, in.bonds);
   if (scene.style == SceneStyle::kDensity) {
     if (Status s = run_density_scene(in, settings, where, camera, radius, std::move(local), buffers,

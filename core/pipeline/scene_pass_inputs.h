@@ -17,6 +17,7 @@
 #include "core/composite/composite_cost_model.h"
 #include "core/culling/brick_cut_counts.h"
 #include "core/dump/box.h"
+#include "core/finish/finish_image.h"
 #include "core/finish/overlays/overlays.h"
 #include "core/output/background_image_writer.h"
 #include "core/output/movie/movie_writer.h"
@@ -75,7 +76,10 @@ inline BrickOptions brick_options(const ScenePassInputs &in) {
 }
 
 struct SceneBuffers {
-  Frame frame;    // the image (on root after compositing)
+  Frame frame;  // the image (on root after compositing), or this rank's band of it (image_band)
+  // Set when this frame's image was left in row bands (SceneSettings::image_band_rows): the rows
+  // this rank holds in `frame`.
+  std::optional<ImageBand> image_band;
   Frame samples;  // samples > 1: the sample-resolution frame, kept between steps like `frame`
   BackgroundImageWriter writer;  // rank 0, with output.asynchronous
   BrickCutCounts cut_counts;     // this scene's cutting planes per brick (edits are incremental)

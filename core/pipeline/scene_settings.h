@@ -20,6 +20,10 @@ struct SceneSettings {
   ShadingSettings shading;  // rendering
   FinishSettings finish;    // finishing (cues, down-sampling, density transfer)
   RendererChoice renderer = RendererChoice::kAuto;  // renderer: the pipeline's choice of renderer
+  // > 0: the finished image is left in row bands of multiples of this many rows, one per rank, and
+  // written from them (scene_pass.cpp decides it per frame from the output and the rank count);
+  // 0: gathered on rank 0.
+  int image_band_rows = 0;
 };
 
 SceneSettings scene_settings(const SceneConfig &scene);

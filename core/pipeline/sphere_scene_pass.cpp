@@ -99,13 +99,21 @@ Status run_sphere_scene(const ScenePassInputs &in, const SceneSettings &settings
       return with_context(where + "compositing: ", std::move(s));
     model = measured;
   }
-  // The composited image, finished (down-sampling, screen-space cues), on rank 0.
+  // The composited image, finished (down-sampling, screen-space cues): on rank 0, or left in
+  // row bands for the PNG writer (the merged frame then never goes through one rank).
   FinishStats finished;
-  if (Status s =
-          finish_image(in.comm, frame, settings.finish, image_camera, radius.max_radius(in.global),
-                       model ? &*model : nullptr, &buffers->frame, &finished);
-      !s.ok())
-    return with_context(where, std::move(s));
+  const CompositeCostModel *cost = model ? &*model : nullptr;
+  Status s;
+  if (settings.image_band_rows > 0) {
+    ImageBand band;
+    s = finish_image_to_bands(in.comm, frame, settings.finish, cost, settings.image_band_rows,
+                              &buffers->frame, &band, &finished);
+    if (s.ok()) buffers->image_band = band;
+  } else {
+    s = finish_image(in.comm, frame, settings.finish, image_camera, radius.max_radius(in.global),
+                     cost, &buffers->frame, &finished);
+  }
+  if (!s.ok()) return with_context(where, std::move(s));
   stats->downsample_ms = finished.downsample_ms;
   stats->cues_ms += finished.cues_ms;
   stats->composite_ms = finished.composite.milliseconds;

@@ -133,10 +133,10 @@ const char *const kSceneNames[] = {"persp_type",   "persp_scalar", "persp_solid"
 
 std::string scene_yaml(const std::string &name, const std::string &projection,
                        const std::string &color, const std::string &radius,
-                       const std::string &pattern, double zoom = 1.3) {
-  return "  - name: " + name +
-         "\n    width: 120\n    height: 90\n    background: [0.1, 0.2, 0.3]\n" +
-         "    radius: " + radius + "\n    camera: {projection: " + projection +
+                       const std::string &pattern, double zoom = 1.3, int height = 90) {
+  return "  - name: " + name + "\n    width: 120\n    height: " + std::to_string(height) +
+         "\n    background: [0.1, 0.2, 0.3]\n" + "    radius: " + radius +
+         "\n    camera: {projection: " + projection +
          ", azimuth: 35, elevation: 25, zoom: " + std::to_string(zoom) + "}\n    color: " + color +
          "\n    output: {pattern: \"" + pattern + "\"}\n";
 }
@@ -145,10 +145,13 @@ std::string scene_yaml(const std::string &name, const std::string &projection,
 // `colored`: extra keys for the scenes colored by type or scalar (not solid).
 std::string config_yaml(const std::string &directory, const std::string &prefix,
                         const std::string &top = "", const std::string &each = "",
-                        const std::string &colored = "") {
+                        const std::string &colored = "", int height = 90) {
   const std::string pattern = directory + "/" + prefix + "_{scene}_{step:06d}.png";
-  const auto scene_yaml = [&each](auto &&...args) {
-    return ::lantern::testing::scene_yaml(args...) + each;
+  const auto scene_yaml = [&each, height](const std::string &name, const std::string &projection,
+                                          const std::string &color, const std::string &radius,
+                                          const std::string &pattern, double zoom = 1.3) {
+    return ::lantern::testing::scene_yaml(name, projection, color, radius, pattern, zoom, height) +
+           each;
   };
   return top + "scenes:\n" + scene_yaml("persp_type", "perspective", "{by: type}", "0.4", pattern) +
          colored +
@@ -245,18 +248,20 @@ std::string with_background(std::string config, const std::string &background) {
 // Renders `all` on rank 0 alone, then under every split on all ranks; compares on rank 0.
 void expect_rank_invariant(const Particles &all, const std::string &label,
                            const std::string &top = "", const std::string &each = "",
-                           const std::string &colored = "", const std::string &background = "") {
+                           const std::string &colored = "", const std::string &background = "",
+                           int height = 90) {
   const std::string dir = shared_directory();
   ASSERT_FALSE(dir.empty());
   const int rank = world_rank(), ranks = world_size();
   if (rank == 0) {
     const Render ref = render_once(
         MPI_COMM_SELF,
-        with_background(config_yaml(dir, label + "_ref", top, each, colored), background), all, 0);
+        with_background(config_yaml(dir, label + "_ref", top, each, colored, height), background),
+        all, 0);
     EXPECT_EQ(ref.status, LANTERN_OK) << ref.error;
   }
   const std::string config =
-      with_background(config_yaml(dir, label, top, each, colored), background);
+      with_background(config_yaml(dir, label, top, each, colored, height), background);
   for (size_t s = 0; s < std::size(kSplits); ++s) {
     const Render r =
         render_once(MPI_COMM_WORLD, config, owned_by(kSplits[s], all, rank, ranks), int(s));
@@ -291,6 +296,36 @@ TEST(RankInvariance, SameImagesForEveryRankCountAndSplit) {
 TEST(RankInvariance, SameImagesWithoutOpenGl) {
   expect_rank_invariant(make_particles(1500), "nogl", "gl: none\n",
                         "    culling: {occlusion: nine_spheres}\n");
+}
+
+// 256 rows make a PNG of 8 bands of 32 rows: at up to 8 ranks the image is composited into
+// whole bands, one run of them per rank, which each rank compresses where it is (the merged frame
+// never on one rank), with one sample and with four; the stats say so.
+void expect_rank_invariant_in_bands(const std::string &label, const std::string &each) {
+  const std::string stats_dir = shared_directory();
+  ASSERT_FALSE(stats_dir.empty());
+  const std::string stats = stats_dir + "/stats.jsonl";
+  expect_rank_invariant(make_particles(1500), label, "stats: \"" + stats + "\"\n", each, "", "",
+                        256);
+  if (world_rank() != 0) return;
+  std::ifstream in(stats);
+  std::string line, all;
+  int lines = 0;
+  while (std::getline(in, line)) all += line, ++lines;
+  EXPECT_EQ(lines, 1 + int(std::size(kSplits)));  // the one-rank reference, then every split
+  const std::string bands = "\"composite_method\":\"active_pixels_bands\"";
+  size_t found = 0;
+  for (size_t at = all.find(bands); at != std::string::npos; at = all.find(bands, at + 1)) ++found;
+  EXPECT_EQ(found, world_size() > 1 ? std::size(kSplits) * std::size(kSceneNames) : 0u) << all;
+  std::system(("rm -rf '" + stats_dir + "'").c_str());
+}
+
+TEST(RankInvariance, SameImagesWrittenFromRowBands) {
+  expect_rank_invariant_in_bands("bands", "");
+}
+
+TEST(RankInvariance, SameImagesWrittenFromRowBandsWithFourSamples) {
+  expect_rank_invariant_in_bands("bands_ssaa4", "    samples: 4\n");
 }
 
 // Super-sampling: compositing at sample resolution and down-sampling each rank's band of rows give
@@ -836,7 +871,7 @@ void expect_bonds_rank_invariant(const BondedSystem &system, lantern_bond_listin
       EXPECT_EQ(std::stoll(line.substr(at + 9)), int64_t(2 * system.bond_count())) << line;
     EXPECT_EQ(scenes, int(std::size(kBondSceneNames))) << line;
   }
-  EXPECT_EQ(lines, int(std::size(kSplits)));
+  EXPECT_EQ(lines, 1 + int(std::size(kSplits)));  // the one-rank reference, then every split
   bool all_same = true;
   for (size_t s = 0; s < std::size(kSplits); ++s)
     for (const char *scene : kBondSceneNames) {

@@ -7,10 +7,12 @@
 #include <gtest/gtest.h>
 #include <mpi.h>
 
+#include <algorithm>
 #include <cstdint>
 #include <fstream>
 #include <iterator>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "core/output/png/png_across_ranks.h"
@@ -82,6 +84,71 @@ TEST(PngAcrossRanks, FileIsTheOneProcessFileOnEveryRoot) {
       EXPECT_EQ(dir.entry_count(), 2u);  // no temporary file left
       if (root == world_size() - 1) break;
     }
+}
+
+// Rows [y0, y1) of `height` a rank holds when the ranks split the PNG's bands in rank order,
+// `skip` of them (from rank 0 on) holding none.
+std::pair<int, int> band_rows_of(int rank, int ranks, int height, int width, int skip) {
+  const int n = png_band_count(height), per = png_band_rows(height, width);
+  const int holders = std::max(1, ranks - skip);
+  const int k = std::max(0, rank - skip);
+  const int b0 = rank < skip ? 0 : n * k / holders, b1 = rank < skip ? 0 : n * (k + 1) / holders;
+  return {b0 * per, b1 * per};
+}
+
+TEST(PngAcrossRanks, FromRowBandsIsTheOneProcessFile) {
+  const ScratchDir dir;
+  // 1024 x 704: 8 bands of 88 rows; 200 x 64: 2 bands of 32 rows (more ranks than bands); 40 x
+  // 40: one band. Translucent pixels on one rank only still make the file RGBA everywhere.
+  const Case cases[] = {{1024, 704, true, true},
+                        {1024, 704, true, false},
+                        {200, 64, false, true},
+                        {40, 40, false, false}};
+  for (const Case &c : cases)
+    for (int skip = 0; skip < std::min(2, world_size()); ++skip) {
+      SCOPED_TRACE(std::to_string(c.width) + "x" + std::to_string(c.height) + " skip " +
+                   std::to_string(skip));
+      ASSERT_GT(png_band_rows(c.height, c.width), 0);
+      // Every rank has the whole frame, but hands over only its rows; the others are scribbled
+      // on so that a band read from the wrong place would show.
+      Frame frame = test_frame(c.width, c.height, c.noise, c.opaque, 5);
+      const Frame reference = frame;
+      const auto [y0, y1] = band_rows_of(world_rank(), world_size(), c.height, c.width, skip);
+      for (size_t p = 0; p < frame.pixel_count(); ++p) {
+        const int y = int(p / size_t(c.width));
+        if (y < y0 || y >= y1) frame.rgba[4 * p] ^= 0x5a, frame.rgba[4 * p + 3] = 7;
+      }
+      const std::string path = dir.file("bands.png");
+      const uint8_t *rows = frame.rgba.data() + size_t(y0) * size_t(c.width) * 4;
+      EXPECT_OK(
+          write_png_from_row_bands(MPI_COMM_WORLD, 0, rows, y0, y1, c.width, c.height, 1, path));
+      if (world_rank() != 0) continue;
+      std::vector<uint8_t> expected;
+      ASSERT_OK(encode_png(reference.rgba.data(), c.width, c.height, c.opaque ? 3 : 4, 1,
+                           png_band_count(c.height), &expected, png_options_for_level(1)));
+      EXPECT_EQ(read_file(path), expected);
+      EXPECT_EQ(dir.entry_count(), 1u);  // no temporary file left
+    }
+}
+
+TEST(PngAcrossRanks, FromRowBandsRefusesRowsThatAreNotBandsOnEveryRank) {
+  const ScratchDir dir;
+  const Frame frame = test_frame(256, 256, false, true, 6);  // 8 bands of 32 rows
+  EXPECT_EQ(png_band_rows(256, 256), 32);
+  EXPECT_EQ(png_band_rows(257, 256), 0);  // 8 bands of uneven rows
+  auto [y0, y1] = band_rows_of(world_rank(), world_size(), 256, 256, 0);
+  // One rank's rows are off by one: every rank refuses, and no file is written.
+  if (world_rank() == world_size() - 1) y0 = std::max(0, y0 - 1);
+  const Status s =
+      write_png_from_row_bands(MPI_COMM_WORLD, 0, frame.rgba.data() + size_t(y0) * 256 * 4, y0, y1,
+                               256, 256, 1, dir.file("bad.png"));
+  if (world_size() == 1 && y0 == 0) {
+    EXPECT_OK(s);  // one rank holding every row: nothing is off
+    return;
+  }
+  EXPECT_EQ(s.code, StatusCode::kInvalidArgument);
+  EXPECT_NE(s.message.find("bad.png"), std::string::npos) << s.message;
+  EXPECT_EQ(dir.entry_count(), 0u);
 }
 
 TEST(PngAcrossRanks, UnwritablePathFailsOnTheRootAndEveryRankReturns) {

@@ -68,10 +68,8 @@ Status deflate_bands(const uint8_t *rows, int width, int height, int n, int b0, 
 // less to compress.
 // Blocks of kOpaqueBlock pixels are checked with no exit inside, as the AND of their 4-byte words
 // (a loop the compiler vectorises): its alpha byte is 255 exactly when every pixel's is.
-int file_channels(const Frame &frame) {
+int file_channels(const uint8_t *rgba, size_t n) {
   constexpr size_t kOpaqueBlock = 1024;
-  const uint8_t *rgba = frame.rgba.data();
-  const size_t n = frame.pixel_count();
   for (size_t i = 0; i < n; i += kOpaqueBlock) {
     uint32_t all = ~uint32_t(0);
     for (size_t k = i; k < std::min(n, i + kOpaqueBlock); ++k) {
@@ -165,6 +163,94 @@ Status write_file(int n, int width, int height, int channels, const std::string 
   return written;
 }
 
+// A rank other than the root: compresses bands [b0, b1) of n, the rows of band b at rows_of(b)
+// (asked in band order), and sends each to the root as soon as it is compressed, header then
+// bytes, so that the root writes the file as the bands come while later ones are still being
+// compressed here. After a failure the rest are sent as failed headers (no bytes): the root
+// receives every band whatever fails, so every send completes.
+Status send_bands(MPI_Comm comm, int root, int width, int height, int n, int b0, int b1, int level,
+                  int channels, const std::string &path,
+                  const std::function<const uint8_t *(int)> &rows_of) {
+  std::vector<PngBand> bands(static_cast<size_t>(n));
+  std::vector<int64_t> headers(size_t(std::max(b1 - b0, 0)) * kHeaderWords);
+  std::vector<MPI_Request> requests;
+  requests.reserve(size_t(std::max(b1 - b0, 0)) * 2);
+  Status failure;
+  for (int b = b0; b < b1; ++b) {
+    const uint8_t *rows = rows_of(b);
+    if (failure.ok())
+      failure = deflate_bands(rows, width, height, n, b, b + 1, level, channels, &bands);
+    const PngBand &p = bands[size_t(b)];
+    int64_t *h = &headers[size_t(b - b0) * kHeaderWords];
+    const bool failed = !failure.ok();  // this band and every later one: none sent
+    h[0] = failed ? 0 : int64_t(p.bytes.size()), h[1] = p.adler, h[2] = int64_t(p.raw_len),
+    h[3] = p.rows, h[4] = failed ? 1 : 0;
+    requests.emplace_back();
+    MPI_Isend(h, kHeaderWords, MPI_INT64_T, root, kHeadTag + b, comm, &requests.back());
+    if (h[0] == 0) continue;
+    requests.emplace_back();
+    MPI_Isend(p.bytes.data(), int(p.bytes.size()), MPI_UINT8_T, root, kBandTag + b, comm,
+              &requests.back());
+  }
+  MPI_Waitall(int(requests.size()), requests.data(), MPI_STATUSES_IGNORE);
+  return with_context("cannot encode a band of " + path + ": ", failure);
+}
+
+// The root: compresses its own bands [b0, b1) of n from `rows` (the first row of band b0), then
+// writes the file band by band, receiving each other rank's band (from owner(b)) when its turn
+// comes - the header, then the bytes straight into the band - so the file's first bands are
+// written while the others are still being compressed. Every band is received whatever fails, so
+// that every rank's sends complete.
+Status write_with_ranks(MPI_Comm comm, int root, const uint8_t *rows, int width, int height, int n,
+                        int b0, int b1, int level, int channels, const std::string &path,
+                        const std::function<int(int)> &owner) {
+  std::vector<PngBand> bands(static_cast<size_t>(n));
+  const Status failure = deflate_bands(rows, width, height, n, b0, b1, level, channels, &bands);
+  int received = 0;  // bands [0, received) are here
+  bool remote_failed = false;
+  // The buffers of bands already written, to receive later bands into (the smallest that holds
+  // one): their pages are mapped and faulted in already, where a fresh buffer costs ~0.2 ms a
+  // band of a 1 M-atom frame (mmap, zero fill, page faults) on the root's critical path.
+  std::vector<PageVector<uint8_t>> spare;
+  const auto receive_through = [&](int last) {
+    for (; received <= last; ++received) {
+      const int b = received;
+      const int r = owner(b);
+      if (r == root) continue;
+      int64_t h[kHeaderWords];
+      MPI_Recv(h, kHeaderWords, MPI_INT64_T, r, kHeadTag + b, comm, MPI_STATUS_IGNORE);
+      PngBand &p = bands[size_t(b)];
+      const size_t bytes = size_t(h[0]);
+      auto fit = spare.end();
+      for (auto it = spare.begin(); it != spare.end(); ++it)
+        if (it->size() >= bytes && (fit == spare.end() || it->size() < fit->size())) fit = it;
+      if (fit != spare.end()) {
+        p.bytes = std::move(*fit);
+        spare.erase(fit);
+      }
+      p.bytes.resize(bytes);  // a spare's contents past `bytes` are dropped, nothing is filled
+      p.adler = uint32_t(h[1]);
+      p.raw_len = uint64_t(h[2]);
+      p.rows = int(h[3]);
+      p.last = b == n - 1;
+      remote_failed |= h[4] != 0;
+      if (!p.bytes.empty())
+        MPI_Recv(p.bytes.data(), int(p.bytes.size()), MPI_UINT8_T, r, kBandTag + b, comm,
+                 MPI_STATUS_IGNORE);
+    }
+  };
+  Status written = failure;
+  if (failure.ok())
+    written = write_file(n, width, height, channels, path, [&](int b) -> PngBand * {
+      if (b > 0) spare.push_back(std::move(bands[size_t(b) - 1].bytes));  // written by now
+      receive_through(b);
+      return remote_failed ? nullptr : &bands[size_t(b)];
+    });
+  receive_through(n - 1);
+  if (remote_failed || !failure.ok())
+    return {StatusCode::kIo, "cannot encode " + path + ": a rank failed to compress its band"};
+  return written;
+}
 }  // namespace
 
 int png_band_count(int height) {
@@ -174,7 +260,7 @@ int png_band_count(int height) {
 Status write_png(const Frame &frame, int level, const std::string &path, int threads) {
   const int n = png_band_count(frame.height);
   const int workers = std::clamp(threads, 1, n);
-  const int channels = file_channels(frame);
+  const int channels = file_channels(frame.rgba.data(), frame.pixel_count());
   std::vector<PngBand> bands(static_cast<size_t>(n));
   std::vector<Status> failure(static_cast<size_t>(workers));
   const auto work = [&](int w) {
@@ -220,12 +306,10 @@ Status write_png_across_ranks(MPI_Comm comm, int root, const Frame &frame, int w
   const auto band_rows = [&](int b) {
     return int64_t(first_row(b + 1, n, height)) - first_row(b, n, height);
   };
-  std::vector<PngBand> bands(static_cast<size_t>(n));
   std::vector<MPI_Request> requests;
   if (rank != root) {
     // Receives its bands' rows a band at a time (so no rank holds a copy of its whole share),
-    // compresses each and sends it on at once, header then bytes: the root writes the file as
-    // the bands come, while the later ones are still being compressed here.
+    // compresses each and sends it on at once.
     int64_t most = 0;
     for (int b = b0; b < b1; ++b) most = std::max(most, band_rows(b));
     std::vector<uint8_t> rows(static_cast<size_t>(most * row_bytes));
@@ -236,10 +320,7 @@ Status write_png_across_ranks(MPI_Comm comm, int root, const Frame &frame, int w
                 &first_rows);
     int channels = 4;
     MPI_Bcast(&channels, 1, MPI_INT, root, comm);
-    std::vector<int64_t> headers(size_t(b1 - b0) * kHeaderWords);
-    requests.reserve(size_t(b1 - b0) * 2);
-    Status failure;
-    for (int b = b0; b < b1; ++b) {
+    const auto rows_of = [&](int b) -> const uint8_t * {
       if (band_rows(b) > 0) {
         if (b == b0)
           MPI_Wait(&first_rows, MPI_STATUS_IGNORE);
@@ -247,22 +328,9 @@ Status write_png_across_ranks(MPI_Comm comm, int root, const Frame &frame, int w
           MPI_Recv(rows.data(), int(band_rows(b) * row_bytes), MPI_UINT8_T, root, kRowsTag + b,
                    comm, MPI_STATUS_IGNORE);
       }
-      if (failure.ok())
-        failure = deflate_bands(rows.data(), width, height, n, b, b + 1, level, channels, &bands);
-      const PngBand &p = bands[size_t(b)];
-      int64_t *h = &headers[size_t(b - b0) * kHeaderWords];
-      const bool failed = !failure.ok();  // this band and every later one: none sent
-      h[0] = failed ? 0 : int64_t(p.bytes.size()), h[1] = p.adler, h[2] = int64_t(p.raw_len),
-      h[3] = p.rows, h[4] = failed ? 1 : 0;
-      requests.emplace_back();
-      MPI_Isend(h, kHeaderWords, MPI_INT64_T, root, kHeadTag + b, comm, &requests.back());
-      if (h[0] == 0) continue;
-      requests.emplace_back();
-      MPI_Isend(p.bytes.data(), int(p.bytes.size()), MPI_UINT8_T, root, kBandTag + b, comm,
-                &requests.back());
-    }
-    MPI_Waitall(int(requests.size()), requests.data(), MPI_STATUSES_IGNORE);
-    return with_context("cannot encode a band of " + path + ": ", failure);
+      return rows.data();
+    };
+    return send_bands(comm, root, width, height, n, b0, b1, level, channels, path, rows_of);
   }
 
   // The root sends every other rank its bands' rows straight from the frame, a band per
@@ -277,60 +345,60 @@ Status write_png_across_ranks(MPI_Comm comm, int root, const Frame &frame, int w
                 &requests.back());
     }
   }
-  int channels = file_channels(frame);
+  int channels = file_channels(frame.rgba.data(), frame.pixel_count());
   MPI_Bcast(&channels, 1, MPI_INT, root, comm);
-  const Status failure = deflate_bands(frame.rgba.data() + offsets[size_t(rank)], width, height, n,
-                                       b0, b1, level, channels, &bands);
-
-  // Then writes the file band by band, receiving each other rank's band when its turn comes
-  // (the header, then the bytes straight into the band), so the file's first bands are written
-  // while the others are still being compressed. Every band is received whatever fails, so that
-  // every rank's sends complete.
-  int received = 0;  // bands [0, received) are here
-  bool remote_failed = false;
-  // The buffers of bands already written, to receive later bands into (the smallest that holds
-  // one): their pages are mapped and faulted in already, where a fresh buffer costs ~0.2 ms a
-  // band of a 1 M-atom frame (mmap, zero fill, page faults) on the root's critical path.
-  std::vector<PageVector<uint8_t>> spare;
-  const auto receive_through = [&](int last) {
-    for (; received <= last; ++received) {
-      const int b = received;
-      const int r = band_owner(b, size, n);
-      if (r == root) continue;
-      int64_t h[kHeaderWords];
-      MPI_Recv(h, kHeaderWords, MPI_INT64_T, r, kHeadTag + b, comm, MPI_STATUS_IGNORE);
-      PngBand &p = bands[size_t(b)];
-      const size_t bytes = size_t(h[0]);
-      auto fit = spare.end();
-      for (auto it = spare.begin(); it != spare.end(); ++it)
-        if (it->size() >= bytes && (fit == spare.end() || it->size() < fit->size())) fit = it;
-      if (fit != spare.end()) {
-        p.bytes = std::move(*fit);
-        spare.erase(fit);
-      }
-      p.bytes.resize(bytes);  // a spare's contents past `bytes` are dropped, nothing is filled
-      p.adler = uint32_t(h[1]);
-      p.raw_len = uint64_t(h[2]);
-      p.rows = int(h[3]);
-      p.last = b == n - 1;
-      remote_failed |= h[4] != 0;
-      if (!p.bytes.empty())
-        MPI_Recv(p.bytes.data(), int(p.bytes.size()), MPI_UINT8_T, r, kBandTag + b, comm,
-                 MPI_STATUS_IGNORE);
-    }
-  };
-  Status written = failure;
-  if (failure.ok())
-    written = write_file(n, width, height, channels, path, [&](int b) -> PngBand * {
-      if (b > 0) spare.push_back(std::move(bands[size_t(b) - 1].bytes));  // written by now
-      receive_through(b);
-      return remote_failed ? nullptr : &bands[size_t(b)];
-    });
-  receive_through(n - 1);
+  const Status written = write_with_ranks(comm, root, frame.rgba.data() + offsets[size_t(rank)],
+                                          width, height, n, b0, b1, level, channels, path,
+                                          [size, n](int b) { return band_owner(b, size, n); });
   MPI_Waitall(int(requests.size()), requests.data(), MPI_STATUSES_IGNORE);
-  if (remote_failed || !failure.ok())
-    return {StatusCode::kIo, "cannot encode " + path + ": a rank failed to compress its band"};
   return written;
+}
+
+int png_band_rows(int height, int width) {
+  const int n = png_band_count(height);
+  if (height % n != 0) return 0;
+  // A band's compressed bytes move in one MPI message (int counts): far from it in practice.
+  if (int64_t(height / n) * width * kChannels > INT_MAX / 2) return 0;
+  return height / n;
+}
+
+Status write_png_from_row_bands(MPI_Comm comm, int root, const uint8_t *rows, int y0, int y1,
+                                int width, int height, int level, const std::string &path) {
+  int rank = 0, size = 1;
+  MPI_Comm_rank(comm, &rank);
+  MPI_Comm_size(comm, &size);
+  const int n = png_band_count(height);
+  const int per_band = png_band_rows(height, width);
+  // Every rank's bands and whether its rows are opaque, in one collective: the same table on
+  // every rank, so that all agree on the channels and on whether the split is one of bands.
+  const bool aligned = per_band > 0 && y0 % per_band == 0 && y1 % per_band == 0 && 0 <= y0 &&
+                       y0 <= y1 && y1 <= height;
+  const int mine[3] = {aligned ? y0 / per_band : -1, aligned ? y1 / per_band : -1,
+                       aligned ? file_channels(rows, size_t(y1 - y0) * size_t(width)) : 4};
+  std::vector<int> table(size_t(size) * 3);
+  MPI_Allgather(mine, 3, MPI_INT, table.data(), 3, MPI_INT, comm);
+  std::vector<int> owner(size_t(std::max(n, 0)), -1);
+  int channels = 3, next = 0;
+  for (int r = 0; r < size; ++r) {
+    const int b0 = table[size_t(r) * 3], b1 = table[size_t(r) * 3 + 1];
+    channels = std::max(channels, table[size_t(r) * 3 + 2]);
+    if (b0 != next || b1 < b0 || b1 > n)
+      return {StatusCode::kInvalidArgument,
+              "cannot write " + path + ": the ranks' rows are not whole PNG bands in rank order"};
+    for (int b = b0; b < b1; ++b) owner[size_t(b)] = r;
+    next = b1;
+  }
+  if (next != n)
+    return {StatusCode::kInvalidArgument,
+            "cannot write " + path + ": the ranks' rows do not cover the image"};
+  const int b0 = y0 / per_band, b1 = y1 / per_band;
+  // The rows of band b (b0 <= b < b1) are this rank's, where they are.
+  const size_t band_bytes = size_t(per_band) * size_t(width) * kChannels;
+  const auto rows_of = [&](int b) { return rows + size_t(b - b0) * band_bytes; };
+  if (rank != root)
+    return send_bands(comm, root, width, height, n, b0, b1, level, channels, path, rows_of);
+  return write_with_ranks(comm, root, rows, width, height, n, b0, b1, level, channels, path,
+                          [&owner](int b) { return owner[size_t(b)]; });
 }
 
 }  // namespace lantern
