@@ -871,7 +871,7 @@ void expect_bonds_rank_invariant(const BondedSystem &system, lantern_bond_listin
       EXPECT_EQ(std::stoll(line.substr(at + 9)), int64_t(2 * system.bond_count())) << line;
     EXPECT_EQ(scenes, int(std::size(kBondSceneNames))) << line;
   }
-  EXPECT_EQ(lines, 1 + int(std::size(kSplits)));  // the one-rank reference, then every split
+  EXPECT_EQ(lines, int(std::size(kSplits)));
   bool all_same = true;
   for (size_t s = 0; s < std::size(kSplits); ++s)
     for (const char *scene : kBondSceneNames) {
