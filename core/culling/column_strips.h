@@ -108,11 +108,11 @@ void run_strips(int count, Strip &&strip) {
   run_in_parts(count, count, [&strip](int k, int64_t, int64_t) { strip(k); });
 }
 
-// The union of what strips s[0, count) kept, in published order (draw_list.h), and the counts: a
-// brick gathered by any strip had the same per-particle frustum and cut drops. `scratch` is the
-// radix sort's buffer.
-void merge_strips(const VisibleBricks &visible, const BrickSet &bricks,
-                  const std::vector<StripState> &s, int count, PageVector<uint64_t> *scratch,
-                  CullStats *stats, DrawList *out);
+// The union of what strips (*s)[0, count) kept, in published order (draw_list.h), and the counts:
+// a brick gathered by any strip had the same per-particle frustum and cut drops. The strips' lists
+// are consumed (released: they keep no memory between frames). `scratch` is the radix sort's
+// buffer.
+void merge_strips(const VisibleBricks &visible, const BrickSet &bricks, std::vector<StripState> *s,
+                  int count, PageVector<uint64_t> *scratch, CullStats *stats, DrawList *out);
 
 }  // namespace lantern

@@ -180,7 +180,7 @@ void Culler::process_strips(const CullPass<Positions, Radii> &pass, const BrickS
     walk_strip(pass, sel.visible, true, true, covered, visit, &strips_[size_t(k)]);
   };
   run_strips(count, strip);
-  merge_strips(sel.visible, pass.bricks, strips_, count, &scratch_, st, out);
+  merge_strips(sel.visible, pass.bricks, &strips_, count, &scratch_, st, out);
 }
 
 // nine_spheres_sorted: every candidate first (as the paper sorts all particles), then one global

@@ -66,6 +66,9 @@ Status run_sphere_scene(const ScenePassInputs &in, const SceneSettings &settings
       local =
           with_context(where, draw_scene_on_rank(rank_scene, &in.scratch->draw, &frame, &drawn));
       cull = drawn.cull;
+      // The CPU pass's list of drawn spheres (kept by draw_scene_on_rank for its callers to read)
+      // is not needed past this point: nothing of it is kept between frames.
+      PageVector<uint64_t>().swap(in.scratch->draw.draw.spheres);
       if (halves) cull.bonds.grouping_reused = in.scratch->bonds.reused() ? 1 : 0;
       stats->renderer = drawn.renderer;
       stats->occlusion = cull.occlusion;

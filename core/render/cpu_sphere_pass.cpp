@@ -210,7 +210,7 @@ CullStats CpuSpherePass::run(const ParticleArrays &particles, const BrickSet &br
     });
   });
   // The merged lists are already in published order (draw_list.h).
-  merge_strips(sel.visible, bricks, strips_, count, &scratch_, &st, out);
+  merge_strips(sel.visible, bricks, &strips_, count, &scratch_, &st, out);
   PageVector<uint64_t>().swap(scratch_);  // per-frame scratch: keep nothing between frames
   st.drawn = int64_t(out->spheres.size());
   st.splatted = int64_t(out->points.size());
