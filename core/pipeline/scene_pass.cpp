@@ -55,17 +55,19 @@ std::optional<std::array<double, 2>> scalar_range_of(const Extent &global) {
 
 // Row bands the finished image can stay in (SceneSettings::image_band_rows), or 0: when its only
 // use is a PNG file written now (no movie, no overlays drawn on root, no background writer), the
-// ranks are no more than the file's bands and those divide the image, and nothing after
-// compositing reads rows beyond a band (no screen-space cues). Then the merged frame is never
-// gathered on rank 0 to be handed out again for compression: every rank composites and
-// compresses its own bands (write_png_from_row_bands). The same decision on every rank.
+// file's bands divide the image, and nothing after compositing reads rows beyond a band (no
+// screen-space cues). Then the merged frame is never gathered on rank 0 to be handed out again
+// for compression: every rank composites and compresses its own bands
+// (write_png_from_row_bands). With more ranks than bands (8 from 256 rows) the first ranks hold
+// one band each and the others none: still 1/8 of the image at most on any rank, where rank 0
+// would receive all of it. The same decision on every rank.
 int image_band_rows(MPI_Comm comm, const SceneConfig &scene, const SceneSettings &settings) {
   int ranks = 1;
   MPI_Comm_size(comm, &ranks);
   const OutputConfig &out = scene.output;
   if (ranks == 1 || out.format != ImageFormat::kPng || out.asynchronous || !out.images ||
       out.movie.enabled || settings.finish.overlays.any() ||
-      wants_screen_cues(settings.finish.cues) || ranks > png_band_count(scene.height))
+      wants_screen_cues(settings.finish.cues))
     return 0;
   return png_band_rows(scene.height, scene.width);
 }

@@ -298,15 +298,16 @@ TEST(RankInvariance, SameImagesWithoutOpenGl) {
                         "    culling: {occlusion: nine_spheres}\n");
 }
 
-// 256 rows make a PNG of 8 bands of 32 rows: at up to 8 ranks the image is composited into
-// whole bands, one run of them per rank, which each rank compresses where it is (the merged frame
+// 256 rows make a PNG of 8 bands of 32 rows: the image is composited into whole bands, one run
+// of them per rank, which each rank compresses where it is (the merged frame
 // never on one rank), with one sample and with four; the stats say so.
-void expect_rank_invariant_in_bands(const std::string &label, const std::string &each) {
+void expect_rank_invariant_in_bands(const std::string &label, const std::string &each,
+                                    int height = 256) {
   const std::string stats_dir = shared_directory();
   ASSERT_FALSE(stats_dir.empty());
   const std::string stats = stats_dir + "/stats.jsonl";
   expect_rank_invariant(make_particles(1500), label, "stats: \"" + stats + "\"\n", each, "", "",
-                        256);
+                        height);
   if (world_rank() != 0) return;
   std::ifstream in(stats);
   std::string line, all;
@@ -326,6 +327,11 @@ TEST(RankInvariance, SameImagesWrittenFromRowBands) {
 
 TEST(RankInvariance, SameImagesWrittenFromRowBandsWithFourSamples) {
   expect_rank_invariant_in_bands("bands_ssaa4", "    samples: 4\n");
+}
+
+// 64 rows make 2 bands of 32: from 3 ranks on, the first two hold a band each, the others none.
+TEST(RankInvariance, SameImagesWrittenFromRowBandsOnMoreRanksThanBands) {
+  expect_rank_invariant_in_bands("bands_few", "", 64);
 }
 
 // Super-sampling: compositing at sample resolution and down-sampling each rank's band of rows give
