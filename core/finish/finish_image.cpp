@@ -14,6 +14,12 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
+// How down-sampling treats alpha: straight on a transparent background (an edge pixel keeps its
+// surface's colour and partial coverage), else every sample is opaque.
+SampleAlpha sample_alpha(const FinishSettings &finish) {
+  return finish.transparent_background ? SampleAlpha::kStraight : SampleAlpha::kOpaque;
+}
+
 // The frames composited so that every rank ends with its own row band of the merged frame
 // (whole pixels, i.e. multiples of s sample rows), down-sampled (s > 1) into *band, which then
 // holds exactly the rank's row_band(height, ranks, rank) of the image. Fills *composite.
@@ -68,8 +74,7 @@ Status finish_image(MPI_Comm comm, Frame &frame, const FinishSettings &finish,
   }
   auto t0 = Clock::now();
   BandFrame band;
-  const SampleAlpha alpha =
-      finish.transparent_background ? SampleAlpha::kStraight : SampleAlpha::kOpaque;
+  const SampleAlpha alpha = sample_alpha(finish);
   if (Status st =
           composite_into_image_band(comm, frame, s, alpha, options, &band, &stats->composite);
       !st.ok())
@@ -106,13 +111,14 @@ Status finish_image_to_bands(MPI_Comm comm, Frame &frame, const FinishSettings &
       !st.ok())
     return with_context("compositing: ", std::move(st));
   owned->rows = {rows.y0 / s, rows.y1 / s};
-  if (s == 1) {  // the band's rows stay where compositing left them
+  // Unlike composite_into_image_band, no copy of the rows with one sample: the writer reads them
+  // where compositing left them.
+  if (s == 1) {
     owned->first = 0;
     return {};
   }
   const auto t0 = Clock::now();
-  const SampleAlpha alpha =
-      finish.transparent_background ? SampleAlpha::kStraight : SampleAlpha::kOpaque;
+  const SampleAlpha alpha = sample_alpha(finish);
   downsample_band(frame, s, owned->rows.y0, owned->rows.rows(), band, alpha);
   owned->first = owned->rows.y0;
   stats->downsample_ms = ms_since(t0);
