@@ -48,7 +48,8 @@ class CpuSphereRaster {
   // Draw into columns [x0, x1] of the cleared `frame`.
   void begin_strip(const ViewGeometry &g, Frame *frame, int x0, int x1);
   // Done drawing the strip: frees the depth pyramid (begin_strip makes it again), so that no
-  // pyramid stays resident between frames. Nothing may be drawn or asked until begin_strip.
+  // pyramid stays in use between frames (its pages are lazily freed, for the next frame's:
+  // core/common/page_allocator.h). Nothing may be drawn or asked until begin_strip.
   void end_strip() { pyramid_.release(); }
 
   // True if every pixel of `rect` (within the strip) already holds something strictly nearer

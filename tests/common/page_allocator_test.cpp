@@ -1,6 +1,7 @@
-// PageAllocator: a large block freed leaves the resident size at once, whatever glibc's heap holds
-// (its pages are unmapped, not handed to malloc), and small blocks still work as usual; so do the
-// frames and the bricks' permutation and runs, which live from step to step.
+// PageAllocator: a large block freed leaves the resident size in use at once, whatever glibc's
+// heap holds (its pages are unmapped or lazily freed, never handed to malloc), a freed block of up
+// to kReusedBlockBytes serves the next request of its size class, and small blocks still work as
+// usual; so do the frames and the bricks' permutation and runs, which live from step to step.
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -20,12 +21,18 @@
 namespace lantern {
 namespace {
 
-// Resident bytes of this process (/proc/self/statm); -1 where unknown.
-int64_t resident_bytes() {
+// Resident bytes of this process (/proc/self/statm), lazily freed pages included; -1 where
+// unknown.
+int64_t resident_bytes_with_lazy() {
   std::unique_ptr<FILE, int (*)(FILE *)> f(std::fopen("/proc/self/statm", "r"), &std::fclose);
   long long size = 0, resident = 0;
   if (!f || std::fscanf(f.get(), "%lld %lld", &size, &resident) != 2) return -1;
   return int64_t(resident) * int64_t(sysconf(_SC_PAGESIZE));
+}
+
+// Resident bytes less the lazily freed ones, which the kernel takes back whenever it needs them.
+int64_t resident_bytes() {
+  return resident_bytes_in_use();
 }
 
 constexpr int64_t kMiB = int64_t(1) << 20;
@@ -131,6 +138,60 @@ TEST(PageAllocator, FrameResetReusesItsBuffers) {
   EXPECT_EQ(f.height, 30);
   EXPECT_EQ(f.rgba.size(), 4u * 100 * 30);
   EXPECT_EQ(f.depth.size(), 100u * 30);
+}
+
+// A freed block of up to kReusedBlockBytes is kept, lazily freed, and handed to the next request
+// of its size class (its pages then need no fault); larger ones are unmapped at once; what is
+// kept never exceeds kReusedBytes; drop_reused_pages() unmaps it all.
+TEST(PageAllocator, FreedBlocksServeTheNextRequestOfTheirClass) {
+  drop_reused_pages();
+  ASSERT_EQ(reused_pages().blocks, 0);
+  const uint8_t *first = nullptr;
+  {
+    PageVector<uint8_t> block(size_t(700) << 10, 1);  // class 1 MiB
+    first = block.data();
+  }
+  EXPECT_EQ(reused_pages().blocks, 1);
+  EXPECT_EQ(reused_pages().bytes, int64_t(1) << 20);
+  {
+    PageVector<uint8_t> again(size_t(900) << 10, 2);  // the same class: the same pages
+    EXPECT_EQ(again.data(), first);
+    EXPECT_EQ(reused_pages().blocks, 0);
+    for (size_t i = 0; i < again.size(); i += 4096) ASSERT_EQ(again[i], 2);
+  }
+  {
+    PageVector<uint8_t> other(size_t(300) << 10, 3);  // another class: fresh pages
+    EXPECT_NE(other.data(), first);
+    EXPECT_EQ(reused_pages().blocks, 1);
+  }
+  EXPECT_EQ(reused_pages().blocks, 2);
+  // Many blocks freed at once: no more than kReusedBytes kept.
+  {
+    std::vector<PageVector<uint8_t>> many;
+    for (int i = 0; i < 12; ++i) many.emplace_back(kReusedBlockBytes, uint8_t(i));
+  }
+  EXPECT_LE(reused_pages().bytes, int64_t(kReusedBytes));
+  EXPECT_GT(reused_pages().bytes, int64_t(kReusedBytes) - int64_t(kReusedBlockBytes));
+  drop_reused_pages();
+  EXPECT_EQ(reused_pages().blocks, 0);
+  EXPECT_EQ(reused_pages().bytes, 0);
+}
+
+// Lazily freed pages leave the resident size in use at once, and the whole resident size when
+// unmapped; blocks above kReusedBlockBytes leave it at once.
+TEST(PageAllocator, KeptBlocksLeaveTheResidentSizeInUse) {
+  if (resident_bytes_with_lazy() < 0 || resident_bytes() < 0)
+    GTEST_SKIP() << "no /proc/self/statm or smaps_rollup";
+  drop_reused_pages();
+  const int64_t before = resident_bytes_with_lazy();
+  { PageVector<uint64_t> large(size_t(24 * kMiB) / sizeof(uint64_t), 5); }
+  EXPECT_LT(resident_bytes_with_lazy() - before, 2 * kMiB) << "a block above the kept size stayed";
+  const int64_t in_use = resident_bytes();
+  { PageVector<uint64_t> kept(size_t(12 * kMiB) / sizeof(uint64_t), 5); }
+  EXPECT_EQ(reused_pages().blocks, 1);
+  EXPECT_LT(resident_bytes() - in_use, 2 * kMiB) << "a kept block's pages still count as in use";
+  drop_reused_pages();
+  EXPECT_LT(resident_bytes_with_lazy() - before, 2 * kMiB) << "dropped pages are still resident";
 }
 
 TEST(PageAllocator, SmallAndGrowingVectorsKeepTheirContents) {
