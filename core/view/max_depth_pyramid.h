@@ -10,9 +10,9 @@
 // Ownership: level 0 is borrowed (the caller's depth image, valid until the next reset); levels
 // 1.. are owned and kept between resets (refilled, not reallocated) until release(); the larger
 // levels are mapped pages, so that release() hands them back to the system (lazily:
-// core/common/page_allocator.h). Thread-safety: none;
-// one thread writes and reads a pyramid (two threads may each own a pyramid over disjoint column
-// strips of one image). Units: whatever depth the caller stores (window depth in Lantern).
+// core/common/page_allocator.h). Thread-safety: none; one thread writes and reads a pyramid (two
+// threads may each own a pyramid over disjoint column strips of one image). Units: whatever depth
+// the caller stores (window depth in Lantern).
 #pragma once
 
 #include <algorithm>
