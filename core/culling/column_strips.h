@@ -59,11 +59,13 @@ inline int split_strips(int width, int threads, std::vector<StripState> *s) {
 // state) judges and keeps one particle.
 // between(depth) is called between two bricks with the nearest depth of the one just walked, for
 // a caller that draws other primitives (bonds) front to back along with the bricks, so that they
-// occlude and are occluded too.
-template <typename Positions, typename Radii, typename Covered, typename Visit, typename Between>
+// occlude and are occluded too. ahead(index) is called for each particle a brick gathered, before
+// any of them is visited: for a caller that asks the cache for what visit() will read of it.
+template <typename Positions, typename Radii, typename Covered, typename Visit, typename Between,
+          typename Ahead>
 void walk_strip(const CullPass<Positions, Radii> &pass, const VisibleBricks &visible,
                 bool bricks_first, bool buckets_first, const Covered &covered, Visit &&visit,
-                StripState *s, Between &&between) {
+                StripState *s, Between &&between, Ahead &&ahead) {
   s->out.clear();
   s->frustum_pp.assign(visible.size(), -1);
   s->cut_pp.assign(visible.size(), 0);
@@ -86,6 +88,7 @@ void walk_strip(const CullPass<Positions, Radii> &pass, const VisibleBricks &vis
     gather(pass, v, true, hidden, &s->buffers, &brick, &s->out);
     s->frustum_pp[k] = brick.frustum_culled;
     s->cut_pp[k] = brick.cut_culled;
+    for (const Candidate &c : s->buffers.gathered) ahead(c.index);
     order_front_to_back(&s->buffers);
     for (const DepthBucket &d : s->buffers.buckets) {
       if (buckets_first && bucket_hidden(pass.g, d, s->x0, s->x1, covered)) continue;
@@ -99,7 +102,7 @@ void walk_strip(const CullPass<Positions, Radii> &pass, const VisibleBricks &vis
                 bool bricks_first, bool buckets_first, const Covered &covered, Visit &&visit,
                 StripState *s) {
   walk_strip(pass, visible, bricks_first, buckets_first, covered, std::forward<Visit>(visit), s,
-             [](double) {});
+             [](double) {}, [](uint32_t) {});
 }
 
 // Runs strip(k) for every k < count: strip 0 on the calling thread, the others on helpers.

@@ -12,10 +12,6 @@ namespace {
 // about 1e-4 px at most (column offsets of up to thousands of pixels times a float step).
 constexpr double kRasterSlack = 0.05;
 
-// How many candidates ahead the colour inputs are prefetched: enough to cover a miss to memory
-// at the per-candidate cost of the depth test.
-constexpr size_t kColorAhead = 8;
-
 }  // namespace
 
 void CpuSpherePass::begin_bonds(const BondDrawing &bonds, int count) {
@@ -154,6 +150,7 @@ CullStats CpuSpherePass::run(const ParticleArrays &particles, const BrickSet &br
 
   const Frustum frustum(g);
   const CutPlanes cuts(cull.cuts);
+  const InstanceRecipe::Prefetcher colour_ahead = recipe.prefetcher();
   visit_positions(particles, [&](const auto &pos) {
     visit_radii(particles, sel.radius.per_particle, sel.radius.radius, [&](const auto &radius) {
       const CullPass<std::decay_t<decltype(pos)>, std::decay_t<decltype(radius)>> pass{
@@ -164,11 +161,6 @@ CullStats CpuSpherePass::run(const ParticleArrays &particles, const BrickSet &br
           return raster.covered(r, z);
         };
         const auto visit = [&](const Candidate &c, StripState *s) {
-          // Candidates are visited in order through the brick's sorted buffer: ask for the
-          // colour inputs of the one kColorAhead later (exact: only a hint to the cache).
-          const std::vector<Candidate> &sorted = s->buffers.sorted;
-          const size_t at = size_t(&c - sorted.data());
-          if (at + kColorAhead < sorted.size()) recipe.prefetch(sorted[at + kColorAhead].index);
           if (point_path && splat_sized(g, c.c, c.r)) {
             s->out.points.push_back(draw_entry(c.index, c.scale));  // splatted after the raster
             return;
@@ -201,8 +193,11 @@ CullStats CpuSpherePass::run(const ParticleArrays &particles, const BrickSet &br
           next_bonds = end;
         };
         // Splats skip the depth test (visit): a hidden bucket may still hold one to splat.
+        // The colour inputs of every gathered particle are asked for once the brick is gathered
+        // (exact: only a hint to the cache): its bucket tests and ordering then cover the
+        // misses, which the host's own step between frames has made likely.
         walk_strip(pass, sel.visible, occlusion, occlusion && !point_path, covered, visit,
-                   &strips_[size_t(k)], bonds_between);
+                   &strips_[size_t(k)], bonds_between, colour_ahead);
         if (next_bonds < bricks_of_bonds)
           draw_bonds(k, pos, g, frustum, cuts, occlusion, *bonds, next_bonds, bricks_of_bonds);
       };

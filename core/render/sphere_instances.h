@@ -64,15 +64,6 @@ struct InstanceRecipe {
     return type >= 0 && type < int64_t(alpha_by_type.size()) ? alpha_by_type[size_t(type)] : 255;
   }
 
-  // Asks for what color(i) and alpha(i) will read (type or scalar) ahead of the call: the draw
-  // order is brick order, where a non-spatial published order (a gas) makes each a cache miss.
-  void prefetch(int64_t i) const {
-    const bool by_type = coloring.by == ColorBy::kType || !alpha_by_type.empty();
-    if (by_type && particles->has_type()) prefetch_element(particles->type_array(), i);
-    if (coloring.by == ColorBy::kScalar && particles->has_scalar())
-      prefetch_element(particles->scalar_array(), i);
-  }
-
   Rgb8 color(int64_t i) const {
     const Rgb8 c = base_color(i);
     if (!occlusion) return c;
@@ -82,8 +73,29 @@ struct InstanceRecipe {
             uint8_t(float(c[2]) * f + 0.5f)};
   }
 
-  static void prefetch_element(const StridedArray &a, int64_t i) {
-    __builtin_prefetch(static_cast<const char *>(a.data()) + i * a.stride_bytes(), 0, 3);
+  // Asks for what color(i) and alpha(i) will read (type or scalar) ahead of the call: the draw
+  // order is brick order, where a non-spatial published order (a gas) makes each a cache miss.
+  // The arrays' addresses are resolved once (prefetcher()), so that asking costs a load or two.
+  struct Prefetcher {
+    const char *base[2] = {nullptr, nullptr};
+    int64_t stride[2] = {0, 0};
+    void operator()(int64_t i) const {
+      if (base[0]) __builtin_prefetch(base[0] + i * stride[0], 0, 3);
+      if (base[1]) __builtin_prefetch(base[1] + i * stride[1], 0, 3);
+    }
+  };
+  Prefetcher prefetcher() const {
+    Prefetcher p;
+    const bool by_type = coloring.by == ColorBy::kType || !alpha_by_type.empty();
+    if (by_type && particles->has_type()) {
+      p.base[0] = static_cast<const char *>(particles->type_array().data());
+      p.stride[0] = particles->type_array().stride_bytes();
+    }
+    if (coloring.by == ColorBy::kScalar && particles->has_scalar()) {
+      p.base[1] = static_cast<const char *>(particles->scalar_array().data());
+      p.stride[1] = particles->scalar_array().stride_bytes();
+    }
+    return p;
   }
 
   Rgb8 base_color(int64_t i) const {
