@@ -101,8 +101,9 @@ template <typename Positions, typename Radii, typename Covered, typename Visit>
 void walk_strip(const CullPass<Positions, Radii> &pass, const VisibleBricks &visible,
                 bool bricks_first, bool buckets_first, const Covered &covered, Visit &&visit,
                 StripState *s) {
-  walk_strip(pass, visible, bricks_first, buckets_first, covered, std::forward<Visit>(visit), s,
-             [](double) {}, [](uint32_t) {});
+  walk_strip(
+      pass, visible, bricks_first, buckets_first, covered, std::forward<Visit>(visit), s,
+      [](double) {}, [](uint32_t) {});
 }
 
 // Runs strip(k) for every k < count: strip 0 on the calling thread, the others on helpers.
