@@ -61,11 +61,13 @@ inline int split_strips(int width, int threads, std::vector<StripState> *s) {
 // a caller that draws other primitives (bonds) front to back along with the bricks, so that they
 // occlude and are occluded too. ahead(index) is called for each particle a brick gathered, before
 // any of them is visited: for a caller that asks the cache for what visit() will read of it.
+// bucket(first, count) is called before the `count` candidates from `first` on are visited one by
+// one: for a caller that works them out together (independent computations overlap).
 template <typename Positions, typename Radii, typename Covered, typename Visit, typename Between,
-          typename Ahead>
+          typename Ahead, typename Bucket>
 void walk_strip(const CullPass<Positions, Radii> &pass, const VisibleBricks &visible,
                 bool bricks_first, bool buckets_first, const Covered &covered, Visit &&visit,
-                StripState *s, Between &&between, Ahead &&ahead) {
+                StripState *s, Between &&between, Ahead &&ahead, Bucket &&bucket) {
   s->out.clear();
   s->frustum_pp.assign(visible.size(), -1);
   s->cut_pp.assign(visible.size(), 0);
@@ -90,8 +92,17 @@ void walk_strip(const CullPass<Positions, Radii> &pass, const VisibleBricks &vis
     s->cut_pp[k] = brick.cut_culled;
     for (const Candidate &c : s->buffers.gathered) ahead(c.index);
     order_front_to_back(&s->buffers);
-    for (const DepthBucket &d : s->buffers.buckets) {
-      if (buckets_first && bucket_hidden(pass.g, d, s->x0, s->x1, covered)) continue;
+    const std::vector<DepthBucket> &buckets = s->buffers.buckets;
+    std::vector<PixelRect> &rects = s->buffers.bucket_rects;
+    if (buckets_first) {
+      if (rects.size() < buckets.size()) rects.resize(buckets.size());
+      for (size_t b = 0; b < buckets.size(); ++b)
+        if (buckets[b].end - buckets[b].begin >= 2) rects[b] = bucket_rect(pass.g, buckets[b]);
+    }
+    for (size_t b = 0; b < buckets.size(); ++b) {
+      const DepthBucket &d = buckets[b];
+      if (buckets_first && bucket_hidden(pass.g, d, rects[b], s->x0, s->x1, covered)) continue;
+      bucket(s->buffers.sorted.data() + d.begin, d.end - d.begin);
       for (uint32_t k = d.begin; k < d.end; ++k) visit(s->buffers.sorted[k], s);
     }
   }
@@ -103,7 +114,7 @@ void walk_strip(const CullPass<Positions, Radii> &pass, const VisibleBricks &vis
                 StripState *s) {
   walk_strip(
       pass, visible, bricks_first, buckets_first, covered, std::forward<Visit>(visit), s,
-      [](double) {}, [](uint32_t) {});
+      [](double) {}, [](uint32_t) {}, [](const Candidate *, uint32_t) {});
 }
 
 // Runs strip(k) for every k < count: strip 0 on the calling thread, the others on helpers.

@@ -57,9 +57,10 @@ struct DepthBucket {
 struct CandidateBuffers {
   std::vector<Candidate> gathered, sorted;
   std::vector<uint32_t> bucket_counts;
-  std::vector<uint8_t> cells;        // order_front_to_back: each gathered candidate's cell
-  std::vector<DepthBucket> buckets;  // the non-empty ones, nearest first
-  FrontScratch front;                // lod.select: nearest (front_selection.h)
+  std::vector<uint8_t> cells;           // order_front_to_back: each gathered candidate's cell
+  std::vector<DepthBucket> buckets;     // the non-empty ones, nearest first
+  std::vector<PixelRect> bucket_rects;  // walk_strip: each bucket's bucket_rect
+  FrontScratch front;                   // lod.select: nearest (front_selection.h)
 };
 
 // Spheres whose projected radius is below this many pixels take the CPU point path (when on):
@@ -154,14 +155,27 @@ void order_front_to_back(CandidateBuffers *b);
 // at the surface, the layers behind the first cost one test each instead of one per particle.
 // A bucket of one sphere is not tested: the sphere's own test decides the same at half the cost
 // (a sphere's rectangle against the box's eight projected corners).
+// The rectangle bucket_hidden tests for bucket `d` (before its clamp to the strip): box_rect of
+// the box's bounds, the rectangle of its 8 corners bit for bit, in 2 divisions.
+inline PixelRect bucket_rect(const ViewGeometry &g, const DepthBucket &d) {
+  return g.box_rect(d.lo - g.eps, d.hi + g.eps);
+}
+
+// bucket_hidden with the bucket's rectangle already worked out (bucket_rect): a brick's are
+// worked out together, so that their divisions overlap instead of each waiting on the test before.
+template <typename Covered>
+bool bucket_hidden(const ViewGeometry &g, const DepthBucket &d, PixelRect r, int x0, int x1,
+                   const Covered &covered) {
+  if (d.end - d.begin < 2) return false;
+  r.x0 = std::max(r.x0, x0), r.x1 = std::min(r.x1, x1);
+  return r.empty() || covered(r, d.near - g.eps);
+}
+
 template <typename Covered>
 bool bucket_hidden(const ViewGeometry &g, const DepthBucket &d, int x0, int x1,
                    const Covered &covered) {
   if (d.end - d.begin < 2) return false;
-  // box_rect of the box's bounds: the rectangle of its 8 corners bit for bit, in 2 divisions.
-  PixelRect r = g.box_rect(d.lo - g.eps, d.hi + g.eps);
-  r.x0 = std::max(r.x0, x0), r.x1 = std::min(r.x1, x1);
-  return r.empty() || covered(r, d.near - g.eps);
+  return bucket_hidden(g, d, bucket_rect(g, d), x0, x1, covered);
 }
 
 }  // namespace lantern

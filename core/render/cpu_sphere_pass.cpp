@@ -146,6 +146,7 @@ CullStats CpuSpherePass::run(const ParticleArrays &particles, const BrickSet &br
   const int count = split_strips(g.width, threads, &strips_);
   CpuSphereRaster::clear_target(g, background, frame);
   begin_strips(count, g, &lighting, frame);
+  if (rects_.size() < size_t(count)) rects_.resize(size_t(count));
   if (bonds) begin_bonds(*bonds, count);
 
   const Frustum frustum(g);
@@ -160,6 +161,17 @@ CullStats CpuSpherePass::run(const ParticleArrays &particles, const BrickSet &br
         const auto covered = [&raster](const PixelRect &r, double z) {
           return raster.covered(r, z);
         };
+        // The bucket's rectangles, worked out together before its candidates are visited: each
+        // is a chain of a square root and divisions, which one at a time between the depth
+        // tests would wait out in turn.
+        const Candidate *bucket_first = nullptr;
+        std::vector<PixelRect> &rects = rects_[size_t(k)];
+        const auto bucket = [&](const Candidate *first, uint32_t n) {
+          bucket_first = first;
+          if (rects.size() < n) rects.resize(n);
+          for (uint32_t j = 0; j < n; ++j)
+            rects[j] = g.sphere_rect_tight(first[j].c, first[j].r, kRasterSlack);
+        };
         const auto visit = [&](const Candidate &c, StripState *s) {
           if (point_path && splat_sized(g, c.c, c.r)) {
             s->out.points.push_back(draw_entry(c.index, c.scale));  // splatted after the raster
@@ -167,7 +179,7 @@ CullStats CpuSpherePass::run(const ParticleArrays &particles, const BrickSet &br
           }
           // The raster tests and casts exactly the pixels its per-pixel test can accept (up to
           // kRasterSlack), not sphere_rect's extra pixel that OpenGL's float rasterisation needs.
-          PixelRect r = g.sphere_rect_tight(c.c, c.r, kRasterSlack);
+          PixelRect r = rects[size_t(&c - bucket_first)];
           if (r.empty()) {  // covers no pixel centre: drawn, as OpenGL would, with nothing to cast
             s->out.spheres.push_back(draw_entry(c.index, c.scale));
             return;
@@ -197,7 +209,7 @@ CullStats CpuSpherePass::run(const ParticleArrays &particles, const BrickSet &br
         // (exact: only a hint to the cache): its bucket tests and ordering then cover the
         // misses, which the host's own step between frames has made likely.
         walk_strip(pass, sel.visible, occlusion, occlusion && !point_path, covered, visit,
-                   &strips_[size_t(k)], bonds_between, colour_ahead);
+                   &strips_[size_t(k)], bonds_between, colour_ahead, bucket);
         if (next_bonds < bricks_of_bonds)
           draw_bonds(k, pos, g, frustum, cuts, occlusion, *bonds, next_bonds, bricks_of_bonds);
       };

@@ -89,6 +89,7 @@ class CpuSpherePass {
   ProbabilisticCuller probabilistic_;
   std::vector<StripState> strips_;
   std::vector<CpuSphereRaster> rasters_;
+  std::vector<std::vector<PixelRect>> rects_;  // per strip: the rectangles of a bucket
   // Per strip: its half-bonds' drops, and per half-bond whether it drew it (one byte vector per
   // strip, so that the strips' threads never write the same memory). A single strip draws each
   // half at most once: it only counts them (bond_drawn_), with no marks.
