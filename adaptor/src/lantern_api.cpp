@@ -7,6 +7,7 @@
 #include <string>
 
 #include "c_translation.h"
+#include "core/common/page_allocator.h"
 #include "core/pipeline/runtime.h"
 #include "lantern/lantern.h"
 #include "mpi_bootstrap.h"
@@ -152,7 +153,7 @@ const char *lantern_load_summary(const lantern_context *ctx) {
 
 lantern_status lantern_close(lantern_context *ctx) {
   if (!ctx) return LANTERN_OK;
-  const std::unique_ptr<lantern_context> owned(ctx);
+  std::unique_ptr<lantern_context> owned(ctx);
   lantern_status status = LANTERN_OK;
   try {
     if (ctx->runtime) {
@@ -165,6 +166,9 @@ lantern_status lantern_close(lantern_context *ctx) {
   } catch (...) {
     status = LANTERN_ERR_INTERNAL;
   }
+  owned.reset();
+  // The scratch kept lazily freed for the next step goes back to the system now.
+  lantern::drop_reused_pages();
   return status;
 }
 

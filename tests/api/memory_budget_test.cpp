@@ -38,6 +38,37 @@ TEST_F(MemoryBudget, ScenesWhoseSumCannotFitAreRefusedAtOpenAndOnReconfigure) {
   EXPECT_NE(message().find("260.0 GiB"), std::string::npos) << message();
 }
 
+// This process's lazily freed resident KiB (LazyFree of /proc/self/smaps_rollup); -1 where the
+// system does not say.
+long long lazily_freed_kib() {
+  std::ifstream rollup("/proc/self/smaps_rollup");
+  if (!rollup) return -1;
+  for (std::string line; std::getline(rollup, line);)
+    if (line.rfind("LazyFree:", 0) == 0) return std::stoll(line.substr(9));
+  return -1;
+}
+
+// A step's scratch is kept lazily freed for the next step while the context is open (its pages
+// are still resident), and handed back to the system when the context is closed.
+TEST_F(MemoryBudget, ScratchKeptForTheNextStepGoesBackAtClose) {
+  if (lazily_freed_kib() < 0) GTEST_SKIP() << "no LazyFree in /proc/self/smaps_rollup";
+  lantern_close(ctx_);
+  ctx_ = nullptr;  // and with it what earlier tests kept
+  const long long before = lazily_freed_kib();
+  ASSERT_EQ(open(scene_config("kept", 1024, 1024, "    renderer: cpu\n")), LANTERN_OK) << message();
+  std::vector<double> x = lattice(24);
+  const lantern_particles p = interleaved(x);
+  ASSERT_EQ(lantern_publish(ctx_, &p), LANTERN_OK);
+  ASSERT_EQ(lantern_execute(ctx_, 0, 0.0), LANTERN_OK) << message();
+  // At least the CPU raster's depth pyramid over 1024 x 1024 pixels (about 1.3 MiB).
+  const long long kept = lazily_freed_kib() - before;
+  if (kept <= 0) GTEST_SKIP() << "the kernel took or never kept the lazily freed pages";
+  EXPECT_GE(kept, 1024);
+  EXPECT_EQ(lantern_close(ctx_), LANTERN_OK);
+  ctx_ = nullptr;
+  EXPECT_LT(lazily_freed_kib() - before, 256) << "pages still kept after lantern_close";
+}
+
 #if defined(__SANITIZE_ADDRESS__)
 #define LANTERN_UNDER_ASAN 1
 #elif defined(__has_feature)

@@ -326,10 +326,12 @@ LANTERN_API const char *lantern_status_string(lantern_status status);
 
 /* Flushes outputs (waits for images written in the background, see output.asynchronous, and for
  * the movie frames still queued, then completes the movie files, see output.movie) and frees the
- * context. Returns LANTERN_ERR_IO if such an image or movie could not be written. Safe on NULL.
- * Collective. If the host already called MPI_Finalize, the context is released without any MPI
- * call (its images and movie frames are still waited for) and LANTERN_ERR_MPI says so;
- * lantern_execute() on a scheduled step and lantern_reconfigure() return LANTERN_ERR_MPI then too.
+ * context, and with it the per-step scratch that Lantern keeps lazily freed for the next step
+ * (that of every context of the process: another open context only maps it again). Returns
+ * LANTERN_ERR_IO if such an image or movie could not be written. Safe on NULL. Collective. If
+ * the host already called MPI_Finalize, the context is released without any MPI call (its images
+ * and movie frames are still waited for) and LANTERN_ERR_MPI says so; lantern_execute() on a
+ * scheduled step and lantern_reconfigure() return LANTERN_ERR_MPI then too.
  */
 LANTERN_API lantern_status lantern_close(lantern_context *ctx);
 
