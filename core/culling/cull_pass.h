@@ -147,6 +147,12 @@ void gather(const CullPass<Positions, Radii> &pass, const VisibleBrick &v, bool 
 // across the view as well as in depth (bucket_hidden then hides the cells behind a surface).
 void order_front_to_back(CandidateBuffers *b);
 
+// The rectangle bucket_hidden tests for bucket `d` (before its clamp to the strip): box_rect of
+// the box's bounds, the rectangle of its 8 corners bit for bit, in 2 divisions.
+inline PixelRect bucket_rect(const ViewGeometry &g, const DepthBucket &d) {
+  return g.box_rect(d.lo - g.eps, d.hi + g.eps);
+}
+
 // True when the depth test `covered` (a strip's pyramid over columns [x0, x1]) proves every
 // sphere of bucket `d` hidden: the rectangle of the bucket's box holds every sphere's rectangle
 // (sphere_rect and sphere_rect_tight alike) and its nearest point is nearer than any sphere's,
@@ -154,15 +160,9 @@ void order_front_to_back(CandidateBuffers *b);
 // nearer). Skipping the bucket then decides exactly what testing each sphere would: in a brick
 // at the surface, the layers behind the first cost one test each instead of one per particle.
 // A bucket of one sphere is not tested: the sphere's own test decides the same at half the cost
-// (a sphere's rectangle against the box's eight projected corners).
-// The rectangle bucket_hidden tests for bucket `d` (before its clamp to the strip): box_rect of
-// the box's bounds, the rectangle of its 8 corners bit for bit, in 2 divisions.
-inline PixelRect bucket_rect(const ViewGeometry &g, const DepthBucket &d) {
-  return g.box_rect(d.lo - g.eps, d.hi + g.eps);
-}
-
-// bucket_hidden with the bucket's rectangle already worked out (bucket_rect): a brick's are
-// worked out together, so that their divisions overlap instead of each waiting on the test before.
+// (a sphere's rectangle against the box's eight projected corners). `r` is the bucket's
+// bucket_rect, worked out by the caller: a brick's are worked out together, so that their
+// divisions overlap instead of each waiting on the test before.
 template <typename Covered>
 bool bucket_hidden(const ViewGeometry &g, const DepthBucket &d, PixelRect r, int x0, int x1,
                    const Covered &covered) {
@@ -171,6 +171,7 @@ bool bucket_hidden(const ViewGeometry &g, const DepthBucket &d, PixelRect r, int
   return r.empty() || covered(r, d.near - g.eps);
 }
 
+// The same, working out the rectangle.
 template <typename Covered>
 bool bucket_hidden(const ViewGeometry &g, const DepthBucket &d, int x0, int x1,
                    const Covered &covered) {
