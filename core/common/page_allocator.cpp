@@ -43,21 +43,24 @@ void *map_fresh(size_t bytes) {
   void *p = mmap(nullptr, bytes, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
   return p == MAP_FAILED ? nullptr : p;
 }
+
+// map_fresh, or once more after handing back every kept block; std::bad_alloc if still refused.
+void *map_or_throw(size_t bytes) {
+  void *p = map_fresh(bytes);
+  if (!p) {
+    drop_reused_pages();
+    p = map_fresh(bytes);
+  }
+  if (!p) throw std::bad_alloc();
+  return p;
+}
 #endif
 
 }  // namespace
 
 void *map_pages(size_t bytes) {
 #if defined(LANTERN_PAGE_ALLOCATOR_MMAP)
-  if (bytes > kReusedBlockBytes) {
-    void *p = map_fresh(bytes);
-    if (!p) {
-      drop_reused_pages();
-      p = map_fresh(bytes);
-    }
-    if (!p) throw std::bad_alloc();
-    return p;
-  }
+  if (bytes > kReusedBlockBytes) return map_or_throw(bytes);
   const int k = size_class(bytes);
   {
     KeptBlocks &b = kept();
@@ -68,13 +71,7 @@ void *map_pages(size_t bytes) {
       return b.slots[k - kFirstClass][--count];
     }
   }
-  void *p = map_fresh(size_t(1) << k);
-  if (!p) {
-    drop_reused_pages();
-    p = map_fresh(size_t(1) << k);
-  }
-  if (!p) throw std::bad_alloc();
-  return p;
+  return map_or_throw(size_t(1) << k);
 #else
   return ::operator new(bytes);
 #endif
