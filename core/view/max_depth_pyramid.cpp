@@ -2,41 +2,7 @@
 
 #include <cstddef>
 
-#if defined(__SSE2__)
-#include <xmmintrin.h>
-#endif
-
 namespace lantern {
-namespace {
-
-// Every pixel of [x0, x1] x [y0, y1] of the w-wide image `base` below z, row by row; the loop
-// over a row has no early exit, so the compiler turns it into vector compares.
-bool base_below(const float *base, int w, int x0, int y0, int x1, int y1, float z) {
-#if defined(__SSE2__)
-  // A rectangle at most 8 pixels wide whose rows have 8 pixels from x0 on (a sphere's or a small
-  // box's): each row in two 4-wide compares, the lanes past x1 dropped. The same answer.
-  if (x1 - x0 < 8 && x0 + 8 <= w) {
-    const int inside = (1 << (x1 - x0 + 1)) - 1;
-    const __m128 zz = _mm_set1_ps(z);
-    for (int y = y0; y <= y1; ++y) {
-      const float *row = base + size_t(y) * size_t(w) + size_t(x0);
-      const int above = _mm_movemask_ps(_mm_cmpnlt_ps(_mm_loadu_ps(row), zz)) |
-                        _mm_movemask_ps(_mm_cmpnlt_ps(_mm_loadu_ps(row + 4), zz)) << 4;
-      if (above & inside) return false;
-    }
-    return true;
-  }
-#endif
-  for (int y = y0; y <= y1; ++y) {
-    const float *row = base + size_t(y) * size_t(w);
-    int above = 0;
-    for (int x = x0; x <= x1; ++x) above |= !(row[x] < z);
-    if (above) return false;
-  }
-  return true;
-}
-
-}  // namespace
 
 void MaxDepthPyramid::reset(const float *base, int w, int h, float fill) {
   base_ = base;
@@ -57,7 +23,7 @@ void MaxDepthPyramid::reset(const float *base, int w, int h, float fill) {
 // inconclusive tile of level kScanFromLevel or below (8 x 8 pixels at most) is settled on level 0
 // directly: one vector scan of its pixels costs less than walking the levels between.
 bool MaxDepthPyramid::covered_at(int level, int x0, int y0, int x1, int y1, float z) const {
-  if (level == 0) return base_below(base_, levels_[0].w, x0, y0, x1, y1, z);
+  if (level == 0) return covered_on_base(PixelRect{x0, y0, x1, y1}, z);
   const Level &l = levels_[size_t(level)];
   for (int ty = y0 >> level; ty <= (y1 >> level); ++ty) {
     const float *row = l.z.data() + size_t(ty) * size_t(l.w);

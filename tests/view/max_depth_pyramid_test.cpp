@@ -1,7 +1,7 @@
-// MaxDepthPyramid::covered against the definition - every pixel of the rectangle strictly below
-// z - on random depth images lowered piece by piece (propagate after each piece), of odd and even
-// sizes, with rectangles of every size from one pixel to the whole image, and depths equal to
-// stored ones, just above and just below them.
+// MaxDepthPyramid::covered (and covered_on_base, level 0 alone) against the definition - every
+// pixel of the rectangle strictly below z - on random depth images lowered piece by piece
+// (propagate after each piece), of odd and even sizes, with rectangles of every size from one pixel
+// to the whole image, and depths equal to stored ones, just above and just below them.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -75,6 +75,11 @@ TEST(MaxDepthPyramid, CoveredMatchesAScanOfEveryPixelAsDepthsAreLowered) {
         }
         const bool expected = every_pixel_below(depth, w, r, z);
         ASSERT_EQ(pyramid.covered(r, z), expected)
+            << w << "x" << h << " step " << step << " rect " << r.x0 << "," << r.y0 << ".." << r.x1
+            << "," << r.y1 << " z " << z;
+        // Read on level 0 alone: 8-wide compares inside the image, the plain rows at its right
+        // edge (rectangles of at most 9 pixels are most of those asked).
+        ASSERT_EQ(pyramid.covered_on_base(r, z), expected)
             << w << "x" << h << " step " << step << " rect " << r.x0 << "," << r.y0 << ".." << r.x1
             << "," << r.y1 << " z " << z;
         ++queries, covered += expected;
