@@ -27,8 +27,8 @@ double cell_scale(double lo, double hi, int n) {
 }  // namespace
 
 void order_front_to_back(CandidateBuffers *b) {
-  const std::vector<Candidate> &in = b->gathered;
-  std::vector<Candidate> &out = b->sorted;
+  const UninitializedBuffer<Candidate> &in = b->gathered;
+  UninitializedBuffer<Candidate> &out = b->sorted;
   std::vector<DepthBucket> &buckets = b->buckets;
   out.resize(in.size());
   buckets.clear();

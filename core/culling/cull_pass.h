@@ -15,6 +15,7 @@
 #include <glm/vec3.hpp>
 
 #include "core/bricks/brick_set.h"
+#include "core/common/uninitialized_buffer.h"
 #include "core/culling/cull_stats.h"
 #include "core/culling/cut_planes.h"
 #include "core/culling/draw_list.h"
@@ -55,7 +56,8 @@ struct DepthBucket {
 
 // Buffers of one thread's pass, reused from brick to brick and frame to frame.
 struct CandidateBuffers {
-  std::vector<Candidate> gathered, sorted;
+  // Not zero-filled as they grow: gather and order_front_to_back write every candidate first.
+  UninitializedBuffer<Candidate> gathered, sorted;
   std::vector<uint32_t> bucket_counts;
   std::vector<uint8_t> cells;           // order_front_to_back: each gathered candidate's cell
   std::vector<DepthBucket> buckets;     // the non-empty ones, nearest first
@@ -106,7 +108,7 @@ void gather(const CullPass<Positions, Radii> &pass, const VisibleBrick &v, bool 
   for (uint32_t k = 0; k < std::min(kAhead, v.keep); ++k) pass.pos.prefetch(idx[k]);
   // Candidates are written in place (room for every kept particle, trimmed after the loop): no
   // call per candidate.
-  std::vector<Candidate> &gathered = b->gathered;
+  UninitializedBuffer<Candidate> &gathered = b->gathered;
   size_t count = gathered.size();
   if (keep_candidates) gathered.resize(count + v.keep);
   for (uint32_t k = 0; k < v.keep; ++k) {

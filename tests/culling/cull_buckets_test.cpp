@@ -15,11 +15,11 @@ namespace lantern {
 namespace {
 
 // n candidates in the view-space box [lo, hi] of centres, radius r (or random radii in [r/2, r]).
-std::vector<Candidate> cloud(int n, glm::dvec3 lo, glm::dvec3 hi, double r, bool mixed,
-                             unsigned seed) {
+UninitializedBuffer<Candidate> cloud(int n, glm::dvec3 lo, glm::dvec3 hi, double r, bool mixed,
+                                     unsigned seed) {
   std::mt19937 rng(seed);
   std::uniform_real_distribution<double> u(0.0, 1.0);
-  std::vector<Candidate> out;
+  UninitializedBuffer<Candidate> out;
   for (int k = 0; k < n; ++k) {
     const glm::dvec3 c(lo.x + (hi.x - lo.x) * u(rng), lo.y + (hi.y - lo.y) * u(rng),
                        lo.z + (hi.z - lo.z) * u(rng));
@@ -30,7 +30,7 @@ std::vector<Candidate> cloud(int n, glm::dvec3 lo, glm::dvec3 hi, double r, bool
 
 // The invariants every call must keep.
 void expect_buckets_valid(const CandidateBuffers &b) {
-  const std::vector<Candidate> &in = b.gathered, &out = b.sorted;
+  const auto &in = b.gathered, &out = b.sorted;
   ASSERT_EQ(out.size(), in.size());
   std::vector<uint32_t> a, s;
   for (const Candidate &c : in) a.push_back(c.index);
