@@ -12,9 +12,12 @@ namespace {
 // A brick's candidates go to cells: kSlabs slabs of depth, nearest first, each split in
 // kSide x kSide by view x and y. Depth slabs alone give boxes as wide as the brick, which at a
 // surface seen at a slant always hold some particle that shows, so their box test rarely hides
-// anything; cut across, the cells behind the front are hidden by one test. The slabs keep the
-// order as near front to back as 64 slabs would (the particles drawn are those of depth order).
-constexpr int kSlabs = 16;
+// anything; cut across, the cells behind the front are hidden by one test. Eight slabs (16
+// before): since a sphere's own test reads its few rows of depth directly (cpu_sphere_raster.h),
+// a cell's box test costs about as much as the tests it saves, and fewer, fuller cells cost less
+// (1 M-atom LJ frame: about 0.7 ms less cull + draw of 18-19 ms, 4 % more spheres drawn; fcc and
+// heterogeneous 10 M: 1-4 ms less of 60 and 115; tests/bench/culling/results/base_rows_ab.txt).
+constexpr int kSlabs = 8;
 constexpr int kSide = 2;
 constexpr int kCells = kSlabs * kSide * kSide;
 
