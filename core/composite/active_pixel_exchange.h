@@ -29,10 +29,14 @@
 
 namespace lantern {
 
-// The most words a pool holds (256 KiB): thread-local scratch stays between frames, and a pool
-// of a whole 1024 x 1024 chunk kept 16 MiB mapped and several MiB resident (0.5 bytes per
-// particle at 5 M particles per rank) where streams of smaller messages move the same bytes.
-inline constexpr size_t kActivePoolWords = size_t(1) << 15;
+// The most words a pool holds (2 MiB): a 1024 x 1024 frame's half moves in one message per
+// stream. With 256 KiB pools its 5 messages were encoded into lines the partner had just read
+// (MPI's single-copy transfer reads the sender's buffer from the other core), and about half of
+// the runs of the 1 M-atom LJ frame then took 1.6 ms of compositing CPU time instead of 1.1 (the
+// encoder's stores waiting); with one message per stream, 8 runs of 8 took 1.0-1.2 ms. The pool
+// is released after each call (ReleasedAfterCall), so it is not kept resident between frames: its
+// pages are lazily freed for the next frame's (core/common/page_allocator.h).
+inline constexpr size_t kActivePoolWords = size_t(1) << 18;
 
 // Message buffers, carved per phase among the streams: pool_words each for sending and receiving.
 struct ActivePixelScratch {
@@ -44,6 +48,13 @@ struct ActivePixelScratch {
   // a minimal message for each of `ranks` streams, and grows both buffers to hold it. May throw
   // std::bad_alloc.
   void prepare(size_t chunk_pixels, int ranks);
+
+  // Hands the buffers back when it goes out of scope (a compositing call's end, however it
+  // returns).
+  struct ReleasedAfterCall {
+    ActivePixelScratch &scratch;
+    ~ReleasedAfterCall() { scratch = ActivePixelScratch(); }
+  };
 };
 
 struct OutgoingRange {

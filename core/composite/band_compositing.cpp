@@ -90,9 +90,11 @@ Status composite_to_row_bands(MPI_Comm comm, Frame &frame, int multiple, RowBand
     scan = scan_active_pixels(frame);
     stats.traffic.work_cpu_ms += thread_cpu_ms() - t0;
   }
-  // Kept between calls (about two chunks), as composite_frames keeps its own.
+  // The dense scratch is kept between calls (about two chunks), as composite_frames keeps its
+  // own; the active-pixel pool is handed back at the end of each call (kActivePoolWords).
   thread_local MethodScratch scratch;
   thread_local ActivePixelScratch active_scratch;
+  const ActivePixelScratch::ReleasedAfterCall release_active{active_scratch};
   bool allocated = true;
   if (consistent) {
     try {

@@ -133,10 +133,13 @@ Status composite_frames(MPI_Comm comm, Frame &frame, int root, const CompositeOp
   const DenseChoice auto_choice = auto_dense(ranks, stats.pixels, model);
   const CompositeMethod dense =
       options.method == CompositeMethod::kAuto ? auto_choice.method : options.method;
-  // Kept between frames so steady-state frames neither allocate nor page-fault; bounded by about
-  // two chunks whatever the frame size. thread_local: concurrent callers never share it.
+  // The dense scratch is kept between frames so steady-state frames neither allocate nor
+  // page-fault; bounded by about two chunks whatever the frame size. The active-pixel pool is
+  // handed back at the end of each call, its pages lazily freed for the next (kActivePoolWords).
+  // thread_local: concurrent callers never share them.
   thread_local MethodScratch scratch;
   thread_local ActivePixelScratch active_scratch;
+  const ActivePixelScratch::ReleasedAfterCall release_active{active_scratch};
   bool allocated = true;
   try {
     if (needs.active) active_scratch.prepare(chunk, ranks);

@@ -565,8 +565,8 @@ TEST(CompositeScratch, StaysBoundedWhateverTheFrame) {
   small.prepare(100, 2);
   EXPECT_EQ(small.pool_words, 102u);  // a whole small chunk and its header
   ActivePixelScratch many;
-  many.prepare(size_t(1024) * 1024, 1 << 15);  // still a minimal message for every stream
-  EXPECT_EQ(many.pool_words, size_t(1 << 15) * kMinMessageWords);
+  many.prepare(size_t(1024) * 1024, 1 << 17);  // still a minimal message for every stream
+  EXPECT_EQ(many.pool_words, size_t(1 << 17) * kMinMessageWords);
 }
 
 // 6144 x 3072 (the tiled-display size of Rizzi et al. 2015); run at 2 ranks.
