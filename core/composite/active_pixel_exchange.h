@@ -33,9 +33,10 @@ namespace lantern {
 // stream. With 256 KiB pools its 5 messages were encoded into lines the partner had just read
 // (MPI's single-copy transfer reads the sender's buffer from the other core), and about half of
 // the runs of the 1 M-atom LJ frame then took 1.6 ms of compositing CPU time instead of 1.1 (the
-// encoder's stores waiting); with one message per stream, 8 runs of 8 took 1.0-1.2 ms. The pool
-// is released after each call (ReleasedAfterCall), so it is not kept resident between frames: its
-// pages are lazily freed for the next frame's (core/common/page_allocator.h).
+// encoder's stores waiting); with one message per stream, 1.1-1.2 ms in 5 runs of 5
+// (tests/bench/culling/results/base_rows_ab.txt). The pool is released after each call
+// (ReleasedAfterCall), so it is not kept resident between frames: its pages are lazily freed for
+// the next frame's (core/common/page_allocator.h).
 inline constexpr size_t kActivePoolWords = size_t(1) << 18;
 
 // Message buffers, carved per phase among the streams: pool_words each for sending and receiving.
