@@ -34,14 +34,15 @@ namespace lantern {
 // (MPI's single-copy transfer reads the sender's buffer from the other core), and about half of
 // the runs of the 1 M-atom LJ frame then took 1.6 ms of compositing CPU time instead of 1.1 (the
 // encoder's stores waiting); with one message per stream, 1.1-1.2 ms in 5 runs of 5
-// (tests/bench/culling/results/base_rows_ab.txt). The pool is released after each call
-// (ReleasedAfterCall), so it is not kept resident between frames: its pages are lazily freed for
-// the next frame's (core/common/page_allocator.h).
+// (tests/bench/culling/results/base_rows_ab.txt). Callers hold the pool for one call only, so it
+// is not kept resident between frames: its pages are lazily freed for the next frame's
+// (core/common/page_allocator.h).
 inline constexpr size_t kActivePoolWords = size_t(1) << 18;
 
 // Message buffers, carved per phase among the streams: pool_words each for sending and receiving.
 struct ActivePixelScratch {
-  UninitializedBuffer<uint64_t> send, receive;  // at least pool_words each (kept between calls)
+  // At least pool_words each (prepare only grows them).
+  UninitializedBuffer<uint64_t> send, receive;
   // This call's pool: a function of (chunk_pixels, ranks) only, so the same on every rank once
   // those are agreed, however large the buffers grew in earlier calls.
   size_t pool_words = 0;
@@ -49,13 +50,6 @@ struct ActivePixelScratch {
   // a minimal message for each of `ranks` streams, and grows both buffers to hold it. May throw
   // std::bad_alloc.
   void prepare(size_t chunk_pixels, int ranks);
-
-  // Hands the buffers back when it goes out of scope (a compositing call's end, however it
-  // returns).
-  struct ReleasedAfterCall {
-    ActivePixelScratch &scratch;
-    ~ReleasedAfterCall() { scratch = ActivePixelScratch(); }
-  };
 };
 
 struct OutgoingRange {

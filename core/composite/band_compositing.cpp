@@ -91,10 +91,9 @@ Status composite_to_row_bands(MPI_Comm comm, Frame &frame, int multiple, RowBand
     stats.traffic.work_cpu_ms += thread_cpu_ms() - t0;
   }
   // The dense scratch is kept between calls (about two chunks), as composite_frames keeps its
-  // own; the active-pixel pool is handed back at the end of each call (kActivePoolWords).
+  // own; the active-pixel pool is a local, freed at the end of each call (kActivePoolWords).
   thread_local MethodScratch scratch;
-  thread_local ActivePixelScratch active_scratch;
-  const ActivePixelScratch::ReleasedAfterCall release_active{active_scratch};
+  ActivePixelScratch active_scratch;  // this call's only
   bool allocated = true;
   if (consistent) {
     try {

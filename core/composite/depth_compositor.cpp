@@ -135,11 +135,10 @@ Status composite_frames(MPI_Comm comm, Frame &frame, int root, const CompositeOp
       options.method == CompositeMethod::kAuto ? auto_choice.method : options.method;
   // The dense scratch is kept between frames so steady-state frames neither allocate nor
   // page-fault; bounded by about two chunks whatever the frame size. The active-pixel pool is
-  // handed back at the end of each call, its pages lazily freed for the next (kActivePoolWords).
-  // thread_local: concurrent callers never share them.
+  // a local, freed at the end of each call, its pages lazily kept for the next (kActivePoolWords).
+  // thread_local: concurrent callers never share it.
   thread_local MethodScratch scratch;
-  thread_local ActivePixelScratch active_scratch;
-  const ActivePixelScratch::ReleasedAfterCall release_active{active_scratch};
+  ActivePixelScratch active_scratch;  // this call's only
   bool allocated = true;
   try {
     if (needs.active) active_scratch.prepare(chunk, ranks);
