@@ -58,7 +58,6 @@ struct DepthBucket {
 struct CandidateBuffers {
   // Not zero-filled as they grow: gather and order_front_to_back write every candidate first.
   UninitializedBuffer<Candidate> gathered, sorted;
-  std::vector<uint32_t> bucket_counts;
   std::vector<uint8_t> cells;           // order_front_to_back: each gathered candidate's cell
   std::vector<DepthBucket> buckets;     // the non-empty ones, nearest first
   std::vector<PixelRect> bucket_rects;  // walk_strip: each bucket's bucket_rect

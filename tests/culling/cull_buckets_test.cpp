@@ -42,18 +42,36 @@ void expect_buckets_valid(const CandidateBuffers &b) {
     EXPECT_EQ(d.begin, next);
     EXPECT_LT(d.begin, d.end) << "an empty bucket";
     next = d.end;
+    // The box is the bounds of its spheres, exactly (DepthBucket: bounds of c - r and c + r).
     double near = std::numeric_limits<double>::infinity();
+    glm::dvec3 box_lo(std::numeric_limits<double>::infinity()), box_hi = -box_lo;
     for (uint32_t k = d.begin; k < d.end; ++k) {
       const Candidate &c = out[k];
       for (int i = 0; i < 3; ++i) {
-        EXPECT_LE(d.lo[i], c.c[i] - c.r);
-        EXPECT_GE(d.hi[i], c.c[i] + c.r);
+        box_lo[i] = std::min(box_lo[i], c.c[i] - c.r);
+        box_hi[i] = std::max(box_hi[i], c.c[i] + c.r);
       }
       near = std::min(near, -c.c.z - c.r);
+    }
+    for (int i = 0; i < 3; ++i) {
+      EXPECT_EQ(d.lo[i], box_lo[i]) << "axis " << i;
+      EXPECT_EQ(d.hi[i], box_hi[i]) << "axis " << i;
     }
     EXPECT_EQ(d.near, near);
   }
   EXPECT_EQ(next, uint32_t(out.size()));
+}
+
+// Any count, odd ones and a single candidate too (the bounds are taken two at a time).
+TEST(CullBuckets, EveryCountFromOne) {
+  for (const int n : {1, 2, 3, 7, 64, 499}) {
+    CandidateBuffers b;
+    b.gathered =
+        cloud(n, glm::dvec3(-1.0, -2.0, -12.0), glm::dvec3(1.5, 0.5, -9.0), 0.4, true, unsigned(n));
+    order_front_to_back(&b);
+    SCOPED_TRACE(n);
+    expect_buckets_valid(b);
+  }
 }
 
 TEST(CullBuckets, PermutationBoxesAndNearestSlabFirst) {
