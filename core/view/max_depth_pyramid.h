@@ -73,6 +73,15 @@ class MaxDepthPyramid {
   // The number of levels above level 0.
   int levels() const { return int(levels_.size()) - 1; }
 
+  // What tile (tx, ty) of `level` holds (level 0: the pixel), and the level's size in tiles; for
+  // tests of propagate(). After a propagate() over every lowered pixel, a tile holds the largest
+  // of its 2 x 2 children (the ones inside the level below).
+  float tile(int level, int tx, int ty) const {
+    return level_data(size_t(level))[size_t(ty) * size_t(levels_[size_t(level)].w) + size_t(tx)];
+  }
+  int level_width(int level) const { return levels_[size_t(level)].w; }
+  int level_height(int level) const { return levels_[size_t(level)].h; }
+
   // Frees the levels (a pyramid kept between frames costs a third of its image's depth); the next
   // reset() makes them again. covered() and propagate() need a reset() first.
   void release() {

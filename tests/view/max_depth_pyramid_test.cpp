@@ -33,6 +33,22 @@ PixelRect random_rect(std::mt19937 &rng, int w, int h) {
   return PixelRect{x0, y0, x0 + rw - 1, y0 + rh - 1};
 }
 
+// Every tile of every level above 0 holds the largest of its children (those inside the level
+// below): what propagate() keeps true, and what covered() trusts when it answers from a level.
+void expect_levels_hold_maxima(const MaxDepthPyramid &p, int step) {
+  for (int k = 1; k <= p.levels(); ++k)
+    for (int ty = 0; ty < p.level_height(k); ++ty)
+      for (int tx = 0; tx < p.level_width(k); ++tx) {
+        float m = -1.0f;
+        for (int cy = 2 * ty; cy <= std::min(2 * ty + 1, p.level_height(k - 1) - 1); ++cy)
+          for (int cx = 2 * tx; cx <= std::min(2 * tx + 1, p.level_width(k - 1) - 1); ++cx)
+            m = std::max(m, p.tile(k - 1, cx, cy));
+        ASSERT_EQ(p.tile(k, tx, ty), m)
+            << "step " << step << " level " << k << " tile " << tx << "," << ty << " of "
+            << p.level_width(k) << "x" << p.level_height(k);
+      }
+}
+
 TEST(MaxDepthPyramid, CoveredMatchesAScanOfEveryPixelAsDepthsAreLowered) {
   std::mt19937 rng(11);
   std::uniform_real_distribution<float> u(0.0f, 1.0f);
@@ -53,6 +69,7 @@ TEST(MaxDepthPyramid, CoveredMatchesAScanOfEveryPixelAsDepthsAreLowered) {
           d = std::min(d, level + 0.05f * u(rng));
         }
       pyramid.propagate(drawn);
+      ASSERT_NO_FATAL_FAILURE(expect_levels_hold_maxima(pyramid, step));
       for (int q = 0; q < 20; ++q) {
         const PixelRect r = random_rect(rng, w, h);
         // A depth at, just above or just below one the rectangle holds, or anywhere.
