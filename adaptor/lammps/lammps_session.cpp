@@ -215,17 +215,25 @@ void Session::before_run(const std::string &where) {
   }
   if (const std::string e = scalar_.check_known(lmp_, atom_variables_); !e.empty())
     throw Failure(where + e);
-  for (const auto &entry : attached_) zero_external_forces(entry.first);
+  for (const auto &entry : attached_)
+    zero_external_forces(*entry.second, lammps_fix_external_get_force(lmp_, entry.first.c_str()),
+                         true);
   ran_ = true;
 }
 
 // fix external adds its fexternal array to the group's forces on every step of its napply
 // cadence, also on set-up steps where it calls nobody, and LAMMPS leaves the array
-// uninitialised: zero every row it has.
-void Session::zero_external_forces(const std::string &fix) const {
-  double **f = lammps_fix_external_get_force(lmp_, fix.c_str());
+// uninitialised when it allocates or grows it: zero every row it has. Otherwise LAMMPS only
+// copies rows among atoms (copy_arrays, exchange between ranks; fix_external.cpp), so zeroed rows
+// stay zero until the array moves or grows: then (or with `again`) they are zeroed, not on every
+// call (24 bytes a row, local and ghost atoms: about 0.7 ms of each call of the 1 M-atom melt on
+// 2 ranks, perf of tests/bench/lammps_dump_image.sh).
+void Session::zero_external_forces(const Attachment &a, double **f, bool again) const {
   const int nmax = lammps_extract_setting(lmp_, "nmax");
-  if (f && f[0] && nmax > 0) std::memset(f[0], 0, sizeof(double) * 3 * size_t(nmax));
+  if (!f || !f[0] || nmax <= 0) return;
+  if (!again && f[0] == a.zeroed_rows && nmax == a.zeroed_nmax) return;
+  std::memset(f[0], 0, sizeof(double) * 3 * size_t(nmax));
+  a.zeroed_rows = f[0], a.zeroed_nmax = nmax;
 }
 
 void Session::on_callback(void *attachment, int64_t step, int nlocal, const void *ids, double **x,
@@ -296,8 +304,7 @@ void Session::agree(const std::string &local_error) const {
 void Session::callback(const Attachment &a, int64_t step, int nlocal, const void *ids, double **x,
                        double **f) {
   // Whatever fix external adds to the forces stays zero: the trajectory is LAMMPS's own.
-  const int nmax = lammps_extract_setting(lmp_, "nmax");
-  if (f && f[0] && nmax > 0) std::memset(f[0], 0, sizeof(double) * 3 * size_t(nmax));
+  zero_external_forces(a, f, false);
   // A run's set-up calls back at the step where the previous run ended: rendered already.
   if (step == last_step_) return;
   const std::string where = "step " + std::to_string(step) + ", fix " + a.fix + ": ";

@@ -83,6 +83,9 @@ class Session {
     Session *session = nullptr;
     std::string fix, group;
     int64_t group_bits = 0;  // 0: group all, no mask
+    // The fix's force rows as last zeroed: their first row and LAMMPS's nmax then.
+    mutable const double *zeroed_rows = nullptr;
+    mutable int zeroed_nmax = 0;
   };
 
   void execute_file(const std::string &path, int depth);
@@ -91,7 +94,7 @@ class Session {
   void attach(const std::string &fix, const std::string &group, const std::string &where);
   int64_t group_bits(const std::string &group, const std::string &where) const;
   void before_run(const std::string &where);
-  void zero_external_forces(const std::string &fix) const;
+  void zero_external_forces(const Attachment &a, double **f, bool again) const;
   // `quit [status]`: the status as LAMMPS evaluates it (a number, or variables LAMMPS expands).
   int evaluate_quit_status(const std::vector<std::string> &words, const std::string &where);
   std::string fixes_seen() const;
