@@ -21,12 +21,13 @@ namespace {
 constexpr double kNearestNeighbour = 1.122462048309373;  // 2^(1/6)
 const double kLattice = kNearestNeighbour * std::sqrt(2.0);
 
-BenchScene fcc(int n) {
+// fcc of n x n x nz cells.
+BenchScene fcc(int n, int nz) {
   BenchScene s;
   const double basis[4][3] = {{0, 0, 0}, {0.5, 0.5, 0}, {0.5, 0, 0.5}, {0, 0.5, 0.5}};
-  s.xyz.reserve(size_t(12) * n * n * n);
-  s.type.reserve(size_t(4) * n * n * n);
-  for (int z = 0; z < n; ++z)
+  s.xyz.reserve(size_t(12) * n * n * nz);
+  s.type.reserve(size_t(4) * n * n * nz);
+  for (int z = 0; z < nz; ++z)
     for (int y = 0; y < n; ++y)
       for (int x = 0; x < n; ++x)
         for (int b = 0; b < 4; ++b) {
@@ -37,6 +38,10 @@ BenchScene fcc(int n) {
   s.config.radius = 0.5;
   s.config.color.by = ColorBy::kType;
   return s;
+}
+
+BenchScene fcc(int n) {
+  return fcc(n, n);
 }
 
 }  // namespace
@@ -73,6 +78,16 @@ BenchScene fcc_inside(int n, int size) {
   cam.up = {0, 0, 1};
   s.note = "fcc " + std::to_string(n) + "^3 cells (" + std::to_string(s.type.size()) +
            " atoms), camera inside the crystal, fov 70";
+  s.config.width = s.config.height = size;
+  return s;
+}
+
+BenchScene thin_film(int n, int size) {
+  BenchScene s = fcc(n, 2);
+  s.name = "film_" + std::to_string(s.type.size() / 1000) + "k";
+  s.note = "thin fcc film of " + std::to_string(n) + " x " + std::to_string(n) +
+           " x 2 cells (4 atomic layers, " + std::to_string(s.type.size()) +
+           " atoms), r 0.5, camera outside (azimuth 30, elevation 20)";
   s.config.width = s.config.height = size;
   return s;
 }

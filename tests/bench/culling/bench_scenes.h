@@ -33,6 +33,9 @@ void keep_rank_block(BenchScene *s, int rank, int ranks);
 std::string scene_yaml_keys(const BenchScene &s);
 // The same crystal seen by a wide-angle camera inside it.
 BenchScene fcc_inside(int n, int size);
+// A thin film: fcc of n x n x 2 cells (four atomic layers) seen from outside as fcc_outside,
+// where a layer hides those below it only in part (a scene where occlusion culls little).
+BenchScene thin_film(int n, int size);
 // A dense fcc crystal of n^3 cells beside a sparse gas (the heterogeneous data of Ibrahim et al.
 // 2022, Fig. 2).
 BenchScene heterogeneous(int n, int size);

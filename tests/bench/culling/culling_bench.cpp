@@ -5,7 +5,8 @@
 //                 [--azimuths K] [--density] [--opaque-lod] [--scale 10,38,100]
 //
 // --density: style: density at LOD 100/50/25/10/1 % against random samples instead of the sphere
-// modes (density_bench.h; DIR/density_bench.csv and .svg). Scene `clustered`: clustered_cloud.
+// modes (density_bench.h; DIR/density_bench.csv and .svg). Scene `clustered`: clustered_cloud;
+// `film`: thin_film (500 k atoms in four layers).
 // --opaque-lod: sphere LOD at 100/50/25/10/1 % against random samples, cpu raster + hzb in every
 // mode (opaque_lod_bench.h; DIR/opaque_lod_bench.csv and .svg).
 // A scene name may end in :uniform or :bimodal to give the particles mixed radii (assign_radii
@@ -556,6 +557,8 @@ int run(int argc, char **argv) {
       s = fcc_outside(24, opt.size);
     } else if (name == "clustered") {
       s = clustered_cloud(4000000, opt.size);
+    } else if (name == "film") {
+      s = thin_film(250, opt.size);
     } else if (name == "void_impact" || name == "droplet") {
       if (!mini_md_scene(name, opt.md_cells, opt.size, &s, &why)) {
         std::printf("\n== %s: skipped: %s\n", name.c_str(), why.c_str());
