@@ -141,8 +141,8 @@ void order_front_to_back(CandidateBuffers *b) {
   // scatter they chained every candidate's minima and maxima through memory. Minima and maxima do
   // not depend on the order, so every box is the one the scatter grew. With the bounds two at a
   // time, x and y together, the counts in two tallies and the buckets written in place, this
-  // function takes 1.09 ms of a rank's frame on the 1 M-atom LJ melt against 1.28 before (medians
-  // of 7 alternated runs of tests/bench/lammps_dump_image.sh's melt under perf).
+  // function takes 1.09 ms of a rank's frame on the 1 M-atom LJ melt against 1.28 before (perf,
+  // medians of 7 alternated runs; tests/bench/culling/results/order_front_to_back_ab.txt).
   for (DepthBucket &d : buckets) {
     RunningBounds box, box_odd;
     uint32_t k = d.begin;
