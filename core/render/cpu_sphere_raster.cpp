@@ -288,15 +288,18 @@ LANTERN_INLINE uint32_t shade_pixel(float lambert2, float red, float green, floa
          unorm8(blue * diffuse + highlight) << 16;
 }
 
-// The first h rows of a tile of side n.
+// The first h rows of a tile of side n. The colour is read once and the arrays do not overlap:
+// else the compiler reloads the colour for every pixel (a store might have changed it) and checks
+// the arrays for overlap on every call (1.9 -> 1.2 ms of a rank's 1 M-atom LJ frame, perf).
 template <int n>
-LANTERN_INLINE void shade_tile_n(int h, const float lambert2[], const uint8_t rgb[3],
-                                 uint32_t out[]) {
-  for (int i = 0; i < n * h; ++i) out[i] = shade_pixel(lambert2[i], rgb[0], rgb[1], rgb[2]);
+LANTERN_INLINE void shade_tile_n(int h, const float *__restrict lambert2, const uint8_t rgb[3],
+                                 uint32_t *__restrict out) {
+  const float red = rgb[0], green = rgb[1], blue = rgb[2];
+  for (int i = 0; i < n * h; ++i) out[i] = shade_pixel(lambert2[i], red, green, blue);
 }
 
-LANTERN_TILE_KERNEL void shade_tile(int n, int h, const float lambert2[kTilePixels],
-                                    const uint8_t rgb[3], uint32_t out[kTilePixels]) {
+LANTERN_TILE_KERNEL void shade_tile(int n, int h, const float *__restrict lambert2,
+                                    const uint8_t rgb[3], uint32_t *__restrict out) {
   if (n == kSmallTile)
     shade_tile_n<kSmallTile>(h, lambert2, rgb, out);
   else
