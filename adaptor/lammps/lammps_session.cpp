@@ -227,7 +227,7 @@ void Session::before_run(const std::string &where) {
 // copies rows among atoms (copy_arrays, exchange between ranks; fix_external.cpp), so zeroed rows
 // stay zero until the array moves or grows: then (or with `again`) they are zeroed, not on every
 // call (24 bytes a row, local and ghost atoms: about 0.7 ms of each call of the 1 M-atom melt on
-// 2 ranks, perf of tests/bench/lammps_dump_image.sh).
+// 2 ranks, perf of examples/lammps/in.lj).
 void Session::zero_external_forces(const Attachment &a, double **f, bool again) const {
   const int nmax = lammps_extract_setting(lmp_, "nmax");
   if (!f || !f[0] || nmax <= 0) return;

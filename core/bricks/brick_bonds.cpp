@@ -13,6 +13,7 @@
 
 #include <glm/geometric.hpp>
 
+#include "core/common/double_pair.h"
 #include "core/common/ms_since.h"
 #include "core/particles/typed_access.h"
 
@@ -22,50 +23,6 @@ namespace {
 constexpr uint32_t kNoBrick = std::numeric_limits<uint32_t>::max();
 // How many halves ahead the refit asks for the memory it will read (refit_brick_bonds).
 constexpr size_t kAhead = 16;
-
-// The x and y of a vector in one SSE2 register where the target has SSE2, else two doubles:
-// refit_brick_bonds does its arithmetic on them lane by lane with the IEEE operations the scalar
-// code does, so either gives the bits of half_bond_end, glm::min and glm::max.
-#if defined(__SSE2__)
-struct Pair {
-  __m128d v;
-  static Pair of(double x, double y) { return {_mm_set_pd(y, x)}; }
-  double x() const { return _mm_cvtsd_f64(v); }
-  double y() const { return _mm_cvtsd_f64(_mm_unpackhi_pd(v, v)); }
-  Pair operator+(Pair o) const { return {_mm_add_pd(v, o.v)}; }
-  Pair operator-(Pair o) const { return {_mm_sub_pd(v, o.v)}; }
-  Pair operator*(Pair o) const { return {_mm_mul_pd(v, o.v)}; }
-  // glm::min(*this, o), glm::max(*this, o): (o < a) ? o : a and (a < o) ? o : a per lane.
-  Pair min(Pair o) const { return {_mm_min_pd(o.v, v)}; }
-  Pair max(Pair o) const { return {_mm_max_pd(o.v, v)}; }
-  // Whether 2 |lane| <= limit's lane in both lanes.
-  bool twice_within(Pair limit) const {
-    const __m128d magnitude = _mm_and_pd(v, _mm_castsi128_pd(_mm_set1_epi64x(INT64_MAX)));
-    return _mm_movemask_pd(_mm_cmple_pd(_mm_add_pd(magnitude, magnitude), limit.v)) == 3;
-  }
-  // Whether both lanes are finite.
-  bool finite() const {
-    const __m128d magnitude = _mm_and_pd(v, _mm_castsi128_pd(_mm_set1_epi64x(INT64_MAX)));
-    return _mm_movemask_pd(_mm_cmple_pd(magnitude, _mm_set1_pd(DBL_MAX))) == 3;
-  }
-};
-#else
-struct Pair {
-  double a, b;
-  static Pair of(double x, double y) { return {x, y}; }
-  double x() const { return a; }
-  double y() const { return b; }
-  Pair operator+(Pair o) const { return {a + o.a, b + o.b}; }
-  Pair operator-(Pair o) const { return {a - o.a, b - o.b}; }
-  Pair operator*(Pair o) const { return {a * o.a, b * o.b}; }
-  Pair min(Pair o) const { return {o.a < a ? o.a : a, o.b < b ? o.b : b}; }
-  Pair max(Pair o) const { return {a < o.a ? o.a : a, b < o.b ? o.b : b}; }
-  bool twice_within(Pair limit) const {
-    return 2.0 * std::abs(a) <= limit.a && 2.0 * std::abs(b) <= limit.b;
-  }
-  bool finite() const { return std::isfinite(a) && std::isfinite(b); }
-};
-#endif
 
 // std::sqrt of a square (never negative): the same correctly rounded root, without the call to
 // the library's sqrt that GCC keeps for a negative argument (errno), which would make the refit's
@@ -205,8 +162,9 @@ bool refit_brick_bonds(const ParticleArrays &particles, const BondArrays &bonds,
                                                                         : -1.0;
       add[a] = wraps ? 0.0 : -0.0;
     }
-    const Pair limit_xy = Pair::of(limit[0], limit[1]), add_xy = Pair::of(add[0], add[1]);
-    const Pair half = Pair::of(0.5, 0.5);
+    const DoublePair limit_xy = DoublePair::of(limit[0], limit[1]),
+                     add_xy = DoublePair::of(add[0], add[1]);
+    const DoublePair half = DoublePair::of(0.5, 0.5);
     // Halves off the shortcut, or with a partner not finite, wait in `slow` for the end of their
     // brick: the loop below then calls nothing, so its sums stay in registers. A slow half adds
     // its ends to the brick's bounds and its length to its atom's reach afterwards, which gives
@@ -216,7 +174,7 @@ bool refit_brick_bonds(const ParticleArrays &particles, const BondArrays &bonds,
     std::vector<uint32_t> slow_list(most);
     uint32_t *const slow = slow_list.data();
     for (size_t b = 0; b < brick_count && ok; ++b) {
-      Pair lo_xy = Pair::of(inf.x, inf.x), hi_xy = Pair::of(-inf.x, -inf.x);
+      DoublePair lo_xy = DoublePair::of(inf.x, inf.x), hi_xy = DoublePair::of(-inf.x, -inf.x);
       double lo_z = inf.x, hi_z = -inf.x;
       const uint32_t last = r.first[b + 1];
       uint32_t slow_count = 0;
@@ -224,7 +182,7 @@ bool refit_brick_bonds(const ParticleArrays &particles, const BondArrays &bonds,
         const uint32_t atom = halves[k].atom;
         const glm::dvec3 x = pos.get(atom);
         if (!finite_position(x)) return void(ok = false);
-        const Pair x_xy = Pair::of(x.x, x.y);
+        const DoublePair x_xy = DoublePair::of(x.x, x.y);
         lo_xy = lo_xy.min(x_xy), hi_xy = hi_xy.max(x_xy);
         lo_z = glm::min(lo_z, x.z), hi_z = glm::max(hi_z, x.z);
         double longest = 0.0;  // squared
@@ -239,19 +197,19 @@ bool refit_brick_bonds(const ParticleArrays &particles, const BondArrays &bonds,
           const glm::dvec3 partner = pos.get(halves[k].partner);
           // half_bond_end: x + 0.5 * minimum_image(partner - x). The shortcut's test fails for
           // a NaN; an infinite partner (passing it on an axis that does not wrap) goes slow too.
-          const Pair d_xy = Pair::of(partner.x, partner.y) - x_xy;
+          const DoublePair d_xy = DoublePair::of(partner.x, partner.y) - x_xy;
           const double d_z = partner.z - x.z;
           if (!(d_xy.twice_within(limit_xy) && 2.0 * std::abs(d_z) <= limit[2]) ||
               !(std::abs(d_z) <= std::numeric_limits<double>::max() && d_xy.finite())) {
             slow[slow_count++] = k;
             continue;
           }
-          const Pair end_xy = x_xy + half * (d_xy + add_xy);
+          const DoublePair end_xy = x_xy + half * (d_xy + add_xy);
           const double end_z = x.z + 0.5 * (d_z + add[2]);
           lo_xy = lo_xy.min(end_xy), hi_xy = hi_xy.max(end_xy);
           lo_z = glm::min(lo_z, end_z), hi_z = glm::max(hi_z, end_z);
           // glm::dot(end - x, end - x): (x * x + y * y) + z * z.
-          const Pair along = end_xy - x_xy, square = along * along;
+          const DoublePair along = end_xy - x_xy, square = along * along;
           const double along_z = end_z - x.z;
           longest = std::max(longest, square.x() + square.y() + along_z * along_z);
         }

@@ -6,9 +6,7 @@
 
 #include <glm/common.hpp>
 
-#if defined(__SSE2__)
-#include <emmintrin.h>
-#endif
+#include "core/common/double_pair.h"
 
 namespace lantern {
 namespace {
@@ -32,53 +30,28 @@ double cell_scale(double lo, double hi, int n) {
 }
 
 // Running bounds of points or spheres, a bound moving only to a value strictly beyond it (as
-// glm::min and glm::max have it). With SSE2, x and y share one register: half the instructions
-// of glm's component by component, the same values.
-#if defined(__SSE2__)
+// glm::min and glm::max have it): x and y as one DoublePair (half the instructions of glm's
+// component by component with SSE2), the same values.
 class RunningBounds {
  public:
-  void add(const glm::dvec3 &p) { grow(_mm_loadu_pd(&p.x), _mm_load_sd(&p.z)); }
+  void add(const glm::dvec3 &p) { grow(DoublePair::load(&p.x), p.z, DoublePair::load(&p.x), p.z); }
   void add(const glm::dvec3 &c, double r) {
-    const __m128d xy = _mm_loadu_pd(&c.x), z = _mm_load_sd(&c.z), rr = _mm_set1_pd(r);
-    lo_xy_ = _mm_min_pd(_mm_sub_pd(xy, rr), lo_xy_), lo_z_ = _mm_min_sd(_mm_sub_sd(z, rr), lo_z_);
-    hi_xy_ = _mm_max_pd(_mm_add_pd(xy, rr), hi_xy_), hi_z_ = _mm_max_sd(_mm_add_sd(z, rr), hi_z_);
+    const DoublePair xy = DoublePair::load(&c.x), rr = DoublePair::of(r, r);
+    grow(xy - rr, c.z - r, xy + rr, c.z + r);
   }
   void add(const RunningBounds &o) { grow(o.lo_xy_, o.lo_z_, o.hi_xy_, o.hi_z_); }
-  glm::dvec3 lo() const { return unpack(lo_xy_, lo_z_); }
-  glm::dvec3 hi() const { return unpack(hi_xy_, hi_z_); }
+  glm::dvec3 lo() const { return {lo_xy_.x(), lo_xy_.y(), lo_z_}; }
+  glm::dvec3 hi() const { return {hi_xy_.x(), hi_xy_.y(), hi_z_}; }
 
  private:
-  void grow(__m128d xy, __m128d z) { grow(xy, z, xy, z); }
-  // _mm_min_pd(a, b) is a < b ? a : b: glm::min(b, a).
-  void grow(__m128d lo_xy, __m128d lo_z, __m128d hi_xy, __m128d hi_z) {
-    lo_xy_ = _mm_min_pd(lo_xy, lo_xy_), lo_z_ = _mm_min_sd(lo_z, lo_z_);
-    hi_xy_ = _mm_max_pd(hi_xy, hi_xy_), hi_z_ = _mm_max_sd(hi_z, hi_z_);
-  }
-  static glm::dvec3 unpack(__m128d xy, __m128d z) {
-    glm::dvec3 v;
-    _mm_storeu_pd(&v.x, xy);
-    _mm_store_sd(&v.z, z);
-    return v;
+  void grow(DoublePair lo_xy, double lo_z, DoublePair hi_xy, double hi_z) {
+    lo_xy_ = lo_xy_.min(lo_xy), hi_xy_ = hi_xy_.max(hi_xy);
+    lo_z_ = lo_z < lo_z_ ? lo_z : lo_z_, hi_z_ = hi_z_ < hi_z ? hi_z : hi_z_;
   }
   static constexpr double kInf = std::numeric_limits<double>::infinity();
-  __m128d lo_xy_ = _mm_set1_pd(kInf), hi_xy_ = _mm_set1_pd(-kInf);
-  __m128d lo_z_ = _mm_set1_pd(kInf), hi_z_ = _mm_set1_pd(-kInf);
+  DoublePair lo_xy_ = DoublePair::of(kInf, kInf), hi_xy_ = DoublePair::of(-kInf, -kInf);
+  double lo_z_ = kInf, hi_z_ = -kInf;
 };
-#else
-class RunningBounds {
- public:
-  void add(const glm::dvec3 &p) { lo_ = glm::min(lo_, p), hi_ = glm::max(hi_, p); }
-  void add(const glm::dvec3 &c, double r) {
-    lo_ = glm::min(lo_, c - r), hi_ = glm::max(hi_, c + r);
-  }
-  void add(const RunningBounds &o) { lo_ = glm::min(lo_, o.lo_), hi_ = glm::max(hi_, o.hi_); }
-  glm::dvec3 lo() const { return lo_; }
-  glm::dvec3 hi() const { return hi_; }
-
- private:
-  glm::dvec3 lo_{std::numeric_limits<double>::infinity()}, hi_ = -lo_;
-};
-#endif
 
 }  // namespace
 
