@@ -67,7 +67,7 @@ Session::~Session() = default;
 void Session::run_script(const std::string &path) {
   execute_file(path, 0);
   if (attached_.empty() && !ran_)
-    throw Failure(path + ": the script defines no 'fix ID GROUP external pf/callback N 1' " +
+    throw Failure(path + ": the script defines no 'fix ID GROUP external pf/callback N M' " +
                   (options_.fix.empty() ? std::string() : "with ID '" + options_.fix + "' ") +
                   "to attach to; fixes defined: " + fixes_seen());
 }
@@ -144,7 +144,7 @@ void Session::after_command(const std::vector<std::string> &words, const std::st
       if (words.size() < 5 || words[4] != "pf/callback")
         throw Failure(where + "fix " + id +
                       ": lantern-lammps renders from 'external pf/callback "
-                      "N 1' fixes, not '" +
+                      "N M' fixes, not '" +
                       (words.size() < 5 ? "" : words[4]) + "'");
       if (has_variable(id) || has_variable(group))
         throw Failure(where + "fix " + id + ": write the fix ID and group out (no variables)");
@@ -207,9 +207,9 @@ std::string Session::fixes_seen() const {
 void Session::before_run(const std::string &where) {
   if (attached_.empty()) {
     const std::string wanted = options_.fix.empty()
-                                   ? "a 'fix ID GROUP external pf/callback N 1'"
+                                   ? "a 'fix ID GROUP external pf/callback N M'"
                                    : "the fix '" + options_.fix + "' (lammps.fix) as 'fix " +
-                                         options_.fix + " GROUP external pf/callback N 1'";
+                                         options_.fix + " GROUP external pf/callback N M'";
     throw Failure(where + "no fix to render from before this run: the script must define " +
                   wanted + "; fixes defined: " + fixes_seen());
   }

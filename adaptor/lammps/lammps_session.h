@@ -1,5 +1,5 @@
 // lantern-lammps's driver: executes a LAMMPS input script command by command through LAMMPS's
-// library interface and renders with Lantern from every `fix ID GROUP external pf/callback N 1`
+// library interface and renders with Lantern from every `fix ID GROUP external pf/callback N M`
 // the script defines.
 //
 // Why command by command: a `fix external` in pf/callback mode needs its callback before the next

@@ -2,9 +2,11 @@
 //
 //   mpiexec -n 4 lantern-lammps -in in.melt -lantern viz.yaml [LAMMPS options...]
 //
-// The script is LAMMPS's own, with one line added: `fix viz all external pf/callback 100 1` (any
-// fix ID and group). Every `pf/callback` fix external the script defines renders its group each
-// time LAMMPS calls it (every 100 steps here; the YAML's `schedule:` can thin that further), or
+// The script is LAMMPS's own, with one line added: `fix viz all external pf/callback 100
+// 1000000000` (any fix ID and group; the second number, how often LAMMPS adds the fix's zero
+// forces to the atoms', is best beyond the run). Every `pf/callback` fix external the script
+// defines renders its group each time LAMMPS calls it (every 100 steps here; the YAML's
+// `schedule:` can thin that further), or
 // only the one named by the YAML's `lammps: {fix: ID}`. `lammps: {scalar: c_ke}` publishes a
 // per-atom quantity as Lantern's scalar. Every other option goes to LAMMPS unchanged (-var,
 // -log, -screen, -echo, -suffix, ...; LAMMPS's own -h lists its styles). --help and --version
@@ -30,7 +32,9 @@ namespace {
 constexpr const char *kUsage =
     "usage: lantern-lammps -in SCRIPT -lantern CONFIG.yaml [LAMMPS options]\n"
     "       lantern-lammps --help | --version\n"
-    "  SCRIPT: a LAMMPS input script with a `fix ID GROUP external pf/callback N 1` line;\n"
+    "  SCRIPT: a LAMMPS input script with a `fix ID GROUP external pf/callback N M` line\n"
+    "    (an image every N steps; M: how often LAMMPS adds the fix's zero forces, best\n"
+    "    beyond the run, e.g. 1000000000);\n"
     "  every other option goes to LAMMPS (-var, -log, -screen, -suffix, ...; -h: LAMMPS's help)\n";
 
 struct Arguments {

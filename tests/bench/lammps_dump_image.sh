@@ -8,14 +8,16 @@
 #     `ambient_occlusion: {method: screen}`); run once with and once without to get each side's
 #     cost of it
 #   SAMPLES=4: Lantern super-samples its images (scene key samples: 1, 4, 16 or 64; default 1)
+#   NAPPLY=1: the fix's napply (how often LAMMPS adds the fix's zero forces to the atoms'; default
+#     in.lj's, beyond the run): LAMMPS's Modify line then shows what adding them every step costs
 #
 # lantern-lammps runs examples/lammps/in.lj (the LAMMPS bench melt with `fix viz all external
-# pf/callback EVERY 1`) with one more line, `dump img all image EVERY ... size SIZE SIZE adiam 1.0`:
-# every EVERY steps LAMMPS draws its image dump and calls Lantern, in the same run. Seconds per
-# image: LAMMPS's from its own timing breakdown (the "Output" section, slowest rank, over the
-# images after the set-up step: LAMMPS starts its timers after set-up), Lantern's from its stats
-# (ms.total of every step after the first, and the median of all steps). The target: Lantern
-# >= 10x faster at 1 M atoms.
+# pf/callback EVERY 1000000000`) with one more line, `dump img all image EVERY ... size SIZE SIZE
+# adiam 1.0`: every EVERY steps LAMMPS draws its image dump and calls Lantern, in the same run.
+# Seconds per image: LAMMPS's from its own timing breakdown (the "Output" section, slowest rank,
+# over the images after the set-up step: LAMMPS starts its timers after set-up), Lantern's from
+# its stats (ms.total of every step after the first, and the median of all steps). The target:
+# Lantern >= 10x faster at 1 M atoms.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/../.." && pwd)
 build=${1:-$root/build-h5}
@@ -41,13 +43,15 @@ $([ "${SSAO:-no}" = yes ] && echo "    ambient_occlusion: {method: screen}")
 stats: "$work/stats.jsonl"
 YAML
 ssao=$([ "${SSAO:-no}" = yes ] && echo " ssao yes 4567 0.6" || true)
-sed "/^run/i dump img all image $every $work/lammps_*.png type type size $size $size adiam 1.0$ssao" \
+sed -e "/^run/i dump img all image $every $work/lammps_*.png type type size $size $size adiam 1.0$ssao" \
+  -e "${NAPPLY:+s/^\(fix *viz .*pf\/callback *[^ ]*\) .*/\1 $NAPPLY/}" \
   "$root/examples/lammps/in.lj" > "$work/in.bench"
+grep -q "^fix *viz .*pf/callback .* ${NAPPLY:-1000000000}\$" "$work/in.bench"
 mpiflags=(--oversubscribe)
 [ "$(id -u)" = 0 ] && mpiflags+=(--allow-run-as-root)
 steps=$(( (images - 1) * every ))
 atoms=$((4 * cells * cells * cells))
-echo "LJ melt, $atoms atoms, ${size}x${size}, $images images every $every steps, $ranks MPI ranks, ssao ${SSAO:-no}, Lantern samples ${SAMPLES:-1}"
+echo "LJ melt, $atoms atoms, ${size}x${size}, $images images every $every steps, $ranks MPI ranks, ssao ${SSAO:-no}, Lantern samples ${SAMPLES:-1}, napply ${NAPPLY:-1000000000}"
 OMP_NUM_THREADS=1 mpiexec "${mpiflags[@]}" -n "$ranks" "$exe" -in "$work/in.bench" \
   -lantern "$work/bench.yaml" -log none -var cells "$cells" -var every "$every" \
   -var steps "$steps" > "$work/out.txt" 2> "$work/err.txt"

@@ -8,12 +8,12 @@
 # The system: a simple-cubic lattice of spacing 1 whose nearest neighbours are bonded by LAMMPS's
 # own `create_bonds many` (a network of 3 bonds per atom, harmonic, periodic in x, y, z: the bonds
 # across the faces join atoms on opposite sides), at a low temperature. lantern-lammps runs it
-# with `fix viz all external pf/callback EVERY 1` and one more line, `dump img all image EVERY
-# ... bond atom 0.3 size SIZE SIZE adiam 0.5`: every EVERY steps LAMMPS draws its image dump and
-# Lantern its image (spheres of radius 0.25, bonds of radius 0.15, colored by atom), in the same
-# run. Seconds per image: LAMMPS's from its timing breakdown ("Output", slowest rank, images after
-# the set-up step), Lantern's from its stats (ms.total after the first step, and the median of
-# all). The target: Lantern >= 10x faster per image at >= 500 k bonded atoms on 2 ranks.
+# with `fix viz all external pf/callback EVERY 1000000000` and one more line, `dump img all image
+# EVERY ... bond atom 0.3 size SIZE SIZE adiam 0.5`: every EVERY steps LAMMPS draws its image dump
+# and Lantern its image (spheres of radius 0.25, bonds of radius 0.15, colored by atom), in the
+# same run. Seconds per image: LAMMPS's from its timing breakdown ("Output", slowest rank, images
+# after the set-up step), Lantern's from its stats (ms.total after the first step, and the median
+# of all). The target: Lantern >= 10x faster per image at >= 500 k bonded atoms on 2 ranks.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/../.." && pwd)
 build=${1:-$root/build}
@@ -53,7 +53,7 @@ special_bonds   lj 0.0 1.0 1.0
 create_bonds    many all all 1 0.99 1.01
 velocity        all create 0.05 87287 loop geom
 fix             1 all nve
-fix             viz all external pf/callback $every 1
+fix             viz all external pf/callback $every 1000000000
 dump            img all image $every $work/lammps_*.png type type bond atom 0.3 size $size $size adiam 0.5
 run             $steps
 LMP

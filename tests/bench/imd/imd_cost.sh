@@ -8,11 +8,11 @@
 #
 # Three variants of one script, each on one MPI rank (LP_NUM_THREADS=1, OMP_NUM_THREADS=1):
 #   plain:   lmp, no rendering
-#   in situ: lantern-lammps, `fix viz all external pf/callback EVERY 1` (as its README says);
-#            Lantern renders in the simulation's process
-#   in situ, napply EVERY: the same with `pf/callback EVERY EVERY`: fix external then adds its
-#            (zero) force array to the atoms' forces only every EVERY steps instead of every
-#            step, which leaves Lantern's own cost
+#   in situ: lantern-lammps, `fix viz all external pf/callback EVERY 1000000000` (as its README
+#            says); Lantern renders in the simulation's process
+#   in situ, napply 1: the same with `pf/callback EVERY 1`: fix external then adds its (zero)
+#            force array to the atoms' forces on every step (what the README first advised): a
+#            pass over the forces on every step
 #   imd:     lmp with `fix imd all imd PORT trate EVERY`, lantern-imd (1 rank, its own core)
 #            attached over loopback: the simulation gathers and sends float32 coordinates, the
 #            rendering happens in the other process
@@ -62,9 +62,9 @@ sed -e '/^run/i thermo_style    custom step cpu\nthermo          1' \
 grep -q 'every 19 ' "$work/in.lj"
 sed '/^fix *viz/d' "$work/in.lj" > "$work/in.plain"
 cp "$work/in.lj" "$work/in.situ"
-sed 's/^\(fix *viz .*pf\/callback\) *\${every} *1/\1 ${every} ${every}/' "$work/in.lj" \
+sed 's/^\(fix *viz .*pf\/callback\) *\${every} *1000000000/\1 ${every} 1/' "$work/in.lj" \
   > "$work/in.napply"
-grep -q 'pf/callback ${every} ${every}' "$work/in.napply"
+grep -q 'pf/callback ${every} 1$' "$work/in.napply"
 sed 's/^fix *viz .*/fix             imd all imd ${port} trate ${every} nowait off/' \
   "$work/in.lj" > "$work/in.imd"
 vars=(-var cells "$cells" -var every "$every" -var steps "$steps" -log none)
@@ -105,8 +105,8 @@ def costs(d):
     """Per image: its step's duration minus the median of the 9 steps before it."""
     images = [s for s in d if s % every == 0]
     return [d[s] - med([d[s - k] for k in range(1, 10)]) for s in images]
-variants = {"plain": "plain lmp", "situ": "lantern-lammps in situ (pf/callback N 1)",
-            "napply": f"lantern-lammps in situ, napply {every} (pf/callback N N)",
+variants = {"plain": "plain lmp", "situ": "lantern-lammps in situ (pf/callback N 1000000000)",
+            "napply": "lantern-lammps in situ, napply 1 (pf/callback N 1)",
             "imd": "lmp + fix imd + lantern-imd"}
 runs = {v: [durations(f"{work}/r{r}/{v}/out.txt") for r in range(1, rounds + 1)] for v in variants}
 step = {v: med([x for d in runs[v] for s, x in d.items() if s % every]) for v in variants}
