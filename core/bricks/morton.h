@@ -140,9 +140,14 @@ inline void MortonQuantiser::prefix4(const double x[4], const double y[4], const
 // The brick build's first pass over simulations that publish packed doubles (LAMMPS, most
 // codes): with AVX2 the twelve doubles of four points come in three loads and are turned into x,
 // y and z vectors in registers, where reading them one by one (prefix4's arrays) cost twice a
-// streaming pass. Four lanes of the same operations as prefix4's two: the same keys, bit for bit.
-// `vector`: false keeps to prefix4 (tests compare the two).
+// streaming pass. Four lanes of the same operations as prefix4's two, or eight with AVX-512:
+// the same keys, bit for bit.
+enum class PrefixKernel {
+  kWidest,  // AVX-512 where the processor has it, else AVX2, else prefix4
+  kAvx2,    // AVX2 where the processor has it, else prefix4 (tests compare the kernels)
+  kPrefix4,
+};
 bool packed_prefixes(const MortonQuantiser &q, const double *xyz, int64_t count, uint32_t *out,
-                     bool vector = true);
+                     PrefixKernel kernel = PrefixKernel::kWidest);
 
 }  // namespace lantern

@@ -105,9 +105,9 @@ TEST(Morton, FourPrefixesAtOnceAreTheScalarPrefixes) {
   }
 }
 
-// Packed xyz doubles (the brick build's first pass), with AVX2 where the processor has it and
-// without: every prefix the scalar one, over counts that leave tails of 0-3 points, and -0
-// reported exactly when some coordinate is -0 (in the vector part or the tail).
+// Packed xyz doubles (the brick build's first pass), with each kernel the processor has (AVX-512,
+// AVX2, prefix4): every prefix the scalar one, over counts that leave tails of 0-7 points, and -0
+// reported exactly when some coordinate is -0 (in any lane of the vector part, or the tail).
 TEST(Morton, PackedPrefixesAreTheScalarPrefixes) {
   const MortonQuantiser q = MortonQuantiser::for_bounds({-3.0, 0.0, 1e-3}, {5.0, 2.0, 7.0});
   std::mt19937_64 rng(12);
@@ -116,11 +116,12 @@ TEST(Morton, PackedPrefixesAreTheScalarPrefixes) {
   for (double &v : xyz) v = u(rng);
   for (int k = 0; k <= 2048; k += 7) xyz[size_t(k) * 3 % xyz.size()] = -3.0 + 8.0 * k / 2048.0;
   xyz[5] = 1e300, xyz[6] = -std::numeric_limits<double>::infinity(), xyz[7] = 0.0;
-  for (const int64_t count :
-       {int64_t(0), int64_t(1), int64_t(3), int64_t(4), int64_t(5), int64_t(4096), int64_t(4099)}) {
-    for (const bool vector : {true, false}) {
+  const PrefixKernel kernels[] = {PrefixKernel::kWidest, PrefixKernel::kAvx2,
+                                  PrefixKernel::kPrefix4};
+  for (const int64_t count : {0, 1, 3, 4, 5, 7, 8, 9, 15, 16, 17, 4096, 4099}) {
+    for (const PrefixKernel kernel : kernels) {
       std::vector<uint32_t> out(static_cast<size_t>(count) + 1, 0xdeadbeefu);
-      EXPECT_FALSE(packed_prefixes(q, xyz.data(), count, out.data(), vector));
+      EXPECT_FALSE(packed_prefixes(q, xyz.data(), count, out.data(), kernel));
       for (int64_t i = 0; i < count; ++i) {
         const double *p = &xyz[size_t(3 * i)];
         ASSERT_EQ(out[size_t(i)], q.prefix({p[0], p[1], p[2]})) << i << " of " << count;
@@ -128,12 +129,12 @@ TEST(Morton, PackedPrefixesAreTheScalarPrefixes) {
       EXPECT_EQ(out[size_t(count)], 0xdeadbeefu);  // nothing written past the last
     }
   }
-  for (const size_t at : {size_t(0), size_t(4), size_t(11), size_t(3 * 4096 + 1)}) {
+  for (const size_t at : {0, 4, 11, 17, 22, 23, 24, 3 * 4096 + 1}) {
     std::vector<double> signed_zero = xyz;
     signed_zero[at] = -0.0;
     std::vector<uint32_t> out(4099);
-    for (const bool vector : {true, false}) {
-      EXPECT_TRUE(packed_prefixes(q, signed_zero.data(), 4099, out.data(), vector)) << at;
+    for (const PrefixKernel kernel : kernels) {
+      EXPECT_TRUE(packed_prefixes(q, signed_zero.data(), 4099, out.data(), kernel)) << at;
       EXPECT_EQ(out[at / 3], q.prefix({signed_zero[at / 3 * 3], signed_zero[at / 3 * 3 + 1],
                                        signed_zero[at / 3 * 3 + 2]}));
     }
