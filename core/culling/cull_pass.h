@@ -9,7 +9,9 @@
 #pragma once
 
 #include <algorithm>
+#include <cstddef>
 #include <cstdint>
+#include <type_traits>
 #include <vector>
 
 #include <glm/vec3.hpp>
@@ -45,6 +47,13 @@ struct Candidate {
   uint32_t index;
   float scale;  // level-of-detail radius scale
 };
+// An array of candidates is also one of x, y, z, r doubles with a stride of five
+// (ViewGeometry::sphere_rects_tight reads it so).
+static_assert(std::is_standard_layout_v<Candidate> && offsetof(Candidate, c) == 0 &&
+                  sizeof(glm::dvec3) == 3 * sizeof(double) &&
+                  offsetof(Candidate, r) == 3 * sizeof(double) &&
+                  sizeof(Candidate) % sizeof(double) == 0,
+              "a Candidate begins with its centre's x, y, z and its radius as doubles");
 
 // A bucket of a brick's candidates (order_front_to_back: a cell of a depth slab): sorted[begin,
 // end), and the view-space box holding their spheres, nearest point first.

@@ -163,14 +163,15 @@ CullStats CpuSpherePass::run(const ParticleArrays &particles, const BrickSet &br
         };
         // The bucket's rectangles, worked out together before its candidates are visited: each
         // is a chain of a square root and divisions, which one at a time between the depth
-        // tests would wait out in turn.
+        // tests would wait out in turn (and two share a vector: sphere_rects_tight).
         const Candidate *bucket_first = nullptr;
         std::vector<PixelRect> &rects = rects_[size_t(k)];
         const auto bucket = [&](const Candidate *first, uint32_t n) {
           bucket_first = first;
           if (rects.size() < n) rects.resize(n);
-          for (uint32_t j = 0; j < n; ++j)
-            rects[j] = g.sphere_rect_tight(first[j].c, first[j].r, kRasterSlack);
+          g.sphere_rects_tight(reinterpret_cast<const double *>(first),
+                               sizeof(Candidate) / sizeof(double), int(n), kRasterSlack,
+                               rects.data());
         };
         const auto visit = [&](const Candidate &c, StripState *s) {
           if (point_path && splat_sized(g, c.c, c.r)) {

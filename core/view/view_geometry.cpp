@@ -8,7 +8,90 @@
 #include <emmintrin.h>
 #endif
 
+#include "core/common/cpu_features.h"
+
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+#define LANTERN_RECTS_AVX2 1
+#include <immintrin.h>
+#else
+#define LANTERN_RECTS_AVX2 0
+#endif
+
 namespace lantern {
+namespace {
+
+#if LANTERN_RECTS_AVX2
+// sphere_rect_tight of the perspective spheres a and b (x, y, z, r each), both beyond half the
+// near plane: sphere_ndc's and ndc_rect_tight's operations lane by lane - lanes x and y of a, then
+// of b - in the same order, so the same bits. (No FMA: the target is AVX2 alone, so nothing is
+// contracted.)
+__attribute__((target("avx2"))) void two_rects_avx2(const ViewGeometry &g, const double *a,
+                                                    const double *b, double slack, PixelRect *out) {
+  const double ra = a[3] + g.eps, rb = b[3] + g.eps, da = -a[2], db = -b[2];
+  const __m256d xy = _mm256_setr_pd(a[0], a[1], b[0], b[1]);
+  const __m256d d = _mm256_setr_pd(da, da, db, db), r = _mm256_setr_pd(ra, ra, rb, rb);
+  const double dda = da * da - ra * ra, ddb = db * db - rb * rb;
+  const __m256d dd = _mm256_setr_pd(dda, dda, ddb, ddb);
+  const __m256d q = _mm256_add_pd(_mm256_mul_pd(xy, xy), dd);
+  const __m256d root = _mm256_mul_pd(r, _mm256_sqrt_pd(_mm256_max_pd(_mm256_setzero_pd(), q)));
+  const __m256d xd = _mm256_mul_pd(xy, d), scale = _mm256_setr_pd(g.sx, g.sy, g.sx, g.sy);
+  const __m256d lo = _mm256_mul_pd(scale, _mm256_div_pd(_mm256_sub_pd(xd, root), dd));
+  const __m256d hi = _mm256_mul_pd(scale, _mm256_div_pd(_mm256_add_pd(xd, root), dd));
+  // pixels_of: x0 = first(x_lo), y0 = first(y_hi) and x1 = last(x_hi), y1 = last(y_lo), with
+  // p = (x + 1) hw - 0.5 for x and (1 - y) hh - 0.5 = (-y + 1) hh - 0.5 for y (the same IEEE sum).
+  const __m256d from_first = _mm256_blend_pd(lo, hi, 0xA), from_last = _mm256_blend_pd(hi, lo, 0xA);
+  const __m256d negate_y = _mm256_setr_pd(0.0, -0.0, 0.0, -0.0), one = _mm256_set1_pd(1.0);
+  const __m256d half = _mm256_set1_pd(0.5);
+  const __m256d h = _mm256_setr_pd(0.5 * g.width, 0.5 * g.height, 0.5 * g.width, 0.5 * g.height);
+  const auto pixel = [&](__m256d v) __attribute__((target("avx2"))) {
+    return _mm256_sub_pd(_mm256_mul_pd(_mm256_add_pd(_mm256_xor_pd(v, negate_y), one), h), half);
+  };
+  const __m256d n = _mm256_setr_pd(g.width, g.height, g.width, g.height);
+  const __m256d s = _mm256_set1_pd(slack), zero = _mm256_setzero_pd();
+  // first: f = ceil(p - slack); f > 0 ? min(f, n) : 0 (a NaN f fails f > 0, as in the scalar).
+  const __m256d f = _mm256_round_pd(_mm256_sub_pd(pixel(from_first), s),
+                                    _MM_FROUND_TO_POS_INF | _MM_FROUND_NO_EXC);
+  const __m256d first = _mm256_and_pd(_mm256_cmp_pd(f, zero, _CMP_GT_OQ), _mm256_min_pd(f, n));
+  // last: f = floor(p + slack); f < n - 1 ? max(f, -1) : n - 1 (a NaN p gives a NaN f: n - 1).
+  const __m256d n1 = _mm256_sub_pd(n, one);
+  const __m256d l = _mm256_round_pd(_mm256_add_pd(pixel(from_last), s),
+                                    _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC);
+  const __m256d last = _mm256_blendv_pd(n1, _mm256_max_pd(l, _mm256_set1_pd(-1.0)),
+                                        _mm256_cmp_pd(l, n1, _CMP_LT_OQ));
+  const __m128i x0y0 = _mm256_cvttpd_epi32(first), x1y1 = _mm256_cvttpd_epi32(last);
+  _mm_storeu_si128(reinterpret_cast<__m128i *>(&out[0]), _mm_unpacklo_epi64(x0y0, x1y1));
+  _mm_storeu_si128(reinterpret_cast<__m128i *>(&out[1]), _mm_unpackhi_epi64(x0y0, x1y1));
+}
+#endif
+
+}  // namespace
+
+void ViewGeometry::sphere_rects_tight(const double *spheres, size_t stride, int n, double slack,
+                                      PixelRect *out) const {
+  const auto one = [&](int k) {
+    const double *s = spheres + size_t(k) * stride;
+    out[k] = sphere_rect_tight({s[0], s[1], s[2]}, s[3], slack);
+  };
+  int k = 0;
+#if LANTERN_RECTS_AVX2
+  static_assert(sizeof(PixelRect) == 4 * sizeof(int32_t), "a rectangle is stored as 4 lanes");
+  if (!orthographic && cpu_has_avx2()) {
+    // A sphere reaching behind half the near plane gets the whole image (sphere_ndc's test).
+    const auto beyond = [&](const double *s) {
+      return !(-s[2] - (s[3] + eps) <= 0.5 * near_plane);
+    };
+    for (; k + 2 <= n; k += 2) {
+      const double *a = spheres + size_t(k) * stride, *b = a + stride;
+      if (beyond(a) && beyond(b)) {
+        two_rects_avx2(*this, a, b, slack, out + k);
+      } else {
+        one(k), one(k + 1);
+      }
+    }
+  }
+#endif
+  for (; k < n; ++k) one(k);
+}
 
 ViewGeometry ViewGeometry::from_camera(const Camera &camera, double scale) {
   ViewGeometry g;

@@ -103,6 +103,14 @@ struct ViewGeometry {
       return PixelRect{0, 0, width - 1, height - 1};
     return ndc_rect_tight(x_lo, x_hi, y_lo, y_hi, slack);
   }
+  // sphere_rect_tight of n spheres: sphere k's view-space centre and radius are
+  // spheres[k * stride + 0, 1, 2, 3] (x, y, z, r; `stride` in doubles, at least 4), its rectangle
+  // out[k]. The same rectangles bit for bit. Why: the CPU raster works out a depth bucket's
+  // rectangles together, and with AVX2 two spheres share each vector instruction, so the
+  // divider (two divisions and a square root a sphere, most of the time of a rectangle) handles
+  // two at once.
+  void sphere_rects_tight(const double *spheres, size_t stride, int n, double slack,
+                          PixelRect *out) const;
   // The same for a view-space box given by its 8 corners' bounds (already expanded by radius).
   PixelRect box_rect(const glm::dvec3 corners[8]) const;
   // box_rect of the axis-aligned box [lo, hi]'s corners (box_corners' order), the same rectangle
