@@ -16,6 +16,7 @@
 // Thread-safety: none (one culling thread owns it).
 #pragma once
 
+#include <atomic>
 #include <vector>
 
 #include <glm/vec3.hpp>
@@ -39,6 +40,13 @@ class Hzb {
   // (its sphere_rect). Returns false (and writes nothing) when the sphere is unusable as an
   // occluder (its impostor could be clipped, or the eye is inside it).
   bool add_occluder(const glm::dvec3 &c, double r, const PixelRect &rect);
+
+  // Level 0, row by row (tests compare it).
+  const std::vector<float> &depth() const { return depth_; }
+
+  // Whether add_occluder may rasterise four columns at a time with AVX2 where the processor has
+  // it (the same depths bit for bit; tests turn it off to compare). Process-wide.
+  static std::atomic<bool> &vector_rows();
 
  private:
   bool usable(const glm::dvec3 &c, double r) const;
