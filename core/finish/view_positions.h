@@ -21,8 +21,9 @@ class ViewPositions {
   static constexpr float kBackground = std::numeric_limits<float>::infinity();
 
   // Distances of every pixel of band.frame (owned rows and halo); `image_width/height` are the
-  // whole image's.
-  void build(const BandFrame &band, const Camera &camera);
+  // whole image's. `vector`: with AVX2 where the processor has it, four pixels at a time (the
+  // same distances bit for bit; false keeps to one at a time, for tests to compare).
+  void build(const BandFrame &band, const Camera &camera, bool vector = true);
 
   // Distance along the view axis at image pixel (x, y), y an image row held by the band.
   float z(int x, int y) const { return z_[size_t(y - first_) * size_t(width_) + size_t(x)]; }

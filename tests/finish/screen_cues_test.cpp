@@ -8,6 +8,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <cstring>
+#include <random>
 #include <vector>
 
 #include <glm/mat4x4.hpp>
@@ -95,6 +97,46 @@ ScreenCueSettings no_cues() {
   ScreenCueSettings s;
   s.background = {kBg[0] / 255.0, kBg[1] / 255.0, kBg[2] / 255.0};
   return s;
+}
+
+TEST(ViewPositions, DistancesFourAtATimeAreTheOneAtATimeDistances) {
+  // Window depths across [0, 1] (and the background, and the values next to it, a NaN and odd
+  // widths that leave a tail): the distances of the vector build (AVX2 where the processor has it)
+  // and of the one-at-a-time build, bit for bit, perspective and orthographic.
+  std::mt19937 rng(4);
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  for (const bool orthographic : {false, true}) {
+    CameraConfig c;
+    if (orthographic) c.projection = Projection::kOrthographic;
+    for (const int width : {1, 3, 64, 333}) {
+      Camera camera;
+      ASSERT_OK(make_camera(c, glm::dvec3(-6), glm::dvec3(6), 1.0, width, 50, &camera));
+      BandFrame band;
+      band.first = 7;
+      band.owned = {7, 57};
+      band.frame = Frame(width, 50);
+      for (size_t i = 0; i < band.frame.depth.size(); ++i) {
+        float d = u(rng);
+        if (i % 7 == 0) d = std::pow(d, 0.01f);  // near 1: the far plane
+        if (i % 11 == 0) d = kBackgroundDepth;
+        if (i % 13 == 0) d = std::nextafter(kBackgroundDepth, 0.0f);
+        if (i % 17 == 0) d = 0.0f;
+        if (i % 101 == 5) d = std::nanf("");
+        band.frame.depth[i] = d;
+      }
+      ViewPositions vector, single;
+      vector.build(band, camera, true);
+      single.build(band, camera, false);
+      for (int y = 7; y < 57; ++y)
+        for (int x = 0; x < width; ++x) {
+          const float a = vector.z(x, y), b = single.z(x, y);
+          ASSERT_EQ(std::memcmp(&a, &b, sizeof a), 0)
+              << "pixel " << x << ", " << y << " of width " << width << ": " << a << " against "
+              << b << " (depth " << band.frame.depth[size_t(y - 7) * size_t(width) + size_t(x)]
+              << ")";
+        }
+    }
+  }
 }
 
 TEST(ScreenCues, NoCueLeavesTheFrameAlone) {
