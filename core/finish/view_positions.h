@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "core/camera/camera.h"
+#include "core/common/uninitialized_buffer.h"
 #include "core/composite/row_bands.h"
 
 namespace lantern {
@@ -53,7 +54,7 @@ class ViewPositions {
   // The factor by which a pixel's normalised offset grows with distance: z in perspective.
   float at(float z) const { return orthographic_ ? 1.0f : z; }
 
-  std::vector<float> z_;
+  UninitializedBuffer<float> z_;  // every entry written by build(): no zero-fill first
   int width_ = 0, height_ = 0, first_ = 0, rows_ = 0;
   bool orthographic_ = false;
   float x_scale_ = 0, x_offset_ = 0, y_scale_ = 0, y_offset_ = 0, ppu_ = 0;
