@@ -135,6 +135,10 @@ Status exchange_halo_rows(MPI_Comm comm, int width, int height, int halo, BandFr
   if (fits.ok() && int64_t(want.rows()) * width > INT_MAX)
     fits = {StatusCode::kMpi, "exchange_halo_rows: a band exceeds INT_MAX pixels"};
   if (Status s = agree_on_status(comm, fits); !s.ok()) return s;
+  band->owned = owned;
+  // No halo, or one rank: nothing to move. (Decided alike on every rank, which all pass the same
+  // `halo`: a rank whose own band needs nothing may still have rows to send.)
+  if (halo <= 0 || ranks == 1) return {};
 
   // Rows move in pixel counts: to rank k the rows of mine inside k's halo, from rank k the rows
   // of k's inside mine. Bands are in rank order, so the received rows land in order.
@@ -154,14 +158,21 @@ Status exchange_halo_rows(MPI_Comm comm, int width, int height, int halo, BandFr
     recv_counts[size_t(k)] = in.rows() * width;
     recv_offsets[size_t(k)] = (in.y0 - want.y0) * width * (in.rows() > 0);
   }
+  // The band with its halo: the halo rows (received below) zero-filled, my own rows copied once
+  // in place - not the whole frame zero-filled first and then overwritten.
   Frame wide;
   wide.width = width;
   wide.height = want.rows();
-  wide.rgba.resize(size_t(want.rows()) * size_t(width) * 4);
-  wide.depth.resize(size_t(want.rows()) * size_t(width));
   const size_t at = size_t(owned.y0 - want.y0) * size_t(width);  // my own rows, in place
-  std::copy(band->frame.rgba.begin(), band->frame.rgba.end(), wide.rgba.begin() + 4 * at);
-  std::copy(band->frame.depth.begin(), band->frame.depth.end(), wide.depth.begin() + at);
+  const size_t pixels = size_t(want.rows()) * size_t(width);
+  wide.rgba.reserve(4 * pixels);
+  wide.rgba.resize(4 * at);
+  wide.rgba.insert(wide.rgba.end(), band->frame.rgba.begin(), band->frame.rgba.end());
+  wide.rgba.resize(4 * pixels);
+  wide.depth.reserve(pixels);
+  wide.depth.resize(at);
+  wide.depth.insert(wide.depth.end(), band->frame.depth.begin(), band->frame.depth.end());
+  wide.depth.resize(pixels);
   int rc =
       MPI_Alltoallv(band->frame.rgba.data(), send_counts.data(), send_offsets.data(), MPI_UINT32_T,
                     wide.rgba.data(), recv_counts.data(), recv_offsets.data(), MPI_UINT32_T, comm);
@@ -171,7 +182,6 @@ Status exchange_halo_rows(MPI_Comm comm, int width, int height, int halo, BandFr
   if (Status s = agree_on_status(comm, mpi_error(rc, "MPI_Alltoallv")); !s.ok()) return s;
   band->frame = std::move(wide);
   band->first = want.y0;
-  band->owned = owned;
   return {};
 }
 
