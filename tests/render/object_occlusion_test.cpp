@@ -361,6 +361,57 @@ TEST(ObjectOcclusion, TheVolumeIsTheOneParticleAtATimeSumForEveryLayout) {
       ASSERT_EQ(v.enclosure_nodes(), expected) << "layout " << layout << ", cuts " << cuts.size();
     }
   }
+  // Positions in place, four particles at a time where the processor has AVX2: a last chunk
+  // whose count is not a multiple of 4 (99: the last four overlap the four before) and one of
+  // fewer than 4 (2), with a non-finite coordinate in the last particle of a chunk.
+  for (const int count : {256 * 234 + 99, 256 * 234 + 2}) {
+    std::vector<double> some(xyz.begin(), xyz.begin() + 3 * ptrdiff_t(count));
+    some[3 * (256 * 3 + 255) + 2] = std::nan("");
+    ParticleDescription d;
+    d.count = count;
+    d.position = {some.data(), DataType::kFloat64, 0};
+    ParticleArrays arrays;
+    ASSERT_OK(ParticleArrays::validate(d, &arrays));
+    OcclusionVolume v;
+    ASSERT_OK(v.build(MPI_COMM_SELF, arrays, global, {}, kRadius, kStrength));
+    const std::vector<float> expected =
+        reference_enclosure(some, std::vector<int32_t>(size_t(count), 1), {}, global, v);
+    ASSERT_FALSE(expected.empty());
+    ASSERT_EQ(v.enclosure_nodes(), expected) << count << " particles";
+  }
+}
+
+// A volume kept from frame to frame zeroes the planes of z its in-place deposits reach: a frame
+// whose particles lie low in z (and high in y) after one that filled every plane.
+TEST(ObjectOcclusion, InPlaceDepositsZeroThePlanesTheyReach) {
+  uint64_t state = 97531;
+  const auto uniform = [&state] {
+    state = state * 6364136223846793005ull + 1442695040888963407ull;
+    return double(state >> 11) / double(uint64_t(1) << 53);
+  };
+  std::vector<double> everywhere, low;
+  for (int i = 0; i < 20000; ++i) {
+    for (const double extent : {40.0, 30.0, 35.0}) everywhere.push_back(extent * uniform());
+    low.push_back(40.0 * uniform());
+    low.push_back(24.0 + 6.0 * uniform());
+    low.push_back(4.0 * uniform());
+  }
+  const auto arrays_of = [](std::vector<double> &xyz) {
+    ParticleDescription d;
+    d.count = int64_t(xyz.size() / 3);
+    d.position = {xyz.data(), DataType::kFloat64, 0};
+    ParticleArrays arrays;
+    EXPECT_OK(ParticleArrays::validate(d, &arrays));
+    return arrays;
+  };
+  const Extent global = cloud_extent();
+  OcclusionVolume kept, fresh;
+  ASSERT_OK(kept.build(MPI_COMM_SELF, arrays_of(everywhere), global, {}, kRadius, kStrength));
+  ASSERT_OK(kept.build(MPI_COMM_SELF, arrays_of(low), global, {}, kRadius, kStrength));
+  ASSERT_OK(fresh.build(MPI_COMM_SELF, arrays_of(low), global, {}, kRadius, kStrength));
+  ASSERT_FALSE(fresh.enclosure_nodes().empty());
+  EXPECT_EQ(kept.bulk_per_cell(), fresh.bulk_per_cell());
+  ASSERT_EQ(kept.enclosure_nodes(), fresh.enclosure_nodes());
 }
 
 // More particles on one node than a 32-bit sum of their deposits holds (2^20 x 4096, each on
