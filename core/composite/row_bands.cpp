@@ -121,11 +121,12 @@ Status gather_row_bands(MPI_Comm comm, int root, const BandFrame &band, int widt
   return agree_on_status(comm, mpi_error(rc, "MPI_Gatherv"));
 }
 
-Status exchange_halo_rows(MPI_Comm comm, int width, int height, int halo, BandFrame *band) {
+Status exchange_halo_rows(MPI_Comm comm, int width, int height, int halo, BandFrame *band,
+                          int multiple) {
   int rank = 0, ranks = 1;
   MPI_Comm_rank(comm, &rank);
   MPI_Comm_size(comm, &ranks);
-  const RowBand owned = row_band(height, ranks, rank, 1);
+  const RowBand owned = row_band(height, ranks, rank, multiple);
   const RowBand want = with_halo(owned, height, halo);
   Status fits;
   if (band->first != owned.y0 || band->frame.width != width || band->frame.height != owned.rows())
@@ -150,7 +151,7 @@ Status exchange_halo_rows(MPI_Comm comm, int width, int height, int halo, BandFr
   std::vector<int> recv_counts(size_t(ranks), 0), recv_offsets(size_t(ranks), 0);
   for (int k = 0; k < ranks; ++k) {
     if (k == rank) continue;
-    const RowBand theirs = row_band(height, ranks, k, 1);
+    const RowBand theirs = row_band(height, ranks, k, multiple);
     const RowBand out = overlap(owned, with_halo(theirs, height, halo));
     const RowBand in = overlap(theirs, want);
     send_counts[size_t(k)] = out.rows() * width;

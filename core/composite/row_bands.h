@@ -53,10 +53,11 @@ Status gather_row_bands(MPI_Comm comm, int root, const BandFrame &band, int widt
                         Frame *full);
 
 // Widens every rank's band by its halo without a root: on entry band->frame holds exactly the
-// rank's row_band(height, ranks, rank, 1) (band->first == band->owned.y0, width pixels a row); on
-// return it holds rows [owned.y0 - halo, owned.y1 + halo) clamped to the image, the extra rows
-// received from the ranks that own them (any number of ranks away). A rank that owns no rows gets
-// none. OK or kMpi (the same on every rank).
-Status exchange_halo_rows(MPI_Comm comm, int width, int height, int halo, BandFrame *band);
+// rank's row_band(height, ranks, rank, multiple) (band->first == band->owned.y0, width pixels a
+// row); on return it holds rows [owned.y0 - halo, owned.y1 + halo) clamped to the image, the
+// extra rows received from the ranks that own them (any number of ranks away). A rank that owns
+// no rows gets none. OK or kMpi (the same on every rank).
+Status exchange_halo_rows(MPI_Comm comm, int width, int height, int halo, BandFrame *band,
+                          int multiple = 1);
 
 }  // namespace lantern

@@ -1,6 +1,7 @@
 #include "core/finish/finish_image.h"
 
 #include <chrono>
+#include <string>
 #include <utility>
 
 #include "core/common/ms_since.h"
@@ -21,13 +22,15 @@ SampleAlpha sample_alpha(const FinishSettings &finish) {
 }
 
 // The frames composited so that every rank ends with its own row band of the merged frame
-// (whole pixels, i.e. multiples of s sample rows), down-sampled (s > 1) into *band, which then
-// holds exactly the rank's row_band(height, ranks, rank) of the image. Fills *composite.
-Status composite_into_image_band(MPI_Comm comm, Frame &frame, int s, SampleAlpha alpha,
-                                 const CompositeOptions &options, BandFrame *band,
-                                 CompositeStats *composite) {
+// (multiples of `multiple` image rows, i.e. of s * multiple sample rows), down-sampled (s > 1)
+// into *band, which then holds exactly the rank's row_band(height, ranks, rank, multiple) of the
+// image. Fills *composite.
+Status composite_into_image_band(MPI_Comm comm, Frame &frame, int s, int multiple,
+                                 SampleAlpha alpha, const CompositeOptions &options,
+                                 BandFrame *band, CompositeStats *composite) {
   RowBand rows;
-  if (Status st = composite_to_row_bands(comm, frame, s, &rows, options, composite); !st.ok())
+  if (Status st = composite_to_row_bands(comm, frame, s * multiple, &rows, options, composite);
+      !st.ok())
     return st;
   band->first = rows.y0 / s;
   band->owned = {rows.y0 / s, rows.y1 / s};
@@ -58,6 +61,19 @@ Status assemble_image(MPI_Comm comm, BandFrame *band, int width, int height, Fra
   return gather_row_bands(comm, 0, *band, width, height, image);
 }
 
+// Widens every rank's band (of row_band(height, ranks, rank, multiple)) by the halo the cues
+// read and cues its own rows. Adds the time to stats->cues_ms.
+Status cue_image_band(MPI_Comm comm, const FinishSettings &finish, const Camera &image_camera,
+                      double sphere_radius, int multiple, BandFrame *band, FinishStats *stats) {
+  const auto t0 = Clock::now();
+  Status cued = exchange_halo_rows(comm, finish.width, finish.height, screen_cue_halo(finish.cues),
+                                   band, multiple);
+  if (cued.ok()) cued = cue_band(comm, finish.cues, image_camera, sphere_radius, band);
+  if (!cued.ok()) return with_context("screen cues: ", std::move(cued));
+  stats->cues_ms += ms_since(t0);
+  return {};
+}
+
 }  // namespace
 
 Status finish_image(MPI_Comm comm, Frame &frame, const FinishSettings &finish,
@@ -76,19 +92,15 @@ Status finish_image(MPI_Comm comm, Frame &frame, const FinishSettings &finish,
   BandFrame band;
   const SampleAlpha alpha = sample_alpha(finish);
   if (Status st =
-          composite_into_image_band(comm, frame, s, alpha, options, &band, &stats->composite);
+          composite_into_image_band(comm, frame, s, 1, alpha, options, &band, &stats->composite);
       !st.ok())
     return with_context("compositing: ", std::move(st));
   stats->downsample_ms = ms_since(t0) - stats->composite.milliseconds;
-  if (cues) {
-    // Each rank cues its band plus the halo rows its neighbours own.
-    t0 = Clock::now();
-    Status cued =
-        exchange_halo_rows(comm, finish.width, finish.height, screen_cue_halo(finish.cues), &band);
-    if (cued.ok()) cued = cue_band(comm, finish.cues, image_camera, sphere_radius, &band);
-    if (!cued.ok()) return with_context("screen cues: ", std::move(cued));
-    stats->cues_ms += ms_since(t0);
-  }
+  // Each rank cues its band plus the halo rows its neighbours own.
+  if (cues)
+    if (Status st = cue_image_band(comm, finish, image_camera, sphere_radius, 1, &band, stats);
+        !st.ok())
+      return st;
   t0 = Clock::now();
   if (Status st = assemble_image(comm, &band, finish.width, finish.height, image); !st.ok())
     return with_context("gathering the image: ", std::move(st));
@@ -97,14 +109,36 @@ Status finish_image(MPI_Comm comm, Frame &frame, const FinishSettings &finish,
 }
 
 Status finish_image_to_bands(MPI_Comm comm, Frame &frame, const FinishSettings &finish,
+                             const Camera &image_camera, double sphere_radius,
                              const CompositeCostModel *model, int band_rows, Frame *band,
                              ImageBand *owned, FinishStats *stats) {
   const int s = finish.samples_per_axis;
-  if (wants_screen_cues(finish.cues) || band_rows < 1 || finish.height % band_rows != 0)
+  if (band_rows < 1 || finish.height % band_rows != 0)
     return {StatusCode::kInvalidArgument,
-            "finish_image_to_bands: screen cues, or bands that do not divide the image"};
+            "finish_image_to_bands: bands of " + std::to_string(band_rows) +
+                " rows do not divide the image's " + std::to_string(finish.height)};
   CompositeOptions options;
   options.model = model;
+  if (wants_screen_cues(finish.cues)) {
+    // As finish_image up to the gathering, with bands of whole `band_rows`: the cued rows stay
+    // in *band (the halo rows above them first).
+    const auto t0 = Clock::now();
+    BandFrame cued;
+    if (Status st = composite_into_image_band(comm, frame, s, band_rows, sample_alpha(finish),
+                                              options, &cued, &stats->composite);
+        !st.ok())
+      return with_context("compositing: ", std::move(st));
+    stats->downsample_ms = ms_since(t0) - stats->composite.milliseconds;
+    if (Status st =
+            cue_image_band(comm, finish, image_camera, sphere_radius, band_rows, &cued, stats);
+        !st.ok())
+      return st;
+    owned->rows = cued.owned;
+    owned->first = cued.first;
+    *band = std::move(cued.frame);
+    owned->held = band;
+    return {};
+  }
   RowBand rows;  // sample rows
   if (Status st =
           composite_to_row_bands(comm, frame, s * band_rows, &rows, options, &stats->composite);
@@ -115,12 +149,14 @@ Status finish_image_to_bands(MPI_Comm comm, Frame &frame, const FinishSettings &
   // where compositing left them.
   if (s == 1) {
     owned->first = 0;
+    owned->held = &frame;
     return {};
   }
   const auto t0 = Clock::now();
   const SampleAlpha alpha = sample_alpha(finish);
   downsample_band(frame, s, owned->rows.y0, owned->rows.rows(), band, alpha);
   owned->first = owned->rows.y0;
+  owned->held = band;
   stats->downsample_ms = ms_since(t0);
   return {};
 }

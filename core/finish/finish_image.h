@@ -57,23 +57,28 @@ Status finish_image(MPI_Comm comm, Frame &frame, const FinishSettings &finish,
                     const Camera &image_camera, double sphere_radius,
                     const CompositeCostModel *model, Frame *image, FinishStats *stats);
 
-// This rank's rows of an image left in row bands: image rows [rows.y0, rows.y1), held in a frame
-// whose row 0 is image row `first`.
+// This rank's rows of an image left in row bands: image rows [rows.y0, rows.y1), held in the
+// frame `held` (not owned: finish_image_to_bands's `frame` or *band), whose row 0 is image row
+// `first`.
 struct ImageBand {
   RowBand rows;
   int first = 0;
+  const Frame *held = nullptr;
 };
 
 // finish_image without gathering the image on root, for an output that works band by band (the
 // PNG writer, core/output/png/png_across_ranks.h): the frames are composited so that every rank
 // ends with its own row band of the image, every boundary a multiple of `band_rows` image rows
-// (which must divide finish.height), down-sampled when s > 1. On return *owned says which rows
-// this rank holds: in `frame` itself when s is 1 (its other rows are unspecified), else in *band
-// (width x owned->rows.rows() pixels). The bands depend only on (height, ranks, band_rows), the
-// pixels on nothing but their samples, so the bytes do not depend on the rank count. No screen-
-// space cues (their halo exchange wants bands of any row): kInvalidArgument, on every rank, when
-// finish.cues asks for some or band_rows does not divide the height.
+// (which must divide finish.height), down-sampled when s > 1, and cued as finish_image cues
+// (each band widened by the halo rows its neighbours hold). On return *owned says which rows this
+// rank holds and where: in `frame` itself when s is 1 and there are no screen cues (its other
+// rows are unspecified), else in *band (width x owned->rows.rows() pixels, after the halo rows
+// above them with cues), which must then not be `frame`. The bands depend only on (height,
+// ranks, band_rows), the pixels on nothing but their samples and halo, so the bytes do not
+// depend on the rank count. kInvalidArgument, on every rank, when band_rows does not divide the
+// height.
 Status finish_image_to_bands(MPI_Comm comm, Frame &frame, const FinishSettings &finish,
+                             const Camera &image_camera, double sphere_radius,
                              const CompositeCostModel *model, int band_rows, Frame *band,
                              ImageBand *owned, FinishStats *stats);
 

@@ -54,20 +54,18 @@ std::optional<std::array<double, 2>> scalar_range_of(const Extent &global) {
 }
 
 // Row bands the finished image can stay in (SceneSettings::image_band_rows), or 0: when its only
-// use is a PNG file written now (no movie, no overlays drawn on root, no background writer), the
-// file's bands divide the image, and nothing after compositing reads rows beyond a band (no
-// screen-space cues). Then the merged frame is never gathered on rank 0 to be handed out again
-// for compression: every rank composites and compresses its own bands
-// (write_png_from_row_bands). With more ranks than bands (8 from 256 rows) the first ranks hold
-// one band each and the others none: still 1/8 of the image at most on any rank, where rank 0
-// would receive all of it. The same decision on every rank.
+// use is a PNG file written now (no movie, no overlays drawn on root, no background writer) and
+// the file's bands divide the image. Then the merged frame is never gathered on rank 0 to be
+// handed out again for compression: every rank composites, cues (with the halo rows of its
+// neighbours' bands) and compresses its own bands (write_png_from_row_bands). With more ranks than
+// bands (8 from 256 rows) the first ranks hold one band each and the others none: still 1/8 of the
+// image at most on any rank, where rank 0 would receive all of it. The same decision on every rank.
 int image_band_rows(MPI_Comm comm, const SceneConfig &scene, const SceneSettings &settings) {
   int ranks = 1;
   MPI_Comm_size(comm, &ranks);
   const OutputConfig &out = scene.output;
   if (ranks == 1 || out.format != ImageFormat::kPng || out.asynchronous || !out.images ||
-      out.movie.enabled || settings.finish.overlays.any() ||
-      wants_screen_cues(settings.finish.cues))
+      out.movie.enabled || settings.finish.overlays.any())
     return 0;
   return png_band_rows(scene.height, scene.width);
 }
@@ -86,7 +84,7 @@ Status write_image_file(const ScenePassInputs &in, const SceneConfig &scene, con
     stats->file = expand_pattern(scene.output.pattern, in.step, scene.name);
     const ImageBand &band = *buffers->image_band;
     const uint8_t *rows =
-        buffers->frame.rgba.data() + size_t(band.rows.y0 - band.first) * size_t(scene.width) * 4;
+        band.held->rgba.data() + size_t(band.rows.y0 - band.first) * size_t(scene.width) * 4;
     written = with_context(
         where, write_png_from_row_bands(in.comm, 0, rows, band.rows.y0, band.rows.y1, scene.width,
                                         scene.height, scene.output.compression_level, stats->file));

@@ -80,7 +80,8 @@ struct SceneBuffers {
   // Set when this frame's image was left in row bands (SceneSettings::image_band_rows): the rows
   // this rank holds in `frame`.
   std::optional<ImageBand> image_band;
-  Frame samples;  // samples > 1: the sample-resolution frame, kept between steps like `frame`
+  Frame samples;    // samples > 1: the sample-resolution frame, kept between steps like `frame`
+  Frame cued_band;  // screen cues on one sample left in row bands: this rank's cued rows
   BackgroundImageWriter writer;  // rank 0, with output.asynchronous
   BrickCutCounts cut_counts;     // this scene's cutting planes per brick (edits are incremental)
   DensityImage density;          // style: density - this rank's sums, then (rank 0) all ranks'

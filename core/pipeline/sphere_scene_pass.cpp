@@ -109,8 +109,11 @@ Status run_sphere_scene(const ScenePassInputs &in, const SceneSettings &settings
   Status s;
   if (settings.image_band_rows > 0) {
     ImageBand band;
-    s = finish_image_to_bands(in.comm, frame, settings.finish, cost, settings.image_band_rows,
-                              &buffers->frame, &band, &finished);
+    // The rows end in `frame` (one sample, no cues) or in a band frame that is not it.
+    Frame *held = &frame == &buffers->frame ? &buffers->cued_band : &buffers->frame;
+    s = finish_image_to_bands(in.comm, frame, settings.finish, image_camera,
+                              radius.max_radius(in.global), cost, settings.image_band_rows, held,
+                              &band, &finished);
     if (s.ok()) buffers->image_band = band;
   } else {
     s = finish_image(in.comm, frame, settings.finish, image_camera, radius.max_radius(in.global),

@@ -1,7 +1,7 @@
 // finish_image_to_bands (core/finish/finish_image.h) under mpiexec: every rank's band holds exactly
-// the rows of the image finish_image puts on root - composited, and down-sampled with samples -
-// its bands start on multiples of the rows asked for and cover the image in rank order; screen
-// cues (whose halo exchange wants bands of single rows) are refused on every rank.
+// the rows of the image finish_image puts on root - composited, down-sampled with samples, and
+// with the screen-space cues - its bands start on multiples of the rows asked for and cover the
+// image in rank order; bands that do not divide the image are refused on every rank.
 #include <gtest/gtest.h>
 
 #include <mpi.h>
@@ -10,9 +10,11 @@
 #include <string>
 #include <vector>
 
+#include "core/camera/camera.h"
 #include "core/finish/finish_image.h"
 #include "tests/composite/synthetic_frames.h"
 #include "tests/support/mpi_world.h"
+#include "tests/support/status_expect.h"
 
 namespace lantern::testing {
 namespace {
@@ -32,69 +34,112 @@ FinishSettings settings(int width, int height, int s) {
   return f;
 }
 
+// Every screen-space cue at once: ambient occlusion at half resolution (halo 39 rows, more than
+// a band holds), outlines and depth cueing.
+FinishSettings cued(int width, int height, int s) {
+  FinishSettings f = settings(width, height, s);
+  f.cues.ambient_occlusion.enabled = true;
+  f.cues.ambient_occlusion.method = AmbientOcclusionMethod::kScreen;
+  f.cues.outline.enabled = true;
+  f.cues.depth_cue.enabled = true;
+  return f;
+}
+
+// Orthographic along -z over a 12 x 12 box, near 10 and far 90: the synthetic frames' window
+// depths are distances 10 to 90, and a sphere radius of 2 is a few pixels (the cues' unit).
+Camera cue_camera(int width, int height) {
+  CameraConfig c;
+  c.projection = Projection::kOrthographic;
+  c.position = std::array<double, 3>{0, 0, 50};
+  c.look_at = {0, 0, 0};
+  c.up = {0, 1, 0};
+  c.near_plane = 10;
+  c.far_plane = 90;
+  Camera camera;
+  EXPECT_OK(make_camera(c, glm::dvec3(-6), glm::dvec3(6), 1.0, width, height, &camera));
+  return camera;
+}
+constexpr double kCueRadius = 2.0;
+
 TEST(FinishImage, BandsHoldTheRowsOfTheImageOnRoot) {
   const int ranks = world_size(), rank = world_rank();
   const int width = 37, height = 48;
-  for (const int s : {1, 2})
-    for (const int band_rows : {1, 6, 16}) {
-      SCOPED_TRACE("samples " + std::to_string(s * s) + ", bands of " + std::to_string(band_rows));
-      const FinishSettings finish = settings(width, height, s);
-      // The reference: the image on root, handed to every rank.
-      // (With one sample root's image is its frame, composited in place, as the pipeline has it.)
-      Frame frame = rank_frame(rank, width, height, s);
-      Frame image;
-      FinishStats stats;
-      ASSERT_TRUE(finish_image(MPI_COMM_WORLD, frame, finish, Camera(), 1.0, nullptr,
-                               s == 1 ? &frame : &image, &stats)
-                      .ok());
-      if (s == 1) image = frame;
-      if (rank != 0) image = Frame(width, height);
-      if (image.rgba.size() != size_t(4 * width * height)) {  // no rank may skip the broadcast
-        ADD_FAILURE() << "rank " << rank << ": the image is not " << width << " x " << height;
-        image = Frame(width, height);
-      }
-      MPI_Bcast(image.rgba.data(), int(image.rgba.size()), MPI_UINT8_T, 0, MPI_COMM_WORLD);
+  const Camera camera = cue_camera(width, height);
+  for (const bool cues : {false, true})
+    for (const int s : {1, 2})
+      for (const int band_rows : {1, 6, 16}) {
+        SCOPED_TRACE(std::string(cues ? "cues, " : "") + "samples " + std::to_string(s * s) +
+                     ", bands of " + std::to_string(band_rows));
+        const FinishSettings finish = cues ? cued(width, height, s) : settings(width, height, s);
+        // The reference: the image on root, handed to every rank.
+        // (With one sample root's image is its frame, composited in place, as the pipeline has it.)
+        Frame frame = rank_frame(rank, width, height, s);
+        Frame image;
+        FinishStats stats;
+        ASSERT_TRUE(finish_image(MPI_COMM_WORLD, frame, finish, camera, kCueRadius, nullptr,
+                                 s == 1 ? &frame : &image, &stats)
+                        .ok());
+        if (s == 1) image = frame;
+        if (rank != 0) image = Frame(width, height);
+        if (image.rgba.size() != size_t(4 * width * height)) {  // no rank may skip the broadcast
+          ADD_FAILURE() << "rank " << rank << ": the image is not " << width << " x " << height;
+          image = Frame(width, height);
+        }
+        MPI_Bcast(image.rgba.data(), int(image.rgba.size()), MPI_UINT8_T, 0, MPI_COMM_WORLD);
 
-      Frame mine = rank_frame(rank, width, height, s), band;
-      ImageBand owned;
-      ASSERT_TRUE(finish_image_to_bands(MPI_COMM_WORLD, mine, finish, nullptr, band_rows, &band,
-                                        &owned, &stats)
-                      .ok());
-      EXPECT_EQ(owned.rows.y0 % band_rows, 0);
-      EXPECT_EQ(owned.rows.y1 % band_rows, 0);
-      // The ranks' bands follow one another from row 0 to the last.
-      std::vector<int> all(size_t(2 * ranks));
-      const int rows[2] = {owned.rows.y0, owned.rows.y1};
-      MPI_Allgather(rows, 2, MPI_INT, all.data(), 2, MPI_INT, MPI_COMM_WORLD);
-      EXPECT_EQ(all.front(), 0);
-      EXPECT_EQ(all.back(), height);
-      for (int k = 1; k < ranks; ++k) EXPECT_EQ(all[size_t(2 * k)], all[size_t(2 * k - 1)]);
-      // Their pixels are the image's, where finish_image_to_bands says they are.
-      const Frame &held = s == 1 ? mine : band;
-      EXPECT_EQ(owned.first, s == 1 ? 0 : owned.rows.y0);
-      int differing = 0;
-      for (int y = owned.rows.y0; y < owned.rows.y1; ++y)
-        differing +=
-            std::memcmp(&held.rgba[4 * size_t(y - owned.first) * size_t(width)],
-                        &image.rgba[4 * size_t(y) * size_t(width)], 4 * size_t(width)) != 0;
-      EXPECT_EQ(differing, 0) << "rank " << rank << " rows " << owned.rows.y0 << ".."
-                              << owned.rows.y1;
-    }
+        Frame mine = rank_frame(rank, width, height, s), band;
+        ImageBand owned;
+        ASSERT_TRUE(finish_image_to_bands(MPI_COMM_WORLD, mine, finish, camera, kCueRadius, nullptr,
+                                          band_rows, &band, &owned, &stats)
+                        .ok());
+        EXPECT_EQ(owned.rows.y0 % band_rows, 0);
+        EXPECT_EQ(owned.rows.y1 % band_rows, 0);
+        // The ranks' bands follow one another from row 0 to the last.
+        std::vector<int> all(size_t(2 * ranks));
+        const int rows[2] = {owned.rows.y0, owned.rows.y1};
+        MPI_Allgather(rows, 2, MPI_INT, all.data(), 2, MPI_INT, MPI_COMM_WORLD);
+        EXPECT_EQ(all.front(), 0);
+        EXPECT_EQ(all.back(), height);
+        for (int k = 1; k < ranks; ++k) EXPECT_EQ(all[size_t(2 * k)], all[size_t(2 * k - 1)]);
+        // Their pixels are the image's, where finish_image_to_bands says they are.
+        const Frame &held = s == 1 && !cues ? mine : band;
+        EXPECT_EQ(owned.held, &held);
+        if (!cues) EXPECT_EQ(owned.first, s == 1 ? 0 : owned.rows.y0);
+        EXPECT_LE(owned.first, owned.rows.y0);
+        int differing = 0;
+        for (int y = owned.rows.y0; y < owned.rows.y1; ++y)
+          differing +=
+              std::memcmp(&held.rgba[4 * size_t(y - owned.first) * size_t(width)],
+                          &image.rgba[4 * size_t(y) * size_t(width)], 4 * size_t(width)) != 0;
+        EXPECT_EQ(differing, 0) << "rank " << rank << " rows " << owned.rows.y0 << ".."
+                                << owned.rows.y1;
+      }
 }
 
-TEST(FinishImage, BandsRefuseScreenCuesAndBandsThatDoNotDivideOnEveryRank) {
+// The cues change the image (so the comparison above is not of two uncued images).
+TEST(FinishImage, TheCuesChangeTheImage) {
+  const int width = 37, height = 48;
+  const Camera camera = cue_camera(width, height);
+  Frame plain = rank_frame(world_rank(), width, height, 1), shaded = plain;
+  FinishStats stats;
+  ASSERT_TRUE(finish_image(MPI_COMM_WORLD, plain, settings(width, height, 1), camera, kCueRadius,
+                           nullptr, &plain, &stats)
+                  .ok());
+  ASSERT_TRUE(finish_image(MPI_COMM_WORLD, shaded, cued(width, height, 1), camera, kCueRadius,
+                           nullptr, &shaded, &stats)
+                  .ok());
+  if (world_rank() == 0) EXPECT_NE(plain.rgba, shaded.rgba);
+}
+
+TEST(FinishImage, BandsThatDoNotDivideTheImageAreRefusedOnEveryRank) {
   Frame frame = rank_frame(world_rank(), 20, 12, 1), band;
   ImageBand owned;
   FinishStats stats;
-  FinishSettings cued = settings(20, 12, 1);
-  cued.cues.outline.enabled = true;
-  EXPECT_EQ(
-      finish_image_to_bands(MPI_COMM_WORLD, frame, cued, nullptr, 4, &band, &owned, &stats).code,
-      StatusCode::kInvalidArgument);
-  EXPECT_EQ(finish_image_to_bands(MPI_COMM_WORLD, frame, settings(20, 12, 1), nullptr, 5, &band,
-                                  &owned, &stats)
-                .code,
-            StatusCode::kInvalidArgument);
+  for (const FinishSettings &finish : {settings(20, 12, 1), cued(20, 12, 1)})
+    EXPECT_EQ(finish_image_to_bands(MPI_COMM_WORLD, frame, finish, Camera(), 1.0, nullptr, 5, &band,
+                                    &owned, &stats)
+                  .code,
+              StatusCode::kInvalidArgument);
   // Nothing was left in flight: the communicator still works.
   int sum = 0, one = 1;
   MPI_Allreduce(&one, &sum, 1, MPI_INT, MPI_SUM, MPI_COMM_WORLD);
