@@ -13,12 +13,6 @@
 namespace lantern {
 namespace {
 
-// The rows rank k holds with its halo, clamped to the image.
-RowBand with_halo(const RowBand &owned, int height, int halo) {
-  if (owned.rows() == 0) return owned;
-  return {std::max(0, owned.y0 - halo), std::min(height, owned.y1 + halo)};
-}
-
 // Pixel counts and offsets of every rank's rows, for the v-collectives; false if one does not
 // fit an int.
 bool counts_of(const std::vector<RowBand> &rows, int width, std::vector<int> *counts,
@@ -35,7 +29,16 @@ bool counts_of(const std::vector<RowBand> &rows, int width, std::vector<int> *co
   return true;
 }
 
+// Tags of the halo rows' messages (other tags on a communicator Lantern uses: 0x4c50-0x4c60).
+constexpr int kHaloColorTag = 0x4c48;
+constexpr int kHaloDepthTag = kHaloColorTag + 1;
+
 }  // namespace
+
+RowBand with_halo(const RowBand &owned, int height, int halo) {
+  if (owned.rows() == 0) return owned;
+  return {std::max(0, owned.y0 - halo), std::min(height, owned.y1 + halo)};
+}
 
 RowBand row_band(int height, int ranks, int rank, int multiple) {
   const int64_t units = height / std::max(multiple, 1);  // blocks of `multiple` rows
@@ -128,62 +131,70 @@ Status exchange_halo_rows(MPI_Comm comm, int width, int height, int halo, BandFr
   MPI_Comm_size(comm, &ranks);
   const RowBand owned = row_band(height, ranks, rank, multiple);
   const RowBand want = with_halo(owned, height, halo);
+  const bool exact = band->first == owned.y0 && band->frame.height == owned.rows();
+  const bool widened = band->first == want.y0 && band->frame.height == want.rows();
   Status fits;
-  if (band->first != owned.y0 || band->frame.width != width || band->frame.height != owned.rows())
+  if (band->frame.width != width || !(exact || widened))
     fits = {StatusCode::kMpi, "exchange_halo_rows: rank " + std::to_string(rank) +
                                   "'s band is not exactly its rows " + std::to_string(owned.y0) +
-                                  ".." + std::to_string(owned.y1)};
+                                  ".." + std::to_string(owned.y1) + " (nor them with their halo)"};
   if (fits.ok() && int64_t(want.rows()) * width > INT_MAX)
     fits = {StatusCode::kMpi, "exchange_halo_rows: a band exceeds INT_MAX pixels"};
   if (Status s = agree_on_status(comm, fits); !s.ok()) return s;
   band->owned = owned;
-  // No halo, or one rank: nothing to move. (Decided alike on every rank, which all pass the same
-  // `halo`: a rank whose own band needs nothing may still have rows to send.)
+  // No halo, or one rank: nothing to move (then the band is its rows, exactly). Decided alike
+  // on every rank, which all pass the same `halo`: a rank whose own band needs nothing may still
+  // have rows to send.
   if (halo <= 0 || ranks == 1) return {};
 
-  // Rows move in pixel counts: to rank k the rows of mine inside k's halo, from rank k the rows
-  // of k's inside mine. Bands are in rank order, so the received rows land in order.
+  // My own rows to their place among the halo rows, in the band's own buffers.
+  Frame &f = band->frame;
+  if (!widened) {
+    const size_t at = size_t(owned.y0 - want.y0) * size_t(width);
+    const size_t mine = size_t(owned.rows()) * size_t(width);
+    const size_t pixels = size_t(want.rows()) * size_t(width);
+    f.rgba.resize(4 * pixels);
+    f.depth.resize(pixels);
+    std::copy_backward(f.rgba.begin(), f.rgba.begin() + ptrdiff_t(4 * mine),
+                       f.rgba.begin() + ptrdiff_t(4 * (at + mine)));
+    std::copy_backward(f.depth.begin(), f.depth.begin() + ptrdiff_t(mine),
+                       f.depth.begin() + ptrdiff_t(at + mine));
+    f.height = want.rows();
+    band->first = want.y0;
+  }
+  // To rank k the rows of mine inside k's halo, from rank k the rows of k's inside mine: the
+  // received rows are disjoint from the sent ones, so both use the band's buffers.
   const auto overlap = [](RowBand a, RowBand b) {
     const int y0 = std::max(a.y0, b.y0), y1 = std::min(a.y1, b.y1);
     return y1 > y0 ? RowBand{y0, y1} : RowBand{0, 0};
   };
-  std::vector<int> send_counts(size_t(ranks), 0), send_offsets(size_t(ranks), 0);
-  std::vector<int> recv_counts(size_t(ranks), 0), recv_offsets(size_t(ranks), 0);
+  std::vector<MPI_Request> requests;
+  int rc = MPI_SUCCESS;
+  const auto post = [&](bool receive, RowBand rows, int k) {
+    if (rows.rows() == 0 || rc != MPI_SUCCESS) return;
+    const size_t at = size_t(rows.y0 - want.y0) * size_t(width);
+    const int count = rows.rows() * width;  // <= want.rows() * width <= INT_MAX
+    uint8_t *rgba = f.rgba.data() + 4 * at;
+    float *depth = f.depth.data() + at;
+    for (int part = 0; part < 2 && rc == MPI_SUCCESS; ++part) {
+      void *data = part == 0 ? static_cast<void *>(rgba) : static_cast<void *>(depth);
+      const MPI_Datatype type = part == 0 ? MPI_UINT32_T : MPI_FLOAT;
+      const int tag = part == 0 ? kHaloColorTag : kHaloDepthTag;
+      requests.emplace_back();
+      rc = receive ? MPI_Irecv(data, count, type, k, tag, comm, &requests.back())
+                   : MPI_Isend(data, count, type, k, tag, comm, &requests.back());
+      if (rc != MPI_SUCCESS) requests.pop_back();
+    }
+  };
   for (int k = 0; k < ranks; ++k) {
     if (k == rank) continue;
     const RowBand theirs = row_band(height, ranks, k, multiple);
-    const RowBand out = overlap(owned, with_halo(theirs, height, halo));
-    const RowBand in = overlap(theirs, want);
-    send_counts[size_t(k)] = out.rows() * width;
-    send_offsets[size_t(k)] = (out.y0 - owned.y0) * width * (out.rows() > 0);
-    recv_counts[size_t(k)] = in.rows() * width;
-    recv_offsets[size_t(k)] = (in.y0 - want.y0) * width * (in.rows() > 0);
+    post(true, overlap(theirs, want), k);
+    post(false, overlap(owned, with_halo(theirs, height, halo)), k);
   }
-  // The band with its halo: the halo rows (received below) zero-filled, my own rows copied once
-  // in place - not the whole frame zero-filled first and then overwritten.
-  Frame wide;
-  wide.width = width;
-  wide.height = want.rows();
-  const size_t at = size_t(owned.y0 - want.y0) * size_t(width);  // my own rows, in place
-  const size_t pixels = size_t(want.rows()) * size_t(width);
-  wide.rgba.reserve(4 * pixels);
-  wide.rgba.resize(4 * at);
-  wide.rgba.insert(wide.rgba.end(), band->frame.rgba.begin(), band->frame.rgba.end());
-  wide.rgba.resize(4 * pixels);
-  wide.depth.reserve(pixels);
-  wide.depth.resize(at);
-  wide.depth.insert(wide.depth.end(), band->frame.depth.begin(), band->frame.depth.end());
-  wide.depth.resize(pixels);
-  int rc =
-      MPI_Alltoallv(band->frame.rgba.data(), send_counts.data(), send_offsets.data(), MPI_UINT32_T,
-                    wide.rgba.data(), recv_counts.data(), recv_offsets.data(), MPI_UINT32_T, comm);
-  if (rc == MPI_SUCCESS)
-    rc = MPI_Alltoallv(band->frame.depth.data(), send_counts.data(), send_offsets.data(), MPI_FLOAT,
-                       wide.depth.data(), recv_counts.data(), recv_offsets.data(), MPI_FLOAT, comm);
-  if (Status s = agree_on_status(comm, mpi_error(rc, "MPI_Alltoallv")); !s.ok()) return s;
-  band->frame = std::move(wide);
-  band->first = want.y0;
-  return {};
+  const int waited = MPI_Waitall(int(requests.size()), requests.data(), MPI_STATUSES_IGNORE);
+  if (rc == MPI_SUCCESS) rc = waited;
+  return agree_on_status(comm, mpi_error(rc, "exchanging the halo rows"));
 }
 
 }  // namespace lantern

@@ -40,6 +40,9 @@ struct BandFrame {
   RowBand owned;
 };
 
+// `owned` with up to `halo` rows above and below, clamped to [0, height) (empty if owned is).
+RowBand with_halo(const RowBand &owned, int height, int halo);
+
 // Hands root's `full` (width x height) out in bands: every rank gets its row_band(height, ranks,
 // rank, multiple) plus up to `halo` rows on each side in *band. `full` matters on root only.
 // OK or kMpi (the same on every rank).
@@ -52,11 +55,14 @@ Status scatter_row_bands(MPI_Comm comm, int root, const Frame &full, int width, 
 Status gather_row_bands(MPI_Comm comm, int root, const BandFrame &band, int width, int height,
                         Frame *full);
 
-// Widens every rank's band by its halo without a root: on entry band->frame holds exactly the
-// rank's row_band(height, ranks, rank, multiple) (band->first == band->owned.y0, width pixels a
-// row); on return it holds rows [owned.y0 - halo, owned.y1 + halo) clamped to the image, the
-// extra rows received from the ranks that own them (any number of ranks away). A rank that owns
-// no rows gets none. OK or kMpi (the same on every rank).
+// Widens every rank's band by its halo without a root: on entry band->frame holds the rank's
+// owned = row_band(height, ranks, rank, multiple), width pixels a row, either exactly
+// (band->first == owned.y0) or already in place among the rows with_halo(owned, height, halo)
+// (band->first == their y0; the halo rows' contents do not matter); on return it holds the
+// latter, the halo rows received from the ranks that own them (any number of ranks away, point
+// to point: only ranks whose rows meet exchange any). A band kept from frame to frame is widened
+// in its own buffers (no allocation once they are large enough). A rank that owns no rows gets
+// none. OK or kMpi (the same on every rank).
 Status exchange_halo_rows(MPI_Comm comm, int width, int height, int halo, BandFrame *band,
                           int multiple = 1);
 

@@ -1,5 +1,6 @@
 #include "core/finish/finish_image.h"
 
+#include <algorithm>
 #include <chrono>
 #include <string>
 #include <utility>
@@ -23,9 +24,11 @@ SampleAlpha sample_alpha(const FinishSettings &finish) {
 
 // The frames composited so that every rank ends with its own row band of the merged frame
 // (multiples of `multiple` image rows, i.e. of s * multiple sample rows), down-sampled (s > 1)
-// into *band, which then holds exactly the rank's row_band(height, ranks, rank, multiple) of the
-// image. Fills *composite.
-Status composite_into_image_band(MPI_Comm comm, Frame &frame, int s, int multiple,
+// into *band, which then holds the rank's row_band(height, ranks, rank, multiple) of the image:
+// exactly, or, with one sample, already in place among the rows of its band with `halo` rows
+// either side for exchange_halo_rows to fill (one copy of the rows, into band's own buffers).
+// Fills *composite.
+Status composite_into_image_band(MPI_Comm comm, Frame &frame, int s, int multiple, int halo,
                                  SampleAlpha alpha, const CompositeOptions &options,
                                  BandFrame *band, CompositeStats *composite) {
   RowBand rows;
@@ -41,11 +44,18 @@ Status composite_into_image_band(MPI_Comm comm, Frame &frame, int s, int multipl
   } else if (ranks == 1) {
     band->frame = std::move(frame);  // the band is the frame: no copy
   } else {
-    const size_t begin = size_t(rows.y0) * size_t(frame.width), end = size_t(rows.y1) * frame.width;
+    const RowBand held = with_halo(rows, frame.height, halo);
+    const size_t width = size_t(frame.width), at = size_t(rows.y0 - held.y0) * width;
+    const size_t begin = size_t(rows.y0) * width, end = size_t(rows.y1) * width;
+    band->first = held.y0;
     band->frame.width = frame.width;
-    band->frame.height = rows.rows();
-    band->frame.rgba.assign(frame.rgba.begin() + 4 * begin, frame.rgba.begin() + 4 * end);
-    band->frame.depth.assign(frame.depth.begin() + begin, frame.depth.begin() + end);
+    band->frame.height = held.rows();
+    band->frame.rgba.resize(4 * size_t(held.rows()) * width);
+    band->frame.depth.resize(size_t(held.rows()) * width);
+    std::copy(frame.rgba.begin() + ptrdiff_t(4 * begin), frame.rgba.begin() + ptrdiff_t(4 * end),
+              band->frame.rgba.begin() + ptrdiff_t(4 * at));
+    std::copy(frame.depth.begin() + ptrdiff_t(begin), frame.depth.begin() + ptrdiff_t(end),
+              band->frame.depth.begin() + ptrdiff_t(at));
   }
   return {};
 }
@@ -92,7 +102,8 @@ Status finish_image(MPI_Comm comm, Frame &frame, const FinishSettings &finish,
   BandFrame band;
   const SampleAlpha alpha = sample_alpha(finish);
   if (Status st =
-          composite_into_image_band(comm, frame, s, 1, alpha, options, &band, &stats->composite);
+          composite_into_image_band(comm, frame, s, 1, cues ? screen_cue_halo(finish.cues) : 0,
+                                    alpha, options, &band, &stats->composite);
       !st.ok())
     return with_context("compositing: ", std::move(st));
   stats->downsample_ms = ms_since(t0) - stats->composite.milliseconds;
@@ -124,8 +135,10 @@ Status finish_image_to_bands(MPI_Comm comm, Frame &frame, const FinishSettings &
     // in *band (the halo rows above them first).
     const auto t0 = Clock::now();
     BandFrame cued;
-    if (Status st = composite_into_image_band(comm, frame, s, band_rows, sample_alpha(finish),
-                                              options, &cued, &stats->composite);
+    cued.frame = std::move(*band);  // its buffers, kept from the last frame
+    if (Status st =
+            composite_into_image_band(comm, frame, s, band_rows, screen_cue_halo(finish.cues),
+                                      sample_alpha(finish), options, &cued, &stats->composite);
         !st.ok())
       return with_context("compositing: ", std::move(st));
     stats->downsample_ms = ms_since(t0) - stats->composite.milliseconds;
