@@ -74,11 +74,12 @@ Status assemble_image(MPI_Comm comm, BandFrame *band, int width, int height, Fra
 // Widens every rank's band (of row_band(height, ranks, rank, multiple)) by the halo the cues
 // read and cues its own rows. Adds the time to stats->cues_ms.
 Status cue_image_band(MPI_Comm comm, const FinishSettings &finish, const Camera &image_camera,
-                      double sphere_radius, int multiple, BandFrame *band, FinishStats *stats) {
+                      double sphere_radius, int multiple, BandFrame *band, FinishStats *stats,
+                      AoScratch *ao) {
   const auto t0 = Clock::now();
   Status cued = exchange_halo_rows(comm, finish.width, finish.height, screen_cue_halo(finish.cues),
                                    band, multiple);
-  if (cued.ok()) cued = cue_band(comm, finish.cues, image_camera, sphere_radius, band);
+  if (cued.ok()) cued = cue_band(comm, finish.cues, image_camera, sphere_radius, band, ao);
   if (!cued.ok()) return with_context("screen cues: ", std::move(cued));
   stats->cues_ms += ms_since(t0);
   return {};
@@ -88,7 +89,8 @@ Status cue_image_band(MPI_Comm comm, const FinishSettings &finish, const Camera 
 
 Status finish_image(MPI_Comm comm, Frame &frame, const FinishSettings &finish,
                     const Camera &image_camera, double sphere_radius,
-                    const CompositeCostModel *model, Frame *image, FinishStats *stats) {
+                    const CompositeCostModel *model, Frame *image, FinishStats *stats,
+                    AoScratch *ao) {
   const int s = finish.samples_per_axis;
   const bool cues = wants_screen_cues(finish.cues);
   CompositeOptions options;
@@ -109,7 +111,7 @@ Status finish_image(MPI_Comm comm, Frame &frame, const FinishSettings &finish,
   stats->downsample_ms = ms_since(t0) - stats->composite.milliseconds;
   // Each rank cues its band plus the halo rows its neighbours own.
   if (cues)
-    if (Status st = cue_image_band(comm, finish, image_camera, sphere_radius, 1, &band, stats);
+    if (Status st = cue_image_band(comm, finish, image_camera, sphere_radius, 1, &band, stats, ao);
         !st.ok())
       return st;
   t0 = Clock::now();
@@ -122,7 +124,7 @@ Status finish_image(MPI_Comm comm, Frame &frame, const FinishSettings &finish,
 Status finish_image_to_bands(MPI_Comm comm, Frame &frame, const FinishSettings &finish,
                              const Camera &image_camera, double sphere_radius,
                              const CompositeCostModel *model, int band_rows, Frame *band,
-                             ImageBand *owned, FinishStats *stats) {
+                             ImageBand *owned, FinishStats *stats, AoScratch *ao) {
   const int s = finish.samples_per_axis;
   if (band_rows < 1 || finish.height % band_rows != 0)
     return {StatusCode::kInvalidArgument,
@@ -143,7 +145,7 @@ Status finish_image_to_bands(MPI_Comm comm, Frame &frame, const FinishSettings &
       return with_context("compositing: ", std::move(st));
     stats->downsample_ms = ms_since(t0) - stats->composite.milliseconds;
     if (Status st =
-            cue_image_band(comm, finish, image_camera, sphere_radius, band_rows, &cued, stats);
+            cue_image_band(comm, finish, image_camera, sphere_radius, band_rows, &cued, stats, ao);
         !st.ok())
       return st;
     owned->rows = cued.owned;

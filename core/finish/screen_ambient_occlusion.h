@@ -30,6 +30,8 @@
 // bytes whatever the band.
 #pragma once
 
+#include <vector>
+
 #include "core/composite/row_bands.h"
 #include "core/finish/view_positions.h"
 
@@ -59,8 +61,17 @@ int screen_ambient_occlusion_halo(const AmbientOcclusionStyle &style);
 // for tests. All give the same bits: the same IEEE operations in the same order, lane by lane.
 enum class AoVectorPath { kAuto, kAvx2, kPortable };
 
+// The half-resolution pass's estimate grids, kept by a caller from frame to frame so that they
+// are neither allocated nor faulted in again (what a frame leaves in them is never read by the
+// next). Ownership: the caller's; one per call in flight.
+struct AoScratch {
+  std::vector<float> raw_value, raw_z, across_value, across_z, blurred_value, blurred_z;
+};
+
+// `scratch`: kept buffers, or null for buffers of this call only.
 void apply_screen_ambient_occlusion(const ViewPositions &positions,
                                     const AmbientOcclusionStyle &style, BandFrame *band,
-                                    AoVectorPath path = AoVectorPath::kAuto);
+                                    AoVectorPath path = AoVectorPath::kAuto,
+                                    AoScratch *scratch = nullptr);
 
 }  // namespace lantern

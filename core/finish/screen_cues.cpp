@@ -81,13 +81,14 @@ Status apply_screen_cues(MPI_Comm comm, int root, const ScreenCueSettings &cues,
 }
 
 Status cue_band(MPI_Comm comm, const ScreenCueSettings &cues, const Camera &camera,
-                double sphere_radius, BandFrame *band_in) {
+                double sphere_radius, BandFrame *band_in, AoScratch *ao) {
   BandFrame &band = *band_in;
   ViewPositions positions;
   positions.build(band, camera);
 
   if (screen_ao(cues))
-    apply_screen_ambient_occlusion(positions, ao_style(cues, sphere_radius), &band);
+    apply_screen_ambient_occlusion(positions, ao_style(cues, sphere_radius), &band,
+                                   AoVectorPath::kAuto, ao);
   if (cues.outline.enabled) {
     OutlineStyle style;
     style.width = cues.outline.width;

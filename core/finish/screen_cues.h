@@ -19,6 +19,7 @@
 #include "core/common/status.h"
 #include "core/composite/row_bands.h"
 #include "core/config/config.h"
+#include "core/finish/screen_ambient_occlusion.h"
 #include "core/view/frame.h"
 
 namespace lantern {
@@ -49,9 +50,10 @@ int screen_cue_halo(const ScreenCueSettings &cues);
 
 // The cues on one rank's band, for a pipeline whose bands are already spread over the ranks:
 // `band` must hold its owned rows plus screen_cue_halo(cues) rows each side (clamped), e.g.
-// from exchange_halo_rows; its owned rows are rewritten. Collective (the automatic depth-cue
-// range is reduced over comm). OK or kMpi, the same on every rank.
+// from exchange_halo_rows; its owned rows are rewritten. `ao`: buffers kept from frame to frame
+// for screen ambient occlusion, or null. Collective (the automatic depth-cue range is reduced
+// over comm). OK or kMpi, the same on every rank.
 Status cue_band(MPI_Comm comm, const ScreenCueSettings &cues, const Camera &camera,
-                double sphere_radius, BandFrame *band);
+                double sphere_radius, BandFrame *band, AoScratch *ao = nullptr);
 
 }  // namespace lantern

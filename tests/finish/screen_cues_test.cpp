@@ -221,7 +221,8 @@ Frame creases(const Camera &camera) {
 // occlusion, as one band would get them.
 std::vector<uint8_t> occluded_band(const Frame &whole, const Camera &camera, int y0, int y1,
                                    int halo, const AmbientOcclusionStyle &style,
-                                   AoVectorPath path = AoVectorPath::kAuto) {
+                                   AoVectorPath path = AoVectorPath::kAuto,
+                                   AoScratch *scratch = nullptr) {
   const int first = std::max(0, y0 - halo), last = std::min(whole.height, y1 + halo);
   BandFrame band;
   band.first = first;
@@ -234,7 +235,7 @@ std::vector<uint8_t> occluded_band(const Frame &whole, const Camera &camera, int
             band.frame.depth.begin());
   ViewPositions positions;
   positions.build(band, camera);
-  apply_screen_ambient_occlusion(positions, style, &band, path);
+  apply_screen_ambient_occlusion(positions, style, &band, path, scratch);
   const size_t row = size_t(whole.width) * 4;
   return {band.frame.rgba.begin() + ptrdiff_t(size_t(y0 - first) * row),
           band.frame.rgba.begin() + ptrdiff_t(size_t(y1 - first) * row)};
@@ -277,6 +278,43 @@ TEST(ScreenAmbientOcclusion, EveryBandWithItsHaloGivesTheWholeImagesBytes) {
             << (half ? "half" : "full") << " resolution, rows " << y0 << ".." << y1;
       }
     }
+}
+
+// Buffers kept from an earlier call hold that call's estimates; the next call must read none of
+// them: here they are filled with estimates at the scene's depths (distances 41-59) before every
+// band, and each band must still get the bytes of buffers of its own. The crowd stands before a
+// wall that fills the image to its edges (where the grids' padding and the rows beyond the image
+// meet drawn pixels).
+TEST(ScreenAmbientOcclusion, KeptBuffersGiveTheBytesOfFreshOnes) {
+  if (world_rank() != 0) return;
+  const Camera camera = test_camera();
+  std::vector<Ball> balls = {{0.0, 0.0, 150.0, 100.0, 180}};
+  for (int k = 0; k < 90; ++k)
+    balls.push_back({-15.0 + 0.33 * k, 7.0 * std::sin(0.9 * k), 45.0 + 4.0 * std::cos(1.3 * k),
+                     0.3 + 0.2 * (k % 9), uint8_t(60 + 2 * k)});
+  const Frame frame = draw(camera, balls);
+  ASSERT_EQ(std::count(frame.depth.begin(), frame.depth.end(), 1.0f), 0);  // drawn everywhere
+  AmbientOcclusionStyle style;
+  style.radius = 10.0f;
+  style.strength = 1.0f;
+  const int halo = screen_ambient_occlusion_halo(style);
+  AoScratch kept;
+  int compared = 0;
+  for (const auto &[y0, y1] :
+       std::vector<std::pair<int, int>>{{0, 80}, {0, 1}, {1, 4}, {7, 30}, {40, 80}, {79, 80}}) {
+    for (std::vector<float> *v : {&kept.raw_value, &kept.across_value, &kept.blurred_value})
+      v->assign(size_t(4) * kWidth * kHeight, 1000.0f);
+    for (std::vector<float> *z : {&kept.raw_z, &kept.across_z, &kept.blurred_z}) {
+      z->resize(size_t(4) * kWidth * kHeight);
+      for (size_t i = 0; i < z->size(); ++i) (*z)[i] = 41.0f + float(i % 19);
+    }
+    const std::vector<uint8_t> fresh = occluded_band(frame, camera, y0, y1, halo, style);
+    for (const AoVectorPath path : {AoVectorPath::kAuto, AoVectorPath::kPortable})
+      EXPECT_EQ(occluded_band(frame, camera, y0, y1, halo, style, path, &kept), fresh)
+          << "rows " << y0 << ".." << y1;
+    ++compared;
+  }
+  EXPECT_EQ(compared, 6);
 }
 
 // The half-resolution pass gives the same bits on every instruction set.
