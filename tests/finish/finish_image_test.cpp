@@ -14,7 +14,7 @@
 #include "core/finish/finish_image.h"
 #include "tests/composite/synthetic_frames.h"
 #include "tests/support/mpi_world.h"
-#include "tests/support/status_expect.h"
+#include "tests/support/orthographic_camera.h"
 
 namespace lantern::testing {
 namespace {
@@ -48,16 +48,7 @@ FinishSettings cued(int width, int height, int s) {
 // Orthographic along -z over a 12 x 12 box, near 10 and far 90: the synthetic frames' window
 // depths are distances 10 to 90, and a sphere radius of 2 is a few pixels (the cues' unit).
 Camera cue_camera(int width, int height) {
-  CameraConfig c;
-  c.projection = Projection::kOrthographic;
-  c.position = std::array<double, 3>{0, 0, 50};
-  c.look_at = {0, 0, 0};
-  c.up = {0, 1, 0};
-  c.near_plane = 10;
-  c.far_plane = 90;
-  Camera camera;
-  EXPECT_OK(make_camera(c, glm::dvec3(-6), glm::dvec3(6), 1.0, width, height, &camera));
-  return camera;
+  return orthographic_down_z(6.0, 1.0, width, height);
 }
 constexpr double kCueRadius = 2.0;
 

@@ -20,6 +20,7 @@
 #include "core/finish/overlays/overlay_canvas.h"
 #include "core/finish/overlays/overlay_layout.h"
 #include "core/finish/overlays/overlays.h"
+#include "tests/support/orthographic_camera.h"
 #include "tests/support/status_expect.h"
 
 namespace lantern::testing {
@@ -266,16 +267,7 @@ TEST(Legend, TypeKeySwatchesAreThePaletteColours) {
 // Orthographic, looking down -z from (0, 0, 50) at the origin, near 10, far 90; the unit box
 // [-4, 4]^3 fills 80 of the 100 pixels (half-height 5 at zoom 1: the camera's fit of [-5, 5]).
 Camera box_camera(int size) {
-  CameraConfig c;
-  c.projection = Projection::kOrthographic;
-  c.position = std::array<double, 3>{0, 0, 50};
-  c.look_at = {0, 0, 0};
-  c.up = {0, 1, 0};
-  c.near_plane = 10;
-  c.far_plane = 90;
-  Camera camera;
-  EXPECT_OK(make_camera(c, glm::dvec3(-5), glm::dvec3(5), 0.0, size, size, &camera));
-  return camera;
+  return orthographic_down_z(5.0, 0.0, size, size);
 }
 
 TEST(BoxOverlay, EdgesFallOnTheProjectedCornersAndHideBehindNearerDepth) {

@@ -22,6 +22,7 @@
 #include "core/finish/screen_cues.h"
 #include "core/finish/view_positions.h"
 #include "tests/support/mpi_world.h"
+#include "tests/support/orthographic_camera.h"
 #include "tests/support/status_expect.h"
 
 namespace lantern::testing {
@@ -33,16 +34,7 @@ constexpr uint8_t kBg[4] = {250, 240, 230, 255};
 // Orthographic, looking down -z from (0, 0, 50), near 10, far 90: a sphere at world z = w is at
 // distance 50 - w from the eye.
 Camera test_camera() {
-  CameraConfig c;
-  c.projection = Projection::kOrthographic;
-  c.position = std::array<double, 3>{0, 0, 50};
-  c.look_at = {0, 0, 0};
-  c.up = {0, 1, 0};
-  c.near_plane = 10;
-  c.far_plane = 90;
-  Camera camera;
-  EXPECT_OK(make_camera(c, glm::dvec3(-6), glm::dvec3(6), 1.0, kWidth, kHeight, &camera));
-  return camera;
+  return orthographic_down_z(6.0, 1.0, kWidth, kHeight);
 }
 
 // View-space x, y of a pixel centre (independent of core/finish/view_positions.cpp).
