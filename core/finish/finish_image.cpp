@@ -90,7 +90,7 @@ Status cue_image_band(MPI_Comm comm, const FinishSettings &finish, const Camera 
 Status finish_image(MPI_Comm comm, Frame &frame, const FinishSettings &finish,
                     const Camera &image_camera, double sphere_radius,
                     const CompositeCostModel *model, Frame *image, FinishStats *stats,
-                    AoScratch *ao) {
+                    AoScratch *ao, Frame *kept_band) {
   const int s = finish.samples_per_axis;
   const bool cues = wants_screen_cues(finish.cues);
   CompositeOptions options;
@@ -102,6 +102,7 @@ Status finish_image(MPI_Comm comm, Frame &frame, const FinishSettings &finish,
   }
   auto t0 = Clock::now();
   BandFrame band;
+  if (kept_band != nullptr) band.frame = std::move(*kept_band);  // the last frame's buffers
   const SampleAlpha alpha = sample_alpha(finish);
   if (Status st =
           composite_into_image_band(comm, frame, s, 1, cues ? screen_cue_halo(finish.cues) : 0,
@@ -118,6 +119,7 @@ Status finish_image(MPI_Comm comm, Frame &frame, const FinishSettings &finish,
   if (Status st = assemble_image(comm, &band, finish.width, finish.height, image); !st.ok())
     return with_context("gathering the image: ", std::move(st));
   if (s > 1) stats->downsample_ms += ms_since(t0);
+  if (kept_band != nullptr) *kept_band = std::move(band.frame);
   return {};
 }
 

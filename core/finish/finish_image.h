@@ -51,13 +51,15 @@ struct FinishStats {
 // it); `sphere_radius`: the scene's largest drawn radius (the cues' unit). *image (root's image,
 // finish.width x finish.height) may be `frame` itself when s is 1. `model`: compositing's cost
 // model (the same on every rank), or null for default_cost_model().
-// `ao`: screen ambient occlusion's buffers, kept by the caller from frame to frame, or null.
+// `ao`: screen ambient occlusion's buffers, kept by the caller from frame to frame, or null;
+// `kept_band`: a frame (not `frame` or *image) whose buffers this rank's band uses and leaves
+// there for the next call, or null.
 // Returns OK, or the failing step's status with "compositing: ", "screen cues: " or "gathering
 // the image: " in front of its message.
 Status finish_image(MPI_Comm comm, Frame &frame, const FinishSettings &finish,
                     const Camera &image_camera, double sphere_radius,
                     const CompositeCostModel *model, Frame *image, FinishStats *stats,
-                    AoScratch *ao = nullptr);
+                    AoScratch *ao = nullptr, Frame *kept_band = nullptr);
 
 // This rank's rows of an image left in row bands: image rows [rows.y0, rows.y1), held in the
 // frame `held` (not owned: finish_image_to_bands's `frame` or *band), whose row 0 is image row

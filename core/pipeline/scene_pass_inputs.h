@@ -81,7 +81,7 @@ struct SceneBuffers {
   // this rank holds in `frame`.
   std::optional<ImageBand> image_band;
   Frame samples;    // samples > 1: the sample-resolution frame, kept between steps like `frame`
-  Frame cued_band;  // screen cues on one sample left in row bands: this rank's cued rows
+  Frame cued_band;  // this rank's band of the image while it is finished (kept between steps)
   AoScratch ao_scratch;          // screen ambient occlusion's estimate grids
   BackgroundImageWriter writer;  // rank 0, with output.asynchronous
   BrickCutCounts cut_counts;     // this scene's cutting planes per brick (edits are incremental)

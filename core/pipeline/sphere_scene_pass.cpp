@@ -117,7 +117,7 @@ Status run_sphere_scene(const ScenePassInputs &in, const SceneSettings &settings
     if (s.ok()) buffers->image_band = band;
   } else {
     s = finish_image(in.comm, frame, settings.finish, image_camera, radius.max_radius(in.global),
-                     cost, &buffers->frame, &finished, &buffers->ao_scratch);
+                     cost, &buffers->frame, &finished, &buffers->ao_scratch, &buffers->cued_band);
   }
   if (!s.ok()) return with_context(where, std::move(s));
   stats->downsample_ms = finished.downsample_ms;
