@@ -19,7 +19,6 @@
 #include <glm/vec3.hpp>
 
 #include "core/common/cpu_features.h"
-#include "core/common/uninitialized_buffer.h"
 
 #if defined(__x86_64__)
 #include <immintrin.h>
@@ -333,11 +332,11 @@ struct EstimateGrid {
   float *value_at(int j) { return &value[size_t(j - j0) * size_t(stride) + kPad]; }
   float *z_at(int j) { return &z[size_t(j - j0) * size_t(stride) + kPad]; }
   void clear_padding(int j) {
-    for (float *row : {value_at(j), z_at(j)}) {
-      const float fill = row == value_at(j) ? 0.0f : kBackground;
-      std::fill(row - kPad, row, fill);
-      std::fill(row + columns, row + columns + kPad, fill);
-    }
+    float *v = value_at(j), *d = z_at(j);
+    std::fill(v - kPad, v, 0.0f);
+    std::fill(v + columns, v + columns + kPad, 0.0f);
+    std::fill(d - kPad, d, kBackground);
+    std::fill(d + columns, d + columns + kPad, kBackground);
   }
   void clear_row(int j) {
     std::fill(value_at(j) - kPad, value_at(j) + columns + kPad, 0.0f);
