@@ -361,10 +361,11 @@ TEST(ObjectOcclusion, TheVolumeIsTheOneParticleAtATimeSumForEveryLayout) {
       ASSERT_EQ(v.enclosure_nodes(), expected) << "layout " << layout << ", cuts " << cuts.size();
     }
   }
-  // Positions in place, four particles at a time where the processor has AVX2: a last chunk
-  // whose count is not a multiple of 4 (99: the last four overlap the four before) and one of
-  // fewer than 4 (2), with a non-finite coordinate in the last particle of a chunk.
-  for (const int count : {256 * 234 + 99, 256 * 234 + 2}) {
+  // Positions in place, four particles at a time where the processor has AVX2 and eight where it
+  // has AVX-512: last chunks whose counts are not multiples of 8 or 4 (99, 13: the last steps
+  // overlap the ones before), of fewer than 8 (5: the AVX2 steps) and of fewer than 4 (2), with a
+  // non-finite coordinate in the last particle of a chunk.
+  for (const int count : {256 * 234 + 99, 256 * 234 + 13, 256 * 234 + 5, 256 * 234 + 2}) {
     std::vector<double> some(xyz.begin(), xyz.begin() + 3 * ptrdiff_t(count));
     some[3 * (256 * 3 + 255) + 2] = std::nan("");
     ParticleDescription d;
