@@ -7,6 +7,7 @@
 
 #include "core/common/content_hash.h"
 #include "core/common/ms_since.h"
+#include "core/particles/position_tap.h"
 
 namespace lantern {
 namespace {
@@ -57,6 +58,7 @@ bool BrickCache::refit_first(const ParticleArrays &p, int64_t step, const BrickO
   const uint64_t fingerprint = sample_fingerprint(p);
   if (count_ < 0 || is_cached(p, step, fingerprint)) return false;
   const auto t0 = Clock::now();
+  const double tapped_before = options.tap ? options.tap->ms : 0.0;
   if (!refit_bricks(p, kMaxSpreadGrowth, &set_, options)) {
     set_ = BrickSet();  // unusable: for_step builds
     count_ = -1;
@@ -65,7 +67,9 @@ bool BrickCache::refit_first(const ParticleArrays &p, int64_t step, const BrickO
   ++refits_;
   remember(p, step, fingerprint);
   pending_how_ = "refit";
-  pending_ms_ = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+  // The tap's time is its stage's, not the refit's.
+  const double tapped = options.tap ? options.tap->ms - tapped_before : 0.0;
+  pending_ms_ = std::chrono::duration<double, std::milli>(Clock::now() - t0).count() - tapped;
   return true;
 }
 

@@ -32,7 +32,7 @@ class BrickCache {
   // extent comes from the bricks' bounds instead of a pass of its own (extent_of_bricks) and the
   // step's first for_step() reports this refit ("refit", its time). False - and nothing kept, so
   // for_step() builds - when there is nothing to refit or the refit asks for a rebuild, or when
-  // `step`'s bricks are already made.
+  // `step`'s bricks are already made. The time of options.tap (BrickOptions) is not counted.
   bool refit_first(const ParticleArrays &particles, int64_t step, const BrickOptions &options);
   const BrickSet &bricks() const { return set_; }
 

@@ -86,14 +86,15 @@ BrickScan scan_brick(const Positions &pos, const Radii &radius, const Keep &keep
 // the group, and the new bounds finite and inside the old ones grown by a quarter (the common case
 // between two host re-neighbourings). Streams the positions through the set's runs where it has
 // them, else gathers brick by brick; the bounds are the same bits either way (index_runs.h).
+// `tap` (may be null) gets the positions as they stream, where scan_runs hands them on.
 template <typename Positions, typename Radii, typename Keep>
 void fresh_bounds(const Positions &pos, const Radii &radius, const Keep &keep, int64_t count,
-                  const BrickSet &set, int threads, PageVector<BrickScan> *bounds,
+                  const BrickSet &set, int threads, PositionTap *tap, PageVector<BrickScan> *bounds,
                   std::vector<uint8_t> *fits) {
   fits->assign(set.bricks.size(), 0);
   bounds->clear();
   if (!set.runs.empty())
-    *bounds = scan_runs(pos, radius, keep, set.has_radius, count, set, threads);
+    *bounds = scan_runs(pos, radius, keep, set.has_radius, count, set, threads, tap);
   const bool streamed = !bounds->empty();
   if (!streamed) bounds->resize(set.bricks.size());
   const int parts = parts_for(threads, set.particle_count(), kParticlesPerThread);
@@ -139,7 +140,7 @@ bool refit_bricks(const ParticleArrays &particles, double max_growth, BrickSet *
   visit_positions(particles, [&](const auto &pos) {
     visit_radii(particles, true, 0.0, [&](const auto &radius) {
       visit_kept(particles, [&](const auto &keep) {
-        fresh_bounds(pos, radius, keep, count, *set, threads, &fresh, &fits);
+        fresh_bounds(pos, radius, keep, count, *set, threads, options.tap, &fresh, &fits);
       });
     });
   });

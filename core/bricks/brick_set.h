@@ -31,7 +31,8 @@
 
 namespace lantern {
 
-struct Extent;  // core/particles/global_extent.h
+struct Extent;      // core/particles/global_extent.h
+class PositionTap;  // core/particles/position_tap.h
 
 struct Brick {
   uint32_t first = 0;  // offset into BrickSet::order
@@ -113,6 +114,10 @@ class IndexRuns {
   Iterator begin() const { return {this, 0}; }
   Iterator end() const { return {this, size()}; }
 
+  // Blocks of kBlock indices, and the run that starts block b (at index b kBlock).
+  size_t blocks() const { return block_first_.size(); }
+  size_t block_start(size_t b) const { return block_first_[b]; }
+
   void clear() {
     PageVector<uint64_t>().swap(packed_);
     std::vector<uint32_t>().swap(block_first_);
@@ -179,6 +184,9 @@ struct BrickOptions {
   // The bounds and finite count of the kept particles when the caller already scanned them
   // (scan_particles of this rank, as the pipeline does every step): saves the build a pass.
   const Extent *known_extent = nullptr;
+  // A refit that streams packed xyz doubles on one thread hands them to this tap as it goes
+  // (position_tap.h); nullptr: none.
+  PositionTap *tap = nullptr;
 };
 
 struct BrickSet {

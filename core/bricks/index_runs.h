@@ -22,6 +22,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <chrono>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -42,6 +43,7 @@
 #include "core/bricks/brick_set.h"
 #include "core/common/page_allocator.h"
 #include "core/common/rank_threads.h"
+#include "core/particles/position_tap.h"
 #include "core/particles/typed_access.h"
 
 namespace lantern {
@@ -240,6 +242,36 @@ __attribute__((target("avx2"))) inline bool scan_part(const double *xyz, const B
   return _mm256_testz_si256(_mm256_castpd_si256(odd), xyz_lanes) != 0;
 }
 
+// scan_part over all of set.runs, stripe by stripe of kTapBlocks blocks of indices, each stripe's
+// positions handed to `tap` right after scan_part read them (then in cache), and the particles
+// the runs do not list (added since) after the last; the same bounds as one scan_part. False as
+// scan_part (the tap then has only some stripes).
+inline bool scan_part_tapped(const double *xyz, const BrickSet &set, int64_t count,
+                             PositionTap &tap, BrickScan *acc) {
+  constexpr size_t kTapBlocks = 4;  // 16 Ki particles, 384 KiB of positions: within L2
+  const IndexRuns &runs = set.runs;
+  const size_t blocks = runs.blocks(), stretches = runs.size() - 1;
+  const int64_t listed = runs.back().first;
+  const auto take = [&](int64_t first, int64_t end) {
+    const auto t0 = std::chrono::steady_clock::now();
+    tap.take(xyz, first, end);
+    tap.ms +=
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  };
+  for (size_t b = 0; b < blocks; b += kTapBlocks) {
+    const size_t e = std::min(blocks, b + kTapBlocks);
+    if (!scan_part(xyz, set, runs.block_start(b), e < blocks ? runs.block_start(e) : stretches,
+                   count, acc))
+      return false;
+    const int64_t first = int64_t(b) << IndexRuns::kOffsetBits;
+    const int64_t end =
+        std::min<int64_t>(count, e < blocks ? int64_t(e) << IndexRuns::kOffsetBits : listed);
+    if (first < end) take(first, end);
+  }
+  if (listed < count) take(listed, count);
+  return true;
+}
+
 }  // namespace scan_avx2
 
 // The vector kernel above.
@@ -270,9 +302,12 @@ inline bool scan_kernel_usable(ScanKernel kernel) {
 // checks, for particles with index below `count` that are in the group (`keep`). In parts on up
 // to `threads` threads, merged in part order (min and max keep the first of equal values, so the
 // result is the one-thread result).
+// `tap` (may be null): handed the positions as they are read where the pass runs the AVX2 kernel
+// on one thread (scan_part_tapped).
 template <typename Positions, typename Radii, typename Keep>
 PageVector<BrickScan> scan_runs(const Positions &pos, const Radii &radius, const Keep &keep,
-                                bool has_radius, int64_t count, const BrickSet &set, int threads) {
+                                bool has_radius, int64_t count, const BrickSet &set, int threads,
+                                PositionTap *tap = nullptr) {
   const IndexRuns &runs = set.runs;
   const int parts = parts_for(threads, set.particle_count(), int64_t(1) << 16);
   // In mapped pages (a few dozen bytes per brick): freed to the system, not left in the heap.
@@ -302,7 +337,10 @@ PageVector<BrickScan> scan_runs(const Positions &pos, const Radii &radius, const
     acc.assign(set.bricks.size(), BrickScan{});
 #if LANTERN_SCAN_X86
     if (packed_avx2) {
-      if (scan_avx2::scan_part(xyz, set, size_t(begin), size_t(end), count, acc.data())) return;
+      if (tap != nullptr && parts == 1
+              ? scan_avx2::scan_part_tapped(xyz, set, count, *tap, acc.data())
+              : scan_avx2::scan_part(xyz, set, size_t(begin), size_t(end), count, acc.data()))
+        return;
       acc.assign(set.bricks.size(), BrickScan{});  // not finite: scan_stretch marks the bricks
     }
 #endif

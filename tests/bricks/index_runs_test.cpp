@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <cstring>
 #include <random>
+#include <utility>
 #include <vector>
 
 #include <sys/mman.h>
@@ -16,6 +17,7 @@
 
 #include "core/bricks/brick_set.h"
 #include "core/bricks/index_runs.h"
+#include "core/particles/position_tap.h"
 #include "core/particles/typed_access.h"
 
 namespace lantern {
@@ -276,6 +278,68 @@ TEST(IndexRuns, VectorScanGivesTheScalarScansBounds) {
                           scan_runs(pos, ConstantReal{0.0}, KeepAll{}, false, count, set, threads),
                           Kernel::name(k));
       }
+    }
+  }
+}
+
+// Records the stripes a scan hands on (PositionTap).
+class StripeTap : public PositionTap {
+ public:
+  explicit StripeTap(const double *xyz) : xyz_(xyz) {}
+  void take(const double *xyz, int64_t first, int64_t end) override {
+    EXPECT_EQ(xyz, xyz_);
+    stripes.push_back({first, end});
+  }
+  std::vector<std::pair<int64_t, int64_t>> stripes;
+
+ private:
+  const double *xyz_;
+};
+
+// A scan with a tap (one thread, the AVX2 kernel) gives the bounds of a scan without one and
+// hands the tap every published particle once, in stripes in index order from 0 - also the ones
+// published since the runs were listed (count beyond them); with fewer published, only those.
+// On several threads the tap gets nothing (the parts would hand stripes out of order).
+TEST(IndexRuns, ATappedScanGivesTheSameBoundsAndHandsOnEveryPosition) {
+  if (Kernel::vector_kernels().empty()) GTEST_SKIP() << "no vector kernel here";
+  std::mt19937_64 rng(23);
+  std::uniform_real_distribution<double> coord(-3.0, 5.0);
+  const int64_t n = 50 * kBlock + 101;  // three parts on three threads (64 Ki particles each)
+  const uint32_t bricks = 50;
+  std::vector<uint32_t> owner(static_cast<size_t>(n));
+  for (int64_t i = 0; i < n;) {
+    const int64_t len = std::min<int64_t>(n - i, 1 + int64_t(rng() % 200));
+    const uint32_t a = uint32_t(rng() % bricks), b = uint32_t(rng() % bricks);
+    for (int64_t k = i; k < i + len; ++k) owner[size_t(k)] = rng() % 3 == 0 ? b : a;
+    i += len;
+  }
+  const BrickSet set = set_of_owners(owner, bricks);
+  ASSERT_FALSE(set.runs.empty());
+  std::vector<double> xyz(static_cast<size_t>(3 * (n + 60)));
+  for (double &v : xyz) v = coord(rng);
+  const InterleavedPositions<double> pos{reinterpret_cast<const unsigned char *>(xyz.data()),
+                                         int64_t(3 * sizeof(double))};
+  for (const int64_t count : {n, n - 7, n + 60}) {
+    for (const int threads : {1, 3}) {
+      const PageVector<BrickScan> want =
+          scan_runs(pos, ConstantReal{0.0}, KeepAll{}, false, count, set, threads);
+      StripeTap tap(xyz.data());
+      expect_same_scans(
+          want, scan_runs(pos, ConstantReal{0.0}, KeepAll{}, false, count, set, threads, &tap),
+          "tapped");
+      if (threads > 1) {
+        EXPECT_TRUE(tap.stripes.empty());
+        continue;
+      }
+      ASSERT_FALSE(tap.stripes.empty()) << count;
+      int64_t next = 0;
+      for (const auto &[first, end] : tap.stripes) {
+        EXPECT_EQ(first, next) << count;
+        EXPECT_LT(first, end) << count;
+        next = end;
+      }
+      EXPECT_EQ(next, count);
+      EXPECT_GT(tap.ms, 0.0);
     }
   }
 }
