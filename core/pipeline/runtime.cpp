@@ -24,9 +24,11 @@
 #include "core/output/atomic_file.h"
 #include "core/output/stats_writer.h"
 #include "core/particles/particle_scan.h"
+#include "core/particles/position_tap.h"
 #include "core/pipeline/memory_budget.h"
 #include "core/pipeline/scene_movie.h"
 #include "core/pipeline/scene_overlays.h"
+#include "core/render/object_occlusion.h"
 
 namespace lantern {
 namespace {
@@ -79,6 +81,35 @@ std::time_t process_start_time() {
       return std::time_t(boot + ticks / std::max(1L, sysconf(_SC_CLK_TCK)));
     }
   return 0;
+}
+
+// The object-space ambient occlusion volumes of a step's scenes that take the refit's stream of
+// positions (OcclusionVolume::arm_tap), one tap for the refit to call.
+class OcclusionTaps : public PositionTap {
+ public:
+  bool empty() const { return volumes_.empty(); }
+  void add(OcclusionVolume *v) { volumes_.push_back(v); }
+  void take(const double *xyz, int64_t first, int64_t end) override {
+    for (OcclusionVolume *v : volumes_) v->take_tapped(xyz, first, end);
+  }
+
+ private:
+  std::vector<OcclusionVolume *> volumes_;
+};
+
+// Arms the tap of every scene that draws spheres with object-space ambient occlusion (a budget
+// may still choose otherwise for this step: its scene then drops the deposit).
+OcclusionTaps arm_occlusion_taps(const std::vector<SceneConfig> &scenes,
+                                 std::vector<SceneBuffers> *buffers) {
+  OcclusionTaps taps;
+  for (size_t s = 0; s < scenes.size() && s < buffers->size(); ++s) {
+    const AmbientOcclusionConfig &ao = scenes[s].ambient_occlusion;
+    OcclusionVolume &volume = (*buffers)[s].occlusion;
+    if (ao.enabled && ao.method == AmbientOcclusionMethod::kObject &&
+        scenes[s].style != SceneStyle::kDensity && volume.arm_tap())
+      taps.add(&volume);
+  }
+  return taps;
 }
 
 }  // namespace
@@ -292,6 +323,11 @@ Status Runtime::execute(int64_t step, double time) {
   const int threads = config_.threads > 0 ? config_.threads : default_thread_count();
   BrickOptions refit_options;
   refit_options.threads = threads;
+  // Scenes with object-space ambient occlusion deposit the positions as the refit streams them.
+  // (Armed on every rendered step: arming drops what an earlier step's tap left.)
+  OcclusionTaps taps;
+  if (render_due) taps = arm_occlusion_taps(config_.scenes, &buffers_);
+  if (!taps.empty()) refit_options.tap = &taps;
   Extent local;
   const bool from_bricks = render_due && !dump_due && !config_.scenes.empty() &&
                            scratch_.bricks.refit_first(particles_, step, refit_options) &&

@@ -206,7 +206,9 @@ Status run_scene_pass(const ScenePassInputs &in, const SceneConfig &scene, Scene
                                    scene.ambient_occlusion.strength);
         !s.ok())
       return with_context(where, std::move(s));
-    stats->cues_ms = ms_since(t0);
+    // With the deposit the refit streamed the positions into (OcclusionVolume::arm_tap).
+    stats->cues_ms = ms_since(t0) + occlusion.last_tap_ms();
+    stats->ao_deposit = occlusion.last_build_tapped() ? "refit" : "own";
   }
 
   // Every stage's values, resolved once from the configuration; the passes hand each its part.

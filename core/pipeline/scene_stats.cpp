@@ -151,6 +151,7 @@ nlohmann::json SceneStats::counts_json() const {
                       {"sample_frame", {sample_width, sample_height}},
                       {"bricks", bricks}};
   if (overlays_ms) j["ms"]["overlays"] = *overlays_ms;
+  if (!ao_deposit.empty()) j["ao_deposit"] = ao_deposit;
   return j;
 }
 

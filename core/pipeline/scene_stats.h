@@ -49,6 +49,10 @@ struct SceneStats {
   // includes building the step's bricks in the first scene of a step (later scenes reuse them).
   double bricks_ms = 0;  // part of cull_ms: building (or refitting) this step's bricks
   std::string bricks;    // "built", "refit" (kept z-order, new bounds) or "cached" (same step)
+  // Object-space ambient occlusion's deposit (rank 0's): "refit" where it shared the bricks'
+  // refit's read of the positions (OcclusionVolume::arm_tap), "own" where it read them itself;
+  // "" without object AO.
+  std::string ao_deposit;
   double camera_ms = 0, cull_ms = 0, instances_ms = 0, draw_ms = 0, readback_ms = 0,
          composite_ms = 0, write_ms = 0, total_ms = 0;
   // Depth cues: object AO's density volume plus the screen-space cues after

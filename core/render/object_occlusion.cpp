@@ -1,11 +1,13 @@
 #include "core/render/object_occlusion.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <limits>
 #include <numeric>
 #include <type_traits>
+#include <utility>
 
 #ifdef __SSE2__
 #include <emmintrin.h>
@@ -19,6 +21,31 @@
 #include "core/particles/typed_access.h"
 
 namespace lantern {
+
+namespace object_occlusion_detail {
+
+constexpr int kLocateChunk = 256;
+
+// The node grid as locate_nodes() reads it: node i of an axis is node origin + i of the lattice
+// of nodes `cell` apart from the coordinates' zero (origin16: kSteps origin, an integer).
+struct NodeGrid {
+  double origin16[3], last[3];  // last: kSteps (n - 1)
+  double steps_per_unit;        // kSteps / cell
+  int n[3];
+};
+
+// Per particle of a chunk: its lower node's index, and the table rows of its weights (code_x:
+// the upper x weight; code_yz: wy (kSteps + 1) + wz).
+struct NodeWeights {
+  int32_t node[kLocateChunk], code_x[kLocateChunk], code_yz[kLocateChunk];
+  int32_t lowest_z, highest_z;  // the lower nodes' planes of z: at least, at most (n > 0)
+};
+
+}  // namespace object_occlusion_detail
+
+using object_occlusion_detail::kLocateChunk;
+using object_occlusion_detail::NodeGrid;
+using object_occlusion_detail::NodeWeights;
 
 namespace {
 
@@ -112,21 +139,6 @@ const CornerTables &corner_tables() {
   return tables;
 }
 
-// The node grid as locate_nodes() reads it.
-struct NodeGrid {
-  double lo[3], last[3];  // last: kSteps (n - 1)
-  double steps_per_unit;
-  int n[3];
-};
-
-constexpr int kLocateChunk = 256;
-// Per particle of a chunk: its lower node's index, and the table rows of its weights (code_x:
-// the upper x weight; code_yz: wy (kSteps + 1) + wz).
-struct NodeWeights {
-  int32_t node[kLocateChunk], code_x[kLocateChunk], code_yz[kLocateChunk];
-  int32_t lowest_z, highest_z;  // the lower nodes' planes of z: at least, at most (n > 0)
-};
-
 // The nodes and weights of OcclusionVolume::deposit() for n <= kLocateChunk particles, whose
 // coordinate a is c[a][k * kStride]: one loop per axis without branches, so it vectorises, also
 // for AVX2 where the processor has it (no FMA in that target: the same roundings as the
@@ -136,11 +148,13 @@ inline __attribute__((always_inline)) void locate_nodes_of(const double *const c
                                                            const NodeGrid &grid, NodeWeights *out) {
   int32_t at[3][kLocateChunk], upper[3][kLocateChunk];
   for (int a = 0; a < 3; ++a) {
-    const double lo = grid.lo[a], top = grid.last[a], steps_per_unit = grid.steps_per_unit;
+    const double origin16 = grid.origin16[a], top = grid.last[a];
+    const double steps_per_unit = grid.steps_per_unit;
     const int32_t lower_last = grid.n[a] - 2;
     const double *ca = c[a];
     for (int k = 0; k < n; ++k) {
-      const double u = std::clamp((ca[k * kStride] - lo) * steps_per_unit + 0.5, 0.0, top);
+      const double u =
+          std::clamp(std::floor(ca[k * kStride] * steps_per_unit + 0.5) - origin16, 0.0, top);
       const int32_t v = int32_t(u);  // >= 0: v / kSteps is v >> 4
       static_assert(kSteps == 16, "v / kSteps is v >> 4");
       at[a][k] = std::min(v >> 4, lower_last);
@@ -199,10 +213,10 @@ __attribute__((target("avx2"))) bool locate_packed_nodes_avx2(const double *xyz,
   const __m256d largest = _mm256_set1_pd(std::numeric_limits<double>::max());
   const __m256d half = _mm256_set1_pd(0.5), zero = _mm256_setzero_pd();
   const __m256d steps_per_unit = _mm256_set1_pd(grid.steps_per_unit);
-  __m256d lo[3], top[3];
+  __m256d origin16[3], top[3];
   __m128i lower_last[3];
   for (int a = 0; a < 3; ++a) {
-    lo[a] = _mm256_set1_pd(grid.lo[a]);
+    origin16[a] = _mm256_set1_pd(grid.origin16[a]);
     top[a] = _mm256_set1_pd(grid.last[a]);
     lower_last[a] = _mm_set1_epi32(grid.n[a] - 2);
   }
@@ -230,12 +244,10 @@ __attribute__((target("avx2"))) bool locate_packed_nodes_avx2(const double *xyz,
                               _MM_SHUFFLE(3, 0, 1, 2))};  // z2 z1 z0 z3 -> z0 z1 z2 z3
     __m128i at[3], upper[3];
     for (int axis = 0; axis < 3; ++axis) {
-      const __m256d u = _mm256_min_pd(
-          _mm256_max_pd(
-              _mm256_add_pd(_mm256_mul_pd(_mm256_sub_pd(along[axis], lo[axis]), steps_per_unit),
-                            half),
-              zero),
-          top[axis]);
+      const __m256d w =
+          _mm256_floor_pd(_mm256_add_pd(_mm256_mul_pd(along[axis], steps_per_unit), half));
+      const __m256d u =
+          _mm256_min_pd(_mm256_max_pd(_mm256_sub_pd(w, origin16[axis]), zero), top[axis]);
       const __m128i v = _mm256_cvttpd_epi32(u);
       at[axis] = _mm_min_epi32(_mm_srai_epi32(v, 4), lower_last[axis]);
       upper[axis] = _mm_sub_epi32(v, _mm_slli_epi32(at[axis], 4));
@@ -278,10 +290,10 @@ __attribute__((target("avx512f,avx512vl,avx512dq"))) bool locate_packed_nodes_av
   const __m512d largest = _mm512_set1_pd(std::numeric_limits<double>::max());
   const __m512d half = _mm512_set1_pd(0.5), zero = _mm512_setzero_pd();
   const __m512d steps_per_unit = _mm512_set1_pd(grid.steps_per_unit);
-  __m512d lo[3], top[3];
+  __m512d origin16[3], top[3];
   __m256i lower_last[3];
   for (int a = 0; a < 3; ++a) {
-    lo[a] = _mm512_set1_pd(grid.lo[a]);
+    origin16[a] = _mm512_set1_pd(grid.origin16[a]);
     top[a] = _mm512_set1_pd(grid.last[a]);
     lower_last[a] = _mm256_set1_epi32(grid.n[a] - 2);
   }
@@ -309,11 +321,11 @@ __attribute__((target("avx512f,avx512vl,avx512dq"))) bool locate_packed_nodes_av
     for (int axis = 0; axis < 3; ++axis) {
       const __m512d along =
           _mm512_permutex2var_pd(_mm512_permutex2var_pd(a, from_ab[axis], b), from_c[axis], c);
-      const __m512d u = _mm512_min_pd(
-          _mm512_max_pd(
-              _mm512_add_pd(_mm512_mul_pd(_mm512_sub_pd(along, lo[axis]), steps_per_unit), half),
-              zero),
-          top[axis]);
+      const __m512d w =
+          _mm512_roundscale_pd(_mm512_add_pd(_mm512_mul_pd(along, steps_per_unit), half),
+                               _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC);
+      const __m512d u =
+          _mm512_min_pd(_mm512_max_pd(_mm512_sub_pd(w, origin16[axis]), zero), top[axis]);
       const __m256i v = _mm512_cvttpd_epi32(u);
       at[axis] = _mm256_min_epi32(_mm256_srai_epi32(v, 4), lower_last[axis]);
       upper[axis] = _mm256_sub_epi32(v, _mm256_slli_epi32(at[axis], 4));
@@ -397,25 +409,52 @@ void add_to_quads(const NodeWeights &located, int n, const CornerTables &tables,
 void OcclusionVolume::set_grid(const Extent &global, double radius) {
   double cell = radius * kOcclusionCellPerRadius;
   if (!(cell > 0.0) || !std::isfinite(cell)) cell = 1.0;
-  // Widen the spacing until the nodes fit (the node counts only fall as the spacing grows).
-  for (int attempt = 0; attempt < 200; ++attempt) {
+  // Widen the spacing in steps of kOcclusionCellWidening until the nodes fit (the node counts
+  // only fall as the spacing grows). The steps, and the nodes on the lattice of multiples of
+  // the spacing, keep the grid put while the bounds move a little from step to step.
+  double origin[3] = {0.0, 0.0, 0.0}, along[3] = {2.0, 2.0, 2.0};
+  for (int attempt = 0; attempt < 4096; ++attempt) {
+    const double steps_per_unit = kSteps * (1.0 / cell);
     double nodes = 1.0;
     for (int a = 0; a < 3; ++a) {
-      const double along = std::floor(std::max(0.0, global.hi[a] - global.lo[a]) / cell) + 2.0;
-      n_[a] = int(std::min(along, double(kMaxOcclusionNodes)));
-      nodes *= along;
+      // As locate_nodes() places a particle: the lattice step nearest to it, then its node.
+      const double first = std::floor(std::floor(global.lo[a] * steps_per_unit + 0.5) / kSteps);
+      const double last = std::floor(std::floor(global.hi[a] * steps_per_unit + 0.5) / kSteps);
+      origin[a] = first;
+      along[a] = last - first + 2.0;
+      nodes *= along[a];
     }
     if (nodes <= double(kMaxOcclusionNodes)) break;
-    cell *= std::cbrt(nodes / double(kMaxOcclusionNodes)) * 1.001;
+    cell *= kOcclusionCellWidening;
   }
   cell_ = cell;
   inverse_cell_ = 1.0 / cell;
-  for (int a = 0; a < 3; ++a) lo_[a] = global.lo[a];
+  for (int a = 0; a < 3; ++a) {
+    origin_[a] = origin[a];
+    n_[a] = int(std::min(along[a], double(kMaxOcclusionNodes)));
+    lo_[a] = origin[a] * cell;
+  }
+}
+
+OcclusionVolume::QuadGrid OcclusionVolume::volume_grid() const {
+  QuadGrid g;
+  for (int a = 0; a < 3; ++a) g.origin[a] = origin_[a], g.n[a] = n_[a];
+  return g;
+}
+
+std::array<int, 3> OcclusionVolume::quad_offset() const {
+  std::array<int, 3> off{};
+  for (int a = 0; a < 3; ++a) off[size_t(a)] = int(origin_[a] - quad_grid_.origin[a]);
+  return off;
 }
 
 // Trilinear deposits of this rank's drawn particles, kParticleWeight each. Per axis the position
 // in 1/kSteps of a node, v = round(kSteps u), gives the lower node v / kSteps and the upper
 // node's weight v mod kSteps (kSteps on the grid's last node): the weights of upper_weight().
+// v is rounded on the lattice of all nodes (node k at k cell from the coordinates' zero) and
+// then counted from the grid's first node, so the same particle lands on the same lattice nodes
+// in any grid that holds it: the bricks' refit can deposit on last step's grid, widened, before
+// this step's bounds are known (take_tapped()).
 //
 // In chunks: the drawn particles' coordinates are gathered, then turned into nodes and weights in
 // one loop per axis (no branches: it vectorises), then the 8 corner weights of each particle are
@@ -429,27 +468,55 @@ void OcclusionVolume::set_grid(const Extent &global, double radius) {
 // zeroed. The quads are zeroed plane by plane as the chunks' deposits reach them (`occupied`: a
 // domain decomposition's rank reaches only its own planes and those along its boundaries), and
 // kept between builds (not zero-filled when allocated).
-void OcclusionVolume::deposit(const ParticleArrays &particles, const std::vector<CutPlane> &cuts,
-                              Planes *occupied) {
-  const CutPlanes planes(cuts);
-  const size_t dz = size_t(n_[0]) * size_t(n_[1]);
-  quads_.resize(4 * dz * size_t(n_[2]));
+void OcclusionVolume::start_deposit(const QuadGrid &grid) {
+  quad_grid_ = grid;
+  quads_.resize(4 * size_t(grid.n[0]) * size_t(grid.n[1]) * size_t(grid.n[2]));
   spilled_.clear();
+  zeroed_ = Planes{};
+  on_quads_ = 0;
+}
+
+NodeGrid OcclusionVolume::located_grid() const {
+  NodeGrid g{};
+  g.steps_per_unit = kSteps * inverse_cell_;
+  for (int a = 0; a < 3; ++a) {
+    g.origin16[a] = kSteps * quad_grid_.origin[a];
+    g.last[a] = double(kSteps * (quad_grid_.n[a] - 1));
+    g.n[a] = quad_grid_.n[a];
+  }
+  return g;
+}
+
+void OcclusionVolume::add_located(const NodeWeights &located, int n) {
+  const size_t dz = size_t(quad_grid_.n[0]) * size_t(quad_grid_.n[1]);
   uint32_t *quads = quads_.data();
-  Planes zeroed;  // the quads of these planes are zeroed; they grow as deposits reach more
   const auto zero = [&](int first, int end) {
     if (first < end)
       std::fill(quads + 4 * dz * size_t(first), quads + 4 * dz * size_t(end), uint32_t(0));
   };
-  int64_t on_quads = 0;  // particles added since the quads were last zeroed
-  NodeGrid grid;
-  grid.steps_per_unit = kSteps * inverse_cell_;
-  for (int a = 0; a < 3; ++a) {
-    grid.lo[a] = lo_[a];
-    grid.last[a] = double(kSteps * (n_[a] - 1));
-    grid.n[a] = n_[a];
+  if (on_quads_ + n > kMaxQuadParticles) {  // before a sum could pass 32 bits
+    spill();
+    on_quads_ = 0;
   }
-  const CornerTables &tables = corner_tables();
+  on_quads_ += n;
+  // A deposit reaches the plane above its lower node's.
+  const Planes reached{int(located.lowest_z), int(located.highest_z) + 2};
+  if (zeroed_.empty()) {
+    zero(reached.first, reached.end);
+    zeroed_ = reached;
+  } else {
+    zero(reached.first, zeroed_.first);
+    zero(zeroed_.end, reached.end);
+    zeroed_ = {std::min(zeroed_.first, reached.first), std::max(zeroed_.end, reached.end)};
+  }
+  add_to_quads(located, n, corner_tables(), quads, dz);
+}
+
+void OcclusionVolume::deposit(const ParticleArrays &particles, const std::vector<CutPlane> &cuts,
+                              Planes *occupied) {
+  const CutPlanes planes(cuts);
+  start_deposit(volume_grid());
+  const NodeGrid grid = located_grid();
   constexpr int kChunk = kLocateChunk;
   static_assert(kChunk <= kMaxQuadParticles, "a chunk fits on the quads");
   double coordinate[3][kChunk];
@@ -489,41 +556,58 @@ void OcclusionVolume::deposit(const ParticleArrays &particles, const std::vector
         }
         if (n == 0) continue;
         if (!in_place) locate_nodes(coordinate, n, grid, &located);
-        if (on_quads + n > kMaxQuadParticles) {  // before a sum could pass 32 bits
-          spill(zeroed);
-          on_quads = 0;
-        }
-        on_quads += n;
-        // A deposit reaches the plane above its lower node's.
-        const Planes reached{int(located.lowest_z), int(located.highest_z) + 2};
-        if (zeroed.empty()) {
-          zero(reached.first, reached.end);
-          zeroed = reached;
-        } else {
-          zero(reached.first, zeroed.first);
-          zero(zeroed.end, reached.end);
-          zeroed = {std::min(zeroed.first, reached.first), std::max(zeroed.end, reached.end)};
-        }
-        add_to_quads(located, n, tables, quads, dz);
+        add_located(located, n);
       }
     });
   });
-  *occupied = zeroed.empty() ? Planes{0, 0} : zeroed;
+  *occupied = zeroed_.empty() ? Planes{0, 0} : zeroed_;
 }
 
-// The quads of the planes `zeroed` added to spilled_ (zero-filled on the first spill), and
-// zeroed again.
-void OcclusionVolume::spill(Planes zeroed) {
-  const size_t plane = size_t(n_[0]) * size_t(n_[1]);
-  if (spilled_.empty()) spilled_.assign(plane * size_t(n_[2]), 0);
+bool OcclusionVolume::arm_tap() {
+  tap_ = TapState{};
+  if (!tappable_) return false;
+  // Last step's grid with a node more on every side: this step's grid still lies inside it
+  // unless the bounds moved by more than a node or the spacing was widened.
+  QuadGrid wider = volume_grid();
+  for (int a = 0; a < 3; ++a) wider.origin[a] -= 1.0, wider.n[a] += 2;
+  start_deposit(wider);
+  tap_.armed = true;
+  tap_.cell = cell_;
+  return true;
+}
+
+void OcclusionVolume::take_tapped(const double *xyz, int64_t first, int64_t end) {
+  if (!tap_.armed || tap_.failed) return;
+  const auto t0 = std::chrono::steady_clock::now();
+  if (first != tap_.next) tap_.failed = true;  // never: the refit hands stripes in order
+  const NodeGrid grid = located_grid();
+  NodeWeights located;
+  for (int64_t i0 = first; i0 < end && !tap_.failed; i0 += kLocateChunk) {
+    const int n = int(std::min<int64_t>(kLocateChunk, end - i0));
+    if (!locate_packed(xyz + 3 * i0, n, grid, &located)) {
+      tap_.failed = true;  // a coordinate is not finite: build() deposits on its own
+      break;
+    }
+    add_located(located, n);
+  }
+  tap_.next = end;
+  tap_.ms +=
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
+
+// The quads of the planes zeroed_ added to spilled_ (zero-filled on the first spill), and
+// zeroed again. In the quads' own grid.
+void OcclusionVolume::spill() {
+  const size_t nx = size_t(quad_grid_.n[0]), ny = size_t(quad_grid_.n[1]), plane = nx * ny;
+  if (spilled_.empty()) spilled_.assign(plane * size_t(quad_grid_.n[2]), 0);
   std::vector<int64_t> nodes(plane);
-  for (int z = zeroed.first; z < zeroed.end; ++z) {
-    quad_nodes(z, nodes.data());
+  for (int z = zeroed_.first; z < zeroed_.end; ++z) {
+    nodes_from_quads(z, 0, 0, nx, ny, nodes.data());
     int64_t *to = &spilled_[size_t(z) * plane];
     for (size_t i = 0; i < plane; ++i) to[i] += nodes[i];
   }
-  if (!zeroed.empty())
-    std::fill(&quads_[4 * plane * size_t(zeroed.first)], &quads_[4 * plane * size_t(zeroed.end)],
+  if (!zeroed_.empty())
+    std::fill(&quads_[4 * plane * size_t(zeroed_.first)], &quads_[4 * plane * size_t(zeroed_.end)],
               uint32_t(0));
 }
 
@@ -564,28 +648,36 @@ void nodes_of_row(const uint32_t *quads, size_t nx, uint32_t *carry, int64_t *ou
 
 }  // namespace
 
-void OcclusionVolume::quad_nodes(int z, int64_t *out) const {
-  const size_t nx = size_t(n_[0]), ny = size_t(n_[1]);
+// Nodes [x0, x0 + nx) x [y0, y0 + ny) of plane z of the quads' grid from the quads alone (the
+// quads left of x0 and below y0 hold nothing: no particle's lower node is there).
+void OcclusionVolume::nodes_from_quads(int z, size_t x0, size_t y0, size_t nx, size_t ny,
+                                       int64_t *out) const {
+  const size_t qx = size_t(quad_grid_.n[0]), qy = size_t(quad_grid_.n[1]);
   uint32_t carry_on_stack[256];
   std::vector<uint32_t> carry_on_heap(nx > 256 ? nx : 0);
   uint32_t *carry = nx > 256 ? carry_on_heap.data() : carry_on_stack;
   std::fill(carry, carry + nx, 0u);  // no row below the first
-  const uint32_t *quads = &quads_[4 * size_t(z) * nx * ny];
-  for (size_t y = 0; y < ny; ++y) nodes_of_row(quads + 4 * y * nx, nx, carry, out + y * nx);
+  const uint32_t *quads = &quads_[4 * ((size_t(z) * qy + y0) * qx + x0)];
+  for (size_t y = 0; y < ny; ++y) nodes_of_row(quads + 4 * y * qx, nx, carry, out + y * nx);
 }
 
 void OcclusionVolume::nodes_of(Planes occupied, Planes planes, int64_t *out) const {
-  const size_t plane = size_t(n_[0]) * size_t(n_[1]);
+  const size_t nx = size_t(n_[0]), ny = size_t(n_[1]), plane = nx * ny;
+  const size_t qx = size_t(quad_grid_.n[0]), qy = size_t(quad_grid_.n[1]);
+  const std::array<int, 3> off = quad_offset();
   for (int z = planes.first; z < planes.end; ++z) {
     int64_t *to = out + size_t(z - planes.first) * plane;
     if (z < occupied.first || z >= occupied.end) {  // nothing reached it: spilled_ is zero too
       std::fill(to, to + plane, int64_t(0));
       continue;
     }
-    quad_nodes(z, to);
-    if (!spilled_.empty()) {
-      const int64_t *spilled = &spilled_[size_t(z) * plane];
-      for (size_t i = 0; i < plane; ++i) to[i] += spilled[i];
+    const int qz = z + off[2];
+    nodes_from_quads(qz, size_t(off[0]), size_t(off[1]), nx, ny, to);
+    if (spilled_.empty()) continue;
+    for (size_t y = 0; y < ny; ++y) {
+      const int64_t *spilled =
+          &spilled_[(size_t(qz) * qy + y + size_t(off[1])) * qx + size_t(off[0])];
+      for (size_t x = 0; x < nx; ++x) to[y * nx + x] += spilled[x];
     }
   }
 }
@@ -834,12 +926,33 @@ Status OcclusionVolume::build(MPI_Comm comm, const ParticleArrays &particles, co
   enclosure_.clear();
   bulk_ = 0.0;
   face_ = 1.0;
+  const TapState tap = std::exchange(tap_, TapState{});
+  last_tapped_ = false;
+  last_tap_ms_ = tap.ms;  // spent, whether or not the deposit is used
+  const bool every = cuts.empty() && !particles.has_mask();
+  tappable_ = false;
   if (global.empty()) return {};  // the same on every rank: no reduction to skip
   set_grid(global, radius);
+  tappable_ = every;
   const size_t nodes = size_t(n_[0]) * size_t(n_[1]) * size_t(n_[2]);
   const int plane = n_[0] * n_[1];
   Planes occupied;
-  deposit(particles, cuts, &occupied);
+  const auto holds_grid = [this] {  // this step's grid lies inside the quads' grid
+    for (int a = 0; a < 3; ++a)
+      if (origin_[a] < quad_grid_.origin[a] ||
+          origin_[a] + n_[a] > quad_grid_.origin[a] + quad_grid_.n[a])
+        return false;
+    return true;
+  };
+  last_tapped_ = tap.armed && !tap.failed && tap.next == particles.count() && every &&
+                 tap.cell == cell_ && holds_grid();
+  if (last_tapped_) {
+    const int off = quad_offset()[2];
+    occupied = {std::max(0, zeroed_.first - off), std::min(n_[2], zeroed_.end - off)};
+    if (zeroed_.empty() || occupied.empty()) occupied = {0, 0};
+  } else {
+    deposit(particles, cuts, &occupied);
+  }
   int rank = 0, ranks = 1;
   MPI_Comm_rank(comm, &rank);
   MPI_Comm_size(comm, &ranks);

@@ -12,15 +12,17 @@
 // so flat faces, edges and corners keep their colour, a 90-degree crease darkens by about
 // o_face x strength, and buried particles by the full strength.
 //
-//   - The volume: nodes spaced `cell` = radius / 2 over the global particle bounds (larger where
-//     that would exceed kMaxOcclusionNodes nodes). Every rank deposits its drawn particles (kept
-//     by the mask, not cut away by an enabled cut plane) on the 8 nodes around each, with
-//     trilinear weights in 1/16 per axis (so a crystal's lattice does not alias against the
-//     nodes); the integer deposits are summed over ranks (each rank sums, smooths and bins
-//     only its own slab of planes of z, from the planes the other ranks' particles reach, and
-//     the slabs' enclosures are gathered), so the volume, and every factor, is the same for any
-//     split of the particles.
-//   - Smoothing: the separable filter 1 2 1 along each axis (exact, in integers); a particle's
+//   - The volume: nodes on the lattice of multiples of `cell` = radius / 2 (wider by factors of
+//     kOcclusionCellWidening where that would exceed kMaxOcclusionNodes nodes), over the global
+//     particle bounds. So the nodes stay put while the bounds move a little from step to step,
+//     and the deposit can share the bricks' refit's read of the positions (take_tapped()).
+//     Every rank deposits its drawn particles (kept by the mask, not cut away by an enabled cut
+//     plane) on the 8 nodes around each, with trilinear weights in 1/16 per axis (so a
+//     crystal's lattice does not alias against the nodes); the integer deposits are summed over
+//     ranks (each rank sums, smooths and bins only its own slab of planes of z, from the planes
+//     the other ranks' particles reach, and the slabs' enclosures are gathered), so the volume,
+//     and every factor, is the same for any split of the particles.
+//   - Smoothing: the separable filter 1 4 6 4 1 along each axis (exact, in integers); a particle's
 //     value is the trilinear interpolation of the smoothed nodes at its centre.
 //   - The bulk density: the smoothed value below which kOcclusionBulkQuantile of the particles
 //     lie (a histogram of the nodes weighted by their deposits): the density inside the solid or
@@ -53,12 +55,20 @@
 
 namespace lantern {
 
+namespace object_occlusion_detail {  // object_occlusion.cpp
+struct NodeGrid;
+struct NodeWeights;
+}  // namespace object_occlusion_detail
+
 // Nodes of the volume at most (2^18 x 8 bytes: the 2 MiB every rank sums and smooths).
 inline constexpr int64_t kMaxOcclusionNodes = int64_t(1) << 18;
 // Node spacing, in ambient-occlusion radii (before kMaxOcclusionNodes widens it).
 inline constexpr double kOcclusionCellPerRadius = 0.5;
 // The share of particles whose surroundings are at most as dense as the bulk.
 inline constexpr double kOcclusionBulkQuantile = 0.8;
+// The factor the node spacing grows by, as often as needed, to keep within kMaxOcclusionNodes:
+// 2^(1/16).
+inline constexpr double kOcclusionCellWidening = 1.0442737824274138;
 
 class OcclusionVolume {
  public:
@@ -67,6 +77,20 @@ class OcclusionVolume {
   // rank).
   Status build(MPI_Comm comm, const ParticleArrays &particles, const Extent &global,
                const std::vector<CutPlane> &cuts, double radius, double strength);
+
+  // Sharing the bricks' refit's read of the positions, for one step. arm_tap(): true when the
+  // last build drew every particle of its arrays (no cut plane, no group); then this step's
+  // deposit goes on last step's grid, a node wider on every side, as take_tapped() hands it the
+  // positions: all of them, in stripes of consecutive indices from 0 (BrickOptions::tap, which
+  // calls it while the refit has them in cache). build() uses that deposit when this step's grid
+  // lies inside that grid and every particle came, finite (the same sums: the same volume), and
+  // deposits on its own otherwise. An armed tap lives until the next build() or arm_tap().
+  bool arm_tap();
+  void take_tapped(const double *xyz, int64_t first, int64_t end);
+  // Whether the last build() used a tapped deposit, and the time take_tapped() spent for it (ms;
+  // part of the ambient-occlusion stage's cost, though spent within the refit).
+  bool last_build_tapped() const { return last_tapped_; }
+  double last_tap_ms() const { return last_tap_ms_; }
 
   // The colour factor in [1 - strength, 1] of a particle at x (a drawn one: inside the bounds).
   float factor(const glm::dvec3 &x) const;
@@ -77,9 +101,11 @@ class OcclusionVolume {
   double node_spacing() const { return cell_; }
   // The bulk density, in particles per node cell (cell^3).
   double bulk_per_cell() const { return bulk_; }
-  // The node grid (x, y, z counts; its first node at the global bounds' low corner) and a copy
-  // of the enclosure per node, x fastest (empty where nothing darkens): tests.
+  // The node grid (x, y, z counts; its first node at node_origin() cells from the coordinates'
+  // zero along each axis, an integer) and a copy of the enclosure per node, x fastest (empty
+  // where nothing darkens): tests.
   std::array<int, 3> node_counts() const { return n_; }
+  std::array<double, 3> node_origin() const { return {origin_[0], origin_[1], origin_[2]}; }
   std::vector<float> enclosure_nodes() const { return {enclosure_.begin(), enclosure_.end()}; }
 
  private:
@@ -92,17 +118,29 @@ class OcclusionVolume {
     int count() const { return end - first; }
     bool empty() const { return end <= first; }
   };
+  // The nodes a deposit lays its quads out on: node i of an axis is lattice node origin + i.
+  struct QuadGrid {
+    double origin[3] = {0.0, 0.0, 0.0};
+    int n[3] = {2, 2, 2};
+  };
   void set_grid(const Extent &global, double radius);
+  QuadGrid volume_grid() const;
+  // Where the volume's node 0 lies in quad_grid_, per axis (>= 0 whenever the quads are read).
+  std::array<int, 3> quad_offset() const;
   // This rank's deposits on quads of nodes (see the .cpp) in quads_ (and spilled_), held on the
   // planes `occupied` only (the others are not even zeroed).
   void deposit(const ParticleArrays &particles, const std::vector<CutPlane> &cuts,
                Planes *occupied);
-  // Adds the quads of the planes `zeroed` to spilled_ and zeroes them (before a 32-bit sum
+  // A deposit on `grid` begun (deposit(), arm_tap()); located particles added to it.
+  void start_deposit(const QuadGrid &grid);
+  object_occlusion_detail::NodeGrid located_grid() const;
+  void add_located(const object_occlusion_detail::NodeWeights &located, int n);
+  // Adds the quads of the planes zeroed_ to spilled_ and zeroes them (before a 32-bit sum
   // could overflow).
-  void spill(Planes zeroed);
-  // The nodes of plane z from its quads alone.
-  void quad_nodes(int z, int64_t *out) const;
-  // This rank's deposits on the nodes of `planes` (zeros off `occupied`) from deposit()'s quads,
+  void spill();
+  // Nodes [x0, x0 + nx) x [y0, y0 + ny) of the quads' plane z, from the quads alone.
+  void nodes_from_quads(int z, size_t x0, size_t y0, size_t nx, size_t ny, int64_t *out) const;
+  // This rank's deposits on the nodes of `planes` (zeros off `occupied`) from the quads,
   // plane after plane.
   void nodes_of(Planes occupied, Planes planes, int64_t *out) const;
   Planes slab_of(int rank, int ranks) const;
@@ -118,7 +156,8 @@ class OcclusionVolume {
   void find_bulk(const std::vector<int64_t> &histogram, float top);
   float enclosure_at(const glm::dvec3 &x) const;
 
-  glm::dvec3 lo_{0.0};
+  glm::dvec3 lo_{0.0};                  // node 0: origin_ cells
+  double origin_[3] = {0.0, 0.0, 0.0};  // node 0's lattice index, per axis (an integer)
   double cell_ = 1.0, inverse_cell_ = 1.0;
   float strength_ = 0.0f;
   double bulk_ = 0.0;  // particles per cell^3 in the bulk (0: nothing drawn anywhere)
@@ -135,6 +174,20 @@ class OcclusionVolume {
   // on the planes this rank smooths, and the smoothed values of its slab.
   UninitializedBuffer<uint32_t> quads_;
   std::vector<int64_t> spilled_;
+  QuadGrid quad_grid_;    // what quads_ and spilled_ are laid out on
+  Planes zeroed_;         // the quads' planes (of quad_grid_) zeroed for the deposit so far
+  int64_t on_quads_ = 0;  // particles added since the quads were last zeroed
+  // The tapped deposit of this step (take_tapped()): armed, failed (a stripe out of order or a
+  // position not finite), the next index expected, the spacing it deposits with and its time.
+  struct TapState {
+    bool armed = false, failed = false;
+    int64_t next = 0;
+    double cell = 0.0, ms = 0.0;
+  };
+  TapState tap_;
+  bool tappable_ = false;  // the last build drew every particle of its arrays
+  bool last_tapped_ = false;
+  double last_tap_ms_ = 0.0;
   UninitializedBuffer<int64_t> outgoing_, incoming_, summed_;
   UninitializedBuffer<float> smoothed_;
 };

@@ -14,10 +14,16 @@
 #include <cmath>
 #include <cstdint>
 #include <functional>
+#include <string>
 #include <vector>
 
+#include <glm/vec3.hpp>
+
+#include "core/bricks/brick_set.h"
 #include "core/culling/cut_planes.h"
 #include "core/particles/global_extent.h"
+#include "core/particles/particle_scan.h"
+#include "core/particles/position_tap.h"
 #include "core/render/object_occlusion.h"
 #include "tests/support/mpi_world.h"
 #include "tests/support/status_expect.h"
@@ -206,10 +212,11 @@ CutPlane oblique_cut() {
 // per node, given the grid the volume chose.
 std::vector<float> reference_enclosure(const std::vector<double> &xyz,
                                        const std::vector<int32_t> &mask,
-                                       const std::vector<CutPlane> &cuts, const Extent &global,
+                                       const std::vector<CutPlane> &cuts,
                                        const OcclusionVolume &v) {
   constexpr int kSteps = 16;
   const std::array<int, 3> n = v.node_counts();
+  const std::array<double, 3> origin = v.node_origin();
   const double inverse_cell = 1.0 / v.node_spacing();
   const size_t nodes = size_t(n[0]) * size_t(n[1]) * size_t(n[2]);
   const auto index = [&](int x, int y, int z) {
@@ -222,8 +229,10 @@ std::vector<float> reference_enclosure(const std::vector<double> &xyz,
     if (CutPlanes(cuts).drops(x)) continue;
     int at[3], w[3][2];
     for (int a = 0; a < 3; ++a) {
-      const double u = std::clamp((x[a] - global.lo[a]) * (kSteps * inverse_cell) + 0.5, 0.0,
-                                  double(kSteps * (n[a] - 1)));
+      // The nearest 1/kSteps step of the lattice of nodes, counted from the grid's first node.
+      const double step = std::floor(x[a] * (kSteps * inverse_cell) + 0.5);
+      const double u =
+          std::clamp(step - kSteps * origin[size_t(a)], 0.0, double(kSteps * (n[a] - 1)));
       at[a] = std::min(int(u) / kSteps, n[a] - 2);
       w[a][1] = int(u) - kSteps * at[a];
       w[a][0] = kSteps - w[a][1];
@@ -307,7 +316,7 @@ TEST(ObjectOcclusion, TheVolumeIsTheOneParticleAtATimeSum) {
   for (const std::vector<CutPlane> &cuts : {std::vector<CutPlane>{}, std::vector<CutPlane>{cut}}) {
     OcclusionVolume v;
     ASSERT_OK(v.build(MPI_COMM_SELF, arrays, global, cuts, kRadius, kStrength));
-    const std::vector<float> expected = reference_enclosure(xyz, mask, cuts, global, v);
+    const std::vector<float> expected = reference_enclosure(xyz, mask, cuts, v);
     ASSERT_FALSE(expected.empty());
     const std::vector<float> enclosure = v.enclosure_nodes();
     ASSERT_EQ(enclosure.size(), expected.size());
@@ -356,7 +365,7 @@ TEST(ObjectOcclusion, TheVolumeIsTheOneParticleAtATimeSumForEveryLayout) {
          {std::vector<CutPlane>{}, std::vector<CutPlane>{cut}}) {
       OcclusionVolume v;
       ASSERT_OK(v.build(MPI_COMM_SELF, arrays, global, cuts, kRadius, kStrength));
-      const std::vector<float> expected = reference_enclosure(xyz, every, cuts, global, v);
+      const std::vector<float> expected = reference_enclosure(xyz, every, cuts, v);
       ASSERT_FALSE(expected.empty());
       ASSERT_EQ(v.enclosure_nodes(), expected) << "layout " << layout << ", cuts " << cuts.size();
     }
@@ -376,7 +385,7 @@ TEST(ObjectOcclusion, TheVolumeIsTheOneParticleAtATimeSumForEveryLayout) {
     OcclusionVolume v;
     ASSERT_OK(v.build(MPI_COMM_SELF, arrays, global, {}, kRadius, kStrength));
     const std::vector<float> expected =
-        reference_enclosure(some, std::vector<int32_t>(size_t(count), 1), {}, global, v);
+        reference_enclosure(some, std::vector<int32_t>(size_t(count), 1), {}, v);
     ASSERT_FALSE(expected.empty());
     ASSERT_EQ(v.enclosure_nodes(), expected) << count << " particles";
   }
@@ -437,7 +446,7 @@ TEST(ObjectOcclusion, ALongRunOnOneNodeIsSummedExactly) {
   global.add_particle(10.0, 10.0, 10.0, 0.5);
   OcclusionVolume v;
   ASSERT_OK(v.build(MPI_COMM_SELF, arrays, global, {}, kRadius, kStrength));
-  const std::vector<float> expected = reference_enclosure(xyz, mask, {}, global, v);
+  const std::vector<float> expected = reference_enclosure(xyz, mask, {}, v);
   ASSERT_EQ(v.enclosure_nodes(), expected);
   // Built again (a volume kept between frames): the first build's sums are not added again.
   ASSERT_OK(v.build(MPI_COMM_SELF, arrays, global, {}, kRadius, kStrength));
@@ -581,6 +590,160 @@ TEST(ObjectOcclusion, ThinGridsAreTheOneRankVolumeOnEveryRank) {
     if (layers == 3) ASSERT_FALSE(alone.enclosure_nodes().empty());
     ASSERT_EQ(v.enclosure_nodes(), alone.enclosure_nodes()) << layers << " layers";
   }
+}
+
+}  // namespace
+}  // namespace lantern::testing
+
+namespace lantern::testing {
+namespace {
+
+// Hands the bricks' refit's stream of positions to one volume, as the runtime does.
+class VolumeTap : public PositionTap {
+ public:
+  explicit VolumeTap(OcclusionVolume *volume) : volume_(volume) {}
+  void take(const double *xyz, int64_t first, int64_t end) override {
+    volume_->take_tapped(xyz, first, end);
+  }
+
+ private:
+  OcclusionVolume *volume_;
+};
+
+// This rank's contiguous share of a 64 x 32 x 32 box of sites one unit apart in row order (x
+// fastest, as an MD code's sorted arrays hold a crystal), each moved by `shift` and by a wobble
+// under a tenth of the spacing that changes with `step`: packed x y z doubles.
+void wobbled_share(int nx, int step, glm::dvec3 shift, std::vector<double> *xyz) {
+  const int ny = 32, nz = 32, all = nx * ny * nz;
+  const int rank = world_rank(), ranks = world_size();
+  const int first = int(int64_t(all) * rank / ranks), end = int(int64_t(all) * (rank + 1) / ranks);
+  xyz->resize(3 * size_t(end - first));
+  for (int k = first; k < end; ++k) {
+    const int site[3] = {k % nx, k / nx % ny, k / nx / ny};
+    for (int a = 0; a < 3; ++a)
+      (*xyz)[3 * size_t(k - first) + size_t(a)] =
+          site[a] + shift[a] + 0.09 * std::sin(0.7 * k + 1.3 * a + 0.5 * step);
+  }
+}
+
+ParticleArrays packed_arrays(std::vector<double> &xyz) {
+  ParticleDescription d;
+  d.count = int64_t(xyz.size() / 3);
+  d.position = {xyz.data(), DataType::kFloat64, 0};
+  ParticleArrays arrays;
+  EXPECT_OK(ParticleArrays::validate(d, &arrays));
+  return arrays;
+}
+
+Extent global_extent_of(const ParticleArrays &arrays) {
+  return reduce_extent(MPI_COMM_WORLD, scan_particles(arrays, false, 0.0, 1));
+}
+
+// A deposit made from the refit's stream of the next step's positions (on last step's grid, a
+// node wider) gives the volume a deposit of its own gives, at every rank count: after a wobble,
+// after a shift past a node (the grid's origin moves, inside the wider grid), after a shift too
+// far for it (the volume deposits on its own), and with a position that is not finite.
+// The big box holds more particles than the 32-bit sums take (at one rank): they spill.
+TEST(ObjectOcclusion, ADepositTakenFromTheRefitIsTheVolumeOfItsOwn) {
+  struct Case {
+    const char *name;
+    int nx;
+    double shift_in_cells;  // along x, in node spacings (0.6: the bounds cross a node)
+    bool nan;
+    bool tapped;  // whether the refit's deposit is used
+  };
+  const Case cases[] = {{"wobble", 64, 0.0, false, true},
+                        {"shift past a node", 64, 0.6, false, true},
+                        {"shift too far", 64, 3.5, false, false},
+                        {"not finite", 64, 0.0, true, false},
+                        {"spilled sums", 1100, 0.6, false, true}};
+  for (const Case &c : cases) {
+    SCOPED_TRACE(c.name);
+    std::vector<double> xyz;
+    wobbled_share(c.nx, 0, glm::dvec3(0.0), &xyz);
+    ParticleArrays arrays = packed_arrays(xyz);
+    BrickSet bricks = build_bricks(arrays, BrickOptions());
+    ASSERT_FALSE(bricks.runs.empty());  // the refit streams the positions
+    OcclusionVolume kept;
+    ASSERT_OK(kept.build(MPI_COMM_WORLD, arrays, global_extent_of(arrays), {}, kRadius, kStrength));
+    EXPECT_FALSE(kept.last_build_tapped());
+    const std::array<double, 3> origin = kept.node_origin();
+    // The next step: the host's array rewritten in place.
+    std::vector<double> next;
+    wobbled_share(c.nx, 1, glm::dvec3(c.shift_in_cells * kept.node_spacing(), 0.0, 0.0), &next);
+    if (c.nan && !next.empty()) next[3 * (next.size() / 6) + 1] = std::nan("");
+    std::copy(next.begin(), next.end(), xyz.begin());
+    ASSERT_TRUE(kept.arm_tap());
+    VolumeTap tap(&kept);
+    BrickOptions options;
+    options.tap = &tap;
+    (void)refit_bricks(arrays, 1.25, &bricks, options);  // a rebuild asked for changes nothing
+    const Extent global = global_extent_of(arrays);
+    ASSERT_OK(kept.build(MPI_COMM_WORLD, arrays, global, {}, kRadius, kStrength));
+    EXPECT_EQ(kept.last_build_tapped(), c.tapped);
+    if (c.shift_in_cells > 0.0) EXPECT_NE(kept.node_origin(), origin);  // the grid moved
+    OcclusionVolume fresh;
+    ASSERT_OK(fresh.build(MPI_COMM_WORLD, arrays, global, {}, kRadius, kStrength));
+    EXPECT_EQ(kept.node_counts(), fresh.node_counts());
+    EXPECT_EQ(kept.node_origin(), fresh.node_origin());
+    EXPECT_EQ(kept.bulk_per_cell(), fresh.bulk_per_cell());
+    ASSERT_FALSE(fresh.enclosure_nodes().empty());
+    EXPECT_TRUE(kept.enclosure_nodes() == fresh.enclosure_nodes());
+  }
+}
+
+// A tap armed on one step and not used (a dump step, a scene that failed) is dropped by the next
+// build: a volume armed and built without a refit deposits on its own. So is a deposit that
+// missed particles or met a position that is not finite.
+TEST(ObjectOcclusion, AnArmedTapThatGotNothingIsNotUsed) {
+  std::vector<double> xyz;
+  wobbled_share(64, 0, glm::dvec3(0.0), &xyz);
+  const ParticleArrays arrays = packed_arrays(xyz);
+  const Extent global = global_extent_of(arrays);
+  OcclusionVolume v, fresh;
+  ASSERT_OK(v.build(MPI_COMM_WORLD, arrays, global, {}, kRadius, kStrength));
+  ASSERT_TRUE(v.arm_tap());
+  ASSERT_OK(v.build(MPI_COMM_WORLD, arrays, global, {}, kRadius, kStrength));
+  EXPECT_FALSE(v.last_build_tapped());
+  ASSERT_OK(fresh.build(MPI_COMM_WORLD, arrays, global, {}, kRadius, kStrength));
+  EXPECT_TRUE(v.enclosure_nodes() == fresh.enclosure_nodes());
+  // Handed straight to the tap: whole and in order it is used; with a stripe missing, out of
+  // order or holding a position that is not finite it is not.
+  const int64_t count = int64_t(xyz.size() / 3), half = count / 2;
+  for (const char *how : {"whole", "missing", "out of order", "not finite"}) {
+    SCOPED_TRACE(how);
+    std::vector<double> handed = xyz;
+    if (std::string(how) == "not finite") handed[3 * size_t(half) + 2] = HUGE_VAL;
+    ASSERT_TRUE(v.arm_tap());
+    if (std::string(how) == "out of order") v.take_tapped(handed.data(), half, count);
+    v.take_tapped(handed.data(), 0, half);
+    if (std::string(how) != "missing") v.take_tapped(handed.data(), half, count);
+    ASSERT_OK(v.build(MPI_COMM_WORLD, arrays, global, {}, kRadius, kStrength));
+    EXPECT_EQ(v.last_build_tapped(), std::string(how) == "whole");
+    EXPECT_TRUE(v.enclosure_nodes() == fresh.enclosure_nodes());
+  }
+  // A cut plane: the next step is not armed (the deposit would need the plane's test).
+  ASSERT_OK(v.build(MPI_COMM_WORLD, arrays, global, {oblique_cut()}, kRadius, kStrength));
+  EXPECT_FALSE(v.arm_tap());
+}
+
+// The nodes lie on a lattice fixed in space: moving one particle at the edge by less than a node
+// moves neither the grid nor the factors of particles far from it.
+TEST(ObjectOcclusion, TheGridStaysPutWhenTheBoundsMoveALittle) {
+  std::vector<double> xyz;
+  wobbled_share(64, 0, glm::dvec3(0.0), &xyz);
+  const ParticleArrays arrays = packed_arrays(xyz);
+  OcclusionVolume before, after;
+  ASSERT_OK(before.build(MPI_COMM_WORLD, arrays, global_extent_of(arrays), {}, kRadius, kStrength));
+  // The lowest particle in x moves a tenth of a node further out.
+  const Extent global = global_extent_of(arrays);
+  for (size_t i = 0; i < xyz.size(); i += 3)
+    if (xyz[i] == global.lo[0]) xyz[i] -= 0.1 * before.node_spacing();
+  ASSERT_OK(after.build(MPI_COMM_WORLD, arrays, global_extent_of(arrays), {}, kRadius, kStrength));
+  if (before.node_origin() != after.node_origin()) GTEST_SKIP() << "the bound crossed a node";
+  EXPECT_EQ(before.node_counts(), after.node_counts());
+  for (const glm::dvec3 far : {glm::dvec3(40.0, 16.0, 16.0), glm::dvec3(60.0, 2.0, 30.0)})
+    EXPECT_EQ(before.factor(far), after.factor(far));
 }
 
 }  // namespace
