@@ -7,7 +7,6 @@
 
 #include <mpi.h>
 
-#include <cmath>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -17,30 +16,13 @@
 #include "core/config/config_loader.h"
 #include "core/pipeline/runtime.h"
 #include "tests/support/image_file.h"
+#include "tests/support/moving_lattice.h"
 #include "tests/support/mpi_world.h"
 #include "tests/support/one_step_render.h"
 #include "tests/support/status_expect.h"
 
 namespace lantern::testing {
 namespace {
-
-// This rank's slab of a 64 x 64 x 64 lattice (x fastest: runs of consecutive indices per brick),
-// 262 144 points over all ranks, moved for `step`: step 1 a little, step 2 a few far.
-std::vector<double> lattice(int step) {
-  const int rank = world_rank(), ranks = world_size(), n = 64;
-  std::vector<double> xyz;
-  for (int z = n * rank / ranks; z < n * (rank + 1) / ranks; ++z)
-    for (int y = 0; y < n; ++y)
-      for (int x = 0; x < n; ++x) {
-        const double i = double((z * n + y) * n + x);
-        double p[3] = {double(x), double(y), double(z)};
-        if (step >= 1)
-          for (int c = 0; c < 3; ++c) p[c] += 0.05 * std::sin(0.37 * i + 1.3 * c + step);
-        if (step >= 2 && ((z * n + y) * n + x) % 997 == 0) p[0] += 30.0;
-        xyz.insert(xyz.end(), {p[0], p[1], p[2]});
-      }
-  return xyz;
-}
 
 std::string config(const std::string &dir, const std::string &threads) {
   return "gl: none\nthreads: " + threads + "\nstats: " + dir + "/stats_" + threads +
@@ -82,7 +64,7 @@ TEST(Threads, ImagesAndCountsAreTheOneThreadBytes) {
     std::unique_ptr<Runtime> rt;
     ASSERT_OK(Runtime::open(config(dir.path(), threads), MPI_COMM_WORLD, &rt));
     for (int step = 0; step < 3; ++step) {
-      const std::vector<double> xyz = lattice(step);
+      const std::vector<double> xyz = moving_lattice(step);
       ParticleDescription p{};
       p.count = int64_t(xyz.size() / 3);
       p.position = {xyz.data(), DataType::kFloat64, 0};
