@@ -28,16 +28,9 @@ void copy_rgb(const std::array<double, 3> &rgb, uint8_t out[3]) {
 // automatic range of depth_cue. Min and max are exact, so any banding gives the same two values.
 Status drawn_depth_range(MPI_Comm comm, const ViewPositions &v, const RowBand &owned,
                          float *nearest, float *farthest) {
-  float local[2] = {ViewPositions::kBackground, ViewPositions::kBackground};  // -max, min
-  for (int y = owned.y0; y < owned.y1; ++y)
-    for (int x = 0; x < v.width(); ++x) {
-      const float z = v.z(x, y);
-      if (z == ViewPositions::kBackground) continue;
-      local[0] = std::min(local[0], z);
-      local[1] = std::min(local[1], -z);
-    }
+  const std::array<float, 2> local = v.drawn_minima(owned);  // min, -max
   float global[2];
-  if (MPI_Allreduce(local, global, 2, MPI_FLOAT, MPI_MIN, comm) != MPI_SUCCESS)
+  if (MPI_Allreduce(local.data(), global, 2, MPI_FLOAT, MPI_MIN, comm) != MPI_SUCCESS)
     return {StatusCode::kMpi, "depth_cue: MPI_Allreduce of the drawn depth range failed"};
   *nearest = global[0];
   *farthest = -global[1];

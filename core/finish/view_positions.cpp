@@ -1,5 +1,7 @@
 #include "core/finish/view_positions.h"
 
+#include <algorithm>
+
 #include "core/common/cpu_features.h"
 
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
@@ -37,9 +39,80 @@ __attribute__((target("avx2"))) void perspective_distances_avx2(const Camera &ca
     _mm_storeu_ps(z + i, _mm_blendv_ps(background, _mm256_cvtpd_ps(distance), drawn));
   }
 }
+
+// Orthographic distances, alike: n + d (f - n) lane by lane (a call and a conversion a pixel
+// took 0.58 ms of each rank's half of void_impact's 1024^2 frame before every screen-space cue).
+__attribute__((target("avx2"))) void orthographic_distances_avx2(const Camera &camera,
+                                                                 const float *depth, size_t count,
+                                                                 float *z) {
+  const double n = camera.near_plane, f = camera.far_plane;
+  const __m256d near = _mm256_set1_pd(n), span = _mm256_set1_pd(f - n);
+  const __m128 background = _mm_set1_ps(ViewPositions::kBackground);
+  const __m128 drawn_below = _mm_set1_ps(kBackgroundDepth);
+  for (size_t i = 0; i < count; i += 4) {
+    const __m128 d4 = _mm_loadu_ps(depth + i);
+    const __m256d distance = _mm256_add_pd(near, _mm256_mul_pd(_mm256_cvtps_pd(d4), span));
+    const __m128 drawn = _mm_cmpnge_ps(d4, drawn_below);
+    _mm_storeu_ps(z + i, _mm_blendv_ps(background, _mm256_cvtpd_ps(distance), drawn));
+  }
+}
+
+// ViewPositions::drawn_minima of `rows` rows of `width` distances from row `z` on, `stride`
+// apart: eight lanes of each minimum, _mm256_min_ps(v, m) being (v < m) ? v : m as std::min(m,
+// v) is, and the background's negation masked to +infinity (the one-at-a-time loop skips it).
+// Min is exact, so the lanes' order changes nothing. Why: the one-at-a-time loop took 1.5-1.6 ms
+// of each rank's half of void_impact's 1024^2 frame, half the depth cue's stage.
+__attribute__((target("avx2"))) void drawn_minima_avx2(const float *z, size_t stride, int rows,
+                                                       int width, float minima[2]) {
+  const __m256 background = _mm256_set1_ps(ViewPositions::kBackground);
+  const __m256 sign = _mm256_set1_ps(-0.0f);
+  __m256 nearest = background, negated = background;
+  for (int y = 0; y < rows; ++y) {
+    const float *row = z + size_t(y) * stride;
+    int x = 0;
+    for (; x + 8 <= width; x += 8) {
+      const __m256 v = _mm256_loadu_ps(row + x);
+      nearest = _mm256_min_ps(v, nearest);
+      const __m256 drawn = _mm256_cmp_ps(v, background, _CMP_NEQ_UQ);
+      negated = _mm256_min_ps(_mm256_blendv_ps(background, _mm256_xor_ps(v, sign), drawn), negated);
+    }
+    for (; x < width; ++x) {
+      if (row[x] == ViewPositions::kBackground) continue;
+      minima[0] = std::min(minima[0], row[x]);
+      minima[1] = std::min(minima[1], -row[x]);
+    }
+  }
+  alignas(32) float lanes[2][8];
+  _mm256_store_ps(lanes[0], nearest);
+  _mm256_store_ps(lanes[1], negated);
+  for (int k = 0; k < 8; ++k) {
+    minima[0] = std::min(minima[0], lanes[0][k]);
+    minima[1] = std::min(minima[1], lanes[1][k]);
+  }
+}
 #endif
 
 }  // namespace
+
+std::array<float, 2> ViewPositions::drawn_minima(const RowBand &rows, bool vector) const {
+  std::array<float, 2> minima = {kBackground, kBackground};
+  if (rows.rows() <= 0) return minima;
+#if LANTERN_POSITIONS_AVX2
+  if (vector && cpu_has_avx2()) {
+    drawn_minima_avx2(row(rows.y0), size_t(width_), rows.rows(), width_, minima.data());
+    return minima;
+  }
+#endif
+  (void)vector;
+  for (int y = rows.y0; y < rows.y1; ++y)
+    for (int x = 0; x < width_; ++x) {
+      const float v = z(x, y);
+      if (v == kBackground) continue;
+      minima[0] = std::min(minima[0], v);
+      minima[1] = std::min(minima[1], -v);
+    }
+  return minima;
+}
 
 void ViewPositions::build(const BandFrame &band, const Camera &camera, bool vector) {
   width_ = band.frame.width;
@@ -62,9 +135,12 @@ void ViewPositions::build(const BandFrame &band, const Camera &camera, bool vect
   z_.resize(band.frame.pixel_count());
   size_t i = 0;
 #if LANTERN_POSITIONS_AVX2
-  if (vector && !orthographic_ && cpu_has_avx2()) {
+  if (vector && cpu_has_avx2()) {
     i = z_.size() / 4 * 4;
-    perspective_distances_avx2(camera, band.frame.depth.data(), i, z_.data());
+    if (orthographic_)
+      orthographic_distances_avx2(camera, band.frame.depth.data(), i, z_.data());
+    else
+      perspective_distances_avx2(camera, band.frame.depth.data(), i, z_.data());
   }
 #endif
   (void)vector;

@@ -8,6 +8,7 @@
 // Ownership: a value; build() reads the band and keeps nothing of it.
 #pragma once
 
+#include <array>
 #include <limits>
 #include <vector>
 
@@ -22,9 +23,15 @@ class ViewPositions {
   static constexpr float kBackground = std::numeric_limits<float>::infinity();
 
   // Distances of every pixel of band.frame (owned rows and halo); `image_width/height` are the
-  // whole image's. `vector`: with AVX2 where the processor has it, four pixels at a time (the
-  // same distances bit for bit; false keeps to one at a time, for tests to compare).
+  // whole image's. `vector`: with AVX2 where the processor has it, four pixels at a time in
+  // either projection (the same distances bit for bit; false keeps to one at a time, for tests
+  // to compare).
   void build(const BandFrame &band, const Camera &camera, bool vector = true);
+
+  // Over the drawn pixels of image rows `rows` (held by the band): the nearest distance and the
+  // farthest one negated, kBackground for none; min, not max, as std::min(m, v) meets them.
+  // `vector`: with AVX2 where the processor has it (the same two floats).
+  std::array<float, 2> drawn_minima(const RowBand &rows, bool vector = true) const;
 
   // Distance along the view axis at image pixel (x, y), y an image row held by the band.
   float z(int x, int y) const { return z_[size_t(y - first_) * size_t(width_) + size_t(x)]; }

@@ -6,6 +6,7 @@
 #include <mpi.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
@@ -127,7 +128,40 @@ TEST(ViewPositions, DistancesFourAtATimeAreTheOneAtATimeDistances) {
               << b << " (depth " << band.frame.depth[size_t(y - 7) * size_t(width) + size_t(x)]
               << ")";
         }
+      // The nearest and (negated) farthest drawn distance of the rows, eight at a time and one
+      // at a time: of all rows, of some, of one and of none.
+      for (const RowBand rows : {RowBand{7, 57}, RowBand{20, 31}, RowBand{56, 57}, RowBand{9, 9}}) {
+        const std::array<float, 2> a = vector.drawn_minima(rows, true),
+                                   b = single.drawn_minima(rows, false);
+        EXPECT_EQ(std::memcmp(a.data(), b.data(), sizeof a), 0)
+            << "rows " << rows.y0 << "-" << rows.y1 << " of width " << width << ": " << a[0] << ", "
+            << a[1] << " against " << b[0] << ", " << b[1];
+        if (rows.rows() == 0) EXPECT_EQ(a[0], ViewPositions::kBackground);
+      }
     }
+  }
+}
+
+TEST(ViewPositions, DrawnMinimaOfABackgroundAreTheBackground) {
+  const Camera camera = test_camera();
+  BandFrame band;
+  band.owned = {0, camera.height};
+  band.frame = Frame(camera.width, camera.height);
+  std::fill(band.frame.depth.begin(), band.frame.depth.end(), kBackgroundDepth);
+  ViewPositions positions;
+  positions.build(band, camera);
+  for (const bool vector : {true, false}) {
+    const std::array<float, 2> m = positions.drawn_minima(band.owned, vector);
+    EXPECT_EQ(m[0], ViewPositions::kBackground);
+    EXPECT_EQ(m[1], ViewPositions::kBackground);
+  }
+  // One drawn pixel: both minima are its distance (negated for the farthest).
+  band.frame.depth[size_t(camera.width) * 3 + 17] = 0.5f;
+  positions.build(band, camera);
+  for (const bool vector : {true, false}) {
+    const std::array<float, 2> m = positions.drawn_minima(band.owned, vector);
+    EXPECT_EQ(m[0], positions.z(17, 3));
+    EXPECT_EQ(m[1], -positions.z(17, 3));
   }
 }
 
