@@ -21,6 +21,9 @@ struct OutlineStyle {
   uint8_t color[3] = {0, 0, 0};  // RGB8
 };
 
-void draw_outlines(const ViewPositions &positions, const OutlineStyle &style, BandFrame *band);
+// `vector`: with AVX2 where the processor has it, eight pixels at a time (the same bytes; false
+// keeps to one at a time, for tests to compare).
+void draw_outlines(const ViewPositions &positions, const OutlineStyle &style, BandFrame *band,
+                   bool vector = true);
 
 }  // namespace lantern

@@ -19,6 +19,7 @@
 #include <glm/vec4.hpp>
 
 #include "core/camera/camera.h"
+#include "core/finish/outline.h"
 #include "core/finish/screen_ambient_occlusion.h"
 #include "core/finish/screen_cues.h"
 #include "core/finish/view_positions.h"
@@ -404,6 +405,43 @@ TEST(ScreenAmbientOcclusion, HalfResolutionIsCloseToFullResolution) {
 
 // An isolated sphere gets a closed ring: exactly the drawn pixels with a background pixel within
 // `width` pixels (a square), every boundary pixel included, and nothing else changes.
+TEST(ScreenCues, OutlinesEightAtATimeAreTheOneAtATimeOutlines) {
+  // Distances with jumps of every size, the background and NaN, bands with halos and images whose
+  // widths leave tails and edges narrower than the reach: the vector outlines (AVX2 where the
+  // processor has it) and the one-at-a-time outlines, byte for byte, alpha kept.
+  std::mt19937 rng(9);
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  for (const int width : {1, 5, 17, 64, 333})
+    for (const int reach : {1, 2, 3}) {
+      Camera camera;
+      ASSERT_OK(
+          make_camera(CameraConfig(), glm::dvec3(-6), glm::dvec3(6), 1.0, width, 40, &camera));
+      BandFrame band;
+      band.first = 4;
+      band.owned = {4 + reach, 36 - reach};
+      band.frame = Frame(width, 32);
+      for (size_t i = 0; i < band.frame.depth.size(); ++i) {
+        float d = 0.2f + 0.6f * u(rng);
+        if (i % 9 < 3) d = 0.5f;  // flat patches
+        if (i % 23 == 0) d = kBackgroundDepth;
+        if (i % 101 == 7) d = std::nanf("");
+        band.frame.depth[i] = d;
+        for (int c = 0; c < 4; ++c) band.frame.rgba[4 * i + size_t(c)] = uint8_t(i * 7 + size_t(c));
+      }
+      ViewPositions positions;
+      positions.build(band, camera);
+      OutlineStyle style;
+      style.width = reach;
+      style.jump = 0.3f;
+      style.color[0] = 9, style.color[1] = 200, style.color[2] = 77;
+      BandFrame vector = band, single = band;
+      draw_outlines(positions, style, &vector, true);
+      draw_outlines(positions, style, &single, false);
+      EXPECT_NE(single.frame.rgba, band.frame.rgba) << "no outline at all";
+      ASSERT_EQ(vector.frame.rgba, single.frame.rgba) << "width " << width << ", reach " << reach;
+    }
+}
+
 TEST(ScreenCues, IsolatedSphereGetsAClosedOutlineOfTheConfiguredWidth) {
   const Camera camera = test_camera();
   const Frame before = draw(camera, {{0.3, -0.2, 50, 4.2, 180}});
