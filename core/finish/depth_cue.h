@@ -26,6 +26,9 @@ struct DepthCueStyle {
   bool fade_alpha = false;       // fade alpha towards 0 instead (transparent background)
 };
 
-void apply_depth_cue(const ViewPositions &positions, const DepthCueStyle &style, BandFrame *band);
+// `vector`: with AVX2 where the processor has it, eight pixels at a time (the same bytes; false
+// keeps to one at a time, for tests to compare).
+void apply_depth_cue(const ViewPositions &positions, const DepthCueStyle &style, BandFrame *band,
+                     bool vector = true);
 
 }  // namespace lantern

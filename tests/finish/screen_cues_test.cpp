@@ -19,6 +19,7 @@
 #include <glm/vec4.hpp>
 
 #include "core/camera/camera.h"
+#include "core/finish/depth_cue.h"
 #include "core/finish/outline.h"
 #include "core/finish/screen_ambient_occlusion.h"
 #include "core/finish/screen_cues.h"
@@ -440,6 +441,48 @@ TEST(ScreenCues, OutlinesEightAtATimeAreTheOneAtATimeOutlines) {
       EXPECT_NE(single.frame.rgba, band.frame.rgba) << "no outline at all";
       ASSERT_EQ(vector.frame.rgba, single.frame.rgba) << "width " << width << ", reach " << reach;
     }
+}
+
+TEST(ScreenCues, DepthCueEightAtATimeIsTheOneAtATimeDepthCue) {
+  // Distances across the ramp and beyond it, the background and NaN, odd widths (tails): the
+  // vector fade (AVX2 where the processor has it) and the one-at-a-time fade, byte for byte, for
+  // a ramp and a step (end <= start), towards a colour and towards transparency.
+  std::mt19937 rng(21);
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  for (const int width : {3, 8, 29, 333})
+    for (const bool ramp : {true, false})
+      for (const bool fade_alpha : {false, true}) {
+        Camera camera;
+        ASSERT_OK(
+            make_camera(CameraConfig(), glm::dvec3(-6), glm::dvec3(6), 1.0, width, 30, &camera));
+        BandFrame band;
+        band.first = 0;
+        band.owned = {2, 28};
+        band.frame = Frame(width, 30);
+        for (size_t i = 0; i < band.frame.depth.size(); ++i) {
+          float d = u(rng);
+          if (i % 19 == 0) d = kBackgroundDepth;
+          if (i % 97 == 3) d = std::nanf("");
+          band.frame.depth[i] = d;
+          for (int c = 0; c < 4; ++c) band.frame.rgba[4 * i + size_t(c)] = uint8_t(rng());
+        }
+        ViewPositions positions;
+        positions.build(band, camera);
+        const std::array<float, 2> range = positions.drawn_minima(band.owned);
+        DepthCueStyle style;
+        style.start = range[0] + 0.3f * (-range[1] - range[0]);
+        style.end = ramp ? range[0] + 0.8f * (-range[1] - range[0]) : style.start;
+        // A pixel exactly at the start: the step fades what lies beyond it, not at it.
+        if (!ramp) style.start = style.end = positions.z(width / 2, 5);
+        style.color[0] = 250, style.color[1] = 3, style.color[2] = 128;
+        style.fade_alpha = fade_alpha;
+        BandFrame vector = band, single = band;
+        apply_depth_cue(positions, style, &vector, true);
+        apply_depth_cue(positions, style, &single, false);
+        EXPECT_NE(single.frame.rgba, band.frame.rgba);
+        ASSERT_EQ(vector.frame.rgba, single.frame.rgba)
+            << "width " << width << ", ramp " << ramp << ", fade_alpha " << fade_alpha;
+      }
 }
 
 TEST(ScreenCues, IsolatedSphereGetsAClosedOutlineOfTheConfiguredWidth) {
