@@ -87,6 +87,21 @@ Frame cued(const ScreenCueSettings &cues, const Camera &camera, double radius, F
   return frame;
 }
 
+// A camera on the cube [-6, 6]^3 for a width x height image, and a band of that image: `rows`
+// rows from image row `first`, owning `owned`, its pixels zero.
+Camera cube_camera(const CameraConfig &c, int width, int height) {
+  Camera camera;
+  EXPECT_OK(make_camera(c, glm::dvec3(-6), glm::dvec3(6), 1.0, width, height, &camera));
+  return camera;
+}
+BandFrame blank_band(int width, int rows, int first, RowBand owned) {
+  BandFrame band;
+  band.first = first;
+  band.owned = owned;
+  band.frame = Frame(width, rows);
+  return band;
+}
+
 // No cue on, the frames' background.
 ScreenCueSettings no_cues() {
   ScreenCueSettings s;
@@ -104,12 +119,8 @@ TEST(ViewPositions, DistancesFourAtATimeAreTheOneAtATimeDistances) {
     CameraConfig c;
     if (orthographic) c.projection = Projection::kOrthographic;
     for (const int width : {1, 3, 64, 333}) {
-      Camera camera;
-      ASSERT_OK(make_camera(c, glm::dvec3(-6), glm::dvec3(6), 1.0, width, 50, &camera));
-      BandFrame band;
-      band.first = 7;
-      band.owned = {7, 57};
-      band.frame = Frame(width, 50);
+      const Camera camera = cube_camera(c, width, 50);
+      BandFrame band = blank_band(width, 50, 7, {7, 57});
       for (size_t i = 0; i < band.frame.depth.size(); ++i) {
         float d = u(rng);
         if (i % 7 == 0) d = std::pow(d, 0.01f);  // near 1: the far plane
@@ -414,13 +425,8 @@ TEST(ScreenCues, OutlinesEightAtATimeAreTheOneAtATimeOutlines) {
   std::uniform_real_distribution<float> u(0.0f, 1.0f);
   for (const int width : {1, 5, 17, 64, 333})
     for (const int reach : {1, 2, 3}) {
-      Camera camera;
-      ASSERT_OK(
-          make_camera(CameraConfig(), glm::dvec3(-6), glm::dvec3(6), 1.0, width, 40, &camera));
-      BandFrame band;
-      band.first = 4;
-      band.owned = {4 + reach, 36 - reach};
-      band.frame = Frame(width, 32);
+      const Camera camera = cube_camera(CameraConfig(), width, 40);
+      BandFrame band = blank_band(width, 32, 4, {4 + reach, 36 - reach});
       for (size_t i = 0; i < band.frame.depth.size(); ++i) {
         float d = 0.2f + 0.6f * u(rng);
         if (i % 9 < 3) d = 0.5f;  // flat patches
@@ -452,13 +458,8 @@ TEST(ScreenCues, DepthCueEightAtATimeIsTheOneAtATimeDepthCue) {
   for (const int width : {3, 8, 29, 333})
     for (const bool ramp : {true, false})
       for (const bool fade_alpha : {false, true}) {
-        Camera camera;
-        ASSERT_OK(
-            make_camera(CameraConfig(), glm::dvec3(-6), glm::dvec3(6), 1.0, width, 30, &camera));
-        BandFrame band;
-        band.first = 0;
-        band.owned = {2, 28};
-        band.frame = Frame(width, 30);
+        const Camera camera = cube_camera(CameraConfig(), width, 30);
+        BandFrame band = blank_band(width, 30, 0, {2, 28});
         for (size_t i = 0; i < band.frame.depth.size(); ++i) {
           float d = u(rng);
           if (i % 19 == 0) d = kBackgroundDepth;

@@ -70,6 +70,16 @@ Lattice lattice(
   return l;
 }
 
+// Positions as x y z doubles one after the other.
+ParticleArrays packed_arrays(std::vector<double> &xyz) {
+  ParticleDescription d;
+  d.count = int64_t(xyz.size() / 3);
+  d.position = {xyz.data(), DataType::kFloat64, 0};
+  ParticleArrays arrays;
+  EXPECT_OK(ParticleArrays::validate(d, &arrays));
+  return arrays;
+}
+
 OcclusionVolume volume_of(MPI_Comm comm, const Lattice &l, const std::vector<CutPlane> &cuts = {}) {
   Extent local;
   for (const Site &s : l.sites) local.add_particle(s.x, s.y, s.z, 0.5);
@@ -406,19 +416,11 @@ TEST(ObjectOcclusion, InPlaceDepositsZeroThePlanesTheyReach) {
     low.push_back(24.0 + 6.0 * uniform());
     low.push_back(4.0 * uniform());
   }
-  const auto arrays_of = [](std::vector<double> &xyz) {
-    ParticleDescription d;
-    d.count = int64_t(xyz.size() / 3);
-    d.position = {xyz.data(), DataType::kFloat64, 0};
-    ParticleArrays arrays;
-    EXPECT_OK(ParticleArrays::validate(d, &arrays));
-    return arrays;
-  };
   const Extent global = cloud_extent();
   OcclusionVolume kept, fresh;
-  ASSERT_OK(kept.build(MPI_COMM_SELF, arrays_of(everywhere), global, {}, kRadius, kStrength));
-  ASSERT_OK(kept.build(MPI_COMM_SELF, arrays_of(low), global, {}, kRadius, kStrength));
-  ASSERT_OK(fresh.build(MPI_COMM_SELF, arrays_of(low), global, {}, kRadius, kStrength));
+  ASSERT_OK(kept.build(MPI_COMM_SELF, packed_arrays(everywhere), global, {}, kRadius, kStrength));
+  ASSERT_OK(kept.build(MPI_COMM_SELF, packed_arrays(low), global, {}, kRadius, kStrength));
+  ASSERT_OK(fresh.build(MPI_COMM_SELF, packed_arrays(low), global, {}, kRadius, kStrength));
   ASSERT_FALSE(fresh.enclosure_nodes().empty());
   EXPECT_EQ(kept.bulk_per_cell(), fresh.bulk_per_cell());
   ASSERT_EQ(kept.enclosure_nodes(), fresh.enclosure_nodes());
@@ -624,15 +626,6 @@ void wobbled_share(int nx, int step, glm::dvec3 shift, std::vector<double> *xyz)
       (*xyz)[3 * size_t(k - first) + size_t(a)] =
           site[a] + shift[a] + 0.09 * std::sin(0.7 * k + 1.3 * a + 0.5 * step);
   }
-}
-
-ParticleArrays packed_arrays(std::vector<double> &xyz) {
-  ParticleDescription d;
-  d.count = int64_t(xyz.size() / 3);
-  d.position = {xyz.data(), DataType::kFloat64, 0};
-  ParticleArrays arrays;
-  EXPECT_OK(ParticleArrays::validate(d, &arrays));
-  return arrays;
 }
 
 Extent global_extent_of(const ParticleArrays &arrays) {
