@@ -281,9 +281,9 @@ __attribute__((target("avx2"))) bool locate_packed_nodes_avx2(const double *xyz,
 // x, y and z taken apart with two permutes each (as packed_prefixes_avx512 in core/bricks/
 // morton.cpp does), the same double operations in the same order (no FMA: the same integers), and
 // the integer steps on eight 32-bit lanes. Why: a timer on the 1 M-atom LJ frame (2 ranks, Intel
-// Xeon with AVX-512) put the AVX2 kernel at 1.6 ms a rank with the positions in cache, 2.1 ms
-// from memory: 32 cycles for four particles, about 75 instructions with the shuffles and register
-// spills, where eight particles take about 55 here.
+// Xeon with AVX-512) put the AVX2 kernel at 1.6 ms a rank with the positions in cache (2.1 ms
+// from memory): 32 cycles for four particles, about 75 instructions with the shuffles and
+// register spills. This kernel, fed from cache by the refit (take_tapped()): 0.76-0.81 ms.
 __attribute__((target("avx512f,avx512vl,avx512dq"))) bool locate_packed_nodes_avx512(
     const double *xyz, int n, const NodeGrid &grid, NodeWeights *out) {
   if (n < 8) return locate_packed_nodes_avx2(xyz, n, grid, out);
