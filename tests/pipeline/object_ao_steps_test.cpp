@@ -1,5 +1,5 @@
-// Object-space ambient occlusion over steps through the pipeline: from the second step on, the
-// volume's deposit is taken from the bricks' refit's read of the positions
+// Object-space ambient occlusion over steps through the pipeline (two scenes, two volumes): from
+// the second step on, each volume's deposit is taken from the bricks' refit's read of the positions
 // (OcclusionVolume::arm_tap); every image must be the bytes a fresh run of that step alone
 // writes (a deposit of its own), at 1, 2 and 3 ranks, and the stats line must say which deposit
 // each step used: the refit's after a wobble, its own after a few particles jumped far (the grid
@@ -35,7 +35,13 @@ std::string config(const std::string &dir, const std::string &run) {
          "    renderer: cpu\n    camera: {azimuth: 35, elevation: 25}\n"
          "    ambient_occlusion: {method: object, strength: 0.8}\n"
          "    output: {pattern: '" +
-         dir + "/ao_" + run + "_{step}.png'}\n";
+         dir + "/ao_" + run +
+         "_{step}.png'}\n"
+         "  - name: wide\n    width: 200\n    height: 200\n    radius: 0.5\n"
+         "    renderer: cpu\n    camera: {azimuth: -60, elevation: 40}\n"
+         "    ambient_occlusion: {method: object, radius: 3.5}\n"
+         "    output: {pattern: '" +
+         dir + "/wide_" + run + "_{step}.png'}\n";
 }
 
 void render(const std::string &yaml, const std::vector<int> &steps) {
@@ -52,12 +58,12 @@ void render(const std::string &yaml, const std::vector<int> &steps) {
   ASSERT_OK(rt->finish());
 }
 
-// The stats lines' ao_deposit, step after step.
-std::vector<std::string> deposits(const std::string &path) {
+// The stats lines' ao_deposit of scene `scene`, step after step.
+std::vector<std::string> deposits(const std::string &path, int scene) {
   std::vector<std::string> out;
   std::istringstream in(read_text(path));
   for (std::string line; std::getline(in, line);)
-    out.push_back(nlohmann::json::parse(line)["scenes"][0].value("ao_deposit", ""));
+    out.push_back(nlohmann::json::parse(line)["scenes"][size_t(scene)].value("ao_deposit", ""));
   return out;
 }
 
@@ -68,16 +74,23 @@ TEST(ObjectAoSteps, TheRefitsDepositGivesTheImagesOfFreshRuns) {
   for (const int step : {0, 1, 2})
     render(config(dir.path(), "fresh" + std::to_string(step)), {step});
   if (world_rank() != 0) return;
-  EXPECT_EQ(deposits(dir.path() + "/stats_steps.jsonl"),
-            (std::vector<std::string>{"own", "refit", "own"}));
+  // Two scenes, two volumes (their own spacings): the refit hands its stream to both.
+  for (const int scene : {0, 1})
+    EXPECT_EQ(deposits(dir.path() + "/stats_steps.jsonl", scene),
+              (std::vector<std::string>{"own", "refit", "own"}))
+        << "scene " << scene;
   for (const int step : {0, 1, 2}) {
-    EXPECT_EQ(deposits(dir.path() + "/stats_fresh" + std::to_string(step) + ".jsonl"),
-              std::vector<std::string>{"own"});
-    const auto steps = read_bytes(dir.path() + "/ao_steps_" + std::to_string(step) + ".png");
-    const auto fresh = read_bytes(dir.path() + "/ao_fresh" + std::to_string(step) + "_" +
-                                  std::to_string(step) + ".png");
-    ASSERT_FALSE(fresh.empty());
-    EXPECT_TRUE(steps == fresh) << "step " << step;
+    const std::string s = std::to_string(step);
+    for (const int scene : {0, 1})
+      EXPECT_EQ(deposits(dir.path() + "/stats_fresh" + s + ".jsonl", scene),
+                std::vector<std::string>{"own"});
+    for (const char *scene : {"ao", "wide"}) {
+      const std::string name = dir.path() + "/" + scene;
+      const auto steps = read_bytes(name + "_steps_" + s + ".png");
+      const auto fresh = read_bytes(name + "_fresh" + s + "_" + s + ".png");
+      ASSERT_FALSE(fresh.empty());
+      EXPECT_TRUE(steps == fresh) << scene << ", step " << step;
+    }
   }
 }
 
