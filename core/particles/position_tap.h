@@ -1,9 +1,10 @@
 // A stage that reads every particle's position once a step can share that read with another
 // pass that streams them anyway (the bricks' refit): the pass hands it the positions stripe by
 // stripe, while they are still in cache, instead of the stage reading them from memory again.
-// Why: on the 1 M-atom LJ frame (2 ranks, Intel Xeon) object-space ambient occlusion read a
-// rank's 12 MB of positions in about 1.5 ms of its 2.1 ms deposit, as long as the refit's own
-// read; with the positions in cache the deposit took 0.7 ms.
+// Why: on the 1 M-atom LJ frame (2 ranks, Intel Xeon) object-space ambient occlusion spent about
+// 1.5 ms of its 2.8 ms deposit a rank reading the 12 MB of positions the refit had just read;
+// handed them stripe by stripe, the stage went from 13.6-13.8 % to 9.1-9.4 % of the step
+// (tests/bench/cues/results/object_ao_refit_tap_ab.txt).
 //
 // Ownership: the pass borrows the tap for one call. Thread-safety: take() is called from one
 // thread at a time. Units: the simulation's lengths.
