@@ -40,8 +40,9 @@ __attribute__((target("avx2"))) void perspective_distances_avx2(const Camera &ca
   }
 }
 
-// Orthographic distances, alike: n + d (f - n) lane by lane (a call and a conversion a pixel
-// took 0.58 ms of each rank's half of void_impact's 1024^2 frame before every screen-space cue).
+// Orthographic distances, alike: n + d (f - n) lane by lane, where the one-at-a-time loop makes
+// a call and two conversions a pixel, as the perspective loop did before its kernel (not timed
+// on its own: the cue bench's cameras are perspective).
 __attribute__((target("avx2"))) void orthographic_distances_avx2(const Camera &camera,
                                                                  const float *depth, size_t count,
                                                                  float *z) {
