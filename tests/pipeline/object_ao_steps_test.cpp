@@ -1,9 +1,9 @@
 // Object-space ambient occlusion over steps through the pipeline (two scenes, two volumes): from
 // the second step on, each volume's deposit is taken from the bricks' refit's read of the positions
 // (OcclusionVolume::arm_tap); every image must be the bytes a fresh run of that step alone
-// writes (a deposit of its own), at 1, 2 and 3 ranks, and the stats line must say which deposit
-// each step used: the refit's after a wobble, its own after a few particles jumped far (the grid
-// grew past the refit's).
+// writes (a deposit of its own) and the bytes rank 0 alone writes, at 1-4 ranks, and the stats
+// line must say which deposit each step used: the refit's after a wobble, its own after a few
+// particles jumped far (the grid grew past the refit's).
 #include <gtest/gtest.h>
 
 #include <mpi.h>
@@ -44,11 +44,14 @@ std::string config(const std::string &dir, const std::string &run) {
          dir + "/wide_" + run + "_{step}.png'}\n";
 }
 
-void render(const std::string &yaml, const std::vector<int> &steps) {
+// On `comm` (MPI_COMM_SELF: rank 0 alone, the whole lattice).
+void render(const std::string &yaml, const std::vector<int> &steps,
+            MPI_Comm comm = MPI_COMM_WORLD) {
   std::unique_ptr<Runtime> rt;
-  ASSERT_OK(Runtime::open(yaml, MPI_COMM_WORLD, &rt));
+  ASSERT_OK(Runtime::open(yaml, comm, &rt));
   for (const int step : steps) {
-    const std::vector<double> xyz = moving_lattice(step);
+    const std::vector<double> xyz =
+        comm == MPI_COMM_SELF ? moving_lattice(step, 0, 1) : moving_lattice(step);
     ParticleDescription p{};
     p.count = int64_t(xyz.size() / 3);
     p.position = {xyz.data(), DataType::kFloat64, 0};
@@ -74,11 +77,14 @@ TEST(ObjectAoSteps, TheRefitsDepositGivesTheImagesOfFreshRuns) {
   for (const int step : {0, 1, 2})
     render(config(dir.path(), "fresh" + std::to_string(step)), {step});
   if (world_rank() != 0) return;
+  // The same steps on one rank alone: the same bytes whatever the rank count.
+  render(config(dir.path(), "alone"), {0, 1, 2}, MPI_COMM_SELF);
   // Two scenes, two volumes (their own spacings): the refit hands its stream to both.
-  for (const int scene : {0, 1})
-    EXPECT_EQ(deposits(dir.path() + "/stats_steps.jsonl", scene),
-              (std::vector<std::string>{"own", "refit", "own"}))
-        << "scene " << scene;
+  for (const char *run : {"steps", "alone"})
+    for (const int scene : {0, 1})
+      EXPECT_EQ(deposits(dir.path() + "/stats_" + run + ".jsonl", scene),
+                (std::vector<std::string>{"own", "refit", "own"}))
+          << run << ", scene " << scene;
   for (const int step : {0, 1, 2}) {
     const std::string s = std::to_string(step);
     for (const int scene : {0, 1})
@@ -90,6 +96,8 @@ TEST(ObjectAoSteps, TheRefitsDepositGivesTheImagesOfFreshRuns) {
       const auto fresh = read_bytes(name + "_fresh" + s + "_" + s + ".png");
       ASSERT_FALSE(fresh.empty());
       EXPECT_TRUE(steps == fresh) << scene << ", step " << step;
+      EXPECT_TRUE(steps == read_bytes(name + "_alone_" + s + ".png"))
+          << scene << ", step " << step << ": " << world_size() << " ranks against one";
     }
   }
 }

@@ -13,8 +13,10 @@
 
 namespace lantern::testing {
 
-inline std::vector<double> moving_lattice(int step) {
-  const int rank = world_rank(), ranks = world_size(), n = 64;
+// `rank` of `ranks`: the slab of another split (rank 0 of 1: the whole lattice).
+inline std::vector<double> moving_lattice(int step, int rank = world_rank(),
+                                          int ranks = world_size()) {
+  const int n = 64;
   std::vector<double> xyz;
   for (int z = n * rank / ranks; z < n * (rank + 1) / ranks; ++z)
     for (int y = 0; y < n; ++y)
