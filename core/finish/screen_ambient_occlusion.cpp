@@ -188,15 +188,46 @@ LANTERN_AO_INLINE F8 abs8(F8 a) {
   return a < 0.0f ? -a : a;
 }
 LANTERN_AO_INLINE bool any(I8 mask) {
+#if defined(__x86_64__)
+  // One SSE2 movemask of the two halves or-ed (baseline, so valid in every compilation): the
+  // lane-by-lane loop compiled to eight extractions.
+  using I4 = int32_t __attribute__((vector_size(16)));
+  const I4 either = __builtin_shufflevector(mask, mask, 0, 1, 2, 3) |
+                    __builtin_shufflevector(mask, mask, 4, 5, 6, 7);
+  return _mm_movemask_ps(_mm_castsi128_ps(__m128i(either))) != 0;
+#else
   bool yes = false;
   for (int l = 0; l < kLanes; ++l) yes = yes || mask[l] != 0;
   return yes;
+#endif
 }
-// Correctly rounded square roots (IEEE), so every path gives the same bits. On x86-64 two SSE
-// sqrtps (baseline, so valid in both compilations): a scalar sqrtf may also set errno, which
-// keeps the compiler from vectorising it.
+// The instructions a compilation of the pass may use beyond the baseline (see
+// half_resolution_pass). Those few are written as inline assembly: GCC does not inline an
+// intrinsic's target-specific body into these always-inline helpers, which are not themselves
+// compiled for a target, and a call per sample would cost more than the instruction.
+struct Baseline {
+  static constexpr bool kAvx2 = false, kGather = false;
+};
+// AVX2 (or AVX-512), reading the distances lane by lane.
+struct Avx2Loads {
+  static constexpr bool kAvx2 = true, kGather = false;
+};
+// AVX2 with vgatherdps: faster than 8 loads on some processors (cpu_prefers_gathers()).
+struct Avx2Gather {
+  static constexpr bool kAvx2 = true, kGather = true;
+};
+
+// Correctly rounded square roots (IEEE), so every path gives the same bits: one vsqrtps of 8 lanes
+// with AVX2, else two SSE sqrtps (baseline): a scalar sqrtf may also set errno, which keeps the
+// compiler from vectorising it.
+template <class Isa>
 LANTERN_AO_INLINE F8 sqrt8(F8 a) {
 #if defined(__x86_64__)
+  if constexpr (Isa::kAvx2) {
+    F8 r;
+    asm("vsqrtps %[a], %[r]" : [r] "=x"(r) : [a] "x"(a));
+    return r;
+  }
   using F4 = float __attribute__((vector_size(16)));
   const F4 low = __builtin_shufflevector(a, a, 0, 1, 2, 3);
   const F4 high = __builtin_shufflevector(a, a, 4, 5, 6, 7);
@@ -208,7 +239,21 @@ LANTERN_AO_INLINE F8 sqrt8(F8 a) {
   return r;
 #endif
 }
+// base[index] in each lane: one vgatherdps (8 loads in fewer instructions than 8 scalar loads and
+// inserts) or lane by lane. Every index must be readable.
+template <class Isa>
 LANTERN_AO_INLINE F8 gather(const float *base, I8 index) {
+#if defined(__x86_64__)
+  if constexpr (Isa::kGather) {
+    F8 r{};
+    I8 mask;  // all ones: every lane loads; the gather clears it
+    asm("vpcmpeqd %[m], %[m], %[m]\n\tvgatherdps %[m], (%[b],%[i],4), %[r]"
+        : [r] "+&x"(r), [m] "=&x"(mask)
+        : [b] "r"(base), [i] "x"(index)
+        : "memory");
+    return r;
+  }
+#endif
   F8 r;
   for (int l = 0; l < kLanes; ++l) r[l] = base[index[l]];
   return r;
@@ -255,12 +300,13 @@ LANTERN_AO_INLINE Vec3 tangent8(const Vec3 &p, F8 z, const Vec3 &q_plus, F8 z_pl
 // The summed occlusion of 8 pixels (x, y), x < width and y held: -1 where the pixel is
 // background, 0 where the radius covers less than a pixel. kx, ky: the spiral's offsets of each
 // lane's turn, sample s at [kLanes s + lane].
+template <class Isa>
 LANTERN_AO_INLINE F8 estimate8(const Estimator &e, I8 x, I8 y, const float *kx, const float *ky) {
   const int w = e.width;
   const F8 one = splat(1.0f), zero = splat(0.0f);
   const I8 row = (y - e.first) * w;
   const I8 centre = row + x;
-  const F8 z = gather(e.z, centre);
+  const F8 z = gather<Isa>(e.z, centre);
   const I8 drawn = z != kBackground;
   const F8 ppu = e.t.orthographic ? splat(e.t.ppu) : splat(e.t.ppu) / z;
   const F8 pixels = min8(splat(float(kMaxAoPixels)), splat(e.radius) * ppu);
@@ -270,21 +316,23 @@ LANTERN_AO_INLINE F8 estimate8(const Estimator &e, I8 x, I8 y, const float *kx, 
   const Vec3 p = point8(e, fx, fy, z);
   // Neighbours outside the image or the held rows count as not drawn.
   const F8 z_right =
-      select(x + 1 < w, gather(e.z, (x + 1 < w) ? centre + 1 : centre), splat(kBackground));
-  const F8 z_left = select(x >= 1, gather(e.z, (x >= 1) ? centre - 1 : centre), splat(kBackground));
-  const F8 z_down = select(y + 1 < e.last, gather(e.z, (y + 1 < e.last) ? centre + w : centre),
+      select(x + 1 < w, gather<Isa>(e.z, (x + 1 < w) ? centre + 1 : centre), splat(kBackground));
+  const F8 z_left =
+      select(x >= 1, gather<Isa>(e.z, (x >= 1) ? centre - 1 : centre), splat(kBackground));
+  const F8 z_down = select(y + 1 < e.last, gather<Isa>(e.z, (y + 1 < e.last) ? centre + w : centre),
                            splat(kBackground));
-  const F8 z_up = select(y - 1 >= e.first, gather(e.z, (y - 1 >= e.first) ? centre - w : centre),
-                         splat(kBackground));
+  const F8 z_up =
+      select(y - 1 >= e.first, gather<Isa>(e.z, (y - 1 >= e.first) ? centre - w : centre),
+             splat(kBackground));
   const Vec3 tx = tangent8(p, z, point8(e, fx + 1.0f, fy, z_right), z_right,
                            point8(e, fx - 1.0f, fy, z_left), z_left);
   const Vec3 ty = tangent8(p, z, point8(e, fx, fy + 1.0f, z_down), z_down,
                            point8(e, fx, fy - 1.0f, z_up), z_up);
   // n = tx x ty, facing the eye; the direction to the eye where it is degenerate.
   Vec3 n{tx.y * ty.z - tx.z * ty.y, tx.z * ty.x - tx.x * ty.z, tx.x * ty.y - tx.y * ty.x};
-  const F8 eye = sqrt8(p.x * p.x + p.y * p.y + p.z * p.z);
+  const F8 eye = sqrt8<Isa>(p.x * p.x + p.y * p.y + p.z * p.z);
   const Vec3 to_eye{-p.x / eye, -p.y / eye, -p.z / eye};
-  const F8 length = sqrt8(n.x * n.x + n.y * n.y + n.z * n.z);
+  const F8 length = sqrt8<Isa>(n.x * n.x + n.y * n.y + n.z * n.z);
   const I8 has_normal = length > 0.0f;
   const F8 facing =
       select(n.x * to_eye.x + n.y * to_eye.y + n.z * to_eye.z < 0.0f, -length, length);
@@ -300,13 +348,13 @@ LANTERN_AO_INLINE F8 estimate8(const Estimator &e, I8 x, I8 y, const float *kx, 
                   (kMaxAoPixels + 1);
     // Held rows lie in the image, and the halo holds every image row a sample can reach.
     const I8 ok = active & (sx >= 0) & (sx < w) & (sy >= e.first) & (sy < e.last);
-    const F8 sz = gather(e.z, ok ? (sy - e.first) * w + sx : centre);
+    const F8 sz = gather<Isa>(e.z, ok ? (sy - e.first) * w + sx : centre);
     const Vec3 q = point8(e, __builtin_convertvector(sx, F8) + 0.5f,
                           __builtin_convertvector(sy, F8) + 0.5f, sz);
     const F8 dx = q.x - p.x, dy = q.y - p.y, dz = q.z - p.z;
     const F8 d2 = dx * dx + dy * dy + dz * dz;
     const I8 counts = ok & (sz != kBackground) & (d2 > 0.0f) & (d2 < e.r2);
-    const F8 cosine = (n.x * dx + n.y * dy + n.z * dz) / sqrt8(select(counts, d2, one));
+    const F8 cosine = (n.x * dx + n.y * dy + n.z * dz) / sqrt8<Isa>(select(counts, d2, one));
     const F8 term = max8(zero, cosine - kAoBias) * (1.0f - d2 * inv_r2);
     occlusion += select(counts, term, zero);
   }
@@ -373,6 +421,7 @@ struct Pixel {
   int32_t x, y;
 };
 
+template <class Isa>
 LANTERN_AO_INLINE void half_resolution_pass(const ViewPositions &v,
                                             const AmbientOcclusionStyle &style, BandFrame *band,
                                             AoScratch *scratch) {
@@ -415,11 +464,11 @@ LANTERN_AO_INLINE void half_resolution_pass(const ViewPositions &v,
       const I8 x = splat_int(2 * i0) + even_lanes;
       const I8 in_image = x < w;
       const F8 occlusion =
-          estimate8(e, in_image ? x : splat_int(w - 1), splat_int(2 * j), kxj, kyj);
+          estimate8<Isa>(e, in_image ? x : splat_int(w - 1), splat_int(2 * j), kxj, kyj);
       const I8 held = in_image & (occlusion >= 0.0f);
       store8(value + i0, select(held, occlusion, splat(0.0f)));
-      store8(z + i0,
-             select(held, gather(v.row(2 * j), in_image ? x : splat_int(0)), splat(kBackground)));
+      store8(z + i0, select(held, gather<Isa>(v.row(2 * j), in_image ? x : splat_int(0)),
+                            splat(kBackground)));
     }
     // Lanes past the last column wrote into the padding: it must stay "no estimate".
     std::fill(z + columns, z + columns + kPad, kBackground);
@@ -530,7 +579,7 @@ LANTERN_AO_INLINE void half_resolution_pass(const ViewPositions &v,
         ky_alone[size_t(kLanes * s + l)] = k[2 * s + 1];
       }
     }
-    const F8 occlusion = estimate8(e, x, y, kx_alone.data(), ky_alone.data());
+    const F8 occlusion = estimate8<Isa>(e, x, y, kx_alone.data(), ky_alone.data());
     for (int l = 0; l < lanes; ++l) {
       if (!(occlusion[l] >= 0.0f)) continue;
       uint8_t *pixel =
@@ -543,18 +592,35 @@ LANTERN_AO_INLINE void half_resolution_pass(const ViewPositions &v,
 __attribute__((target("avx2"))) void half_resolution_avx2(const ViewPositions &v,
                                                           const AmbientOcclusionStyle &style,
                                                           BandFrame *band, AoScratch *scratch) {
-  half_resolution_pass(v, style, band, scratch);
+  half_resolution_pass<Avx2Loads>(v, style, band, scratch);
 }
-// The same 8-lane code with AVX-512's 32 registers and mask registers: about 8 % faster than
-// AVX2 on the bench scenes (fewer spills).
+__attribute__((target("avx2"))) void half_resolution_avx2_gather(const ViewPositions &v,
+                                                                 const AmbientOcclusionStyle &style,
+                                                                 BandFrame *band,
+                                                                 AoScratch *scratch) {
+  half_resolution_pass<Avx2Gather>(v, style, band, scratch);
+}
+// The same 8-lane code with AVX-512's 32 registers and mask registers.
 __attribute__((target("avx512f,avx512vl,avx512dq,avx512bw"))) void half_resolution_avx512(
     const ViewPositions &v, const AmbientOcclusionStyle &style, BandFrame *band,
     AoScratch *scratch) {
-  half_resolution_pass(v, style, band, scratch);
+  half_resolution_pass<Avx2Loads>(v, style, band, scratch);
 }
 void half_resolution_portable(const ViewPositions &v, const AmbientOcclusionStyle &style,
                               BandFrame *band, AoScratch *scratch) {
-  half_resolution_pass(v, style, band, scratch);
+  half_resolution_pass<Baseline>(v, style, band, scratch);
+}
+
+// The path kAuto takes. Measured with lantern-bench-cues --kernels (thread CPU time of the pass
+// on a whole 1024^2 frame, void_impact): on an Intel Xeon with AVX-512 (Sapphire Rapids class),
+// AVX2 with gathers 5.1-5.3 ms, the AVX-512 compilation 5.7-5.9, AVX2 with loads 5.6-5.8; on the
+// AMD EPYCs of earlier measurements the AVX-512 compilation was about 8 % faster than AVX2, and
+// gathers slower than loads.
+AoVectorPath automatic_path() {
+  if (cpu_prefers_gathers()) return AoVectorPath::kAvx2Gather;
+  if (cpu_has_avx512_bw()) return AoVectorPath::kAvx512;
+  if (cpu_has_avx2()) return AoVectorPath::kAvx2;
+  return AoVectorPath::kPortable;
 }
 
 }  // namespace
@@ -572,11 +638,16 @@ void apply_screen_ambient_occlusion(const ViewPositions &v, const AmbientOcclusi
                                     BandFrame *band, AoVectorPath path, AoScratch *scratch) {
   AoScratch own;
   if (scratch == nullptr) scratch = &own;
-  if (!style.half_resolution)
+  if (!style.half_resolution) {
     full_resolution(v, style, band);
-  else if (path == AoVectorPath::kAuto && cpu_has_avx512_bw())
+    return;
+  }
+  if (path == AoVectorPath::kAuto) path = automatic_path();
+  if (path == AoVectorPath::kAvx512 && cpu_has_avx512_bw())
     half_resolution_avx512(v, style, band, scratch);
-  else if (path != AoVectorPath::kPortable && cpu_has_avx2())
+  else if (path == AoVectorPath::kAvx2Gather && cpu_has_avx2())
+    half_resolution_avx2_gather(v, style, band, scratch);
+  else if (path == AoVectorPath::kAvx2 && cpu_has_avx2())
     half_resolution_avx2(v, style, band, scratch);
   else
     half_resolution_portable(v, style, band, scratch);

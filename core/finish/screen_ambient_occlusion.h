@@ -56,10 +56,12 @@ struct AmbientOcclusionStyle {
 // The rows of halo above and below a band that the style reads.
 int screen_ambient_occlusion_halo(const AmbientOcclusionStyle &style);
 
-// The instruction set of the half-resolution pass: kAuto takes AVX-512 or AVX2 where the
-// processor has it; kAvx2 (where present) and kPortable (the baseline: SSE2 on x86-64) force one,
-// for tests. All give the same bits: the same IEEE operations in the same order, lane by lane.
-enum class AoVectorPath { kAuto, kAvx2, kPortable };
+// The instruction set of the half-resolution pass. kAuto takes the fastest measured that the
+// processor has: AVX2 with gathers where those are fast (cpu_prefers_gathers()), else AVX-512,
+// else AVX2. The others force one, for tests and benchmarks; one the processor lacks runs the
+// portable pass (the baseline: SSE2 on x86-64). All give the same bits: the same IEEE operations in
+// the same order, lane by lane.
+enum class AoVectorPath { kAuto, kAvx512, kAvx2Gather, kAvx2, kPortable };
 
 // The half-resolution pass's estimate grids, kept by a caller from frame to frame so that they
 // are neither allocated nor faulted in again (what a frame leaves in them is never read by the

@@ -348,7 +348,8 @@ TEST(ScreenAmbientOcclusion, KeptBuffersGiveTheBytesOfFreshOnes) {
       for (size_t i = 0; i < z->size(); ++i) (*z)[i] = 41.0f + float(i % 19);
     }
     const std::vector<uint8_t> fresh = occluded_band(frame, camera, y0, y1, halo, style);
-    for (const AoVectorPath path : {AoVectorPath::kAuto, AoVectorPath::kPortable})
+    for (const AoVectorPath path : {AoVectorPath::kAuto, AoVectorPath::kAvx512,
+                                    AoVectorPath::kAvx2Gather, AoVectorPath::kPortable})
       EXPECT_EQ(occluded_band(frame, camera, y0, y1, halo, style, path, &kept), fresh)
           << "rows " << y0 << ".." << y1;
     ++compared;
@@ -374,11 +375,10 @@ TEST(ScreenAmbientOcclusion, HalfResolutionGivesTheSameBitsOnEveryInstructionSet
     const Frame frame = draw(camera, balls);
     style.radius = 1.5f + 0.1f * float(seed % 10);
     const std::vector<uint8_t> automatic = occluded_band(frame, camera, 0, kHeight, 0, style);
-    ASSERT_EQ(occluded_band(frame, camera, 0, kHeight, 0, style, AoVectorPath::kAvx2), automatic)
-        << "seed " << seed;
-    ASSERT_EQ(occluded_band(frame, camera, 0, kHeight, 0, style, AoVectorPath::kPortable),
-              automatic)
-        << "seed " << seed;
+    for (const AoVectorPath path : {AoVectorPath::kAvx512, AoVectorPath::kAvx2Gather,
+                                    AoVectorPath::kAvx2, AoVectorPath::kPortable})
+      ASSERT_EQ(occluded_band(frame, camera, 0, kHeight, 0, style, path), automatic)
+          << "seed " << seed << ", path " << int(path);
     ++compared;
   }
   EXPECT_EQ(compared, 40);
