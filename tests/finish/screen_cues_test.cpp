@@ -110,9 +110,9 @@ ScreenCueSettings no_cues() {
 }
 
 TEST(ViewPositions, DistancesFourAtATimeAreTheOneAtATimeDistances) {
-  // Window depths across [0, 1] (and the background, and the values next to it, a NaN and odd
-  // widths that leave a tail): the distances of the vector build (AVX2 where the processor has it)
-  // and of the one-at-a-time build, bit for bit, perspective and orthographic.
+  // Window depths across [0, 1] (and the background, alone and in runs, and the values next to
+  // it, a NaN and odd widths that leave a tail): the distances of the vector build (AVX2 where the
+  // processor has it) and of the one-at-a-time build, bit for bit, perspective and orthographic.
   std::mt19937 rng(4);
   std::uniform_real_distribution<float> u(0.0f, 1.0f);
   for (const bool orthographic : {false, true}) {
@@ -127,7 +127,8 @@ TEST(ViewPositions, DistancesFourAtATimeAreTheOneAtATimeDistances) {
         if (i % 11 == 0) d = kBackgroundDepth;
         if (i % 13 == 0) d = std::nextafter(kBackgroundDepth, 0.0f);
         if (i % 17 == 0) d = 0.0f;
-        if (i % 101 == 5) d = std::nanf("");
+        if ((i / 40) % 5 == 2) d = kBackgroundDepth;  // runs of background (skipped four at once)
+        if (i % 101 == 5) d = std::nanf("");          // some inside those runs
         band.frame.depth[i] = d;
       }
       ViewPositions vector, single;
