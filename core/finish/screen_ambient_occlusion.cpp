@@ -38,6 +38,7 @@ constexpr float kGoldenAngle = 2.39996323f;  // radians: pi (3 - sqrt 5)
 // Added before truncating a sample offset (|offset| <= kMaxAoPixels) to round it to nearest.
 constexpr float kRoundShift = float(kMaxAoPixels + 1) + 0.5f;
 constexpr float kBackground = ViewPositions::kBackground;
+static_assert(ViewPositions::kBorder >= kMaxAoPixels, "samples read the border unchecked");
 
 glm::vec3 position(const ViewPositions &v, int x, int y, float z) {
   return {v.view_x(x, z), v.view_y(y, z), -z};
@@ -266,8 +267,8 @@ LANTERN_AO_INLINE F8 at(bool orthographic, F8 z) {
 // What every estimate reads.
 struct Estimator {
   ViewPositions::Terms t;
-  const float *z;  // the band's distances, held row `first` first
-  int width, first, last;
+  const float *z;  // the band's distances, held row `first` first, rows `stride` apart
+  int width, stride, first, last;
   int samples;
   float radius, r2;
 };
@@ -304,7 +305,7 @@ template <class Isa>
 LANTERN_AO_INLINE F8 estimate8(const Estimator &e, I8 x, I8 y, const float *kx, const float *ky) {
   const int w = e.width;
   const F8 one = splat(1.0f), zero = splat(0.0f);
-  const I8 row = (y - e.first) * w;
+  const I8 row = (y - e.first) * e.stride;
   const I8 centre = row + x;
   const F8 z = gather<Isa>(e.z, centre);
   const I8 drawn = z != kBackground;
@@ -319,10 +320,11 @@ LANTERN_AO_INLINE F8 estimate8(const Estimator &e, I8 x, I8 y, const float *kx, 
       select(x + 1 < w, gather<Isa>(e.z, (x + 1 < w) ? centre + 1 : centre), splat(kBackground));
   const F8 z_left =
       select(x >= 1, gather<Isa>(e.z, (x >= 1) ? centre - 1 : centre), splat(kBackground));
-  const F8 z_down = select(y + 1 < e.last, gather<Isa>(e.z, (y + 1 < e.last) ? centre + w : centre),
-                           splat(kBackground));
+  const F8 z_down =
+      select(y + 1 < e.last, gather<Isa>(e.z, (y + 1 < e.last) ? centre + e.stride : centre),
+             splat(kBackground));
   const F8 z_up =
-      select(y - 1 >= e.first, gather<Isa>(e.z, (y - 1 >= e.first) ? centre - w : centre),
+      select(y - 1 >= e.first, gather<Isa>(e.z, (y - 1 >= e.first) ? centre - e.stride : centre),
              splat(kBackground));
   const Vec3 tx = tangent8(p, z, point8(e, fx + 1.0f, fy, z_right), z_right,
                            point8(e, fx - 1.0f, fy, z_left), z_left);
@@ -346,14 +348,16 @@ LANTERN_AO_INLINE F8 estimate8(const Estimator &e, I8 x, I8 y, const float *kx, 
                   (kMaxAoPixels + 1);
     const I8 sy = y + __builtin_convertvector(pixels * load8(ky + kLanes * s) + kRoundShift, I8) -
                   (kMaxAoPixels + 1);
-    // Held rows lie in the image, and the halo holds every image row a sample can reach.
-    const I8 ok = active & (sx >= 0) & (sx < w) & (sy >= e.first) & (sy < e.last);
-    const F8 sz = gather<Isa>(e.z, ok ? (sy - e.first) * w + sx : centre);
+    // No bounds to test: a sample lies at most kMaxAoPixels from its pixel, so beyond the image
+    // or the held rows it reads the positions' border, the background, which does not count.
+    // (Lanes not active may have no offsets: they read their own pixel.)
+    const F8 sz = gather<Isa>(e.z, active ? (sy - e.first) * e.stride + sx : centre);
     const Vec3 q = point8(e, __builtin_convertvector(sx, F8) + 0.5f,
                           __builtin_convertvector(sy, F8) + 0.5f, sz);
     const F8 dx = q.x - p.x, dy = q.y - p.y, dz = q.z - p.z;
     const F8 d2 = dx * dx + dy * dy + dz * dz;
-    const I8 counts = ok & (sz != kBackground) & (d2 > 0.0f) & (d2 < e.r2);
+    // A background sample (z = +infinity) has an infinite or NaN d2: it fails d2 < r2.
+    const I8 counts = active & (d2 > 0.0f) & (d2 < e.r2);
     const F8 cosine = (n.x * dx + n.y * dy + n.z * dz) / sqrt8<Isa>(select(counts, d2, one));
     const F8 term = max8(zero, cosine - kAoBias) * (1.0f - d2 * inv_r2);
     occlusion += select(counts, term, zero);
@@ -431,8 +435,9 @@ LANTERN_AO_INLINE void half_resolution_pass(const ViewPositions &v,
   const std::vector<float> kernel = sample_kernel(n);
   const float gain = 2.0f * style.strength / float(n);
   const F8 tolerance = splat(kAoDepthTolerance * style.radius);
-  const Estimator e{v.terms(),    v.row(v.first_row()),       w, v.first_row(), v.last_row(), n,
-                    style.radius, style.radius * style.radius};
+  const Estimator e{
+      v.terms(),    v.row(v.first_row()),       w, int(v.stride()), v.first_row(), v.last_row(), n,
+      style.radius, style.radius * style.radius};
   const int columns = (w + 1) / 2, rows = (h + 1) / 2;
   // The blurred rows the owned rows read: [u0, u1), some possibly outside the image (none held
   // there); the estimate rows the blur reads: [e0, e1).

@@ -105,7 +105,7 @@ std::array<float, 2> ViewPositions::drawn_minima(const RowBand &rows, bool vecto
   if (rows.rows() <= 0) return minima;
 #if LANTERN_POSITIONS_AVX2
   if (vector && cpu_has_avx2()) {
-    drawn_minima_avx2(row(rows.y0), size_t(width_), rows.rows(), width_, minima.data());
+    drawn_minima_avx2(row(rows.y0), stride(), rows.rows(), width_, minima.data());
     return minima;
   }
 #endif
@@ -138,22 +138,33 @@ void ViewPositions::build(const BandFrame &band, const Camera &camera, bool vect
   y_scale_ = float(-2.0 / camera.height * sy);
   y_offset_ = float((shift_y + 1.0) * sy);
   ppu_ = float(0.5 * camera.height * p[1][1]);
-  z_.resize(band.frame.pixel_count());
-  size_t i = 0;
+  // The border's background, then each held row's distances between its two sides.
+  z_.resize(size_t(rows_ + 2 * kBorder) * stride());
+  const size_t border_rows = size_t(kBorder) * stride();
+  std::fill(z_.begin(), z_.begin() + ptrdiff_t(border_rows), kBackground);
+  std::fill(z_.end() - ptrdiff_t(border_rows), z_.end(), kBackground);
+  const size_t width = size_t(width_);
+  for (int r = 0; r < rows_; ++r) {
+    float *out = &z_[size_t(r + kBorder) * stride() + size_t(kBorder)];
+    const float *depth = &band.frame.depth[size_t(r) * width];
+    std::fill(out - kBorder, out, kBackground);
+    std::fill(out + width, out + width + kBorder, kBackground);
+    size_t i = 0;
 #if LANTERN_POSITIONS_AVX2
-  if (vector && cpu_has_avx2()) {
-    i = z_.size() / 4 * 4;
-    if (orthographic_)
-      orthographic_distances_avx2(camera, band.frame.depth.data(), i, z_.data());
-    else
-      perspective_distances_avx2(camera, band.frame.depth.data(), i, z_.data());
-  }
+    if (vector && cpu_has_avx2()) {
+      i = width / 4 * 4;
+      if (orthographic_)
+        orthographic_distances_avx2(camera, depth, i, out);
+      else
+        perspective_distances_avx2(camera, depth, i, out);
+    }
 #endif
-  (void)vector;
-  for (; i < z_.size(); ++i) {
-    const float d = band.frame.depth[i];
-    z_[i] = d >= kBackgroundDepth ? kBackground : float(camera.window_depth_to_distance(d));
+    for (; i < width; ++i) {
+      const float d = depth[i];
+      out[i] = d >= kBackgroundDepth ? kBackground : float(camera.window_depth_to_distance(d));
+    }
   }
+  (void)vector;
 }
 
 }  // namespace lantern

@@ -21,6 +21,11 @@ namespace lantern {
 class ViewPositions {
  public:
   static constexpr float kBackground = std::numeric_limits<float>::infinity();
+  // Pixels of background around the held rows: kBorder on each side of every row, and kBorder
+  // rows above and below. A reader that reaches at most kBorder pixels beyond the image's
+  // columns or the held rows reads the background there instead of testing bounds (the screen
+  // AO's samples).
+  static constexpr int kBorder = 32;
 
   // Distances of every pixel of band.frame (owned rows and halo); `image_width/height` are the
   // whole image's. `vector`: with AVX2 where the processor has it, four pixels at a time in
@@ -33,10 +38,15 @@ class ViewPositions {
   // `vector`: with AVX2 where the processor has it (the same two floats).
   std::array<float, 2> drawn_minima(const RowBand &rows, bool vector = true) const;
 
-  // Distance along the view axis at image pixel (x, y), y an image row held by the band.
-  float z(int x, int y) const { return z_[size_t(y - first_) * size_t(width_) + size_t(x)]; }
-  // The distances of held row y, `width()` of them (for vectorised readers).
-  const float *row(int y) const { return &z_[size_t(y - first_) * size_t(width_)]; }
+  // Distance along the view axis at image pixel (x, y), y an image row held by the band (or x, y
+  // up to kBorder beyond the columns and the held rows: the background).
+  float z(int x, int y) const { return row(y)[x]; }
+  // The distances of held row y, `width()` of them, kBorder of background before and after
+  // them; rows stride() apart (for vectorised readers).
+  const float *row(int y) const {
+    return &z_[size_t(y - first_ + kBorder) * stride() + size_t(kBorder)];
+  }
+  size_t stride() const { return size_t(width_) + 2 * size_t(kBorder); }
   // View-space x and y of image pixel (x, y)'s centre at distance z.
   float view_x(int x, float z) const { return (x_scale_ * (float(x) + 0.5f) + x_offset_) * at(z); }
   float view_y(int y, float z) const { return (y_scale_ * (float(y) + 0.5f) + y_offset_) * at(z); }

@@ -156,6 +156,37 @@ TEST(ViewPositions, DistancesFourAtATimeAreTheOneAtATimeDistances) {
   }
 }
 
+// Readers may reach kBorder pixels beyond the columns and the held rows without testing bounds
+// (the screen AO's samples): what they read there is the background, whatever the band holds.
+TEST(ViewPositions, TheBorderAroundTheHeldRowsIsBackground) {
+  for (const bool orthographic : {false, true}) {
+    CameraConfig c;
+    if (orthographic) c.projection = Projection::kOrthographic;
+    for (const int width : {1, 5, 64}) {
+      const Camera camera = cube_camera(c, width, 50);
+      BandFrame band = blank_band(width, 50, 7, {7, 20});
+      std::fill(band.frame.depth.begin(), band.frame.depth.end(), 0.5f);  // every pixel drawn
+      for (const bool vector : {true, false}) {
+        ViewPositions v;
+        v.build(band, camera, vector);
+        const int k = ViewPositions::kBorder, first = v.first_row(), last = v.last_row();
+        int border = 0;
+        for (int y = first - k; y < last + k; ++y)
+          for (int x = -k; x < width + k; ++x) {
+            const bool held = y >= first && y < last && x >= 0 && x < width;
+            if (held) {
+              ASSERT_LT(v.z(x, y), ViewPositions::kBackground) << x << ", " << y;
+            } else {
+              ASSERT_EQ(v.z(x, y), ViewPositions::kBackground) << x << ", " << y;
+              ++border;
+            }
+          }
+        EXPECT_EQ(border, (last - first + 2 * k) * (width + 2 * k) - (last - first) * width);
+      }
+    }
+  }
+}
+
 TEST(ViewPositions, DrawnMinimaOfABackgroundAreTheBackground) {
   const Camera camera = test_camera();
   BandFrame band;
