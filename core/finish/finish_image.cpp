@@ -75,11 +75,11 @@ Status assemble_image(MPI_Comm comm, BandFrame *band, int width, int height, Fra
 // read and cues its own rows. Adds the time to stats->cues_ms.
 Status cue_image_band(MPI_Comm comm, const FinishSettings &finish, const Camera &image_camera,
                       double sphere_radius, int multiple, BandFrame *band, FinishStats *stats,
-                      AoScratch *ao) {
+                      CueScratch *cue_scratch) {
   const auto t0 = Clock::now();
   Status cued = exchange_halo_rows(comm, finish.width, finish.height, screen_cue_halo(finish.cues),
                                    band, multiple);
-  if (cued.ok()) cued = cue_band(comm, finish.cues, image_camera, sphere_radius, band, ao);
+  if (cued.ok()) cued = cue_band(comm, finish.cues, image_camera, sphere_radius, band, cue_scratch);
   if (!cued.ok()) return with_context("screen cues: ", std::move(cued));
   stats->cues_ms += ms_since(t0);
   return {};
@@ -90,7 +90,7 @@ Status cue_image_band(MPI_Comm comm, const FinishSettings &finish, const Camera 
 Status finish_image(MPI_Comm comm, Frame &frame, const FinishSettings &finish,
                     const Camera &image_camera, double sphere_radius,
                     const CompositeCostModel *model, Frame *image, FinishStats *stats,
-                    AoScratch *ao, Frame *kept_band) {
+                    CueScratch *cue_scratch, Frame *kept_band) {
   const int s = finish.samples_per_axis;
   const bool cues = wants_screen_cues(finish.cues);
   CompositeOptions options;
@@ -112,7 +112,8 @@ Status finish_image(MPI_Comm comm, Frame &frame, const FinishSettings &finish,
   stats->downsample_ms = ms_since(t0) - stats->composite.milliseconds;
   // Each rank cues its band plus the halo rows its neighbours own.
   if (cues)
-    if (Status st = cue_image_band(comm, finish, image_camera, sphere_radius, 1, &band, stats, ao);
+    if (Status st =
+            cue_image_band(comm, finish, image_camera, sphere_radius, 1, &band, stats, cue_scratch);
         !st.ok())
       return st;
   t0 = Clock::now();
@@ -126,7 +127,7 @@ Status finish_image(MPI_Comm comm, Frame &frame, const FinishSettings &finish,
 Status finish_image_to_bands(MPI_Comm comm, Frame &frame, const FinishSettings &finish,
                              const Camera &image_camera, double sphere_radius,
                              const CompositeCostModel *model, int band_rows, Frame *band,
-                             ImageBand *owned, FinishStats *stats, AoScratch *ao) {
+                             ImageBand *owned, FinishStats *stats, CueScratch *cue_scratch) {
   const int s = finish.samples_per_axis;
   if (band_rows < 1 || finish.height % band_rows != 0)
     return {StatusCode::kInvalidArgument,
@@ -146,8 +147,8 @@ Status finish_image_to_bands(MPI_Comm comm, Frame &frame, const FinishSettings &
         !st.ok())
       return with_context("compositing: ", std::move(st));
     stats->downsample_ms = ms_since(t0) - stats->composite.milliseconds;
-    if (Status st =
-            cue_image_band(comm, finish, image_camera, sphere_radius, band_rows, &cued, stats, ao);
+    if (Status st = cue_image_band(comm, finish, image_camera, sphere_radius, band_rows, &cued,
+                                   stats, cue_scratch);
         !st.ok())
       return st;
     owned->rows = cued.owned;

@@ -59,7 +59,7 @@ struct FinishStats {
 Status finish_image(MPI_Comm comm, Frame &frame, const FinishSettings &finish,
                     const Camera &image_camera, double sphere_radius,
                     const CompositeCostModel *model, Frame *image, FinishStats *stats,
-                    AoScratch *ao = nullptr, Frame *kept_band = nullptr);
+                    CueScratch *cue_scratch = nullptr, Frame *kept_band = nullptr);
 
 // This rank's rows of an image left in row bands: image rows [rows.y0, rows.y1), held in the
 // frame `held` (not owned: finish_image_to_bands's `frame` or *band), whose row 0 is image row
@@ -84,6 +84,7 @@ struct ImageBand {
 Status finish_image_to_bands(MPI_Comm comm, Frame &frame, const FinishSettings &finish,
                              const Camera &image_camera, double sphere_radius,
                              const CompositeCostModel *model, int band_rows, Frame *band,
-                             ImageBand *owned, FinishStats *stats, AoScratch *ao = nullptr);
+                             ImageBand *owned, FinishStats *stats,
+                             CueScratch *cue_scratch = nullptr);
 
 }  // namespace lantern

@@ -74,14 +74,16 @@ Status apply_screen_cues(MPI_Comm comm, int root, const ScreenCueSettings &cues,
 }
 
 Status cue_band(MPI_Comm comm, const ScreenCueSettings &cues, const Camera &camera,
-                double sphere_radius, BandFrame *band_in, AoScratch *ao) {
+                double sphere_radius, BandFrame *band_in, CueScratch *scratch) {
   BandFrame &band = *band_in;
-  ViewPositions positions;
+  CueScratch own;
+  if (scratch == nullptr) scratch = &own;
+  ViewPositions &positions = scratch->positions;
   positions.build(band, camera);
 
   if (screen_ao(cues))
     apply_screen_ambient_occlusion(positions, ao_style(cues, sphere_radius), &band,
-                                   AoVectorPath::kAuto, ao);
+                                   AoVectorPath::kAuto, &scratch->ao);
   if (cues.outline.enabled) {
     OutlineStyle style;
     style.width = cues.outline.width;

@@ -20,6 +20,7 @@
 #include "core/composite/row_bands.h"
 #include "core/config/config.h"
 #include "core/finish/screen_ambient_occlusion.h"
+#include "core/finish/view_positions.h"
 #include "core/view/frame.h"
 
 namespace lantern {
@@ -48,12 +49,21 @@ Status apply_screen_cues(MPI_Comm comm, int root, const ScreenCueSettings &cues,
 // The rows of halo `cues` read above and below a band (0 without a screen cue).
 int screen_cue_halo(const ScreenCueSettings &cues);
 
+// What the cues of a band keep from frame to frame so that it is neither allocated nor written
+// again: screen ambient occlusion's estimate grids, and the distances (whose border stays
+// background while the band's size does not change). Ownership: the caller's; one per call in
+// flight.
+struct CueScratch {
+  AoScratch ao;
+  ViewPositions positions;
+};
+
 // The cues on one rank's band, for a pipeline whose bands are already spread over the ranks:
 // `band` must hold its owned rows plus screen_cue_halo(cues) rows each side (clamped), e.g.
-// from exchange_halo_rows; its owned rows are rewritten. `ao`: buffers kept from frame to frame
-// for screen ambient occlusion, or null. Collective (the automatic depth-cue range is reduced
+// from exchange_halo_rows; its owned rows are rewritten. `scratch`: buffers kept from frame to
+// frame, or null. Collective (the automatic depth-cue range is reduced
 // over comm). OK or kMpi, the same on every rank.
 Status cue_band(MPI_Comm comm, const ScreenCueSettings &cues, const Camera &camera,
-                double sphere_radius, BandFrame *band, AoScratch *ao = nullptr);
+                double sphere_radius, BandFrame *band, CueScratch *scratch = nullptr);
 
 }  // namespace lantern

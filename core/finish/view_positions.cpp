@@ -138,17 +138,24 @@ void ViewPositions::build(const BandFrame &band, const Camera &camera, bool vect
   y_scale_ = float(-2.0 / camera.height * sy);
   y_offset_ = float((shift_y + 1.0) * sy);
   ppu_ = float(0.5 * camera.height * p[1][1]);
-  // The border's background, then each held row's distances between its two sides.
+  // The border's background (kept from the last build of the same size: only the held rows'
+  // distances are ever written), then each held row's distances between its two sides.
+  const bool border_kept = border_rows_ == rows_ && border_width_ == width_;
   z_.resize(size_t(rows_ + 2 * kBorder) * stride());
-  const size_t border_rows = size_t(kBorder) * stride();
-  std::fill(z_.begin(), z_.begin() + ptrdiff_t(border_rows), kBackground);
-  std::fill(z_.end() - ptrdiff_t(border_rows), z_.end(), kBackground);
-  const size_t width = size_t(width_);
+  const size_t border_rows = size_t(kBorder) * stride(), width = size_t(width_);
+  if (!border_kept) {
+    std::fill(z_.begin(), z_.begin() + ptrdiff_t(border_rows), kBackground);
+    std::fill(z_.end() - ptrdiff_t(border_rows), z_.end(), kBackground);
+    for (int r = 0; r < rows_; ++r) {
+      float *out = &z_[size_t(r + kBorder) * stride() + size_t(kBorder)];
+      std::fill(out - kBorder, out, kBackground);
+      std::fill(out + width, out + width + kBorder, kBackground);
+    }
+    border_rows_ = rows_, border_width_ = width_;
+  }
   for (int r = 0; r < rows_; ++r) {
     float *out = &z_[size_t(r + kBorder) * stride() + size_t(kBorder)];
     const float *depth = &band.frame.depth[size_t(r) * width];
-    std::fill(out - kBorder, out, kBackground);
-    std::fill(out + width, out + width + kBorder, kBackground);
     size_t i = 0;
 #if LANTERN_POSITIONS_AVX2
     if (vector && cpu_has_avx2()) {

@@ -5,7 +5,8 @@
 // them, are the same whichever rank holds the row and however the particles were split.
 // Units: the simulation's length unit, view space (eye at the origin looking down -z); `z` is
 // the positive distance along the view axis, +infinity where nothing was drawn.
-// Ownership: a value; build() reads the band and keeps nothing of it.
+// Ownership: a value; build() reads the band and keeps nothing of it. Kept from frame to frame,
+// it writes its border again only when the band's size changes.
 #pragma once
 
 #include <array>
@@ -71,7 +72,8 @@ class ViewPositions {
   // The factor by which a pixel's normalised offset grows with distance: z in perspective.
   float at(float z) const { return orthographic_ ? 1.0f : z; }
 
-  UninitializedBuffer<float> z_;  // every entry written by build(): no zero-fill first
+  UninitializedBuffer<float> z_;              // every entry written by build(): no zero-fill first
+  int border_rows_ = -1, border_width_ = -1;  // the size whose border z_ holds
   int width_ = 0, height_ = 0, first_ = 0, rows_ = 0;
   bool orthographic_ = false;
   float x_scale_ = 0, x_offset_ = 0, y_scale_ = 0, y_offset_ = 0, ppu_ = 0;

@@ -82,7 +82,7 @@ struct SceneBuffers {
   std::optional<ImageBand> image_band;
   Frame samples;    // samples > 1: the sample-resolution frame, kept between steps like `frame`
   Frame cued_band;  // this rank's band of the image while it is finished (kept between steps)
-  AoScratch ao_scratch;          // screen ambient occlusion's estimate grids
+  CueScratch cue_scratch;        // screen cues: AO estimate grids and the distances
   BackgroundImageWriter writer;  // rank 0, with output.asynchronous
   BrickCutCounts cut_counts;     // this scene's cutting planes per brick (edits are incremental)
   DensityImage density;          // style: density - this rank's sums, then (rank 0) all ranks'

@@ -113,11 +113,11 @@ Status run_sphere_scene(const ScenePassInputs &in, const SceneSettings &settings
     Frame *held = &frame == &buffers->frame ? &buffers->cued_band : &buffers->frame;
     s = finish_image_to_bands(in.comm, frame, settings.finish, image_camera,
                               radius.max_radius(in.global), cost, settings.image_band_rows, held,
-                              &band, &finished, &buffers->ao_scratch);
+                              &band, &finished, &buffers->cue_scratch);
     if (s.ok()) buffers->image_band = band;
   } else {
     s = finish_image(in.comm, frame, settings.finish, image_camera, radius.max_radius(in.global),
-                     cost, &buffers->frame, &finished, &buffers->ao_scratch, &buffers->cued_band);
+                     cost, &buffers->frame, &finished, &buffers->cue_scratch, &buffers->cued_band);
   }
   if (!s.ok()) return with_context(where, std::move(s));
   stats->downsample_ms = finished.downsample_ms;

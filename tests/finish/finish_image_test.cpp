@@ -122,25 +122,25 @@ TEST(FinishImage, TheCuesChangeTheImage) {
   if (world_rank() == 0) EXPECT_NE(plain.rgba, shaded.rgba);
 }
 
-// A band's buffers kept from one frame to the next (and the AO grids) give the next frame the
+// A band's buffers kept from one frame to the next (and the cues' scratch) give the next frame the
 // image of fresh ones, with one sample and with four, after a frame of other spheres.
 TEST(FinishImage, KeptBuffersGiveTheImageOfFreshOnes) {
   const int width = 37, height = 48, rank = world_rank();
   const Camera camera = cue_camera(width, height);
   for (const int s : {1, 2}) {
     Frame kept_band;
-    AoScratch ao;
+    CueScratch scratch;
     FinishStats stats;
     Frame before = rank_frame(rank + 1, width, height, s), image;
     ASSERT_TRUE(finish_image(MPI_COMM_WORLD, before, cued(width, height, s), camera, kCueRadius,
-                             nullptr, &image, &stats, &ao, &kept_band)
+                             nullptr, &image, &stats, &scratch, &kept_band)
                     .ok());
     Frame fresh = rank_frame(rank, width, height, s), kept = fresh, fresh_image, kept_image;
     ASSERT_TRUE(finish_image(MPI_COMM_WORLD, fresh, cued(width, height, s), camera, kCueRadius,
                              nullptr, &fresh_image, &stats)
                     .ok());
     ASSERT_TRUE(finish_image(MPI_COMM_WORLD, kept, cued(width, height, s), camera, kCueRadius,
-                             nullptr, &kept_image, &stats, &ao, &kept_band)
+                             nullptr, &kept_image, &stats, &scratch, &kept_band)
                     .ok());
     if (rank == 0) EXPECT_EQ(kept_image.rgba, fresh_image.rgba) << "samples " << s * s;
   }
