@@ -40,7 +40,7 @@ inline bool cpu_has_pclmul() {
 // True where AVX2's vgatherdps is the faster way to load 8 scattered floats: Intel cores that
 // Linux reports as not affected by Gather Data Sampling (its microcode mitigation makes gathers
 // several times slower on Skylake to Tiger Lake). Measured: on a Sapphire-Rapids-class Xeon,
-// gathers took the screen AO pass from 5.6-5.8 to 5.1-5.3 ms (lantern-bench-cues --kernels); on AMD
+// gathers took the screen AO pass from 5.2-5.4 to 4.8 ms (lantern-bench-cues --kernels); on AMD
 // EPYCs they were slower than loads. False where it cannot be told (no such file: not Linux, or
 // older).
 inline bool cpu_prefers_gathers() {

@@ -616,11 +616,11 @@ void half_resolution_portable(const ViewPositions &v, const AmbientOcclusionStyl
   half_resolution_pass<Baseline>(v, style, band, scratch);
 }
 
-// The path kAuto takes. Measured with lantern-bench-cues --kernels (thread CPU time of the pass
-// on a whole 1024^2 frame, void_impact): on an Intel Xeon with AVX-512 (Sapphire Rapids class),
-// AVX2 with gathers 5.1-5.3 ms, the AVX-512 compilation 5.7-5.9, AVX2 with loads 5.6-5.8; on the
-// AMD EPYCs of earlier measurements the AVX-512 compilation was about 8 % faster than AVX2, and
-// gathers slower than loads.
+// The path kAuto takes. Measured with lantern-bench-cues --kernels 9 (thread CPU time of the pass
+// on a whole 1024^2 frame, void_impact; fcc 1 M alike): on an Intel Xeon with AVX-512 (Sapphire
+// Rapids class), AVX2 with gathers 4.8 ms, the AVX-512 compilation 5.3-5.4, AVX2 with loads
+// 5.2-5.4; on the AMD EPYCs of earlier measurements the AVX-512 compilation was about 8 % faster
+// than AVX2, and gathers slower than loads.
 AoVectorPath automatic_path() {
   if (cpu_prefers_gathers()) return AoVectorPath::kAvx2Gather;
   if (cpu_has_avx512_bw()) return AoVectorPath::kAvx512;
