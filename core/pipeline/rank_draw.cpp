@@ -23,6 +23,8 @@ Status draw_scene_on_rank(const RankScene &in, RankDrawScratch *scratch, Frame *
   const Camera &camera = *in.camera;
   const ParticleArrays &particles = *in.particles;
   *out = RankDraw();
+  // Only the CPU raster's pass says where it drew (OpenGL's readback and the splats do not).
+  frame->drawn_within.reset();
   // Bricks, culling and level of detail: what to draw.
   auto t0 = Clock::now();
   BrickSelection &selection = scratch->selection;
@@ -100,6 +102,7 @@ Status draw_scene_on_rank(const RankScene &in, RankDrawScratch *scratch, Frame *
                                      : AlphaOf([&recipe](int64_t i) { return recipe.alpha(i); }),
         shading.lighting);
     PageVector<uint64_t>().swap(draw.points);
+    frame->drawn_within.reset();  // splats anywhere
     out->draw_ms += ms_since(t0);
   }
   return drawn;

@@ -1,6 +1,7 @@
 #include "core/render/cpu_sphere_pass.h"
 
 #include <algorithm>
+#include <cstring>
 
 #include "core/bricks/radix_sort.h"
 #include "core/particles/typed_access.h"
@@ -97,7 +98,11 @@ BondCounts CpuSpherePass::count_bonds(const BondDrawing &bonds, int count) {
 }
 
 void CpuSpherePass::begin_strips(int count, const ViewGeometry &g, const Lighting *lighting,
-                                 Frame *frame) {
+                                 const uint8_t background[4], Frame *frame) {
+  CpuSphereRaster::clear_target(g, background, frame);
+  frame_ = frame;
+  std::memcpy(background_, background, sizeof background_);
+  strips_begun_ = count;
   if (int(rasters_.size()) < count) rasters_.resize(size_t(count));
   for (int k = 0; k < count; ++k) {
     CpuSphereRaster &raster = rasters_[size_t(k)];
@@ -107,6 +112,20 @@ void CpuSpherePass::begin_strips(int count, const ViewGeometry &g, const Lightin
 }
 
 void CpuSpherePass::end_strips() {
+  // What the strips drew, for compositing's scan (Frame::drawn_within): the rest of the frame is
+  // begin_strips' clear.
+  PixelRect drawn;
+  for (int k = 0; k < strips_begun_; ++k) drawn.unite(rasters_[size_t(k)].touched());
+  if (frame_ != nullptr) {
+    DrawnWithin within;
+    if (!drawn.empty())
+      within.x0 = drawn.x0, within.y0 = drawn.y0, within.x1 = drawn.x1 + 1,
+      within.y1 = drawn.y1 + 1;
+    std::memcpy(within.background, background_, sizeof within.background);
+    frame_->drawn_within = within;
+  }
+  frame_ = nullptr;
+  strips_begun_ = 0;
   for (CpuSphereRaster &raster : rasters_) raster.end_strip();
 }
 
@@ -144,8 +163,7 @@ CullStats CpuSpherePass::run(const ParticleArrays &particles, const BrickSet &br
   const bool occlusion = sel.mode == OcclusionMode::kHzb;
   const bool point_path = cull.lod.point_path;
   const int count = split_strips(g.width, threads, &strips_);
-  CpuSphereRaster::clear_target(g, background, frame);
-  begin_strips(count, g, &lighting, frame);
+  begin_strips(count, g, &lighting, background, frame);
   if (rects_.size() < size_t(count)) rects_.resize(size_t(count));
   if (bonds) begin_bonds(*bonds, count);
 
@@ -239,8 +257,8 @@ CullStats CpuSpherePass::run_probabilistic(const ParticleArrays &particles, cons
   const ViewGeometry &g = sel.g;
   const bool point_path = cull.lod.point_path;
   const int count = split_strips(g.width, threads, &strips_);
-  CpuSphereRaster::clear_target(g, background, frame);
-  begin_strips(count, g, nullptr, frame);  // the lighting the rasters last had (as before)
+  // The lighting the rasters last had (as before).
+  begin_strips(count, g, nullptr, background, frame);
   const MeshletSet &ml = probabilistic_.meshlets();
   const Frustum frustum(g);
   const CutPlanes cuts(cull.cuts);

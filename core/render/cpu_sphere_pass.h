@@ -70,9 +70,11 @@ class CpuSpherePass {
                               const InstanceRecipe &recipe, const uint8_t background[4],
                               Frame *frame, DrawList *out, int64_t step, int threads);
 
-  // Gives the first `count` strips their rasters, begun on `frame`.
-  void begin_strips(int count, const ViewGeometry &g, const Lighting *lighting, Frame *frame);
-  // Ends every raster's strip (their depth pyramids are not kept between frames).
+  // Clears `frame` to `background` and gives the first `count` strips their rasters, begun on it.
+  void begin_strips(int count, const ViewGeometry &g, const Lighting *lighting,
+                    const uint8_t background[4], Frame *frame);
+  // Ends every raster's strip (their depth pyramids are not kept between frames) and tells the
+  // frame where they drew (Frame::drawn_within).
   void end_strips();
   // Strip k's half-bonds of visible bond bricks [from, to); marks those it drew in
   // bond_marks_[k] (one strip: counts them in bond_drawn_) and records the bricks' drops in
@@ -96,6 +98,10 @@ class CpuSpherePass {
   std::vector<BondDrops> bond_drops_;
   std::vector<std::vector<uint8_t>> bond_marks_;
   int64_t bond_drawn_ = 0;
+  // From begin_strips to end_strips: the frame, what it was cleared to, the strips begun.
+  Frame *frame_ = nullptr;
+  uint8_t background_[4] = {0, 0, 0, 0};
+  int strips_begun_ = 0;
   int bond_strips_ = 0;  // the strips of the last begin_bonds
   PageVector<uint64_t> scratch_;
 };

@@ -47,6 +47,7 @@ void CpuSphereRaster::begin_strip(const ViewGeometry &g, Frame *frame, int x0, i
   x0_ = std::max(x0, 0), x1_ = std::min(x1, g.width - 1);
   pyramid_.reset(frame->depth.data(), g.width, g.height, kBackgroundDepth);
   pending_ = PixelRect{};
+  touched_ = PixelRect{};
   rays_.reset(g);
 }
 
@@ -660,6 +661,7 @@ bool CpuSphereRaster::draw(const glm::dvec3 &c, double r, const uint8_t rgb[3], 
         written.unite(PixelRect{x, y, x, y});
       }
     pyramid_.propagate(written);
+    touched_.unite(written);
     return !written.empty();
   }
   // Tile side: small spheres get small tiles (a pixel's result does not depend on the tile).
@@ -671,6 +673,7 @@ bool CpuSphereRaster::draw(const glm::dvec3 &c, double r, const uint8_t rgb[3], 
     written = draw_tiles<kTile>(centred ? &*centred : nullptr, general ? &*general : nullptr, rgb,
                                 rect, alpha8, target);
   pyramid_.propagate(written);
+  touched_.unite(written);
   return !written.empty();
 }
 
@@ -726,6 +729,7 @@ bool CpuSphereRaster::draw_bond(const glm::dvec3 &a, const glm::dvec3 &b, double
     }
   }
   pyramid_.propagate(written);
+  touched_.unite(written);
   return !written.empty();
 }
 
@@ -845,6 +849,7 @@ bool CpuSphereRaster::draw_centred_bond(const glm::dvec3 &a, const glm::dvec3 &u
     }
   }
   const PixelRect written{won_x0, won_y0, won_x1, won_y1};
+  touched_.unite(written);
   if (!written.empty()) {
     // Nearby bonds (an atom's halves) propagate together: a pyramid level left above the depths
     // below it only makes covered() refine further, never changes its answer.

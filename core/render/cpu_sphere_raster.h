@@ -51,6 +51,9 @@ class CpuSphereRaster {
   // pyramid stays in use between frames (its pages are lazily freed, for the next frame's:
   // core/common/page_allocator.h). Nothing may be drawn or asked until begin_strip.
   void end_strip() { pyramid_.release(); }
+  // Every pixel this raster has written since begin_strip lies within this rectangle (inclusive;
+  // empty when it wrote none): the rest of its strip holds what the frame held before.
+  const PixelRect &touched() const { return touched_; }
 
   // True if every pixel of `rect` (within the strip) already holds something strictly nearer
   // than view depth z: a sphere whose nearest point is at z would change none of them.
@@ -123,6 +126,7 @@ class CpuSphereRaster {
   // less than kDeferExtent pixels a side.
   static constexpr int kDeferExtent = 16;
   PixelRect pending_;
+  PixelRect touched_;  // touched()
   PixelRays rays_;
   std::optional<shading::LightModel<float>> light_;  // set for a lighting other than the default
   // The pixels of a cylinder to cast (columns and rows), the depths they hold, and their window

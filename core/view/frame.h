@@ -11,6 +11,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
+#include <optional>
 #include <vector>
 
 #include "core/common/page_allocator.h"
@@ -19,11 +20,23 @@ namespace lantern {
 
 inline constexpr float kBackgroundDepth = 1.0f;
 
+// What a renderer that drew a frame right after clear() says of it: every pixel outside the
+// rectangle [x0, x1) x [y0, y1) (y counted from the top row) still holds what that clear() wrote,
+// `background` at kBackgroundDepth.
+struct DrawnWithin {
+  int x0 = 0, y0 = 0, x1 = 0, y1 = 0;
+  uint8_t background[4] = {0, 0, 0, 0};
+};
+
 struct Frame {
   int width = 0;
   int height = 0;
   PageVector<uint8_t> rgba;  // 4 * width * height
   PageVector<float> depth;   // width * height
+  // Set by the CPU raster's pass (cpu_sphere_pass.h) once it has drawn; compositing's scan then
+  // reads only that rectangle of the frame, and drops it (its merges write outside it). clear()
+  // and reset() drop it, and so does whoever draws into the frame without widening it.
+  std::optional<DrawnWithin> drawn_within;
 
   Frame() = default;
   Frame(int w, int h) : width(w), height(h), rgba(size_t(w) * h * 4), depth(size_t(w) * h) {}
@@ -38,6 +51,7 @@ struct Frame {
       return;
     }
     width = w, height = h;
+    drawn_within.reset();
     std::fill(rgba.begin(), rgba.end(), uint8_t(0));
     std::fill(depth.begin(), depth.end(), 0.0f);
   }
@@ -57,6 +71,7 @@ struct Frame {
 
   // Fills every pixel with the background color (RGBA8) at background depth.
   void clear(const uint8_t background_rgba[4]) {
+    drawn_within.reset();
     uint32_t packed;  // one 4-byte store per pixel: this runs for every frame
     std::memcpy(&packed, background_rgba, 4);
     uint8_t *out = rgba.data();

@@ -22,6 +22,7 @@
 #include "core/render/gl/gl_session.h"
 #include "core/render/point_splats.h"
 #include "core/render/sphere_instances.h"
+#include "core/view/cylinder_bounds.h"
 #include "tests/support/gl_test.h"
 #include "tests/support/status_expect.h"
 
@@ -128,8 +129,28 @@ class CullingTest : public testing::GlTest {
     RankDraw drawn;
     EXPECT_OK(draw_scene_on_rank(RankScene(p, bricks, cam, s), &scratch, &frame, &drawn));
     EXPECT_EQ(drawn.cull.occlusion.find("no OpenGL"), std::string::npos) << drawn.cull.occlusion;
+    expect_background_outside_drawn_within(frame);
     *stats = drawn.cull;
     return frame;
+  }
+
+  // Where the CPU pass says it drew (Frame::drawn_within, which compositing's scan trusts), every
+  // pixel outside holds the background at background depth. Absent only where points were
+  // splatted after the raster.
+  static void expect_background_outside_drawn_within(const Frame &frame) {
+    if (!frame.drawn_within) return;
+    const DrawnWithin &w = *frame.drawn_within;
+    int64_t outside = 0, wrong = 0;
+    for (int y = 0; y < frame.height; ++y)
+      for (int x = 0; x < frame.width; ++x) {
+        if (x >= w.x0 && x < w.x1 && y >= w.y0 && y < w.y1) continue;
+        ++outside;
+        const size_t i = frame.index(x, y);
+        if (frame.depth[i] != kBackgroundDepth || std::memcmp(&frame.rgba[4 * i], w.background, 4))
+          ++wrong;
+      }
+    EXPECT_EQ(wrong, 0) << "of " << outside << " pixels outside [" << w.x0 << ", " << w.x1
+                        << ") x [" << w.y0 << ", " << w.y1 << ")";
   }
 
   static int64_t differing_pixels(const Frame &a, const Frame &b) {
@@ -366,6 +387,8 @@ TEST_F(CullingTest, CpuRasterWithHzbIsBitIdenticalToCpuRasterOfEverything) {
     const Frame fused = raster(c, s, cam, &with);
     s.culling.occlusion = OcclusionMode::kNone;
     const Frame all = raster(c, s, cam, &without);
+    ASSERT_TRUE(fused.drawn_within.has_value());  // checked in raster()
+    ASSERT_TRUE(all.drawn_within.has_value());
     EXPECT_EQ(without.occlusion_culled, 0);
     EXPECT_EQ(differing_pixels(fused, all), 0) << "case " << it;
     culled += with.occlusion_culled;
@@ -770,6 +793,60 @@ TEST(CpuSphereRaster, StripsWriteOnlyTheirColumnsAndTogetherDrawTheWholeFrame) {
       }
   }
   EXPECT_GT(drawn_pixels, 2000);
+}
+
+TEST(CpuSphereRaster, TouchedHoldsEveryPixelAnyPrimitiveWrote) {
+  // One primitive at a time on a cleared frame - spheres of a pixel or less (cast one by one),
+  // of a small tile and of many tiles, half-bonds in front of the eye and reaching behind it,
+  // both projections - and every pixel that changed lies within touched(), which compositing's
+  // scan then trusts (Frame::drawn_within).
+  std::mt19937 rng(29);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  const uint8_t bg[4] = {10, 20, 30, 255};
+  int drew[2] = {0, 0};
+  for (int variant = 0; variant < 2; ++variant) {
+    const int w = 120, h = 90;
+    ViewGeometry g;
+    ASSERT_OK(box_view(w, h, variant == 1, 0.0, &g));
+    const double units = 10.0 / w;  // about a pixel, in world units
+    for (int i = 0; i < 400; ++i) {
+      Frame frame;
+      CpuSphereRaster::clear_target(g, bg, &frame);
+      CpuSphereRaster raster;
+      raster.begin_strip(g, &frame, 0, w - 1);
+      const auto at = [&] {
+        return g.to_view(glm::dvec3(12 * u(rng) - 6, 12 * u(rng) - 6, 12 * u(rng) - 6));
+      };
+      const uint8_t rgb[3] = {200, uint8_t(i), 40};
+      const glm::dvec3 c = at();
+      if (i % 2 == 0) {
+        const double r = units * std::pow(10.0, 2.0 * u(rng) - 0.7);  // 0.2 to 20 pixels
+        const PixelRect t = g.sphere_rect_tight(c, r, 0.05);
+        if (t.empty()) continue;
+        drew[0] += raster.draw(c, r, rgb, t);
+      } else {
+        glm::dvec3 b = c + glm::dvec3(units * 30 * (u(rng) - 0.5), units * 30 * (u(rng) - 0.5),
+                                      units * 30 * (u(rng) - 0.5));
+        if (i % 6 == 1 && !g.orthographic) b.z = 1.0;  // behind the eye: the double cast
+        const double r = units * (0.3 + 3 * u(rng));
+        double nearest;
+        const PixelRect t = cylinder_rect(g, c, b, r, &nearest);
+        if (t.empty()) continue;
+        drew[1] += raster.draw_bond(c, b, r, rgb, t);
+      }
+      const PixelRect &touched = raster.touched();
+      for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+          const size_t k = frame.index(x, y);
+          if (frame.depth[k] == kBackgroundDepth && !std::memcmp(&frame.rgba[4 * k], bg, 4))
+            continue;
+          ASSERT_TRUE(x >= touched.x0 && x <= touched.x1 && y >= touched.y0 && y <= touched.y1)
+              << "variant " << variant << " primitive " << i << " pixel " << x << ", " << y;
+        }
+    }
+  }
+  EXPECT_GT(drew[0], 100);
+  EXPECT_GT(drew[1], 50);
 }
 
 }  // namespace
