@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cstring>
+#include <optional>
+#include <utility>
 
 #include "core/composite/packed_pixel.h"
 
@@ -114,9 +116,60 @@ ActiveScan scan_rows(Frame &frame, int first_row, int step) {
   return scan;
 }
 
+// scan_active_pixels of a frame whose pixels outside `w` (at least one) all hold the key b, reading
+// only the window: the same result as the whole frame's scan wherever no pixel inside is above b
+// (the frame's largest key is then b); nullopt otherwise.
+std::optional<ActiveScan> scan_window(Frame &frame, const DrawnWithin &w, uint64_t b) {
+  ActiveScan scan;
+  float *depth = frame.depth.data();
+  uint8_t *rgba = frame.rgba.data();
+  const EmptyPixel m = empty_pixel(b);
+  const int n = w.x1 - w.x0;
+  size_t active = 0;
+  for (int y = w.y0; y < w.y1; ++y) {
+    const size_t row = size_t(y) * size_t(frame.width) + size_t(w.x0);
+    const RowTally t = tally_row(reinterpret_cast<const AliasedWord *>(depth + row),
+                                 reinterpret_cast<const AliasedWord *>(rgba + 4 * row), n,
+                                 m.depth_bits, m.rgba_word);
+    if (!t.unusual) {
+      active += size_t(t.count);
+      scan.rect.add(w.x0 + t.first, y, w.x0 + t.last + 1, y + 1);  // none when count is 0
+      continue;
+    }
+    int row_x0 = frame.width, row_x1 = 0;
+    for (int x = 0; x < n; ++x) {
+      const uint64_t key = canonical_key(depth, rgba, row + size_t(x));
+      if (key > b) return std::nullopt;
+      if (key < b) {
+        ++active;
+        row_x0 = std::min(row_x0, w.x0 + x);
+        row_x1 = w.x0 + x + 1;
+      }
+    }
+    scan.rect.add(row_x0, y, row_x1, y + 1);
+  }
+  scan.max_key = b;
+  scan.active = active;
+  return scan;
+}
+
 }  // namespace
 
 ActiveScan scan_active_pixels(Frame &frame) {
+  // Used once: compositing's merges, which follow, write outside the rectangle.
+  const std::optional<DrawnWithin> within = std::exchange(frame.drawn_within, std::nullopt);
+  if (within && frame.pixel_count() > 0) {
+    DrawnWithin w = *within;
+    w.x0 = std::clamp(w.x0, 0, frame.width), w.x1 = std::clamp(w.x1, w.x0, frame.width);
+    w.y0 = std::clamp(w.y0, 0, frame.height), w.y1 = std::clamp(w.y1, w.y0, frame.height);
+    // Some pixel lies outside (else this is the whole frame's scan), holding the background's key.
+    const bool all = w.x0 == 0 && w.y0 == 0 && w.x1 == frame.width && w.y1 == frame.height;
+    if (!all) {
+      if (std::optional<ActiveScan> scan =
+              scan_window(frame, w, pack_pixel(kBackgroundDepth, w.background)))
+        return *scan;
+    }
+  }
   return scan_rows(frame, 0, 1);
 }
 

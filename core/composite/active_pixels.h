@@ -55,7 +55,9 @@ struct ActiveScan {
 // Canonicalises frame's depths in place and returns its largest key, the bounding rectangle of
 // the other pixels and their count. One pass; each row is first tallied against the running
 // maximum in one vectorised sweep, and only rows that may hold a new maximum or a depth to
-// rewrite are walked pixel by pixel.
+// rewrite are walked pixel by pixel. Where the renderer said where it drew
+// (frame.drawn_within), only that rectangle is read (the same result: the pixels outside hold
+// the background), and frame.drawn_within is dropped.
 ActiveScan scan_active_pixels(Frame &frame);
 
 // An estimate from every row_step-th row (starting at row_step / 2), for deciding whether a full

@@ -194,6 +194,87 @@ TEST(ActivePixelScan, WritesDepthsBackInCanonicalForm) {
   EXPECT_EQ(f.depth[5], kBackgroundDepth);
 }
 
+// A frame the CPU raster says it drew within a rectangle (Frame::drawn_within): its scan reads only
+// the rectangle and finds what the scan of the whole frame finds (the same key, count, rectangle
+// and canonical depths), drops the statement, and scans the whole frame where a pixel inside lies
+// above the background.
+TEST(ActivePixelScan, AFrameDrawnWithinARectangleScansTheSameReadingOnlyThere) {
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  const float odd_depths[] = {0.5f, -0.0f, -2.0f, nan, kBackgroundDepth, 0.0f, 0.999f};
+  int fell_back = 0;
+  for (int it = 0; it < 300; ++it) {
+    const uint32_t h = hash(uint32_t(it));
+    const int width = 1 + int(h % 70), height = 1 + int((h >> 8) % 50);
+    Frame honest = blank_frame(width, height);
+    DrawnWithin w;
+    w.x0 = int(hash(h + 1) % uint32_t(width + 1));
+    w.x1 = w.x0 + int(hash(h + 2) % uint32_t(width + 1 - w.x0));
+    w.y0 = int(hash(h + 3) % uint32_t(height + 1));
+    w.y1 = w.y0 + int(hash(h + 4) % uint32_t(height + 1 - w.y0));
+    std::memcpy(w.background, kBackground, 4);
+    if (it % 17 == 0) {  // beyond the frame: clamped to all of it
+      w.x0 = w.y0 = -5;
+      w.x1 = width + 9, w.y1 = height + 9;
+    }
+    for (int y = std::max(w.y0, 0); y < std::min(w.y1, height); ++y)
+      for (int x = std::max(w.x0, 0); x < std::min(w.x1, width); ++x) {
+        const uint32_t k = hash(h + 100 + uint32_t(y * width + x));
+        if (k % 3 == 0) continue;  // background
+        const size_t i = honest.index(x, y);
+        honest.depth[i] = k % 5 == 0 ? odd_depths[(k >> 4) % 7] : float(unit(hash(k)));
+        honest.rgba[4 * i] = uint8_t(k >> 12);  // some above, some below the background's
+      }
+    if (it % 7 == 3 && w.x1 > w.x0 && w.y1 > w.y0) {  // a pixel inside beyond the background
+      honest.depth[honest.index(std::max(w.x0, 0), std::max(w.y0, 0))] = 2.0f;
+      ++fell_back;
+    }
+    Frame told = honest;
+    told.drawn_within = w;
+    const ActiveScan whole = scan_active_pixels(honest);
+    const ActiveScan windowed = scan_active_pixels(told);
+    EXPECT_FALSE(told.drawn_within.has_value()) << "the statement is used once";
+    EXPECT_EQ(windowed.max_key, whole.max_key) << "case " << it;
+    EXPECT_EQ(windowed.active, whole.active) << "case " << it;
+    EXPECT_EQ(windowed.rect.empty(), whole.rect.empty()) << "case " << it;
+    if (!whole.rect.empty()) {
+      EXPECT_EQ(windowed.rect.x0, whole.rect.x0) << "case " << it;
+      EXPECT_EQ(windowed.rect.x1, whole.rect.x1) << "case " << it;
+      EXPECT_EQ(windowed.rect.y0, whole.rect.y0) << "case " << it;
+      EXPECT_EQ(windowed.rect.y1, whole.rect.y1) << "case " << it;
+    }
+    EXPECT_EQ(std::memcmp(told.depth.data(), honest.depth.data(), 4 * honest.pixel_count()), 0)
+        << "case " << it;
+  }
+  EXPECT_GT(fell_back, 10);
+}
+
+TEST(ActivePixelScan, AFrameDrawnWithinARectangleIsNotReadOutsideIt) {
+  // Pixels outside the rectangle that are not the background (which a renderer's statement rules
+  // out) are neither read nor canonicalised: the scan's result is that of the honest frame.
+  Frame honest = blank_frame(30, 20);
+  const uint8_t red[4] = {200, 0, 0, 255};
+  for (int y = 5; y < 9; ++y)
+    for (int x = 10; x < 14; ++x) {
+      honest.depth[honest.index(x, y)] = 0.25f;
+      std::memcpy(&honest.rgba[4 * honest.index(x, y)], red, 4);
+    }
+  Frame told = honest;
+  told.depth[told.index(1, 1)] = -0.0f;
+  told.depth[told.index(29, 19)] = 0.5f;
+  told.drawn_within = DrawnWithin{10, 5, 14, 9, {}};
+  std::memcpy(told.drawn_within->background, kBackground, 4);
+  const ActiveScan s = scan_active_pixels(told);
+  const ActiveScan expected = scan_active_pixels(honest);
+  EXPECT_EQ(s.active, 16u);
+  EXPECT_EQ(s.active, expected.active);
+  EXPECT_EQ(s.max_key, expected.max_key);
+  EXPECT_EQ(s.rect.x0, 10);
+  EXPECT_EQ(s.rect.x1, 14);
+  EXPECT_EQ(s.rect.y0, 5);
+  EXPECT_EQ(s.rect.y1, 9);
+  EXPECT_TRUE(std::signbit(told.depth[told.index(1, 1)]));  // not read, so not rewritten
+}
+
 // ---- run-length messages -----------------------------------------------------------------------
 
 // A frame of spheres and scattered single pixels, plus its scan, as a rank holds it.
