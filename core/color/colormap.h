@@ -60,6 +60,9 @@ class TypePalette {
  public:
   explicit TypePalette(const std::vector<std::array<double, 3>> &custom);
   Rgb8 at(int64_t type) const {
+    // Types within the palette skip the two 64-bit divisions: the CPU raster colours every
+    // sphere it draws through here.
+    if (static_cast<uint64_t>(type) < colors_.size()) return colors_[static_cast<size_t>(type)];
     const auto n = static_cast<int64_t>(colors_.size());
     return colors_[static_cast<size_t>(((type % n) + n) % n)];
   }

@@ -3,6 +3,7 @@
 // and colormap files.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cstdint>
 #include <fstream>
 #include <string>
@@ -108,6 +109,25 @@ TEST(ColormapFile, BadFilesNameTheFileLineAndProblem) {
   EXPECT_NE(missing.message.find("cannot read colormap file '/nonexistent/map.txt'"),
             std::string::npos)
       << missing.message;
+}
+
+TEST(TypePalette, EveryTypeWrapsModuloThePaletteSize) {
+  // Types within the palette take a shortcut; every type, negative and past the end included,
+  // must still get palette[type mod size].
+  const std::vector<std::array<double, 3>> three = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+  const TypePalette custom(three), builtin({});
+  const TypePalette *palettes[] = {&custom, &builtin};
+  for (const TypePalette *p : palettes) {
+    int64_t n = 1;
+    while (n < 64 && !(p->at(n) == p->at(0))) ++n;  // the palette's size: the first repeat
+    ASSERT_LT(n, 64);
+    for (int64_t t = -3 * n - 1; t <= 3 * n + 1; ++t)
+      EXPECT_EQ(p->at(t), p->at(((t % n) + n) % n)) << "type " << t;
+    EXPECT_EQ(p->at(INT64_MIN), p->at(((INT64_MIN % n) + n) % n));
+    EXPECT_EQ(p->at(INT64_MAX), p->at(INT64_MAX % n));
+  }
+  EXPECT_EQ(custom.at(4), (Rgb8{0, 255, 0}));
+  EXPECT_EQ(custom.at(-1), (Rgb8{0, 0, 255}));
 }
 
 }  // namespace
