@@ -26,8 +26,9 @@
 namespace lantern {
 
 // A rectangle of pixels [x0, x1) x [y0, y1), y counted from the top row; empty when x0 >= x1 or
-// y0 >= y1.
-struct PixelRect {
+// y0 >= y1. (Half-open, unlike the view's inclusive PixelRect, core/view/view_geometry.h: a name
+// of its own, so that the two never meet as one class with two definitions.)
+struct ActiveRect {
   int x0 = 0, y0 = 0, x1 = 0, y1 = 0;
 
   bool empty() const { return x0 >= x1 || y0 >= y1; }
@@ -42,13 +43,13 @@ struct PixelRect {
     x0 = std::min(x0, ax0), y0 = std::min(y0, ay0);
     x1 = std::max(x1, ax1), y1 = std::max(y1, ay1);
   }
-  void add(const PixelRect &r) { add(r.x0, r.y0, r.x1, r.y1); }
+  void add(const ActiveRect &r) { add(r.x0, r.y0, r.x1, r.y1); }
 };
 
 // What one pass over a frame finds.
 struct ActiveScan {
   uint64_t max_key = 0;  // the largest packed key in the frame (0 for an empty frame)
-  PixelRect rect;        // bounding rectangle of the pixels whose key is not max_key
+  ActiveRect rect;        // bounding rectangle of the pixels whose key is not max_key
   size_t active = 0;     // how many pixels' keys are not max_key
 };
 
@@ -101,7 +102,7 @@ EmptyPixel empty_pixel(uint64_t key);
 struct ActiveFrame {
   Frame *frame = nullptr;
   EmptyPixel empty;
-  PixelRect rect;
+  ActiveRect rect;
 };
 
 }  // namespace lantern

@@ -159,7 +159,7 @@ Status composite_to_row_bands(MPI_Comm comm, Frame &frame, int multiple, RowBand
                                    : " does not fit " + std::to_string(ranks) + " ranks")};
     } else if (stats.pixels > 0) {
       ActiveFrame active_frame{&frame, empty_pixel(empty_key),
-                               own_empty ? scan.rect : PixelRect{0, 0, frame.width, frame.height}};
+                               own_empty ? scan.rect : ActiveRect{0, 0, frame.width, frame.height}};
       const ActivePixelPlan plan{schedule, group_blocks(schedule, bands), 0, bands};
       status = run_active_pixel_plan(comm, plan, active_frame, active_scratch, &stats.traffic);
     }

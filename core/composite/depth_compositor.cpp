@@ -228,7 +228,7 @@ Status composite_frames(MPI_Comm comm, Frame &frame, int root, const CompositeOp
     stats.active_pixels = own_empty ? scan.active : stats.pixels;
     if (status.ok() && stats.pixels > 0) {
       ActiveFrame active_frame{&frame, empty_pixel(empty_key),
-                               own_empty ? scan.rect : PixelRect{0, 0, frame.width, frame.height}};
+                               own_empty ? scan.rect : ActiveRect{0, 0, frame.width, frame.height}};
       ActivePixelPlan plan{schedule, equal_blocks(stats.pixels, schedule.base()), root, {}};
       status = run_active_pixel_plan(comm, plan, active_frame, active_scratch, &stats.traffic);
     }

@@ -53,7 +53,7 @@ size_t find_state(const RawPixels &px, const EmptyPixel &e, size_t i, size_t end
 // The first active pixel in [i, end), or end: rows and columns outside the active rectangle are
 // jumped over.
 size_t next_active(const ActiveFrame &f, const RawPixels &px, size_t i, size_t end) {
-  const PixelRect &r = f.rect;
+  const ActiveRect &r = f.rect;
   if (r.empty()) return end;
   const size_t width = size_t(f.frame->width);
   while (i < end) {
@@ -79,7 +79,7 @@ size_t next_active(const ActiveFrame &f, const RawPixels &px, size_t i, size_t e
 // The end of the active run starting at active pixel i (the first empty pixel after it, or
 // end). A run leaves the rectangle only where the rectangle spans whole rows.
 size_t run_end(const ActiveFrame &f, const RawPixels &px, size_t i, size_t end) {
-  const PixelRect &r = f.rect;
+  const ActiveRect &r = f.rect;
   const size_t width = size_t(f.frame->width);
   const bool whole_rows = r.x0 == 0 && size_t(r.x1) == width;
   while (i < end) {

@@ -362,7 +362,7 @@ TEST(RunLengthPixels, MergeKeepsTheNearerPixelAndGrowsTheRectangle) {
   size_t words = 0, messages = 0;
   stream(from, {0, a.pixel_count()}, 50, into, &words, &messages);
   EXPECT_EQ(describe_difference(a, expected), "");
-  PixelRect both = sa.rect;
+  ActiveRect both = sa.rect;
   both.add(sb.rect);
   EXPECT_LE(into.rect.x0, both.x0);
   EXPECT_GE(into.rect.x1, both.x1);
