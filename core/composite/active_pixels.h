@@ -49,7 +49,7 @@ struct ActiveRect {
 // What one pass over a frame finds.
 struct ActiveScan {
   uint64_t max_key = 0;  // the largest packed key in the frame (0 for an empty frame)
-  ActiveRect rect;        // bounding rectangle of the pixels whose key is not max_key
+  ActiveRect rect;       // bounding rectangle of the pixels whose key is not max_key
   size_t active = 0;     // how many pixels' keys are not max_key
 };
 
