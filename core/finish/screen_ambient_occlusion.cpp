@@ -268,7 +268,7 @@ LANTERN_AO_INLINE F8 at(bool orthographic, F8 z) {
 struct Estimator {
   ViewPositions::Terms t;
   const float *z;  // the band's distances, held row `first` first, rows `stride` apart
-  int width, stride, first, last;
+  int stride, first;
   int samples;
   float radius, r2;
 };
@@ -303,7 +303,6 @@ LANTERN_AO_INLINE Vec3 tangent8(const Vec3 &p, F8 z, const Vec3 &q_plus, F8 z_pl
 // lane's turn, sample s at [kLanes s + lane].
 template <class Isa>
 LANTERN_AO_INLINE F8 estimate8(const Estimator &e, I8 x, I8 y, const float *kx, const float *ky) {
-  const int w = e.width;
   const F8 one = splat(1.0f), zero = splat(0.0f);
   const I8 row = (y - e.first) * e.stride;
   const I8 centre = row + x;
@@ -315,17 +314,10 @@ LANTERN_AO_INLINE F8 estimate8(const Estimator &e, I8 x, I8 y, const float *kx, 
   if (!any(active)) return select(drawn, zero, splat(-1.0f));
   const F8 fx = __builtin_convertvector(x, F8) + 0.5f, fy = __builtin_convertvector(y, F8) + 0.5f;
   const Vec3 p = point8(e, fx, fy, z);
-  // Neighbours outside the image or the held rows count as not drawn.
-  const F8 z_right =
-      select(x + 1 < w, gather<Isa>(e.z, (x + 1 < w) ? centre + 1 : centre), splat(kBackground));
-  const F8 z_left =
-      select(x >= 1, gather<Isa>(e.z, (x >= 1) ? centre - 1 : centre), splat(kBackground));
-  const F8 z_down =
-      select(y + 1 < e.last, gather<Isa>(e.z, (y + 1 < e.last) ? centre + e.stride : centre),
-             splat(kBackground));
-  const F8 z_up =
-      select(y - 1 >= e.first, gather<Isa>(e.z, (y - 1 >= e.first) ? centre - e.stride : centre),
-             splat(kBackground));
+  // Neighbours outside the image or the held rows count as not drawn: x and y are the image's and
+  // held, so those read the positions' border, the background.
+  const F8 z_right = gather<Isa>(e.z, centre + 1), z_left = gather<Isa>(e.z, centre - 1);
+  const F8 z_down = gather<Isa>(e.z, centre + e.stride), z_up = gather<Isa>(e.z, centre - e.stride);
   const Vec3 tx = tangent8(p, z, point8(e, fx + 1.0f, fy, z_right), z_right,
                            point8(e, fx - 1.0f, fy, z_left), z_left);
   const Vec3 ty = tangent8(p, z, point8(e, fx, fy + 1.0f, z_down), z_down,
@@ -435,9 +427,8 @@ LANTERN_AO_INLINE void half_resolution_pass(const ViewPositions &v,
   const std::vector<float> kernel = sample_kernel(n);
   const float gain = 2.0f * style.strength / float(n);
   const F8 tolerance = splat(kAoDepthTolerance * style.radius);
-  const Estimator e{
-      v.terms(),    v.row(v.first_row()),       w, int(v.stride()), v.first_row(), v.last_row(), n,
-      style.radius, style.radius * style.radius};
+  const Estimator e{v.terms(),    v.row(v.first_row()),       int(v.stride()), v.first_row(), n,
+                    style.radius, style.radius * style.radius};
   const int columns = (w + 1) / 2, rows = (h + 1) / 2;
   // The blurred rows the owned rows read: [u0, u1), some possibly outside the image (none held
   // there); the estimate rows the blur reads: [e0, e1).
