@@ -200,10 +200,15 @@ TEST_F(LiveConfig, RanksOpeningWithDifferentConfigurationsFailOnEveryRank) {
   EXPECT_EQ(rt_, nullptr);
 }
 
-TEST_F(LiveConfig, NoOpReconfigurationIsFree) {
+// A host may call lantern_reconfigure with its unchanged file every step: that must neither parse
+// nor rebuild anything. Asserted by what it does (every parse that succeeds replaces the
+// configuration and is counted, as the equivalent text below shows), not by a clock: the time is
+// printed for the reader, never compared on a shared machine.
+TEST_F(LiveConfig, NoOpReconfigurationParsesNothing) {
   const std::string text = config(kCut);
   open(text);
   ASSERT_OK(rt_->execute(0, 0.0));
+  const std::vector<char> before = read_bytes(png(0));
   const int reps = 200;
   std::vector<double> us;
   for (int i = 0; i < reps; ++i) {
@@ -214,6 +219,8 @@ TEST_F(LiveConfig, NoOpReconfigurationIsFree) {
         std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - t0).count());
   }
   EXPECT_EQ(rt_->configuration_changes(), 0);  // nothing parsed, nothing replaced
+  ASSERT_OK(rt_->execute(1, 0.0));
+  EXPECT_EQ(read_bytes(png(1)), before);
   std::sort(us.begin(), us.end());
   // The same scene written differently parses, and keeps every buffer (no image changes).
   const auto t0 = std::chrono::steady_clock::now();
@@ -221,12 +228,13 @@ TEST_F(LiveConfig, NoOpReconfigurationIsFree) {
   const double reparse_us =
       std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - t0).count();
   EXPECT_EQ(rt_->configuration_changes(), 1);
+  ASSERT_OK(rt_->execute(2, 0.0));
+  EXPECT_EQ(read_bytes(png(2)), before);
   if (world_rank() == 0)
     std::printf(
         "[ live ] %d ranks: no-op lantern_reconfigure median %.1f us; an equivalent text "
         "(parsed, nothing rebuilt) %.1f us\n",
         world_size(), us[us.size() / 2], reparse_us);
-  EXPECT_LT(us[us.size() / 2], 1000.0);
 }
 
 TEST_F(LiveConfig, WatchedFileIsPickedUpAtTheNextScheduledStepOnEveryRank) {
