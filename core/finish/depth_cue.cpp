@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "core/common/cpu_features.h"
+#include "core/common/rank_threads.h"
 
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
 #define LANTERN_DEPTH_CUE_AVX2 1
@@ -15,6 +16,10 @@
 namespace lantern {
 
 namespace {
+
+// The fewest rows a thread takes: a thread costs tens of microseconds to start, a row of 1024
+// pixels about one.
+constexpr int64_t kMinRowsPerThread = 64;
 
 float fade_fraction(const DepthCueStyle &style, float z) {
   if (!(style.end > style.start)) return z > style.start ? 1.0f : 0.0f;
@@ -92,7 +97,7 @@ __attribute__((target("avx2"))) void fade_row_avx2(const float *z, const DepthCu
 }  // namespace
 
 void apply_depth_cue(const ViewPositions &positions, const DepthCueStyle &style, BandFrame *band,
-                     bool vector) {
+                     bool vector, int threads) {
   const int w = positions.width();
 #if LANTERN_DEPTH_CUE_AVX2
   const bool avx2 = vector && cpu_has_avx2();
@@ -100,16 +105,21 @@ void apply_depth_cue(const ViewPositions &positions, const DepthCueStyle &style,
   const bool avx2 = false;
   (void)vector;
 #endif
-  for (int y = band->owned.y0; y < band->owned.y1; ++y) {
-    uint8_t *rgba = &band->frame.rgba[size_t(y - band->first) * size_t(w) * 4];
+  const int y0 = band->owned.y0;
+  const auto fade_rows = [&](int, int64_t y_begin, int64_t y_end) {  // each row on its own
+    for (int y = y0 + int(y_begin); y < y0 + int(y_end); ++y) {
+      uint8_t *rgba = &band->frame.rgba[size_t(y - band->first) * size_t(w) * 4];
 #if LANTERN_DEPTH_CUE_AVX2
-    if (avx2) {
-      fade_row_avx2(positions.row(y), style, w, rgba);
-      continue;
-    }
+      if (avx2) {
+        fade_row_avx2(positions.row(y), style, w, rgba);
+        continue;
+      }
 #endif
-    fade_row(positions.row(y), style, 0, w, rgba);
-  }
+      fade_row(positions.row(y), style, 0, w, rgba);
+    }
+  };
+  const int64_t owned = std::max(0, band->owned.y1 - y0);
+  run_in_parts(parts_for(threads, owned, kMinRowsPerThread), owned, fade_rows);
 }
 
 }  // namespace lantern

@@ -27,8 +27,9 @@ struct DepthCueStyle {
 };
 
 // `vector`: with AVX2 where the processor has it, eight pixels at a time (the same bytes; false
-// keeps to one at a time, for tests to compare).
+// keeps to one at a time, for tests to compare). `threads`: how many threads (this one included)
+// may share the rows; the same bytes at any count.
 void apply_depth_cue(const ViewPositions &positions, const DepthCueStyle &style, BandFrame *band,
-                     bool vector = true);
+                     bool vector = true, int threads = 1);
 
 }  // namespace lantern

@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "core/common/cpu_features.h"
+#include "core/common/rank_threads.h"
 
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
 #define LANTERN_OUTLINE_AVX2 1
@@ -15,6 +16,10 @@
 
 namespace lantern {
 namespace {
+
+// The fewest rows a thread takes: a thread costs tens of microseconds to start, a row of 1024
+// pixels one or two.
+constexpr int64_t kMinRowsPerThread = 64;
 
 // Both passes fold a pixel's neighbours into its own distance in one order, m = std::max(m, v)
 // ((m < v) ? v : m: a NaN pixel stays NaN, a NaN neighbour is passed over); the vector loops
@@ -90,7 +95,7 @@ __attribute__((target("avx2"))) void outline_row_avx2(const float *z, const floa
 }  // namespace
 
 void draw_outlines(const ViewPositions &positions, const OutlineStyle &style, BandFrame *band,
-                   bool vector) {
+                   bool vector, int threads) {
   const int w = positions.width(), first = positions.first_row(), last = positions.last_row();
   const int reach = style.width;
 #if LANTERN_OUTLINE_AVX2
@@ -100,32 +105,42 @@ void draw_outlines(const ViewPositions &positions, const OutlineStyle &style, Ba
   (void)vector;
 #endif
   // The farthest distance within `reach` columns, for every held row; then the farthest of those
-  // within `reach` rows: the square neighbourhood's maximum in O(reach) per pixel.
+  // within `reach` rows: the square neighbourhood's maximum in O(reach) per pixel. Each row on
+  // its own in both passes: any number of parts gives the same bytes.
   std::vector<float> row_max(size_t(last - first) * size_t(w));
-  for (int y = first; y < last; ++y) {
-    float *out = &row_max[size_t(y - first) * size_t(w)];
+  const auto row_maxima = [&](int, int64_t y_begin, int64_t y_end) {
+    for (int y = first + int(y_begin); y < first + int(y_end); ++y) {
+      float *out = &row_max[size_t(y - first) * size_t(w)];
 #if LANTERN_OUTLINE_AVX2
-    if (avx2) {
-      row_max_avx2(positions.row(y), w, reach, out);
-      continue;
-    }
+      if (avx2) {
+        row_max_avx2(positions.row(y), w, reach, out);
+        continue;
+      }
 #endif
-    row_max_of(positions.row(y), w, reach, 0, w, out);
-  }
-  std::vector<const float *> rows;
-  for (int y = band->owned.y0; y < band->owned.y1; ++y) {
-    const int y0 = std::max(first, y - reach), y1 = std::min(last - 1, y + reach);
-    rows.clear();
-    for (int k = y0; k <= y1; ++k) rows.push_back(&row_max[size_t(k - first) * size_t(w)]);
-    uint8_t *rgba = &band->frame.rgba[size_t(y - first) * size_t(w) * 4];
+      row_max_of(positions.row(y), w, reach, 0, w, out);
+    }
+  };
+  const int64_t held = std::max(0, last - first);
+  run_in_parts(parts_for(threads, held, kMinRowsPerThread), held, row_maxima);
+  const int y0 = band->owned.y0;
+  const auto outline_rows = [&](int, int64_t y_begin, int64_t y_end) {
+    std::vector<const float *> rows;
+    for (int y = y0 + int(y_begin); y < y0 + int(y_end); ++y) {
+      const int r0 = std::max(first, y - reach), r1 = std::min(last - 1, y + reach);
+      rows.clear();
+      for (int k = r0; k <= r1; ++k) rows.push_back(&row_max[size_t(k - first) * size_t(w)]);
+      uint8_t *rgba = &band->frame.rgba[size_t(y - first) * size_t(w) * 4];
 #if LANTERN_OUTLINE_AVX2
-    if (avx2) {
-      outline_row_avx2(positions.row(y), rows.data(), int(rows.size()), style, w, rgba);
-      continue;
-    }
+      if (avx2) {
+        outline_row_avx2(positions.row(y), rows.data(), int(rows.size()), style, w, rgba);
+        continue;
+      }
 #endif
-    outline_row(positions.row(y), rows.data(), int(rows.size()), style, 0, w, rgba);
-  }
+      outline_row(positions.row(y), rows.data(), int(rows.size()), style, 0, w, rgba);
+    }
+  };
+  const int64_t owned = std::max(0, band->owned.y1 - y0);
+  run_in_parts(parts_for(threads, owned, kMinRowsPerThread), owned, outline_rows);
 }
 
 }  // namespace lantern

@@ -22,8 +22,9 @@ struct OutlineStyle {
 };
 
 // `vector`: with AVX2 where the processor has it, eight pixels at a time (the same bytes; false
-// keeps to one at a time, for tests to compare).
+// keeps to one at a time, for tests to compare). `threads`: how many threads (this one included)
+// may share the rows; the same bytes at any count.
 void draw_outlines(const ViewPositions &positions, const OutlineStyle &style, BandFrame *band,
-                   bool vector = true);
+                   bool vector = true, int threads = 1);
 
 }  // namespace lantern

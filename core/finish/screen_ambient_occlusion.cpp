@@ -19,6 +19,7 @@
 #include <glm/vec3.hpp>
 
 #include "core/common/cpu_features.h"
+#include "core/common/rank_threads.h"
 
 #if defined(__x86_64__)
 #include <immintrin.h>
@@ -123,11 +124,12 @@ void darken(uint8_t *rgba, float keep) {
   for (int c = 0; c < 3; ++c) rgba[c] = uint8_t(float(rgba[c]) * keep + 0.5f);
 }
 
-void full_resolution(const ViewPositions &v, const AmbientOcclusionStyle &style, BandFrame *band) {
+void full_resolution_rows(const ViewPositions &v, const AmbientOcclusionStyle &style,
+                          const std::vector<float> &kernel, BandFrame *band, int y_begin,
+                          int y_end) {
   const int w = v.width(), n = style.samples;
-  const std::vector<float> kernel = sample_kernel(n);
   const float gain = 2.0f * style.strength / float(n);
-  for (int y = band->owned.y0; y < band->owned.y1; ++y) {
+  for (int y = y_begin; y < y_end; ++y) {
     uint8_t *rgba = &band->frame.rgba[size_t(y - band->first) * size_t(w) * 4];
     for (int x = 0; x < w; ++x) {
       const float z = v.z(x, y);
@@ -137,6 +139,16 @@ void full_resolution(const ViewPositions &v, const AmbientOcclusionStyle &style,
       darken(rgba + 4 * x, 1.0f - std::min(style.strength, gain * occlusion));
     }
   }
+}
+
+// Every owned row on its own: `threads` parts of them at once give the same bytes.
+void full_resolution(const ViewPositions &v, const AmbientOcclusionStyle &style, BandFrame *band,
+                     int threads) {
+  const std::vector<float> kernel = sample_kernel(style.samples);
+  const int y0 = band->owned.y0, rows = std::max(0, band->owned.y1 - y0);
+  run_in_parts(parts_for(threads, rows, 4), rows, [&](int, int64_t a, int64_t b) {
+    full_resolution_rows(v, style, kernel, band, y0 + int(a), y0 + int(b));
+  });
 }
 
 // ---- Half resolution -------------------------------------------------------------------------
@@ -417,50 +429,89 @@ struct Pixel {
   int32_t x, y;
 };
 
+// What the three phases of the half-resolution pass share: set up once per band, then each phase
+// runs over contiguous parts of its rows (one part per thread, rank_threads.h). A phase writes
+// only its own rows (estimate and blurred rows, or the owned image rows), and reads only what an
+// earlier phase finished, so the bytes are the same for any number of parts.
+struct HalfPass {
+  const ViewPositions &v;
+  const AmbientOcclusionStyle &style;
+  BandFrame *band;
+  int n = 0;          // samples
+  float gain = 0.0f;  // 2 strength / n
+  float tolerance = 0.0f;
+  Estimator e;
+  int columns = 0, rows = 0;
+  int u0 = 0, u1 = 0, e0 = 0, e1 = 0;  // blurred and estimate rows (see half_resolution)
+  std::vector<float> kernel;           // sample_kernel(n)
+  std::vector<float> kx, ky;           // the spiral per estimate-row phase, lanes of column phases
+  EstimateGrid raw, across, blurred;
+
+  HalfPass(const ViewPositions &positions, const AmbientOcclusionStyle &s, BandFrame *b,
+           AoScratch *scratch)
+      : v(positions),
+        style(s),
+        band(b),
+        n(s.samples),
+        gain(2.0f * s.strength / float(s.samples)),
+        tolerance(kAoDepthTolerance * s.radius),
+        e{positions.terms(),
+          positions.row(positions.first_row()),
+          int(positions.stride()),
+          positions.first_row(),
+          s.samples,
+          s.radius,
+          s.radius * s.radius},
+        columns((positions.width() + 1) / 2),
+        rows((positions.height() + 1) / 2),
+        // The blurred rows the owned rows read: [u0, u1), some possibly outside the image (none
+        // held there); the estimate rows the blur reads: [e0, e1).
+        u0(b->owned.y0 / 2 - kSearchBehind),
+        u1((b->owned.y1 - 1) / 2 + kSearchAhead + 1),
+        e0(std::max(0, u0 - kBlurReach)),
+        e1(std::min(rows, u1 + kBlurReach)),
+        kernel(sample_kernel(s.samples)),
+        raw(scratch->raw_value, scratch->raw_z),
+        across(scratch->across_value, scratch->across_z),
+        blurred(scratch->blurred_value, scratch->blurred_z) {
+    kx.resize(size_t(4) * size_t(n) * kLanes);
+    ky.resize(kx.size());
+    for (int phase = 0; phase < 4; ++phase)
+      for (int sample = 0; sample < n; ++sample)
+        for (int l = 0; l < kLanes; ++l) {
+          const float *k = &kernel[size_t(kTurnOf[phase * 4 + (l & 3)]) * size_t(n) * 2];
+          const size_t at = (size_t(phase) * size_t(n) + size_t(sample)) * kLanes + size_t(l);
+          kx[at] = k[2 * sample];
+          ky[at] = k[2 * sample + 1];
+        }
+    raw.reset(columns, e0, e1);
+    across.reset(columns, e0, e1);
+    blurred.reset(columns, u0, u1);
+    // Blurred rows outside the image (at most kSearchAhead + 1 below it, kSearchBehind above)
+    // hold no estimate.
+    for (int j = u0; j < u1; ++j)
+      if (j < 0 || j >= rows) blurred.clear_row(j);
+  }
+};
+
+// Phase 1, estimate rows [j_begin, j_end) of [e0, e1): the raw estimates, and their blur along
+// the row.
 template <class Isa>
-LANTERN_AO_INLINE void half_resolution_pass(const ViewPositions &v,
-                                            const AmbientOcclusionStyle &style, BandFrame *band,
-                                            AoScratch *scratch) {
-  const int w = v.width(), h = v.height(), n = style.samples;
-  const int y0 = band->owned.y0, y1 = band->owned.y1;
-  if (y0 >= y1) return;
-  const std::vector<float> kernel = sample_kernel(n);
-  const float gain = 2.0f * style.strength / float(n);
-  const F8 tolerance = splat(kAoDepthTolerance * style.radius);
-  const Estimator e{v.terms(),    v.row(v.first_row()),       int(v.stride()), v.first_row(), n,
-                    style.radius, style.radius * style.radius};
-  const int columns = (w + 1) / 2, rows = (h + 1) / 2;
-  // The blurred rows the owned rows read: [u0, u1), some possibly outside the image (none held
-  // there); the estimate rows the blur reads: [e0, e1).
-  const int u0 = y0 / 2 - kSearchBehind, u1 = (y1 - 1) / 2 + kSearchAhead + 1;
-  const int e0 = std::max(0, u0 - kBlurReach), e1 = std::min(rows, u1 + kBlurReach);
-  // The spiral per estimate-row phase (j mod 4), lanes of column phases i mod 4.
-  std::vector<float> kx(size_t(4) * size_t(n) * kLanes), ky(kx.size());
-  for (int phase = 0; phase < 4; ++phase)
-    for (int s = 0; s < n; ++s)
-      for (int l = 0; l < kLanes; ++l) {
-        const float *k = &kernel[size_t(kTurnOf[phase * 4 + (l & 3)]) * size_t(n) * 2];
-        const size_t at = (size_t(phase) * size_t(n) + size_t(s)) * kLanes + size_t(l);
-        kx[at] = k[2 * s];
-        ky[at] = k[2 * s + 1];
-      }
-  EstimateGrid raw(scratch->raw_value, scratch->raw_z),
-      across(scratch->across_value, scratch->across_z),
-      blurred(scratch->blurred_value, scratch->blurred_z);
-  raw.reset(columns, e0, e1);
-  across.reset(columns, e0, e1);
-  blurred.reset(columns, u0, u1);
+LANTERN_AO_INLINE void estimate_rows(HalfPass &pass, int j_begin, int j_end) {
+  const ViewPositions &v = pass.v;
+  const int w = v.width(), n = pass.n, columns = pass.columns;
+  const F8 tolerance = splat(pass.tolerance);
   const I8 even_lanes = {0, 2, 4, 6, 8, 10, 12, 14};
-  for (int j = e0; j < e1; ++j) {
-    raw.clear_padding(j);  // across and blurred copy their rows' z, padding too, from raw's
-    float *value = raw.value_at(j), *z = raw.z_at(j);
-    const float *kxj = &kx[size_t(j & 3) * size_t(n) * kLanes];
-    const float *kyj = &ky[size_t(j & 3) * size_t(n) * kLanes];
+  for (int j = j_begin; j < j_end; ++j) {
+    pass.raw.clear_padding(j);  // across and blurred copy their rows' z, padding too, from raw's
+    float *value = pass.raw.value_at(j), *z = pass.raw.z_at(j);
+    const float *kxj = &pass.kx[size_t(j & 3) * size_t(n) * kLanes];
+    const float *kyj = &pass.ky[size_t(j & 3) * size_t(n) * kLanes];
     for (int i0 = 0; i0 < columns; i0 += kLanes) {
       const I8 x = splat_int(2 * i0) + even_lanes;
       const I8 in_image = x < w;
       const F8 occlusion =
-          estimate8<Isa>(e, in_image ? x : splat_int(w - 1), splat_int(2 * j), kxj, kyj);
+          estimate8<Isa>(pass.e, in_image ? x : splat_int(w - 1), splat_int(2 * j), kxj, kyj);
       const I8 held = in_image & (occlusion >= 0.0f);
       store8(value + i0, select(held, occlusion, splat(0.0f)));
       store8(z + i0, select(held, gather<Isa>(v.row(2 * j), in_image ? x : splat_int(0)),
@@ -468,37 +519,52 @@ LANTERN_AO_INLINE void half_resolution_pass(const ViewPositions &v,
     }
     // Lanes past the last column wrote into the padding: it must stay "no estimate".
     std::fill(z + columns, z + columns + kPad, kBackground);
-    std::copy(z - kPad, z + columns + kPad, across.z_at(j) - kPad);
+    std::copy(z - kPad, z + columns + kPad, pass.across.z_at(j) - kPad);
     for (int i0 = 0; i0 < columns; i0 += kLanes)
-      store8(across.value_at(j) + i0, blur8(value + i0, z + i0, 1, tolerance));
+      store8(pass.across.value_at(j) + i0, blur8(value + i0, z + i0, 1, tolerance));
   }
-  // Blurred rows outside the image (at most kSearchAhead + 1 below it, kSearchBehind above) hold
-  // no estimate.
-  for (int j = u0; j < u1; ++j)
-    if (j < 0 || j >= rows) blurred.clear_row(j);
-  for (int j = std::max(0, u0); j < std::min(u1, rows); ++j) {
-    std::copy(across.z_at(j) - kPad, across.z_at(j) + columns + kPad, blurred.z_at(j) - kPad);
+}
+
+// Phase 2, blurred rows [j_begin, j_end) (within the image): the blur across the rows.
+template <class Isa>
+LANTERN_AO_INLINE void blur_rows(HalfPass &pass, int j_begin, int j_end) {
+  const int columns = pass.columns;
+  const F8 tolerance = splat(pass.tolerance);
+  EstimateGrid &across = pass.across;
+  for (int j = j_begin; j < j_end; ++j) {
+    std::copy(across.z_at(j) - kPad, across.z_at(j) + columns + kPad, pass.blurred.z_at(j) - kPad);
     // Rows beyond the held estimates lie outside the image: their taps are not drawn.
-    const float *value = across.value_at(j), *z = across.z_at(j);
+    const float *z = across.z_at(j);
     for (int i0 = 0; i0 < columns; i0 += kLanes) {
       const F8 zc = load8(z + i0), zero = splat(0.0f);
       F8 sum = zero, weight = zero;
       for (int k = -kBlurReach; k <= kBlurReach; ++k) {
-        if (j + k < e0 || j + k >= e1) continue;
+        if (j + k < pass.e0 || j + k >= pass.e1) continue;
         const I8 near = abs8(load8(across.z_at(j + k) + i0) - zc) <= tolerance;
         sum += select(near, kBlurWeight[k + kBlurReach] * load8(across.value_at(j + k) + i0), zero);
         weight += select(near, splat(kBlurWeight[k + kBlurReach]), zero);
       }
-      store8(blurred.value_at(j) + i0, select(zc != kBackground, sum / weight, zero));
+      store8(pass.blurred.value_at(j) + i0, select(zc != kBackground, sum / weight, zero));
     }
-    (void)value;
   }
-  // Every owned pixel from the 1, 2 or 4 nearest estimates at its depth (each counted twice
-  // where it stands for both neighbours); those without one are estimated on their own below.
+}
+
+// Phase 3, owned image rows [y_begin, y_end): every pixel from the 1, 2 or 4 nearest estimates at
+// its depth (each counted twice where it stands for both neighbours); those without one are
+// estimated on their own at the end.
+template <class Isa>
+LANTERN_AO_INLINE void upsample_rows(HalfPass &pass, int y_begin, int y_end) {
+  const ViewPositions &v = pass.v;
+  const AmbientOcclusionStyle &style = pass.style;
+  BandFrame *band = pass.band;
+  EstimateGrid &blurred = pass.blurred;
+  const int w = v.width(), n = pass.n;
+  const float gain = pass.gain;
+  const F8 tolerance = splat(pass.tolerance);
   std::vector<Pixel> alone;
   float zs[kLanes];
   uint8_t rgba8[4 * kLanes];
-  for (int y = y0; y < y1; ++y) {
+  for (int y = y_begin; y < y_end; ++y) {
     uint8_t *rgba = &band->frame.rgba[size_t(y - band->first) * size_t(w) * 4];
     const float *zrow = v.row(y);
     const int j = y / 2;
@@ -561,7 +627,8 @@ LANTERN_AO_INLINE void half_resolution_pass(const ViewPositions &v,
       }
     }
   }
-  // The pixels without an estimate at their depth, 8 at a time with their own turns.
+  // The pixels without an estimate at their depth, 8 at a time with their own turns (each lane
+  // on its own: which pixels share a vector does not change any).
   std::vector<float> kx_alone(size_t(n) * kLanes), ky_alone(kx_alone.size());
   for (size_t a0 = 0; a0 < alone.size(); a0 += kLanes) {
     const int lanes = int(std::min<size_t>(kLanes, alone.size() - a0));
@@ -569,13 +636,13 @@ LANTERN_AO_INLINE void half_resolution_pass(const ViewPositions &v,
     for (int l = 0; l < kLanes; ++l) {
       const Pixel &p = alone[a0 + size_t(std::min(l, lanes - 1))];
       x[l] = p.x, y[l] = p.y;
-      const float *k = &kernel[size_t(kTurnOf[(p.y & 3) * 4 + (p.x & 3)]) * size_t(n) * 2];
+      const float *k = &pass.kernel[size_t(kTurnOf[(p.y & 3) * 4 + (p.x & 3)]) * size_t(n) * 2];
       for (int s = 0; s < n; ++s) {
         kx_alone[size_t(kLanes * s + l)] = k[2 * s];
         ky_alone[size_t(kLanes * s + l)] = k[2 * s + 1];
       }
     }
-    const F8 occlusion = estimate8<Isa>(e, x, y, kx_alone.data(), ky_alone.data());
+    const F8 occlusion = estimate8<Isa>(pass.e, x, y, kx_alone.data(), ky_alone.data());
     for (int l = 0; l < lanes; ++l) {
       if (!(occlusion[l] >= 0.0f)) continue;
       uint8_t *pixel =
@@ -585,26 +652,68 @@ LANTERN_AO_INLINE void half_resolution_pass(const ViewPositions &v,
   }
 }
 
-__attribute__((target("avx2"))) void half_resolution_avx2(const ViewPositions &v,
-                                                          const AmbientOcclusionStyle &style,
-                                                          BandFrame *band, AoScratch *scratch) {
-  half_resolution_pass<Avx2Loads>(v, style, band, scratch);
+// The phases compiled for one instruction set. The threads call these (from baseline code): a
+// lambda inside a function compiled for a target is not itself compiled for it.
+struct HalfPhases {
+  void (*estimate)(HalfPass &, int, int);
+  void (*blur)(HalfPass &, int, int);
+  void (*upsample)(HalfPass &, int, int);
+};
+
+__attribute__((target("avx2"))) void estimate_avx2(HalfPass &p, int a, int b) {
+  estimate_rows<Avx2Loads>(p, a, b);
 }
-__attribute__((target("avx2"))) void half_resolution_avx2_gather(const ViewPositions &v,
-                                                                 const AmbientOcclusionStyle &style,
-                                                                 BandFrame *band,
-                                                                 AoScratch *scratch) {
-  half_resolution_pass<Avx2Gather>(v, style, band, scratch);
+__attribute__((target("avx2"))) void blur_avx2(HalfPass &p, int a, int b) {
+  blur_rows<Avx2Loads>(p, a, b);
+}
+__attribute__((target("avx2"))) void upsample_avx2(HalfPass &p, int a, int b) {
+  upsample_rows<Avx2Loads>(p, a, b);
+}
+__attribute__((target("avx2"))) void estimate_avx2_gather(HalfPass &p, int a, int b) {
+  estimate_rows<Avx2Gather>(p, a, b);
+}
+__attribute__((target("avx2"))) void upsample_avx2_gather(HalfPass &p, int a, int b) {
+  upsample_rows<Avx2Gather>(p, a, b);
 }
 // The same 8-lane code with AVX-512's 32 registers and mask registers.
-__attribute__((target("avx512f,avx512vl,avx512dq,avx512bw"))) void half_resolution_avx512(
-    const ViewPositions &v, const AmbientOcclusionStyle &style, BandFrame *band,
-    AoScratch *scratch) {
-  half_resolution_pass<Avx2Loads>(v, style, band, scratch);
+#define LANTERN_AO_AVX512 __attribute__((target("avx512f,avx512vl,avx512dq,avx512bw")))
+LANTERN_AO_AVX512 void estimate_avx512(HalfPass &p, int a, int b) {
+  estimate_rows<Avx2Loads>(p, a, b);
 }
-void half_resolution_portable(const ViewPositions &v, const AmbientOcclusionStyle &style,
-                              BandFrame *band, AoScratch *scratch) {
-  half_resolution_pass<Baseline>(v, style, band, scratch);
+LANTERN_AO_AVX512 void blur_avx512(HalfPass &p, int a, int b) {
+  blur_rows<Avx2Loads>(p, a, b);
+}
+LANTERN_AO_AVX512 void upsample_avx512(HalfPass &p, int a, int b) {
+  upsample_rows<Avx2Loads>(p, a, b);
+}
+#undef LANTERN_AO_AVX512
+void estimate_portable(HalfPass &p, int a, int b) {
+  estimate_rows<Baseline>(p, a, b);
+}
+void blur_portable(HalfPass &p, int a, int b) {
+  blur_rows<Baseline>(p, a, b);
+}
+void upsample_portable(HalfPass &p, int a, int b) {
+  upsample_rows<Baseline>(p, a, b);
+}
+
+// The fewest rows a thread takes in each phase: a thread costs tens of microseconds to start, a
+// row of estimates a few.
+constexpr int64_t kMinRowsPerPart = 16;
+
+void half_resolution(const ViewPositions &v, const AmbientOcclusionStyle &style, BandFrame *band,
+                     const HalfPhases &phases, AoScratch *scratch, int threads) {
+  if (band->owned.y0 >= band->owned.y1) return;
+  HalfPass pass(v, style, band, scratch);
+  const auto over = [threads](int begin, int end, void (*phase)(HalfPass &, int, int),
+                              HalfPass &p) {
+    const int64_t count = std::max(0, end - begin);
+    run_in_parts(parts_for(threads, count, kMinRowsPerPart), count,
+                 [&](int, int64_t a, int64_t b) { phase(p, begin + int(a), begin + int(b)); });
+  };
+  over(pass.e0, pass.e1, phases.estimate, pass);
+  over(std::max(0, pass.u0), std::min(pass.u1, pass.rows), phases.blur, pass);
+  over(band->owned.y0, band->owned.y1, phases.upsample, pass);
 }
 
 // The path kAuto takes. Measured with lantern-bench-cues --kernels 9 (thread CPU time of the pass
@@ -631,22 +740,24 @@ int screen_ambient_occlusion_halo(const AmbientOcclusionStyle &style) {
 }
 
 void apply_screen_ambient_occlusion(const ViewPositions &v, const AmbientOcclusionStyle &style,
-                                    BandFrame *band, AoVectorPath path, AoScratch *scratch) {
+                                    BandFrame *band, AoVectorPath path, AoScratch *scratch,
+                                    int threads) {
   AoScratch own;
   if (scratch == nullptr) scratch = &own;
   if (!style.half_resolution) {
-    full_resolution(v, style, band);
+    full_resolution(v, style, band, threads);
     return;
   }
+  static constexpr HalfPhases kAvx512{estimate_avx512, blur_avx512, upsample_avx512};
+  static constexpr HalfPhases kAvx2Gather{estimate_avx2_gather, blur_avx2, upsample_avx2_gather};
+  static constexpr HalfPhases kAvx2{estimate_avx2, blur_avx2, upsample_avx2};
+  static constexpr HalfPhases kPortable{estimate_portable, blur_portable, upsample_portable};
   if (path == AoVectorPath::kAuto) path = automatic_path();
-  if (path == AoVectorPath::kAvx512 && cpu_has_avx512_bw())
-    half_resolution_avx512(v, style, band, scratch);
-  else if (path == AoVectorPath::kAvx2Gather && cpu_has_avx2())
-    half_resolution_avx2_gather(v, style, band, scratch);
-  else if (path == AoVectorPath::kAvx2 && cpu_has_avx2())
-    half_resolution_avx2(v, style, band, scratch);
-  else
-    half_resolution_portable(v, style, band, scratch);
+  const HalfPhases &phases = path == AoVectorPath::kAvx512 && cpu_has_avx512_bw()  ? kAvx512
+                             : path == AoVectorPath::kAvx2Gather && cpu_has_avx2() ? kAvx2Gather
+                             : path == AoVectorPath::kAvx2 && cpu_has_avx2()       ? kAvx2
+                                                                                   : kPortable;
+  half_resolution(v, style, band, phases, scratch, threads);
 }
 
 }  // namespace lantern

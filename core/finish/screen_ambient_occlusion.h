@@ -70,10 +70,12 @@ struct AoScratch {
   std::vector<float> raw_value, raw_z, across_value, across_z, blurred_value, blurred_z;
 };
 
-// `scratch`: kept buffers, or null for buffers of this call only.
+// `scratch`: kept buffers, or null for buffers of this call only. `threads`: how many threads
+// (this one included) may share the rows (the run-wide `threads:`); every count gives the same
+// bytes. Thread-safety: one call per band and scratch at a time.
 void apply_screen_ambient_occlusion(const ViewPositions &positions,
                                     const AmbientOcclusionStyle &style, BandFrame *band,
                                     AoVectorPath path = AoVectorPath::kAuto,
-                                    AoScratch *scratch = nullptr);
+                                    AoScratch *scratch = nullptr, int threads = 1);
 
 }  // namespace lantern

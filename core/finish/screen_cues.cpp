@@ -79,17 +79,17 @@ Status cue_band(MPI_Comm comm, const ScreenCueSettings &cues, const Camera &came
   CueScratch own;
   if (scratch == nullptr) scratch = &own;
   ViewPositions &positions = scratch->positions;
-  positions.build(band, camera);
+  positions.build(band, camera, true, cues.threads);
 
   if (screen_ao(cues))
     apply_screen_ambient_occlusion(positions, ao_style(cues, sphere_radius), &band,
-                                   AoVectorPath::kAuto, &scratch->ao);
+                                   AoVectorPath::kAuto, &scratch->ao, cues.threads);
   if (cues.outline.enabled) {
     OutlineStyle style;
     style.width = cues.outline.width;
     style.jump = float(cues.outline.depth_threshold * sphere_radius);
     copy_rgb(cues.outline.color, style.color);
-    draw_outlines(positions, style, &band);
+    draw_outlines(positions, style, &band, true, cues.threads);
   }
   if (cues.depth_cue.enabled) {
     DepthCueStyle style;
@@ -101,7 +101,7 @@ Status cue_band(MPI_Comm comm, const ScreenCueSettings &cues, const Camera &came
     style.end = float(cues.depth_cue.end.value_or(farthest));
     copy_rgb(cues.depth_cue.color.value_or(cues.background), style.color);
     style.fade_alpha = cues.transparent_background && !cues.depth_cue.color;
-    apply_depth_cue(positions, style, &band);
+    apply_depth_cue(positions, style, &band, true, cues.threads);
   }
   return {};
 }

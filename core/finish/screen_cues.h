@@ -35,6 +35,9 @@ struct ScreenCueSettings {
   std::array<double, 3> background{1.0, 1.0, 1.0};  // depth_cue's color when it names none
   // background: transparent - depth_cue without a color fades alpha towards 0 instead (depth_cue.h)
   bool transparent_background = false;
+  // The threads this rank's cues may use (the run-wide `threads:`, resolved): their rows are cut
+  // into that many parts, with the same bytes at any count.
+  int threads = 1;
 };
 
 // True if any cue computed on the composited frame is on.

@@ -1,8 +1,10 @@
 #include "core/finish/view_positions.h"
 
 #include <algorithm>
+#include <cstdint>
 
 #include "core/common/cpu_features.h"
+#include "core/common/rank_threads.h"
 
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
 #define LANTERN_POSITIONS_AVX2 1
@@ -13,6 +15,10 @@
 
 namespace lantern {
 namespace {
+
+// The fewest rows a thread takes: a thread costs tens of microseconds to start, a row of 1024
+// distances about one.
+constexpr int64_t kMinRowsPerThread = 64;
 
 #if LANTERN_POSITIONS_AVX2
 // Perspective distances of depth[0, count) (count a multiple of 4): Camera::
@@ -120,7 +126,7 @@ std::array<float, 2> ViewPositions::drawn_minima(const RowBand &rows, bool vecto
   return minima;
 }
 
-void ViewPositions::build(const BandFrame &band, const Camera &camera, bool vector) {
+void ViewPositions::build(const BandFrame &band, const Camera &camera, bool vector, int threads) {
   width_ = band.frame.width;
   height_ = camera.height;
   first_ = band.first;
@@ -153,24 +159,28 @@ void ViewPositions::build(const BandFrame &band, const Camera &camera, bool vect
     }
     border_rows_ = rows_, border_width_ = width_;
   }
-  for (int r = 0; r < rows_; ++r) {
-    float *out = &z_[size_t(r + kBorder) * stride() + size_t(kBorder)];
-    const float *depth = &band.frame.depth[size_t(r) * width];
-    size_t i = 0;
+  // Each row on its own: any number of parts gives the same distances.
+  const auto rows_of = [&](int, int64_t r0, int64_t r1) {
+    for (int r = int(r0); r < int(r1); ++r) {
+      float *out = &z_[size_t(r + kBorder) * stride() + size_t(kBorder)];
+      const float *depth = &band.frame.depth[size_t(r) * width];
+      size_t i = 0;
 #if LANTERN_POSITIONS_AVX2
-    if (vector && cpu_has_avx2()) {
-      i = width / 4 * 4;
-      if (orthographic_)
-        orthographic_distances_avx2(camera, depth, i, out);
-      else
-        perspective_distances_avx2(camera, depth, i, out);
-    }
+      if (vector && cpu_has_avx2()) {
+        i = width / 4 * 4;
+        if (orthographic_)
+          orthographic_distances_avx2(camera, depth, i, out);
+        else
+          perspective_distances_avx2(camera, depth, i, out);
+      }
 #endif
-    for (; i < width; ++i) {
-      const float d = depth[i];
-      out[i] = d >= kBackgroundDepth ? kBackground : float(camera.window_depth_to_distance(d));
+      for (; i < width; ++i) {
+        const float d = depth[i];
+        out[i] = d >= kBackgroundDepth ? kBackground : float(camera.window_depth_to_distance(d));
+      }
     }
-  }
+  };
+  run_in_parts(parts_for(threads, rows_, kMinRowsPerThread), rows_, rows_of);
   (void)vector;
 }
 

@@ -215,6 +215,7 @@ Status run_scene_pass(const ScenePassInputs &in, const SceneConfig &scene, Scene
   // The colours use this frame's range (fixed, or remembered across steps).
   SceneSettings settings = scene_settings(scene);
   settings.shading.color.range = color_range;
+  settings.finish.cues.threads = in.threads;
   settings.image_band_rows = image_band_rows(in.comm, scene, settings);
   buffers->image_band.reset();
   Status local = check_scene_needs(scene, radius, *in.particles, in.bonds);

@@ -297,7 +297,7 @@ Frame creases(const Camera &camera) {
 std::vector<uint8_t> occluded_band(const Frame &whole, const Camera &camera, int y0, int y1,
                                    int halo, const AmbientOcclusionStyle &style,
                                    AoVectorPath path = AoVectorPath::kAuto,
-                                   AoScratch *scratch = nullptr) {
+                                   AoScratch *scratch = nullptr, int threads = 1) {
   const int first = std::max(0, y0 - halo), last = std::min(whole.height, y1 + halo);
   BandFrame band;
   band.first = first;
@@ -310,7 +310,7 @@ std::vector<uint8_t> occluded_band(const Frame &whole, const Camera &camera, int
             band.frame.depth.begin());
   ViewPositions positions;
   positions.build(band, camera);
-  apply_screen_ambient_occlusion(positions, style, &band, path, scratch);
+  apply_screen_ambient_occlusion(positions, style, &band, path, scratch, threads);
   const size_t row = size_t(whole.width) * 4;
   return {band.frame.rgba.begin() + ptrdiff_t(size_t(y0 - first) * row),
           band.frame.rgba.begin() + ptrdiff_t(size_t(y1 - first) * row)};
@@ -391,6 +391,39 @@ TEST(ScreenAmbientOcclusion, KeptBuffersGiveTheBytesOfFreshOnes) {
     ++compared;
   }
   EXPECT_EQ(compared, 6);
+}
+
+// `threads:` cuts a band's rows into parts that run at once: every count gives the one-thread
+// bytes, at both resolutions, on every instruction set, for whole images and for bands (whose
+// estimate rows start at odd and even rows), with kept buffers too.
+TEST(ScreenAmbientOcclusion, EveryThreadCountGivesTheOneThreadBytes) {
+  if (world_rank() != 0) return;
+  const Camera camera = test_camera();
+  int compared = 0;
+  for (const Frame &frame : {crowd(camera), creases(camera)})
+    for (const bool half : {true, false}) {
+      AmbientOcclusionStyle style;
+      style.radius = half ? 10.0f : 3.0f;
+      style.strength = 1.0f;
+      style.half_resolution = half;
+      const int halo = screen_ambient_occlusion_halo(style);
+      for (const auto &[y0, y1] :
+           std::vector<std::pair<int, int>>{{0, kHeight}, {7, 61}, {1, 80}, {40, 41}}) {
+        const std::vector<uint8_t> one = occluded_band(frame, camera, y0, y1, halo, style);
+        ASSERT_NE(one, std::vector<uint8_t>(frame.rgba.begin() + 4 * y0 * kWidth,
+                                            frame.rgba.begin() + 4 * y1 * kWidth));
+        for (const AoVectorPath path : {AoVectorPath::kAuto, AoVectorPath::kPortable}) {
+          AoScratch kept;
+          for (const int threads : {2, 3, 4, 7, 64}) {
+            EXPECT_EQ(occluded_band(frame, camera, y0, y1, halo, style, path, &kept, threads), one)
+                << (half ? "half" : "full") << " resolution, rows " << y0 << ".." << y1 << ", path "
+                << int(path) << ", " << threads << " threads";
+            ++compared;
+          }
+        }
+      }
+    }
+  EXPECT_EQ(compared, 2 * 2 * 4 * 2 * 5);
 }
 
 // The half-resolution pass gives the same bits on every instruction set.
@@ -520,6 +553,51 @@ TEST(ScreenCues, DepthCueEightAtATimeIsTheOneAtATimeDepthCue) {
         ASSERT_EQ(vector.frame.rgba, single.frame.rgba)
             << "width " << width << ", ramp " << ramp << ", fade_alpha " << fade_alpha;
       }
+}
+
+// `threads:` cuts the distances', the outlines' and the depth cue's rows into parts (of at least
+// 64 rows): every count gives the one-thread bytes, on a band tall enough for several parts.
+TEST(ScreenCues, DistancesOutlinesAndDepthCueOnEveryThreadCountAreTheOneThreadBytes) {
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  const int width = 333, rows = 420;
+  const Camera camera = cube_camera(CameraConfig(), width, 500);
+  BandFrame band = blank_band(width, rows, 40, {43, 457});
+  for (size_t i = 0; i < band.frame.depth.size(); ++i) {
+    float d = 0.2f + 0.6f * u(rng);
+    if (i % 9 < 3) d = 0.5f;
+    if (i % 23 == 0) d = kBackgroundDepth;
+    if (i % 101 == 7) d = std::nanf("");
+    band.frame.depth[i] = d;
+    for (int c = 0; c < 4; ++c) band.frame.rgba[4 * i + size_t(c)] = uint8_t(rng());
+  }
+  ViewPositions one;
+  one.build(band, camera);
+  OutlineStyle outline;
+  outline.width = 2;
+  outline.jump = 0.3f;
+  DepthCueStyle fade;
+  const std::array<float, 2> range = one.drawn_minima(band.owned);
+  fade.start = range[0];
+  fade.end = -range[1];
+  fade.color[0] = 250;
+  BandFrame outlined = band, faded = band;
+  draw_outlines(one, outline, &outlined);
+  apply_depth_cue(one, fade, &faded);
+  ASSERT_NE(outlined.frame.rgba, band.frame.rgba);
+  ASSERT_NE(faded.frame.rgba, band.frame.rgba);
+  for (const int threads : {2, 3, 5, 8}) {
+    ViewPositions many;
+    many.build(band, camera, true, threads);
+    for (int y = many.first_row(); y < many.last_row(); ++y)
+      ASSERT_EQ(std::memcmp(many.row(y), one.row(y), sizeof(float) * size_t(width)), 0)
+          << "row " << y << ", " << threads << " threads";
+    BandFrame o = band, f = band;
+    draw_outlines(many, outline, &o, true, threads);
+    apply_depth_cue(many, fade, &f, true, threads);
+    EXPECT_EQ(o.frame.rgba, outlined.frame.rgba) << threads << " threads";
+    EXPECT_EQ(f.frame.rgba, faded.frame.rgba) << threads << " threads";
+  }
 }
 
 TEST(ScreenCues, IsolatedSphereGetsAClosedOutlineOfTheConfiguredWidth) {

@@ -1,8 +1,8 @@
 // `threads: N`: brick building and refitting, the particle scan and the CPU raster's column strips
-// run on N threads; every image byte and every count of the stats line must be the one-thread
-// result, over steps that build the bricks, refit them (particles moved a little) and repair them
-// (a few particles jumped far), at 1 and 2 ranks - with bonds too, whose half-bonds each strip
-// draws and culls against its own depth.
+// run on N threads, and so do the screen-space cues' rows; every image byte and every count of the
+// stats line must be the one-thread result, over steps that build the bricks, refit them (particles
+// moved a little) and repair them (a few particles jumped far), at 1 and 2 ranks - with bonds too,
+// whose half-bonds each strip draws and culls against its own depth.
 #include <gtest/gtest.h>
 
 #include <mpi.h>
@@ -44,7 +44,19 @@ std::string config(const std::string &dir, const std::string &threads) {
          "    renderer: cpu\n    culling: {occlusion: hzb}\n"
          "    camera: {azimuth: 35, elevation: 25}\n    bonds: {radius: 0.12}\n"
          "    output: {pattern: '" +
-         dir + "/bonds_" + threads + "_{step}.png'}\n";
+         dir + "/bonds_" + threads +
+         "_{step}.png'}\n"
+         "  - name: cues\n    width: 640\n    height: 480\n    radius: 0.6\n"
+         "    renderer: cpu\n    camera: {azimuth: 35, elevation: 25}\n"
+         "    ambient_occlusion: {method: screen}\n    outline: {}\n    depth_cue: {}\n"
+         "    output: {pattern: '" +
+         dir + "/cues_" + threads +
+         "_{step}.png'}\n"
+         "  - name: ao_full\n    width: 240\n    height: 180\n    radius: 0.6\n"
+         "    renderer: cpu\n    camera: {azimuth: 35, elevation: 25}\n"
+         "    ambient_occlusion: {method: screen, resolution: full}\n"
+         "    output: {pattern: '" +
+         dir + "/ao_full_" + threads + "_{step}.png'}\n";
 }
 
 // Bonds along x between neighbours of one row of this rank's slab (local indices, pairs).
@@ -81,7 +93,7 @@ TEST(Threads, ImagesAndCountsAreTheOneThreadBytes) {
   }
   if (world_rank() != 0) return;
   for (const std::string &threads : counts)
-    for (const char *scene : {"hzb", "ssaa", "bonds"})
+    for (const char *scene : {"hzb", "ssaa", "bonds", "cues", "ao_full"})
       for (int step = 0; step < 3; ++step) {
         const auto one =
             read_bytes(dir.path() + "/" + scene + "_1_" + std::to_string(step) + ".png");
