@@ -242,24 +242,25 @@ __attribute__((target("avx2"))) inline bool scan_part(const double *xyz, const B
   return _mm256_testz_si256(_mm256_castpd_si256(odd), xyz_lanes) != 0;
 }
 
-// scan_part over all of set.runs, stripe by stripe of kTapBlocks blocks of indices, each stripe's
-// positions handed to `tap` right after scan_part read them (then in cache), and the particles
-// the runs do not list (added since) after the last; the same bounds as one scan_part. False as
-// scan_part (the tap then has only some stripes).
+// scan_part over the runs of blocks [b0, b1) of indices, stripe by stripe of kTapBlocks blocks,
+// each stripe's positions handed to `tap` as part `part` right after scan_part read them (then
+// in cache), and, where `last`, the particles the runs do not list (added since) after its last;
+// the same bounds as one scan_part. `ms`: the time spent in the tap, added. False as scan_part
+// (the tap then has only some stripes).
 inline bool scan_part_tapped(const double *xyz, const BrickSet &set, int64_t count,
-                             PositionTap &tap, BrickScan *acc) {
+                             PositionTap &tap, int part, size_t b0, size_t b1, bool last,
+                             double *ms, BrickScan *acc) {
   constexpr size_t kTapBlocks = 4;  // 16 Ki particles, 384 KiB of positions: within L2
   const IndexRuns &runs = set.runs;
   const size_t blocks = runs.blocks(), stretches = runs.size() - 1;
   const int64_t listed = runs.back().first;
   const auto take = [&](int64_t first, int64_t end) {
     const auto t0 = std::chrono::steady_clock::now();
-    tap.take(xyz, first, end);
-    tap.ms +=
-        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    tap.take(part, xyz, first, end);
+    *ms += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   };
-  for (size_t b = 0; b < blocks; b += kTapBlocks) {
-    const size_t e = std::min(blocks, b + kTapBlocks);
+  for (size_t b = b0; b < b1; b += kTapBlocks) {
+    const size_t e = std::min(b1, b + kTapBlocks);
     if (!scan_part(xyz, set, runs.block_start(b), e < blocks ? runs.block_start(e) : stretches,
                    count, acc))
       return false;
@@ -268,7 +269,7 @@ inline bool scan_part_tapped(const double *xyz, const BrickSet &set, int64_t cou
         std::min<int64_t>(count, e < blocks ? int64_t(e) << IndexRuns::kOffsetBits : listed);
     if (first < end) take(first, end);
   }
-  if (listed < count) take(listed, count);
+  if (last && listed < count) take(listed, count);
   return true;
 }
 
@@ -303,7 +304,8 @@ inline bool scan_kernel_usable(ScanKernel kernel) {
 // to `threads` threads, merged in part order (min and max keep the first of equal values, so the
 // result is the one-thread result).
 // `tap` (may be null): handed the positions as they are read where the pass runs the AVX2 kernel
-// on one thread (scan_part_tapped).
+// (scan_part_tapped); its parts then cut the runs at blocks of indices, each part handing on its
+// own stripes (any cut between runs gives the same bounds).
 template <typename Positions, typename Radii, typename Keep>
 PageVector<BrickScan> scan_runs(const Positions &pos, const Radii &radius, const Keep &keep,
                                 bool has_radius, int64_t count, const BrickSet &set, int threads,
@@ -327,7 +329,19 @@ PageVector<BrickScan> scan_runs(const Positions &pos, const Radii &radius, const
     xyz = reinterpret_cast<const double *>(pos.base);
   }
 #endif
-  run_in_parts(parts, stretches, [&](int p, int64_t begin, int64_t end) {
+  bool tapped = false;
+#if LANTERN_SCAN_X86
+  tapped = packed_avx2 && tap != nullptr && !runs.empty();
+#endif
+  const size_t blocks = tapped ? runs.blocks() : 0;
+  std::vector<double> tap_ms(static_cast<size_t>(parts), 0.0);
+  if (tapped) tap->begin(parts);
+  // The stretch where block b starts (tapped parts are whole blocks).
+  const auto block_stretch = [&](int64_t b) {
+    return size_t(b) < blocks ? int64_t(runs.block_start(size_t(b))) : stretches;
+  };
+  run_in_parts(parts, tapped ? int64_t(blocks) : stretches, [&](int p, int64_t b0, int64_t b1) {
+    const int64_t begin = tapped ? block_stretch(b0) : b0, end = tapped ? block_stretch(b1) : b1;
     PageVector<BrickScan> &acc = part[size_t(p)];
     // Mapped, then huge pages asked for before assign() writes it whole (64 bytes a brick, 8 MiB
     // for a rank's 19 M fcc particles): the refit took 0.91x the time in one process and 0.95x
@@ -337,9 +351,9 @@ PageVector<BrickScan> scan_runs(const Positions &pos, const Radii &radius, const
     acc.assign(set.bricks.size(), BrickScan{});
 #if LANTERN_SCAN_X86
     if (packed_avx2) {
-      if (tap != nullptr && parts == 1
-              ? scan_avx2::scan_part_tapped(xyz, set, count, *tap, acc.data())
-              : scan_avx2::scan_part(xyz, set, size_t(begin), size_t(end), count, acc.data()))
+      if (tapped ? scan_avx2::scan_part_tapped(xyz, set, count, *tap, p, size_t(b0), size_t(b1),
+                                               p == parts - 1, &tap_ms[size_t(p)], acc.data())
+                 : scan_avx2::scan_part(xyz, set, size_t(begin), size_t(end), count, acc.data()))
         return;
       acc.assign(set.bricks.size(), BrickScan{});  // not finite: scan_stretch marks the bricks
     }
@@ -387,6 +401,8 @@ PageVector<BrickScan> scan_runs(const Positions &pos, const Radii &radius, const
           acc[brick] = a;
         });
   });
+  // The parts ran at once: the tap held the pass up about as long as its slowest part's share.
+  if (tapped) tap->ms += *std::max_element(tap_ms.begin(), tap_ms.end());
   PageVector<BrickScan> all = std::move(part[0]);
   for (size_t p = 1; p < part.size(); ++p)
     for (size_t b = 0; b < all.size(); ++b) {

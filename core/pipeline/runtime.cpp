@@ -89,8 +89,12 @@ class OcclusionTaps : public PositionTap {
  public:
   bool empty() const { return volumes_.empty(); }
   void add(OcclusionVolume *v) { volumes_.push_back(v); }
-  void take(const double *xyz, int64_t first, int64_t end) override {
-    for (OcclusionVolume *v : volumes_) v->take_tapped(xyz, first, end);
+  void begin(int parts) override {
+    for (OcclusionVolume *v : volumes_) v->begin_tapped_parts(parts);
+  }
+  // On the refit's threads at once, each its own part: every volume keeps its parts apart.
+  void take(int part, const double *xyz, int64_t first, int64_t end) override {
+    for (OcclusionVolume *v : volumes_) v->take_tapped(part, xyz, first, end);
   }
 
  private:

@@ -17,6 +17,7 @@
 #endif
 
 #include "core/common/cpu_features.h"
+#include "core/common/rank_threads.h"
 #include "core/culling/cut_planes.h"
 #include "core/particles/typed_access.h"
 
@@ -366,6 +367,9 @@ bool locate_packed(const double *xyz, int n, const NodeGrid &grid, NodeWeights *
 // Particles deposited on the quads before their sums could pass 32 bits: each adds at most
 // kParticleWeight to a node, so a node's sum of fewer than 2^32 / kParticleWeight particles fits.
 constexpr int64_t kMaxQuadParticles = (int64_t(1) << 32) / kParticleWeight - 1;
+// The fewest particles a thread deposits: a thread costs tens of microseconds to start, a
+// particle a few nanoseconds.
+constexpr int64_t kMinParticlesPerPart = int64_t(1) << 16;
 
 // Adds the 8 corner weights of each of n located particles to the quads (OcclusionVolume::
 // deposit()): lanes 4 c + 2 b + a, c = 0 to the quad of the lower node, c = 1 to the quad one
@@ -458,22 +462,77 @@ std::array<int, 3> OcclusionVolume::quad_offset() const {
 //
 // In chunks: the drawn particles' coordinates are gathered, then turned into nodes and weights in
 // one loop per axis (no branches: it vectorises), then the 8 corner weights of each particle are
-// one product of two small tables in 16-bit lanes (at most kSteps^3 = 4096), added to quads_
-// (add_to_quads()). Integers: the same sums in any order, so the same volume as one particle at
-// a time.
+// one product of two small tables in 16-bit lanes (at most kSteps^3 = 4096), added to a part's
+// quads (add_to_quads()). Integers: the same sums in any order, so the same volume as one particle
+// at a time.
 //
 // Quad i holds, in lane a + 2 b, what node i + a + b dy received from the particles whose lower
 // node along x and y is node i (both in the plane of node i): nodes_of() sums a node's four. In
-// 32 bits: after kMaxQuadParticles particles the quads are added to spilled_ (64 bits) and
+// 32 bits: after kMaxQuadParticles particles the quads are added to the 64-bit sums and
 // zeroed. The quads are zeroed plane by plane as the chunks' deposits reach them (`occupied`: a
 // domain decomposition's rank reaches only its own planes and those along its boundaries), and
 // kept between builds (not zero-filled when allocated).
-void OcclusionVolume::start_deposit(const QuadGrid &grid) {
+//
+// With several parts (threads), each deposits its particles on quads of its own, and
+// merge_parts() adds them to the first's: integer sums, so the same quads, or the same 64-bit
+// sums where 32 bits could overflow, as one part. (Why: at one rank with two threads, fcc 1 M's
+// object AO stage took 7.1-8.6 ms with the deposit on one thread, 4.0-4.2 in parts;
+// lantern-bench-cues, tests/bench/cues/results/cues_threads_ab.txt.)
+void OcclusionVolume::start_deposit(const QuadGrid &grid, int parts) {
   quad_grid_ = grid;
-  quads_.resize(4 * size_t(grid.n[0]) * size_t(grid.n[1]) * size_t(grid.n[2]));
-  spilled_.clear();
-  zeroed_ = Planes{};
-  on_quads_ = 0;
+  // Parts beyond `parts` keep their quads for a later step (no allocation, no page faults).
+  parts = std::max(1, parts);
+  if (deposits_.size() < size_t(parts)) deposits_.resize(size_t(parts));
+  for (size_t p = 0; p < size_t(parts); ++p) {
+    QuadDeposit &d = deposits_[p];
+    d.quads.resize(4 * size_t(grid.n[0]) * size_t(grid.n[1]) * size_t(grid.n[2]));
+    d.spilled.clear();
+    d.zeroed = Planes{};
+    d.on_quads = 0;
+  }
+}
+
+void OcclusionVolume::zero_planes(QuadDeposit &d, Planes planes) {
+  if (planes.empty()) return;
+  const size_t dz = size_t(quad_grid_.n[0]) * size_t(quad_grid_.n[1]);
+  uint32_t *quads = d.quads.data();
+  const auto zero = [&](int first, int end) {
+    if (first < end)
+      std::fill(quads + 4 * dz * size_t(first), quads + 4 * dz * size_t(end), uint32_t(0));
+  };
+  if (d.zeroed.empty()) {
+    zero(planes.first, planes.end);
+    d.zeroed = planes;
+  } else {
+    zero(planes.first, d.zeroed.first);
+    zero(d.zeroed.end, planes.end);
+    d.zeroed = {std::min(d.zeroed.first, planes.first), std::max(d.zeroed.end, planes.end)};
+  }
+}
+
+void OcclusionVolume::merge_parts(int parts) {
+  QuadDeposit &to = deposits_[0];
+  const size_t dz = size_t(quad_grid_.n[0]) * size_t(quad_grid_.n[1]);
+  for (size_t p = 1; p < std::min(deposits_.size(), size_t(std::max(1, parts))); ++p) {
+    QuadDeposit &from = deposits_[p];
+    if (from.zeroed.empty()) continue;  // nothing deposited
+    zero_planes(to, from.zeroed);
+    if (from.spilled.empty() && to.spilled.empty() &&
+        to.on_quads + from.on_quads <= kMaxQuadParticles) {
+      // Every lane's sum stays within 32 bits (kMaxQuadParticles).
+      const uint32_t *a = from.quads.data() + 4 * dz * size_t(from.zeroed.first);
+      uint32_t *b = to.quads.data() + 4 * dz * size_t(from.zeroed.first);
+      const size_t lanes = 4 * dz * size_t(from.zeroed.count());
+      for (size_t i = 0; i < lanes; ++i) b[i] += a[i];
+      to.on_quads += from.on_quads;
+      continue;
+    }
+    // Else in 64 bits: both parts' quads spilled, the sums added.
+    spill(to);
+    to.on_quads = 0;
+    spill(from);
+    for (size_t i = 0; i < to.spilled.size(); ++i) to.spilled[i] += from.spilled[i];
+  }
 }
 
 NodeGrid OcclusionVolume::located_grid() const {
@@ -487,43 +546,29 @@ NodeGrid OcclusionVolume::located_grid() const {
   return g;
 }
 
-void OcclusionVolume::add_located(const NodeWeights &located, int n) {
+void OcclusionVolume::add_located(QuadDeposit &to, const NodeWeights &located, int n) {
   const size_t dz = size_t(quad_grid_.n[0]) * size_t(quad_grid_.n[1]);
-  uint32_t *quads = quads_.data();
-  const auto zero = [&](int first, int end) {
-    if (first < end)
-      std::fill(quads + 4 * dz * size_t(first), quads + 4 * dz * size_t(end), uint32_t(0));
-  };
-  if (on_quads_ + n > kMaxQuadParticles) {  // before a sum could pass 32 bits
-    spill();
-    on_quads_ = 0;
+  if (to.on_quads + n > kMaxQuadParticles) {  // before a sum could pass 32 bits
+    spill(to);
+    to.on_quads = 0;
   }
-  on_quads_ += n;
+  to.on_quads += n;
   // A deposit reaches the plane above its lower node's.
-  const Planes reached{int(located.lowest_z), int(located.highest_z) + 2};
-  if (zeroed_.empty()) {
-    zero(reached.first, reached.end);
-    zeroed_ = reached;
-  } else {
-    zero(reached.first, zeroed_.first);
-    zero(zeroed_.end, reached.end);
-    zeroed_ = {std::min(zeroed_.first, reached.first), std::max(zeroed_.end, reached.end)};
-  }
-  add_to_quads(located, n, corner_tables(), quads, dz);
+  zero_planes(to, Planes{int(located.lowest_z), int(located.highest_z) + 2});
+  add_to_quads(located, n, corner_tables(), to.quads.data(), dz);
 }
 
 void OcclusionVolume::deposit(const ParticleArrays &particles, const std::vector<CutPlane> &cuts,
-                              Planes *occupied) {
+                              int threads, Planes *occupied) {
   const CutPlanes planes(cuts);
-  start_deposit(volume_grid());
+  const int64_t count = particles.count();
+  const int parts = parts_for(threads, count, kMinParticlesPerPart);
+  start_deposit(volume_grid(), parts);
   const NodeGrid grid = located_grid();
   constexpr int kChunk = kLocateChunk;
   static_assert(kChunk <= kMaxQuadParticles, "a chunk fits on the quads");
-  double coordinate[3][kChunk];
-  NodeWeights located;
   visit_kept(particles, [&](const auto &kept) {
     visit_positions(particles, [&](const auto &positions) {
-      const int64_t count = particles.count();
       constexpr bool kAllKept = std::is_same_v<std::decay_t<decltype(kept)>, KeepAll>;
       const bool every = kAllKept && planes.empty();
       // Every particle, positions as x y z doubles one after the other: located in place.
@@ -531,36 +576,43 @@ void OcclusionVolume::deposit(const ParticleArrays &particles, const std::vector
       if constexpr (std::is_same_v<std::decay_t<decltype(positions)>, InterleavedPositions<double>>)
         if (every && positions.stride == int64_t(3 * sizeof(double)))
           packed = reinterpret_cast<const double *>(positions.base);
-      for (int64_t i0 = 0; i0 < count; i0 += kChunk) {
-        const int64_t end = std::min(count, i0 + kChunk);
-        int n = 0;
-        const bool in_place =
-            packed != nullptr && locate_packed(packed + 3 * i0, int(end - i0), grid, &located);
-        if (in_place) {
-          n = int(end - i0);
-        } else if (every) {  // no branch per particle: each is written, and kept when finite
-          for (int64_t i = i0; i < end; ++i) {
-            const glm::dvec3 x = positions.get(i);
-            coordinate[0][n] = x.x, coordinate[1][n] = x.y, coordinate[2][n] = x.z;
-            n += int(std::isfinite(x.x)) & int(std::isfinite(x.y)) & int(std::isfinite(x.z));
+      run_in_parts(parts, count, [&](int part, int64_t first, int64_t last) {
+        QuadDeposit &to = deposits_[size_t(part)];
+        double coordinate[3][kChunk];
+        NodeWeights located;
+        for (int64_t i0 = first; i0 < last; i0 += kChunk) {
+          const int64_t end = std::min(last, i0 + kChunk);
+          int n = 0;
+          const bool in_place =
+              packed != nullptr && locate_packed(packed + 3 * i0, int(end - i0), grid, &located);
+          if (in_place) {
+            n = int(end - i0);
+          } else if (every) {  // no branch per particle: each is written, and kept when finite
+            for (int64_t i = i0; i < end; ++i) {
+              const glm::dvec3 x = positions.get(i);
+              coordinate[0][n] = x.x, coordinate[1][n] = x.y, coordinate[2][n] = x.z;
+              n += int(std::isfinite(x.x)) & int(std::isfinite(x.y)) & int(std::isfinite(x.z));
+            }
+          } else {
+            for (int64_t i = i0; i < end; ++i) {
+              if (!kept.get(i)) continue;
+              const glm::dvec3 x = positions.get(i);
+              if (!(std::isfinite(x.x) && std::isfinite(x.y) && std::isfinite(x.z))) continue;
+              if (!planes.empty() && planes.drops(x)) continue;
+              coordinate[0][n] = x.x, coordinate[1][n] = x.y, coordinate[2][n] = x.z;
+              ++n;
+            }
           }
-        } else {
-          for (int64_t i = i0; i < end; ++i) {
-            if (!kept.get(i)) continue;
-            const glm::dvec3 x = positions.get(i);
-            if (!(std::isfinite(x.x) && std::isfinite(x.y) && std::isfinite(x.z))) continue;
-            if (!planes.empty() && planes.drops(x)) continue;
-            coordinate[0][n] = x.x, coordinate[1][n] = x.y, coordinate[2][n] = x.z;
-            ++n;
-          }
+          if (n == 0) continue;
+          if (!in_place) locate_nodes(coordinate, n, grid, &located);
+          add_located(to, located, n);
         }
-        if (n == 0) continue;
-        if (!in_place) locate_nodes(coordinate, n, grid, &located);
-        add_located(located, n);
-      }
+      });
     });
   });
-  *occupied = zeroed_.empty() ? Planes{0, 0} : zeroed_;
+  merge_parts(parts);
+  const Planes zeroed = deposits_[0].zeroed;
+  *occupied = zeroed.empty() ? Planes{0, 0} : zeroed;
 }
 
 bool OcclusionVolume::arm_tap() {
@@ -570,45 +622,72 @@ bool OcclusionVolume::arm_tap() {
   // unless the bounds moved by more than a node or the spacing was widened.
   QuadGrid wider = volume_grid();
   for (int a = 0; a < 3; ++a) wider.origin[a] -= 1.0, wider.n[a] += 2;
-  start_deposit(wider);
+  start_deposit(wider, 1);
   tap_.armed = true;
   tap_.cell = cell_;
+  tap_.parts.assign(1, PartTap{});
   return true;
 }
 
-void OcclusionVolume::take_tapped(const double *xyz, int64_t first, int64_t end) {
-  if (!tap_.armed || tap_.failed) return;
-  const auto t0 = std::chrono::steady_clock::now();
-  if (first != tap_.next) tap_.failed = true;  // never: the refit hands stripes in order
-  const NodeGrid grid = located_grid();
-  NodeWeights located;
-  for (int64_t i0 = first; i0 < end && !tap_.failed; i0 += kLocateChunk) {
-    const int n = int(std::min<int64_t>(kLocateChunk, end - i0));
-    if (!locate_packed(xyz + 3 * i0, n, grid, &located)) {
-      tap_.failed = true;  // a coordinate is not finite: build() deposits on its own
-      break;
-    }
-    add_located(located, n);
-  }
-  tap_.next = end;
-  tap_.ms +=
-      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+void OcclusionVolume::begin_tapped_parts(int parts) {
+  if (!tap_.armed) return;
+  parts = std::max(1, parts);
+  start_deposit(quad_grid_, parts);  // the armed grid, in parts
+  tap_.parts.assign(size_t(parts), PartTap{});
 }
 
-// The quads of the planes zeroed_ added to spilled_ (zero-filled on the first spill), and
+void OcclusionVolume::take_tapped(int part, const double *xyz, int64_t first, int64_t end) {
+  if (!tap_.armed || part < 0 || size_t(part) >= tap_.parts.size()) return;
+  PartTap &t = tap_.parts[size_t(part)];
+  if (t.failed) return;
+  const auto t0 = std::chrono::steady_clock::now();
+  if (t.next < 0)
+    t.first = first;
+  else if (first != t.next)
+    t.failed = true;  // never: the refit hands each part's stripes in order
+  QuadDeposit &to = deposits_[size_t(part)];
+  const NodeGrid grid = located_grid();
+  NodeWeights located;
+  for (int64_t i0 = first; i0 < end && !t.failed; i0 += kLocateChunk) {
+    const int n = int(std::min<int64_t>(kLocateChunk, end - i0));
+    if (!locate_packed(xyz + 3 * i0, n, grid, &located)) {
+      t.failed = true;  // a coordinate is not finite: build() deposits on its own
+      break;
+    }
+    add_located(to, located, n);
+  }
+  t.next = end;
+  t.ms += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
+
+bool OcclusionVolume::tap_complete(const TapState &tap, int64_t count, double *ms) {
+  *ms = 0.0;
+  bool complete = tap.armed;
+  int64_t expected = 0;
+  for (const PartTap &t : tap.parts) {
+    *ms = std::max(*ms, t.ms);  // the parts ran at once
+    if (t.failed) complete = false;
+    if (t.next < 0) continue;  // a part that got nothing
+    if (t.first != expected) complete = false;
+    expected = t.next;
+  }
+  return complete && expected == count;
+}
+
+// The quads of the planes d.zeroed added to d.spilled (zero-filled on the first spill), and
 // zeroed again. In the quads' own grid.
-void OcclusionVolume::spill() {
+void OcclusionVolume::spill(QuadDeposit &d) {
   const size_t nx = size_t(quad_grid_.n[0]), ny = size_t(quad_grid_.n[1]), plane = nx * ny;
-  if (spilled_.empty()) spilled_.assign(plane * size_t(quad_grid_.n[2]), 0);
+  if (d.spilled.empty()) d.spilled.assign(plane * size_t(quad_grid_.n[2]), 0);
   std::vector<int64_t> nodes(plane);
-  for (int z = zeroed_.first; z < zeroed_.end; ++z) {
-    nodes_from_quads(z, 0, 0, nx, ny, nodes.data());
-    int64_t *to = &spilled_[size_t(z) * plane];
+  for (int z = d.zeroed.first; z < d.zeroed.end; ++z) {
+    nodes_from_quads(d, z, 0, 0, nx, ny, nodes.data());
+    int64_t *to = &d.spilled[size_t(z) * plane];
     for (size_t i = 0; i < plane; ++i) to[i] += nodes[i];
   }
-  if (!zeroed_.empty())
-    std::fill(&quads_[4 * plane * size_t(zeroed_.first)], &quads_[4 * plane * size_t(zeroed_.end)],
-              uint32_t(0));
+  if (!d.zeroed.empty())
+    std::fill(&d.quads[4 * plane * size_t(d.zeroed.first)],
+              &d.quads[4 * plane * size_t(d.zeroed.end)], uint32_t(0));
 }
 
 namespace {
@@ -650,14 +729,14 @@ void nodes_of_row(const uint32_t *quads, size_t nx, uint32_t *carry, int64_t *ou
 
 // Nodes [x0, x0 + nx) x [y0, y0 + ny) of plane z of the quads' grid from the quads alone (the
 // quads left of x0 and below y0 hold nothing: no particle's lower node is there).
-void OcclusionVolume::nodes_from_quads(int z, size_t x0, size_t y0, size_t nx, size_t ny,
-                                       int64_t *out) const {
+void OcclusionVolume::nodes_from_quads(const QuadDeposit &d, int z, size_t x0, size_t y0, size_t nx,
+                                       size_t ny, int64_t *out) const {
   const size_t qx = size_t(quad_grid_.n[0]), qy = size_t(quad_grid_.n[1]);
   uint32_t carry_on_stack[256];
   std::vector<uint32_t> carry_on_heap(nx > 256 ? nx : 0);
   uint32_t *carry = nx > 256 ? carry_on_heap.data() : carry_on_stack;
   std::fill(carry, carry + nx, 0u);  // no row below the first
-  const uint32_t *quads = &quads_[4 * ((size_t(z) * qy + y0) * qx + x0)];
+  const uint32_t *quads = &d.quads[4 * ((size_t(z) * qy + y0) * qx + x0)];
   for (size_t y = 0; y < ny; ++y) nodes_of_row(quads + 4 * y * qx, nx, carry, out + y * nx);
 }
 
@@ -667,16 +746,17 @@ void OcclusionVolume::nodes_of(Planes occupied, Planes planes, int64_t *out) con
   const std::array<int, 3> off = quad_offset();
   for (int z = planes.first; z < planes.end; ++z) {
     int64_t *to = out + size_t(z - planes.first) * plane;
-    if (z < occupied.first || z >= occupied.end) {  // nothing reached it: spilled_ is zero too
+    if (z < occupied.first || z >= occupied.end) {  // nothing reached it: spilled is zero too
       std::fill(to, to + plane, int64_t(0));
       continue;
     }
     const int qz = z + off[2];
-    nodes_from_quads(qz, size_t(off[0]), size_t(off[1]), nx, ny, to);
-    if (spilled_.empty()) continue;
+    const QuadDeposit &d = deposits_[0];
+    nodes_from_quads(d, qz, size_t(off[0]), size_t(off[1]), nx, ny, to);
+    if (d.spilled.empty()) continue;
     for (size_t y = 0; y < ny; ++y) {
       const int64_t *spilled =
-          &spilled_[(size_t(qz) * qy + y + size_t(off[1])) * qx + size_t(off[0])];
+          &d.spilled[(size_t(qz) * qy + y + size_t(off[1])) * qx + size_t(off[0])];
       for (size_t x = 0; x < nx; ++x) to[y * nx + x] += spilled[x];
     }
   }
@@ -920,7 +1000,8 @@ void OcclusionVolume::find_bulk(const std::vector<int64_t> &histogram, float top
 // number of ranks (fcc 1 M on 2 ranks: each rank smooths half the planes, and the ranks
 // exchange their boundary planes instead of summing the whole grid).
 Status OcclusionVolume::build(MPI_Comm comm, const ParticleArrays &particles, const Extent &global,
-                              const std::vector<CutPlane> &cuts, double radius, double strength) {
+                              const std::vector<CutPlane> &cuts, double radius, double strength,
+                              int threads) {
   strength_ = float(strength);
   smoothed_.clear();
   enclosure_.clear();
@@ -928,7 +1009,7 @@ Status OcclusionVolume::build(MPI_Comm comm, const ParticleArrays &particles, co
   face_ = 1.0;
   const TapState tap = std::exchange(tap_, TapState{});
   last_tapped_ = false;
-  last_tap_ms_ = tap.ms;  // spent, whether or not the deposit is used
+  const bool tap_whole = tap_complete(tap, particles.count(), &last_tap_ms_);  // ms: spent anyway
   const bool every = cuts.empty() && !particles.has_mask();
   tappable_ = false;
   if (global.empty()) return {};  // the same on every rank: no reduction to skip
@@ -944,14 +1025,15 @@ Status OcclusionVolume::build(MPI_Comm comm, const ParticleArrays &particles, co
         return false;
     return true;
   };
-  last_tapped_ = tap.armed && !tap.failed && tap.next == particles.count() && every &&
-                 tap.cell == cell_ && holds_grid();
+  last_tapped_ = tap_whole && every && tap.cell == cell_ && holds_grid();
   if (last_tapped_) {
+    merge_parts(int(tap.parts.size()));
     const int off = quad_offset()[2];
-    occupied = {std::max(0, zeroed_.first - off), std::min(n_[2], zeroed_.end - off)};
-    if (zeroed_.empty() || occupied.empty()) occupied = {0, 0};
+    const Planes zeroed = deposits_[0].zeroed;
+    occupied = {std::max(0, zeroed.first - off), std::min(n_[2], zeroed.end - off)};
+    if (zeroed.empty() || occupied.empty()) occupied = {0, 0};
   } else {
-    deposit(particles, cuts, &occupied);
+    deposit(particles, cuts, threads, &occupied);
   }
   int rank = 0, ranks = 1;
   MPI_Comm_rank(comm, &rank);

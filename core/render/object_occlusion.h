@@ -73,20 +73,25 @@ inline constexpr double kOcclusionCellWidening = 1.0442737824274138;
 class OcclusionVolume {
  public:
   // Collective over comm: deposits this rank's drawn particles and sums the deposits over
-  // ranks. `radius`: the ambient-occlusion radius (> 0). Returns OK or kMpi (the same on every
-  // rank).
+  // ranks. `radius`: the ambient-occlusion radius (> 0). `threads`: how many threads (this one
+  // included) may share the deposit, each on quads of its own that are then added up (integers:
+  // the same volume at any count). Returns OK or kMpi (the same on every rank).
   Status build(MPI_Comm comm, const ParticleArrays &particles, const Extent &global,
-               const std::vector<CutPlane> &cuts, double radius, double strength);
+               const std::vector<CutPlane> &cuts, double radius, double strength, int threads = 1);
 
   // Sharing the bricks' refit's read of the positions, for one step. arm_tap(): true when the
   // last build drew every particle of its arrays (no cut plane, no group); then this step's
   // deposit goes on last step's grid, a node wider on every side, as take_tapped() hands it the
   // positions: all of them, in stripes of consecutive indices from 0 (BrickOptions::tap, which
-  // calls it while the refit has them in cache). build() uses that deposit when this step's grid
-  // lies inside that grid and every particle came, finite (the same sums: the same volume), and
-  // deposits on its own otherwise. An armed tap lives until the next build() or arm_tap().
+  // calls it while the refit has them in cache). The refit's threads hand their stripes at once,
+  // each as a part (begin_tapped_parts(), then take_tapped() of each part on its thread, part
+  // p's stripes after part p - 1's) onto quads of its own. build() uses that deposit when this
+  // step's grid lies inside that grid and every particle came, finite (the same sums: the same
+  // volume), and deposits on its own otherwise. An armed tap lives until the next build() or
+  // arm_tap(). Thread-safety: take_tapped() of different parts may run at once.
   bool arm_tap();
-  void take_tapped(const double *xyz, int64_t first, int64_t end);
+  void begin_tapped_parts(int parts);
+  void take_tapped(int part, const double *xyz, int64_t first, int64_t end);
   // Whether the last build() used a tapped deposit, and the time take_tapped() spent for it (ms;
   // part of the ambient-occlusion stage's cost, though spent within the refit).
   bool last_build_tapped() const { return last_tapped_; }
@@ -127,19 +132,33 @@ class OcclusionVolume {
   QuadGrid volume_grid() const;
   // Where the volume's node 0 lies in quad_grid_, per axis (>= 0 whenever the quads are read).
   std::array<int, 3> quad_offset() const;
-  // This rank's deposits on quads of nodes (see the .cpp) in quads_ (and spilled_), held on the
-  // planes `occupied` only (the others are not even zeroed).
-  void deposit(const ParticleArrays &particles, const std::vector<CutPlane> &cuts,
+  // One part's deposits on quads of nodes (see the .cpp): 32-bit sums per node and its
+  // neighbours, the 64-bit sums of earlier particles where more than 32 bits would be needed
+  // (else empty), the quads' planes zeroed so far (of quad_grid_; the others are not even
+  // zeroed) and the particles added since the quads were last zeroed.
+  struct QuadDeposit {
+    UninitializedBuffer<uint32_t> quads;
+    std::vector<int64_t> spilled;
+    Planes zeroed;
+    int64_t on_quads = 0;
+  };
+  // This rank's deposits in deposits_[0] (the parts' added up), held on the planes `occupied`.
+  void deposit(const ParticleArrays &particles, const std::vector<CutPlane> &cuts, int threads,
                Planes *occupied);
-  // A deposit on `grid` begun (deposit(), arm_tap()); located particles added to it.
-  void start_deposit(const QuadGrid &grid);
+  // A deposit on `grid` begun in `parts` parts (deposit(), arm_tap()); located particles added
+  // to one; the parts then added to the first.
+  void start_deposit(const QuadGrid &grid, int parts);
   object_occlusion_detail::NodeGrid located_grid() const;
-  void add_located(const object_occlusion_detail::NodeWeights &located, int n);
-  // Adds the quads of the planes zeroed_ to spilled_ and zeroes them (before a 32-bit sum
+  void add_located(QuadDeposit &to, const object_occlusion_detail::NodeWeights &located, int n);
+  void merge_parts(int parts);
+  // Adds the quads of the planes `d.zeroed` to d.spilled and zeroes them (before a 32-bit sum
   // could overflow).
-  void spill();
-  // Nodes [x0, x0 + nx) x [y0, y0 + ny) of the quads' plane z, from the quads alone.
-  void nodes_from_quads(int z, size_t x0, size_t y0, size_t nx, size_t ny, int64_t *out) const;
+  void spill(QuadDeposit &d);
+  // Zeroes the quads of d's planes [first, end) that d.zeroed does not hold, and widens it.
+  void zero_planes(QuadDeposit &d, Planes planes);
+  // Nodes [x0, x0 + nx) x [y0, y0 + ny) of d's quads' plane z, from the quads alone.
+  void nodes_from_quads(const QuadDeposit &d, int z, size_t x0, size_t y0, size_t nx, size_t ny,
+                        int64_t *out) const;
   // This rank's deposits on the nodes of `planes` (zeros off `occupied`) from the quads,
   // plane after plane.
   void nodes_of(Planes occupied, Planes planes, int64_t *out) const;
@@ -168,22 +187,28 @@ class OcclusionVolume {
   UninitializedBuffer<float> enclosure_;
   // The build's scratch, kept between builds (a volume kept from frame to frame allocates and
   // faults in its pages once) and not zero-filled (every element is written before it is read):
-  // deposit()'s quads (per node, 32-bit sums of the deposits on it and its neighbours, see the
-  // .cpp), the 64-bit sums of earlier particles where more than 32 bits would be needed (else
-  // empty), the deposits sent to and received from other ranks, the deposits summed over ranks
-  // on the planes this rank smooths, and the smoothed values of its slab.
-  UninitializedBuffer<uint32_t> quads_;
-  std::vector<int64_t> spilled_;
-  QuadGrid quad_grid_;    // what quads_ and spilled_ are laid out on
-  Planes zeroed_;         // the quads' planes (of quad_grid_) zeroed for the deposit so far
-  int64_t on_quads_ = 0;  // particles added since the quads were last zeroed
-  // The tapped deposit of this step (take_tapped()): armed, failed (a stripe out of order or a
-  // position not finite), the next index expected, the spacing it deposits with and its time.
-  struct TapState {
-    bool armed = false, failed = false;
-    int64_t next = 0;
-    double cell = 0.0, ms = 0.0;
+  // deposit()'s quads, one deposit per part (as many as a step has used; the first holds the
+  // sum), the
+  // deposits sent to and received from other ranks, the deposits summed over ranks on the planes
+  // this rank smooths, and the smoothed values of its slab.
+  std::vector<QuadDeposit> deposits_ = std::vector<QuadDeposit>(1);
+  QuadGrid quad_grid_;  // what the deposits are laid out on
+  // The tapped deposit of this step (take_tapped()): armed, the spacing it deposits with, and
+  // per part: failed (a stripe out of order or a position not finite), its first index and the
+  // next one expected (-1: none yet), its time.
+  struct PartTap {
+    bool failed = false;
+    int64_t first = -1, next = -1;
+    double ms = 0.0;
   };
+  struct TapState {
+    bool armed = false;
+    double cell = 0.0;
+    std::vector<PartTap> parts;
+  };
+  // Whether the parts of `tap` handed every index of [0, count) once, in order, all finite;
+  // the time of the part that took longest in *ms (they ran at once).
+  static bool tap_complete(const TapState &tap, int64_t count, double *ms);
   TapState tap_;
   bool tappable_ = false;  // the last build drew every particle of its arrays
   bool last_tapped_ = false;

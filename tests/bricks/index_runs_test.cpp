@@ -282,24 +282,31 @@ TEST(IndexRuns, VectorScanGivesTheScalarScansBounds) {
   }
 }
 
-// Records the stripes a scan hands on (PositionTap).
+// Records the stripes a scan hands on (PositionTap), per part: the parts' threads hand theirs at
+// once, each to its own list.
 class StripeTap : public PositionTap {
  public:
   explicit StripeTap(const double *xyz) : xyz_(xyz) {}
-  void take(const double *xyz, int64_t first, int64_t end) override {
-    EXPECT_EQ(xyz, xyz_);
-    stripes.push_back({first, end});
+  void begin(int parts) override {
+    ++begun;
+    stripes.assign(size_t(parts), {});
   }
-  std::vector<std::pair<int64_t, int64_t>> stripes;
+  void take(int part, const double *xyz, int64_t first, int64_t end) override {
+    EXPECT_EQ(xyz, xyz_);
+    ASSERT_LT(size_t(part), stripes.size());
+    stripes[size_t(part)].push_back({first, end});
+  }
+  int begun = 0;
+  std::vector<std::vector<std::pair<int64_t, int64_t>>> stripes;
 
  private:
   const double *xyz_;
 };
 
-// A scan with a tap (one thread, the AVX2 kernel) gives the bounds of a scan without one and
-// hands the tap every published particle once, in stripes in index order from 0 - also the ones
-// published since the runs were listed (count beyond them); with fewer published, only those.
-// On several threads the tap gets nothing (the parts would hand stripes out of order).
+// A scan with a tap (the AVX2 kernel) gives the bounds of a scan without one and hands the tap
+// every published particle once - also the ones published since the runs were listed (count
+// beyond them); with fewer published, only those: on one thread in stripes in index order from
+// 0, on several each part's stripes in order and the parts, in order, one after the other.
 TEST(IndexRuns, ATappedScanGivesTheSameBoundsAndHandsOnEveryPosition) {
   if (Kernel::vector_kernels().empty()) GTEST_SKIP() << "no vector kernel here";
   std::mt19937_64 rng(23);
@@ -320,25 +327,25 @@ TEST(IndexRuns, ATappedScanGivesTheSameBoundsAndHandsOnEveryPosition) {
   const InterleavedPositions<double> pos{reinterpret_cast<const unsigned char *>(xyz.data()),
                                          int64_t(3 * sizeof(double))};
   for (const int64_t count : {n, n - 7, n + 60}) {
-    for (const int threads : {1, 3}) {
+    for (const int threads : {1, 2, 3}) {
       const PageVector<BrickScan> want =
           scan_runs(pos, ConstantReal{0.0}, KeepAll{}, false, count, set, threads);
       StripeTap tap(xyz.data());
       expect_same_scans(
           want, scan_runs(pos, ConstantReal{0.0}, KeepAll{}, false, count, set, threads, &tap),
           "tapped");
-      if (threads > 1) {
-        EXPECT_TRUE(tap.stripes.empty());
-        continue;
-      }
-      ASSERT_FALSE(tap.stripes.empty()) << count;
+      EXPECT_EQ(tap.begun, 1);
+      ASSERT_EQ(tap.stripes.size(), size_t(threads)) << "parts";
       int64_t next = 0;
-      for (const auto &[first, end] : tap.stripes) {
-        EXPECT_EQ(first, next) << count;
-        EXPECT_LT(first, end) << count;
-        next = end;
+      for (const auto &part : tap.stripes) {
+        EXPECT_FALSE(part.empty()) << count << ", " << threads << " threads";
+        for (const auto &[first, end] : part) {
+          EXPECT_EQ(first, next) << count << ", " << threads << " threads";
+          EXPECT_LT(first, end) << count;
+          next = end;
+        }
       }
-      EXPECT_EQ(next, count);
+      EXPECT_EQ(next, count) << threads << " threads";
       EXPECT_GT(tap.ms, 0.0);
     }
   }

@@ -1,8 +1,8 @@
 // `threads: N`: brick building and refitting, the particle scan and the CPU raster's column strips
-// run on N threads, and so do the screen-space cues' rows; every image byte and every count of the
-// stats line must be the one-thread result, over steps that build the bricks, refit them (particles
-// moved a little) and repair them (a few particles jumped far), at 1 and 2 ranks - with bonds too,
-// whose half-bonds each strip draws and culls against its own depth.
+// run on N threads, and so do the screen-space cues' rows and object AO's deposit; every image byte
+// and every count of the stats line must be the one-thread result, over steps that build the
+// bricks, refit them (particles moved a little) and repair them (a few particles jumped far), at 1
+// and 2 ranks - with bonds too, whose half-bonds each strip draws and culls against its own depth.
 #include <gtest/gtest.h>
 
 #include <mpi.h>
@@ -56,7 +56,13 @@ std::string config(const std::string &dir, const std::string &threads) {
          "    renderer: cpu\n    camera: {azimuth: 35, elevation: 25}\n"
          "    ambient_occlusion: {method: screen, resolution: full}\n"
          "    output: {pattern: '" +
-         dir + "/ao_full_" + threads + "_{step}.png'}\n";
+         dir + "/ao_full_" + threads +
+         "_{step}.png'}\n"
+         "  - name: oao\n    width: 480\n    height: 360\n    radius: 0.6\n"
+         "    renderer: cpu\n    camera: {azimuth: 35, elevation: 25}\n"
+         "    ambient_occlusion: {method: object}\n"
+         "    output: {pattern: '" +
+         dir + "/oao_" + threads + "_{step}.png'}\n";
 }
 
 // Bonds along x between neighbours of one row of this rank's slab (local indices, pairs).
@@ -93,7 +99,7 @@ TEST(Threads, ImagesAndCountsAreTheOneThreadBytes) {
   }
   if (world_rank() != 0) return;
   for (const std::string &threads : counts)
-    for (const char *scene : {"hzb", "ssaa", "bonds", "cues", "ao_full"})
+    for (const char *scene : {"hzb", "ssaa", "bonds", "cues", "ao_full", "oao"})
       for (int step = 0; step < 3; ++step) {
         const auto one =
             read_bytes(dir.path() + "/" + scene + "_1_" + std::to_string(step) + ".png");
@@ -122,6 +128,10 @@ TEST(Threads, ImagesAndCountsAreTheOneThreadBytes) {
   EXPECT_EQ(one[1][1][0]["bricks"], "refit");
   EXPECT_EQ(one[2][1][0]["bricks"], "refit");
   ASSERT_TRUE(one[0][1][2].contains("bonds"));
+  // Object AO's deposit shares the refit's read of the positions, on every thread count (the
+  // comparison below): its own deposit on the first step, the refit's after.
+  EXPECT_EQ(one[0][1][5]["ao_deposit"], "own");
+  EXPECT_EQ(one[1][1][5]["ao_deposit"], "refit");
   EXPECT_GT(one[0][1][2]["bonds"]["drawn"].get<int64_t>(), 0);
   for (const std::string &threads : counts) EXPECT_EQ(lines(threads), one) << threads;
 }

@@ -530,6 +530,61 @@ TEST(ObjectOcclusion, EveryRankHasTheOneRankVolumeForEverySplit) {
   }
 }
 
+// `threads`: each part deposits on quads of its own, added up after: every count gives the
+// one-thread volume bit for bit - a scattered cloud (300 k particles: parts of at least 64 Ki)
+// with a mask, non-finite particles and a cut, and in place (no mask), in one volume kept over
+// counts that go up and down; and a pile on one node whose parts' 32-bit sums together would
+// pass 32 bits (they are added in 64).
+TEST(ObjectOcclusion, EveryThreadCountGivesTheOneThreadVolume) {
+  if (world_rank() != 0) return;
+  Cloud cloud;
+  make_cloud(
+      300000, [](int, const double *) { return true; }, &cloud);
+  std::vector<double> finite;
+  for (size_t i = 0; i < cloud.xyz.size(); i += 3)
+    if (std::isfinite(cloud.xyz[i]) && std::isfinite(cloud.xyz[i + 1]) &&
+        std::isfinite(cloud.xyz[i + 2]))
+      finite.insert(finite.end(), &cloud.xyz[i], &cloud.xyz[i] + 3);
+  const ParticleArrays in_place = packed_arrays(finite);
+  const Extent global = cloud_extent();
+  const CutPlane cut = oblique_cut();
+  int compared = 0;
+  for (const ParticleArrays *arrays :
+       {static_cast<const ParticleArrays *>(&cloud.arrays), &in_place})
+    for (const std::vector<CutPlane> &cuts :
+         {std::vector<CutPlane>{}, std::vector<CutPlane>{cut}}) {
+      OcclusionVolume one, kept;
+      ASSERT_OK(one.build(MPI_COMM_SELF, *arrays, global, cuts, kRadius, kStrength, 1));
+      const std::vector<float> expected = one.enclosure_nodes();
+      ASSERT_FALSE(expected.empty());
+      for (const int threads : {2, 4, 3, 7, 1, 2}) {
+        ASSERT_OK(kept.build(MPI_COMM_SELF, *arrays, global, cuts, kRadius, kStrength, threads));
+        EXPECT_EQ(kept.bulk_per_cell(), one.bulk_per_cell());
+        ASSERT_EQ(kept.enclosure_nodes(), expected)
+            << threads << " threads, " << cuts.size() << " cuts, "
+            << (arrays == &in_place ? "in place" : "masked");
+        ++compared;
+      }
+    }
+  EXPECT_EQ(compared, 2 * 2 * 6);
+
+  constexpr int kPile = (1 << 20) + 1000;
+  std::vector<double> pile;
+  pile.reserve(3 * (kPile + 2));
+  for (int i = 0; i < kPile; ++i) pile.insert(pile.end(), {4.0, 4.0, 4.0});
+  pile.insert(pile.end(), {1.0, 1.0, 1.0, 9.0, 9.0, 9.0});
+  Extent box;
+  box.add_particle(0.0, 0.0, 0.0, 0.5);
+  box.add_particle(10.0, 10.0, 10.0, 0.5);
+  const ParticleArrays piled = packed_arrays(pile);
+  const std::vector<int32_t> all(size_t(kPile) + 2, 1);
+  for (const int threads : {2, 3, 4}) {
+    OcclusionVolume v;
+    ASSERT_OK(v.build(MPI_COMM_SELF, piled, box, {}, kRadius, kStrength, threads));
+    ASSERT_EQ(v.enclosure_nodes(), reference_enclosure(pile, all, {}, v)) << threads << " threads";
+  }
+}
+
 // A volume kept from frame to frame and built again reuses its buffers without zeroing them:
 // each build is a fresh volume's bit for bit, whatever the builds before it reached - other
 // particles, other planes of z, another grid, a cut plane, particles on other ranks.
@@ -604,8 +659,9 @@ namespace {
 class VolumeTap : public PositionTap {
  public:
   explicit VolumeTap(OcclusionVolume *volume) : volume_(volume) {}
-  void take(const double *xyz, int64_t first, int64_t end) override {
-    volume_->take_tapped(xyz, first, end);
+  void begin(int parts) override { volume_->begin_tapped_parts(parts); }
+  void take(int part, const double *xyz, int64_t first, int64_t end) override {
+    volume_->take_tapped(part, xyz, first, end);
   }
 
  private:
@@ -636,7 +692,8 @@ Extent global_extent_of(const ParticleArrays &arrays) {
 // node wider) gives the volume a deposit of its own gives, at every rank count: after a wobble,
 // after a shift past a node (the grid's origin moves, inside the wider grid), after a shift too
 // far for it (the volume deposits on its own), and with a position that is not finite.
-// The big box holds more particles than the 32-bit sums take (at one rank): they spill.
+// The big box holds more particles than the 32-bit sums take (at one rank): they spill. The
+// refit on one thread and on three (the big box in three parts, each depositing on its own).
 TEST(ObjectOcclusion, ADepositTakenFromTheRefitIsTheVolumeOfItsOwn) {
   struct Case {
     const char *name;
@@ -650,39 +707,42 @@ TEST(ObjectOcclusion, ADepositTakenFromTheRefitIsTheVolumeOfItsOwn) {
                         {"shift too far", 64, 3.5, false, false},
                         {"not finite", 64, 0.0, true, false},
                         {"spilled sums", 1100, 0.6, false, true}};
-  for (const Case &c : cases) {
-    SCOPED_TRACE(c.name);
-    std::vector<double> xyz;
-    wobbled_share(c.nx, 0, glm::dvec3(0.0), &xyz);
-    ParticleArrays arrays = packed_arrays(xyz);
-    BrickSet bricks = build_bricks(arrays, BrickOptions());
-    ASSERT_FALSE(bricks.runs.empty());  // the refit streams the positions
-    OcclusionVolume kept;
-    ASSERT_OK(kept.build(MPI_COMM_WORLD, arrays, global_extent_of(arrays), {}, kRadius, kStrength));
-    EXPECT_FALSE(kept.last_build_tapped());
-    const std::array<double, 3> origin = kept.node_origin();
-    // The next step: the host's array rewritten in place.
-    std::vector<double> next;
-    wobbled_share(c.nx, 1, glm::dvec3(c.shift_in_cells * kept.node_spacing(), 0.0, 0.0), &next);
-    if (c.nan && !next.empty()) next[3 * (next.size() / 6) + 1] = std::nan("");
-    std::copy(next.begin(), next.end(), xyz.begin());
-    ASSERT_TRUE(kept.arm_tap());
-    VolumeTap tap(&kept);
-    BrickOptions options;
-    options.tap = &tap;
-    (void)refit_bricks(arrays, 1.25, &bricks, options);  // a rebuild asked for changes nothing
-    const Extent global = global_extent_of(arrays);
-    ASSERT_OK(kept.build(MPI_COMM_WORLD, arrays, global, {}, kRadius, kStrength));
-    EXPECT_EQ(kept.last_build_tapped(), c.tapped);
-    if (c.shift_in_cells > 0.0) EXPECT_NE(kept.node_origin(), origin);  // the grid moved
-    OcclusionVolume fresh;
-    ASSERT_OK(fresh.build(MPI_COMM_WORLD, arrays, global, {}, kRadius, kStrength));
-    EXPECT_EQ(kept.node_counts(), fresh.node_counts());
-    EXPECT_EQ(kept.node_origin(), fresh.node_origin());
-    EXPECT_EQ(kept.bulk_per_cell(), fresh.bulk_per_cell());
-    ASSERT_FALSE(fresh.enclosure_nodes().empty());
-    EXPECT_TRUE(kept.enclosure_nodes() == fresh.enclosure_nodes());
-  }
+  for (const Case &c : cases)
+    for (const int threads : {1, 3}) {
+      SCOPED_TRACE(std::string(c.name) + ", " + std::to_string(threads) + " threads");
+      std::vector<double> xyz;
+      wobbled_share(c.nx, 0, glm::dvec3(0.0), &xyz);
+      ParticleArrays arrays = packed_arrays(xyz);
+      BrickSet bricks = build_bricks(arrays, BrickOptions());
+      ASSERT_FALSE(bricks.runs.empty());  // the refit streams the positions
+      OcclusionVolume kept;
+      ASSERT_OK(
+          kept.build(MPI_COMM_WORLD, arrays, global_extent_of(arrays), {}, kRadius, kStrength));
+      EXPECT_FALSE(kept.last_build_tapped());
+      const std::array<double, 3> origin = kept.node_origin();
+      // The next step: the host's array rewritten in place.
+      std::vector<double> next;
+      wobbled_share(c.nx, 1, glm::dvec3(c.shift_in_cells * kept.node_spacing(), 0.0, 0.0), &next);
+      if (c.nan && !next.empty()) next[3 * (next.size() / 6) + 1] = std::nan("");
+      std::copy(next.begin(), next.end(), xyz.begin());
+      ASSERT_TRUE(kept.arm_tap());
+      VolumeTap tap(&kept);
+      BrickOptions options;
+      options.tap = &tap;
+      options.threads = threads;
+      (void)refit_bricks(arrays, 1.25, &bricks, options);  // a rebuild asked for changes nothing
+      const Extent global = global_extent_of(arrays);
+      ASSERT_OK(kept.build(MPI_COMM_WORLD, arrays, global, {}, kRadius, kStrength));
+      EXPECT_EQ(kept.last_build_tapped(), c.tapped);
+      if (c.shift_in_cells > 0.0) EXPECT_NE(kept.node_origin(), origin);  // the grid moved
+      OcclusionVolume fresh;
+      ASSERT_OK(fresh.build(MPI_COMM_WORLD, arrays, global, {}, kRadius, kStrength));
+      EXPECT_EQ(kept.node_counts(), fresh.node_counts());
+      EXPECT_EQ(kept.node_origin(), fresh.node_origin());
+      EXPECT_EQ(kept.bulk_per_cell(), fresh.bulk_per_cell());
+      ASSERT_FALSE(fresh.enclosure_nodes().empty());
+      EXPECT_TRUE(kept.enclosure_nodes() == fresh.enclosure_nodes());
+    }
 }
 
 // A tap armed on one step and not used (a dump step, a scene that failed) is dropped by the next
@@ -701,18 +761,36 @@ TEST(ObjectOcclusion, AnArmedTapThatGotNothingIsNotUsed) {
   ASSERT_OK(fresh.build(MPI_COMM_WORLD, arrays, global, {}, kRadius, kStrength));
   EXPECT_TRUE(v.enclosure_nodes() == fresh.enclosure_nodes());
   // Handed straight to the tap: whole and in order it is used; with a stripe missing, out of
-  // order or holding a position that is not finite it is not.
+  // order or holding a position that is not finite it is not. In parts: each part's stripes in
+  // order and the parts one after the other, some parts with none, it is used; with the parts'
+  // halves swapped, or a gap between two parts, it is not.
   const int64_t count = int64_t(xyz.size() / 3), half = count / 2;
-  for (const char *how : {"whole", "missing", "out of order", "not finite"}) {
+  const std::string used[] = {"whole", "in two parts", "in parts, some empty"};
+  for (const std::string how : {"whole", "missing", "out of order", "not finite", "in two parts",
+                                "in parts, some empty", "parts swapped", "a gap between parts"}) {
     SCOPED_TRACE(how);
     std::vector<double> handed = xyz;
-    if (std::string(how) == "not finite") handed[3 * size_t(half) + 2] = HUGE_VAL;
+    if (how == "not finite") handed[3 * size_t(half) + 2] = HUGE_VAL;
     ASSERT_TRUE(v.arm_tap());
-    if (std::string(how) == "out of order") v.take_tapped(handed.data(), half, count);
-    v.take_tapped(handed.data(), 0, half);
-    if (std::string(how) != "missing") v.take_tapped(handed.data(), half, count);
+    if (how == "in two parts" || how == "parts swapped" || how == "a gap between parts") {
+      v.begin_tapped_parts(2);
+      const bool swapped = how == "parts swapped";
+      const int64_t second = how == "a gap between parts" ? half + 1 : half;
+      v.take_tapped(swapped ? 1 : 0, handed.data(), 0, half / 3);
+      v.take_tapped(swapped ? 1 : 0, handed.data(), half / 3, half);
+      v.take_tapped(swapped ? 0 : 1, handed.data(), second, count);
+    } else if (how == "in parts, some empty") {
+      v.begin_tapped_parts(5);  // parts 0, 2 and 4 get nothing
+      v.take_tapped(1, handed.data(), 0, half);
+      v.take_tapped(3, handed.data(), half, count);
+    } else {
+      if (how == "out of order") v.take_tapped(0, handed.data(), half, count);
+      v.take_tapped(0, handed.data(), 0, half);
+      if (how != "missing") v.take_tapped(0, handed.data(), half, count);
+    }
     ASSERT_OK(v.build(MPI_COMM_WORLD, arrays, global, {}, kRadius, kStrength));
-    EXPECT_EQ(v.last_build_tapped(), std::string(how) == "whole");
+    EXPECT_EQ(v.last_build_tapped(),
+              std::find(std::begin(used), std::end(used), how) != std::end(used));
     EXPECT_TRUE(v.enclosure_nodes() == fresh.enclosure_nodes());
   }
   // A cut plane: the next step is not armed (the deposit would need the plane's test).
