@@ -188,9 +188,8 @@ class OcclusionVolume {
   // The build's scratch, kept between builds (a volume kept from frame to frame allocates and
   // faults in its pages once) and not zero-filled (every element is written before it is read):
   // deposit()'s quads, one deposit per part (as many as a step has used; the first holds the
-  // sum), the
-  // deposits sent to and received from other ranks, the deposits summed over ranks on the planes
-  // this rank smooths, and the smoothed values of its slab.
+  // sum), the deposits sent to and received from other ranks, the deposits summed over ranks on
+  // the planes this rank smooths, and the smoothed values of its slab.
   std::vector<QuadDeposit> deposits_ = std::vector<QuadDeposit>(1);
   QuadGrid quad_grid_;  // what the deposits are laid out on
   // The tapped deposit of this step (take_tapped()): armed, the spacing it deposits with, and
