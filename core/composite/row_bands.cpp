@@ -133,15 +133,18 @@ Status exchange_halo_rows(MPI_Comm comm, int width, int height, int halo, BandFr
   const RowBand want = with_halo(owned, height, halo);
   const bool exact = band->first == owned.y0 && band->frame.height == owned.rows();
   const bool widened = band->first == want.y0 && band->frame.height == want.rows();
+  const bool whole = band->first == 0 && band->frame.height == height;
   Status fits;
-  if (band->frame.width != width || !(exact || widened))
+  if (band->frame.width != width || !(exact || widened || whole))
     fits = {StatusCode::kMpi, "exchange_halo_rows: rank " + std::to_string(rank) +
                                   "'s band is not exactly its rows " + std::to_string(owned.y0) +
-                                  ".." + std::to_string(owned.y1) + " (nor them with their halo)"};
+                                  ".." + std::to_string(owned.y1) +
+                                  " (nor them with their halo, nor the whole image)"};
   if (fits.ok() && int64_t(want.rows()) * width > INT_MAX)
     fits = {StatusCode::kMpi, "exchange_halo_rows: a band exceeds INT_MAX pixels"};
   if (Status s = agree_on_status(comm, fits); !s.ok()) return s;
   band->owned = owned;
+  band->held = want;
   // No halo, or one rank: nothing to move (then the band is its rows, exactly). Decided alike
   // on every rank, which all pass the same `halo`: a rank whose own band needs nothing may still
   // have rows to send.
@@ -149,7 +152,7 @@ Status exchange_halo_rows(MPI_Comm comm, int width, int height, int halo, BandFr
 
   // My own rows to their place among the halo rows, in the band's own buffers.
   Frame &f = band->frame;
-  if (!widened) {
+  if (exact && !widened && !whole) {
     const size_t at = size_t(owned.y0 - want.y0) * size_t(width);
     const size_t mine = size_t(owned.rows()) * size_t(width);
     const size_t pixels = size_t(want.rows()) * size_t(width);
@@ -172,7 +175,7 @@ Status exchange_halo_rows(MPI_Comm comm, int width, int height, int halo, BandFr
   int rc = MPI_SUCCESS;
   const auto post = [&](bool receive, RowBand rows, int k) {
     if (rows.rows() == 0 || rc != MPI_SUCCESS) return;
-    const size_t at = size_t(rows.y0 - want.y0) * size_t(width);
+    const size_t at = size_t(rows.y0 - band->first) * size_t(width);
     const int count = rows.rows() * width;  // <= want.rows() * width <= INT_MAX
     uint8_t *rgba = f.rgba.data() + 4 * at;
     float *depth = f.depth.data() + at;

@@ -14,6 +14,8 @@
 
 #include <mpi.h>
 
+#include <optional>
+
 #include "core/common/status.h"
 #include "core/view/frame.h"
 
@@ -33,11 +35,17 @@ struct RowBand {
 RowBand row_band(int height, int ranks, int rank, int multiple = 1);
 
 // A band of rows with its halo, as one rank holds it: `frame` is width x (last - first) pixels,
-// holding image rows [first, last); the rank owns `owned` (inside [first, last)).
+// holding image rows [first, last); the rank owns `owned` (inside [first, last)). Where `held` is
+// set, only its rows (inside [first, last)) hold pixels of the image, the owned rows and their
+// halo, and the frame's other rows are spare: a rank's whole merged frame, whose owned rows stay
+// where compositing merged them.
 struct BandFrame {
   Frame frame;
   int first = 0;  // image row of frame row 0
   RowBand owned;
+  std::optional<RowBand> held;
+  // The image rows that hold pixels: `held`, else every row of the frame.
+  RowBand held_rows() const { return held ? *held : RowBand{first, first + frame.height}; }
 };
 
 // `owned` with up to `halo` rows above and below, clamped to [0, height) (empty if owned is).
@@ -57,12 +65,13 @@ Status gather_row_bands(MPI_Comm comm, int root, const BandFrame &band, int widt
 
 // Widens every rank's band by its halo without a root: on entry band->frame holds the rank's
 // owned = row_band(height, ranks, rank, multiple), width pixels a row, either exactly
-// (band->first == owned.y0) or already in place among the rows with_halo(owned, height, halo)
-// (band->first == their y0; the halo rows' contents do not matter); on return it holds the
-// latter, the halo rows received from the ranks that own them (any number of ranks away, point
-// to point: only ranks whose rows meet exchange any). A band kept from frame to frame is widened
-// in its own buffers (no allocation once they are large enough). A rank that owns no rows gets
-// none. OK or kMpi (the same on every rank).
+// (band->first == owned.y0), or already in place among the rows with_halo(owned, height, halo)
+// (band->first == their y0), or among the rows of the whole image (band->first == 0, height
+// rows); the other rows' contents do not matter. On return the halo rows hold what the ranks that
+// own them received (any number of ranks away, point to point: only ranks whose rows meet
+// exchange any), and band->held is with_halo(owned, height, halo): in a band of exactly its
+// rows, widened to those rows in its own buffers (no allocation once they are large enough), in
+// the others in place. A rank that owns no rows gets none. OK or kMpi (the same on every rank).
 Status exchange_halo_rows(MPI_Comm comm, int width, int height, int halo, BandFrame *band,
                           int multiple = 1);
 

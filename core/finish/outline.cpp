@@ -129,7 +129,7 @@ void draw_outlines(const ViewPositions &positions, const OutlineStyle &style, Ba
       const int r0 = std::max(first, y - reach), r1 = std::min(last - 1, y + reach);
       rows.clear();
       for (int k = r0; k <= r1; ++k) rows.push_back(&row_max[size_t(k - first) * size_t(w)]);
-      uint8_t *rgba = &band->frame.rgba[size_t(y - first) * size_t(w) * 4];
+      uint8_t *rgba = &band->frame.rgba[size_t(y - band->first) * size_t(w) * 4];
 #if LANTERN_OUTLINE_AVX2
       if (avx2) {
         outline_row_avx2(positions.row(y), rows.data(), int(rows.size()), style, w, rgba);

@@ -127,10 +127,11 @@ std::array<float, 2> ViewPositions::drawn_minima(const RowBand &rows, bool vecto
 }
 
 void ViewPositions::build(const BandFrame &band, const Camera &camera, bool vector, int threads) {
+  const RowBand held = band.held_rows();
   width_ = band.frame.width;
   height_ = camera.height;
-  first_ = band.first;
-  rows_ = band.frame.height;
+  first_ = held.y0;
+  rows_ = std::max(0, held.rows());
   orthographic_ = camera.orthographic;
   // A pixel centre's normalised device x is 2 (x + 0.5) / W - 1 (y flipped: row 0 is the top).
   // Perspective: x_view = (x_ndc + P[2][0]) * z / P[0][0]; orthographic: (x_ndc - P[3][0]) /
@@ -163,7 +164,7 @@ void ViewPositions::build(const BandFrame &band, const Camera &camera, bool vect
   const auto rows_of = [&](int, int64_t r0, int64_t r1) {
     for (int r = int(r0); r < int(r1); ++r) {
       float *out = &z_[size_t(r + kBorder) * stride() + size_t(kBorder)];
-      const float *depth = &band.frame.depth[size_t(r) * width];
+      const float *depth = &band.frame.depth[size_t(r + first_ - band.first) * width];
       size_t i = 0;
 #if LANTERN_POSITIONS_AVX2
       if (vector && cpu_has_avx2()) {

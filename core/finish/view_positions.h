@@ -28,11 +28,11 @@ class ViewPositions {
   // AO's samples).
   static constexpr int kBorder = 32;
 
-  // Distances of every pixel of band.frame (owned rows and halo); `image_width/height` are the
-  // whole image's. `vector`: with AVX2 where the processor has it, four pixels at a time in
-  // either projection (the same distances bit for bit; false keeps to one at a time, for tests
-  // to compare). `threads`: how many threads (this one included) may share the rows; the same
-  // distances at any count.
+  // Distances of every pixel of the band's held rows (BandFrame::held_rows(): owned rows and
+  // halo); `image_width/height` are the whole image's. `vector`: with AVX2 where the processor has
+  // it, four pixels at a time in either projection (the same distances bit for bit; false keeps to
+  // one at a time, for tests to compare). `threads`: how many threads (this one included) may share
+  // the rows; the same distances at any count.
   void build(const BandFrame &band, const Camera &camera, bool vector = true, int threads = 1);
 
   // Over the drawn pixels of image rows `rows` (held by the band): the nearest distance and the

@@ -5,6 +5,8 @@
 
 #include <mpi.h>
 
+#include <algorithm>
+#include <cstdint>
 #include <string>
 
 #include "core/composite/row_bands.h"
@@ -95,6 +97,48 @@ TEST(RowBands, HaloExchangeMatchesTheRootsRows) {
     EXPECT_EQ(mine.owned.y0, expected.owned.y0);
     EXPECT_EQ(mine.owned.y1, expected.owned.y1);
     EXPECT_EQ(describe_difference(mine.frame, expected.frame), "") << "halo " << halo;
+  }
+}
+
+// A rank that holds its owned rows in place in a frame of the whole image (as compositing left
+// them) gets its halo rows in place too: the rows the root hands out, and `held` says which.
+// Rows outside them are spare and keep whatever they held.
+TEST(RowBands, HaloExchangeInPlaceInTheWholeImage) {
+  const int width = 29, height = 23;
+  int rank = 0, ranks = 1;
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  MPI_Comm_size(MPI_COMM_WORLD, &ranks);
+  Frame full = blank_frame(width, height);
+  for (int i = 0; i < 4; ++i) draw_sphere(sphere_for_rank(i, 7, width, height, false), full);
+  const RowBand owned = row_band(height, ranks, rank);
+  for (int halo : {0, 1, 4, 30}) {
+    BandFrame expected, whole;
+    ASSERT_TRUE(scatter_row_bands(MPI_COMM_WORLD, 0, full, width, height, 1, halo, &expected).ok());
+    whole.frame = Frame(width, height);
+    std::fill(whole.frame.rgba.begin(), whole.frame.rgba.end(), uint8_t(0x5a));
+    std::fill(whole.frame.depth.begin(), whole.frame.depth.end(), -7.0f);
+    for (int y = owned.y0; y < owned.y1; ++y)
+      for (int x = 0; x < width; ++x) {
+        const size_t i = full.index(x, y);
+        whole.frame.depth[i] = full.depth[i];
+        for (int c = 0; c < 4; ++c) whole.frame.rgba[4 * i + c] = full.rgba[4 * i + c];
+      }
+    ASSERT_TRUE(exchange_halo_rows(MPI_COMM_WORLD, width, height, halo, &whole).ok());
+    EXPECT_EQ(whole.first, 0);
+    ASSERT_TRUE(whole.held.has_value());
+    const RowBand held = whole.held_rows();
+    EXPECT_EQ(held.y0, expected.first) << "halo " << halo;
+    EXPECT_EQ(held.rows(), expected.frame.height) << "halo " << halo;
+    for (int y = 0; y < height; ++y)
+      for (int x = 0; x < width; ++x) {
+        const size_t i = full.index(x, y);
+        const bool in = y >= held.y0 && y < held.y1;
+        ASSERT_EQ(whole.frame.depth[i], in ? full.depth[i] : -7.0f) << "row " << y;
+        ASSERT_EQ(whole.frame.rgba[4 * i], in ? full.rgba[4 * i] : uint8_t(0x5a)) << "row " << y;
+      }
+    Frame back;
+    ASSERT_TRUE(gather_row_bands(MPI_COMM_WORLD, 0, whole, width, height, &back).ok());
+    if (rank == 0) EXPECT_EQ(describe_difference(full, back), "") << "halo " << halo;
   }
 }
 

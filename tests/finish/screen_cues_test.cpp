@@ -557,12 +557,11 @@ TEST(ScreenCues, DepthCueEightAtATimeIsTheOneAtATimeDepthCue) {
 
 // `threads:` cuts the distances', the outlines' and the depth cue's rows into parts (of at least
 // 64 rows): every count gives the one-thread bytes, on a band tall enough for several parts.
-TEST(ScreenCues, DistancesOutlinesAndDepthCueOnEveryThreadCountAreTheOneThreadBytes) {
+// A band of random depths (flat runs, background and NaN among them) and colours.
+BandFrame random_band(int width, int rows, int first, RowBand owned) {
   std::mt19937 rng(5);
   std::uniform_real_distribution<float> u(0.0f, 1.0f);
-  const int width = 333, rows = 420;
-  const Camera camera = cube_camera(CameraConfig(), width, 500);
-  BandFrame band = blank_band(width, rows, 40, {43, 457});
+  BandFrame band = blank_band(width, rows, first, owned);
   for (size_t i = 0; i < band.frame.depth.size(); ++i) {
     float d = 0.2f + 0.6f * u(rng);
     if (i % 9 < 3) d = 0.5f;
@@ -571,6 +570,13 @@ TEST(ScreenCues, DistancesOutlinesAndDepthCueOnEveryThreadCountAreTheOneThreadBy
     band.frame.depth[i] = d;
     for (int c = 0; c < 4; ++c) band.frame.rgba[4 * i + size_t(c)] = uint8_t(rng());
   }
+  return band;
+}
+
+TEST(ScreenCues, DistancesOutlinesAndDepthCueOnEveryThreadCountAreTheOneThreadBytes) {
+  const int width = 333, rows = 420;
+  const Camera camera = cube_camera(CameraConfig(), width, 500);
+  const BandFrame band = random_band(width, rows, 40, {43, 457});
   ViewPositions one;
   one.build(band, camera);
   OutlineStyle outline;
@@ -597,6 +603,63 @@ TEST(ScreenCues, DistancesOutlinesAndDepthCueOnEveryThreadCountAreTheOneThreadBy
     apply_depth_cue(many, fade, &f, true, threads);
     EXPECT_EQ(o.frame.rgba, outlined.frame.rgba) << threads << " threads";
     EXPECT_EQ(f.frame.rgba, faded.frame.rgba) << threads << " threads";
+  }
+}
+
+// The rows of a band held in place in a frame of the whole image (BandFrame::held, as a rank's
+// merged frame holds them after compositing) get the band's bytes from every cue, and the frame's
+// other rows are left alone.
+TEST(ScreenCues, EveryCueOnRowsHeldInTheWholeImageGivesTheBandsBytes) {
+  const int width = 333, height = 500;
+  const Camera camera = cube_camera(CameraConfig(), width, height);
+  const BandFrame band = random_band(width, 420, 40, {43, 457});
+  BandFrame whole = random_band(width, height, 0, band.owned);  // other rows: other pixels
+  whole.held = RowBand{40, 460};
+  const size_t at = size_t(band.first) * size_t(width);
+  std::copy(band.frame.depth.begin(), band.frame.depth.end(),
+            whole.frame.depth.begin() + ptrdiff_t(at));
+  std::copy(band.frame.rgba.begin(), band.frame.rgba.end(),
+            whole.frame.rgba.begin() + ptrdiff_t(4 * at));
+  const BandFrame before = whole;
+  AmbientOcclusionStyle ao;
+  ao.radius = 0.5f;
+  ao.strength = 1.0f;
+  OutlineStyle outline;
+  outline.width = 2;
+  outline.jump = 0.3f;
+  ViewPositions of_band;
+  of_band.build(band, camera);
+  const std::array<float, 2> range = of_band.drawn_minima(band.owned);
+  DepthCueStyle fade;
+  fade.start = range[0];
+  fade.end = -range[1];
+  fade.color[0] = 250;
+  for (const int cue : {0, 1, 2, 3}) {
+    BandFrame b = band, w = whole;
+    for (BandFrame *f : {&b, &w}) {
+      ViewPositions v;
+      v.build(*f, camera);
+      ASSERT_EQ(v.first_row(), 40);
+      ASSERT_EQ(v.last_row(), 460);
+      ao.half_resolution = cue == 0;
+      if (cue < 2) apply_screen_ambient_occlusion(v, ao, f);
+      if (cue == 2) draw_outlines(v, outline, f);
+      if (cue == 3) apply_depth_cue(v, fade, f);
+    }
+    const size_t row = size_t(width) * 4;
+    const auto owned_rows = [&](const BandFrame &f) {
+      const auto first = f.frame.rgba.begin() + ptrdiff_t(size_t(f.owned.y0 - f.first) * row);
+      return std::vector<uint8_t>(first, first + ptrdiff_t(size_t(f.owned.rows()) * row));
+    };
+    EXPECT_NE(owned_rows(b), owned_rows(band)) << "cue " << cue;
+    EXPECT_EQ(owned_rows(w), owned_rows(b)) << "cue " << cue;
+    for (int y = 0; y < height; ++y) {
+      if (y >= band.owned.y0 && y < band.owned.y1) continue;
+      ASSERT_TRUE(std::equal(w.frame.rgba.begin() + ptrdiff_t(size_t(y) * row),
+                             w.frame.rgba.begin() + ptrdiff_t(size_t(y + 1) * row),
+                             before.frame.rgba.begin() + ptrdiff_t(size_t(y) * row)))
+          << "cue " << cue << " wrote row " << y;
+    }
   }
 }
 
