@@ -87,7 +87,8 @@ Status write_image_file(const ScenePassInputs &in, const SceneConfig &scene, con
         band.held->rgba.data() + size_t(band.rows.y0 - band.first) * size_t(scene.width) * 4;
     written = with_context(
         where, write_png_from_row_bands(in.comm, 0, rows, band.rows.y0, band.rows.y1, scene.width,
-                                        scene.height, scene.output.compression_level, stats->file));
+                                        scene.height, scene.output.compression_level, stats->file,
+                                        in.threads));
     stats->write_ms = ms_since(t0);
     stats->total_ms = ms_since(t_start);
     return agree_on_status(in.comm, written);
@@ -98,7 +99,7 @@ Status write_image_file(const ScenePassInputs &in, const SceneConfig &scene, con
     stats->file = expand_pattern(scene.output.pattern, in.step, scene.name);
     written = with_context(
         where, write_png_across_ranks(in.comm, 0, buffers->frame, scene.width, scene.height,
-                                      scene.output.compression_level, stats->file));
+                                      scene.output.compression_level, stats->file, in.threads));
     stats->write_ms = ms_since(t0);
     stats->total_ms = ms_since(t_start);
     return agree_on_status(in.comm, written);

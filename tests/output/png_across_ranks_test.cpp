@@ -60,30 +60,31 @@ TEST(PngAcrossRanks, FileIsTheOneProcessFileOnEveryRoot) {
                         {333, 257, false, true},   // 8 bands of uneven rows, one chunk
                         {40, 40, false, false}};   // one band: every rank but one has none
   for (const Case &c : cases)
-    for (int root = 0; root < world_size(); root += world_size() - 1) {
-      SCOPED_TRACE(std::to_string(c.width) + "x" + std::to_string(c.height) + " root " +
-                   std::to_string(root));
-      // Only the root's frame is read; the others pass an empty one, as the pipeline may.
-      const Frame frame =
-          world_rank() == root ? test_frame(c.width, c.height, c.noise, c.opaque, 3) : Frame();
-      const std::string across = dir.file("across.png"), alone = dir.file("alone.png");
-      const Status s =
-          write_png_across_ranks(MPI_COMM_WORLD, root, frame, c.width, c.height, 1, across);
-      EXPECT_OK(s);
-      if (world_rank() != root) continue;
-      // The reference: the same bands assembled in memory (encode_png cuts png_band_count
-      // bands as the writers do; Sub needs no row above a band), through assemble_png, which
-      // knows every IDAT chunk's length before writing it.
-      std::vector<uint8_t> expected;
-      ASSERT_OK(encode_png(frame.rgba.data(), c.width, c.height, c.opaque ? 3 : 4, 1,
-                           png_band_count(c.height), &expected, png_options_for_level(1)));
-      ASSERT_GT(expected.size(), 100u);
-      EXPECT_EQ(read_file(across), expected);
-      ASSERT_OK(write_png(frame, 1, alone, 2));
-      EXPECT_EQ(read_file(alone), expected);
-      EXPECT_EQ(dir.entry_count(), 2u);  // no temporary file left
-      if (root == world_size() - 1) break;
-    }
+    for (int root = 0; root < world_size(); root += world_size() - 1)
+      for (const int threads : {1, 3}) {
+        SCOPED_TRACE(std::to_string(c.width) + "x" + std::to_string(c.height) + " root " +
+                     std::to_string(root) + ", " + std::to_string(threads) + " threads");
+        // Only the root's frame is read; the others pass an empty one, as the pipeline may.
+        const Frame frame =
+            world_rank() == root ? test_frame(c.width, c.height, c.noise, c.opaque, 3) : Frame();
+        const std::string across = dir.file("across.png"), alone = dir.file("alone.png");
+        const Status s = write_png_across_ranks(MPI_COMM_WORLD, root, frame, c.width, c.height, 1,
+                                                across, threads);
+        EXPECT_OK(s);
+        if (world_rank() != root) continue;
+        // The reference: the same bands assembled in memory (encode_png cuts png_band_count
+        // bands as the writers do; Sub needs no row above a band), through assemble_png, which
+        // knows every IDAT chunk's length before writing it.
+        std::vector<uint8_t> expected;
+        ASSERT_OK(encode_png(frame.rgba.data(), c.width, c.height, c.opaque ? 3 : 4, 1,
+                             png_band_count(c.height), &expected, png_options_for_level(1)));
+        ASSERT_GT(expected.size(), 100u);
+        EXPECT_EQ(read_file(across), expected);
+        ASSERT_OK(write_png(frame, 1, alone, threads + 1));
+        EXPECT_EQ(read_file(alone), expected);
+        EXPECT_EQ(dir.entry_count(), 2u);  // no temporary file left
+        if (root == world_size() - 1 && threads == 3) break;
+      }
 }
 
 // Rows [y0, y1) of `height` a rank holds when the ranks split the PNG's bands in rank order,
@@ -105,30 +106,31 @@ TEST(PngAcrossRanks, FromRowBandsIsTheOneProcessFile) {
                         {200, 64, false, true},
                         {40, 40, false, false}};
   for (const Case &c : cases)
-    for (int skip = 0; skip < std::min(2, world_size()); ++skip) {
-      SCOPED_TRACE(std::to_string(c.width) + "x" + std::to_string(c.height) + " skip " +
-                   std::to_string(skip));
-      ASSERT_GT(png_band_rows(c.height, c.width), 0);
-      // Every rank has the whole frame, but hands over only its rows; the others are scribbled
-      // on so that a band read from the wrong place would show.
-      Frame frame = test_frame(c.width, c.height, c.noise, c.opaque, 5);
-      const Frame reference = frame;
-      const auto [y0, y1] = band_rows_of(world_rank(), world_size(), c.height, c.width, skip);
-      for (size_t p = 0; p < frame.pixel_count(); ++p) {
-        const int y = int(p / size_t(c.width));
-        if (y < y0 || y >= y1) frame.rgba[4 * p] ^= 0x5a, frame.rgba[4 * p + 3] = 7;
+    for (int skip = 0; skip < std::min(2, world_size()); ++skip)
+      for (const int threads : {1, 2, 5}) {
+        SCOPED_TRACE(std::to_string(c.width) + "x" + std::to_string(c.height) + " skip " +
+                     std::to_string(skip) + ", " + std::to_string(threads) + " threads");
+        ASSERT_GT(png_band_rows(c.height, c.width), 0);
+        // Every rank has the whole frame, but hands over only its rows; the others are scribbled
+        // on so that a band read from the wrong place would show.
+        Frame frame = test_frame(c.width, c.height, c.noise, c.opaque, 5);
+        const Frame reference = frame;
+        const auto [y0, y1] = band_rows_of(world_rank(), world_size(), c.height, c.width, skip);
+        for (size_t p = 0; p < frame.pixel_count(); ++p) {
+          const int y = int(p / size_t(c.width));
+          if (y < y0 || y >= y1) frame.rgba[4 * p] ^= 0x5a, frame.rgba[4 * p + 3] = 7;
+        }
+        const std::string path = dir.file("bands.png");
+        const uint8_t *rows = frame.rgba.data() + size_t(y0) * size_t(c.width) * 4;
+        EXPECT_OK(write_png_from_row_bands(MPI_COMM_WORLD, 0, rows, y0, y1, c.width, c.height, 1,
+                                           path, threads));
+        if (world_rank() != 0) continue;
+        std::vector<uint8_t> expected;
+        ASSERT_OK(encode_png(reference.rgba.data(), c.width, c.height, c.opaque ? 3 : 4, 1,
+                             png_band_count(c.height), &expected, png_options_for_level(1)));
+        EXPECT_EQ(read_file(path), expected);
+        EXPECT_EQ(dir.entry_count(), 1u);  // no temporary file left
       }
-      const std::string path = dir.file("bands.png");
-      const uint8_t *rows = frame.rgba.data() + size_t(y0) * size_t(c.width) * 4;
-      EXPECT_OK(
-          write_png_from_row_bands(MPI_COMM_WORLD, 0, rows, y0, y1, c.width, c.height, 1, path));
-      if (world_rank() != 0) continue;
-      std::vector<uint8_t> expected;
-      ASSERT_OK(encode_png(reference.rgba.data(), c.width, c.height, c.opaque ? 3 : 4, 1,
-                           png_band_count(c.height), &expected, png_options_for_level(1)));
-      EXPECT_EQ(read_file(path), expected);
-      EXPECT_EQ(dir.entry_count(), 1u);  // no temporary file left
-    }
 }
 
 TEST(PngAcrossRanks, FromRowBandsRefusesRowsThatAreNotBandsOnEveryRank) {

@@ -9,12 +9,11 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
-#include <exception>
 #include <filesystem>
 #include <functional>
-#include <thread>
 #include <vector>
 
+#include "core/common/rank_threads.h"
 #include "core/output/atomic_file.h"
 #include "core/output/png/png_bands.h"
 #include "core/output/png/png_container.h"
@@ -61,6 +60,26 @@ Status deflate_bands(const uint8_t *rows, int width, int height, int n, int b0, 
         !s.ok())
       return {StatusCode::kIo, s.message};
   }
+  return {};
+}
+
+// deflate_bands() of bands [b0, b1) on up to `threads` threads of this process, each a
+// contiguous share of them; rows_of(b) is band b's first row (read on the threads: no MPI in
+// it). The bands do not depend on who compresses them: the same bytes on any count. Returns the
+// first share's failure in band order, or OK.
+Status deflate_bands_on_threads(const std::function<const uint8_t *(int)> &rows_of, int width,
+                                int height, int n, int b0, int b1, int level, int channels,
+                                int threads, std::vector<PngBand> *out) {
+  const int count = std::max(0, b1 - b0);
+  const int parts = std::clamp(threads, 1, std::max(1, count));
+  std::vector<Status> failure(static_cast<size_t>(parts));
+  run_in_parts(parts, count, [&](int part, int64_t first, int64_t last) {
+    for (int b = b0 + int(first); b < b0 + int(last) && failure[size_t(part)].ok(); ++b)
+      failure[size_t(part)] =
+          deflate_bands(rows_of(b), width, height, n, b, b + 1, level, channels, out);
+  });
+  for (const Status &f : failure)
+    if (!f.ok()) return f;
   return {};
 }
 
@@ -168,18 +187,24 @@ Status write_file(int n, int width, int height, int channels, const std::string 
 // bytes, so that the root writes the file as the bands come while later ones are still being
 // compressed here. After a failure the rest are sent as failed headers (no bytes): the root
 // receives every band whatever fails, so every send completes.
+//
+// `threads` > 1 (rows_of then only points into memory this rank holds, no MPI): the bands are
+// first all compressed on that many threads, then sent in band order.
 Status send_bands(MPI_Comm comm, int root, int width, int height, int n, int b0, int b1, int level,
                   int channels, const std::string &path,
-                  const std::function<const uint8_t *(int)> &rows_of) {
+                  const std::function<const uint8_t *(int)> &rows_of, int threads = 1) {
   std::vector<PngBand> bands(static_cast<size_t>(n));
   std::vector<int64_t> headers(size_t(std::max(b1 - b0, 0)) * kHeaderWords);
   std::vector<MPI_Request> requests;
   requests.reserve(size_t(std::max(b1 - b0, 0)) * 2);
   Status failure;
+  const bool compressed = threads > 1 && b1 - b0 > 1;
+  if (compressed)
+    failure = deflate_bands_on_threads(rows_of, width, height, n, b0, b1, level, channels, threads,
+                                       &bands);
   for (int b = b0; b < b1; ++b) {
-    const uint8_t *rows = rows_of(b);
-    if (failure.ok())
-      failure = deflate_bands(rows, width, height, n, b, b + 1, level, channels, &bands);
+    if (failure.ok() && !compressed)
+      failure = deflate_bands(rows_of(b), width, height, n, b, b + 1, level, channels, &bands);
     const PngBand &p = bands[size_t(b)];
     int64_t *h = &headers[size_t(b - b0) * kHeaderWords];
     const bool failed = !failure.ok();  // this band and every later one: none sent
@@ -203,9 +228,14 @@ Status send_bands(MPI_Comm comm, int root, int width, int height, int n, int b0,
 // that every rank's sends complete.
 Status write_with_ranks(MPI_Comm comm, int root, const uint8_t *rows, int width, int height, int n,
                         int b0, int b1, int level, int channels, const std::string &path,
-                        const std::function<int(int)> &owner) {
+                        const std::function<int(int)> &owner, int threads) {
   std::vector<PngBand> bands(static_cast<size_t>(n));
-  const Status failure = deflate_bands(rows, width, height, n, b0, b1, level, channels, &bands);
+  const size_t row_bytes = size_t(width) * kChannels;
+  const Status failure = deflate_bands_on_threads(
+      [&](int b) {
+        return rows + size_t(first_row(b, n, height) - first_row(b0, n, height)) * row_bytes;
+      },
+      width, height, n, b0, b1, level, channels, threads, &bands);
   int received = 0;  // bands [0, received) are here
   bool remote_failed = false;
   // The buffers of bands already written, to receive later bands into (the smallest that holds
@@ -259,37 +289,24 @@ int png_band_count(int height) {
 
 Status write_png(const Frame &frame, int level, const std::string &path, int threads) {
   const int n = png_band_count(frame.height);
-  const int workers = std::clamp(threads, 1, n);
   const int channels = file_channels(frame.rgba.data(), frame.pixel_count());
+  const size_t row_bytes = size_t(frame.width) * kChannels;
   std::vector<PngBand> bands(static_cast<size_t>(n));
-  std::vector<Status> failure(static_cast<size_t>(workers));
-  const auto work = [&](int w) {
-    const int b0 = first_band(w, workers, n), b1 = first_band(w + 1, workers, n);
-    const size_t offset = size_t(first_row(b0, n, frame.height)) * frame.width * kChannels;
-    failure[size_t(w)] = deflate_bands(frame.rgba.data() + offset, frame.width, frame.height, n, b0,
-                                       b1, level, channels, &bands);
-  };
-  std::vector<std::thread> helpers;
-  try {
-    for (int w = 1; w < workers; ++w) helpers.emplace_back(work, w);
-  } catch (const std::exception &) {  // no thread to be had: the caller's thread does the rest
-    for (int w = int(helpers.size()) + 1; w < workers; ++w) work(w);
-  }
-  work(0);
-  for (std::thread &t : helpers) t.join();
-  for (const Status &f : failure)
-    if (!f.ok()) return with_context("cannot encode " + path + ": ", f);
+  const Status failure = deflate_bands_on_threads(
+      [&](int b) { return frame.rgba.data() + size_t(first_row(b, n, frame.height)) * row_bytes; },
+      frame.width, frame.height, n, 0, n, level, channels, threads, &bands);
+  if (!failure.ok()) return with_context("cannot encode " + path + ": ", failure);
   return write_file(n, frame.width, frame.height, channels, path,
                     [&bands](int b) { return &bands[size_t(b)]; });
 }
 
 Status write_png_across_ranks(MPI_Comm comm, int root, const Frame &frame, int width, int height,
-                              int level, const std::string &path) {
+                              int level, const std::string &path, int threads) {
   int rank = 0, size = 1;
   MPI_Comm_rank(comm, &rank);
   MPI_Comm_size(comm, &size);
   const int n = png_band_count(height);
-  if (size == 1) return write_png(frame, level, path, 2);
+  if (size == 1) return write_png(frame, level, path, threads);
 
   // Each rank's rows: those of its bands (none when there are more ranks than bands). Bands
   // are far below 2 GiB (16384 x 16384 RGBA is 1 GiB in all), so MPI's int counts suffice.
@@ -299,7 +316,7 @@ Status write_png_across_ranks(MPI_Comm comm, int root, const Frame &frame, int w
     const int b0 = first_band(r, size, n), b1 = first_band(r + 1, size, n);
     const int64_t first = first_row(b0, n, height), last = first_row(b1, n, height);
     if ((last - first) * row_bytes > INT_MAX || first * row_bytes > INT_MAX)
-      return rank == root ? write_png(frame, level, path, 2) : Status();  // same on every rank
+      return rank == root ? write_png(frame, level, path, threads) : Status();  // every rank alike
     offsets[size_t(r)] = first * row_bytes;
   }
   const int b0 = first_band(rank, size, n), b1 = first_band(rank + 1, size, n);
@@ -347,9 +364,9 @@ Status write_png_across_ranks(MPI_Comm comm, int root, const Frame &frame, int w
   }
   int channels = file_channels(frame.rgba.data(), frame.pixel_count());
   MPI_Bcast(&channels, 1, MPI_INT, root, comm);
-  const Status written = write_with_ranks(comm, root, frame.rgba.data() + offsets[size_t(rank)],
-                                          width, height, n, b0, b1, level, channels, path,
-                                          [size, n](int b) { return band_owner(b, size, n); });
+  const Status written = write_with_ranks(
+      comm, root, frame.rgba.data() + offsets[size_t(rank)], width, height, n, b0, b1, level,
+      channels, path, [size, n](int b) { return band_owner(b, size, n); }, threads);
   MPI_Waitall(int(requests.size()), requests.data(), MPI_STATUSES_IGNORE);
   return written;
 }
@@ -363,7 +380,8 @@ int png_band_rows(int height, int width) {
 }
 
 Status write_png_from_row_bands(MPI_Comm comm, int root, const uint8_t *rows, int y0, int y1,
-                                int width, int height, int level, const std::string &path) {
+                                int width, int height, int level, const std::string &path,
+                                int threads) {
   int rank = 0, size = 1;
   MPI_Comm_rank(comm, &rank);
   MPI_Comm_size(comm, &size);
@@ -396,9 +414,11 @@ Status write_png_from_row_bands(MPI_Comm comm, int root, const uint8_t *rows, in
   const size_t band_bytes = size_t(per_band) * size_t(width) * kChannels;
   const auto rows_of = [&](int b) { return rows + size_t(b - b0) * band_bytes; };
   if (rank != root)
-    return send_bands(comm, root, width, height, n, b0, b1, level, channels, path, rows_of);
-  return write_with_ranks(comm, root, rows, width, height, n, b0, b1, level, channels, path,
-                          [&owner](int b) { return owner[size_t(b)]; });
+    return send_bands(comm, root, width, height, n, b0, b1, level, channels, path, rows_of,
+                      threads);
+  return write_with_ranks(
+      comm, root, rows, width, height, n, b0, b1, level, channels, path,
+      [&owner](int b) { return owner[size_t(b)]; }, threads);
 }
 
 }  // namespace lantern
