@@ -20,6 +20,15 @@ class CutPlanes {
       if (c.enabled) planes_.push_back(plane_of(c));
   }
   bool empty() const { return planes_.empty(); }
+  // The same enabled planes, in the same order, bit for bit: the same particles dropped.
+  bool same_as(const CutPlanes &other) const {
+    if (planes_.size() != other.planes_.size()) return false;
+    for (size_t i = 0; i < planes_.size(); ++i) {
+      const Plane &a = planes_[i], &b = other.planes_[i];
+      if (a.n != b.n || a.offset != b.offset) return false;
+    }
+    return true;
+  }
 
   bool drops(const glm::dvec3 &p) const {
     for (const Plane &pl : planes_)

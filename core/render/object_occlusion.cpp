@@ -625,6 +625,7 @@ bool OcclusionVolume::arm_tap() {
   start_deposit(wider, 1);
   tap_.armed = true;
   tap_.cell = cell_;
+  tap_.planes = built_planes_;
   tap_.parts.assign(1, PartTap{});
   return true;
 }
@@ -648,9 +649,25 @@ void OcclusionVolume::take_tapped(int part, const double *xyz, int64_t first, in
   QuadDeposit &to = deposits_[size_t(part)];
   const NodeGrid grid = located_grid();
   NodeWeights located;
+  const CutPlanes &planes = tap_.planes;
+  double kept[3 * kLocateChunk];  // behind cutting planes: the chunk's particles they leave
   for (int64_t i0 = first; i0 < end && !t.failed; i0 += kLocateChunk) {
-    const int n = int(std::min<int64_t>(kLocateChunk, end - i0));
-    if (!locate_packed(xyz + 3 * i0, n, grid, &located)) {
+    int n = int(std::min<int64_t>(kLocateChunk, end - i0));
+    const double *chunk = xyz + 3 * i0;
+    if (!planes.empty()) {
+      int m = 0;
+      for (int k = 0; k < n; ++k) {
+        const glm::dvec3 x(chunk[3 * k], chunk[3 * k + 1], chunk[3 * k + 2]);
+        // A coordinate that is not finite fails the tap below unless a plane drops the
+        // particle; either way it is deposited nowhere, as in the deposit of build()'s own.
+        if (planes.drops(x)) continue;
+        kept[3 * m] = x.x, kept[3 * m + 1] = x.y, kept[3 * m + 2] = x.z;
+        ++m;
+      }
+      chunk = kept, n = m;
+      if (n == 0) continue;
+    }
+    if (!locate_packed(chunk, n, grid, &located)) {
       t.failed = true;  // a coordinate is not finite: build() deposits on its own
       break;
     }
@@ -1010,11 +1027,13 @@ Status OcclusionVolume::build(MPI_Comm comm, const ParticleArrays &particles, co
   const TapState tap = std::exchange(tap_, TapState{});
   last_tapped_ = false;
   const bool tap_whole = tap_complete(tap, particles.count(), &last_tap_ms_);  // ms: spent anyway
-  const bool every = cuts.empty() && !particles.has_mask();
+  const CutPlanes planes(cuts);
+  const bool ungrouped = !particles.has_mask();
   tappable_ = false;
+  built_planes_ = planes;
   if (global.empty()) return {};  // the same on every rank: no reduction to skip
   set_grid(global, radius);
-  tappable_ = every;
+  tappable_ = ungrouped;
   const size_t nodes = size_t(n_[0]) * size_t(n_[1]) * size_t(n_[2]);
   const int plane = n_[0] * n_[1];
   Planes occupied;
@@ -1025,7 +1044,8 @@ Status OcclusionVolume::build(MPI_Comm comm, const ParticleArrays &particles, co
         return false;
     return true;
   };
-  last_tapped_ = tap_whole && every && tap.cell == cell_ && holds_grid();
+  last_tapped_ = tap_whole && ungrouped && tap.planes.same_as(planes) && tap.cell == cell_ &&
+                 holds_grid();
   if (last_tapped_) {
     merge_parts(int(tap.parts.size()));
     const int off = quad_offset()[2];

@@ -50,6 +50,7 @@
 #include "core/common/status.h"
 #include "core/common/uninitialized_buffer.h"
 #include "core/config/config.h"
+#include "core/culling/cut_planes.h"
 #include "core/particles/global_extent.h"
 #include "core/particles/particle_arrays.h"
 
@@ -80,14 +81,15 @@ class OcclusionVolume {
                const std::vector<CutPlane> &cuts, double radius, double strength, int threads = 1);
 
   // Sharing the bricks' refit's read of the positions, for one step. arm_tap(): true when the
-  // last build drew every particle of its arrays (no cut plane, no group); then this step's
-  // deposit goes on last step's grid, a node wider on every side, as take_tapped() hands it the
-  // positions: all of them, in stripes of consecutive indices from 0 (BrickOptions::tap, which
-  // calls it while the refit has them in cache). The refit's threads hand their stripes at once,
+  // last build drew its arrays' particles without a group (all of them, or all its cutting planes
+  // left); then this step's deposit goes on last step's grid, a node wider on every side, as
+  // take_tapped() hands it the positions: all of them, in stripes of consecutive indices from 0
+  // (BrickOptions::tap, which calls it while the refit has them in cache), of which it deposits
+  // those the last build's planes leave. The refit's threads hand their stripes at once,
   // each as a part (begin_tapped_parts(), then take_tapped() of each part on its thread, part
   // p's stripes after part p - 1's) onto quads of its own. build() uses that deposit when this
-  // step's grid lies inside that grid and every particle came, finite (the same sums: the same
-  // volume), and deposits on its own otherwise. An armed tap lives until the next build() or
+  // step's grid lies inside that grid, its cutting planes are the last build's and every
+  // particle came, finite (the same sums: the same volume), and deposits on its own otherwise. An armed tap lives until the next build() or
   // arm_tap(). Thread-safety: take_tapped() of different parts may run at once.
   bool arm_tap();
   void begin_tapped_parts(int parts);
@@ -203,13 +205,15 @@ class OcclusionVolume {
   struct TapState {
     bool armed = false;
     double cell = 0.0;
+    CutPlanes planes{std::vector<CutPlane>{}};  // the enabled cutting planes it deposits behind
     std::vector<PartTap> parts;
   };
   // Whether the parts of `tap` handed every index of [0, count) once, in order, all finite;
   // the time of the part that took longest in *ms (they ran at once).
   static bool tap_complete(const TapState &tap, int64_t count, double *ms);
   TapState tap_;
-  bool tappable_ = false;  // the last build drew every particle of its arrays
+  bool tappable_ = false;  // the last build drew every particle of its arrays its planes left
+  CutPlanes built_planes_{std::vector<CutPlane>{}};  // the last build's enabled cutting planes
   bool last_tapped_ = false;
   double last_tap_ms_ = 0.0;
   UninitializedBuffer<int64_t> outgoing_, incoming_, summed_;

@@ -1,9 +1,9 @@
-// Object-space ambient occlusion over steps through the pipeline (two scenes, two volumes): from
-// the second step on, each volume's deposit is taken from the bricks' refit's read of the positions
-// (OcclusionVolume::arm_tap); every image must be the bytes a fresh run of that step alone
-// writes (a deposit of its own) and the bytes rank 0 alone writes, at 1-4 ranks, and the stats
-// line must say which deposit each step used: the refit's after a wobble, its own after a few
-// particles jumped far (the grid grew past the refit's).
+// Object-space ambient occlusion over steps through the pipeline (three scenes, three volumes, one
+// behind a cutting plane): from the second step on, each volume's deposit is taken from the
+// bricks' refit's read of the positions (OcclusionVolume::arm_tap); every image must be the bytes a
+// fresh run of that step alone writes (a deposit of its own) and the bytes rank 0 alone writes, at
+// 1-4 ranks, and the stats line must say which deposit each step used: the refit's after a wobble,
+// its own after a few particles jumped far (the grid grew past the refit's).
 #include <gtest/gtest.h>
 
 #include <mpi.h>
@@ -41,7 +41,14 @@ std::string config(const std::string &dir, const std::string &run) {
          "    renderer: cpu\n    camera: {azimuth: -60, elevation: 40}\n"
          "    ambient_occlusion: {method: object, radius: 3.5}\n"
          "    output: {pattern: '" +
-         dir + "/wide_" + run + "_{step}.png'}\n";
+         dir + "/wide_" + run +
+         "_{step}.png'}\n"
+         "  - name: cut\n    width: 240\n    height: 200\n    radius: 0.5\n"
+         "    renderer: cpu\n    camera: {azimuth: 20, elevation: 30}\n"
+         "    cut_planes: [{normal: [0.6, 0.8, 0], offset: 40.5}]\n"
+         "    ambient_occlusion: {method: object, radius: 2.5}\n"
+         "    output: {pattern: '" +
+         dir + "/cut_" + run + "_{step}.png'}\n";
 }
 
 // On `comm` (MPI_COMM_SELF: rank 0 alone, the whole lattice).
@@ -79,18 +86,19 @@ TEST(ObjectAoSteps, TheRefitsDepositGivesTheImagesOfFreshRuns) {
   if (world_rank() != 0) return;
   // The same steps on one rank alone: the same bytes whatever the rank count.
   render(config(dir.path(), "alone"), {0, 1, 2}, MPI_COMM_SELF);
-  // Two scenes, two volumes (their own spacings): the refit hands its stream to both.
+  // Three scenes, three volumes (their own spacings): the refit hands its stream to all, the cut
+  // scene's taking what its plane leaves.
   for (const char *run : {"steps", "alone"})
-    for (const int scene : {0, 1})
+    for (const int scene : {0, 1, 2})
       EXPECT_EQ(deposits(dir.path() + "/stats_" + run + ".jsonl", scene),
                 (std::vector<std::string>{"own", "refit", "own"}))
           << run << ", scene " << scene;
   for (const int step : {0, 1, 2}) {
     const std::string s = std::to_string(step);
-    for (const int scene : {0, 1})
+    for (const int scene : {0, 1, 2})
       EXPECT_EQ(deposits(dir.path() + "/stats_fresh" + s + ".jsonl", scene),
                 std::vector<std::string>{"own"});
-    for (const char *scene : {"ao", "wide"}) {
+    for (const char *scene : {"ao", "wide", "cut"}) {
       const std::string name = dir.path() + "/" + scene;
       const auto steps = read_bytes(name + "_steps_" + s + ".png");
       const auto fresh = read_bytes(name + "_fresh" + s + "_" + s + ".png");

@@ -707,42 +707,47 @@ TEST(ObjectOcclusion, ADepositTakenFromTheRefitIsTheVolumeOfItsOwn) {
                         {"shift too far", 64, 3.5, false, false},
                         {"not finite", 64, 0.0, true, false},
                         {"spilled sums", 1100, 0.6, false, true}};
+  CutPlane through;  // through the lattice, oblique: the tap deposits what it leaves
+  through.normal = {0.6, 0.0, 0.8};
+  through.offset = 20.0;
   for (const Case &c : cases)
-    for (const int threads : {1, 3}) {
-      SCOPED_TRACE(std::string(c.name) + ", " + std::to_string(threads) + " threads");
-      std::vector<double> xyz;
-      wobbled_share(c.nx, 0, glm::dvec3(0.0), &xyz);
-      ParticleArrays arrays = packed_arrays(xyz);
-      BrickSet bricks = build_bricks(arrays, BrickOptions());
-      ASSERT_FALSE(bricks.runs.empty());  // the refit streams the positions
-      OcclusionVolume kept;
-      ASSERT_OK(
-          kept.build(MPI_COMM_WORLD, arrays, global_extent_of(arrays), {}, kRadius, kStrength));
-      EXPECT_FALSE(kept.last_build_tapped());
-      const std::array<double, 3> origin = kept.node_origin();
-      // The next step: the host's array rewritten in place.
-      std::vector<double> next;
-      wobbled_share(c.nx, 1, glm::dvec3(c.shift_in_cells * kept.node_spacing(), 0.0, 0.0), &next);
-      if (c.nan && !next.empty()) next[3 * (next.size() / 6) + 1] = std::nan("");
-      std::copy(next.begin(), next.end(), xyz.begin());
-      ASSERT_TRUE(kept.arm_tap());
-      VolumeTap tap(&kept);
-      BrickOptions options;
-      options.tap = &tap;
-      options.threads = threads;
-      (void)refit_bricks(arrays, 1.25, &bricks, options);  // a rebuild asked for changes nothing
-      const Extent global = global_extent_of(arrays);
-      ASSERT_OK(kept.build(MPI_COMM_WORLD, arrays, global, {}, kRadius, kStrength));
-      EXPECT_EQ(kept.last_build_tapped(), c.tapped);
-      if (c.shift_in_cells > 0.0) EXPECT_NE(kept.node_origin(), origin);  // the grid moved
-      OcclusionVolume fresh;
-      ASSERT_OK(fresh.build(MPI_COMM_WORLD, arrays, global, {}, kRadius, kStrength));
-      EXPECT_EQ(kept.node_counts(), fresh.node_counts());
-      EXPECT_EQ(kept.node_origin(), fresh.node_origin());
-      EXPECT_EQ(kept.bulk_per_cell(), fresh.bulk_per_cell());
-      ASSERT_FALSE(fresh.enclosure_nodes().empty());
-      EXPECT_TRUE(kept.enclosure_nodes() == fresh.enclosure_nodes());
-    }
+    for (const int threads : {1, 3})
+      for (const std::vector<CutPlane> &cuts : {std::vector<CutPlane>{}, {through}}) {
+        SCOPED_TRACE(std::string(c.name) + ", " + std::to_string(threads) + " threads, " +
+                     std::to_string(cuts.size()) + " planes");
+        std::vector<double> xyz;
+        wobbled_share(c.nx, 0, glm::dvec3(0.0), &xyz);
+        ParticleArrays arrays = packed_arrays(xyz);
+        BrickSet bricks = build_bricks(arrays, BrickOptions());
+        ASSERT_FALSE(bricks.runs.empty());  // the refit streams the positions
+        OcclusionVolume kept;
+        ASSERT_OK(
+            kept.build(MPI_COMM_WORLD, arrays, global_extent_of(arrays), cuts, kRadius, kStrength));
+        EXPECT_FALSE(kept.last_build_tapped());
+        const std::array<double, 3> origin = kept.node_origin();
+        // The next step: the host's array rewritten in place.
+        std::vector<double> next;
+        wobbled_share(c.nx, 1, glm::dvec3(c.shift_in_cells * kept.node_spacing(), 0.0, 0.0), &next);
+        if (c.nan && !next.empty()) next[3 * (next.size() / 6) + 1] = std::nan("");
+        std::copy(next.begin(), next.end(), xyz.begin());
+        ASSERT_TRUE(kept.arm_tap());
+        VolumeTap tap(&kept);
+        BrickOptions options;
+        options.tap = &tap;
+        options.threads = threads;
+        (void)refit_bricks(arrays, 1.25, &bricks, options);  // a rebuild asked for changes nothing
+        const Extent global = global_extent_of(arrays);
+        ASSERT_OK(kept.build(MPI_COMM_WORLD, arrays, global, cuts, kRadius, kStrength));
+        EXPECT_EQ(kept.last_build_tapped(), c.tapped);
+        if (c.shift_in_cells > 0.0) EXPECT_NE(kept.node_origin(), origin);  // the grid moved
+        OcclusionVolume fresh;
+        ASSERT_OK(fresh.build(MPI_COMM_WORLD, arrays, global, cuts, kRadius, kStrength));
+        EXPECT_EQ(kept.node_counts(), fresh.node_counts());
+        EXPECT_EQ(kept.node_origin(), fresh.node_origin());
+        EXPECT_EQ(kept.bulk_per_cell(), fresh.bulk_per_cell());
+        ASSERT_FALSE(fresh.enclosure_nodes().empty());
+        EXPECT_TRUE(kept.enclosure_nodes() == fresh.enclosure_nodes());
+      }
 }
 
 // A tap armed on one step and not used (a dump step, a scene that failed) is dropped by the next
@@ -793,8 +798,35 @@ TEST(ObjectOcclusion, AnArmedTapThatGotNothingIsNotUsed) {
               std::find(std::begin(used), std::end(used), how) != std::end(used));
     EXPECT_TRUE(v.enclosure_nodes() == fresh.enclosure_nodes());
   }
-  // A cut plane: the next step is not armed (the deposit would need the plane's test).
-  ASSERT_OK(v.build(MPI_COMM_WORLD, arrays, global, {oblique_cut()}, kRadius, kStrength));
+  // Behind a cutting plane the tap is armed and deposits what the plane leaves: used where the
+  // next build has that plane, not where it has another or none.
+  CutPlane moved = oblique_cut();
+  moved.offset += 1.0;
+  CutPlane off = oblique_cut();
+  off.enabled = false;
+  const std::vector<CutPlane> cut{oblique_cut()}, other{moved}, none{}, disabled{off};
+  for (const std::vector<CutPlane> *next : {&cut, &other, &none, &disabled}) {
+    ASSERT_OK(v.build(MPI_COMM_WORLD, arrays, global, cut, kRadius, kStrength));
+    ASSERT_TRUE(v.arm_tap());
+    v.take_tapped(0, xyz.data(), 0, count);
+    ASSERT_OK(v.build(MPI_COMM_WORLD, arrays, global, *next, kRadius, kStrength));
+    EXPECT_EQ(v.last_build_tapped(), next == &cut) << next->size() << " planes";
+    OcclusionVolume own;
+    ASSERT_OK(own.build(MPI_COMM_WORLD, arrays, global, *next, kRadius, kStrength));
+    ASSERT_FALSE(own.enclosure_nodes().empty());
+    EXPECT_TRUE(v.enclosure_nodes() == own.enclosure_nodes()) << next->size() << " planes";
+  }
+  // A disabled plane cuts nothing: armed behind it, the tap serves a build without planes.
+  ASSERT_OK(v.build(MPI_COMM_WORLD, arrays, global, disabled, kRadius, kStrength));
+  ASSERT_TRUE(v.arm_tap());
+  v.take_tapped(0, xyz.data(), 0, count);
+  ASSERT_OK(v.build(MPI_COMM_WORLD, arrays, global, none, kRadius, kStrength));
+  EXPECT_TRUE(v.last_build_tapped());
+  // A group: the next step is not armed (the deposit would need the mask).
+  Cloud grouped;
+  make_cloud(
+      3000, [](int, const double *) { return true; }, &grouped);
+  ASSERT_OK(v.build(MPI_COMM_WORLD, grouped.arrays, cloud_extent(), {}, kRadius, kStrength));
   EXPECT_FALSE(v.arm_tap());
 }
 
