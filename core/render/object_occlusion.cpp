@@ -1044,8 +1044,8 @@ Status OcclusionVolume::build(MPI_Comm comm, const ParticleArrays &particles, co
         return false;
     return true;
   };
-  last_tapped_ = tap_whole && ungrouped && tap.planes.same_as(planes) && tap.cell == cell_ &&
-                 holds_grid();
+  last_tapped_ =
+      tap_whole && ungrouped && tap.planes.same_as(planes) && tap.cell == cell_ && holds_grid();
   if (last_tapped_) {
     merge_parts(int(tap.parts.size()));
     const int off = quad_offset()[2];

@@ -89,8 +89,9 @@ class OcclusionVolume {
   // each as a part (begin_tapped_parts(), then take_tapped() of each part on its thread, part
   // p's stripes after part p - 1's) onto quads of its own. build() uses that deposit when this
   // step's grid lies inside that grid, its cutting planes are the last build's and every
-  // particle came, finite (the same sums: the same volume), and deposits on its own otherwise. An armed tap lives until the next build() or
-  // arm_tap(). Thread-safety: take_tapped() of different parts may run at once.
+  // particle came, finite (the same sums: the same volume), and deposits on its own otherwise. An
+  // armed tap lives until the next build() or arm_tap(). Thread-safety: take_tapped() of different
+  // parts may run at once.
   bool arm_tap();
   void begin_tapped_parts(int parts);
   void take_tapped(int part, const double *xyz, int64_t first, int64_t end);
