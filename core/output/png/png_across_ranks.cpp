@@ -11,6 +11,7 @@
 #include <cstring>
 #include <filesystem>
 #include <functional>
+#include <new>
 #include <vector>
 
 #include "core/common/rank_threads.h"
@@ -66,7 +67,8 @@ Status deflate_bands(const uint8_t *rows, int width, int height, int n, int b0, 
 // deflate_bands() of bands [b0, b1) on up to `threads` threads of this process, each a
 // contiguous share of them; rows_of(b) is band b's first row (read on the threads: no MPI in
 // it). The bands do not depend on who compresses them: the same bytes on any count. Returns the
-// first share's failure in band order, or OK.
+// first share's failure in band order, or OK; an allocation that fails on a thread is such a
+// failure (kIo, as every failure to produce the file), never an exception out of the thread.
 Status deflate_bands_on_threads(const std::function<const uint8_t *(int)> &rows_of, int width,
                                 int height, int n, int b0, int b1, int level, int channels,
                                 int threads, std::vector<PngBand> *out) {
@@ -74,9 +76,13 @@ Status deflate_bands_on_threads(const std::function<const uint8_t *(int)> &rows_
   const int parts = std::clamp(threads, 1, std::max(1, count));
   std::vector<Status> failure(static_cast<size_t>(parts));
   run_in_parts(parts, count, [&](int part, int64_t first, int64_t last) {
-    for (int b = b0 + int(first); b < b0 + int(last) && failure[size_t(part)].ok(); ++b)
-      failure[size_t(part)] =
-          deflate_bands(rows_of(b), width, height, n, b, b + 1, level, channels, out);
+    Status &f = failure[size_t(part)];
+    try {
+      for (int b = b0 + int(first); b < b0 + int(last) && f.ok(); ++b)
+        f = deflate_bands(rows_of(b), width, height, n, b, b + 1, level, channels, out);
+    } catch (const std::bad_alloc &) {
+      f = {StatusCode::kIo, "out of memory compressing a band"};
+    }
   });
   for (const Status &f : failure)
     if (!f.ok()) return f;
