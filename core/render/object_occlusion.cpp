@@ -558,9 +558,8 @@ void OcclusionVolume::add_located(QuadDeposit &to, const NodeWeights &located, i
   add_to_quads(located, n, corner_tables(), to.quads.data(), dz);
 }
 
-void OcclusionVolume::deposit(const ParticleArrays &particles, const std::vector<CutPlane> &cuts,
-                              int threads, Planes *occupied) {
-  const CutPlanes planes(cuts);
+void OcclusionVolume::deposit(const ParticleArrays &particles, const CutPlanes &planes, int threads,
+                              Planes *occupied) {
   const int64_t count = particles.count();
   const int parts = parts_for(threads, count, kMinParticlesPerPart);
   start_deposit(volume_grid(), parts);
@@ -1053,7 +1052,7 @@ Status OcclusionVolume::build(MPI_Comm comm, const ParticleArrays &particles, co
     occupied = {std::max(0, zeroed.first - off), std::min(n_[2], zeroed.end - off)};
     if (zeroed.empty() || occupied.empty()) occupied = {0, 0};
   } else {
-    deposit(particles, cuts, threads, &occupied);
+    deposit(particles, planes, threads, &occupied);
   }
   int rank = 0, ranks = 1;
   MPI_Comm_rank(comm, &rank);

@@ -146,7 +146,7 @@ class OcclusionVolume {
     int64_t on_quads = 0;
   };
   // This rank's deposits in deposits_[0] (the parts' added up), held on the planes `occupied`.
-  void deposit(const ParticleArrays &particles, const std::vector<CutPlane> &cuts, int threads,
+  void deposit(const ParticleArrays &particles, const CutPlanes &planes, int threads,
                Planes *occupied);
   // A deposit on `grid` begun in `parts` parts (deposit(), arm_tap()); located particles added
   // to one; the parts then added to the first.
