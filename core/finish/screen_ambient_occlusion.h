@@ -32,6 +32,7 @@
 
 #include <vector>
 
+#include "core/camera/camera.h"
 #include "core/composite/row_bands.h"
 #include "core/finish/view_positions.h"
 
@@ -77,5 +78,15 @@ void apply_screen_ambient_occlusion(const ViewPositions &positions,
                                     const AmbientOcclusionStyle &style, BandFrame *band,
                                     AoVectorPath path = AoVectorPath::kAuto,
                                     AoScratch *scratch = nullptr, int threads = 1);
+
+// The same, with `positions` built here from the band's depths and `camera` (as
+// positions->build(*band, camera, true, threads) builds them, which they are on return, for the
+// cues after this one). At half resolution on one thread (one part of the rows), each row's
+// distances are computed just before the estimates first read them, and the memory-bound work
+// (distances, upsampling) overlaps the estimates' arithmetic: the same bytes.
+void build_positions_and_apply_screen_ambient_occlusion(
+    ViewPositions *positions, const Camera &camera, const AmbientOcclusionStyle &style,
+    BandFrame *band, AoVectorPath path = AoVectorPath::kAuto, AoScratch *scratch = nullptr,
+    int threads = 1);
 
 }  // namespace lantern

@@ -79,11 +79,12 @@ Status cue_band(MPI_Comm comm, const ScreenCueSettings &cues, const Camera &came
   CueScratch own;
   if (scratch == nullptr) scratch = &own;
   ViewPositions &positions = scratch->positions;
-  positions.build(band, camera, true, cues.threads);
-
   if (screen_ao(cues))
-    apply_screen_ambient_occlusion(positions, ao_style(cues, sphere_radius), &band,
-                                   AoVectorPath::kAuto, &scratch->ao, cues.threads);
+    build_positions_and_apply_screen_ambient_occlusion(
+        &positions, camera, ao_style(cues, sphere_radius), &band, AoVectorPath::kAuto, &scratch->ao,
+        cues.threads);
+  else
+    positions.build(band, camera, true, cues.threads);
   if (cues.outline.enabled) {
     OutlineStyle style;
     style.width = cues.outline.width;

@@ -126,7 +126,7 @@ std::array<float, 2> ViewPositions::drawn_minima(const RowBand &rows, bool vecto
   return minima;
 }
 
-void ViewPositions::build(const BandFrame &band, const Camera &camera, bool vector, int threads) {
+void ViewPositions::begin(const BandFrame &band, const Camera &camera) {
   const RowBand held = band.held_rows();
   width_ = band.frame.width;
   height_ = camera.height;
@@ -146,7 +146,7 @@ void ViewPositions::build(const BandFrame &band, const Camera &camera, bool vect
   y_offset_ = float((shift_y + 1.0) * sy);
   ppu_ = float(0.5 * camera.height * p[1][1]);
   // The border's background (kept from the last build of the same size: only the held rows'
-  // distances are ever written), then each held row's distances between its two sides.
+  // distances are ever written).
   const bool border_kept = border_rows_ == rows_ && border_width_ == width_;
   z_.resize(size_t(rows_ + 2 * kBorder) * stride());
   const size_t border_rows = size_t(kBorder) * stride(), width = size_t(width_);
@@ -160,29 +160,39 @@ void ViewPositions::build(const BandFrame &band, const Camera &camera, bool vect
     }
     border_rows_ = rows_, border_width_ = width_;
   }
-  // Each row on its own: any number of parts gives the same distances.
-  const auto rows_of = [&](int, int64_t r0, int64_t r1) {
-    for (int r = int(r0); r < int(r1); ++r) {
-      float *out = &z_[size_t(r + kBorder) * stride() + size_t(kBorder)];
-      const float *depth = &band.frame.depth[size_t(r + first_ - band.first) * width];
-      size_t i = 0;
+}
+
+void ViewPositions::build_rows(const BandFrame &band, const Camera &camera, int y0, int y1,
+                               bool vector) {
+  const size_t width = size_t(width_);
+  for (int y = std::max(y0, first_); y < std::min(y1, last_row()); ++y) {
+    float *out = &z_[size_t(y - first_ + kBorder) * stride() + size_t(kBorder)];
+    const float *depth = &band.frame.depth[size_t(y - band.first) * width];
+    size_t i = 0;
 #if LANTERN_POSITIONS_AVX2
-      if (vector && cpu_has_avx2()) {
-        i = width / 4 * 4;
-        if (orthographic_)
-          orthographic_distances_avx2(camera, depth, i, out);
-        else
-          perspective_distances_avx2(camera, depth, i, out);
-      }
-#endif
-      for (; i < width; ++i) {
-        const float d = depth[i];
-        out[i] = d >= kBackgroundDepth ? kBackground : float(camera.window_depth_to_distance(d));
-      }
+    if (vector && cpu_has_avx2()) {
+      i = width / 4 * 4;
+      if (orthographic_)
+        orthographic_distances_avx2(camera, depth, i, out);
+      else
+        perspective_distances_avx2(camera, depth, i, out);
     }
-  };
-  run_in_parts(parts_for(threads, rows_, kMinRowsPerThread), rows_, rows_of);
+#endif
+    for (; i < width; ++i) {
+      const float d = depth[i];
+      out[i] = d >= kBackgroundDepth ? kBackground : float(camera.window_depth_to_distance(d));
+    }
+  }
   (void)vector;
+}
+
+void ViewPositions::build(const BandFrame &band, const Camera &camera, bool vector, int threads) {
+  begin(band, camera);
+  // Each row on its own: any number of parts gives the same distances.
+  run_in_parts(parts_for(threads, rows_, kMinRowsPerThread), rows_,
+               [&](int, int64_t r0, int64_t r1) {
+                 build_rows(band, camera, first_ + int(r0), first_ + int(r1), vector);
+               });
 }
 
 }  // namespace lantern

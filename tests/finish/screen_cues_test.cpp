@@ -11,6 +11,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <random>
+#include <string>
 #include <vector>
 
 #include <glm/mat4x4.hpp>
@@ -294,10 +295,8 @@ Frame creases(const Camera &camera) {
 
 // The owned rows of `band` (rows [y0, y1) of `whole`, with `halo` rows each side) after ambient
 // occlusion, as one band would get them.
-std::vector<uint8_t> occluded_band(const Frame &whole, const Camera &camera, int y0, int y1,
-                                   int halo, const AmbientOcclusionStyle &style,
-                                   AoVectorPath path = AoVectorPath::kAuto,
-                                   AoScratch *scratch = nullptr, int threads = 1) {
+// Rows [y0, y1) of `whole` with `halo` rows each side, as a band holds them.
+BandFrame band_of(const Frame &whole, int y0, int y1, int halo) {
   const int first = std::max(0, y0 - halo), last = std::min(whole.height, y1 + halo);
   BandFrame band;
   band.first = first;
@@ -308,6 +307,15 @@ std::vector<uint8_t> occluded_band(const Frame &whole, const Camera &camera, int
             whole.rgba.begin() + 4 * (offset + band.frame.pixel_count()), band.frame.rgba.begin());
   std::copy(whole.depth.begin() + offset, whole.depth.begin() + offset + band.frame.pixel_count(),
             band.frame.depth.begin());
+  return band;
+}
+
+std::vector<uint8_t> occluded_band(const Frame &whole, const Camera &camera, int y0, int y1,
+                                   int halo, const AmbientOcclusionStyle &style,
+                                   AoVectorPath path = AoVectorPath::kAuto,
+                                   AoScratch *scratch = nullptr, int threads = 1) {
+  const int first = std::max(0, y0 - halo);
+  BandFrame band = band_of(whole, y0, y1, halo);
   ViewPositions positions;
   positions.build(band, camera);
   apply_screen_ambient_occlusion(positions, style, &band, path, scratch, threads);
@@ -424,6 +432,57 @@ TEST(ScreenAmbientOcclusion, EveryThreadCountGivesTheOneThreadBytes) {
       }
     }
   EXPECT_EQ(compared, 2 * 2 * 4 * 2 * 5);
+}
+
+// Building the distances as the pass goes (row by row on one thread, all first on several) gives
+// the bytes and the distances of building them all before the pass: orthographic and perspective,
+// both resolutions, whole images and bands, every instruction set, with kept buffers and kept
+// positions that hold another frame's distances (which a row read before it is built would show).
+TEST(ScreenAmbientOcclusion, BuildingThePositionsAsItGoesGivesTheBytesOfBuildingThemFirst) {
+  if (world_rank() != 0) return;
+  CameraConfig perspective;
+  perspective.azimuth = 20.0;
+  int compared = 0;
+  ViewPositions kept_positions;
+  AoScratch kept;
+  for (const Camera &camera : {test_camera(), cube_camera(perspective, kWidth, kHeight)})
+    for (const Frame &frame : {crowd(test_camera()), creases(test_camera())})
+      for (const bool half : {true, false}) {
+        AmbientOcclusionStyle style;
+        style.radius = half ? 10.0f : 3.0f;
+        style.strength = 1.0f;
+        style.half_resolution = half;
+        const int halo = screen_ambient_occlusion_halo(style);
+        for (const auto &[y0, y1] :
+             std::vector<std::pair<int, int>>{{0, kHeight}, {7, 61}, {1, 80}, {40, 41}}) {
+          BandFrame first = band_of(frame, y0, y1, halo);
+          ViewPositions built;
+          built.build(first, camera);
+          apply_screen_ambient_occlusion(built, style, &first);
+          for (const AoVectorPath path : {AoVectorPath::kAuto, AoVectorPath::kPortable})
+            for (const int threads : {1, 2, 64}) {
+              BandFrame going = band_of(frame, y0, y1, halo);
+              build_positions_and_apply_screen_ambient_occlusion(&kept_positions, camera, style,
+                                                                 &going, path, &kept, threads);
+              const std::string where = std::string(half ? "half" : "full") + " resolution, rows " +
+                                        std::to_string(y0) + ".." + std::to_string(y1) + ", path " +
+                                        std::to_string(int(path)) + ", " + std::to_string(threads) +
+                                        " threads";
+              EXPECT_EQ(going.frame.rgba, first.frame.rgba) << where;
+              ASSERT_EQ(kept_positions.first_row(), built.first_row());
+              ASSERT_EQ(kept_positions.last_row(), built.last_row());
+              // Every held row and the border around them (kBorder each side).
+              for (int y = built.first_row() - ViewPositions::kBorder;
+                   y < built.last_row() + ViewPositions::kBorder; ++y)
+                ASSERT_TRUE(std::equal(built.row(y) - ViewPositions::kBorder,
+                                       built.row(y) + kWidth + ViewPositions::kBorder,
+                                       kept_positions.row(y) - ViewPositions::kBorder))
+                    << where << ", distances of row " << y;
+              ++compared;
+            }
+        }
+      }
+  EXPECT_EQ(compared, 2 * 2 * 2 * 4 * 2 * 3);
 }
 
 // The half-resolution pass gives the same bits on every instruction set.
