@@ -434,6 +434,41 @@ TEST(ScreenAmbientOcclusion, EveryThreadCountGivesTheOneThreadBytes) {
   EXPECT_EQ(compared, 2 * 2 * 4 * 2 * 5);
 }
 
+// Rows wider than 2^15 - 64 pixels: the estimates' row offsets no longer fit the 16-bit multiply
+// the vector paths use, and they multiply in 32 bits as the baseline does; the same bytes. A
+// 33000 x 48 band of bumps (ridges of spheres seen from above, with gaps of background).
+TEST(ScreenAmbientOcclusion, RowsWiderThanSixteenBitsGiveTheBaselineBytes) {
+  if (world_rank() != 0) return;
+  constexpr int kWide = 33000, kRows = 48;
+  const Camera camera = orthographic_down_z(2.0, 0.1, kWide, kRows);  // about 20 pixels a unit
+  Frame frame(kWide, kRows);
+  frame.clear(kBg);
+  for (int y = 0; y < kRows; ++y)
+    for (int x = 0; x < kWide; ++x) {
+      const double u = std::fmod(x, 23.0) - 11.0, v = std::fmod(y, 17.0) - 8.0;
+      const double rho2 = (u * u + v * v) / 121.0;
+      if (rho2 >= 1.0) continue;
+      const size_t i = frame.index(x, y);
+      frame.depth[i] = float(0.5 - 0.05 * std::sqrt(1.0 - rho2) + 1e-6 * (x % 7));
+      std::fill(&frame.rgba[4 * i], &frame.rgba[4 * i + 3], uint8_t(200));
+    }
+  AmbientOcclusionStyle style;
+  style.radius = 0.5f;
+  style.strength = 1.0f;
+  BandFrame portable = band_of(frame, 0, kRows, 0);
+  ViewPositions positions;
+  positions.build(portable, camera);
+  ASSERT_GE(positions.stride(), size_t(1) << 15);
+  apply_screen_ambient_occlusion(positions, style, &portable, AoVectorPath::kPortable);
+  ASSERT_NE(portable.frame.rgba, frame.rgba);  // something darkened
+  for (const AoVectorPath path : {AoVectorPath::kAuto, AoVectorPath::kAvx512,
+                                  AoVectorPath::kAvx2Gather, AoVectorPath::kAvx2}) {
+    BandFrame band = band_of(frame, 0, kRows, 0);
+    apply_screen_ambient_occlusion(positions, style, &band, path);
+    EXPECT_EQ(band.frame.rgba, portable.frame.rgba) << "path " << int(path);
+  }
+}
+
 // Building the distances as the pass goes (row by row on one thread, all first on several) gives
 // the bytes and the distances of building them all before the pass: orthographic and perspective,
 // both resolutions, whole images and bands, every instruction set, with kept buffers and kept
