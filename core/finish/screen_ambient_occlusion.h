@@ -82,8 +82,8 @@ void apply_screen_ambient_occlusion(const ViewPositions &positions,
 // The same, with `positions` built here from the band's depths and `camera` (as
 // positions->build(*band, camera, true, threads) builds them, which they are on return, for the
 // cues after this one). At half resolution on one thread (one part of the rows), each row's
-// distances are computed just before the estimates first read them, and the memory-bound work
-// (distances, upsampling) overlaps the estimates' arithmetic: the same bytes.
+// distances are computed just before the estimates first read them and the phases run row by row,
+// so the distances are read from the cache rather than from memory: the same bytes.
 void build_positions_and_apply_screen_ambient_occlusion(
     ViewPositions *positions, const Camera &camera, const AmbientOcclusionStyle &style,
     BandFrame *band, AoVectorPath path = AoVectorPath::kAuto, AoScratch *scratch = nullptr,
