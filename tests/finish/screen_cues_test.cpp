@@ -401,6 +401,18 @@ TEST(ScreenAmbientOcclusion, KeptBuffersGiveTheBytesOfFreshOnes) {
   EXPECT_EQ(compared, 6);
 }
 
+// Full strength, with a radius that reaches kMaxAoPixels at half resolution (a third of it at
+// full resolution, which costs more a pixel); and the bands those tests cut the image into: whole,
+// odd and even boundaries, one row.
+AmbientOcclusionStyle full_strength(bool half) {
+  AmbientOcclusionStyle style;
+  style.radius = half ? 10.0f : 3.0f;
+  style.strength = 1.0f;
+  style.half_resolution = half;
+  return style;
+}
+const std::vector<std::pair<int, int>> kCutBands = {{0, kHeight}, {7, 61}, {1, 80}, {40, 41}};
+
 // `threads:` cuts a band's rows into parts that run at once: every count gives the one-thread
 // bytes, at both resolutions, on every instruction set, for whole images and for bands (whose
 // estimate rows start at odd and even rows), with kept buffers too.
@@ -410,13 +422,9 @@ TEST(ScreenAmbientOcclusion, EveryThreadCountGivesTheOneThreadBytes) {
   int compared = 0;
   for (const Frame &frame : {crowd(camera), creases(camera)})
     for (const bool half : {true, false}) {
-      AmbientOcclusionStyle style;
-      style.radius = half ? 10.0f : 3.0f;
-      style.strength = 1.0f;
-      style.half_resolution = half;
+      const AmbientOcclusionStyle style = full_strength(half);
       const int halo = screen_ambient_occlusion_halo(style);
-      for (const auto &[y0, y1] :
-           std::vector<std::pair<int, int>>{{0, kHeight}, {7, 61}, {1, 80}, {40, 41}}) {
+      for (const auto &[y0, y1] : kCutBands) {
         const std::vector<uint8_t> one = occluded_band(frame, camera, y0, y1, halo, style);
         ASSERT_NE(one, std::vector<uint8_t>(frame.rgba.begin() + 4 * y0 * kWidth,
                                             frame.rgba.begin() + 4 * y1 * kWidth));
@@ -483,13 +491,9 @@ TEST(ScreenAmbientOcclusion, BuildingThePositionsAsItGoesGivesTheBytesOfBuilding
   for (const Camera &camera : {test_camera(), cube_camera(perspective, kWidth, kHeight)})
     for (const Frame &frame : {crowd(test_camera()), creases(test_camera())})
       for (const bool half : {true, false}) {
-        AmbientOcclusionStyle style;
-        style.radius = half ? 10.0f : 3.0f;
-        style.strength = 1.0f;
-        style.half_resolution = half;
+        const AmbientOcclusionStyle style = full_strength(half);
         const int halo = screen_ambient_occlusion_halo(style);
-        for (const auto &[y0, y1] :
-             std::vector<std::pair<int, int>>{{0, kHeight}, {7, 61}, {1, 80}, {40, 41}}) {
+        for (const auto &[y0, y1] : kCutBands) {
           BandFrame first = band_of(frame, y0, y1, halo);
           ViewPositions built;
           built.build(first, camera);
