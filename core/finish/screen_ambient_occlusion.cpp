@@ -650,12 +650,29 @@ LANTERN_AO_INLINE unsigned lane_bits(I8 mask) {
 
 // A lone pixel's estimate (at distance z, in estimate column i of blurred row j): the nearest in
 // depth of the 4 x 4 estimates around, if one is within `tolerance`; the first of equals in the
-// order of rows, then columns. False where none is. One vector of steps per estimate row, their
-// minimum, then the first candidate equal to it: no branch per candidate, which the lane-by-lane
-// search mispredicted at every silhouette.
+// order of rows, then columns. False where none is. One candidate at a time: the baseline
+// compilation's search, and the reference the tests compare nearest_of_sixteen with.
+LANTERN_AO_INLINE bool nearest_one_at_a_time(EstimateGrid &blurred, int j, int i, float z,
+                                             float tolerance, float *value) {
+  float nearest = tolerance;
+  bool found = false;
+  for (int b = -kSearchBehind; b <= kSearchAhead; ++b)
+    for (int a = -kSearchBehind; a <= kSearchAhead; ++a) {
+      const float step = std::abs(blurred.z_at(j + b)[i + a] - z);
+      if (!(step <= nearest) || (found && step == nearest)) continue;
+      nearest = step, *value = blurred.value_at(j + b)[i + a], found = true;
+    }
+  return found;
+}
+
+#if defined(__x86_64__)
+// The same choice in four SSE vectors, one per estimate row: their minimum step, then the first
+// candidate equal to it, with no branch per candidate, which the search one at a time mispredicted
+// at every silhouette. Measured on void_impact at 1024^2 on 2 ranks, where 1-2 % of the pixels are
+// lone: the lone pixels cost a rank 0.22-0.31 ms of the upsampling's 0.7-0.87 with that search,
+// 0.16-0.23 ms of 0.64-0.73 with this one (their own estimates about 0.07 ms of either).
 LANTERN_AO_INLINE bool nearest_of_sixteen(EstimateGrid &blurred, int j, int i, float z,
                                           float tolerance, float *value) {
-#if defined(__x86_64__)
   static_assert(kSearchBehind + kSearchAhead + 1 == 4, "four candidates to a row");
   const __m128 at = _mm_set1_ps(z), sign = _mm_set1_ps(-0.0f);
   const __m128 within = _mm_set1_ps(tolerance), none = _mm_set1_ps(kBackground);
@@ -677,17 +694,17 @@ LANTERN_AO_INLINE bool nearest_of_sixteen(EstimateGrid &blurred, int j, int i, f
   const int first = __builtin_ctz(equal);
   *value = blurred.value_at(j - kSearchBehind + first / 4)[i - kSearchBehind + first % 4];
   return true;
-#else
-  float nearest = tolerance;
-  bool found = false;
-  for (int b = -kSearchBehind; b <= kSearchAhead; ++b)
-    for (int a = -kSearchBehind; a <= kSearchAhead; ++a) {
-      const float step = std::abs(blurred.z_at(j + b)[i + a] - z);
-      if (!(step <= nearest) || (found && step == nearest)) continue;
-      nearest = step, *value = blurred.value_at(j + b)[i + a], found = true;
-    }
-  return found;
+}
 #endif
+
+// The AVX2 and AVX-512 compilations search in vectors, the baseline one candidate at a time.
+template <class Isa>
+LANTERN_AO_INLINE bool nearest_estimate(EstimateGrid &blurred, int j, int i, float z,
+                                        float tolerance, float *value) {
+#if defined(__x86_64__)
+  if constexpr (Isa::kAvx2) return nearest_of_sixteen(blurred, j, i, z, tolerance, value);
+#endif
+  return nearest_one_at_a_time(blurred, j, i, z, tolerance, value);
 }
 
 // Phase 3, owned image rows [y_begin, y_end): every pixel from the 1, 2 or 4 nearest estimates at
@@ -741,21 +758,15 @@ LANTERN_AO_INLINE void upsample_rows(HalfPass &pass, int y_begin, int y_end) {
       F8 keep =
           select(blended, 1.0f - min8(splat(style.strength), gain * (sum / count)), splat(1.0f));
       const I8 lone = drawn & ~blended;
-      if (!any(lone)) {
-      } else if constexpr (Isa::kAvx2) {
-        // Each lone pixel's search in four SSE vectors, one per estimate row, without a branch
-        // per candidate (nearest_of_sixteen); the same choice as the lane-by-lane search below,
-        // which the baseline compilation keeps as the reference the tests compare this with.
-        // Measured on void_impact at 1024^2 on 2 ranks, where 1-2 % of the pixels are lone:
-        // the lone pixels cost a rank 0.22-0.31 ms of this phase's 0.7-0.87 with the lane-by-lane
-        // search, 0.16-0.23 ms of 0.64-0.73 with this one (their own estimates, below, about
-        // 0.07 ms of either).
+      if (any(lone)) {
+        // Each lone pixel's nearest estimate in depth among the 4 x 4 around (nearest_estimate),
+        // else one of its own at the end.
         alignas(32) float lone_value[kLanes] = {};
         alignas(32) int32_t lone_found[kLanes] = {};
         const float *zl = lanes < kLanes ? zs : zrow + x0;
         for (unsigned bits = lane_bits(lone); bits != 0; bits &= bits - 1) {
           const int l = __builtin_ctz(bits);
-          if (nearest_of_sixteen(blurred, j, (x0 + l) / 2, zl[l], tolerance[0], &lone_value[l]))
+          if (nearest_estimate<Isa>(blurred, j, (x0 + l) / 2, zl[l], tolerance[0], &lone_value[l]))
             lone_found[l] = -1;
           else
             alone.push_back({x0 + l, y});
@@ -763,24 +774,6 @@ LANTERN_AO_INLINE void upsample_rows(HalfPass &pass, int y_begin, int y_end) {
         I8 found;
         std::memcpy(&found, lone_found, sizeof found);
         keep = select(found, 1.0f - min8(splat(style.strength), gain * load8(lone_value)), keep);
-      } else {
-        for (int l = 0; l < lanes; ++l) {
-          if (!lone[l]) continue;
-          // The nearest estimate in depth among the 4 x 4 around, else one of its own.
-          const int i = (x0 + l) / 2;
-          float nearest = tolerance[0], value = 0.0f;
-          bool found = false;
-          for (int b = -kSearchBehind; b <= kSearchAhead; ++b)
-            for (int a = -kSearchBehind; a <= kSearchAhead; ++a) {
-              const float step = std::abs(blurred.z_at(j + b)[i + a] - z[l]);
-              if (!(step <= nearest) || (found && step == nearest)) continue;
-              nearest = step, value = blurred.value_at(j + b)[i + a], found = true;
-            }
-          if (found)
-            keep[l] = 1.0f - std::min(style.strength, gain * value);
-          else
-            alone.push_back({x0 + l, y});
-        }
       }
       if (lanes == kLanes) {
         darken8(rgba + 4 * x0, keep);
@@ -875,11 +868,11 @@ struct RowsToBuild {
   const Camera *camera;
   int built;
 
-  // Builds every held row before y.
-  void up_to(int y) {
+  // Builds every held row before y, on up to `threads` threads.
+  void up_to(int y, int threads = 1) {
     y = std::min(y, positions->last_row());
     if (y <= built) return;
-    positions->build_rows(*band, *camera, built, y);
+    positions->build_rows(*band, *camera, built, y, true, threads);
     built = y;
   }
 };
@@ -929,7 +922,7 @@ void half_resolution_row_by_row(HalfPass &pass, const HalfPhases &phases, RowsTo
 void half_resolution(const ViewPositions &v, const AmbientOcclusionStyle &style, BandFrame *band,
                      const HalfPhases &phases, AoScratch *scratch, int threads, RowsToBuild *rows) {
   if (band->owned.y0 >= band->owned.y1) {
-    if (rows != nullptr) rows->up_to(v.last_row());
+    if (rows != nullptr) rows->up_to(v.last_row(), threads);
     return;
   }
   HalfPass pass(v, style, band, scratch);
@@ -937,10 +930,7 @@ void half_resolution(const ViewPositions &v, const AmbientOcclusionStyle &style,
     half_resolution_row_by_row(pass, phases, rows);
     return;
   }
-  if (rows != nullptr) {  // several parts: every row first, in parts too
-    rows->positions->build(*band, *rows->camera, true, threads);
-    rows->built = rows->positions->last_row();
-  }
+  if (rows != nullptr) rows->up_to(v.last_row(), threads);  // several parts: every row first
   const auto over = [threads](int begin, int end, void (*phase)(HalfPass &, int, int),
                               HalfPass &p) {
     const int64_t count = std::max(0, end - begin);
@@ -982,7 +972,7 @@ void apply(const ViewPositions &v, const AmbientOcclusionStyle &style, BandFrame
   AoScratch own;
   if (scratch == nullptr) scratch = &own;
   if (!style.half_resolution) {
-    if (rows != nullptr) rows->positions->build(*band, *rows->camera, true, threads);
+    if (rows != nullptr) rows->up_to(v.last_row(), threads);
     full_resolution(v, style, band, threads);
     return;
   }

@@ -163,36 +163,38 @@ void ViewPositions::begin(const BandFrame &band, const Camera &camera) {
 }
 
 void ViewPositions::build_rows(const BandFrame &band, const Camera &camera, int y0, int y1,
-                               bool vector) {
+                               bool vector, int threads) {
   const size_t width = size_t(width_);
-  for (int y = std::max(y0, first_); y < std::min(y1, last_row()); ++y) {
-    float *out = &z_[size_t(y - first_ + kBorder) * stride() + size_t(kBorder)];
-    const float *depth = &band.frame.depth[size_t(y - band.first) * width];
-    size_t i = 0;
+  const int first = std::max(y0, first_), count = std::max(0, std::min(y1, last_row()) - first);
+  // Each row on its own: any number of parts gives the same distances.
+  run_in_parts(
+      parts_for(threads, count, kMinRowsPerThread), count, [&](int, int64_t r0, int64_t r1) {
+        for (int y = first + int(r0); y < first + int(r1); ++y) {
+          float *out = &z_[size_t(y - first_ + kBorder) * stride() + size_t(kBorder)];
+          const float *depth = &band.frame.depth[size_t(y - band.first) * width];
+          size_t i = 0;
 #if LANTERN_POSITIONS_AVX2
-    if (vector && cpu_has_avx2()) {
-      i = width / 4 * 4;
-      if (orthographic_)
-        orthographic_distances_avx2(camera, depth, i, out);
-      else
-        perspective_distances_avx2(camera, depth, i, out);
-    }
+          if (vector && cpu_has_avx2()) {
+            i = width / 4 * 4;
+            if (orthographic_)
+              orthographic_distances_avx2(camera, depth, i, out);
+            else
+              perspective_distances_avx2(camera, depth, i, out);
+          }
 #endif
-    for (; i < width; ++i) {
-      const float d = depth[i];
-      out[i] = d >= kBackgroundDepth ? kBackground : float(camera.window_depth_to_distance(d));
-    }
-  }
+          for (; i < width; ++i) {
+            const float d = depth[i];
+            out[i] =
+                d >= kBackgroundDepth ? kBackground : float(camera.window_depth_to_distance(d));
+          }
+        }
+      });
   (void)vector;
 }
 
 void ViewPositions::build(const BandFrame &band, const Camera &camera, bool vector, int threads) {
   begin(band, camera);
-  // Each row on its own: any number of parts gives the same distances.
-  run_in_parts(parts_for(threads, rows_, kMinRowsPerThread), rows_,
-               [&](int, int64_t r0, int64_t r1) {
-                 build_rows(band, camera, first_ + int(r0), first_ + int(r1), vector);
-               });
+  build_rows(band, camera, first_, last_row(), vector, threads);
 }
 
 }  // namespace lantern

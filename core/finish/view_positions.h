@@ -37,10 +37,11 @@ class ViewPositions {
   // build() in steps, for a reader that computes each row's distances just before it reads them
   // (screen_ambient_occlusion.h): begin() sizes the positions for the band and camera and frames
   // them with their border; build_rows() computes held image rows [y0, y1) (clipped to the held
-  // rows), in any order and from any thread, each row once before it is read. Every row built
-  // gives build()'s distances.
+  // rows; on up to `threads` threads), in any order, each row once before it is read. Every row
+  // built gives build()'s distances.
   void begin(const BandFrame &band, const Camera &camera);
-  void build_rows(const BandFrame &band, const Camera &camera, int y0, int y1, bool vector = true);
+  void build_rows(const BandFrame &band, const Camera &camera, int y0, int y1, bool vector = true,
+                  int threads = 1);
 
   // Over the drawn pixels of image rows `rows` (held by the band): the nearest distance and the
   // farthest one negated, kBackground for none; min, not max, as std::min(m, v) meets them.
