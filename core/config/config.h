@@ -212,7 +212,14 @@ enum class AoResolution { kHalf, kFull };
 // neighbour shell of a dense packing.
 inline constexpr double kDefaultAoRadiusInSphereRadii = 4.0;
 
-// ambient_occlusion: {method, radius, samples, strength, resolution}
+// The most nodes of the object method's density volume, by default and at most (max_nodes): the
+// default keeps its sums and smoothing at 2 MiB a rank; the largest at 64 MiB of deposits a
+// thread (tests/bench/cues/results/object_ao_max_nodes.txt: time and error against the
+// nominal spacing).
+inline constexpr int64_t kDefaultAoMaxNodes = int64_t(1) << 18;
+inline constexpr int64_t kLargestAoMaxNodes = int64_t(1) << 22;
+
+// ambient_occlusion: {method, radius, samples, strength, resolution, max_nodes}
 struct AmbientOcclusionConfig {
   bool enabled = false;                                             // the section is present
   AmbientOcclusionMethod method = AmbientOcclusionMethod::kScreen;  // method: screen | object
@@ -220,6 +227,7 @@ struct AmbientOcclusionConfig {
   int samples = 16;              // samples: 1..64 (screen: samples per estimate)
   double strength = 0.6;         // strength: [0, 1], 0 = no darkening
   AoResolution resolution = AoResolution::kHalf;  // resolution: half | full (method: screen)
+  int64_t max_nodes = kDefaultAoMaxNodes;  // max_nodes: 64..kLargestAoMaxNodes (method: object)
 };
 
 // outline: {width, color, depth_threshold}

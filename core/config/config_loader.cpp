@@ -316,6 +316,7 @@ const Section<AmbientOcclusionConfig> kAmbientOcclusion(
         {"strength", &AmbientOcclusionConfig::strength, number_in('[', 0, 1, ']')},
         {"resolution", &AmbientOcclusionConfig::resolution,
          one_of<AoResolution>({{"half", AoResolution::kHalf}, {"full", AoResolution::kFull}})},
+        {"max_nodes", &AmbientOcclusionConfig::max_nodes, integer(64, kLargestAoMaxNodes)},
     },
     kCue, &AmbientOcclusionConfig::enabled);
 

@@ -204,7 +204,8 @@ Status run_scene_pass(const ScenePassInputs &in, const SceneConfig &scene, Scene
     const double radius_ao =
         scene.ambient_occlusion.radius.value_or(kDefaultAoRadiusInSphereRadii * max_radius);
     if (Status s = occlusion.build(in.comm, *in.particles, in.global, scene.cuts, radius_ao,
-                                   scene.ambient_occlusion.strength, in.threads);
+                                   scene.ambient_occlusion.strength, in.threads,
+                                   scene.ambient_occlusion.max_nodes);
         !s.ok())
       return with_context(where, std::move(s));
     // With the deposit the refit streamed the positions into (OcclusionVolume::arm_tap).

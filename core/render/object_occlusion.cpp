@@ -171,7 +171,7 @@ inline __attribute__((always_inline)) void locate_nodes_of(const double *const c
   out->highest_z = highest;
   const int32_t nx = grid.n[0], ny = grid.n[1];
   for (int k = 0; k < n; ++k) {
-    out->node[k] = (at[2][k] * ny + at[1][k]) * nx + at[0][k];  // < kMaxOcclusionNodes
+    out->node[k] = (at[2][k] * ny + at[1][k]) * nx + at[0][k];  // < the nodes: fits 32 bits
     out->code_x[k] = upper[0][k];
     out->code_yz[k] = upper[1][k] * (kSteps + 1) + upper[2][k];
   }
@@ -410,7 +410,8 @@ void add_to_quads(const NodeWeights &located, int n, const CornerTables &tables,
 
 }  // namespace
 
-void OcclusionVolume::set_grid(const Extent &global, double radius) {
+void OcclusionVolume::set_grid(const Extent &global, double radius, int64_t max_nodes) {
+  max_nodes = std::clamp<int64_t>(max_nodes, 8, kLargestAoMaxNodes);
   double cell = radius * kOcclusionCellPerRadius;
   if (!(cell > 0.0) || !std::isfinite(cell)) cell = 1.0;
   // Widen the spacing in steps of kOcclusionCellWidening until the nodes fit (the node counts
@@ -428,14 +429,14 @@ void OcclusionVolume::set_grid(const Extent &global, double radius) {
       along[a] = last - first + 2.0;
       nodes *= along[a];
     }
-    if (nodes <= double(kMaxOcclusionNodes)) break;
+    if (nodes <= double(max_nodes)) break;
     cell *= kOcclusionCellWidening;
   }
   cell_ = cell;
   inverse_cell_ = 1.0 / cell;
   for (int a = 0; a < 3; ++a) {
     origin_[a] = origin[a];
-    n_[a] = int(std::min(along[a], double(kMaxOcclusionNodes)));
+    n_[a] = int(std::min(along[a], double(max_nodes)));
     lo_[a] = origin[a] * cell;
   }
 }
@@ -853,7 +854,7 @@ Status OcclusionVolume::sum_over_ranks(MPI_Comm comm, Planes occupied, Planes re
   int rank = 0, ranks = 1;
   MPI_Comm_rank(comm, &rank);
   MPI_Comm_size(comm, &ranks);
-  const int plane = n_[0] * n_[1];  // <= kMaxOcclusionNodes: every count below fits an int
+  const int plane = n_[0] * n_[1];  // <= kLargestAoMaxNodes: every count below fits an int
   const auto both = [](Planes a, Planes b) {
     const Planes c{std::max(a.first, b.first), std::min(a.end, b.end)};
     return c.empty() ? Planes{0, 0} : c;
@@ -909,7 +910,7 @@ Status OcclusionVolume::sum_over_ranks(MPI_Comm comm, Planes occupied, Planes re
 // deposits of the planes `given` (reach_of(slab): every plane the filter reads) into smoothed_.
 // Plane by plane of z: each plane is filtered along x and y into a ring of the last five, from
 // which the plane two behind is filtered along z; the working set (six planes of 64^2 nodes at
-// kMaxOcclusionNodes) stays in cache, and the deposits are read once and the result written once
+// the default max_nodes) stays in cache, and the deposits are read once and the result written once
 // (fcc 1 M: 1.8 -> 0.5 ms). Returns the largest sum of the slab (0 for an empty one).
 template <typename T>
 int64_t OcclusionVolume::smooth(const int64_t *deposits, Planes given, Planes slab) {
@@ -1017,7 +1018,7 @@ void OcclusionVolume::find_bulk(const std::vector<int64_t> &histogram, float top
 // exchange their boundary planes instead of summing the whole grid).
 Status OcclusionVolume::build(MPI_Comm comm, const ParticleArrays &particles, const Extent &global,
                               const std::vector<CutPlane> &cuts, double radius, double strength,
-                              int threads) {
+                              int threads, int64_t max_nodes) {
   strength_ = float(strength);
   smoothed_.clear();
   enclosure_.clear();
@@ -1031,7 +1032,7 @@ Status OcclusionVolume::build(MPI_Comm comm, const ParticleArrays &particles, co
   tappable_ = false;
   built_planes_ = planes;
   if (global.empty()) return {};  // the same on every rank: no reduction to skip
-  set_grid(global, radius);
+  set_grid(global, radius, max_nodes);
   tappable_ = ungrouped;
   const size_t nodes = size_t(n_[0]) * size_t(n_[1]) * size_t(n_[2]);
   const int plane = n_[0] * n_[1];

@@ -13,7 +13,7 @@
 // o_face x strength, and buried particles by the full strength.
 //
 //   - The volume: nodes on the lattice of multiples of `cell` = radius / 2 (wider by factors of
-//     kOcclusionCellWidening where that would exceed kMaxOcclusionNodes nodes), over the global
+//     kOcclusionCellWidening where that would exceed `max_nodes` nodes), over the global
 //     particle bounds. So the nodes stay put while the bounds move a little from step to step,
 //     and the deposit can share the bricks' refit's read of the positions (take_tapped()).
 //     Every rank deposits its drawn particles (kept by the mask, not cut away by an enabled cut
@@ -61,13 +61,11 @@ struct NodeGrid;
 struct NodeWeights;
 }  // namespace object_occlusion_detail
 
-// Nodes of the volume at most (2^18 x 8 bytes: the 2 MiB every rank sums and smooths).
-inline constexpr int64_t kMaxOcclusionNodes = int64_t(1) << 18;
-// Node spacing, in ambient-occlusion radii (before kMaxOcclusionNodes widens it).
+// Node spacing, in ambient-occlusion radii (before `max_nodes` widens it).
 inline constexpr double kOcclusionCellPerRadius = 0.5;
 // The share of particles whose surroundings are at most as dense as the bulk.
 inline constexpr double kOcclusionBulkQuantile = 0.8;
-// The factor the node spacing grows by, as often as needed, to keep within kMaxOcclusionNodes:
+// The factor the node spacing grows by, as often as needed, to keep within `max_nodes`:
 // 2^(1/16).
 inline constexpr double kOcclusionCellWidening = 1.0442737824274138;
 
@@ -76,9 +74,11 @@ class OcclusionVolume {
   // Collective over comm: deposits this rank's drawn particles and sums the deposits over
   // ranks. `radius`: the ambient-occlusion radius (> 0). `threads`: how many threads (this one
   // included) may share the deposit, each on quads of its own that are then added up (integers:
-  // the same volume at any count). Returns OK or kMpi (the same on every rank).
+  // the same volume at any count). `max_nodes`: the most nodes (at least 8; the spacing widens
+  // past radius / 2 to keep within it). Returns OK or kMpi (the same on every rank).
   Status build(MPI_Comm comm, const ParticleArrays &particles, const Extent &global,
-               const std::vector<CutPlane> &cuts, double radius, double strength, int threads = 1);
+               const std::vector<CutPlane> &cuts, double radius, double strength, int threads = 1,
+               int64_t max_nodes = kDefaultAoMaxNodes);
 
   // Sharing the bricks' refit's read of the positions, for one step. arm_tap(): true when the
   // last build drew its arrays' particles without a group (all of them, or all its cutting planes
@@ -131,7 +131,7 @@ class OcclusionVolume {
     double origin[3] = {0.0, 0.0, 0.0};
     int n[3] = {2, 2, 2};
   };
-  void set_grid(const Extent &global, double radius);
+  void set_grid(const Extent &global, double radius, int64_t max_nodes);
   QuadGrid volume_grid() const;
   // Where the volume's node 0 lies in quad_grid_, per axis (>= 0 whenever the quads are read).
   std::array<int, 3> quad_offset() const;

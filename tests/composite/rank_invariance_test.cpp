@@ -422,6 +422,10 @@ TEST(RankInvariance, SameImagesOnATransparentBackground) {
 TEST(RankInvariance, SameImagesWithObjectAmbientOcclusion) {
   expect_rank_invariant(make_particles(1500), "object_ao", "",
                         "    ambient_occlusion: {method: object, radius: 1.5, strength: 0.8}\n");
+  // Nodes farther apart than radius / 2 (about 2200 at it).
+  expect_rank_invariant(make_particles(1500), "object_ao_max_nodes", "",
+                        "    ambient_occlusion: {method: object, radius: 1.5, strength: 0.8, "
+                        "max_nodes: 256}\n");
 }
 
 // style: density sums fixed-point footprints over the ranks: every coloring, both projections,

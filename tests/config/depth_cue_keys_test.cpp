@@ -38,6 +38,8 @@ TEST(DepthCueKeys, BareSectionsTurnTheCuesOnWithDefaults) {
   EXPECT_FALSE(s.ambient_occlusion.radius.has_value());
   EXPECT_EQ(s.ambient_occlusion.samples, 16);
   EXPECT_EQ(s.ambient_occlusion.resolution, AoResolution::kHalf);
+  EXPECT_EQ(s.ambient_occlusion.max_nodes, kDefaultAoMaxNodes);
+  EXPECT_EQ(kDefaultAoMaxNodes, 262144);
   EXPECT_TRUE(s.outline.enabled);
   EXPECT_EQ(s.outline.width, 1);
   EXPECT_EQ(s.outline.depth_threshold, 1.0);
@@ -50,7 +52,7 @@ TEST(DepthCueKeys, GivenValuesAreRead) {
   ASSERT_OK(
       load_config("scenes:\n"
                   "  - ambient_occlusion: {method: screen, radius: 2.5, samples: 32, "
-                  "strength: 0.25, resolution: full}\n"
+                  "strength: 0.25, resolution: full, max_nodes: 1000000}\n"
                   "    outline: {width: 3, color: [1, 0, 0], depth_threshold: 0.5}\n"
                   "    depth_cue: {start: 5, end: 9, color: [0, 0, 1]}\n",
                   &c));
@@ -59,6 +61,7 @@ TEST(DepthCueKeys, GivenValuesAreRead) {
   EXPECT_EQ(s.ambient_occlusion.samples, 32);
   EXPECT_EQ(s.ambient_occlusion.strength, 0.25);
   EXPECT_EQ(s.ambient_occlusion.resolution, AoResolution::kFull);
+  EXPECT_EQ(s.ambient_occlusion.max_nodes, 1000000);
   EXPECT_EQ(s.outline.width, 3);
   EXPECT_EQ(s.outline.color, (std::array<double, 3>{1, 0, 0}));
   EXPECT_EQ(s.outline.depth_threshold, 0.5);
@@ -82,6 +85,14 @@ TEST(DepthCueKeys, BadValuesNameKeyLineAndRange) {
                       {"scenes[0].ambient_occlusion.method", "line 2", "screen", "object"});
   expect_config_error("scenes:\n  - ambient_occlusion: {resolution: quarter}\n",
                       {"scenes[0].ambient_occlusion.resolution", "line 2", "half", "full"});
+  expect_config_error("scenes:\n  - ambient_occlusion: {method: object, max_nodes: 63}\n",
+                      {"scenes[0].ambient_occlusion.max_nodes", "line 2", "64", "4194304"});
+  expect_config_error("scenes:\n  - ambient_occlusion: {max_nodes: 4194305}\n",
+                      {"scenes[0].ambient_occlusion.max_nodes", "4194304"});
+  expect_config_error("scenes:\n  - ambient_occlusion: {max_nodes: 1.5e5}\n",
+                      {"scenes[0].ambient_occlusion.max_nodes", "integer"});
+  expect_config_error("scenes:\n  - ambient_occlusion: {max_nodes: lots}\n",
+                      {"scenes[0].ambient_occlusion.max_nodes"});
   expect_config_error("scenes:\n  - outline: {width: 0}\n",
                       {"scenes[0].outline.width", "line 2", "16"});
   expect_config_error("scenes:\n  - outline: {depth_threshold: -1}\n",

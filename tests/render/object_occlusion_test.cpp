@@ -530,6 +530,57 @@ TEST(ObjectOcclusion, EveryRankHasTheOneRankVolumeForEverySplit) {
   }
 }
 
+// max_nodes: the spacing widens past radius / 2 in steps of kOcclusionCellWidening, as little as
+// keeps the nodes within it; a cap the nominal grid fits leaves the volume as it is; and a
+// widened volume is still the one-rank volume for every split.
+TEST(ObjectOcclusion, MaxNodesWidensTheSpacingAsLittleAsItMust) {
+  constexpr int kCount = 40000;
+  Cloud all;
+  make_cloud(
+      kCount, [](int, const double *) { return true; }, &all);
+  const Extent global = cloud_extent();
+  const auto nodes = [](const OcclusionVolume &v) {
+    const std::array<int, 3> n = v.node_counts();
+    return int64_t(n[0]) * n[1] * n[2];
+  };
+  OcclusionVolume nominal, fits, coarse, coarser;
+  ASSERT_OK(nominal.build(MPI_COMM_SELF, all.arrays, global, {}, kRadius, kStrength));
+  EXPECT_EQ(nominal.node_spacing(), kRadius * kOcclusionCellPerRadius);
+  ASSERT_OK(
+      fits.build(MPI_COMM_SELF, all.arrays, global, {}, kRadius, kStrength, 1, nodes(nominal)));
+  EXPECT_EQ(fits.node_spacing(), nominal.node_spacing());
+  EXPECT_EQ(fits.enclosure_nodes(), nominal.enclosure_nodes());
+  ASSERT_OK(coarse.build(MPI_COMM_SELF, all.arrays, global, {}, kRadius, kStrength, 1,
+                         nodes(nominal) - 1));
+  EXPECT_LT(nodes(coarse), nodes(nominal));
+  EXPECT_NEAR(coarse.node_spacing(), nominal.node_spacing() * kOcclusionCellWidening, 1e-12);
+  ASSERT_OK(coarser.build(MPI_COMM_SELF, all.arrays, global, {}, kRadius, kStrength, 1, 4096));
+  EXPECT_LE(nodes(coarser), 4096);
+  // A whole number of widening steps, at least one.
+  const double steps =
+      std::log(coarser.node_spacing() / nominal.node_spacing()) / std::log(kOcclusionCellWidening);
+  EXPECT_NEAR(steps, std::round(steps), 1e-6);
+  EXPECT_GT(steps, 1.0);
+  ASSERT_FALSE(coarser.enclosure_nodes().empty());
+  const int rank = world_rank(), ranks = world_size();
+  for (const int split : {0, 1}) {
+    Cloud mine;
+    make_cloud(
+        kCount,
+        [&](int k, const double *x) {
+          if (split == 0) return k % ranks == rank;
+          if (!std::isfinite(x[2])) return rank == 0;
+          return std::clamp(int(x[2] / 35.0 * ranks), 0, ranks - 1) == rank;
+        },
+        &mine);
+    OcclusionVolume v;
+    ASSERT_OK(v.build(MPI_COMM_WORLD, mine.arrays, global, {}, kRadius, kStrength, 1, 4096));
+    EXPECT_EQ(v.node_counts(), coarser.node_counts()) << "split " << split;
+    EXPECT_EQ(v.bulk_per_cell(), coarser.bulk_per_cell()) << "split " << split;
+    ASSERT_EQ(v.enclosure_nodes(), coarser.enclosure_nodes()) << "split " << split;
+  }
+}
+
 // `threads`: each part deposits on quads of its own, added up after: every count gives the
 // one-thread volume bit for bit - a scattered cloud (300 k particles: parts of at least 64 Ki)
 // with a mask, non-finite particles and a cut, and in place (no mask), in one volume kept over

@@ -34,8 +34,8 @@
 #include "bench_timing.h"
 #include "core/pipeline/render_budget.h"
 #include "core/pipeline/runtime.h"
+#include "frame_file.h"
 #include "image_metrics.h"
-#include "tests/support/image_file.h"
 
 namespace {
 
@@ -66,16 +66,6 @@ std::string rung_keys(const lantern::SceneConfig &full, const lantern::BudgetRun
     k += std::string("    ambient_occlusion: {method: screen, resolution: ") +
          (s.ambient_occlusion.resolution == lantern::AoResolution::kFull ? "full" : "half") + "}\n";
   return k;
-}
-
-lantern::Frame read_frame(const std::string &path) {
-  const lantern::testing::ImagePixels img = lantern::testing::read_image(path);
-  lantern::Frame f(img.width, img.height);
-  for (size_t i = 0; i < f.pixel_count(); ++i)
-    for (int c = 0; c < 4; ++c)
-      f.rgba[4 * i + size_t(c)] =
-          c < img.channels ? img.pixels[size_t(img.channels) * i + size_t(c)] : 255;
-  return f;
 }
 
 const char kFullKeys[] =
@@ -170,7 +160,7 @@ int main(int argc, char **argv) {
     const auto image = [&](const std::string &scene, int step) {
       char file[64];
       std::snprintf(file, sizeof file, "_%04d.png", step);
-      return read_frame(out + "/" + bs.name + "_" + scene + file);
+      return lantern::bench::read_frame(out + "/" + bs.name + "_" + scene + file);
     };
     const lantern::Frame reference = image("rung0", steps - 1);
     std::printf("%s (%s), %dx%d, %d ranks, %d steps; full quality: samples 4, screen AO full\n",

@@ -4,6 +4,7 @@
 //
 //   mpiexec -n 2 lantern-bench-cues [--scenes fcc1m,void_impact] [--size 1024] [--steps 5]
 //                                   [--md-cells 30] [--out DIR] [--kernels REPS]
+//                                   [--object-nodes N,N,...]
 //
 // Per scene it prints the median over steps of the pipeline's own per-scene time (stats "ms.total",
 // rank 0) of each variant and its ratio to the plain one (an unreported copy of the plain scene
@@ -16,6 +17,11 @@
 // inflate), with the images of the half-resolution kernels compared against the full-resolution
 // one (PSNR, SSIM; the plain frame's too, for how much the cue changes the image at all); and the
 // object-space AO density volume of the whole scene against the CPU raster pass, alike.
+//
+// --object-nodes adds object AO variants with `max_nodes` at each count, in the same steps, and
+// compares each one's last image with that of the largest count (the finest volume: give one at
+// which the nodes are radius / 2 apart for the method's own reference): PSNR, SSIM and differing
+// pixels against the time of its stage.
 #include <mpi.h>
 
 #include <algorithm>
@@ -44,6 +50,7 @@
 #include "core/render/cpu_sphere_pass.h"
 #include "core/render/object_occlusion.h"
 #include "core/render/sphere_instances.h"
+#include "frame_file.h"
 #include "image_metrics.h"
 
 namespace {
@@ -51,13 +58,13 @@ namespace {
 using lantern::bench::BenchScene;
 
 struct Variant {
-  const char *name;
-  const char *keys;  // YAML added to the scene
+  std::string name;
+  std::string keys;  // YAML added to the scene
 };
 
 // The first scene of a step also builds the step's bricks (the other scenes reuse them): a
 // copy of the plain scene goes first to take that cost, and is not reported.
-const Variant kVariants[] = {
+const std::vector<Variant> kVariants = {
     {"bricks", ""},
     {"plain", ""},
     {"screen_ao", "    ambient_occlusion: {method: screen}\n"},
@@ -208,6 +215,7 @@ int main(int argc, char **argv) {
   MPI_Comm_size(MPI_COMM_WORLD, &ranks);
   std::vector<std::string> scenes{"fcc1m", "void_impact"};
   int size = 1024, steps = 5, md_cells = 30, kernel_reps = 0;
+  std::vector<int64_t> object_nodes;
   std::string out = "/tmp/lantern_bench_cues";
   for (int i = 1; i + 1 < argc; i += 2) {
     const std::string a = argv[i], v = argv[i + 1];
@@ -225,8 +233,17 @@ int main(int argc, char **argv) {
       out = v;
     } else if (a == "--kernels") {
       kernel_reps = std::stoi(v);
+    } else if (a == "--object-nodes") {
+      std::stringstream list(v);
+      for (std::string n; std::getline(list, n, ',');) object_nodes.push_back(std::stoll(n));
+      std::sort(object_nodes.begin(), object_nodes.end());
     }
   }
+  std::vector<Variant> variants = kVariants;
+  for (const int64_t n : object_nodes)
+    variants.push_back(
+        {"object_ao_n" + std::to_string(n),
+         "    ambient_occlusion: {method: object, max_nodes: " + std::to_string(n) + "}\n"});
   if (rank == 0) std::system(("mkdir -p '" + out + "'").c_str());
   MPI_Barrier(MPI_COMM_WORLD);
   int failures = 0;
@@ -253,7 +270,7 @@ int main(int argc, char **argv) {
     const std::string stats = out + "/" + name + "_stats.jsonl";
     if (rank == 0) std::remove(stats.c_str());
     std::string yaml = "stats: " + stats + "\nscenes:\n";
-    for (const Variant &v : kVariants) yaml += scene_yaml(bs, v, out);
+    for (const Variant &v : variants) yaml += scene_yaml(bs, v, out);
     std::unique_ptr<lantern::Runtime> rt;
     lantern::ParticleDescription d;
     d.count = int64_t(bs.type.size());
@@ -286,12 +303,32 @@ int main(int argc, char **argv) {
     std::printf("%s (%s), %dx%d, %d ranks, median of %d steps:\n", name.c_str(), bs.note.c_str(),
                 size, size, ranks, steps);
     const double plain = median(ms["plain"]);
-    for (const Variant &v : kVariants)
-      if (std::string(v.name) != "bricks")
+    for (const Variant &v : variants)
+      if (v.name != "bricks")
         std::printf(
             "  %-14s %8.1f ms  x%.3f   (cue stage %6.1f ms = %5.1f%% of plain; band %4.2f ms)\n",
-            v.name, median(ms[v.name]), median(ms[v.name]) / plain, median(cues[v.name]),
+            v.name.c_str(), median(ms[v.name]), median(ms[v.name]) / plain, median(cues[v.name]),
             100.0 * median(cues[v.name]) / plain, median(band[v.name]));
+    if (object_nodes.empty()) continue;
+    // Each object AO volume's last image against the finest one's.
+    char file[32];
+    std::snprintf(file, sizeof file, "_%04d.png", steps);
+    const auto image = [&](int64_t n) {
+      return lantern::bench::read_frame(out + "/" + bs.name + "_object_ao_n" + std::to_string(n) +
+                                        file);
+    };
+    const lantern::Frame finest = image(object_nodes.back());
+    std::printf("  object AO images at step %d against max_nodes %lld's:\n", steps,
+                static_cast<long long>(object_nodes.back()));
+    for (const int64_t n : object_nodes) {
+      const lantern::bench::ImageError e = lantern::bench::compare_frames(finest, image(n));
+      const std::string name = "object_ao_n" + std::to_string(n);
+      std::printf(
+          "    max_nodes %8lld: cue stage %6.1f ms (%5.1f%% of plain)  PSNR %6.2f dB  SSIM "
+          "%.4f  %6.2f%% of the pixels differ\n",
+          static_cast<long long>(n), median(cues[name]), 100.0 * median(cues[name]) / plain, e.psnr,
+          e.ssim, 100.0 * double(e.differing_pixels) / double(finest.pixel_count()));
+    }
   }
   MPI_Finalize();
   return failures == 0 ? 0 : 1;
