@@ -36,7 +36,8 @@ TEST(YamlGuard, AStrayCommaIsAnErrorNotAnEndlessLoop) {
   }
   // The minimised input the fuzzer found.
   const Status s = load_within_seconds(
-      ", height: 8,(camera: {position: [0, 0, 9], look_at: [0, 0, 0]}}\n M\xff\xff0], x: 1}]\n");
+      ", height: 8,(camera: {position: [0, 0, 9], look_at: [0, 0, 0]}}\n M\xff\xff"
+      "0], x: 1}]\n");  // split: "\xff0" would be one escape, out of range
   EXPECT_EQ(s.code, StatusCode::kConfig);
   // Commas inside scalars and flow collections are fine.
   const Status fine =
