@@ -28,7 +28,15 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 //   samples 16 -> 4    0.43 (fcc 1 M, 2 ranks) 35.1 dB   same, 4 against 64 (3.91x -> 1.68x)
 //   AO half -> off     0.89 (0.89 0.88 1.07)   32.5 dB   lantern-bench-cues --kernels 3: plain
 //                                                        against full AO 32.8 / 32.5 dB
+//   object AO nodes    0.96 (fcc 1 M)          39.0 dB   lantern-bench-cues --object-nodes
+//   -> half                                              131072,262144: half the nodes against
+//                                                        2^18 39.0 / 40.9 dB (fcc 1 M, void_impact;
+//                                                        the 1 M-atom LJ melt in situ 36.8); cost:
+//                                                        the stage 3.1 -> 2.1 ms of a 25 ms frame
+//                                                        (void_impact's volume is not capped: 1.0)
 //   samples 4 -> 1     0.44 (0.44 0.38 0.60)   25.0 dB   lantern-bench --samples: 1 against 64
+//   object AO off      0.89 (0.90 0.92)        23.4 dB   lantern-bench-cues: plain against object
+//                                                        AO 26.8 / 23.4 dB (fcc 1 M, void_impact)
 //   lod 1 -> 0.5       0.82 (0.82 0.88 0.82)   16.6 dB   lantern-bench --opaque-lod, CPU raster
 //                                                        + hzb: fcc 10 M 16.6, void_impact 19.0
 //   lod 0.5 -> 0.25    0.96 (0.96 1.01 0.90)   15.7 dB   same: 15.7 / 18.2 dB
@@ -47,9 +55,12 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 // 5.6e-4 for 10-14 ms; 4 -> 1 samples about 3e-3 for 43-88 ms (on void_impact, per millisecond,
 // slightly cheaper than AO off; on fcc 1 M dearer; AO off is kept first as the smaller error);
 // level of detail, whose uniform prefix loses the pixels (15-19 dB, SSIM 0.5-0.7), 2e-2 for 0-18 %
-// a step, comes last.
+// a step, comes last. Object AO on half the nodes adds 1.3e-4 for about 4 % (before 4 -> 1
+// samples), object AO off 4.6e-3 for about 11 % (after them, before level of detail).
 constexpr double kAoHalfCost = 0.69, kAoHalfPsnr = 39.2;
 constexpr double kAoOffCost = 0.89, kAoOffPsnr = 32.5;
+constexpr double kObjectAoHalfNodesCost = 0.96, kObjectAoHalfNodesPsnr = 39.0;
+constexpr double kObjectAoOffCost = 0.89, kObjectAoOffPsnr = 23.4;
 struct SampleStep {
   int from, to;
   double cost, psnr_db;
@@ -80,6 +91,16 @@ double rung_psnr(double ao_psnr, double samples_psnr, double lod_psnr) {
 bool screen_ao(const SceneConfig &scene) {
   return scene.ambient_occlusion.enabled &&
          scene.ambient_occlusion.method == AmbientOcclusionMethod::kScreen;
+}
+
+bool object_ao(const SceneConfig &scene) {
+  return scene.ambient_occlusion.enabled &&
+         scene.ambient_occlusion.method == AmbientOcclusionMethod::kObject;
+}
+
+// The configured max_nodes halved, within the key's range.
+int64_t half_nodes(const SceneConfig &scene) {
+  return std::max<int64_t>(64, scene.ambient_occlusion.max_nodes / 2);
 }
 
 double clamp_ms(double ms) {
@@ -118,7 +139,17 @@ std::vector<BudgetRung> budget_ladder(const SceneConfig &scene) {
     ao_psnr = kAoOffPsnr;
     push("ao off", kAoOffCost);
   }
+  if (object_ao(scene) && half_nodes(scene) < scene.ambient_occlusion.max_nodes) {
+    r.ao = BudgetAo::kHalf;
+    ao_psnr = kObjectAoHalfNodesPsnr;
+    push("ao half nodes", kObjectAoHalfNodesCost);
+  }
   fewer_samples(kLastSampleStep);
+  if (object_ao(scene)) {
+    r.ao = BudgetAo::kOff;
+    ao_psnr = kObjectAoOffPsnr;
+    push("ao off", kObjectAoOffCost);
+  }
   for (const LodStep &l : kLodSteps)
     if (l.fraction < r.lod_fraction) {
       r.lod_fraction = l.fraction;
@@ -137,10 +168,17 @@ SceneConfig scene_at_rung(const SceneConfig &scene, const BudgetRung &rung) {
   if (screen_ao(scene) && rung.ao == BudgetAo::kHalf)
     s.ambient_occlusion.resolution = AoResolution::kHalf;
   if (screen_ao(scene) && rung.ao == BudgetAo::kOff) s.ambient_occlusion.enabled = false;
+  if (object_ao(scene) && rung.ao == BudgetAo::kHalf)
+    s.ambient_occlusion.max_nodes = half_nodes(scene);
+  if (object_ao(scene) && rung.ao == BudgetAo::kOff) s.ambient_occlusion.enabled = false;
   return s;
 }
 
 std::string budget_ao_name(const SceneConfig &scene, const BudgetRung &rung) {
+  if (object_ao(scene)) {
+    if (rung.ao == BudgetAo::kOff) return "off";
+    return rung.ao == BudgetAo::kHalf ? "object_half_nodes" : "object";
+  }
   if (!screen_ao(scene)) return "none";
   if (rung.ao == BudgetAo::kOff) return "off";
   if (rung.ao == BudgetAo::kHalf) return "half";

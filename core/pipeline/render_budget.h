@@ -22,7 +22,8 @@
 
 namespace lantern {
 
-// How a rung draws the scene's screen-space ambient occlusion.
+// How a rung draws the scene's ambient occlusion: as configured, cheaper (screen: at half
+// resolution; object: on half the nodes, `max_nodes` / 2), or not at all.
 enum class BudgetAo { kAsConfigured, kHalf, kOff };
 
 // One setting of the ladder, and what it gives up against rung 0.
@@ -50,7 +51,8 @@ std::vector<BudgetRung> budget_ladder(const SceneConfig &scene);
 // The scene as `rung` draws it (rung 0: the scene unchanged).
 SceneConfig scene_at_rung(const SceneConfig &scene, const BudgetRung &rung);
 
-// "full" | "half" | "off" | "none": the screen ambient occlusion the rung draws for this scene.
+// The ambient occlusion the rung draws for this scene: screen "full" | "half", object "object" |
+// "object_half_nodes", either "off"; "none" where the scene has none.
 std::string budget_ao_name(const SceneConfig &scene, const BudgetRung &rung);
 
 // Picks rungs from measured costs. Costs are milliseconds of a whole scene (the slowest rank's).

@@ -161,5 +161,32 @@ TEST(Budget, APercentOfTheRunApplesFromTheThirdStep) {
   EXPECT_EQ(stats[2]["note"], "budget cannot be met: rendering at the cheapest setting");
 }
 
+// Object-space occlusion on the ladder: the cheapest rung draws without it (and with one sample,
+// lod 0.02), on every rank the bytes of those settings; the stats name it.
+TEST(Budget, ABudgetNothingMeetsDropsObjectOcclusionOnEveryRank) {
+  SharedScratchDir dir("/tmp/lantern_budget_XXXXXX");
+  ASSERT_FALSE(dir.path().empty());
+  // 4096 nodes: fewer than the lattice's nominal spacing needs, so half of them differ.
+  const std::string object =
+      "    samples: 4\n    ambient_occlusion: {method: object, strength: 0.9, max_nodes: 4096}\n";
+  render(config(dir.path(), "object", object));
+  render(config(dir.path(), "object_tiny", object + "    budget_ms: 1.0e-6\n"));
+  render(config(dir.path(), "object_cheapest", "    lod: {fraction: 0.02}\n"));
+  if (world_rank() != 0) return;
+  EXPECT_TRUE(image(dir.path(), "object", 0) == image(dir.path(), "object_tiny", 0));
+  const auto cheapest = image(dir.path(), "object_cheapest", 1);
+  ASSERT_FALSE(cheapest.empty());
+  EXPECT_TRUE(cheapest == image(dir.path(), "object_tiny", 1));
+  const std::vector<nlohmann::json> stats = budget_stats(dir.path(), "object_tiny");
+  ASSERT_EQ(stats.size(), size_t(kSteps));
+  EXPECT_EQ(stats[0]["ambient_occlusion"], "object");
+  EXPECT_EQ(stats[0]["rungs"], 9) << stats[0];
+  const nlohmann::json &b = stats[1];
+  EXPECT_EQ(b["gives_up"], "lod 0.02") << b;
+  EXPECT_EQ(b["ambient_occlusion"], "off");
+  EXPECT_EQ(b["samples"], 1);
+  EXPECT_EQ(b["unmet"], true);
+}
+
 }  // namespace
 }  // namespace lantern::testing

@@ -253,17 +253,47 @@ TEST(BudgetLadder, GivesUpInTheMeasuredOrderAndRungZeroIsTheScene) {
   EXPECT_FALSE(bottom.ambient_occlusion.enabled);
   EXPECT_EQ(budget_ao_name(scene, ladder.back()), "off");
 
-  // A plain scene has only the level of detail to give up; one already at lod 0.3 less of it;
-  // object-space occlusion is kept.
+  // A plain scene has only the level of detail to give up; one already at lod 0.3 less of it.
   SceneConfig plain;
   plain.lod.fraction = 0.3;
-  plain.ambient_occlusion.enabled = true;
-  plain.ambient_occlusion.method = AmbientOcclusionMethod::kObject;
   const std::vector<BudgetRung> short_ladder = budget_ladder(plain);
   ASSERT_EQ(short_ladder.size(), 5u);
   EXPECT_EQ(short_ladder[1].gives_up, "lod 0.25");
   EXPECT_EQ(budget_ao_name(plain, short_ladder[4]), "none");
-  EXPECT_TRUE(scene_at_rung(plain, short_ladder[4]).ambient_occlusion.enabled);
+  EXPECT_FALSE(scene_at_rung(plain, short_ladder[4]).ambient_occlusion.enabled);
+}
+
+// Object-space occlusion: half the nodes before one sample instead of four (less error per
+// millisecond saved), off after it and before the level of detail.
+TEST(BudgetLadder, ObjectOcclusionGivesUpHalfItsNodesThenItself) {
+  SceneConfig scene;
+  scene.samples = 4;
+  scene.lod.fraction = 0.3;
+  scene.ambient_occlusion.enabled = true;
+  scene.ambient_occlusion.method = AmbientOcclusionMethod::kObject;
+  scene.ambient_occlusion.max_nodes = 100000;
+  const std::vector<BudgetRung> ladder = budget_ladder(scene);
+  std::vector<std::string> steps;
+  for (const BudgetRung &r : ladder) steps.push_back(r.gives_up);
+  EXPECT_EQ(steps, (std::vector<std::string>{"", "ao half nodes", "samples 1", "ao off", "lod 0.25",
+                                             "lod 0.1", "lod 0.05", "lod 0.02"}));
+  for (size_t i = 1; i < ladder.size(); ++i) {
+    EXPECT_LT(ladder[i].psnr_db, ladder[i - 1].psnr_db) << i;
+    EXPECT_LT(ladder[i].step_cost, 1.0) << i;
+  }
+  const std::string names[] = {"object", "object_half_nodes", "object_half_nodes", "off"};
+  const int64_t nodes[] = {100000, 50000, 50000, 100000};
+  for (size_t i = 0; i < 4; ++i) {
+    EXPECT_EQ(budget_ao_name(scene, ladder[i]), names[i]) << i;
+    const SceneConfig s = scene_at_rung(scene, ladder[i]);
+    EXPECT_EQ(s.ambient_occlusion.enabled, i < 3) << i;
+    EXPECT_EQ(s.ambient_occlusion.max_nodes, nodes[i]) << i;
+    EXPECT_EQ(s.ambient_occlusion.method, AmbientOcclusionMethod::kObject) << i;
+  }
+  EXPECT_EQ(scene_at_rung(scene, ladder[2]).samples, 1);
+  // At the smallest max_nodes there is no half to give up.
+  scene.ambient_occlusion.max_nodes = 64;
+  EXPECT_EQ(budget_ladder(scene)[1].gives_up, "samples 1");
 }
 
 TEST(BudgetKeys, AreReadAndBadValuesNameTheKey) {
