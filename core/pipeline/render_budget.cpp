@@ -28,13 +28,13 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 //   samples 16 -> 4    0.43 (fcc 1 M, 2 ranks) 35.1 dB   same, 4 against 64 (3.91x -> 1.68x)
 //   AO half -> off     0.89 (0.89 0.88 1.07)   32.5 dB   lantern-bench-cues --kernels 3: plain
 //                                                        against full AO 32.8 / 32.5 dB
+//   samples 4 -> 1     0.44 (0.44 0.38 0.60)   25.0 dB   lantern-bench --samples: 1 against 64
 //   object AO nodes    0.96 (fcc 1 M)          39.0 dB   lantern-bench-cues --object-nodes
 //   -> half                                              131072,262144: half the nodes against
 //                                                        2^18 39.0 / 40.9 dB (fcc 1 M, void_impact;
 //                                                        the 1 M-atom LJ melt in situ 36.8); cost:
 //                                                        the stage 3.1 -> 2.1 ms of a 25 ms frame
 //                                                        (void_impact's volume is not capped: 1.0)
-//   samples 4 -> 1     0.44 (0.44 0.38 0.60)   25.0 dB   lantern-bench --samples: 1 against 64
 //   object AO off      0.89 (0.90 0.92)        23.4 dB   lantern-bench-cues: plain against object
 //                                                        AO 26.8 / 23.4 dB (fcc 1 M, void_impact)
 //   lod 1 -> 0.5       0.82 (0.82 0.88 0.82)   16.6 dB   lantern-bench --opaque-lod, CPU raster
@@ -55,8 +55,10 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 // 5.6e-4 for 10-14 ms; 4 -> 1 samples about 3e-3 for 43-88 ms (on void_impact, per millisecond,
 // slightly cheaper than AO off; on fcc 1 M dearer; AO off is kept first as the smaller error);
 // level of detail, whose uniform prefix loses the pixels (15-19 dB, SSIM 0.5-0.7), 2e-2 for 0-18 %
-// a step, comes last. Object AO on half the nodes adds 1.3e-4 for about 4 % (before 4 -> 1
-// samples), object AO off 4.6e-3 for about 11 % (after them, before level of detail).
+// a step, comes last. Object AO on half the nodes adds 1.3e-4 for about 1 ms, as 4 -> 1 samples
+// add per millisecond, so it comes after them: its cost was measured on one-sample frames (on a
+// 4-sample fcc 1 M frame it saves 1 % and is judged not paying); object AO off adds 4.6e-3 for
+// about 11 % of the frame, after both and before level of detail.
 constexpr double kAoHalfCost = 0.69, kAoHalfPsnr = 39.2;
 constexpr double kAoOffCost = 0.89, kAoOffPsnr = 32.5;
 constexpr double kObjectAoHalfNodesCost = 0.96, kObjectAoHalfNodesPsnr = 39.0;
@@ -139,12 +141,12 @@ std::vector<BudgetRung> budget_ladder(const SceneConfig &scene) {
     ao_psnr = kAoOffPsnr;
     push("ao off", kAoOffCost);
   }
+  fewer_samples(kLastSampleStep);
   if (object_ao(scene) && half_nodes(scene) < scene.ambient_occlusion.max_nodes) {
     r.ao = BudgetAo::kHalf;
     ao_psnr = kObjectAoHalfNodesPsnr;
     push("ao half nodes", kObjectAoHalfNodesCost);
   }
-  fewer_samples(kLastSampleStep);
   if (object_ao(scene)) {
     r.ao = BudgetAo::kOff;
     ao_psnr = kObjectAoOffPsnr;

@@ -263,8 +263,8 @@ TEST(BudgetLadder, GivesUpInTheMeasuredOrderAndRungZeroIsTheScene) {
   EXPECT_FALSE(scene_at_rung(plain, short_ladder[4]).ambient_occlusion.enabled);
 }
 
-// Object-space occlusion: half the nodes before one sample instead of four (less error per
-// millisecond saved), off after it and before the level of detail.
+// Object-space occlusion: half the nodes after one sample instead of four (as much error per
+// millisecond saved, measured on one-sample frames), then off, before the level of detail.
 TEST(BudgetLadder, ObjectOcclusionGivesUpHalfItsNodesThenItself) {
   SceneConfig scene;
   scene.samples = 4;
@@ -275,14 +275,14 @@ TEST(BudgetLadder, ObjectOcclusionGivesUpHalfItsNodesThenItself) {
   const std::vector<BudgetRung> ladder = budget_ladder(scene);
   std::vector<std::string> steps;
   for (const BudgetRung &r : ladder) steps.push_back(r.gives_up);
-  EXPECT_EQ(steps, (std::vector<std::string>{"", "ao half nodes", "samples 1", "ao off", "lod 0.25",
+  EXPECT_EQ(steps, (std::vector<std::string>{"", "samples 1", "ao half nodes", "ao off", "lod 0.25",
                                              "lod 0.1", "lod 0.05", "lod 0.02"}));
   for (size_t i = 1; i < ladder.size(); ++i) {
     EXPECT_LT(ladder[i].psnr_db, ladder[i - 1].psnr_db) << i;
     EXPECT_LT(ladder[i].step_cost, 1.0) << i;
   }
-  const std::string names[] = {"object", "object_half_nodes", "object_half_nodes", "off"};
-  const int64_t nodes[] = {100000, 50000, 50000, 100000};
+  const std::string names[] = {"object", "object", "object_half_nodes", "off"};
+  const int64_t nodes[] = {100000, 100000, 50000, 100000};
   for (size_t i = 0; i < 4; ++i) {
     EXPECT_EQ(budget_ao_name(scene, ladder[i]), names[i]) << i;
     const SceneConfig s = scene_at_rung(scene, ladder[i]);
@@ -290,10 +290,10 @@ TEST(BudgetLadder, ObjectOcclusionGivesUpHalfItsNodesThenItself) {
     EXPECT_EQ(s.ambient_occlusion.max_nodes, nodes[i]) << i;
     EXPECT_EQ(s.ambient_occlusion.method, AmbientOcclusionMethod::kObject) << i;
   }
-  EXPECT_EQ(scene_at_rung(scene, ladder[2]).samples, 1);
+  EXPECT_EQ(scene_at_rung(scene, ladder[1]).samples, 1);
   // At the smallest max_nodes there is no half to give up.
   scene.ambient_occlusion.max_nodes = 64;
-  EXPECT_EQ(budget_ladder(scene)[1].gives_up, "samples 1");
+  EXPECT_EQ(budget_ladder(scene)[2].gives_up, "ao off");
 }
 
 TEST(BudgetKeys, AreReadAndBadValuesNameTheKey) {

@@ -3,13 +3,15 @@
 //
 //   mpiexec -n 2 lantern-bench-budget [--scenes fcc1m,void_impact] [--size 1024] [--steps 8]
 //                                     [--budgets 10,20,40,80] [--md-cells 30] [--out DIR]
+//                                     [--ao screen|object]
 //
 // Full quality is the bench scene with `samples: 4` and screen ambient occlusion at
-// `resolution: full`. One run per scene holds, as scenes of one configuration rendered at every
-// step (so the machine's noise hits them alike): a copy that pays for the step's bricks (not
-// reported), every rung of the budget's ladder written out as plain settings (rung 0 is full
-// quality), and the full-quality scene once per budget with `budget_ms`. The particles do not
-// move, so every step's full-quality frame is the same picture.
+// `resolution: full` (`--ao object`: object-space ambient occlusion at its defaults instead). One
+// run per scene holds, as scenes of one configuration rendered at every step (so the machine's
+// noise hits them alike): a copy that pays for the step's bricks (not reported), every rung of the
+// budget's ladder written out as plain settings (rung 0 is full quality), and the full-quality
+// scene once per budget with `budget_ms`. The particles do not move, so every step's full-quality
+// frame is the same picture.
 //
 // Prints, per scene, the ladder (median ms of each rung over the steps, its cost relative to the
 // rung above against the prior the controller starts from, PSNR and SSIM against full quality
@@ -62,14 +64,15 @@ std::string rung_keys(const lantern::SceneConfig &full, const lantern::BudgetRun
   const lantern::SceneConfig s = lantern::scene_at_rung(full, r);
   std::string k = "    samples: " + std::to_string(s.samples) + "\n";
   if (s.lod.fraction < 1.0) k += "    lod: {fraction: " + number(s.lod.fraction) + "}\n";
-  if (s.ambient_occlusion.enabled)
+  if (s.ambient_occlusion.enabled &&
+      s.ambient_occlusion.method == lantern::AmbientOcclusionMethod::kObject)
+    k += "    ambient_occlusion: {method: object, max_nodes: " +
+         std::to_string(s.ambient_occlusion.max_nodes) + "}\n";
+  else if (s.ambient_occlusion.enabled)
     k += std::string("    ambient_occlusion: {method: screen, resolution: ") +
          (s.ambient_occlusion.resolution == lantern::AoResolution::kFull ? "full" : "half") + "}\n";
   return k;
 }
-
-const char kFullKeys[] =
-    "    samples: 4\n    ambient_occlusion: {method: screen, resolution: full}\n";
 
 }  // namespace
 
@@ -82,6 +85,7 @@ int main(int argc, char **argv) {
   std::vector<double> budgets{10, 20, 40, 80};
   int size = 1024, steps = 8, md_cells = 30;
   std::string out = "/tmp/lantern_bench_budget";
+  bool object_ao = false;
   for (int i = 1; i + 1 < argc; i += 2) {
     const std::string a = argv[i], v = argv[i + 1];
     std::stringstream list(v);
@@ -99,8 +103,14 @@ int main(int argc, char **argv) {
       md_cells = std::stoi(v);
     } else if (a == "--out") {
       out = v;
+    } else if (a == "--ao") {
+      object_ao = v == "object";
     }
   }
+  const std::string full_keys =
+      object_ao ? "    samples: 4\n    ambient_occlusion: {method: object}\n"
+                : "    samples: 4\n    ambient_occlusion: {method: screen, resolution: full}\n";
+  const char *full_name = object_ao ? "object AO" : "screen AO full";
   if (rank == 0) std::system(("mkdir -p '" + out + "'").c_str());
   MPI_Barrier(MPI_COMM_WORLD);
   int failures = 0;
@@ -118,7 +128,10 @@ int main(int argc, char **argv) {
     lantern::SceneConfig full = bs.config;
     full.samples = 4;
     full.ambient_occlusion.enabled = true;
-    full.ambient_occlusion.resolution = lantern::AoResolution::kFull;
+    if (object_ao)
+      full.ambient_occlusion.method = lantern::AmbientOcclusionMethod::kObject;
+    else
+      full.ambient_occlusion.resolution = lantern::AoResolution::kFull;
     const std::vector<lantern::BudgetRung> ladder = lantern::budget_ladder(full);
 
     const std::string stats = out + "/" + bs.name + "_stats.jsonl";
@@ -127,8 +140,8 @@ int main(int argc, char **argv) {
     for (size_t r = 0; r < ladder.size(); ++r)
       yaml += scene_yaml(bs, "rung" + std::to_string(r), rung_keys(full, ladder[r]), out);
     for (double b : budgets)
-      yaml += scene_yaml(bs, "budget" + number(b),
-                         std::string(kFullKeys) + "    budget_ms: " + number(b) + "\n", out);
+      yaml += scene_yaml(bs, "budget" + number(b), full_keys + "    budget_ms: " + number(b) + "\n",
+                         out);
     std::unique_ptr<lantern::Runtime> rt;
     lantern::ParticleDescription d;
     d.count = int64_t(bs.type.size());
@@ -163,8 +176,8 @@ int main(int argc, char **argv) {
       return lantern::bench::read_frame(out + "/" + bs.name + "_" + scene + file);
     };
     const lantern::Frame reference = image("rung0", steps - 1);
-    std::printf("%s (%s), %dx%d, %d ranks, %d steps; full quality: samples 4, screen AO full\n",
-                name.c_str(), bs.note.c_str(), size, size, ranks, steps);
+    std::printf("%s (%s), %dx%d, %d ranks, %d steps; full quality: samples 4, %s\n", name.c_str(),
+                bs.note.c_str(), size, size, ranks, steps, full_name);
     std::printf("  ladder (median ms over steps 1..%d; PSNR/SSIM against rung 0):\n", steps - 1);
     std::printf("    %-4s %-10s %5s %7s %5s %-8s %9s %7s %11s\n", "rung", "gives_up", "lod",
                 "samples", "ao", "ms", "cost/up", "prior", "PSNR SSIM  est.");
