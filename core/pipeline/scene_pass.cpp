@@ -211,6 +211,8 @@ Status run_scene_pass(const ScenePassInputs &in, const SceneConfig &scene, Scene
     // With the deposit the refit streamed the positions into (OcclusionVolume::arm_tap).
     stats->cues_ms = ms_since(t0) + occlusion.last_tap_ms();
     stats->ao_deposit = occlusion.last_build_tapped() ? "refit" : "own";
+    stats->ao_nodes = occlusion.node_counts();
+    stats->ao_spacing = occlusion.node_spacing();
   }
 
   // Every stage's values, resolved once from the configuration; the passes hand each its part.

@@ -151,7 +151,11 @@ nlohmann::json SceneStats::counts_json() const {
                       {"sample_frame", {sample_width, sample_height}},
                       {"bricks", bricks}};
   if (overlays_ms) j["ms"]["overlays"] = *overlays_ms;
-  if (!ao_deposit.empty()) j["ao_deposit"] = ao_deposit;
+  if (!ao_deposit.empty()) {
+    j["ao_deposit"] = ao_deposit;
+    j["ao_nodes"] = ao_nodes;
+    j["ao_spacing"] = ao_spacing;
+  }
   return j;
 }
 

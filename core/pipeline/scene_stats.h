@@ -53,6 +53,10 @@ struct SceneStats {
   // refit's read of the positions (OcclusionVolume::arm_tap), "own" where it read them itself;
   // "" without object AO.
   std::string ao_deposit;
+  // Its volume's nodes per axis and their spacing (simulation units): farther apart than radius / 2
+  // where `max_nodes` capped it (with object AO only).
+  std::array<int, 3> ao_nodes{0, 0, 0};
+  double ao_spacing = 0.0;
   double camera_ms = 0, cull_ms = 0, instances_ms = 0, draw_ms = 0, readback_ms = 0,
          composite_ms = 0, write_ms = 0, total_ms = 0;
   // Depth cues: object AO's density volume plus the screen-space cues after

@@ -68,6 +68,15 @@ void render(const std::string &yaml, const std::vector<int> &steps,
   ASSERT_OK(rt->finish());
 }
 
+// The stats line of scene `scene`, step after step.
+std::vector<nlohmann::json> scene_stats(const std::string &path, int scene) {
+  std::vector<nlohmann::json> out;
+  std::istringstream in(read_text(path));
+  for (std::string line; std::getline(in, line);)
+    out.push_back(nlohmann::json::parse(line)["scenes"][size_t(scene)]);
+  return out;
+}
+
 // The stats lines' ao_deposit of scene `scene`, step after step.
 std::vector<std::string> deposits(const std::string &path, int scene) {
   std::vector<std::string> out;
@@ -93,6 +102,17 @@ TEST(ObjectAoSteps, TheRefitsDepositGivesTheImagesOfFreshRuns) {
       EXPECT_EQ(deposits(dir.path() + "/stats_" + run + ".jsonl", scene),
                 (std::vector<std::string>{"own", "refit", "own"}))
           << run << ", scene " << scene;
+  // The volumes' nodes radius / 2 apart (4 x 0.6, 3.5 and 2.5: none capped), on every rank count.
+  const double spacing[] = {1.2, 1.75, 1.25};
+  for (const int scene : {0, 1, 2})
+    for (const nlohmann::json &line : scene_stats(dir.path() + "/stats_steps.jsonl", scene)) {
+      EXPECT_DOUBLE_EQ(line["ao_spacing"].get<double>(), spacing[scene]) << line;
+      ASSERT_EQ(line["ao_nodes"].size(), 3u) << line;
+      int64_t nodes = 1;
+      for (const auto &n : line["ao_nodes"]) nodes *= n.get<int64_t>();
+      EXPECT_GT(nodes, 8);
+      EXPECT_LE(nodes, int64_t(1) << 18);
+    }
   for (const int step : {0, 1, 2}) {
     const std::string s = std::to_string(step);
     for (const int scene : {0, 1, 2})
