@@ -104,6 +104,11 @@ int main(int argc, char **argv) {
     } else if (a == "--out") {
       out = v;
     } else if (a == "--ao") {
+      if (v != "screen" && v != "object") {
+        if (rank == 0) std::fprintf(stderr, "--ao: screen or object, not '%s'\n", v.c_str());
+        MPI_Finalize();
+        return 2;
+      }
       object_ao = v == "object";
     }
   }
