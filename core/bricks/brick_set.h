@@ -65,6 +65,11 @@ class IndexRuns {
   // Run k, unpacked (a search over the blocks: for loops, visit()).
   IndexRun operator[](size_t k) const;
   IndexRun front() const { return (*this)[0]; }
+  // Run k's brick and other brick, without its first index (no search): for looking ahead.
+  void bricks_of(size_t k, uint32_t *brick, uint32_t *other) const {
+    *brick = unpack_brick(packed_[k], kOffsetBits);
+    *other = unpack_brick(packed_[k], kOffsetBits + kBrickBits);
+  }
   IndexRun back() const { return (*this)[size() - 1]; }
   // f(first, stop, brick, other) for runs [begin, end) (each needs its successor: end < size()).
   template <typename F>
