@@ -212,7 +212,7 @@ __attribute__((target("avx2"))) inline void scan_run(const double *xyz, const ui
 }
 
 // The lines of positions kPrefetchAhead bytes past run [first, stop) not asked for yet (those up
-// to *asked), asked into L2. Why: the kernel does about 14 operations a particle, so the
+// to *asked), asked into L2. Why: the kernel does about 19 instructions a particle, so the
 // processor's window holds the loads of only a few lines ahead and a core's share of memory
 // bandwidth went unused: a refit of 5 M fcc particles scanned in 17.8 ms without and 10.9 ms
 // with (one thread, medians of 21 alternated runs; a streaming pass took 9.8 ms), and the same
