@@ -94,6 +94,8 @@ class Tmpfs {
   }
   ~Tmpfs() {
     if (error_.empty()) ::umount2(at_.c_str(), MNT_DETACH);
+    std::error_code ignored;
+    fs::remove(at_, ignored);  // the mount point, empty again: nothing left in the temp dir
   }
   const std::string &error() const { return error_; }
 

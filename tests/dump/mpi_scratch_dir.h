@@ -5,6 +5,7 @@
 #include <mpi.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <string>
 
@@ -20,10 +21,12 @@ class MpiScratchDir {
     std::string path;
     if (rank == 0) {
       const auto *info = ::testing::UnitTest::GetInstance()->current_test_info();
-      path = (std::filesystem::path(::testing::TempDir()) /
-              ("lantern_dump_" + std::string(info->test_suite_name()) + "_" + info->name() + "_" +
-               std::to_string(::getpid())))
-                 .string();
+      // '/' in a parameterised suite's or test's name would make a tree whose parents stay
+      // behind: one directory instead.
+      std::string name = "lantern_dump_" + std::string(info->test_suite_name()) + "_" +
+                         info->name() + "_" + std::to_string(::getpid());
+      std::replace(name.begin(), name.end(), '/', '_');
+      path = (std::filesystem::path(::testing::TempDir()) / name).string();
       std::filesystem::remove_all(path);
       std::filesystem::create_directories(path);
     }
