@@ -43,17 +43,24 @@ bool packed_prefixes_by_four(const MortonQuantiser &q, const double *xyz, int64_
 }
 
 #if LANTERN_MORTON_AVX2
-// Asks for `lines` cache lines of positions kAheadDoubles past p into L2. Why: the kernels below
-// do enough work per particle that the processor's window holds the loads of only a few lines
-// ahead, and a core's share of memory bandwidth went unused (the same as the bricks' streaming
-// scan, index_runs.h). Over 5 M fcc positions in the key pass's chunks, one thread, medians of 15
-// runs, three alternated processes each: AVX-512 21.3 -> 14.6 ms, AVX2 25.1 -> 15.3 ms (a
-// streaming pass about 11 ms). Prefetches do not fault, so lines past the array's end are harmless.
+// Asks for `lines` cache lines of positions kAheadDoubles past p into L2, and those kNearDoubles
+// past p (asked into L2 earlier) into L1. Why: the kernels below do enough work per particle that
+// the processor's window holds the loads of only a few lines ahead, and a core's share of memory
+// bandwidth went unused (the same as the bricks' streaming scan, index_runs.h). Over 5 M fcc
+// positions in the key pass's chunks, one thread, medians of 15 runs, three alternated processes
+// each: AVX-512 21.3 -> 14.6 ms, AVX2 25.1 -> 15.3 ms with the far requests (a streaming pass
+// about 11 ms); the near ones took the key pass of 19 M from 68-72 to 59-62 ms (AVX-512, medians
+// of 7 builds, three alternated processes). Prefetches do not fault, so lines past the array's
+// end are harmless.
 constexpr int64_t kAheadDoubles = 512;  // 4 KiB
+constexpr int64_t kNearDoubles = 128;   // 1 KiB
 inline void ask_ahead(const double *p, int lines) {
   const uintptr_t at = reinterpret_cast<uintptr_t>(p) + kAheadDoubles * sizeof(double);
-  for (int k = 0; k < lines; ++k)
+  const uintptr_t near = reinterpret_cast<uintptr_t>(p) + kNearDoubles * sizeof(double);
+  for (int k = 0; k < lines; ++k) {
     _mm_prefetch(reinterpret_cast<const char *>(at + 64 * k), _MM_HINT_T1);
+    _mm_prefetch(reinterpret_cast<const char *>(near + 64 * k), _MM_HINT_T0);
+  }
 }
 
 // axis() of four values: morton_detail::axis2's steps on four lanes (maxpd and minpd with the
