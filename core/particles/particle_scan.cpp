@@ -2,8 +2,18 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <type_traits>
 #include <vector>
 
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+#define LANTERN_EXTENT_AVX2 1
+#include <immintrin.h>
+#else
+#define LANTERN_EXTENT_AVX2 0
+#endif
+
+#include "core/common/cpu_features.h"
 #include "core/common/rank_threads.h"
 #include "core/particles/typed_access.h"
 
@@ -22,6 +32,68 @@ double first_zero(const Positions &pos, const Keep &keep, int64_t begin, int64_t
   }
   return 0.0;
 }
+
+#if LANTERN_EXTENT_AVX2
+// The bounds and finite count of packed xyz doubles [begin, begin + 8 * blocks), every particle
+// kept, into lo/hi (folded into what they hold) and *finite. Why: the lanes below are scalar
+// minsd/maxsd, six chains a particle and a finiteness test, about three passes' time over the
+// positions (19 M fcc particles, one thread: 110-117 ms against a streaming pass of 36). Here
+// eight particles' 24 coordinates are six vectors (x0 y0 z0 x1 | y1 z1 x2 y2 | z2 x3 y3 z3,
+// twice), each lane always the same axis, so three min and three max accumulators need no
+// shuffle until the end. Min and max give the values a pass in order gives, except which zero
+// (-0 or +0) a bound keeps, which the caller settles (first_zero). A block of eight with a
+// non-finite coordinate is taken one particle at a time, with the scalar path's test. The
+// positions are asked for ahead as in the bricks' streaming scan (index_runs.h).
+__attribute__((target("avx2"))) void scan_packed_blocks(const double *xyz, int64_t begin,
+                                                        int64_t blocks, double lo[3], double hi[3],
+                                                        int64_t *finite) {
+  const double inf = Extent::kInf;
+  __m256d lo_a = _mm256_set1_pd(inf), lo_b = lo_a, lo_c = lo_a;
+  __m256d hi_a = _mm256_set1_pd(-inf), hi_b = hi_a, hi_c = hi_a;
+  int64_t count = 0;
+  for (int64_t k = 0; k < blocks; ++k) {
+    const double *p = xyz + 3 * (begin + 8 * k);
+    for (int line = 0; line < 3; ++line) {
+      _mm_prefetch(reinterpret_cast<const char *>(p) + 4096 + 64 * line, _MM_HINT_T1);
+      _mm_prefetch(reinterpret_cast<const char *>(p) + 1024 + 64 * line, _MM_HINT_T0);
+    }
+    const __m256d a0 = _mm256_loadu_pd(p), b0 = _mm256_loadu_pd(p + 4);
+    const __m256d c0 = _mm256_loadu_pd(p + 8), a1 = _mm256_loadu_pd(p + 12);
+    const __m256d b1 = _mm256_loadu_pd(p + 16), c1 = _mm256_loadu_pd(p + 20);
+    // v - v is +0 for finite v and NaN otherwise: no bit set anywhere means all finite.
+    const __m256d nan =
+        _mm256_or_pd(_mm256_or_pd(_mm256_or_pd(_mm256_sub_pd(a0, a0), _mm256_sub_pd(b0, b0)),
+                                  _mm256_or_pd(_mm256_sub_pd(c0, c0), _mm256_sub_pd(a1, a1))),
+                     _mm256_or_pd(_mm256_sub_pd(b1, b1), _mm256_sub_pd(c1, c1)));
+    if (_mm256_testz_si256(_mm256_castpd_si256(nan), _mm256_castpd_si256(nan))) {
+      lo_a = _mm256_min_pd(a1, _mm256_min_pd(a0, lo_a));
+      lo_b = _mm256_min_pd(b1, _mm256_min_pd(b0, lo_b));
+      lo_c = _mm256_min_pd(c1, _mm256_min_pd(c0, lo_c));
+      hi_a = _mm256_max_pd(a1, _mm256_max_pd(a0, hi_a));
+      hi_b = _mm256_max_pd(b1, _mm256_max_pd(b0, hi_b));
+      hi_c = _mm256_max_pd(c1, _mm256_max_pd(c0, hi_c));
+      count += 8;
+      continue;
+    }
+    for (int j = 0; j < 8; ++j) {
+      const double *q = p + 3 * j;
+      if (!(std::isfinite(q[0]) && std::isfinite(q[1]) && std::isfinite(q[2]))) continue;
+      for (int c = 0; c < 3; ++c) lo[c] = std::min(lo[c], q[c]), hi[c] = std::max(hi[c], q[c]);
+      ++count;
+    }
+  }
+  alignas(32) double l[3][4], h[3][4];
+  _mm256_store_pd(l[0], lo_a), _mm256_store_pd(l[1], lo_b), _mm256_store_pd(l[2], lo_c);
+  _mm256_store_pd(h[0], hi_a), _mm256_store_pd(h[1], hi_b), _mm256_store_pd(h[2], hi_c);
+  // Lane (v, k) of the three vectors holds axis (4 v + k) mod 3.
+  for (int v = 0; v < 3; ++v)
+    for (int k = 0; k < 4; ++k) {
+      const int c = (4 * v + k) % 3;
+      lo[c] = std::min(lo[c], l[v][k]), hi[c] = std::max(hi[c], h[v][k]);
+    }
+  *finite += count;
+}
+#endif
 
 // The common case (one radius, no coloring scalar): the same result as Extent::add_particle for
 // every particle in order, bit for bit. Four lanes take every fourth particle so that the min and
@@ -50,6 +122,18 @@ Extent scan_positions(const Positions &pos, const Keep &keep, int64_t begin, int
     ++finite;
   };
   int64_t i = begin;
+#if LANTERN_EXTENT_AVX2
+  if constexpr (std::is_same_v<Positions, InterleavedPositions<double>> &&
+                std::is_same_v<Keep, KeepAll>) {
+    if (pos.stride == int64_t(3 * sizeof(double)) &&
+        reinterpret_cast<uintptr_t>(pos.base) % alignof(double) == 0 && cpu_has_avx2()) {
+      const int64_t blocks = (end - begin) / 8;
+      scan_packed_blocks(reinterpret_cast<const double *>(pos.base), begin, blocks, lo[0], hi[0],
+                         &finite);
+      i = begin + 8 * blocks;
+    }
+  }
+#endif
   for (; i + kLanes <= end; i += kLanes)
     for (int l = 0; l < kLanes; ++l) add(l, i + l);
   for (; i < end; ++i) add(0, i);
