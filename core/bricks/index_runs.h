@@ -43,6 +43,7 @@
 #include "core/bricks/brick_set.h"
 #include "core/common/page_allocator.h"
 #include "core/common/rank_threads.h"
+#include "core/common/stream_prefetch.h"
 #include "core/particles/position_tap.h"
 #include "core/particles/typed_access.h"
 
@@ -211,29 +212,15 @@ __attribute__((target("avx2"))) inline void scan_run(const double *xyz, const ui
   *odd = nan;
 }
 
-// The lines of positions kPrefetchAhead bytes past run [first, stop) not asked for yet (those up
-// to *asked), asked into L2, and the lines kPrefetchNear bytes past it, asked for by then, into
-// L1. Why: the kernel does about 19 instructions a particle, so the processor's window holds the
-// loads of only a few lines ahead and a core's share of memory bandwidth went unused: a refit of
-// 5 M fcc particles scanned in 17.8 ms without and 10.9 ms with the far requests (one thread,
-// medians of 21 alternated runs; a streaming pass took 9.8 ms), and the same share beside a gas
-// 23.4 against 14.5 ms (pass 11.6). Loads that then found their line in L2 still waited on it
-// there: the near requests took 19 M fcc particles' scan from 52.3-55.2 to 48.7-51.6 ms (pass
-// 34-38; medians of 11 alternated in one process, three runs) and 5 M's from 14.9 to 14.0 ms.
-// Prefetches do not fault, so lines past the array's end are harmless.
-inline constexpr uintptr_t kPrefetchAhead = 4096;
-inline constexpr uintptr_t kPrefetchNear = 1024;
+// The lines of positions of run [first, stop) not asked for yet (those before *asked), asked for
+// ahead as every streaming pass does (core/common/stream_prefetch.h: at 5 M fcc particles the
+// scan took 17.8 ms without and 10.9 ms with, beside a gas 23.4 against 14.5 ms).
 __attribute__((target("avx2"))) inline void ask_ahead(const double *xyz, uint32_t first,
                                                       uint32_t stop, uintptr_t *asked) {
-  const uintptr_t from =
-      (reinterpret_cast<uintptr_t>(xyz + 3 * int64_t(first)) + kPrefetchAhead) & ~uintptr_t(63);
-  const uintptr_t to = reinterpret_cast<uintptr_t>(xyz + 3 * int64_t(stop)) + kPrefetchAhead;
+  const uintptr_t from = reinterpret_cast<uintptr_t>(xyz + 3 * int64_t(first)) & ~uintptr_t(63);
+  const uintptr_t to = reinterpret_cast<uintptr_t>(xyz + 3 * int64_t(stop));
   uintptr_t line = std::max(*asked, from);
-  for (; line < to; line += 64) {
-    _mm_prefetch(reinterpret_cast<const char *>(line), _MM_HINT_T1);
-    _mm_prefetch(reinterpret_cast<const char *>(line - (kPrefetchAhead - kPrefetchNear)),
-                 _MM_HINT_T0);
-  }
+  for (; line < to; line += 64) ask_stream_line(line);
   *asked = line;
 }
 

@@ -3,6 +3,7 @@
 #include <cstring>
 
 #include "core/common/cpu_features.h"
+#include "core/common/stream_prefetch.h"
 
 #if defined(__x86_64__) && defined(__SSE2__) && (defined(__GNUC__) || defined(__clang__))
 #define LANTERN_MORTON_AVX2 1
@@ -43,26 +44,6 @@ bool packed_prefixes_by_four(const MortonQuantiser &q, const double *xyz, int64_
 }
 
 #if LANTERN_MORTON_AVX2
-// Asks for `lines` cache lines of positions kAheadDoubles past p into L2, and those kNearDoubles
-// past p (asked into L2 earlier) into L1. Why: the kernels below do enough work per particle that
-// the processor's window holds the loads of only a few lines ahead, and a core's share of memory
-// bandwidth went unused (the same as the bricks' streaming scan, index_runs.h). Over 5 M fcc
-// positions in the key pass's chunks, one thread, medians of 15 runs, three alternated processes
-// each: AVX-512 21.3 -> 14.6 ms, AVX2 25.1 -> 15.3 ms with the far requests (a streaming pass
-// about 11 ms); the near ones took the key pass of 19 M from 68-72 to 59-62 ms (AVX-512, medians
-// of 7 builds, three alternated processes). Prefetches do not fault, so lines past the array's
-// end are harmless.
-constexpr int64_t kAheadDoubles = 512;  // 4 KiB
-constexpr int64_t kNearDoubles = 128;   // 1 KiB
-inline void ask_ahead(const double *p, int lines) {
-  const uintptr_t at = reinterpret_cast<uintptr_t>(p) + kAheadDoubles * sizeof(double);
-  const uintptr_t near = reinterpret_cast<uintptr_t>(p) + kNearDoubles * sizeof(double);
-  for (int k = 0; k < lines; ++k) {
-    _mm_prefetch(reinterpret_cast<const char *>(at + 64 * k), _MM_HINT_T1);
-    _mm_prefetch(reinterpret_cast<const char *>(near + 64 * k), _MM_HINT_T0);
-  }
-}
-
 // axis() of four values: morton_detail::axis2's steps on four lanes (maxpd and minpd with the
 // same operand order, so a NaN-free value clamps the same way; cvttpd2dq truncates the same).
 __attribute__((target("avx2"))) inline __m128i axis_four(__m256d v, __m256d origin, __m256d scale) {
@@ -84,7 +65,7 @@ __attribute__((target("avx2"))) bool packed_prefixes_avx2(const MortonQuantiser 
   for (; i + 4 <= count; i += 4) {
     // a = x0 y0 z0 x1, b = y1 z1 x2 y2, c = z2 x3 y3 z3.
     const double *p = xyz + 3 * i;
-    ask_ahead(p, 2);
+    ask_stream_ahead(p, 2);  // core/common/stream_prefetch.h says why
     const __m256d a = _mm256_loadu_pd(p), b = _mm256_loadu_pd(p + 4), c = _mm256_loadu_pd(p + 8);
     const __m256i za = _mm256_cmpeq_epi64(_mm256_castpd_si256(a), sign);
     const __m256i zb = _mm256_cmpeq_epi64(_mm256_castpd_si256(b), sign);
@@ -159,7 +140,7 @@ __attribute__((target("avx512f,avx512vl"))) bool packed_prefixes_avx512(const Mo
   int64_t i = 0;
   for (; i + 8 <= count; i += 8) {
     const double *p = xyz + 3 * i;
-    ask_ahead(p, 3);
+    ask_stream_ahead(p, 3);
     const __m512d a = _mm512_loadu_pd(p), b = _mm512_loadu_pd(p + 8), c = _mm512_loadu_pd(p + 16);
     zeros |= _mm512_cmpeq_epi64_mask(_mm512_castpd_si512(a), sign) |
              _mm512_cmpeq_epi64_mask(_mm512_castpd_si512(b), sign) |

@@ -15,6 +15,7 @@
 
 #include "core/common/cpu_features.h"
 #include "core/common/rank_threads.h"
+#include "core/common/stream_prefetch.h"
 #include "core/particles/typed_access.h"
 
 namespace lantern {
@@ -43,7 +44,7 @@ double first_zero(const Positions &pos, const Keep &keep, int64_t begin, int64_t
 // shuffle until the end. Min and max give the values a pass in order gives, except which zero
 // (-0 or +0) a bound keeps, which the caller settles (first_zero). A block of eight with a
 // non-finite coordinate is taken one particle at a time, with the scalar path's test. The
-// positions are asked for ahead as in the bricks' streaming scan (index_runs.h).
+// positions are asked for ahead (stream_prefetch.h).
 __attribute__((target("avx2"))) void scan_packed_blocks(const double *xyz, int64_t begin,
                                                         int64_t blocks, double lo[3], double hi[3],
                                                         int64_t *finite) {
@@ -53,10 +54,7 @@ __attribute__((target("avx2"))) void scan_packed_blocks(const double *xyz, int64
   int64_t count = 0;
   for (int64_t k = 0; k < blocks; ++k) {
     const double *p = xyz + 3 * (begin + 8 * k);
-    for (int line = 0; line < 3; ++line) {
-      _mm_prefetch(reinterpret_cast<const char *>(p) + 4096 + 64 * line, _MM_HINT_T1);
-      _mm_prefetch(reinterpret_cast<const char *>(p) + 1024 + 64 * line, _MM_HINT_T0);
-    }
+    ask_stream_ahead(p, 3);
     const __m256d a0 = _mm256_loadu_pd(p), b0 = _mm256_loadu_pd(p + 4);
     const __m256d c0 = _mm256_loadu_pd(p + 8), a1 = _mm256_loadu_pd(p + 12);
     const __m256d b1 = _mm256_loadu_pd(p + 16), c1 = _mm256_loadu_pd(p + 20);
