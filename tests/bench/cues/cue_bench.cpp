@@ -4,12 +4,14 @@
 //
 //   mpiexec -n 2 lantern-bench-cues [--scenes fcc1m,void_impact] [--size 1024] [--steps 5]
 //                                   [--md-cells 30] [--out DIR] [--kernels REPS]
-//                                   [--object-nodes N,N,...]
+//                                   [--object-nodes N,N,...] [--samples 1]
 //
 // Per scene it prints the median over steps of the pipeline's own per-scene time (stats "ms.total",
 // rank 0) of each variant and its ratio to the plain one (an unreported copy of the plain scene
 // renders first in every step and pays for the step's bricks, which the others reuse). Particles:
 // fcc split in blocks over the ranks; void_impact as mini_md's domain decomposition hands them out.
+// --samples N gives every variant `samples: N` (the plain one too): the cues' share of a
+// super-sampled frame.
 //
 // --kernels REPS adds, per scene, the screen ambient occlusion kernels alone on rank 0: the whole
 // scene drawn once by the CPU raster, then each kernel run REPS times on the whole frame (one
@@ -75,10 +77,12 @@ const std::vector<Variant> kVariants = {
     {"all_screen", "    ambient_occlusion: {method: screen}\n    outline: {}\n    depth_cue: {}\n"},
 };
 
-// The bench scene's configuration as YAML: size, radius, camera, cuts, colour by type.
-std::string scene_yaml(const BenchScene &bs, const Variant &v, const std::string &dir) {
+// The bench scene's configuration as YAML: size, radius, camera, cuts, colour by type, samples.
+std::string scene_yaml(const BenchScene &bs, const Variant &v, int samples,
+                       const std::string &dir) {
   return std::string("  - name: ") + v.name + "\n" + lantern::bench::scene_yaml_keys(bs) + v.keys +
-         "    output: {pattern: '" + dir + "/" + bs.name + "_{scene}_{step:04d}.png'}\n";
+         "    samples: " + std::to_string(samples) + "\n" + "    output: {pattern: '" + dir + "/" +
+         bs.name + "_{scene}_{step:04d}.png'}\n";
 }
 
 double median(std::vector<double> v) {
@@ -214,7 +218,7 @@ int main(int argc, char **argv) {
   MPI_Comm_rank(MPI_COMM_WORLD, &rank);
   MPI_Comm_size(MPI_COMM_WORLD, &ranks);
   std::vector<std::string> scenes{"fcc1m", "void_impact"};
-  int size = 1024, steps = 5, md_cells = 30, kernel_reps = 0;
+  int size = 1024, steps = 5, md_cells = 30, kernel_reps = 0, samples = 1;
   std::vector<int64_t> object_nodes;
   std::string out = "/tmp/lantern_bench_cues";
   for (int i = 1; i + 1 < argc; i += 2) {
@@ -231,6 +235,8 @@ int main(int argc, char **argv) {
       md_cells = std::stoi(v);
     } else if (a == "--out") {
       out = v;
+    } else if (a == "--samples") {
+      samples = std::stoi(v);
     } else if (a == "--kernels") {
       kernel_reps = std::stoi(v);
     } else if (a == "--object-nodes") {
@@ -270,7 +276,7 @@ int main(int argc, char **argv) {
     const std::string stats = out + "/" + name + "_stats.jsonl";
     if (rank == 0) std::remove(stats.c_str());
     std::string yaml = "stats: " + stats + "\nscenes:\n";
-    for (const Variant &v : variants) yaml += scene_yaml(bs, v, out);
+    for (const Variant &v : variants) yaml += scene_yaml(bs, v, samples, out);
     std::unique_ptr<lantern::Runtime> rt;
     lantern::ParticleDescription d;
     d.count = int64_t(bs.type.size());
@@ -296,19 +302,21 @@ int main(int argc, char **argv) {
         ms[sc["scene"]].push_back(sc["ms"]["total"]);
         cues[sc["scene"]].push_back(sc["ms"].value("cues", 0.0));
         // With one sample, the stats' down-sampling is the time spent putting the merged rows
-        // into the band the cues work on: a cost of the cues too.
+        // into the band the cues work on: a cost of the cues too. With more, it is the
+        // down-sampling itself (printed as such).
         band[sc["scene"]].push_back(sc["ms"].value("downsample", 0.0));
       }
     }
-    std::printf("%s (%s), %dx%d, %d ranks, median of %d steps:\n", name.c_str(), bs.note.c_str(),
-                size, size, ranks, steps);
+    std::printf("%s (%s), %dx%d, %d sample%s, %d ranks, median of %d steps:\n", name.c_str(),
+                bs.note.c_str(), size, size, samples, samples == 1 ? "" : "s", ranks, steps);
     const double plain = median(ms["plain"]);
     for (const Variant &v : variants)
       if (v.name != "bricks")
         std::printf(
-            "  %-14s %8.1f ms  x%.3f   (cue stage %6.1f ms = %5.1f%% of plain; band %4.2f ms)\n",
+            "  %-14s %8.1f ms  x%.3f   (cue stage %6.1f ms = %5.1f%% of plain; %s %4.2f ms)\n",
             v.name.c_str(), median(ms[v.name]), median(ms[v.name]) / plain, median(cues[v.name]),
-            100.0 * median(cues[v.name]) / plain, median(band[v.name]));
+            100.0 * median(cues[v.name]) / plain, samples == 1 ? "band" : "downsample",
+            median(band[v.name]));
     if (object_nodes.empty()) continue;
     // Each object AO volume's last image against the finest one's.
     char file[32];
