@@ -207,6 +207,9 @@ struct BrickSet {
   bool has_radius = false;      // bricks carry max_radius from the published radius array
 
   double spread_at_build = 0.0;  // spread() when built: how tight z-order made the bricks
+  // The mean edge of the bricks when built (spread_at_build over three edges a brick): the
+  // smallest slack a refit gives a brick, however thin it is (refit_bricks).
+  double mean_edge_at_build = 0.0;
   // A process-unique stamp of the build or refit that made these bounds (0: made by hand). State
   // derived from the bounds (culling's per-brick cut counts) is valid while the stamp is the same.
   uint64_t generation = 0;
@@ -240,7 +243,8 @@ BrickSet build_bricks(const ParticleArrays &particles, const BrickOptions &optio
 
 // Keeps the bricks (the z-order permutation) of an earlier step for particles that moved a
 // little, instead of sorting again: one pass over the particles. A particle stays in its brick
-// if it lies within the brick's last bounds grown by a quarter of its size; the others (moved
+// if it lies within the brick's last bounds grown on each axis by a quarter of its size there, or
+// by a quarter of the mean edge at build where that is more; the others (moved
 // far, wrapped through a periodic boundary, or an index the host now gives another particle, as
 // LAMMPS does when atoms migrate) and indices beyond the old count are sorted in z-order among
 // themselves into extra bricks; indices beyond the new count are dropped. Every bound is then

@@ -320,6 +320,40 @@ TEST(Bricks, RefitRepairsWrappedAndMigratedParticles) {
   expect_valid_bricks(shrunk, borrow(fewer));
 }
 
+// The strays of a periodic wrap lie on a plane, so their bricks are plates: a later step that
+// moves every particle a little (more than a quarter of a plate's thickness) keeps every particle
+// in its brick, the plates' too, instead of sorting the plates' particles out again at every step.
+TEST(Bricks, RefitKeepsThinStrayBricksWhoseParticlesMoveALittle) {
+  std::vector<double> xyz = random_points(30000, 12, 0.0, 10.0);
+  const BrickSet built = build_bricks(borrow(xyz), BrickOptions{});
+  ASSERT_GT(built.mean_edge_at_build, 0.5);
+  // Every particle within 0.02 of the face x = 10 wraps to just below x = 0.
+  std::vector<double> wrapped = xyz;
+  size_t strays = 0;
+  for (size_t i = 0; i < wrapped.size(); i += 3)
+    if (wrapped[i] > 9.98) wrapped[i] -= 10.0, ++strays;
+  ASSERT_GT(strays, 30u);
+  BrickSet set = built;
+  ASSERT_TRUE(refit_bricks(borrow(wrapped), 1.25, &set));
+  expect_valid_bricks(set, borrow(wrapped));
+  ASSERT_GT(set.bricks.size(), built.bricks.size());
+  double thinnest = 1e300;
+  for (size_t b = built.bricks.size(); b < set.bricks.size(); ++b)
+    thinnest = std::min(thinnest, set.bricks[b].hi.x - set.bricks[b].lo.x);
+  EXPECT_LT(thinnest, 0.02);  // the strays' bricks are plates
+  // Every particle moves by up to 0.02 on every axis.
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> jitter(-0.02, 0.02);
+  std::vector<double> moved = wrapped;
+  for (double &v : moved) v += jitter(rng);
+  const std::vector<uint32_t> order(set.order.begin(), set.order.end());
+  const uint64_t order_generation = set.order_generation;
+  ASSERT_TRUE(refit_bricks(borrow(moved), 1.25, &set));
+  expect_valid_bricks(set, borrow(moved));
+  EXPECT_EQ(set.order_generation, order_generation);  // no particle left its brick
+  EXPECT_TRUE(std::equal(order.begin(), order.end(), set.order.begin(), set.order.end()));
+}
+
 // The build's branch-free gather (8 bit-reversed positions at a time, then one by one) against
 // the plain walk over the bit-reversed counter, at every size up to a few bricks and around powers
 // of two; no slot past n - 1 is written.
