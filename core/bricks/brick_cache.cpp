@@ -46,6 +46,7 @@ void BrickCache::remember(const ParticleArrays &p, int64_t step, uint64_t finger
   count_ = p.count();
   step_ = step;
   fingerprint_ = fingerprint;
+  fingerprint_call_ = call_;
 }
 
 bool BrickCache::is_cached(const ParticleArrays &p, int64_t step, uint64_t fingerprint) const {
@@ -76,7 +77,9 @@ bool BrickCache::refit_first(const ParticleArrays &p, int64_t step, const BrickO
 const BrickSet &BrickCache::for_step(const ParticleArrays &p, int64_t step,
                                      const BrickOptions &options, double *build_ms,
                                      std::string *how) {
-  const uint64_t fingerprint = sample_fingerprint(p);
+  // Taken earlier in this call (begin_call()): the arrays are as they were then.
+  const bool taken = call_ != 0 && fingerprint_call_ == call_;
+  const uint64_t fingerprint = taken ? fingerprint_ : sample_fingerprint(p);
   if (is_cached(p, step, fingerprint)) {
     *how = pending_how_.empty() ? "cached" : std::exchange(pending_how_, std::string());
     *build_ms += std::exchange(pending_ms_, 0.0);

@@ -36,6 +36,12 @@ class BrickCache {
   bool refit_first(const ParticleArrays &particles, int64_t step, const BrickOptions &options);
   const BrickSet &bricks() const { return set_; }
 
+  // Marks the start of one call from the host (lantern_execute). The host's arrays do not change
+  // during a call, so a fingerprint taken in it (by refit_first or for_step) is not taken again
+  // by the call's later for_step()s: it costs about 0.2 ms at 1 M particles (4096 samples, each a
+  // cache miss), once per scene. Callers that never mark calls get a fresh one every time.
+  void begin_call() { ++call_; }
+
   int64_t refits() const { return refits_; }  // steps served by a refit instead of a rebuild
 
  private:
@@ -49,6 +55,8 @@ class BrickCache {
   const void *mask_ = nullptr;  // the group: bricks hold only its members
   int64_t mask_bits_ = 0;
   uint64_t fingerprint_ = 0;
+  uint64_t call_ = 0;              // begin_call()s so far
+  uint64_t fingerprint_call_ = 0;  // the call fingerprint_ was taken in (0: none marked)
   int64_t refits_ = 0;
   BrickSet set_;
   // refit_first's refit, reported by the step's first for_step(): "" when none is pending.

@@ -333,6 +333,7 @@ Status Runtime::execute(int64_t step, double time) {
   if (render_due) taps = arm_occlusion_taps(config_.scenes, &buffers_);
   if (!taps.empty()) refit_options.tap = &taps;
   Extent local;
+  scratch_.bricks.begin_call();
   const bool from_bricks = render_due && !dump_due && !config_.scenes.empty() &&
                            scratch_.bricks.refit_first(particles_, step, refit_options) &&
                            extent_of_bricks(scratch_.bricks.bricks(), particles_, &local);

@@ -434,6 +434,34 @@ TEST(BrickRefit, BricksGiveTheScansExtent) {
   EXPECT_EQ(how, "built");
 }
 
+// A host that rewrites its arrays in place under the same step number between two calls gets
+// bricks for the new positions: the fingerprint one call took is never trusted in the next, nor
+// by a caller that marks no calls; within a call the step's bricks are cached.
+TEST(BrickCache, NoticesArraysRewrittenInPlaceBetweenCalls) {
+  for (const bool marks_calls : {true, false}) {
+    Cloud c = lattice(30, 0.25);
+    BrickCache cache;
+    double ms = 0.0;
+    std::string how;
+    if (marks_calls) cache.begin_call();
+    cache.for_step(c.arrays(), 5, BrickOptions{}, &ms, &how);
+    EXPECT_EQ(how, "built");
+    cache.for_step(c.arrays(), 5, BrickOptions{}, &ms, &how);
+    EXPECT_EQ(how, "cached");
+    for (double &v : c.xyz) v += 0.01;  // the same step, rewritten in place
+    if (marks_calls) {                  // as the runtime does: a call, its refit ahead of the scan
+      cache.begin_call();
+      EXPECT_TRUE(cache.refit_first(c.arrays(), 5, BrickOptions{}));
+    }
+    cache.for_step(c.arrays(), 5, BrickOptions{}, &ms, &how);
+    EXPECT_EQ(how, "refit") << marks_calls;
+    const Extent scanned = scan_particles(c.arrays(), false, 0.0);
+    EXPECT_EQ(cache.bricks().lo, glm::dvec3(scanned.lo[0], scanned.lo[1], scanned.lo[2]));
+    cache.for_step(c.arrays(), 5, BrickOptions{}, &ms, &how);
+    EXPECT_EQ(how, "cached");
+  }
+}
+
 TEST(BrickRefit, IsTheSameAtEveryThreadCount) {
   Cloud c;
   c.xyz = uniform(300000, 14);
