@@ -20,6 +20,27 @@ constexpr double kMaxSpreadGrowth = 1.25;
 
 }  // namespace
 
+// A refit costs about as much as a build where many bricks lost particles (the 1 M-atom LAMMPS
+// melt rendered every 100 steps: 8-13 ms a rank, a build 8-12), and one that ends too loose is
+// thrown away before the build: the two together cost twice a build, every other frame there.
+// So a refit that the growth since the build says will end too loose is not tried. In a liquid
+// the spread grows about as the square root of the steps, so the mean rate since the build errs
+// towards building a little early; the rate of the last refit alone would not do: a host's
+// re-neighbouring adds its strays' bricks at once (on the same melt rendered every 5 steps, a
+// jump of 0.056 in 5 steps where the others grew 0.011-0.024), and extrapolating that jump built
+// where the refit would have passed.
+bool BrickCache::refit_expected_too_loose(int64_t step) const {
+  if (spread_step_ <= build_step_ || step <= spread_step_) return false;  // no refit to go by
+  const double rate = (spread_ratio_ - 1.0) / double(spread_step_ - build_step_);
+  return spread_ratio_ + rate * double(step - spread_step_) > kMaxSpreadGrowth;
+}
+
+void BrickCache::note_spread(int64_t step, bool built) {
+  spread_ratio_ = set_.spread_at_build > 0.0 ? set_.spread() / set_.spread_at_build : 1.0;
+  spread_step_ = step;
+  if (built || set_.spread_at_build <= 0.0) build_step_ = step;  // no growth to go by
+}
+
 uint64_t sample_fingerprint(const ParticleArrays &p) {
   // Positions that change between steps nearly always change some of the sampled ones.
   uint64_t h = kContentHashBasis;
@@ -57,7 +78,7 @@ bool BrickCache::is_cached(const ParticleArrays &p, int64_t step, uint64_t finge
 
 bool BrickCache::refit_first(const ParticleArrays &p, int64_t step, const BrickOptions &options) {
   const uint64_t fingerprint = sample_fingerprint(p);
-  if (count_ < 0 || is_cached(p, step, fingerprint)) return false;
+  if (count_ < 0 || is_cached(p, step, fingerprint) || refit_expected_too_loose(step)) return false;
   const auto t0 = Clock::now();
   const double tapped_before = options.tap ? options.tap->ms : 0.0;
   if (!refit_bricks(p, kMaxSpreadGrowth, &set_, options)) {
@@ -66,6 +87,7 @@ bool BrickCache::refit_first(const ParticleArrays &p, int64_t step, const BrickO
     return false;
   }
   ++refits_;
+  note_spread(step, false);
   remember(p, step, fingerprint);
   pending_how_ = "refit";
   // The tap's time is its stage's, not the refit's.
@@ -92,12 +114,15 @@ const BrickSet &BrickCache::for_step(const ParticleArrays &p, int64_t step,
   // or added particles (migration): refit_bricks re-sorts only the strays, recomputes every
   // bound from the particles themselves - culling stays exact whatever the indices now hold -
   // and asks for a rebuild when too much changed.
-  if (count_ >= 0 && refit_bricks(p, kMaxSpreadGrowth, &set_, options)) {
+  if (count_ >= 0 && !refit_expected_too_loose(step) &&
+      refit_bricks(p, kMaxSpreadGrowth, &set_, options)) {
     ++refits_;
+    note_spread(step, false);
     *how = "refit";
   } else {
     set_ = BrickSet();  // free the old permutation before building: keeps the peak low
     set_ = build_bricks(p, options);
+    note_spread(step, true);
     *how = "built";
   }
   remember(p, step, fingerprint);

@@ -55,6 +55,17 @@ class BrickCache {
   const void *mask_ = nullptr;  // the group: bricks hold only its members
   int64_t mask_bits_ = 0;
   uint64_t fingerprint_ = 0;
+  // Whether a refit for `step` is expected to leave the bricks too loose (their spread beyond
+  // kMaxSpreadGrowth times that at build), from how fast the spread grew since the build.
+  bool refit_expected_too_loose(int64_t step) const;
+  // Notes the spread of the set just built or refit for `step`.
+  void note_spread(int64_t step, bool built);
+
+  // The spread after the last build or refit over the spread at build, the step it was made for,
+  // and the step of the last build.
+  double spread_ratio_ = 1.0;
+  int64_t spread_step_ = 0;
+  int64_t build_step_ = 0;
   uint64_t call_ = 0;              // begin_call()s so far
   uint64_t fingerprint_call_ = 0;  // the call fingerprint_ was taken in (0: none marked)
   int64_t refits_ = 0;

@@ -462,6 +462,39 @@ TEST(BrickCache, NoticesArraysRewrittenInPlaceBetweenCalls) {
   }
 }
 
+// Particles spreading about their lattice sites, as in a liquid: the refit at step 10 tells how
+// fast the bricks loosen, and at step 20 the cache builds without trying a refit, which would
+// still have passed but whose growth says the next would not; one step later (11) it refits.
+TEST(BrickCache, BuildsWithoutTryingARefitThatItsGrowthSaysEndsTooLoose) {
+  const Cloud sites = lattice(40, 0.5);
+  const auto spread_to = [&](double amplitude, unsigned seed) {
+    Cloud c = sites;
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<double> u(-amplitude, amplitude);
+    for (double &v : c.xyz) v += u(rng);
+    return c;
+  };
+  const Cloud at10 = spread_to(0.65, 1), at20 = spread_to(0.8, 2);
+  for (const int64_t later : {int64_t(20), int64_t(11)}) {
+    BrickCache cache;
+    double ms = 0.0;
+    std::string how;
+    cache.for_step(sites.arrays(), 0, BrickOptions{}, &ms, &how);
+    ASSERT_EQ(how, "built");
+    cache.for_step(at10.arrays(), 10, BrickOptions{}, &ms, &how);
+    ASSERT_EQ(how, "refit");
+    const BrickSet &refit = cache.bricks();
+    const double ratio = refit.spread() / refit.spread_at_build;
+    ASSERT_GT(ratio, 1.12);
+    ASSERT_LT(ratio, 1.2);
+    BrickSet tried = cache.bricks();
+    ASSERT_TRUE(refit_bricks(at20.arrays(), 1.25, &tried));  // would still pass
+    cache.for_step(at20.arrays(), later, BrickOptions{}, &ms, &how);
+    EXPECT_EQ(how, later == 20 ? "built" : "refit") << later;
+    EXPECT_EQ(cache.bricks().particle_count(), int64_t(sites.xyz.size() / 3));
+  }
+}
+
 TEST(BrickRefit, IsTheSameAtEveryThreadCount) {
   Cloud c;
   c.xyz = uniform(300000, 14);
