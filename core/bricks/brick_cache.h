@@ -47,6 +47,11 @@ class BrickCache {
  private:
   void remember(const ParticleArrays &particles, int64_t step, uint64_t fingerprint);
   bool is_cached(const ParticleArrays &particles, int64_t step, uint64_t fingerprint) const;
+  // Whether a refit for `step` is expected to leave the bricks too loose (their spread beyond
+  // kMaxSpreadGrowth times that at build), from how fast the spread grew since the build.
+  bool refit_expected_too_loose(int64_t step) const;
+  // Notes the spread of the set just built or refit for `step`.
+  void note_spread(int64_t step, bool built);
 
   int64_t step_ = 0;
   int64_t count_ = -1;  // -1: nothing built yet
@@ -55,12 +60,6 @@ class BrickCache {
   const void *mask_ = nullptr;  // the group: bricks hold only its members
   int64_t mask_bits_ = 0;
   uint64_t fingerprint_ = 0;
-  // Whether a refit for `step` is expected to leave the bricks too loose (their spread beyond
-  // kMaxSpreadGrowth times that at build), from how fast the spread grew since the build.
-  bool refit_expected_too_loose(int64_t step) const;
-  // Notes the spread of the set just built or refit for `step`.
-  void note_spread(int64_t step, bool built);
-
   // The spread after the last build or refit over the spread at build, the step it was made for,
   // and the step of the last build.
   double spread_ratio_ = 1.0;

@@ -38,8 +38,8 @@ namespace {
 // host's re-neighbouring (atoms wrapped through a periodic face or migrated from another rank)
 // lie on planes, so the bricks they are sorted into are plates a few hundredths of an atom
 // thick, and a brick that loses a particle sends the whole refit down its slow path (moving
-// every slice, listing the runs again): on the 1 M-atom LAMMPS melt, 3.0 ms a refit instead of
-// 1.3 from the first re-neighbouring on, for one to nine such plates a step.
+// every slice, listing the runs again): on the 1 M-atom LAMMPS melt, 3.1-3.9 ms a refit instead
+// of 1.3-1.6 from the first re-neighbouring on, for one to nine such plates a step.
 glm::dvec3 slack(const Brick &b, double floor) {
   return glm::max(0.25 * (b.hi - b.lo), glm::dvec3(floor));
 }
