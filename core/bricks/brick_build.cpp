@@ -497,6 +497,7 @@ BrickSet build_bricks(const ParticleArrays &particles, const BrickOptions &optio
   });
   t.bounds_ms += ms_since(t0);
   set.spread_at_build = set.spread();
+  set.spread_now = set.spread_at_build;
   if (!set.bricks.empty())
     set.mean_edge_at_build = set.spread_at_build / (3.0 * double(set.bricks.size()));
   set.generation = next_brick_generation();

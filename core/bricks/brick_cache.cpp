@@ -36,7 +36,8 @@ bool BrickCache::refit_expected_too_loose(int64_t step) const {
 }
 
 void BrickCache::note_spread(int64_t step, bool built) {
-  spread_ratio_ = set_.spread_at_build > 0.0 ? set_.spread() / set_.spread_at_build : 1.0;
+  // The sum the refit or build just made: no second loop over every brick.
+  spread_ratio_ = set_.spread_at_build > 0.0 ? set_.spread_now / set_.spread_at_build : 1.0;
   spread_step_ = step;
   if (built || set_.spread_at_build <= 0.0) build_step_ = step;  // no growth to go by
 }

@@ -181,6 +181,7 @@ bool refit_bricks(const ParticleArrays &particles, double max_growth, BrickSet *
       spread += (b.hi.x - b.lo.x) + (b.hi.y - b.lo.y) + (b.hi.z - b.lo.z);
     }
     set->lo = lo, set->hi = hi;
+    set->spread_now = spread;
     return spread <= max_growth * set->spread_at_build;
   }
   const int64_t known = set->particle_count();
@@ -290,7 +291,8 @@ bool refit_bricks(const ParticleArrays &particles, double max_growth, BrickSet *
     lo = glm::min(lo, b.lo), hi = glm::max(hi, b.hi);
   }
   set->lo = lo, set->hi = hi;
-  return set->spread() <= max_growth * set->spread_at_build;
+  set->spread_now = set->spread();
+  return set->spread_now <= max_growth * set->spread_at_build;
 }
 
 }  // namespace lantern

@@ -207,6 +207,7 @@ struct BrickSet {
   bool has_radius = false;      // bricks carry max_radius from the published radius array
 
   double spread_at_build = 0.0;  // spread() when built: how tight z-order made the bricks
+  double spread_now = 0.0;       // spread() as the last build or refit left it
   // The mean edge of the bricks when built (spread_at_build over three edges a brick): the
   // smallest slack a refit gives a brick, however thin it is (refit_bricks).
   double mean_edge_at_build = 0.0;
