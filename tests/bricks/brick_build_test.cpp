@@ -314,6 +314,50 @@ TEST(BrickRefit, StreamingThroughRunsGivesTheGatheredBounds) {
   EXPECT_TRUE(std::all_of(seen.begin(), seen.end(), [](int s) { return s == 1; }));
 }
 
+// The slow refit sorts out the bricks that lost particles by streaming their runs in index order
+// (sort_out_through_runs); the bricks, their order and their bounds (signed zeros and radii
+// included) must be those of sorting them out brick by brick in each brick's order (the path a set
+// without runs takes), at any thread count: with strays (some from the planes at exactly 0, whose
+// bricks are bounded again in their own order), indices no longer published and, with a group,
+// particles that left it.
+TEST(BrickRefit, SortingOutThroughRunsGivesTheGatheredBricks) {
+  for (const bool group : {false, true}) {
+    SCOPED_TRACE(group ? "with a group" : "without a group");
+    Cloud c = zero_planes(60, 4);
+    const size_t n = c.xyz.size() / 3;
+    for (size_t i = 0; i < n; ++i) c.radius.push_back(0.3f + 0.1f * float(i % 4));
+    if (group) c.mask.assign(n, 2);  // bit 2: kept
+    const BrickSet built = build_bricks(c.arrays(), BrickOptions{});
+    ASSERT_FALSE(built.runs.empty());
+    Cloud moved = c;
+    std::mt19937 rng(9);
+    std::uniform_real_distribution<double> jitter(-0.05, 0.05);
+    for (double &v : moved.xyz) v = v == 0.0 ? (rng() % 2 ? -0.0 : 0.0) : v + jitter(rng);
+    for (size_t i = 0; i < 300; ++i) moved.xyz[3 * (i * 701)] += 25.0;
+    size_t from_zero = 0;
+    for (size_t i = 0; i < n && from_zero < 60; i += 37)
+      if (moved.xyz[3 * i] == 0.0) moved.xyz[3 * i + 1] += 25.0, ++from_zero;
+    ASSERT_EQ(from_zero, 60u);
+    if (group)
+      for (size_t i = 0; i < 200; ++i) moved.mask[i * 997 + 5] = 1;  // left the group
+    moved.xyz.resize(moved.xyz.size() - 3 * 100);  // the last 100 are no longer published
+    moved.radius.resize(n - 100);
+    if (group) moved.mask.resize(n - 100);
+    BrickSet gathered = built;
+    gathered.runs.clear();  // the brick-by-brick path
+    ASSERT_TRUE(refit_bricks(moved.arrays(), 1.25, &gathered));
+    EXPECT_FALSE(gathered.order == built.order);             // particles moved between bricks
+    EXPECT_GT(gathered.bricks.size(), built.bricks.size());  // the strays' bricks
+    for (const int threads : {1, 2, 3}) {
+      BrickSet streamed = built;
+      BrickOptions options;
+      options.threads = threads;
+      ASSERT_TRUE(refit_bricks(moved.arrays(), 1.25, &streamed, options));
+      expect_same(streamed, gathered, "sorted out through the runs");
+    }
+  }
+}
+
 // The streaming refit against brute force: a lattice in lattice order (long runs, many of them
 // shared by two bricks) published as records with a byte stride, in double and in float, with a
 // radius per particle, moved a little; every brick's bounds and largest radius must be exactly
