@@ -44,6 +44,22 @@ glm::dvec3 slack(const Brick &b, double floor) {
   return glm::max(0.25 * (b.hi - b.lo), glm::dvec3(floor));
 }
 
+// The box a particle of brick `b` must stay in at a refit's slow path: its last bounds grown by
+// its slack (floor: slack()) and a relative 1e-9. Both ways of sorting out (sort_out,
+// sort_out_through_runs) test against it, so they keep the same particles.
+struct Box {
+  glm::dvec3 lo, hi;
+  // Branch-free (no short-circuits): one branch at the caller, taken for the rare stray.
+  bool holds(const glm::dvec3 &x) const {
+    return (x.x >= lo.x) & (x.y >= lo.y) & (x.z >= lo.z) & (x.x <= hi.x) & (x.y <= hi.y) &
+           (x.z <= hi.z);
+  }
+};
+Box stay_box(const Brick &b, double floor) {
+  const glm::dvec3 grow = slack(b, floor) + 1e-9 * (glm::abs(b.lo) + glm::abs(b.hi));
+  return {b.lo - grow, b.hi + grow};
+}
+
 // Keeps, in place and in order at the front of the brick's slice `seg`, the particles of `b`
 // that are still published (index below `count`, and in the group: `keep`) and inside the brick's
 // last bounds grown by its slack (floor: slack()), and gives *b their count and bounds; the others
@@ -52,8 +68,7 @@ template <typename Positions, typename Radii, typename Keep>
 bool sort_out(const Positions &pos, const Radii &radius, const Keep &keep, bool has_radius,
               int64_t count, double floor, uint32_t *seg, Brick *b,
               std::vector<uint32_t> *outliers) {
-  const glm::dvec3 grow = slack(*b, floor) + 1e-9 * (glm::abs(b->lo) + glm::abs(b->hi));
-  const glm::dvec3 lo = b->lo - grow, hi = b->hi + grow;
+  const Box box = stay_box(*b, floor);
   glm::dvec3 new_lo(std::numeric_limits<double>::infinity()), new_hi(-new_lo);
   double r = 0.0;
   uint32_t kept = 0;
@@ -62,7 +77,7 @@ bool sort_out(const Positions &pos, const Radii &radius, const Keep &keep, bool 
     if (int64_t(i) >= count || !keep.get(i)) continue;  // no longer published, or left the group
     const glm::dvec3 x = pos.get(i);
     if (!finite(x)) return false;
-    if (x.x >= lo.x && x.y >= lo.y && x.z >= lo.z && x.x <= hi.x && x.y <= hi.y && x.z <= hi.z) {
+    if (box.holds(x)) {
       seg[kept++] = i;
       new_lo = glm::min(new_lo, x), new_hi = glm::max(new_hi, x);
       if (has_radius) r = std::max(r, radius.get(i));
@@ -82,10 +97,6 @@ struct SortedOut {
   uint64_t *stray = nullptr;  // sort_out_through_runs: a bit per index, set for each stray
 };
 
-struct Box {
-  glm::dvec3 lo, hi;
-};
-
 // The particles of one brick in run [first, last): all of them (bits null), or those whose
 // in_other bit is `in_other`, in index order. Those in the group and inside `box` widen the
 // bounds in *s; the others in the group are strays: into h->outliers and marked in h->stray.
@@ -102,10 +113,7 @@ bool sort_stretch(const Positions &pos, const Radii &radius, const Keep &keep, b
     if (!keep.get(i)) return true;
     const glm::dvec3 x = pos.get(i);
     if (!finite(x)) return false;
-    // Without short-circuits: one branch, taken for the rare stray.
-    const bool inside = (x.x >= box.lo.x) & (x.y >= box.lo.y) & (x.z >= box.lo.z) &
-                        (x.x <= box.hi.x) & (x.y <= box.hi.y) & (x.z <= box.hi.z);
-    if (inside) {
+    if (box.holds(x)) {
       lx = x.x < lx ? x.x : lx, ly = x.y < ly ? x.y : ly, lz = x.z < lz ? x.z : lz;
       hx = hx < x.x ? x.x : hx, hy = hy < x.y ? x.y : hy, hz = hz < x.z ? x.z : hz;
       if (has_radius) r = std::max(r, radius.get(i));
@@ -157,16 +165,15 @@ void ask_for_run(const Positions &pos, const std::vector<uint8_t> &fits, IndexRu
 // of the particles are in bricks that lost some, and sort_out took 2.3-5.0 ms of a 9-11 ms refit
 // (about 20 ns a particle), this 1.9-3.3 ms (throwaway timers, the same frames; asking for the
 // positions 48 runs ahead rather than kSortAhead gained nothing). Here a first pass streams the
-// runs of those bricks, tests each particle against its brick's last bounds grown by the slack (the
-// same test as sort_out), sums the bounds of those that stay and marks those that leave in a bit
-// per index; a second pass closes each brick's slice over the marked indices without reading a
-// position. The same particles stay, in the same order, with the same bounds: min and max visit
-// them in another order, which can change only the sign of a zero bound, and such a brick is
-// bounded again in its own order. The strays come in index order rather than brick by brick;
-// refit_bricks sorts them by (key, index), so their order does not matter. `scans`: the refit's
-// fresh bounds, one per brick, overwritten for the bricks that do not fit. Parts cut the runs at
-// blocks of indices (a multiple of 64: no two parts write one word of the marks); part p's strays
-// in (*parts)[p].
+// runs of those bricks, tests each particle against its brick's stay_box (as sort_out does), sums
+// the bounds of those that stay and marks those that leave in a bit per index; a second pass closes
+// each brick's slice over the marked indices without reading a position. The same particles stay,
+// in the same order, with the same bounds: min and max visit them in another order, which can
+// change only the sign of a zero bound, and such a brick is bounded again in its own order. The
+// strays come in index order rather than brick by brick; refit_bricks sorts them by (key, index),
+// so their order does not matter. `scans`: the refit's fresh bounds, one per brick, overwritten for
+// the bricks that do not fit. Parts cut the runs at blocks of indices (a multiple of 64: no two
+// parts write one word of the marks); part p's strays in (*parts)[p].
 template <typename Positions, typename Radii, typename Keep>
 void sort_out_through_runs(const Positions &pos, const Radii &radius, const Keep &keep,
                            int64_t count, const std::vector<uint8_t> &fits,
@@ -185,12 +192,7 @@ void sort_out_through_runs(const Positions &pos, const Radii &radius, const Keep
   for (size_t b = 0; b < bricks; ++b)
     if (!fits[b]) (*scans)[b] = BrickScan{};
   const uint64_t *bits = set->in_other.data();
-  // A brick's last bounds grown as sort_out grows them.
-  const auto grown = [&](uint32_t b) {
-    const Brick &br = set->bricks[b];
-    const glm::dvec3 grow = slack(br, floor) + 1e-9 * (glm::abs(br.lo) + glm::abs(br.hi));
-    return Box{br.lo - grow, br.hi + grow};
-  };
+  const auto grown = [&](uint32_t b) { return stay_box(set->bricks[b], floor); };
   run_in_parts(count_parts, int64_t(blocks), [&](int p, int64_t b0, int64_t b1) {
     BrickScan *acc = scans->data();
     if (p > 0) {
