@@ -71,6 +71,10 @@ IndexRuns runs_of_owners(const uint32_t *owner, int64_t n, int64_t held,
                          PageVector<uint64_t> *in_other,
                          const std::vector<Brick> *numbered_by = nullptr);
 
+// Whether runs_of_owners may use its AVX2 listing where the processor has AVX2 (tests turn it off
+// to compare it with the SSE2 one: the same runs and bits).
+std::atomic<bool> &runs_avx2_enabled();
+
 // The runs of `set` from scratch (after a refit moved particles between bricks) into set->runs and
 // set->in_other, or none when too short to pay. Needs a temporary of 4 bytes per index below
 // `bound`.

@@ -154,6 +154,75 @@ TEST(IndexRuns, RunsOfRandomOwnersAreExactAndMaximal) {
   }
 }
 
+// runs_of_owners' AVX2 listing (sixteen owners a comparison, two blocks at once) against its SSE2
+// one, on owners of every shape: one brick's runs of 1 to 300 (across the 16-owner windows), two
+// bricks alternating or interleaved at random (pair runs that end inside a window or at its
+// last lane), stretches of no brick, lengths that end a block or a window mid-way, an odd and an
+// even number of blocks; brick numbers and bricks' first slots; and runs too short to keep (both
+// refuse). The same runs and the same in_other bits.
+TEST(IndexRuns, AvxListingGivesTheSseListingsRuns) {
+  if (!__builtin_cpu_supports("avx2")) GTEST_SKIP() << "no AVX2 here";
+  std::mt19937 rng(13);
+  const auto list = [](bool avx2, const std::vector<uint32_t> &owner, int64_t held,
+                       const std::vector<Brick> *by, PageVector<uint64_t> *bits) {
+    runs_avx2_enabled() = avx2;
+    IndexRuns runs = runs_of_owners(owner.data(), int64_t(owner.size()), held, bits, by);
+    runs_avx2_enabled() = true;
+    return runs;
+  };
+  // Bricks 0..15 with first slots 100 b (increasing with the numbers, as the build's are).
+  std::vector<Brick> bricks(16);
+  for (uint32_t b = 0; b < 16; ++b) bricks[b].first = 100 * b, bricks[b].count = 100;
+  int compared = 0, refused = 0;
+  for (int shape = 0; shape < 4; ++shape)
+    for (const int64_t n :
+         {int64_t(1), int64_t(15), int64_t(16), int64_t(17), int64_t(kBlock - 1), int64_t(kBlock),
+          int64_t(kBlock + 1), int64_t(3 * kBlock + 17), int64_t(4 * kBlock)}) {
+      std::vector<uint32_t> owner(static_cast<size_t>(n));
+      uint32_t a = 0, b = 1;
+      int64_t left = 0;
+      for (int64_t i = 0; i < n; ++i) {
+        if (left-- <= 0) {
+          left = shape == 3 ? 1 + rng() % 3 : 1 + rng() % 300;
+          a = rng() % 11 == 0 ? kNoBrick : rng() % 16;
+          b = rng() % 16;
+        }
+        uint32_t o = a;
+        if (a != kNoBrick && shape == 1) o = i % 2 ? b : a;      // alternating
+        if (a != kNoBrick && shape == 2) o = rng() % 2 ? b : a;  // interleaved at random
+        owner[size_t(i)] = o;
+      }
+      for (const bool first_slots : {false, true}) {
+        std::vector<uint32_t> o = owner;
+        if (first_slots)
+          for (uint32_t &x : o) x = x == kNoBrick ? kNoBrick : bricks[x].first;
+        const std::vector<Brick> *by = first_slots ? &bricks : nullptr;
+        // Held counted high enough that the runs are kept, except for shape 3 (runs of 1-3); at
+        // least the slots the bricks hold where owners are first slots (the build's case).
+        int64_t held = shape == 3 ? n / 4 : kMinMeanRun * n;
+        if (first_slots) held = std::max<int64_t>(held, 1600);
+        PageVector<uint64_t> want_bits, got_bits;
+        const IndexRuns want = list(false, o, held, by, &want_bits);
+        const IndexRuns got = list(true, o, held, by, &got_bits);
+        ASSERT_EQ(want.size(), got.size()) << "shape " << shape << " n " << n;
+        ASSERT_EQ(want_bits.size(), got_bits.size()) << "shape " << shape << " n " << n;
+        for (size_t k = 0; k < want.size(); ++k) {
+          const IndexRun w = want[k], g = got[k];
+          ASSERT_EQ(w.first, g.first) << "shape " << shape << " n " << n << " run " << k;
+          ASSERT_EQ(w.brick, g.brick) << "shape " << shape << " n " << n << " run " << k;
+          ASSERT_EQ(w.other, g.other) << "shape " << shape << " n " << n << " run " << k;
+        }
+        for (size_t k = 0; k < want_bits.size(); ++k)
+          ASSERT_EQ(want_bits[k], got_bits[k]) << "shape " << shape << " n " << n << " word " << k;
+        ++compared;
+        refused += want.empty();
+      }
+    }
+  EXPECT_EQ(compared, 72);
+  EXPECT_GT(refused, 0);             // the too-short shape was refused (by both)
+  EXPECT_LT(refused, compared / 2);  // and the others kept
+}
+
 // The vector kernels of scan_runs this processor runs, one at a time: while a Kernel lives,
 // scan_runs may use only its kernel (none: scan_stretch).
 class Kernel {
