@@ -221,6 +221,20 @@ TEST(IndexRuns, AvxListingGivesTheSseListingsRuns) {
   EXPECT_EQ(compared, 72);
   EXPECT_GT(refused, 0);             // the too-short shape was refused (by both)
   EXPECT_LT(refused, compared / 2);  // and the others kept
+  // A two-brick run's window at every offset in a 64-bit word of in_other bits: brick 3 for s
+  // owners, then 3 and 5 alternating for 80 (the other brick in every window's last lane too),
+  // then brick 7: windows whose bits spill into the next word at every shift.
+  for (int64_t s = 1; s <= 64; ++s) {
+    std::vector<uint32_t> owner(static_cast<size_t>(s + 80 + 20), 7);
+    for (int64_t i = 0; i < s; ++i) owner[size_t(i)] = 3;
+    for (int64_t i = s; i < s + 80; ++i) owner[size_t(i)] = (i - s) % 2 ? 3 : 5;
+    PageVector<uint64_t> want_bits, got_bits;
+    const int64_t held = kMinMeanRun * int64_t(owner.size());
+    const IndexRuns want = list(false, owner, held, nullptr, &want_bits);
+    const IndexRuns got = list(true, owner, held, nullptr, &got_bits);
+    ASSERT_EQ(want.size(), got.size()) << "s " << s;
+    ASSERT_TRUE(want_bits == got_bits) << "s " << s;
+  }
 }
 
 // The vector kernels of scan_runs this processor runs, one at a time: while a Kernel lives,
