@@ -89,19 +89,25 @@ int64_t run_end(const uint32_t *owner, int64_t n, int64_t i, uint32_t *other, ui
 // says where the next starts), which the owners asked for ahead keep in L1 and a second block's
 // chain, interleaved, overlaps. lantern-bench-runs (owners of real builds, both listings in one
 // process, medians of 9; tests/bench/culling/results/runs_listing_avx2.txt): a crystal in
-// LAMMPS-like bins 0.67-0.68x the SSE2 listing's time at 4.9 M particles and 0.81-0.82x at 19 M;
-// in lattice order, whose runs the branches predicted, 1.06-1.07x at 4.9 M and 0.82-0.86x at
-// 19 M. In situ (the 1 M-atom LJ melt, an image every 100 steps) the refits' bricks took 8.1
-// instead of 9.4 ms a frame by the median, the builds' 10.6 instead of 11.7.
+// LAMMPS-like bins 0.67-0.68x the SSE2 listing's time at 4.9 M particles and 0.80-0.82x at 19 M;
+// in lattice order, whose runs the branches predicted, 1.06-1.10x at 4.9 M and 0.82-0.91x at
+// 19 M (two runs). In situ (the 1 M-atom LJ melt, an image every 100 steps) the refits' bricks
+// took 8.1 instead of 9.4 ms a frame by the median, the builds' 10.6 instead of 11.7.
 namespace runs_avx2 {
 
-// Bit k set where owner[e + k] == v, k < 16 (e + 16 <= the owners' end).
-__attribute__((target("avx2"))) inline unsigned equal16(const uint32_t *owner, int64_t e,
-                                                        __m256i v) {
-  const __m256i a = _mm256_loadu_si256(reinterpret_cast<const __m256i *>(owner + e));
-  const __m256i b = _mm256_loadu_si256(reinterpret_cast<const __m256i *>(owner + e + 8));
-  return unsigned(_mm256_movemask_ps(_mm256_castsi256_ps(_mm256_cmpeq_epi32(a, v)))) |
-         unsigned(_mm256_movemask_ps(_mm256_castsi256_ps(_mm256_cmpeq_epi32(b, v)))) << 8;
+// The 16 owners from e (e + 16 <= the owners' end), as two vectors of eight.
+struct Sixteen {
+  __m256i lo, hi;
+};
+__attribute__((target("avx2"))) inline Sixteen load16(const uint32_t *owner, int64_t e) {
+  return {_mm256_loadu_si256(reinterpret_cast<const __m256i *>(owner + e)),
+          _mm256_loadu_si256(reinterpret_cast<const __m256i *>(owner + e + 8))};
+}
+
+// Bit k set where owner k of `s` is v.
+__attribute__((target("avx2"))) inline unsigned equal16(const Sixteen &s, __m256i v) {
+  return unsigned(_mm256_movemask_ps(_mm256_castsi256_ps(_mm256_cmpeq_epi32(s.lo, v)))) |
+         unsigned(_mm256_movemask_ps(_mm256_castsi256_ps(_mm256_cmpeq_epi32(s.hi, v)))) << 8;
 }
 
 // Sets the bits of indices [e, e + 16) given by the low 16 bits of `mask` (bit k: index e + k).
@@ -129,7 +135,7 @@ __attribute__((target("avx2"))) inline int64_t run_end(const uint32_t *owner, in
       while (e < n && owner[e] == brick) ++e;
       break;
     }
-    const unsigned same = equal16(owner, e, b);
+    const unsigned same = equal16(load16(owner, e), b);
     if (same != 0xFFFFu) {
       e += __builtin_ctz(~same);
       break;
@@ -139,8 +145,9 @@ __attribute__((target("avx2"))) inline int64_t run_end(const uint32_t *owner, in
   *other = owner[e];
   const __m256i o = _mm256_set1_epi32(int(*other));
   for (; e + 16 <= n; e += 16) {
-    const unsigned is_other = equal16(owner, e, o);
-    const unsigned either = is_other | equal16(owner, e, b);
+    const Sixteen s = load16(owner, e);  // once for both compares
+    const unsigned is_other = equal16(s, o);
+    const unsigned either = is_other | equal16(s, b);
     if (either != 0xFFFFu) {
       const int stop = __builtin_ctz(~either);
       set_sixteen_bits(bits, e, is_other & ((1u << stop) - 1u));

@@ -20,6 +20,7 @@
 #include <string>
 #include <vector>
 
+#include "bench_scenes.h"
 #include "core/bricks/brick_set.h"
 #include "core/bricks/index_runs.h"
 #include "core/particles/particle_arrays.h"
@@ -34,25 +35,17 @@ using lantern::kNoBrick;
 using lantern::PageVector;
 using Clock = std::chrono::steady_clock;
 
-// fcc of n^3 cells at nearest-neighbour distance 2^(1/6) in the generator's order, or jittered
-// and sorted into bins (the order LAMMPS's atom_modify sort leaves).
+// An fcc crystal of n^3 cells (bench_scenes.h) in the generator's order, or jittered and sorted
+// into bins (the order LAMMPS's atom_modify sort leaves).
 std::vector<double> fcc(int n, bool bins) {
-  const double a = 1.122462048309373 * std::sqrt(2.0);
-  const double basis[4][3] = {{0, 0, 0}, {0.5, 0.5, 0}, {0.5, 0, 0.5}, {0, 0.5, 0.5}};
-  std::vector<double> xyz;
-  xyz.reserve(size_t(12) * size_t(n) * size_t(n) * size_t(n));
-  for (int z = 0; z < n; ++z)
-    for (int y = 0; y < n; ++y)
-      for (int x = 0; x < n; ++x)
-        for (const auto &b : basis)
-          xyz.insert(xyz.end(), {(x + b[0]) * a, (y + b[1]) * a, (z + b[2]) * a});
+  std::vector<double> xyz = lantern::bench::fcc_outside(n, 64).xyz;
   if (!bins) return xyz;
   const auto count = int64_t(xyz.size() / 3);
   std::mt19937_64 rng(5);
   std::uniform_real_distribution<double> jitter(-0.1, 0.1);
   for (double &v : xyz) v += jitter(rng);
   const double bin = 1.5;
-  const auto side = int64_t(n * a / bin) + 2;
+  const auto side = int64_t(*std::max_element(xyz.begin(), xyz.end()) / bin) + 3;
   std::vector<int64_t> key(static_cast<size_t>(count)), idx(static_cast<size_t>(count));
   for (int64_t i = 0; i < count; ++i) {
     const auto cell = [&](int d) { return int64_t(std::floor(xyz[size_t(3 * i + d)] / bin)) + 1; };
