@@ -27,6 +27,7 @@
 #include <glm/vec3.hpp>
 
 #include "core/common/page_allocator.h"
+#include "core/common/uninitialized_buffer.h"
 #include "core/particles/particle_arrays.h"
 
 namespace lantern {
@@ -195,8 +196,11 @@ struct BrickOptions {
 };
 
 struct BrickSet {
-  PageVector<uint32_t> order;  // particle indices, brick after brick
-  std::vector<Brick> bricks;   // in z-order along the curve
+  // Particle indices, brick after brick. Not zero-filled when it grows: the build and the refit
+  // write every slot they add; zero-filling it first cost a 5 M-particle build about 1 ms of its
+  // 12 ms scatter.
+  UninitializedBuffer<uint32_t> order;
+  std::vector<Brick> bricks;  // in z-order along the curve
   // The bricks' particles as runs of consecutive indices, in index order and closed by a run of
   // no brick, for refits that stream the positions (index_runs.h); empty where runs would be too
   // short to pay. in_other: a bit per index, set where a run's particle is in its `other` brick.
