@@ -240,21 +240,34 @@ void plan_units(const std::vector<uint32_t> &start, int level, uint32_t cell, ui
   }
 }
 
-// Sorts words [a, b) of one top cell - all share its top prefix bits and are in index order - by
-// value, i.e. by (prefix, index): an LSD radix sort on the kTopShift prefix bits below the top
-// cell's, in cache, in kDigits digits counted in one read, skipping a digit every word shares
-// (stable passes over words in index order: the same order whatever the digits).
+// The digit counts of radix_sort_top_cell<kDigits>: kDigits digits of the kTopShift prefix bits
+// below a top cell's, each counted over the cell's words.
 template <int kDigits>
-void radix_sort_top_cell(uint64_t *w, size_t n, UninitializedBuffer<uint64_t> *scratch) {
-  constexpr int kDigit = (kTopShift + kDigits - 1) / kDigits;
-  constexpr size_t kBuckets = size_t(1) << kDigit;
-  scratch->resize(std::max(scratch->size(), n));
+struct DigitCounts {
+  static constexpr int kDigit = (kTopShift + kDigits - 1) / kDigits;
+  static constexpr size_t kBuckets = size_t(1) << kDigit;
   std::array<std::array<uint32_t, kBuckets>, kDigits> count;
-  for (auto &c : count) c.fill(0);
-  for (size_t i = 0; i < n; ++i) {
-    const uint64_t v = w[i] >> 32;
-    for (int d = 0; d < kDigits; ++d) ++count[size_t(d)][(v >> (d * kDigit)) & (kBuckets - 1)];
+
+  void clear() {
+    for (auto &c : count) c.fill(0);
   }
+  void add(uint32_t prefix) {
+    for (int d = 0; d < kDigits; ++d) ++count[size_t(d)][(prefix >> (d * kDigit)) & (kBuckets - 1)];
+  }
+};
+
+// Sorts words w[0, n) of one top cell - all share its top prefix bits and are in index order - by
+// value, i.e. by (prefix, index): an LSD radix sort on the kTopShift prefix bits below the top
+// cell's, in cache, from the digits' counts *c (their words counted once, as they were made),
+// skipping a digit every word shares (stable passes over words in index order: the same order
+// whatever the digits).
+template <int kDigits>
+void radix_sort_top_cell(uint64_t *w, size_t n, DigitCounts<kDigits> *c,
+                         UninitializedBuffer<uint64_t> *scratch) {
+  constexpr int kDigit = DigitCounts<kDigits>::kDigit;
+  constexpr size_t kBuckets = DigitCounts<kDigits>::kBuckets;
+  scratch->resize(std::max(scratch->size(), n));
+  auto &count = c->count;
   // A digit every word shares reorders nothing (checked before the sums replace the counts).
   bool sort[kDigits];
   for (int d = 0; d < kDigits; ++d)
@@ -270,8 +283,8 @@ void radix_sort_top_cell(uint64_t *w, size_t n, UninitializedBuffer<uint64_t> *s
   for (int d = 0; d < kDigits; ++d) {
     if (!sort[d]) continue;
     const int shift = 32 + d * kDigit;
-    std::array<uint32_t, kBuckets> &c = count[size_t(d)];
-    for (size_t i = 0; i < n; ++i) dst[c[(src[i] >> shift) & (kBuckets - 1)]++] = src[i];
+    std::array<uint32_t, kBuckets> &cd = count[size_t(d)];
+    for (size_t i = 0; i < n; ++i) dst[cd[(src[i] >> shift) & (kBuckets - 1)]++] = src[i];
     std::swap(src, dst);
   }
   if (src != w) std::copy(src, src + n, w);
@@ -288,16 +301,37 @@ void radix_sort_top_cell(uint64_t *w, size_t n, UninitializedBuffer<uint64_t> *s
 // 53.
 constexpr size_t kSevenBitCellsBelow = 640;
 
-// sort_top_cell: std::sort for a few words, else the radix sort with the digits that pay.
-void sort_top_cell(uint64_t *w, size_t n, UninitializedBuffer<uint64_t> *scratch) {
+// Scratch of one thread's top-cell sorts.
+struct TopCellSorter {
+  UninitializedBuffer<uint64_t> scratch;
+  DigitCounts<3> seven_bit;
+  DigitCounts<2> ten_bit;
+};
+
+// w[k] = word(k) for k < n, the n words of one top cell, then sorted: std::sort for a few words,
+// else the radix sort with the digits that pay, its digits counted as the words are made (the
+// words' making waits on memory; counting them in a read of their own cost one more pass).
+template <typename Word>
+void gather_and_sort_top_cell(const Word &word, uint32_t n, uint64_t *w, TopCellSorter *sorter) {
   static_assert(kTopShift == 20,
                 "three 7-bit or two 10-bit digits cover the bits below a top cell");
-  if (n < 64)
+  const auto gather_counted = [&](auto *counts) {
+    counts->clear();
+    for (uint32_t k = 0; k < n; ++k) {
+      const uint64_t x = word(k);
+      w[k] = x;
+      counts->add(uint32_t(x >> 32));
+    }
+    radix_sort_top_cell(w, n, counts, &sorter->scratch);
+  };
+  if (n < 64) {
+    for (uint32_t k = 0; k < n; ++k) w[k] = word(k);
     std::sort(w, w + n);
-  else if (n < kSevenBitCellsBelow)
-    radix_sort_top_cell<3>(w, n, scratch);
-  else
-    radix_sort_top_cell<2>(w, n, scratch);
+  } else if (n < kSevenBitCellsBelow) {
+    gather_counted(&sorter->seven_bit);
+  } else {
+    gather_counted(&sorter->ten_bit);
+  }
 }
 
 // One thread's share of the units, one at a time in cache: the unit's (prefix, index) words made
@@ -309,7 +343,8 @@ template <typename Positions>
 void build_units(const Positions &pos, const MortonQuantiser &q, const std::vector<uint32_t> &start,
                  const Unit *units, size_t count, const BrickOptions &options, uint32_t *order,
                  uint32_t *keys, std::vector<Brick> *bricks) {
-  UninitializedBuffer<uint64_t> words, scratch;
+  UninitializedBuffer<uint64_t> words;
+  TopCellSorter sorter;
   std::vector<std::pair<uint64_t, uint64_t>> run;
   const uint32_t max = std::max<uint32_t>(1, options.max_particles);
   for (size_t u = 0; u < count; ++u) {
@@ -323,13 +358,16 @@ void build_units(const Positions &pos, const MortonQuantiser &q, const std::vect
     // builds alternated in one process; 512 ahead: 33.3).
     const uint32_t *idx = order + unit.a;
     constexpr uint32_t kAhead = 128;
-    for (uint32_t k = 0; k < n; ++k) {
-      if (k + kAhead < n) __builtin_prefetch(keys + idx[k + kAhead]);
-      const uint32_t i = idx[k];
-      w[k] = uint64_t(keys[i]) << 32 | i;
+    for (uint32_t c = unit.cell_begin; c < unit.cell_end; ++c) {
+      const uint32_t a = start[c] - unit.a;
+      const auto word = [&](uint32_t k) {
+        k += a;
+        if (k + kAhead < n) __builtin_prefetch(keys + idx[k + kAhead]);
+        const uint32_t i = idx[k];
+        return uint64_t(keys[i]) << 32 | i;
+      };
+      gather_and_sort_top_cell(word, start[c + 1] - start[c], w + a, &sorter);
     }
-    for (uint32_t c = unit.cell_begin; c < unit.cell_end; ++c)
-      sort_top_cell(w + (start[c] - unit.a), start[c + 1] - start[c], &scratch);
     break_ties(pos, q, w, 0, n, &run);
     const size_t first_new = bricks->size();
     if (unit.one_brick) {
