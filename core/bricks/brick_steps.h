@@ -54,7 +54,10 @@ void break_ties(const Positions &pos, const MortonQuantiser &q, uint64_t *w, siz
   // neighbouring pairs a step (one branch where there were four, and no chain between them).
   const auto tie = [w](size_t k) { return uint32_t((w[k] ^ w[k + 1]) >> 32) == 0; };
   for (size_t s = a; s + 1 < b;) {
-    while (s + 4 < b && !(tie(s) | tie(s + 1) | tie(s + 2) | tie(s + 3))) s += 4;
+    if (s + 4 < b && !(tie(s) | tie(s + 1) | tie(s + 2) | tie(s + 3))) {
+      s += 4;  // w[s + 4] is the last word read: inside
+      continue;
+    }
     if (!tie(s)) {
       ++s;
       continue;

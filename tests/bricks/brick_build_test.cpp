@@ -17,10 +17,12 @@
 
 #include "core/bricks/brick_cache.h"
 #include "core/bricks/brick_set.h"
+#include "core/bricks/brick_steps.h"
 #include "core/bricks/index_runs.h"
 #include "core/bricks/level_layout.h"
 #include "core/bricks/morton.h"
 #include "core/particles/particle_scan.h"
+#include "core/particles/typed_access.h"
 #include "tests/support/status_expect.h"
 
 namespace lantern {
@@ -206,6 +208,28 @@ TEST(BrickBuild, SmallAndEmptySets) {
   Cloud same;  // every particle at one point: one finest cell, cut linearly
   same.xyz.assign(3 * 5000, 0.5);
   check_against_reference(same);
+}
+
+// break_ties reads and reorders words [a, b) only: here the word after b shares the last word's
+// prefix and has a smaller full key, so a scan that looked past b would swap the two (as the
+// scan four pairs a step once did on five words: AddressSanitizer found it reading w[b]).
+TEST(BreakTies, TouchesOnlyItsRange) {
+  const std::vector<double> xyz{0.1,  0.1,  0.1,  0.15, 0.15, 0.15, 0.2,        0.2, 0.2,
+                                0.25, 0.25, 0.25, 0.3,  0.3,  0.3,  0.3 - 2e-6, 0.3, 0.3};
+  const MortonQuantiser q = MortonQuantiser::for_bounds(glm::dvec3(0.0), glm::dvec3(1.0));
+  const InterleavedPositions<double> pos{reinterpret_cast<const unsigned char *>(xyz.data()),
+                                         int64_t(3 * sizeof(double))};
+  std::vector<uint64_t> w;
+  for (uint32_t i = 0; i < 6; ++i) w.push_back(brick_steps::make_word(q.key(pos.get(i)), i));
+  ASSERT_TRUE(std::is_sorted(w.begin(), w.begin() + 5));
+  ASSERT_EQ(brick_steps::word_prefix(w[4]), brick_steps::word_prefix(w[5]));
+  ASSERT_LT(q.key(pos.get(5)), q.key(pos.get(4)));
+  for (size_t a = 0; a < 5; ++a) {
+    std::vector<uint64_t> v = w;
+    std::vector<std::pair<uint64_t, uint64_t>> run;
+    brick_steps::break_ties(pos, q, v.data(), a, 5, &run);
+    EXPECT_EQ(v, w) << "from word " << a;
+  }
 }
 
 // A simple-cubic lattice of n^3 points in lattice order (x fastest), as a simulation that keeps
