@@ -50,15 +50,9 @@ inline constexpr int64_t kParticlesPerThread = 1 << 16;
 template <typename Positions>
 void break_ties(const Positions &pos, const MortonQuantiser &q, uint64_t *w, size_t a, size_t b,
                 std::vector<std::pair<uint64_t, uint64_t>> *run) {
-  // Ties are rare (cells of 1/2^10.67 of the box): a plain scan for the next one first, four
-  // neighbouring pairs a step (one branch where there were four, and no chain between them).
-  const auto tie = [w](size_t k) { return uint32_t((w[k] ^ w[k + 1]) >> 32) == 0; };
+  // Ties are rare (cells of 1/2^10.67 of the box): a plain scan for the next one first.
   for (size_t s = a; s + 1 < b;) {
-    if (s + 4 < b && !(tie(s) | tie(s + 1) | tie(s + 2) | tie(s + 3))) {
-      s += 4;  // w[s + 4] is the last word read: inside
-      continue;
-    }
-    if (!tie(s)) {
+    if (word_prefix(w[s + 1]) != word_prefix(w[s])) {
       ++s;
       continue;
     }
