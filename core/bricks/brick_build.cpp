@@ -309,8 +309,9 @@ struct TopCellSorter {
 };
 
 // w[k] = word(k) for k < n, the n words of one top cell, then sorted: std::sort for a few words,
-// else the radix sort with the digits that pay, its digits counted as the words are made (the
-// words' making waits on memory; counting them in a read of their own cost one more pass).
+// else the radix sort with the digits that pay, its digits counted as the words are made: making
+// a word waits on memory (its prefix, read at the index the scatter left), so the counting is
+// nearly free there, where a read of its own cost one more pass over the cell's words.
 template <typename Word>
 void gather_and_sort_top_cell(const Word &word, uint32_t n, uint64_t *w, TopCellSorter *sorter) {
   static_assert(kTopShift == 20,
