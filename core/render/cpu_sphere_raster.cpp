@@ -45,7 +45,8 @@ void CpuSphereRaster::begin_strip(const ViewGeometry &g, Frame *frame, int x0, i
   g_ = g;
   frame_ = frame;
   x0_ = std::max(x0, 0), x1_ = std::min(x1, g.width - 1);
-  pyramid_.reset(frame->depth.data(), g.width, g.height, kBackgroundDepth);
+  // The strip's pyramid reads no column past the strip: other threads write those.
+  pyramid_.reset(frame->depth.data(), g.width, g.height, kBackgroundDepth, x1_ + 1);
   pending_ = PixelRect{};
   touched_ = PixelRect{};
   rays_.reset(g);
@@ -444,6 +445,11 @@ struct Target {
   int width, height;
   const shading::LightModel<float> *light;  // null: the default headlight
   int last_column;                          // the strip's last column: none past it is written
+  // Whether this strip holds every column, so that a read may run on past a row's end into the
+  // next row (no other thread writes any column). Otherwise no column past last_column is read
+  // either: other threads write them (column_strips.h), and a vector read of them, even with its
+  // extra lanes dropped, would race with their writes.
+  bool wraps;
 };
 
 // Writes a color of shade_pixel (R | G << 8 | B << 16) to 4 bytes of the frame as R, G, B, 255:
@@ -544,9 +550,11 @@ PixelRect draw_tiles(const CentredCast *centred, const GeneralCast *general, con
       else
         general->cast(n, x0, y0, w, h, &t);
       // Depth test without branches: nearer wins; an equal depth is settled by color below.
-      // n depths of a row can be read unless the tile passes the row's end on the frame's last
-      // row (or the frame is narrower than a tile).
-      const bool whole = x0 + n <= f.width || (f.width >= n && y0 + h < f.height);
+      // n depths of a row can be read when they lie in the strip, or, where the strip holds
+      // every column, unless the tile passes the row's end on the frame's last row (or the frame
+      // is narrower than a tile).
+      const bool whole =
+          x0 + n - 1 <= f.last_column || (f.wraps && f.width >= n && y0 + h < f.height);
       uint64_t nearer = 0, tied = 0;
       for (int j = 0; j < h; ++j) {
         uint32_t lt, eq;
@@ -665,7 +673,8 @@ bool CpuSphereRaster::draw(const glm::dvec3 &c, double r, const uint8_t rgb[3], 
     return !written.empty();
   }
   // Tile side: small spheres get small tiles (a pixel's result does not depend on the tile).
-  const Target target{depth, rgba, g_.width, g_.height, light_ ? &*light_ : nullptr, x1_};
+  const Target target{
+      depth, rgba, g_.width, g_.height, light_ ? &*light_ : nullptr, x1_, holds_every_column()};
   if (rect.x1 - rect.x0 < kSmallTile && rect.y1 - rect.y0 < kSmallTile)
     written = draw_tiles<kSmallTile>(centred ? &*centred : nullptr, general ? &*general : nullptr,
                                      rgb, rect, alpha8, target);
@@ -784,24 +793,27 @@ bool CpuSphereRaster::draw_centred_bond(const glm::dvec3 &a, const glm::dvec3 &u
     if (!consecutive && !row_meets(y)) continue;
     if (rows && !rows->span(rays_, y, &lo, &hi)) continue;
     const float *row_depth = depth + size_t(y) * width;
-    // kRun depths can be read from any column but the last few of the frame's last row.
-    const bool last = y == g_.height - 1;
+    // kRun depths can be read from column c when they lie in the strip, or, where the strip holds
+    // every column (no other thread writes any), from any column but the last few of the frame's
+    // last row.
+    const bool last = y == g_.height - 1, wraps = holds_every_column();
+    const auto readable = [&](int c) {
+      return c + kRun - 1 <= x1_ || (wraps && (!last || c + kRun <= g_.width));
+    };
     uint32_t keep = 0;
     if (hi - lo < kRun) {  // the usual short span: one scan finds both ends
-      keep = kept_bits(row_depth + lo, hi - lo + 1, reject, !last || lo + kRun <= g_.width);
+      keep = kept_bits(row_depth + lo, hi - lo + 1, reject, readable(lo));
       if (!keep) continue;
       hi = lo + 31 - __builtin_clz(keep), lo += __builtin_ctz(keep);
     } else {
       for (; lo <= hi; lo += kRun)
-        if ((keep = kept_bits(row_depth + lo, std::min(kRun, hi - lo + 1), reject,
-                              !last || lo + kRun <= g_.width)))
+        if ((keep = kept_bits(row_depth + lo, std::min(kRun, hi - lo + 1), reject, readable(lo))))
           break;
       if (!keep) continue;
       lo += __builtin_ctz(keep);
       for (keep = 0;; hi -= kRun) {
         const int n = std::min(kRun, hi - lo + 1);
-        if ((keep = kept_bits(row_depth + hi - n + 1, n, reject,
-                              !last || hi + 1 - n + kRun <= g_.width))) {
+        if ((keep = kept_bits(row_depth + hi - n + 1, n, reject, readable(hi + 1 - n)))) {
           hi -= __builtin_clz(keep) - (32 - n);
           break;
         }
@@ -810,7 +822,7 @@ bool CpuSphereRaster::draw_centred_bond(const glm::dvec3 &a, const glm::dvec3 &u
     const int n = hi - lo + 1;
     if (cast + n + 2 * kRun > cast_capacity_) grow_cast_lists(cast + n + 2 * kRun);
     put_run(cast_x_.data() + cast, cast_y_.data() + cast, cast_depth_.data() + cast, lo, y,
-            row_depth, n, !last || hi + kRun <= g_.width);
+            row_depth, n, readable(hi));
     cast += n;
   }
   if (cast == 0) return false;

@@ -117,6 +117,10 @@ class CpuSphereRaster {
   // (centred_cylinder_cast.h), skipping pixels nearer than window depth `reject`.
   bool draw_centred_bond(const glm::dvec3 &a, const glm::dvec3 &u, double length, double r,
                          const uint8_t rgb[3], const PixelRect &rect, uint8_t alpha8, float reject);
+  // Whether the strip is the whole frame. Then a vector read of depths may run past the strip's
+  // last column into the next row; otherwise it stays in the strip, because other threads write
+  // the columns beside it (a read of them, its lanes dropped, would still race with their writes).
+  bool holds_every_column() const { return x0_ == 0 && x1_ == g_.width - 1; }
 
   ViewGeometry g_;
   Frame *frame_ = nullptr;

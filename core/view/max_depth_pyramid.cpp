@@ -1,11 +1,13 @@
 #include "core/view/max_depth_pyramid.h"
 
+#include <algorithm>
 #include <cstddef>
 
 namespace lantern {
 
-void MaxDepthPyramid::reset(const float *base, int w, int h, float fill) {
+void MaxDepthPyramid::reset(const float *base, int w, int h, float fill, int read_end) {
   base_ = base;
+  read_end_ = read_end < 0 ? w : std::min(read_end, w);
   if (levels_.empty()) levels_.resize(1);
   levels_[0].w = w, levels_[0].h = h;
   size_t k = 1;

@@ -31,8 +31,11 @@ namespace lantern {
 class MaxDepthPyramid {
  public:
   // Builds levels 1.. over the w x h row-major image `base`, every tile set to `fill` (the
-  // depth `base` holds everywhere at this point).
-  void reset(const float *base, int w, int h, float fill);
+  // depth `base` holds everywhere at this point). `read_end`: no column of `base` from this one
+  // on is read (default w): a pyramid over a strip of columns that other threads write beside it
+  // (column_strips.h) passes its strip's end, so that a vector read past a rectangle's right
+  // edge, its extra lanes dropped, never reads a column another thread writes.
+  void reset(const float *base, int w, int h, float fill, int read_end = -1);
 
   // True if every pixel of `rect` (inside the image, or empty) holds a depth strictly below z.
   bool covered(const PixelRect &rect, float z) const {
@@ -60,11 +63,11 @@ class MaxDepthPyramid {
   }
 
   // The same answer read on level 0 alone, a row at a time, for a non-empty `rect` inside the
-  // image. A rectangle at most 8 pixels wide whose rows have 8 pixels from x0 on (a sphere's or a
-  // small box's) takes two 4-wide compares a row, the lanes past x1 dropped. For a sphere of a
-  // few pixels that costs fewer loads and branches than covered()'s descent: on the 1 M-atom LJ
-  // frame (tests/bench/lammps_dump_image.sh) the descent read about 3 tiles and scanned 2 of them
-  // on level 0 per sphere, after its nine probes.
+  // image. A rectangle at most 8 pixels wide whose rows have 8 readable pixels from x0 on (a
+  // sphere's or a small box's) takes two 4-wide compares a row, the lanes past x1 dropped. For a
+  // sphere of a few pixels that costs fewer loads and branches than covered()'s descent: on the
+  // 1 M-atom LJ frame (tests/bench/lammps_dump_image.sh) the descent read about 3 tiles and
+  // scanned 2 of them on level 0 per sphere, after its nine probes.
   bool covered_on_base(const PixelRect &rect, float z) const;
 
   // Brings the levels above 0 up to date after the caller lowered depths inside `rect`.
@@ -100,13 +103,14 @@ class MaxDepthPyramid {
   const float *level_data(size_t k) const { return k == 0 ? base_ : levels_[k].z.data(); }
 
   const float *base_ = nullptr;
+  int read_end_ = 0;  // reset()'s read_end
   std::vector<Level> levels_;
 };
 
 inline bool MaxDepthPyramid::covered_on_base(const PixelRect &rect, float z) const {
   const size_t w = size_t(levels_[0].w);
 #if defined(__SSE2__)
-  if (rect.x1 - rect.x0 < 8 && size_t(rect.x0) + 8 <= w) {
+  if (rect.x1 - rect.x0 < 8 && rect.x0 + 8 <= read_end_) {
     const int inside = (1 << (rect.x1 - rect.x0 + 1)) - 1;
     const __m128 zz = _mm_set1_ps(z);
     for (int y = rect.y0; y <= rect.y1; ++y) {

@@ -108,6 +108,43 @@ TEST(MaxDepthPyramid, CoveredMatchesAScanOfEveryPixelAsDepthsAreLowered) {
   EXPECT_LT(covered, queries * 9 / 10);
 }
 
+// A pyramid over a strip of columns [0, read_end) of a wider image, as the CPU raster's threads
+// each keep one (the columns past it written by another thread): covered_on_base reads no column
+// from read_end on, so rectangles near the strip's end take the plain rows instead of the 8-wide
+// compares; their answers are still the definition's. (That no column past the strip is read is
+// what ThreadSanitizer checks: tests/run_sanitized.sh with -DLANTERN_SANITIZE=thread.)
+TEST(MaxDepthPyramid, AStripsAnswersNearItsEndAreTheDefinitions) {
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  const int w = 200, h = 40;
+  for (const int read_end : {64, 67, 128, 199}) {
+    std::vector<float> depth(size_t(w) * size_t(h), 1.0f);
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < read_end; ++x) depth[size_t(y) * size_t(w) + size_t(x)] = 0.3f * u(rng);
+    MaxDepthPyramid pyramid;
+    pyramid.reset(depth.data(), w, h, 1.0f, read_end);
+    pyramid.propagate(PixelRect{0, 0, read_end - 1, h - 1});
+    int64_t covered = 0, queries = 0;
+    for (int q = 0; q < 4000; ++q) {
+      // Rectangles of 1 to 8 columns ending within 8 of the strip's end.
+      const int rw = std::uniform_int_distribution<int>(1, 8)(rng);
+      const int x1 = read_end - 1 - std::uniform_int_distribution<int>(0, 7)(rng);
+      const int rh = std::uniform_int_distribution<int>(1, 8)(rng);
+      const int y0 = std::uniform_int_distribution<int>(0, h - rh)(rng);
+      const PixelRect r{std::max(0, x1 - rw + 1), y0, x1, y0 + rh - 1};
+      const float z = 0.1f + 0.25f * u(rng);
+      const bool expected = every_pixel_below(depth, w, r, z);
+      ASSERT_EQ(pyramid.covered_on_base(r, z), expected)
+          << "strip end " << read_end << " rect " << r.x0 << "," << r.y0 << ".." << r.x1 << ","
+          << r.y1 << " z " << z;
+      ASSERT_EQ(pyramid.covered(r, z), expected) << "strip end " << read_end;
+      ++queries, covered += expected;
+    }
+    EXPECT_GT(covered, queries / 20) << read_end;
+    EXPECT_LT(covered, queries * 19 / 20) << read_end;
+  }
+}
+
 TEST(MaxDepthPyramid, AnEmptyRectangleIsCovered) {
   std::vector<float> depth(16, 1.0f);
   MaxDepthPyramid pyramid;
