@@ -3,6 +3,8 @@
 # builds every target with -DLANTERN_SANITIZE=address,undefined into build-sanitize, runs ctest.
 # Usage: bash tests/run_sanitized.sh [build-dir [cmake options...]]   (default: build-sanitize)
 #   e.g. bash tests/run_sanitized.sh build-sanitize -DCMAKE_CXX_COMPILER_LAUNCHER=ccache
+# ThreadSanitizer instead (the later -D wins; tests/tsan.supp names the libraries it skips):
+#   bash tests/run_sanitized.sh build-tsan -DLANTERN_SANITIZE=thread
 # Slow: well over CI's 30-minute budget on 2 cores (docs/design.md, "Sanitizer build"), so .ci/run does
 # not run it.
 set -euo pipefail
@@ -24,4 +26,5 @@ cmake --build "$build" -j "$(nproc)"
 # (halting, with stack traces) stay on; any report fails the test.
 export ASAN_OPTIONS=detect_leaks=0:check_initialization_order=1
 export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
+export TSAN_OPTIONS="suppressions=$root/tests/tsan.supp"
 ctest --test-dir "$build" --output-on-failure -j "$(nproc)" --timeout 1800
