@@ -26,5 +26,7 @@ cmake --build "$build" -j "$(nproc)"
 # (halting, with stack traces) stay on; any report fails the test.
 export ASAN_OPTIONS=detect_leaks=0:check_initialization_order=1
 export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
-export TSAN_OPTIONS="suppressions=$root/tests/tsan.supp"
+# ThreadSanitizer's lock-order checker stops the program (an internal CHECK) when one thread
+# holds more than 64 locks, as llvmpipe's shader compiler (LLVM) does: it is off.
+export TSAN_OPTIONS="suppressions=$root/tests/tsan.supp detect_deadlocks=0"
 ctest --test-dir "$build" --output-on-failure -j "$(nproc)" --timeout 1800
