@@ -173,6 +173,13 @@ constexpr int kSearchBehind = 1, kSearchAhead = 2;
 constexpr int kPad = 16;
 
 #define LANTERN_AO_INLINE inline __attribute__((always_inline))
+// The few AVX2 instructions below written as inline assembly (GCC). Clang checks an asm operand's
+// size against the function the asm is written in, and these helpers are compiled for the
+// baseline, so it refuses their 256-bit operands (the fuzzing build, tests/fuzz/run_fuzzers.sh,
+// stopped there): under clang the generic forms beside them run instead, with the same bits.
+#if defined(__x86_64__) && !defined(__clang__)
+#define LANTERN_AO_AVX2_ASM 1
+#endif
 
 LANTERN_AO_INLINE F8 load8(const float *p) {
   F8 v;
@@ -243,11 +250,13 @@ struct Avx2Gather {
 template <class Isa>
 LANTERN_AO_INLINE F8 sqrt8(F8 a) {
 #if defined(__x86_64__)
+#if defined(LANTERN_AO_AVX2_ASM)
   if constexpr (Isa::kAvx2) {
     F8 r;
     asm("vsqrtps %[a], %[r]" : [r] "=x"(r) : [a] "x"(a));
     return r;
   }
+#endif
   using F4 = float __attribute__((vector_size(16)));
   const F4 low = __builtin_shufflevector(a, a, 0, 1, 2, 3);
   const F4 high = __builtin_shufflevector(a, a, 4, 5, 6, 7);
@@ -263,7 +272,7 @@ LANTERN_AO_INLINE F8 sqrt8(F8 a) {
 // inserts) or lane by lane. Every index must be readable.
 template <class Isa>
 LANTERN_AO_INLINE F8 gather(const float *base, I8 index) {
-#if defined(__x86_64__)
+#if defined(LANTERN_AO_AVX2_ASM)
   if constexpr (Isa::kGather) {
     F8 r{};
     I8 mask;  // all ones: every lane loads; the gather clears it
@@ -321,7 +330,7 @@ LANTERN_AO_INLINE Vec3 tangent8(const Vec3 &p, F8 z, const Vec3 &q_plus, F8 z_pl
 // Intel cores; else, and in the baseline compilation, a plain multiply.
 template <class Isa, bool kNarrow>
 LANTERN_AO_INLINE I8 times_stride(I8 oy, I8 stride_pairs) {
-#if defined(__x86_64__)
+#if defined(LANTERN_AO_AVX2_ASM)
   if constexpr (Isa::kAvx2 && kNarrow) {
     I8 r;
     asm("vpmaddwd %[b], %[a], %[r]" : [r] "=x"(r) : [a] "x"(oy), [b] "x"(stride_pairs));
@@ -335,7 +344,7 @@ LANTERN_AO_INLINE I8 times_stride(I8 oy, I8 stride_pairs) {
 // instruction where GCC makes a compare and a blend of the generic form.
 template <class Isa>
 LANTERN_AO_INLINE F8 max_with(F8 a, F8 b) {
-#if defined(__x86_64__)
+#if defined(LANTERN_AO_AVX2_ASM)
   if constexpr (Isa::kAvx2) {
     F8 r;
     asm("vmaxps %[b], %[a], %[r]" : [r] "=x"(r) : [a] "x"(a), [b] "x"(b));
