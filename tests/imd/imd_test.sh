@@ -10,7 +10,8 @@
 #   its dump's positions bit-identical to lantern-lammps's float32 dump.
 # MODE leave (TOOLS: lmp): three clients in turn on one LAMMPS run that waits for a client:
 #   one leaves after --frames 2, one is stopped by SIGTERM, one sees the run end; every client
-#   exits 0 with intact images, and LAMMPS carries on to the end each time.
+#   exits 0 with intact images, and LAMMPS carries on to the end each time. Between its two runs
+#   LAMMPS waits until the second client is stopped, however slow that client is.
 # MODE example (TOOLS: lmp): examples/imd/in.melt and viz.yaml at CI size.
 # MODE hostile: a server that sends one good frame then a truncated one:
 #   lantern-imd on RANKS ranks exits 1 naming the truncation, the first image intact, no hang.
@@ -91,9 +92,16 @@ PY
 leave)
   lmp=$1
   port=$(free_port)
-  sed '/external/d' "$src/in.imd" > in.case
-  (timeout 120 "$lmp" -in in.case -log none -var port "$port" -var pause 0 -var steps 300 \
-     -var wait off > lmp.txt 2>&1; echo $? > lmp.rc) &
+  # fix imd waits only while no client is connected, so once the second client is in, LAMMPS
+  # runs on unhindered (0.07 s a run): a client slower to draw its first image (a sanitized
+  # build) got the signal after LAMMPS had ended both runs, and the third found no port. Between
+  # its runs LAMMPS now waits (60 s at most) for the file `go`, made once the second client is
+  # stopped; the second then detaches in the first run or at the start of the second.
+  printf 'for i in $(seq 1200); do [ -e go ] && exit 0; sleep 0.05; done; exit 1\n' > wait_go.sh
+  sed -e '/external/d' -e 's/^shell .*/shell sh wait_go.sh/' "$src/in.imd" > in.case
+  grep -q '^shell sh wait_go.sh' in.case || fail "in.imd has no shell line between its runs"
+  (timeout 120 "$lmp" -in in.case -log none -var port "$port" -var steps 300 -var wait off \
+     > lmp.txt 2>&1; echo $? > lmp.rc) &
   run_imd first 1 "127.0.0.1:$port" -lantern "$src/lj.yaml" --frames 2
   expect_rc first 0
   expect_text first/out.txt "rendered --frames 2 frames; leaving the simulation"
@@ -105,6 +113,7 @@ leave)
   kill -TERM "$client"
   wait "$client"
   echo $? > second/rc
+  touch go
   expect_rc second 0
   expect_text second/out.txt "stopped by a signal"
   run_imd third 1 "127.0.0.1:$port" -lantern "$src/lj.yaml"
