@@ -86,6 +86,19 @@ int main(int argc, char **argv) {
   int size = 1024, steps = 8, md_cells = 30;
   std::string out = "/tmp/lantern_bench_budget";
   bool object_ao = false;
+  // An option the bench does not know, or one without its value, stops it: a typo must not run
+  // the default benchmark for minutes and print it as what was asked for.
+  const auto usage = [&](const std::string &why) {
+    if (rank == 0)
+      std::fprintf(stderr,
+                   "lantern-bench-budget: %s\nusage: lantern-bench-budget [--scenes "
+                   "fcc1m,void_impact] [--size 1024] [--steps 8] [--budgets 10,20,40,80] "
+                   "[--md-cells 30] [--out DIR] [--ao screen|object]\n",
+                   why.c_str());
+    MPI_Finalize();
+    return 2;
+  };
+  if (argc % 2 == 0) return usage(std::string(argv[argc - 1]) + " has no value");
   for (int i = 1; i + 1 < argc; i += 2) {
     const std::string a = argv[i], v = argv[i + 1];
     std::stringstream list(v);
@@ -110,6 +123,8 @@ int main(int argc, char **argv) {
         return 2;
       }
       object_ao = v == "object";
+    } else {
+      return usage("unknown option " + a);
     }
   }
   const std::string full_keys =

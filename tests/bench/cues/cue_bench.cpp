@@ -221,6 +221,19 @@ int main(int argc, char **argv) {
   int size = 1024, steps = 5, md_cells = 30, kernel_reps = 0, samples = 1;
   std::vector<int64_t> object_nodes;
   std::string out = "/tmp/lantern_bench_cues";
+  // An option the bench does not know, or one without its value, stops it: a typo must not run
+  // the default benchmark for minutes and print it as what was asked for.
+  const auto usage = [&](const std::string &why) {
+    if (rank == 0)
+      std::fprintf(stderr,
+                   "lantern-bench-cues: %s\nusage: lantern-bench-cues [--scenes fcc1m,void_impact] "
+                   "[--size 1024] [--steps 5] [--md-cells 30] [--out DIR] [--kernels REPS] "
+                   "[--object-nodes N,N,...] [--samples 1]\n",
+                   why.c_str());
+    MPI_Finalize();
+    return 2;
+  };
+  if (argc % 2 == 0) return usage(std::string(argv[argc - 1]) + " has no value");
   for (int i = 1; i + 1 < argc; i += 2) {
     const std::string a = argv[i], v = argv[i + 1];
     if (a == "--scenes") {
@@ -243,6 +256,8 @@ int main(int argc, char **argv) {
       std::stringstream list(v);
       for (std::string n; std::getline(list, n, ',');) object_nodes.push_back(std::stoll(n));
       std::sort(object_nodes.begin(), object_nodes.end());
+    } else {
+      return usage("unknown option " + a);
     }
   }
   std::vector<Variant> variants = kVariants;

@@ -58,14 +58,21 @@ int run(int argc, char **argv) {
   int reps = 15;
   for (int a = 1; a < argc; ++a) {
     const std::string arg = argv[a];
-    if (arg.rfind("--reps=", 0) == 0) reps = std::max(1, std::atoi(arg.c_str() + 7));
-    if (arg.rfind("--sizes=", 0) == 0) {
+    if (arg.rfind("--reps=", 0) == 0) {
+      reps = std::max(1, std::atoi(arg.c_str() + 7));
+    } else if (arg.rfind("--sizes=", 0) == 0) {
       sizes.clear();
       for (size_t p = 8; p < arg.size();) {
         sizes.push_back(std::atoi(arg.c_str() + p));
         const size_t comma = arg.find(',', p);
         p = comma == std::string::npos ? arg.size() : comma + 1;
       }
+    } else {  // a typo must not run the default benchmark as if it were what was asked for
+      std::fprintf(stderr,
+                   "lantern-bench-cuts: unknown option %s\n"
+                   "usage: lantern-bench-cuts [--sizes=1,10] [--reps=15]\n",
+                   arg.c_str());
+      return 2;
     }
   }
   std::printf("%-9s %8s %-22s %10s %12s %8s %14s\n", "atoms", "bricks", "edit", "ms full",

@@ -48,10 +48,20 @@ int main(int argc, char **argv) {
   int size = 1024, runs = 7;
   bool cpu_only = false;
   for (int i = 1; i < argc; ++i) {
-    if (!std::strcmp(argv[i], "--cpu-only")) cpu_only = true;
-    if (i + 1 >= argc) continue;
-    if (!std::strcmp(argv[i], "--size")) size = std::atoi(argv[i + 1]);
-    if (!std::strcmp(argv[i], "--runs")) runs = std::atoi(argv[i + 1]);
+    const bool valued = i + 1 < argc;
+    if (!std::strcmp(argv[i], "--cpu-only")) {
+      cpu_only = true;
+    } else if (valued && !std::strcmp(argv[i], "--size")) {
+      size = std::atoi(argv[++i]);
+    } else if (valued && !std::strcmp(argv[i], "--runs")) {
+      runs = std::atoi(argv[++i]);
+    } else {  // a typo must not run the default benchmark as if it were what was asked for
+      std::fprintf(stderr,
+                   "lantern-bench-render: unknown option or missing value: %s\n"
+                   "usage: lantern-bench-render [--size 1024] [--runs 7] [--cpu-only]\n",
+                   argv[i]);
+      return 2;
+    }
   }
   std::shared_ptr<GlSession> session;
   SphereRenderer *renderer = nullptr;
