@@ -22,8 +22,8 @@
 #include <string>
 #include <utility>
 
+#include "core/common/injected_fault.h"
 #include "core/dump/hdf5_handle.h"
-#include "core/dump/injected_fault.h"
 
 namespace lantern {
 

@@ -14,8 +14,8 @@
 #include <vector>
 
 #include "bond_topology.h"
+#include "core/common/injected_fault.h"
 #include "core/dump/h5md_reader.h"
-#include "core/dump/injected_fault.h"
 #include "lantern/lantern.h"
 #include "mpi_scratch_dir.h"
 #include "tests/support/mpi_world.h"
@@ -231,13 +231,13 @@ TEST(DumpBonds, AFailedBondWriteLeavesAValidFile) {
     Context ctx = open_config("dump:\n  file: " + file + "\n");
     rank.publish(ctx.get());
     ASSERT_EQ(lantern_execute(ctx.get(), 0, 0.0), LANTERN_OK) << lantern_error_message(ctx.get());
-    if (world_rank() == world_size() - 1) inject_dump_fault("all_bonds/value: write");
+    if (world_rank() == world_size() - 1) inject_fault("all_bonds/value: write");
     EXPECT_EQ(lantern_execute(ctx.get(), 1, 1.0), LANTERN_ERR_IO);
     const std::string message = lantern_error_message(ctx.get());
     EXPECT_NE(message.find("all_bonds/value: write"), std::string::npos) << message;
     EXPECT_NE(message.find("keeps its 1 earlier frame"), std::string::npos) << message;
   }
-  inject_dump_fault("");
+  inject_fault("");
   std::unique_ptr<H5mdReader> reader;
   ASSERT_OK(H5mdReader::open(file, MPI_COMM_WORLD, &reader));
   ASSERT_EQ(reader->frames().size(), 1u);

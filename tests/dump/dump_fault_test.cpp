@@ -10,8 +10,8 @@
 #include <string>
 #include <vector>
 
+#include "core/common/injected_fault.h"
 #include "core/dump/h5md_reader.h"
-#include "core/dump/injected_fault.h"
 #include "h5md_series_frames.h"
 #include "lantern/lantern.h"
 #include "mpi_scratch_dir.h"
@@ -104,7 +104,7 @@ TEST_P(DumpFault, OneRankFailingAFrameStopsTheDumpOnEveryRankAndRenderingGoesOn)
   {
     const Context ctx = open_run(dir);
     ASSERT_EQ(step(ctx.get(), 0), LANTERN_OK) << lantern_error_message(ctx.get());
-    if (world_rank() == kFaultyRank) inject_dump_fault(GetParam());
+    if (world_rank() == kFaultyRank) inject_fault(GetParam());
     EXPECT_EQ(step(ctx.get(), 1), LANTERN_ERR_IO);
     const std::string message = lantern_error_message(ctx.get());
     EXPECT_EQ(message, rank0_text(message)) << "every rank reports the same error";
@@ -121,7 +121,7 @@ TEST_P(DumpFault, OneRankFailingAFrameStopsTheDumpOnEveryRankAndRenderingGoesOn)
     MPI_Barrier(MPI_COMM_WORLD);
     EXPECT_TRUE(image_exists(dir, 2));
   }
-  inject_dump_fault("");
+  inject_fault("");
   // The file was closed consistently and keeps frame 0, readable as a whole; the failed frame
   // was cut back, even where only its final flush failed (its step returned an error).
   std::unique_ptr<H5mdReader> reader;
@@ -156,7 +156,7 @@ TEST(DumpFaultOnCreate, OneRankFailingTheCreateIsAgreedAndTheNextDumpRetries) {
   const std::string file = dir + "/run.h5";
   {
     const Context ctx = open_run(dir);
-    if (world_rank() == kFaultyRank) inject_dump_fault("file is writable");
+    if (world_rank() == kFaultyRank) inject_fault("file is writable");
     EXPECT_EQ(step(ctx.get(), 0), LANTERN_ERR_IO);
     const std::string message = lantern_error_message(ctx.get());
     EXPECT_EQ(message, rank0_text(message));

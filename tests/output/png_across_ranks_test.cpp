@@ -2,7 +2,8 @@
 // file assemble_png makes of the same bands in memory (and write_png's on one process),
 // whichever rank is the root, for frames
 // whose file takes one IDAT chunk or several, RGB and RGBA, and more ranks than bands; a path
-// that cannot be written fails on the root, every rank returns, and no temporary file is left.
+// that cannot be written fails on the root, every rank returns, and no temporary file is left;
+// so does a band whose compression fails on a rank other than the root.
 // (The root writes each band as it arrives, so the first IDAT chunk's length is set last.)
 #include <gtest/gtest.h>
 #include <mpi.h>
@@ -15,6 +16,7 @@
 #include <utility>
 #include <vector>
 
+#include "core/common/injected_fault.h"
 #include "core/output/png/png_across_ranks.h"
 #include "core/output/png/png_bands.h"
 #include "tests/output/scratch_dir.h"
@@ -175,6 +177,39 @@ TEST(PngAcrossRanks, UnwritablePathFailsOnTheRootAndEveryRankReturns) {
   const Status again =
       write_png_across_ranks(MPI_COMM_WORLD, 0, frame, 1024, 700, 1, dir.file("ok.png"));
   EXPECT_OK(again);
+}
+
+// A rank other than the root fails to compress its first band (as running out of memory there
+// would): it and the root report the failure, no file is left, and no rank waits for ever - the
+// root has already sent that rank the rows of its later bands, which it must still receive.
+TEST(PngAcrossRanks, CompressionFailingOnAnotherRankFailsOnItAndTheRootAndEveryRankReturns) {
+  if (world_size() < 2) GTEST_SKIP() << "needs a rank other than the root";
+  const ScratchDir dir;
+  const int root = 0, faulty = 1;  // at 2 and 3 ranks the owner of several bands
+  const Frame frame = world_rank() == root ? test_frame(1024, 700, true, true, 5) : Frame();
+  if (world_rank() == faulty) inject_fault("png: deflate band");
+  const std::string path = dir.file("failed.png");
+  const Status s = write_png_across_ranks(MPI_COMM_WORLD, root, frame, 1024, 700, 1, path);
+  inject_fault("");
+  if (world_rank() == root || world_rank() == faulty) {
+    EXPECT_EQ(s.code, StatusCode::kIo);
+    EXPECT_NE(s.message.find("failed.png"), std::string::npos) << s.message;
+  } else {
+    EXPECT_OK(s);
+  }
+  if (world_rank() == root) EXPECT_EQ(dir.entry_count(), 0u);
+  // The communicator is still usable: nothing of the failed call is left in flight.
+  int sum = 0, one = 1;
+  MPI_Allreduce(&one, &sum, 1, MPI_INT, MPI_SUM, MPI_COMM_WORLD);
+  EXPECT_EQ(sum, world_size());
+  const Status again = write_png_across_ranks(MPI_COMM_WORLD, root, frame, 1024, 700, 1, path);
+  EXPECT_OK(again);
+  if (world_rank() == root) {
+    const Frame one_process = frame;
+    const std::string alone = dir.file("alone.png");
+    ASSERT_OK(write_png(one_process, 1, alone, 1));
+    EXPECT_EQ(read_file(path), read_file(alone));
+  }
 }
 
 }  // namespace

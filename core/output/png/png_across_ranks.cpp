@@ -12,8 +12,10 @@
 #include <filesystem>
 #include <functional>
 #include <new>
+#include <string>
 #include <vector>
 
+#include "core/common/injected_fault.h"
 #include "core/common/rank_threads.h"
 #include "core/output/atomic_file.h"
 #include "core/output/png/png_bands.h"
@@ -209,8 +211,16 @@ Status send_bands(MPI_Comm comm, int root, int width, int height, int n, int b0,
     failure = deflate_bands_on_threads(rows_of, width, height, n, b0, b1, level, channels, threads,
                                        &bands);
   for (int b = b0; b < b1; ++b) {
-    if (failure.ok() && !compressed)
-      failure = deflate_bands(rows_of(b), width, height, n, b, b + 1, level, channels, &bands);
+    if (!compressed) {
+      // Every band's rows are taken, also after a failure: they may be a message from the root,
+      // whose send completes only once it is received here (a band of a 1024-pixel-wide frame is
+      // far beyond MPI's eager limit), so skipping them would leave the root waiting for ever.
+      const uint8_t *rows = rows_of(b);
+      if (failure.ok() && take_injected_fault("png: deflate band " + std::to_string(b)))
+        failure = {StatusCode::kIo, "band " + std::to_string(b) + ": injected fault"};
+      if (failure.ok())
+        failure = deflate_bands(rows, width, height, n, b, b + 1, level, channels, &bands);
+    }
     const PngBand &p = bands[size_t(b)];
     int64_t *h = &headers[size_t(b - b0) * kHeaderWords];
     const bool failed = !failure.ok();  // this band and every later one: none sent

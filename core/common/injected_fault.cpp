@@ -1,4 +1,4 @@
-#include "core/dump/injected_fault.h"
+#include "core/common/injected_fault.h"
 
 #include <cstdlib>
 
@@ -8,11 +8,11 @@ namespace {
 // Kept in the environment rather than in a variable: tests link core statically and also reach
 // it through the shared C library, which holds a second copy of core's variables; the process
 // environment is the one thing both copies see.
-constexpr const char *kVariable = "LANTERN_INJECT_DUMP_FAULT";
+constexpr const char *kVariable = "LANTERN_INJECT_FAULT";
 
 }  // namespace
 
-void inject_dump_fault(const std::string &what) {
+void inject_fault(const std::string &what) {
   if (what.empty())
     unsetenv(kVariable);
   else
