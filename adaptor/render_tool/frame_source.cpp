@@ -37,7 +37,12 @@ class H5mdSource : public ReaderSource<H5mdReader> {
 
 std::string open_frame_source(const std::string &path, MPI_Comm comm,
                               std::unique_ptr<FrameSource> *out) {
-  if (has_hdf5_signature(path)) {
+  // H5MD as soon as one rank sees an HDF5 file: H5mdReader::open then agrees on whether every
+  // rank can read it before its collective open (a rank taking the text reader instead would
+  // leave the others waiting there).
+  int hdf5 = has_hdf5_signature(path) ? 1 : 0;
+  MPI_Allreduce(MPI_IN_PLACE, &hdf5, 1, MPI_INT, MPI_MAX, comm);
+  if (hdf5 != 0) {
     std::unique_ptr<H5mdReader> reader;
     if (Status s = H5mdReader::open(path, comm, &reader); !s.ok()) return s.message;
     *out = std::make_unique<H5mdSource>(std::move(reader));

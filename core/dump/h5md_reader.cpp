@@ -8,6 +8,7 @@
 #include <new>
 #include <optional>
 
+#include "core/common/collective_status.h"
 #include "core/common/quoted_text.h"
 #include "core/dump/h5md_layout.h"
 #include "core/dump/hdf5_handle.h"
@@ -509,8 +510,14 @@ Status H5mdReader::open(const std::string &path, MPI_Comm comm, std::unique_ptr<
     return Status(StatusCode::kIo, path + ": " + what);
   };
   silence_hdf5_errors();
-  if (!std::ifstream(path)) return unreadable("cannot open the file (missing or unreadable)");
-  if (!has_hdf5_signature(path)) return unreadable("not an HDF5 file (no HDF5 signature)");
+  // Agreed before HDF5's collective open: a rank that cannot read the file (a node-local disk,
+  // a relative path in another working directory) would otherwise leave the others waiting in it.
+  Status readable;
+  if (!std::ifstream(path))
+    readable = unreadable("cannot open the file (missing or unreadable)");
+  else if (!has_hdf5_signature(path))
+    readable = unreadable("not an HDF5 file (no HDF5 signature)");
+  if (Status agreed = agree_on_status(comm, readable); !agreed.ok()) return agreed;
   auto impl = std::make_unique<Impl>();
   impl->path = path;
   try {

@@ -34,7 +34,8 @@ namespace lantern {
 class H5mdReader {
  public:
   // Opens `path` on `comm` (collective: MPI-IO) and checks its structure. Returns OK and sets
-  // *out, or kIo with an error message naming the file.
+  // *out, or kIo with an error message naming the file; a file that some rank cannot read fails
+  // on every rank, with the lowest such rank's message.
   static Status open(const std::string &path, MPI_Comm comm, std::unique_ptr<H5mdReader> *out);
   ~H5mdReader();
   H5mdReader(const H5mdReader &) = delete;

@@ -123,6 +123,7 @@ TimeSeries::TimeSeries(Existing, CollectiveCalls &calls, hid_t parent, const std
 }
 
 hsize_t TimeSeries::row_size() const {
+  // cppcheck-suppress containerOutOfBounds ; begin() + 1 only where inner_ is not empty
   return std::accumulate(inner_.begin() + (inner_.empty() ? 0 : 1), inner_.end(), hsize_t{1},
                          std::multiplies<hsize_t>());
 }

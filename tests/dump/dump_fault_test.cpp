@@ -171,5 +171,31 @@ TEST(DumpFaultOnCreate, OneRankFailingTheCreateIsAgreedAndTheNextDumpRetries) {
   EXPECT_EQ(reader->frames()[0].step, 1);
 }
 
+// A file that one rank cannot see (a node-local disk, a relative path in another working
+// directory): opening it for reading fails on every rank with that rank's reason, where the
+// others used to wait for ever in HDF5's collective open. The faulty rank asks for a name that
+// does not exist; the others for the real file.
+TEST(DumpFaultOnRead, AFileMissingOnOneRankFailsTheOpenOnEveryRank) {
+  ASSERT_GE(world_size(), 2) << "run under mpiexec -n 3";
+  const MpiScratchDir scratch;
+  const std::string dir = std::filesystem::path(scratch.file("run.h5")).parent_path().string();
+  const std::string file = dir + "/run.h5";
+  {
+    const Context ctx = open_run(dir);
+    ASSERT_EQ(step(ctx.get(), 0), LANTERN_OK) << lantern_error_message(ctx.get());
+  }
+  const std::string missing = dir + "/not_here.h5";
+  std::unique_ptr<H5mdReader> reader;
+  const Status s =
+      H5mdReader::open(world_rank() == kFaultyRank ? missing : file, MPI_COMM_WORLD, &reader);
+  EXPECT_EQ(s.code, StatusCode::kIo);
+  EXPECT_NE(s.message.find("not_here.h5: cannot open the file"), std::string::npos) << s.message;
+  EXPECT_EQ(s.message, rank0_text(s.message)) << "every rank reports the same error";
+  EXPECT_EQ(reader, nullptr);
+  // Nothing is left in flight: the file opens on every rank afterwards.
+  ASSERT_OK(H5mdReader::open(file, MPI_COMM_WORLD, &reader));
+  EXPECT_EQ(reader->frames().size(), 1u);
+}
+
 }  // namespace
 }  // namespace lantern
