@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include "core/common/injected_fault.h"
+
 #include "core/composite/composite_methods.h"
 
 namespace lantern {
@@ -104,7 +106,10 @@ Status exchange_active_pixels(MPI_Comm comm, int tag, size_t streams,
       ++traffic->messages_received;
       const size_t length = size_t(std::max(words, 0));
       if (!in.failed) {
-        Status decoded = in.decoder.decode(in.buffer, length, frame);
+        Status decoded =
+            take_injected_fault("active pixels: decode")
+                ? Status(StatusCode::kInternal, "active pixels: decode (injected fault)")
+                : in.decoder.decode(in.buffer, length, frame);
         if (decoded.ok()) {
           in.finished = in.decoder.done();
           continue;

@@ -3,6 +3,7 @@
 #include <climits>
 #include <new>
 
+#include "core/common/collective_status.h"
 #include "core/composite/active_pixel_compositing.h"
 #include "core/composite/composite_methods.h"
 #include "core/composite/rank_agreement.h"
@@ -240,6 +241,9 @@ Status composite_frames(MPI_Comm comm, Frame &frame, int root, const CompositeOp
     if (status.ok() && stats.pixels > 0)
       status = run_method(dense, comm, frame, root, chunk, scratch, &stats.traffic);
   }
+  // A failure only some ranks saw (a message one rank could not decode) is every rank's: the
+  // callers go on to collective steps (the image's write) only when compositing succeeded.
+  status = agree_on_status(comm, status);
   stats.milliseconds = elapsed_ms(start);
   return status;
 }

@@ -12,6 +12,7 @@
 #include <ostream>
 #include <vector>
 
+#include "core/common/injected_fault.h"
 #include "core/composite/active_pixel_exchange.h"
 #include "core/composite/composite_cost_model.h"
 #include "core/composite/composite_methods.h"
@@ -244,6 +245,26 @@ TEST(Composite, BadRootOrDisagreeingMethodFailsOnEveryRank) {
   EXPECT_EQ(composite_frames(MPI_COMM_WORLD, frame, 0, m).code, StatusCode::kMpi);
   // And the communicator is still usable afterwards.
   EXPECT_OK(composite_frames(MPI_COMM_WORLD, frame, 0));
+}
+
+// A message the root cannot decode (only an encoder defect could make one: an injected fault
+// here) fails the call on every rank, not on the root alone, whose peers would otherwise go on
+// to the collective steps after compositing (the image's write) without it.
+TEST(Composite, AMessageOneRankCannotDecodeFailsOnEveryRank) {
+  if (world_size() < 2) GTEST_SKIP() << "needs two ranks";
+  Case c;
+  c.seed = 7;
+  c.width = 160;
+  c.height = 120;
+  Frame frame = frame_of_rank(c, world_rank(), world_size());
+  if (world_rank() == 0) inject_fault("active pixels: decode");
+  const Status status = composite_frames(MPI_COMM_WORLD, frame, 0, CompositeMethod::kActivePixels);
+  inject_fault("");
+  EXPECT_EQ(status.code, StatusCode::kInternal) << status.message;
+  EXPECT_NE(status.message.find("active pixels: decode (injected fault)"), std::string::npos)
+      << status.message;
+  // Nothing is left in flight: the next call composites the same frames exactly.
+  expect_matches(composite_case(c, CompositeMethod::kActivePixels, 0));
 }
 
 TEST(Composite, StatsNameTheMethodThatRan) {
