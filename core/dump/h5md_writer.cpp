@@ -65,9 +65,18 @@ std::string version_string() {
   return LANTERN_VERSION_STRING;
 }
 
-std::string author_name() {
-  const char *user = std::getenv("USER");
-  return user && *user ? user : "unknown";
+// Rank 0's user name on every rank: an attribute written collectively must be the same on every
+// rank, and a job's ranks need not share an environment.
+std::string author_name(MPI_Comm comm) {
+  int rank = 0;
+  MPI_Comm_rank(comm, &rank);
+  const char *user = rank == 0 ? std::getenv("USER") : nullptr;
+  std::string name = user && *user ? user : "unknown";
+  int length = int(name.size());
+  MPI_Bcast(&length, 1, MPI_INT, 0, comm);
+  name.resize(size_t(length));
+  MPI_Bcast(name.data(), length, MPI_CHAR, 0, comm);
+  return name;
 }
 
 }  // namespace
@@ -183,19 +192,20 @@ void H5mdWriter::create_file(MPI_Comm comm, bool replace) {
         H5Fcreate(path_.c_str(), replace ? H5F_ACC_TRUNC : H5F_ACC_EXCL, H5P_DEFAULT, fapl.get()),
         replace ? "cannot create the file" : "cannot create the file (or it exists)");
   });
-  calls_.collective("metadata", [&] { write_metadata(); });
+  const std::string author = author_name(comm);
+  calls_.collective("metadata", [&] { write_metadata(author); });
   create_elements();
   calls_.collective("flush", [&] { h5_check(H5Fflush(file_.get(), H5F_SCOPE_GLOBAL), "flush"); });
   calls_.settle();
 }
 
-void H5mdWriter::write_metadata() {
+void H5mdWriter::write_metadata(const std::string &author_name) {
   const H5Handle h5md =
       own_group(H5Gcreate2(file_.get(), "/h5md", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), "/h5md");
   write_int_attribute(h5md.get(), "version", {1, 1}, false);
   const H5Handle author = own_group(
       H5Gcreate2(h5md.get(), "author", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), "/h5md/author");
-  write_string_attribute(author.get(), "name", {author_name()}, true);
+  write_string_attribute(author.get(), "name", {author_name}, true);
   const H5Handle creator = own_group(
       H5Gcreate2(h5md.get(), "creator", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), "/h5md/creator");
   write_string_attribute(creator.get(), "name", {"Lantern"}, true);

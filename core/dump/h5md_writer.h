@@ -113,7 +113,7 @@ class H5mdWriter {
   void open_file(MPI_Comm comm);
   H5Handle file_access(MPI_Comm comm);  // MPI-IO, collective metadata writes; collective
   void write_frame(const DumpFrame &frame);
-  void write_metadata();
+  void write_metadata(const std::string &author_name);
   void create_elements();
   void create_bond_list();
 

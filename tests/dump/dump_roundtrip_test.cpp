@@ -2,12 +2,14 @@
 // publishes a different number of particles, Lantern writes them collectively, and H5mdReader
 // (each rank reading its own share) finds every value where the global id says it belongs.
 #include <gtest/gtest.h>
+#include <hdf5.h>
 #include <mpi.h>
 
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <memory>
@@ -160,6 +162,38 @@ TEST(DumpRoundTrip, FileIsValidAfterEveryFrameWithoutClose) {
   write_steps(ctx.get(), {1, 2});
   // Still open for writing: the flushed file already holds both frames.
   check_file(file, {1, 2}, 0.0);
+}
+
+// The file's author (/h5md/author name, from $USER) is rank 0's even where the ranks' environments
+// differ: an attribute written collectively must be the same on every rank (names of different
+// lengths left the ranks waiting for ever in HDF5's metadata writes).
+TEST(DumpRoundTrip, AuthorIsRankZerosUserWhateverTheRanksEnvironments) {
+  const MpiScratchDir dir;
+  const std::string file = dir.file("author.h5");
+  const char *user = std::getenv("USER");
+  const std::string kept = user ? user : "";
+  setenv("USER",
+         world_rank() == 0 ? "user_of_rank_0"
+                           : std::string(size_t(5 + 40 * world_rank()), 'x').c_str(),
+         1);
+  {
+    const Context ctx = open_dump(file, "");
+    write_steps(ctx.get(), {1});
+  }
+  if (user)
+    setenv("USER", kept.c_str(), 1);
+  else
+    unsetenv("USER");
+  if (world_rank() != 0) return;
+  const hid_t f = H5Fopen(file.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  ASSERT_GE(f, 0);
+  const hid_t a = H5Aopen_by_name(f, "/h5md/author", "name", H5P_DEFAULT, H5P_DEFAULT);
+  ASSERT_GE(a, 0);
+  const hid_t t = H5Aget_type(a);
+  std::vector<char> text(H5Tget_size(t) + 1, '\0');
+  EXPECT_GE(H5Aread(a, t, text.data()), 0);
+  EXPECT_STREQ(text.data(), "user_of_rank_0");
+  H5Tclose(t), H5Aclose(a), H5Fclose(f);
 }
 
 TEST(DumpRoundTrip, EmptyRanksStillTakePart) {
