@@ -146,7 +146,8 @@ void broadcast(void *data, int count, MPI_Datatype type) {
   MPI_Ibcast(data, count, type, 0, MPI_COMM_WORLD, &request);
   for (int done = 0;;) {
     MPI_Test(&request, &done, MPI_STATUS_IGNORE);
-    if (done) return;
+    // MPI_Test completed the request (the analyzer's MPI checker knows only MPI_Wait).
+    if (done) return;  // NOLINT(clang-analyzer-optin.mpi.MPI-Checker)
     std::this_thread::sleep_for(std::chrono::milliseconds(1));
   }
 }

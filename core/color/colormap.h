@@ -63,7 +63,8 @@ class TypePalette {
     // Types within the palette skip the two 64-bit divisions: the CPU raster colours every
     // sphere it draws through here.
     if (static_cast<uint64_t>(type) < colors_.size()) return colors_[static_cast<size_t>(type)];
-    const auto n = static_cast<int64_t>(colors_.size());
+    const auto n = static_cast<int64_t>(colors_.size());  // never 0: the built-in palette else
+    // cppcheck-suppress [zerodivcond,containerOutOfBounds] ; n > 0 and the index is in [0, n)
     return colors_[static_cast<size_t>(((type % n) + n) % n)];
   }
 

@@ -206,8 +206,8 @@ CostEstimate estimate_active_pixels(const CompositingSchedule &schedule, size_t 
   e.seconds = model.scan_s * n;
   if (schedule.tree) {
     // Round j: the root takes a frame holding 2^j ranks' images.
-    for (double images = 1; images < double(schedule.ranks); images *= 2) {
-      const double moved = n * covered(images);
+    for (int64_t images = 1; images < int64_t(schedule.ranks); images *= 2) {
+      const double moved = n * covered(double(images));
       e.seconds += model.latency_s + kBytesPerPixel * moved * per_byte + one_way * moved;
       e.bytes_sent = kBytesPerPixel * moved;  // the last sender's is the largest
     }

@@ -119,7 +119,7 @@ void visit_bond_brick(size_t k, const BrickBonds &bonds, const BondSelection &se
     uint32_t begin, end;
     bool cut;
     glm::dvec3 atom, centre;
-    double reach;  // of the sphere round the halves, when there are two or more
+    double reach = 0.0;  // of the sphere round the halves, when there are two or more
     PixelRect rect;
   };
   // The brick's runs are prepared first (atom, cut, view position, sphere), then judged and drawn

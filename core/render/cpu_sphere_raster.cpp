@@ -811,7 +811,7 @@ bool CpuSphereRaster::draw_centred_bond(const glm::dvec3 &a, const glm::dvec3 &u
           break;
       if (!keep) continue;
       lo += __builtin_ctz(keep);
-      for (keep = 0;; hi -= kRun) {
+      for (;; hi -= kRun) {
         const int n = std::min(kRun, hi - lo + 1);
         if ((keep = kept_bits(row_depth + hi - n + 1, n, reject, readable(hi + 1 - n)))) {
           hi -= __builtin_clz(keep) - (32 - n);

@@ -15,6 +15,7 @@ constexpr int kTableMax = 64;
 const std::array<double, kTableMax + 1> &log_factorials() {
   static const std::array<double, kTableMax + 1> table = [] {
     std::array<double, kTableMax + 1> t{};
+    // cppcheck-suppress containerOutOfBounds ; t holds kTableMax + 1 entries
     for (int j = 0; j <= kTableMax; ++j) t[size_t(j)] = std::lgamma(j + 1.0);
     return t;
   }();

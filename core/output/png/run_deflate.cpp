@@ -102,6 +102,7 @@ void canonical_codes(const uint8_t *lengths, int n, uint16_t *codes) {
   int code = 0;
   for (int bits = 1; bits <= kMaxCodeBits; ++bits) {
     code = (code + count[size_t(bits - 1)]) << 1;
+    // cppcheck-suppress containerOutOfBounds ; next holds kMaxCodeBits + 2 entries
     next[size_t(bits)] = code;
   }
   for (int s = 0; s < n; ++s) {
@@ -331,6 +332,7 @@ void RunDeflater::add_block(const uint8_t *data, size_t n, bool final) {
     int width = lengths[size_t(sym)];
     bits |= uint32_t(len - kLengthBase[size_t(c)]) << width, width += kLengthExtra[size_t(c)];
     bits |= uint32_t(dist_code[0]) << width, width += dist_len[0];
+    // cppcheck-suppress containerOutOfBounds ; symbol holds 256 + kMaxRun + 1 entries
     symbol[size_t(256 + len)] = bits | uint32_t(width) << 24;
   }
   {
