@@ -8,6 +8,7 @@
 #include <cstring>
 #include <filesystem>
 #include <limits>
+#include <system_error>
 #include <vector>
 
 #include "core/dump/h5md_layout.h"
@@ -87,7 +88,16 @@ Status H5mdWriter::create(MPI_Comm comm, const std::string &path, const DumpLayo
   try {
     writer->create_file(comm, replace);
   } catch (const Hdf5Error &e) {
-    return {StatusCode::kIo, e.what()};  // the same on every rank: the writer closes collectively
+    // The same on every rank: the writer closes collectively. A file this call created is
+    // removed: half-built, it would make every later scheduled dump fail as "exists" (mode
+    // create) or as not Lantern's (mode append) instead of trying again.
+    const bool created = writer->file_.valid();
+    writer.reset();
+    int rank = 0;
+    MPI_Comm_rank(comm, &rank);
+    std::error_code ignored;
+    if (created && rank == 0) std::filesystem::remove(path, ignored);
+    return {StatusCode::kIo, e.what()};
   }
   *out = std::move(writer);
   return {};

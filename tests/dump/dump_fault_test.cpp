@@ -171,6 +171,31 @@ TEST(DumpFaultOnCreate, OneRankFailingTheCreateIsAgreedAndTheNextDumpRetries) {
   EXPECT_EQ(reader->frames()[0].step, 1);
 }
 
+// A failure after the file was created (its metadata, groups or first flush): the half-built file
+// is removed, so that the next scheduled dump creates it again (it failed as "exists" before).
+TEST(DumpFaultOnCreate, OneRankFailingAfterTheCreateRemovesTheFileAndTheNextDumpRetries) {
+  ASSERT_GE(world_size(), 2) << "run under mpiexec -n 3";
+  const MpiScratchDir scratch;
+  const std::string dir = std::filesystem::path(scratch.file("run.h5")).parent_path().string();
+  const std::string file = dir + "/run.h5";
+  {
+    const Context ctx = open_run(dir);
+    if (world_rank() == kFaultyRank) inject_fault("metadata");
+    EXPECT_EQ(step(ctx.get(), 0), LANTERN_ERR_IO);
+    const std::string message = lantern_error_message(ctx.get());
+    EXPECT_EQ(message, rank0_text(message));
+    EXPECT_NE(message.find("metadata (injected fault)"), std::string::npos) << message;
+    EXPECT_FALSE(std::filesystem::exists(file));
+    EXPECT_TRUE(image_exists(dir, 0)) << "the image is still written";
+    EXPECT_EQ(step(ctx.get(), 1), LANTERN_OK) << lantern_error_message(ctx.get());
+    EXPECT_EQ(step(ctx.get(), 2), LANTERN_OK) << lantern_error_message(ctx.get());
+  }
+  std::unique_ptr<H5mdReader> reader;
+  ASSERT_OK(H5mdReader::open(file, MPI_COMM_WORLD, &reader));
+  ASSERT_EQ(reader->frames().size(), 2u);
+  EXPECT_EQ(reader->frames()[0].step, 1);
+}
+
 // A file that one rank cannot see (a node-local disk, a relative path in another working
 // directory): opening it for reading fails on every rank with that rank's reason, where the
 // others used to wait for ever in HDF5's collective open. The faulty rank asks for a name that
