@@ -4,9 +4,14 @@
 #include <lantern/lantern.h>
 #include <mpi.h>
 
+#include <unistd.h>
+
+#include <cerrno>
 #include <cstdio>
+#include <cstring>
 #include <fstream>
 #include <memory>
+#include <string>
 
 #include "cli.h"
 #include "dt_sweep.h"
@@ -63,6 +68,27 @@ int run_simulation(const CommandLine &cl, MPI_Comm comm, int rank, int size) {
   return 0;
 }
 
+// `text` into `path` whole or not at all: written under a temporary name beside it, checked, then
+// renamed over it (a full disk or an unwritable folder leaves any earlier file as it was).
+// Returns "" or why not.
+std::string write_whole_file(const std::string &path, const std::string &text) {
+  const std::string temporary = path + ".tmp." + std::to_string(::getpid());
+  std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
+  if (!out) return std::strerror(errno);
+  out << text;
+  out.close();
+  if (!out) {
+    std::remove(temporary.c_str());
+    return "the file could not be written";
+  }
+  if (std::rename(temporary.c_str(), path.c_str()) != 0) {
+    const std::string why = std::strerror(errno);
+    std::remove(temporary.c_str());
+    return why;
+  }
+  return {};
+}
+
 int run_sweep(const CommandLine &cl, MPI_Comm comm, int rank, int size) {
   const double t0 = MPI_Wtime();
   const std::vector<SweepRow> rows = run_dt_sweep(cl.run, cl.sweep_dts, cl.sweep_time, comm);
@@ -70,7 +96,12 @@ int run_sweep(const CommandLine &cl, MPI_Comm comm, int rank, int size) {
   std::printf("%s\n%s", format_sweep_table(rows, cl.sweep_time).c_str(),
               format_sweep_csv(rows).c_str());
   if (!cl.csv_path.empty()) {
-    std::ofstream(cl.csv_path) << format_sweep_csv(rows);
+    if (const std::string why = write_whole_file(cl.csv_path, format_sweep_csv(rows));
+        !why.empty()) {
+      std::fprintf(stderr, "mini_md: error: --csv %s: cannot write the file: %s\n",
+                   cl.csv_path.c_str(), why.c_str());
+      return 1;
+    }
   }
   int64_t steps = 0;
   for (const SweepRow &r : rows) steps += r.steps;
