@@ -6,6 +6,7 @@
 
 #include <cerrno>
 #include <cstring>
+#include <utility>
 
 #include "core/output/atomic_file.h"
 
@@ -34,6 +35,7 @@ Status StatsWriter::append(const nlohmann::json &record) {
     if (Status s = create_parent_directories(path_); !s.ok()) return s;
     fd_ = ::open(path_.c_str(), O_WRONLY | O_CREAT | O_APPEND | O_CLOEXEC, 0644);
     if (fd_ < 0) return fail("cannot open stats file '", errno);
+    if (Status s = cut_incomplete_last_line(); !s.ok()) return s;
   }
   // Where the line starts: a write cut short (a full disk) is truncated back to it, so the file
   // keeps whole lines only and the next line does not continue a broken one.
@@ -58,9 +60,58 @@ Status StatsWriter::append(const nlohmann::json &record) {
   return {};
 }
 
+Status StatsWriter::close() {
+  if (fd_ < 0) return {};
+  const int fd = std::exchange(fd_, -1);
+  if (::close(fd) != 0)
+    return {StatusCode::kIo, "cannot write stats file '" + path_ + "': " + std::strerror(errno)};
+  return {};
+}
+
+// A regular file that does not end in a newline holds the start of a line whose writer was killed:
+// it is cut back to its last newline. Reads the tail backwards in blocks (a line is a few kB at
+// most) through a read-only descriptor of its own; where the file cannot be read (write-only
+// permissions) it is left as it is.
+Status StatsWriter::cut_incomplete_last_line() {
+  struct stat st {};
+  if (::fstat(fd_, &st) != 0) return fail("cannot open stats file '", errno);
+  if (!S_ISREG(st.st_mode) || st.st_size == 0) return {};
+  const int in = ::open(path_.c_str(), O_RDONLY | O_CLOEXEC);
+  if (in < 0) return {};
+  off_t end = st.st_size, cut = 0;
+  bool whole = false, read_all = true;
+  char block[4096];
+  while (end > 0) {
+    const off_t start = end > off_t(sizeof block) ? end - off_t(sizeof block) : 0;
+    const auto want = size_t(end - start);
+    const ssize_t got = ::pread(in, block, want, start);
+    if (got < 0 && errno == EINTR) continue;
+    if (got != ssize_t(want)) {
+      read_all = false;
+      break;
+    }
+    if (end == st.st_size && block[want - 1] == '\n') {
+      whole = true;  // the usual case: one byte read
+      break;
+    }
+    size_t k = want;
+    while (k > 0 && block[k - 1] != '\n') --k;
+    if (k > 0) {
+      cut = start + off_t(k);
+      break;
+    }
+    end = start;
+  }
+  ::close(in);
+  if (whole || !read_all) return {};
+  if (::ftruncate(fd_, cut) != 0) return fail("cannot cut an incomplete last line of '", errno);
+  return {};
+}
+
 Status append_json_line(const std::string &path, const nlohmann::json &record) {
   StatsWriter writer(path);
-  return writer.append(record);
+  if (Status s = writer.append(record); !s.ok()) return s;
+  return writer.close();
 }
 
 }  // namespace lantern

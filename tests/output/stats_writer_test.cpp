@@ -85,5 +85,35 @@ TEST(StatsWriter, AFailedAppendLeavesNoPartialLine) {
   EXPECT_EQ(nlohmann::json::parse(lines[2])["step"], 3);
 }
 
+// A run killed while writing a line leaves its start in the file; the next open cuts it off, so
+// the new line does not continue it (it did: two records broken into one unparsable line).
+TEST(StatsWriter, AnIncompleteLastLineIsCutBeforeTheNextLine) {
+  const ScratchDir dir;
+  const std::string path = dir.file("stats.jsonl");
+  ASSERT_OK(append_json_line(path, {{"step", 0}}));
+  ASSERT_OK(append_json_line(path, {{"step", 1}}));
+  std::ofstream(path, std::ios::app) << "{\"step\": 2, \"scene";  // killed here
+  ASSERT_OK(append_json_line(path, {{"step", 3}}));
+  std::vector<std::string> lines = lines_of(path);
+  ASSERT_EQ(lines.size(), 3u);
+  EXPECT_EQ(nlohmann::json::parse(lines[1])["step"], 1);
+  EXPECT_EQ(nlohmann::json::parse(lines[2])["step"], 3);
+  // A file holding only the start of its first line, and one of a long line (beyond a block).
+  std::ofstream(path, std::ios::trunc) << "{\"step\": 4";
+  ASSERT_OK(append_json_line(path, {{"step", 5}}));
+  lines = lines_of(path);
+  ASSERT_EQ(lines.size(), 1u);
+  EXPECT_EQ(nlohmann::json::parse(lines[0])["step"], 5);
+  std::ofstream(path, std::ios::app) << "{\"scene\": \"" << std::string(10000, 'x');
+  StatsWriter writer(path);
+  ASSERT_OK(writer.append({{"step", 6}}));
+  ASSERT_OK(writer.append({{"step", 7}}));
+  EXPECT_OK(writer.close());
+  lines = lines_of(path);
+  ASSERT_EQ(lines.size(), 3u);
+  EXPECT_EQ(nlohmann::json::parse(lines[1])["step"], 6);
+  EXPECT_EQ(nlohmann::json::parse(lines[2])["step"], 7);
+}
+
 }  // namespace
 }  // namespace lantern
