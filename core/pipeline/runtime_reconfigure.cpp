@@ -17,6 +17,7 @@
 #include "core/common/content_hash.h"
 #include "core/config/config_loader.h"
 #include "core/config/environment.h"
+#include "core/config/file_pattern.h"
 #include "core/config/live_change.h"
 #include "core/pipeline/memory_budget.h"
 #include "core/pipeline/runtime.h"
@@ -79,6 +80,27 @@ Status check_outputs_spare_the_source(const Config &config, const std::string &p
   return {};
 }
 
+// The stats lines, the dump and each scene's movie in files of their own: JSON lines appended to
+// the dump (or a movie) would break its HDF5 (or MP4) structure, and the dump or a movie would
+// replace the stats written so far. (Scenes' movies among themselves: config_rules.cpp.)
+Status check_outputs_are_distinct(const Config &config) {
+  std::vector<std::pair<std::string, std::string>> files;  // (key, file)
+  if (!config.stats_file.empty()) files.emplace_back("stats", config.stats_file);
+  if (config.dump.enabled) files.emplace_back("dump.file", config.dump.file);
+  for (const SceneConfig &s : config.scenes)
+    if (s.output.movie.enabled)
+      files.emplace_back("scene '" + s.name + "': output.movie.file",
+                         expand_pattern(s.output.movie.file, 0, s.name));
+  for (size_t a = 0; a < files.size(); ++a)
+    for (size_t b = a + 1; b < files.size(); ++b)
+      if (files[a].first.rfind("scene ", 0) != 0 || files[b].first.rfind("scene ", 0) != 0)
+        if (same_file(files[a].second, files[b].second))
+          return {StatusCode::kConfig, files[b].first + ": '" + files[b].second + "' is also " +
+                                           files[a].first +
+                                           "; each output needs a file of its own"};
+  return {};
+}
+
 const char *source_name(const std::string &path) {
   return path.empty() ? "inline config" : path.c_str();
 }
@@ -92,6 +114,7 @@ Status Runtime::load_first_config(const std::string &path_or_document) {
   if (Status s = apply_environment(&config_); !s.ok()) return s;
   if (Status s = check_watch_source(config_, config_path_); !s.ok()) return s;
   if (Status s = check_outputs_spare_the_source(config_, config_path_); !s.ok()) return s;
+  if (Status s = check_outputs_are_distinct(config_); !s.ok()) return s;
   config_hash_ = content_hash(text);
   if (config_.watch) watch_.start(config_path_, config_hash_);
   return {};
@@ -127,6 +150,7 @@ Status Runtime::switch_config(const std::string &text, const std::string &path, 
   if (local.ok()) local = apply_environment(&next);
   if (local.ok()) local = check_watch_source(next, path);
   if (local.ok()) local = check_outputs_spare_the_source(next, path);
+  if (local.ok()) local = check_outputs_are_distinct(next);
   if (local.ok()) local = check_live_change(config_, next);
   const MemoryShare share = node_memory_share(comm_);  // collective: on every rank
   if (local.ok()) local = check_scene_memory(estimate_scene_memory(next), share);

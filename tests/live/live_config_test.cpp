@@ -347,5 +347,27 @@ TEST_F(LiveConfig, StatsOrDumpAtTheConfigurationFileAreRefused) {
   EXPECT_NE(s.message.find("is the configuration file itself"), std::string::npos) << s.message;
 }
 
+// The stats lines and the dump in one file would break the dump's HDF5 (and the dump would replace
+// the stats): refused at open and on a reconfiguration, through any spelling of the path.
+TEST_F(LiveConfig, StatsAndDumpInOneFileAreRefused) {
+  const std::string scene =
+      "scenes:\n  - name: s\n    width: 8\n    height: 8\n    output: {pattern: '" +
+      dir_.file("one_{step}.png") + "'}\n";
+  const std::string both = "stats: '" + dir_.file("out.h5") + "'\ndump: {file: '" +
+                           dir_.file("./sub/../out.h5") + "'}\n";
+  write_file(dir_.file("both.yaml"), both + scene);
+  Status s = Runtime::open(dir_.file("both.yaml"), MPI_COMM_WORLD, &rt_);
+  EXPECT_EQ(s.code, StatusCode::kConfig);
+  EXPECT_NE(s.message.find("dump.file: '" + dir_.file("./sub/../out.h5") + "' is also stats"),
+            std::string::npos)
+      << s.message;
+  EXPECT_EQ(rt_, nullptr);
+  write_file(dir_.file("apart.yaml"), scene);
+  open(dir_.file("apart.yaml"));
+  s = rt_->reconfigure(dir_.file("both.yaml"));
+  EXPECT_EQ(s.code, StatusCode::kConfig);
+  EXPECT_NE(s.message.find("is also stats"), std::string::npos) << s.message;
+}
+
 }  // namespace
 }  // namespace lantern
