@@ -19,7 +19,11 @@
 // completed frame, and the failed one may have left some datasets one frame longer than their
 // `step`, which the caller then cuts back on one rank (frame_cut_back.h: shrinking chunked
 // datasets in parallel HDF5 can itself leave ranks in different collective calls). After every
-// frame the file is flushed, so a crash later leaves a valid file with every completed frame.
+// frame the file is flushed, so a failed later step leaves a valid file with every completed
+// frame, and so does a process killed part-way through a later frame in the common case (its
+// datasets one frame longer, cut back on append). Without HDF5's single-writer mode, though, the
+// library may write part of that frame's metadata before its flush, so a kill at the wrong moment
+// can leave a file HDF5 cannot open; H5MD over parallel HDF5 offers no stronger guarantee.
 #pragma once
 
 #include <mpi.h>
