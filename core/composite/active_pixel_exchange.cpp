@@ -3,7 +3,6 @@
 #include <algorithm>
 
 #include "core/common/injected_fault.h"
-
 #include "core/composite/composite_methods.h"
 
 namespace lantern {

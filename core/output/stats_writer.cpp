@@ -78,8 +78,13 @@ Status StatsWriter::cut_incomplete_last_line() {
   if (!S_ISREG(st.st_mode) || st.st_size == 0) return {};
   const int in = ::open(path_.c_str(), O_RDONLY | O_CLOEXEC);
   if (in < 0) return {};
+  char last = 0;
+  if (::pread(in, &last, 1, st.st_size - 1) != 1 || last == '\n') {  // the usual case: ends whole
+    ::close(in);
+    return {};
+  }
   off_t end = st.st_size, cut = 0;
-  bool whole = false, read_all = true;
+  bool read_all = true;
   char block[4096];
   while (end > 0) {
     const off_t start = end > off_t(sizeof block) ? end - off_t(sizeof block) : 0;
@@ -88,10 +93,6 @@ Status StatsWriter::cut_incomplete_last_line() {
     if (got < 0 && errno == EINTR) continue;
     if (got != ssize_t(want)) {
       read_all = false;
-      break;
-    }
-    if (end == st.st_size && block[want - 1] == '\n') {
-      whole = true;  // the usual case: one byte read
       break;
     }
     size_t k = want;
@@ -103,7 +104,7 @@ Status StatsWriter::cut_incomplete_last_line() {
     end = start;
   }
   ::close(in);
-  if (whole || !read_all) return {};
+  if (!read_all) return {};
   if (::ftruncate(fd_, cut) != 0) return fail("cannot cut an incomplete last line of '", errno);
   return {};
 }
