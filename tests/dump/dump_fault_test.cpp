@@ -147,44 +147,28 @@ INSTANTIATE_TEST_SUITE_P(Points, DumpFault,
                                            "id/step: write", "edges/value: write",
                                            "particle_count/value: write", "flush after frame 2"));
 
-// A failure while creating the file (one rank cannot write the directory): every rank gets the
-// same error, nothing is lost, and the next scheduled dump creates the file.
-TEST(DumpFaultOnCreate, OneRankFailingTheCreateIsAgreedAndTheNextDumpRetries) {
-  ASSERT_GE(world_size(), 2) << "run under mpiexec -n 3";
-  const MpiScratchDir scratch;
-  const std::string dir = std::filesystem::path(scratch.file("run.h5")).parent_path().string();
-  const std::string file = dir + "/run.h5";
-  {
-    const Context ctx = open_run(dir);
-    if (world_rank() == kFaultyRank) inject_fault("file is writable");
-    EXPECT_EQ(step(ctx.get(), 0), LANTERN_ERR_IO);
-    const std::string message = lantern_error_message(ctx.get());
-    EXPECT_EQ(message, rank0_text(message));
-    EXPECT_NE(message.find("dump.file: " + file + ": step 0: file is writable"), std::string::npos)
-        << message;
-    EXPECT_EQ(step(ctx.get(), 1), LANTERN_OK) << lantern_error_message(ctx.get());
-    EXPECT_EQ(step(ctx.get(), 2), LANTERN_OK) << lantern_error_message(ctx.get());
-  }
-  std::unique_ptr<H5mdReader> reader;
-  ASSERT_OK(H5mdReader::open(file, MPI_COMM_WORLD, &reader));
-  ASSERT_EQ(reader->frames().size(), 2u);
-  EXPECT_EQ(reader->frames()[0].step, 1);
-}
+// A failure while creating the file on one rank: before the file exists (the rank cannot write
+// the directory) or after (its metadata, groups or first flush: the half-built file is removed,
+// where it made every later dump fail as "exists"). Every rank gets the same error, the image is
+// still written, no file is left, and the next scheduled dump creates the file.
+struct CreateFault {
+  const char *fault, *reported;  // the injected step; what the message says about it
+};
+class DumpFaultOnCreate : public ::testing::TestWithParam<CreateFault> {};
 
-// A failure after the file was created (its metadata, groups or first flush): the half-built file
-// is removed, so that the next scheduled dump creates it again (it failed as "exists" before).
-TEST(DumpFaultOnCreate, OneRankFailingAfterTheCreateRemovesTheFileAndTheNextDumpRetries) {
+TEST_P(DumpFaultOnCreate, OneRankFailingTheCreateIsAgreedAndTheNextDumpRetries) {
   ASSERT_GE(world_size(), 2) << "run under mpiexec -n 3";
   const MpiScratchDir scratch;
   const std::string dir = std::filesystem::path(scratch.file("run.h5")).parent_path().string();
   const std::string file = dir + "/run.h5";
   {
     const Context ctx = open_run(dir);
-    if (world_rank() == kFaultyRank) inject_fault("metadata");
+    if (world_rank() == kFaultyRank) inject_fault(GetParam().fault);
     EXPECT_EQ(step(ctx.get(), 0), LANTERN_ERR_IO);
     const std::string message = lantern_error_message(ctx.get());
     EXPECT_EQ(message, rank0_text(message));
-    EXPECT_NE(message.find("metadata (injected fault)"), std::string::npos) << message;
+    EXPECT_NE(message.find("dump.file: " + file + ": step 0: "), std::string::npos) << message;
+    EXPECT_NE(message.find(GetParam().reported), std::string::npos) << message;
     EXPECT_FALSE(std::filesystem::exists(file));
     EXPECT_TRUE(image_exists(dir, 0)) << "the image is still written";
     EXPECT_EQ(step(ctx.get(), 1), LANTERN_OK) << lantern_error_message(ctx.get());
@@ -195,6 +179,10 @@ TEST(DumpFaultOnCreate, OneRankFailingAfterTheCreateRemovesTheFileAndTheNextDump
   ASSERT_EQ(reader->frames().size(), 2u);
   EXPECT_EQ(reader->frames()[0].step, 1);
 }
+
+INSTANTIATE_TEST_SUITE_P(Steps, DumpFaultOnCreate,
+                         ::testing::Values(CreateFault{"file is writable", "file is writable"},
+                                           CreateFault{"metadata", "metadata (injected fault)"}));
 
 // A file that one rank cannot see (a node-local disk, a relative path in another working
 // directory): opening it for reading fails on every rank with that rank's reason, where the
