@@ -53,6 +53,14 @@ struct Particles {
   }
 };
 
+// A folder shared by every rank for one test (removed afterwards), and the dump file open_run
+// writes in it.
+struct RunFolder {
+  MpiScratchDir scratch;
+  std::string dir = std::filesystem::path(scratch.file("run.h5")).parent_path().string();
+  std::string file = dir + "/run.h5";
+};
+
 Context open_run(const std::string &dir) {
   const std::string yaml =
       "scenes:\n"
@@ -98,9 +106,8 @@ class DumpFault : public ::testing::TestWithParam<const char *> {};
 
 TEST_P(DumpFault, OneRankFailingAFrameStopsTheDumpOnEveryRankAndRenderingGoesOn) {
   ASSERT_GE(world_size(), 2) << "run under mpiexec -n 3";
-  const MpiScratchDir scratch;
-  const std::string dir = std::filesystem::path(scratch.file("run.h5")).parent_path().string();
-  const std::string file = dir + "/run.h5";
+  const RunFolder run;
+  const std::string &dir = run.dir, &file = run.file;
   {
     const Context ctx = open_run(dir);
     ASSERT_EQ(step(ctx.get(), 0), LANTERN_OK) << lantern_error_message(ctx.get());
@@ -158,9 +165,8 @@ class DumpFaultOnCreate : public ::testing::TestWithParam<CreateFault> {};
 
 TEST_P(DumpFaultOnCreate, OneRankFailingTheCreateIsAgreedAndTheNextDumpRetries) {
   ASSERT_GE(world_size(), 2) << "run under mpiexec -n 3";
-  const MpiScratchDir scratch;
-  const std::string dir = std::filesystem::path(scratch.file("run.h5")).parent_path().string();
-  const std::string file = dir + "/run.h5";
+  const RunFolder run;
+  const std::string &dir = run.dir, &file = run.file;
   {
     const Context ctx = open_run(dir);
     if (world_rank() == kFaultyRank) inject_fault(GetParam().fault);
@@ -190,9 +196,8 @@ INSTANTIATE_TEST_SUITE_P(Steps, DumpFaultOnCreate,
 // does not exist; the others for the real file.
 TEST(DumpFaultOnRead, AFileMissingOnOneRankFailsTheOpenOnEveryRank) {
   ASSERT_GE(world_size(), 2) << "run under mpiexec -n 3";
-  const MpiScratchDir scratch;
-  const std::string dir = std::filesystem::path(scratch.file("run.h5")).parent_path().string();
-  const std::string file = dir + "/run.h5";
+  const RunFolder run;
+  const std::string &dir = run.dir, &file = run.file;
   {
     const Context ctx = open_run(dir);
     ASSERT_EQ(step(ctx.get(), 0), LANTERN_OK) << lantern_error_message(ctx.get());
