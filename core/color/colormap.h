@@ -44,9 +44,20 @@ class Colormap {
   // or an empty range (lo >= hi) maps to the middle of the map.
   Rgb8 at(double value, double lo, double hi) const {
     double t = 0.5;
-    if (hi > lo && !std::isnan(value)) t = (value - lo) / (hi - lo);
-    t = t < 0.0 ? 0.0 : (t > 1.0 ? 1.0 : t);
+    if (hi > lo && !std::isnan(value)) t = range_fraction(value, lo, hi);
+    // NaN cannot come out of range_fraction; were it to, it would go to the low end rather than
+    // through the conversion to an index.
+    t = t > 0.0 ? (t < 1.0 ? t : 1.0) : 0.0;
     return table_[static_cast<size_t>(t * 255.0 + 0.5)];
+  }
+
+  // (value - lo) / (hi - lo) for hi > lo, also where hi - lo overflows (a range like
+  // [-1e308, 1e308], which "missing value" sentinels in a scalar field give): then in halves,
+  // instead of inf / inf = NaN for the top value and 0 for every other.
+  static double range_fraction(double value, double lo, double hi) {
+    const double width = hi - lo;
+    if (std::isfinite(width)) return (value - lo) / width;
+    return (0.5 * value - 0.5 * lo) / (0.5 * hi - 0.5 * lo);
   }
 
  private:

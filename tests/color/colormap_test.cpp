@@ -6,6 +6,7 @@
 #include <array>
 #include <cstdint>
 #include <fstream>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -60,6 +61,20 @@ TEST(Colormap, ReverseRunsTheMapBackwards) {
   for (size_t i = 0; i < 256; ++i) EXPECT_EQ(back.table()[i], map.table()[255 - i]);
   EXPECT_EQ(back.at(0.0, 0.0, 1.0), map.at(1.0, 0.0, 1.0));
   EXPECT_EQ(Colormap::choose("turbo", {}, true).table(), back.table());
+}
+
+TEST(Colormap, RangesWiderThanTheLargestDoubleStillSpreadTheValues) {
+  // A scalar field with "missing value" sentinels at +-1e308: hi - lo overflows. The top value
+  // was inf / inf = NaN, converted to a table index (a crash), and every other value 0 (the
+  // low end).
+  const Colormap map = *Colormap::named("viridis");
+  const double lo = -1e308, hi = 1e308;
+  EXPECT_EQ(map.at(hi, lo, hi), map.table()[255]);
+  EXPECT_EQ(map.at(lo, lo, hi), map.table()[0]);
+  EXPECT_EQ(map.at(0.0, lo, hi), map.table()[128]);
+  EXPECT_EQ(map.at(0.5e308, lo, hi), map.table()[191]);  // 0.75 x 255 + 0.5 = 191.75
+  EXPECT_EQ(map.at(std::numeric_limits<double>::infinity(), lo, hi), map.table()[255]);
+  EXPECT_EQ(Colormap::range_fraction(0.25, 0.0, 1.0), 0.25);  // the plain quotient otherwise
 }
 
 TEST(Colormap, CustomPointsAreEvenlySpacedAndLinear) {

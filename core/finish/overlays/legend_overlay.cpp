@@ -89,7 +89,8 @@ LegendBar draw_color_bar(const LegendConfig &legend, const LegendColors &colors,
   if (colors.range) {
     const double lo = (*colors.range)[0], hi = (*colors.range)[1];
     for (const Tick &t : ticks) {
-      const double share = hi > lo ? (hi - t.value) / (hi - lo) : 0.0;
+      // (hi - value) / (hi - lo), bit for bit (negation is exact), safe where hi - lo overflows.
+      const double share = hi > lo ? Colormap::range_fraction(-t.value, -hi, -lo) : 0.0;
       const int row = bar.y + int(std::lround(share * (length - 1)));
       fill_rect(image, bar.x + width + 1, row, tick, 1, ink);
       draw_mask(image, t.text, bar.x + width + 1 + tick + gap, row - t.text.height / 2, ink);
