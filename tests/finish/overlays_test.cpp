@@ -10,6 +10,7 @@
 #include <cmath>
 #include <memory>
 #include <string>
+#include <utility>
 
 #include "core/camera/camera.h"
 #include "core/color/colormap.h"
@@ -189,6 +190,15 @@ TEST(Legend, NiceTicksAreRoundValuesInsideTheRange) {
   EXPECT_EQ(nice_ticks(0.013, 0.087, 6), (std::vector<double>{0.02, 0.04, 0.06, 0.08}));
   EXPECT_TRUE(nice_ticks(1, 1, 5).empty());
   EXPECT_TRUE(nice_ticks(0, std::nan(""), 5).empty());
+  // Ranges a few ulps wide (an almost constant field's automatic range): lo / step is beyond
+  // 2^53, where stepping the multiple by one no longer moves it; this never returned.
+  for (const auto &[lo, hi] :
+       {std::pair{1.0, std::nextafter(1.0, 2.0)}, std::pair{-3.5400000000000005, -3.54},
+        std::pair{1.0, 1.0000000000000004}}) {
+    const std::vector<double> ticks = nice_ticks(lo, hi, 5);
+    EXPECT_LE(ticks.size(), 3u) << lo << " .. " << hi;
+    for (const double t : ticks) EXPECT_TRUE(t > lo && t < hi) << t;
+  }
   EXPECT_EQ(tick_text(0.04, 0.02), "0.04");
   EXPECT_EQ(tick_text(2000, 500), "2000");
   EXPECT_EQ(tick_text(3e-7, 1e-7), "3e-07");

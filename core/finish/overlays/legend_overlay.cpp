@@ -135,10 +135,15 @@ std::vector<double> nice_ticks(double lo, double hi, int count) {
   if (!(lo < hi) || !std::isfinite(lo) || !std::isfinite(hi) || count < 1) return ticks;
   const double step = nice_number(nice_number(hi - lo, false) / count, true);
   if (!(step > 0) || !std::isfinite(step)) return ticks;
-  for (double k = std::ceil(lo / step); k * step < hi; k += 1) {
-    const double v = k * step;
-    if (v > lo) ticks.push_back(std::abs(v) < step * 1e-9 ? 0.0 : v);
-    if (ticks.size() > 100) break;  // far beyond any count asked for
+  // Counted in steps from the first multiple, at most 101 of them (far beyond any count asked
+  // for): where lo / step is 2^53 or more (a range a few ulps wide, as an almost constant field
+  // gives), adding 1 to the multiple leaves it unchanged, and a loop over it never ended.
+  const double first = std::ceil(lo / step);
+  for (int i = 0; i <= 100; ++i) {
+    const double v = (first + i) * step;
+    if (!(v < hi)) break;
+    if (v > lo && (ticks.empty() || v > ticks.back()))
+      ticks.push_back(std::abs(v) < step * 1e-9 ? 0.0 : v);
   }
   return ticks;
 }
