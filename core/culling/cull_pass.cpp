@@ -24,9 +24,12 @@ constexpr int kSide = 2;
 constexpr int kCells = kSlabs * kSide * kSide;
 
 // The scale that maps [lo, hi] onto cells [0, n) (with a clamp of the top end): 0 when the range
-// is empty.
+// is empty, or too narrow for n / (hi - lo) to be finite (a width below about n / DBL_MAX, as
+// denormal coordinates give): an infinite scale made 0 x inf = NaN of the lowest candidate's
+// offset, and a cell index of INT_MIN.
 double cell_scale(double lo, double hi, int n) {
-  return hi > lo ? n / (hi - lo) : 0.0;
+  const double scale = hi > lo ? n / (hi - lo) : 0.0;
+  return scale <= std::numeric_limits<double>::max() ? scale : 0.0;
 }
 
 // Running bounds of points or spheres, a bound moving only to a value strictly beyond it (as

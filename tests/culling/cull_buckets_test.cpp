@@ -137,5 +137,19 @@ TEST(CullBuckets, DegenerateRangesAndEmpty) {
   EXPECT_EQ(b.buckets.size(), 2u);  // split across x only
 }
 
+TEST(CullBuckets, RangesTooNarrowForAFiniteScale) {
+  // Denormal spreads (coordinates near 1e-310): 2 / width overflows. The scale was infinite, the
+  // lowest candidate's cell 0 x inf = NaN, its index INT_MIN, and the tally wrote out of bounds.
+  for (const double spread : {1e-310, 4.9e-324, 1e-300}) {
+    CandidateBuffers b;
+    for (uint32_t k = 0; k < 10; ++k)
+      b.gathered.push_back(
+          {glm::dvec3(spread * k, spread * (k % 3), -5.0 - spread * (k % 4)), 0.1, k, 1.0f});
+    order_front_to_back(&b);
+    SCOPED_TRACE(spread);
+    expect_buckets_valid(b);
+  }
+}
+
 }  // namespace
 }  // namespace lantern
