@@ -42,8 +42,13 @@ bool PixelRays::row_span(const glm::dvec3 &c, double r2, int row, int lo, int hi
   const double step = x_[1] - x_[0];
   const double f0 = std::ceil((a_lo - x_[0]) / step - widen),
                f1 = std::floor((a_hi - x_[0]) / step + widen);
-  *x0 = int(std::max(f0, double(lo)));
-  *x1 = int(std::min(f1, double(hi)));
+  // NaN where the squares above overflow (view-space lengths beyond about 1e77; the camera takes
+  // positions up to 1e150): no span, as for a row the sphere misses. The callers write occluders,
+  // so a span left out only culls less. Both ends clamped on both sides before the conversion:
+  // a finite f0 or f1 may lie far beyond int's range.
+  if (std::isnan(f0) || std::isnan(f1)) return false;
+  *x0 = int(std::clamp(f0, double(lo), double(hi) + 1.0));
+  *x1 = int(std::clamp(f1, double(lo) - 1.0, double(hi)));
   return *x0 <= *x1;
 }
 

@@ -31,7 +31,9 @@ class PixelRays {
 
   // Columns [*x0, *x1] of `row`, within [lo, hi], whose rays may pass closer than sqrt(r2) to
   // the view-space point c: the analytic interval widened by `widen` pixels on each side.
-  // False when no column qualifies. (A whole-row answer when the quadratic degenerates.)
+  // False when no column qualifies, and when the quadratic's squares overflow (lengths beyond
+  // about 1e77): a caller may only lose by a span left out (the hierarchical z-buffer's
+  // occluders). (A whole-row answer when the quadratic degenerates.)
   bool row_span(const glm::dvec3 &c, double r2, int row, int lo, int hi, double widen, int *x0,
                 int *x1) const;
 

@@ -1,4 +1,5 @@
-// ViewGeometry's batched sphere rectangles against its one-at-a-time ones.
+// ViewGeometry's batched sphere rectangles against its one-at-a-time ones; PixelRays' row spans
+// of extreme spheres.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -6,6 +7,7 @@
 #include <random>
 #include <vector>
 
+#include "core/view/pixel_rays.h"
 #include "core/view/view_geometry.h"
 
 namespace lantern {
@@ -77,6 +79,35 @@ TEST(ViewGeometry, BatchedTightRectanglesAreTheOneByOneRectangles) {
       }
   EXPECT_GT(compared, 20000);
   EXPECT_GT(nonempty, 5000);  // rectangles that are neither empty nor the whole image
+}
+
+TEST(PixelRays, RowSpansOfExtremeSpheresStayWithinTheRow) {
+  // Far beyond the image's side (a finite column far past int's range) and at 1e100 (the
+  // perspective quadratic's squares overflow: inf - inf). Both converted NaN or out-of-range
+  // doubles to int, which gave spans starting at INT_MIN (read as column indices by the
+  // hierarchical z-buffer).
+  for (const bool ortho : {false, true}) {
+    const ViewGeometry g = perspective(64, 48, ortho);
+    PixelRays rays;
+    rays.reset(g);
+    const struct {
+      glm::dvec3 c;
+      double r;
+    } cases[] = {{glm::dvec3(1e15, 0.0, -10.0), 0.5},
+                 {glm::dvec3(-1e15, 0.0, -10.0), 0.5},
+                 {glm::dvec3(0.2e100, 0.1e100, -1e100), 0.01e100},
+                 {glm::dvec3(0.0, 0.0, -1e100), 0.3e100}};
+    for (const auto &k : cases)
+      for (int row = 0; row < g.height; ++row) {
+        int x0 = -7, x1 = -7;
+        if (!rays.row_span(k.c, k.r * k.r, row, 3, 60, 2.0, &x0, &x1)) continue;
+        SCOPED_TRACE(::testing::Message()
+                     << "ortho " << ortho << " c.x " << k.c.x << " row " << row);
+        EXPECT_GE(x0, 3);
+        EXPECT_LE(x0, x1);
+        EXPECT_LE(x1, 60);
+      }
+  }
 }
 
 }  // namespace
