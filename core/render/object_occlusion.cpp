@@ -418,8 +418,9 @@ void OcclusionVolume::set_grid(const Extent &global, double radius, int64_t max_
   // only fall as the spacing grows). The steps, and the nodes on the lattice of multiples of
   // the spacing, keep the grid put while the bounds move a little from step to step.
   double origin[3] = {0.0, 0.0, 0.0}, along[3] = {2.0, 2.0, 2.0};
-  for (int attempt = 0; attempt < 4096; ++attempt) {
-    const double steps_per_unit = kSteps * (1.0 / cell);
+  // The nodes at spacing c: origin and count along each axis, and their product.
+  const auto lay_out = [&](double c) {
+    const double steps_per_unit = kSteps * (1.0 / c);
     double nodes = 1.0;
     for (int a = 0; a < 3; ++a) {
       // As locate_nodes() places a particle: the lattice step nearest to it, then its node.
@@ -429,14 +430,31 @@ void OcclusionVolume::set_grid(const Extent &global, double radius, int64_t max_
       along[a] = last - first + 2.0;
       nodes *= along[a];
     }
-    if (nodes <= double(max_nodes)) break;
-    cell *= kOcclusionCellWidening;
+    return nodes;
+  };
+  const auto fits = [max_nodes](double nodes) { return nodes <= double(max_nodes); };
+  double nodes = lay_out(cell);
+  for (int attempt = 1; !fits(nodes) && attempt < 4096; ++attempt)
+    nodes = lay_out(cell *= kOcclusionCellWidening);
+  if (!fits(nodes)) {
+    // 4095 widenings (a factor of 1e77) were not enough: a radius far below the particles' span
+    // (radius 1e-80 over a span of 1000, or zero radii over 1e80). The spacing straight from the
+    // widest span, a cube root of max_nodes nodes along it, then widening steps again. Before,
+    // the grid kept up to max_nodes nodes per axis (terabytes, an int overflow in a plane's
+    // size, or NaN counts where positions times the steps per unit overflowed).
+    double span = 0.0;
+    for (int a = 0; a < 3; ++a) span = std::max(span, global.hi[a] - global.lo[a]);
+    const double per_axis = std::floor(std::cbrt(double(max_nodes)));
+    cell = std::max(cell, span / std::max(per_axis - 3.0, 1.0));
+    nodes = lay_out(cell);
+    for (int attempt = 0; !fits(nodes) && attempt < 64; ++attempt)
+      nodes = lay_out(cell *= kOcclusionCellWidening);
   }
   cell_ = cell;
   inverse_cell_ = 1.0 / cell;
   for (int a = 0; a < 3; ++a) {
     origin_[a] = origin[a];
-    n_[a] = int(std::min(along[a], double(max_nodes)));
+    n_[a] = along[a] >= 2.0 ? int(std::min(along[a], double(max_nodes))) : 2;  // NaN: 2
     lo_[a] = origin[a] * cell;
   }
 }

@@ -581,6 +581,23 @@ TEST(ObjectOcclusion, MaxNodesWidensTheSpacingAsLittleAsItMust) {
   }
 }
 
+// A radius far below the particles' span: 4095 widening steps (a factor of 1e77) do not bring
+// the nodes within max_nodes. The grid was left at up to max_nodes nodes per axis (its plane
+// size an int overflow, its quads 2^58 bytes); it now fits, and the build completes.
+TEST(ObjectOcclusion, ARadiusFarBelowTheSpanStillFitsTheNodes) {
+  Cloud all;
+  make_cloud(
+      2000, [](int, const double *) { return true; }, &all);
+  for (const double radius : {1e-80, 1e-200}) {
+    OcclusionVolume v;
+    ASSERT_OK(v.build(MPI_COMM_SELF, all.arrays, cloud_extent(), {}, radius, kStrength, 1, 4096));
+    const std::array<int, 3> n = v.node_counts();
+    EXPECT_LE(int64_t(n[0]) * n[1] * n[2], 4096) << radius;
+    EXPECT_GE(std::min({n[0], n[1], n[2]}), 2) << radius;
+    EXPECT_TRUE(std::isfinite(v.node_spacing()) && v.node_spacing() > 0.0) << radius;
+  }
+}
+
 // `threads`: each part deposits on quads of its own, added up after: every count gives the
 // one-thread volume bit for bit - a scattered cloud (300 k particles: parts of at least 64 Ki)
 // with a mask, non-finite particles and a cut, and in place (no mask), in one volume kept over
