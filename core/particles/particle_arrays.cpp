@@ -1,5 +1,9 @@
 #include "core/particles/particle_arrays.h"
 
+#include <cstdint>
+#include <limits>
+#include <string>
+
 namespace lantern {
 namespace {
 
@@ -81,6 +85,12 @@ Status ParticleArrays::validate(const ParticleDescription &p, ParticleArrays *ou
     return Status(StatusCode::kInvalidArgument, std::move(message));
   };
   if (p.count < 0) return invalid("particles.count: negative (" + std::to_string(p.count) + ")");
+  // The bricks index a rank's particles in 32 bits (brick_set.h); more overflowed their counts
+  // and wrote past the index arrays.
+  if (p.count > std::numeric_limits<uint32_t>::max())
+    return invalid("particles.count: " + std::to_string(p.count) +
+                   " on one rank; Lantern indexes a rank's particles in 32 bits (below 2^32): "
+                   "spread them over more ranks");
   ParticleArrays r;
   r.count_ = p.count;
   const bool inter = given(p.position);

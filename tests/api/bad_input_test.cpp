@@ -42,6 +42,8 @@ TEST_F(BadInput, ParticleDescriptionsAreRejectedAndTheContextStaysUsable) {
   lantern_particles p = interleaved(x);
   p.count = -1;
   cases.push_back({"negative count", p, "count"});
+  p.count = int64_t(1) << 32;  // beyond the bricks' 32-bit indices (never read: refused first)
+  cases.push_back({"2^32 particles on one rank", p, "count: 4294967296 on one rank"});
   p = interleaved(x);
   p.position.stride_bytes = 16;  // shorter than 3 doubles
   cases.push_back({"short stride", p, "stride_bytes"});

@@ -105,7 +105,7 @@ typedef struct lantern_array {
  * changes its particle count (cheap: it only records pointers and validates them).
  */
 typedef struct lantern_particles {
-  int64_t count;            /* particles owned by this rank; 0 is valid */
+  int64_t count;            /* particles owned by this rank; 0 is valid; below 2^32 */
   lantern_array position;   /* interleaved x, y, z */
   lantern_array position_x; /* or separate components */
   lantern_array position_y;
