@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <array>
 #include <cstdint>
+#include <limits>
 
 #include <glm/vec3.hpp>
 
@@ -72,12 +73,16 @@ struct MortonQuantiser {
     const double side = std::max({hi.x - lo.x, hi.y - lo.y, hi.z - lo.z});
     MortonQuantiser q;
     q.lo = lo;
-    q.scale = side > 0.0 ? double(kMortonAxisMax) / side : 0.0;
+    // 0 also where the side is too short for a finite scale (below about 1e-299: denormal
+    // coordinates), whose 0 x inf made NaN lattice coordinates.
+    const double scale = side > 0.0 ? double(kMortonAxisMax) / side : 0.0;
+    q.scale = scale <= std::numeric_limits<double>::max() ? scale : 0.0;
     return q;
   }
   uint32_t axis(double v, double origin) const {
     const double s = (v - origin) * scale;  // in [0, kMortonAxisMax] for points in the box
-    return s <= 0.0 ? 0u : s >= double(kMortonAxisMax) ? kMortonAxisMax : uint32_t(s);
+    // NaN (never from a finite scale and finite points) goes to 0, not through the conversion.
+    return s > 0.0 ? (s < double(kMortonAxisMax) ? uint32_t(s) : kMortonAxisMax) : 0u;
   }
   uint64_t key(const glm::dvec3 &p) const {
     return morton_encode(axis(p.x, lo.x), axis(p.y, lo.y), axis(p.z, lo.z));

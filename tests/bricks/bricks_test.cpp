@@ -75,6 +75,20 @@ TEST(Morton, PrefixIsTheKeysTop32Bits) {
   EXPECT_EQ(morton_prefix(1023, 1023, 2047), 0u);  // bits below the prefix's
 }
 
+// Bounds whose longest side is denormal: kMortonAxisMax / side overflowed, and a point on the
+// low face had 0 x inf = NaN as its lattice coordinate (converted to an integer: undefined).
+TEST(Morton, BoundsTooSmallForAFiniteScaleGiveKeyZero) {
+  const double tiny = 1e-310;
+  const MortonQuantiser q = MortonQuantiser::for_bounds({0.0, 0.0, 0.0}, {tiny, 0.0, 0.0});
+  EXPECT_TRUE(std::isfinite(q.scale));
+  EXPECT_EQ(q.key({0.0, 0.0, 0.0}), 0u);
+  EXPECT_EQ(q.key({tiny, 0.0, 0.0}), 0u);
+  // And a NaN coordinate (never from finite bounds and points) is the low end, not a conversion.
+  const MortonQuantiser unit = MortonQuantiser::for_bounds(glm::dvec3(0.0), glm::dvec3(1.0));
+  EXPECT_EQ(unit.axis(std::numeric_limits<double>::quiet_NaN(), 0.0), 0u);
+  EXPECT_EQ(unit.axis(1.0, 0.0), kMortonAxisMax);
+}
+
 // The four-at-a-time prefix (SSE2 where built with it) against the scalar one, point by point:
 // inside the box, outside it on both sides (clamped), on its faces, on lattice steps and their
 // neighbours (truncation), and at the largest and smallest coordinates.

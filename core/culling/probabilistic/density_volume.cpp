@@ -18,11 +18,16 @@ void DensityVolume::reset(const glm::dvec3 &lo, const glm::dvec3 &hi, int64_t pa
   const glm::dvec3 ext = glm::max(hi - lo, glm::dvec3(1e-9));
   const double voxels = std::clamp(double(particles) / 8.0, 1.0, 64.0 * 64.0 * 64.0);
   cell_ = std::cbrt(ext.x * ext.y * ext.z / voxels);
+  // Clamped before the conversion to int: a line of particles (two sides floored to 1e-9) puts
+  // the first ratio far beyond int's range.
+  const auto count = [this, &ext](int a) {
+    return int(std::clamp(std::ceil(ext[a] / cell_), 1.0, 256.0));
+  };
   for (int a = 0; a < 3; ++a) {
-    n_[a] = std::clamp(int(std::ceil(ext[a] / cell_)), 1, 256);
+    n_[a] = count(a);
     cell_ = std::max(cell_, ext[a] / 256.0);
   }
-  for (int a = 0; a < 3; ++a) n_[a] = std::clamp(int(std::ceil(ext[a] / cell_)), 1, 256);
+  for (int a = 0; a < 3; ++a) n_[a] = count(a);
   lo_ = lo;
   counts_.assign(size_t(n_[0]) * n_[1] * n_[2], 0);
 }
