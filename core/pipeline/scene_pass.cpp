@@ -8,6 +8,9 @@
 #include <string>
 #include <utility>
 
+#include <glm/geometric.hpp>
+#include <glm/vec3.hpp>
+
 #include "core/camera/camera.h"
 #include "core/common/collective_status.h"
 #include "core/common/ms_since.h"
@@ -44,6 +47,43 @@ Status check_scene_needs(const SceneConfig &scene, const RadiusRule &radius,
     return {StatusCode::kInvalidArgument, "scenes '" + scene.name +
                                               "': color.by is scalar but no scalar array was "
                                               "published (lantern_particles.scalar)"};
+  return {};
+}
+
+// Where single-precision stages lose the picture (measured by rendering one scene at power-of-two
+// scales, which are exact, against its unit-scale image): the eye's distance to the farthest
+// point of the scene above 1e18 (OpenGL was blank at 7e19, an orthographic view and close-up
+// spheres near 2e20: squares of view-space lengths overflow float), and screen ambient occlusion
+// where the scene spans less than 1e-8 or more than 1e10 (its normals are cross products of
+// neighbouring pixels' offsets, fourth powers of lengths in float). Empty where neither.
+std::string single_precision_problem(const SceneConfig &scene, const Camera &camera,
+                                     const glm::dvec3 &lo, const glm::dvec3 &hi,
+                                     double max_radius) {
+  double reach = 0.0;
+  for (int corner = 0; corner < 8; ++corner) {
+    const glm::dvec3 p{corner & 1 ? hi.x : lo.x, corner & 2 ? hi.y : lo.y,
+                       corner & 4 ? hi.z : lo.z};
+    reach = std::max(reach, glm::length(p - camera.eye) + max_radius);
+  }
+  const double span = glm::length(hi - lo) + 2.0 * max_radius;
+  char text[320];
+  if (reach > 1e18) {
+    std::snprintf(text, sizeof text,
+                  "the scene's farthest point is %g from the eye, beyond 1e18: stages in "
+                  "single precision (OpenGL, orthographic views, close-up spheres, screen cues) "
+                  "may draw nothing or lose detail; express positions in larger units",
+                  reach);
+    return text;
+  }
+  const bool screen_ao = scene.ambient_occlusion.enabled &&
+                         scene.ambient_occlusion.method == AmbientOcclusionMethod::kScreen;
+  if (screen_ao && (span < 1e-8 || span > 1e10)) {
+    std::snprintf(text, sizeof text,
+                  "the scene spans %g, outside [1e-8, 1e10]: screen ambient occlusion's normals "
+                  "lose precision in single precision; express positions in other units",
+                  span);
+    return text;
+  }
   return {};
 }
 
@@ -191,6 +231,19 @@ Status run_scene_pass(const ScenePassInputs &in, const SceneConfig &scene, Scene
                    scene.name.c_str(), static_cast<long long>(in.step), 0.5 * (lo.x + hi.x),
                    0.5 * (lo.y + hi.y), 0.5 * (lo.z + hi.z), max_radius,
                    kMinFramedExtent * std::max(1.0, glm::length(0.5 * (lo + hi))));
+  }
+
+  // Every rank has the same camera and bounds: the same answer everywhere, said by rank 0.
+  if (!buffers->warned_single_precision) {
+    const std::string problem = single_precision_problem(scene, camera, lo, hi, max_radius);
+    if (!problem.empty()) {
+      buffers->warned_single_precision = true;
+      int rank = 0;
+      MPI_Comm_rank(in.comm, &rank);
+      if (rank == 0)
+        std::fprintf(stderr, "lantern: warning: scenes '%s': step %lld: %s (warned once)\n",
+                     scene.name.c_str(), static_cast<long long>(in.step), problem.c_str());
+    }
   }
 
   // Object-space ambient occlusion: a density volume reduced over every rank (collective, so

@@ -88,9 +88,10 @@ struct SceneBuffers {
   DensityImage density;          // style: density - this rank's sums, then (rank 0) all ranks'
   ColorRange color_range;        // the scalar range of the colours, remembered across steps
   OcclusionVolume occlusion;     // ambient_occlusion method object: rebuilt each step, buffers kept
-  std::unique_ptr<MovieWriter> movie;        // rank 0, with output.movie (scene_movie.h)
-  bool movie_warned = false;                 // the "encoder is behind" warning was printed
-  bool warned_point_bounds = false;          // rank 0 warned that the camera had a point to frame
+  std::unique_ptr<MovieWriter> movie;    // rank 0, with output.movie (scene_movie.h)
+  bool movie_warned = false;             // the "encoder is behind" warning was printed
+  bool warned_point_bounds = false;      // rank 0 warned that the camera had a point to frame
+  bool warned_single_precision = false;  // rank 0 warned of a scale single precision cannot hold
   std::unique_ptr<OverlayPainter> overlays;  // rank 0, for a scene with overlays
   SceneBudget
       budget;  // budget_ms / budget_percent: the ladder and its controller (render_budget.h)
