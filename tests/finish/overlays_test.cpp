@@ -153,6 +153,26 @@ TEST(OverlayCanvas, BlendsOverStraightAlphaAsPorterDuffOver) {
   EXPECT_EQ(image.rgba[11], 255);
 }
 
+// Lines whose ends project billions of pixels away (an edge of a box far larger than the view,
+// clipped at the near plane): the column range was converted to int unclamped (undefined; on
+// x86 a loop from INT_MIN over 2^31 columns). A line through the image darkens its own rows
+// only; lines wholly beyond one side draw nothing.
+TEST(OverlayCanvas, LinesFromFarBeyondTheImageDrawOnlyWhatCrossesIt) {
+  const Rgb8 black{0, 0, 0};
+  Frame far = white_frame(40, 30);
+  draw_line(&far, {-1e15, 10.5, 0.0}, {1e15, 10.5, 0.0}, 1.0, black, false);
+  for (int y = 0; y < 30; ++y)
+    for (int x = 0; x < 40; ++x) {
+      if (y == 10) EXPECT_LT(pixel(far, x, y)[0], 128) << x;
+      if (y < 9 || y > 11) EXPECT_EQ(pixel(far, x, y)[0], 255) << x << ", " << y;
+    }
+  Frame beyond = white_frame(40, 30);
+  draw_line(&beyond, {3e12, 10.5, 0.0}, {5e12, 12.5, 0.0}, 1.0, black, false);
+  draw_line(&beyond, {-5e12, -3e12, 0.0}, {-3e12, -1e12, 0.0}, 1.0, black, false);
+  draw_line(&beyond, {20.0, 1e15, 0.0}, {21.0, 3e15, 0.0}, 1.0, black, false);
+  EXPECT_EQ(beyond.rgba, white_frame(40, 30).rgba);
+}
+
 // Corners: a label at top_right lies in the image's right part, inside the margin.
 TEST(Overlays, CornerLabelsStayInsideTheMarginAndStack) {
   REQUIRE_TEXT();

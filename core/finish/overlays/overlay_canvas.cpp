@@ -59,14 +59,22 @@ void draw_line(Frame *image, const LinePoint &a, const LinePoint &b, double widt
   const double m0 = steep ? std::min(a.y, b.y) : std::min(a.x, b.x);
   const double m1 = steep ? std::max(a.y, b.y) : std::max(a.x, b.x);
   const int major_size = steep ? image->height : image->width;
-  const int first = int(std::max(0.0, std::floor(m0 - reach)));
-  const int last = int(std::min(double(major_size - 1), std::ceil(m1 + reach)));
+  const int minor_size = steep ? image->width : image->height;
+  // Clamped to the image (and one past it) before any conversion to int: an edge of a box far
+  // larger than the view, clipped at the near plane, may project billions of pixels away, where
+  // the conversion was undefined (on x86 INT_MIN: a loop of 2^31 columns).
+  const auto clamped_int = [](double v, int lo, int hi) {
+    return v > double(lo) ? (v < double(hi) ? int(v) : hi) : lo;
+  };
+  const int first = clamped_int(std::floor(m0 - reach), 0, major_size);
+  const int last = clamped_int(std::ceil(m1 + reach), -1, major_size - 1);
   const double slope = steep ? (dy != 0 ? dx / dy : 0) : (dx != 0 ? dy / dx : 0);
   for (int m = first; m <= last; ++m) {
     const double along = m + 0.5;
     const double clamped = std::clamp(along, m0, m1);
     const double across = steep ? a.x + (clamped - a.y) * slope : a.y + (clamped - a.x) * slope;
-    const int n0 = int(std::floor(across - reach)), n1 = int(std::ceil(across + reach));
+    const int n0 = clamped_int(std::floor(across - reach), 0, minor_size),
+              n1 = clamped_int(std::ceil(across + reach), -1, minor_size - 1);
     for (int n = n0; n <= n1; ++n) {
       const int x = steep ? n : m, y = steep ? m : n;
       if (x < 0 || y < 0 || x >= image->width || y >= image->height) continue;
