@@ -69,12 +69,17 @@ inline uint32_t depth_order_key(double depth) {
 
 // Calls f(sample index) for each sample of the nx x ny grid inside the disc (centre x, y,
 // radius r, in samples; sample (i, j) at (i + 0.5, j + 0.5)).
+// The bounds are clamped to the grid (and one past it) before the conversion: a disc far off the
+// grid (a sphere at a tiny near plane) may lie beyond int64's range, or be NaN.
 template <typename F>
 void for_samples_in_disc(float x, float y, float r, int64_t nx, int64_t ny, F &&f) {
-  const auto i0 = int64_t(std::max(0.0f, std::ceil(x - r - 0.5f)));
-  const auto i1 = int64_t(std::min(float(nx - 1), std::floor(x + r - 0.5f)));
-  const auto j0 = int64_t(std::max(0.0f, std::ceil(y - r - 0.5f)));
-  const auto j1 = int64_t(std::min(float(ny - 1), std::floor(y + r - 0.5f)));
+  const auto clamped = [](float v, int64_t lo, int64_t hi) {
+    return v > float(lo) ? (v < float(hi) ? int64_t(v) : hi) : lo;
+  };
+  const int64_t i0 = clamped(std::ceil(x - r - 0.5f), 0, nx);
+  const int64_t i1 = clamped(std::floor(x + r - 0.5f), -1, nx - 1);
+  const int64_t j0 = clamped(std::ceil(y - r - 0.5f), 0, ny);
+  const int64_t j1 = clamped(std::floor(y + r - 0.5f), -1, ny - 1);
   for (int64_t j = j0; j <= j1; ++j)
     for (int64_t i = i0; i <= i1; ++i) {
       const float dx = float(i) + 0.5f - x, dy = float(j) + 0.5f - y;
