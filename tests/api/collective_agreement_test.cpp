@@ -13,6 +13,7 @@
 
 #include "lantern/lantern.h"
 #include "tests/support/mpi_world.h"
+#include "tests/support/shared_test_dir.h"
 
 namespace lantern::testing {
 namespace {
@@ -23,29 +24,6 @@ struct ContextCloser {
   void operator()(lantern_context *c) const { lantern_close(c); }
 };
 using Context = std::unique_ptr<lantern_context, ContextCloser>;
-
-// A directory shared by the ranks (rank 0's pid), removed at the end.
-class SharedDir {
- public:
-  SharedDir() {
-    long id = world_rank() == 0 ? long(::getpid()) : 0;
-    MPI_Bcast(&id, 1, MPI_LONG, 0, MPI_COMM_WORLD);
-    const auto *info = ::testing::UnitTest::GetInstance()->current_test_info();
-    path_ = fs::temp_directory_path() /
-            ("lantern_agree_" + std::string(info->name()) + "_" + std::to_string(id));
-    if (world_rank() == 0) fs::create_directories(path_);
-    MPI_Barrier(MPI_COMM_WORLD);
-  }
-  ~SharedDir() {
-    MPI_Barrier(MPI_COMM_WORLD);
-    std::error_code ignored;
-    if (world_rank() == 0) fs::remove_all(path_, ignored);
-  }
-  const fs::path &path() const { return path_; }
-
- private:
-  fs::path path_;
-};
 
 std::string config_for(const fs::path &dir) {
   return "scenes:\n  - name: s\n    width: 32\n    height: 24\n    renderer: cpu\n"
