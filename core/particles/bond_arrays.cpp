@@ -37,7 +37,8 @@ Status BondArrays::validate(const BondDescription &d, const ParticleArrays &part
     return invalid("bonds.count: " + std::to_string(d.count) + " is above 2^31 - 1 per rank");
   if (d.ghost_count < 0)
     return invalid("bonds.ghost_count: negative (" + std::to_string(d.ghost_count) + ")");
-  if (particles.count() + d.ghost_count > std::numeric_limits<uint32_t>::max())
+  // Compared without the sum, which a ghost_count near INT64_MAX overflowed (skipping the check).
+  if (d.ghost_count > int64_t(std::numeric_limits<uint32_t>::max()) - particles.count())
     return invalid("bonds.ghost_count: count + ghost_count (" + std::to_string(particles.count()) +
                    " + " + std::to_string(d.ghost_count) + ") is not below 2^32");
   const int listing = static_cast<int>(d.listing);

@@ -104,6 +104,11 @@ TEST_F(Bonds, BadBondsNameTheBondAndTheParticlesStillRender) {
       {"negative index", {0, 1, 0, 1, 2, 0, -3, 4, 0}, 0, {"bonds.first[2]", "-3", "negative"}},
       {"bond to itself", {0, 1, 0, 3, 3, 0}, 0, {"bonds[1]", "atom 3 (id 103)", "itself"}},
       {"two ghosts", {0, 1, 0, 6, 7, 0}, 2, {"bonds[1]", "both atoms are ghosts", "id 106"}},
+      // count + ghost_count overflowed int64 and passed the 2^32 check.
+      {"ghost count near INT64_MAX",
+       {0, 1, 0},
+       std::numeric_limits<int64_t>::max(),
+       {"bonds.ghost_count", "is not below 2^32"}},
   };
   id.push_back(106), id.push_back(107);  // ghost ids for the ghost case
   x.insert(x.end(), {6, 0, 0, 7, 0, 0});
