@@ -15,6 +15,11 @@ Status validate_box(const Box &box) {
     if (box.low[a] > box.high[a])
       return invalid("low" + axis + " = " + std::to_string(box.low[a]) + " is above high" + axis +
                      " = " + std::to_string(box.high[a]));
+    // An edge whose length overflows (low -1e308, high 1e308) made every periodic bond's end NaN:
+    // the bonds were silently not drawn.
+    if (!std::isfinite(box.high[a] - box.low[a]))
+      return invalid("high" + axis + " - low" + axis + " overflows (" + std::to_string(box.low[a]) +
+                     " to " + std::to_string(box.high[a]) + ")");
   }
   return {};
 }

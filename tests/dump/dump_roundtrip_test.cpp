@@ -376,6 +376,12 @@ TEST(SetBox, RejectsInvertedAndNull) {
   const double low[3] = {0, 5, 0}, high[3] = {1, 2, 1};
   EXPECT_EQ(lantern_set_box(ctx.get(), low, high, nullptr), LANTERN_ERR_INVALID_ARGUMENT);
   EXPECT_NE(std::string(lantern_error_message(ctx.get())).find("low[1]"), std::string::npos);
+  // An edge whose length overflows: periodic bonds' ends became NaN, silently not drawn.
+  const double wide_low[3] = {-1e308, 0, 0}, wide_high[3] = {1e308, 1, 1};
+  EXPECT_EQ(lantern_set_box(ctx.get(), wide_low, wide_high, nullptr), LANTERN_ERR_INVALID_ARGUMENT);
+  EXPECT_NE(std::string(lantern_error_message(ctx.get())).find("high[0] - low[0] overflows"),
+            std::string::npos)
+      << lantern_error_message(ctx.get());
   EXPECT_EQ(lantern_set_box(ctx.get(), nullptr, high, nullptr), LANTERN_ERR_NULL_ARGUMENT);
   EXPECT_EQ(lantern_set_box(nullptr, low, high, nullptr), LANTERN_ERR_NULL_ARGUMENT);
 }
