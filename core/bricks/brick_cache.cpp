@@ -31,8 +31,10 @@ constexpr double kMaxSpreadGrowth = 1.25;
 // where the refit would have passed.
 bool BrickCache::refit_expected_too_loose(int64_t step) const {
   if (spread_step_ <= build_step_ || step <= spread_step_) return false;  // no refit to go by
-  const double rate = (spread_ratio_ - 1.0) / double(spread_step_ - build_step_);
-  return spread_ratio_ + rate * double(step - spread_step_) > kMaxSpreadGrowth;
+  // Step differences in double: a host's steps may lie anywhere in int64 (INT64_MIN, then 0), where
+  // their difference overflowed.
+  const double rate = (spread_ratio_ - 1.0) / (double(spread_step_) - double(build_step_));
+  return spread_ratio_ + rate * (double(step) - double(spread_step_)) > kMaxSpreadGrowth;
 }
 
 void BrickCache::note_spread(int64_t step, bool built) {

@@ -592,8 +592,9 @@ void OcclusionVolume::deposit(const ParticleArrays &particles, const CutPlanes &
       // Every particle, positions as x y z doubles one after the other: located in place.
       const double *packed = nullptr;
       if constexpr (std::is_same_v<std::decay_t<decltype(positions)>, InterleavedPositions<double>>)
-        if (every && positions.stride == int64_t(3 * sizeof(double)))
-          packed = reinterpret_cast<const double *>(positions.base);
+        if (every && positions.stride == int64_t(3 * sizeof(double)) &&
+            reinterpret_cast<uintptr_t>(positions.base) % alignof(double) == 0)  // the API allows
+          packed = reinterpret_cast<const double *>(positions.base);             // any address
       run_in_parts(parts, count, [&](int part, int64_t first, int64_t last) {
         QuadDeposit &to = deposits_[size_t(part)];
         double coordinate[3][kChunk];
