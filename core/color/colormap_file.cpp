@@ -2,12 +2,11 @@
 
 #include <algorithm>
 #include <cctype>
-#include <cerrno>
 #include <cmath>
 #include <cstdlib>
-#include <cstring>
-#include <fstream>
 #include <sstream>
+
+#include "core/config/config_file.h"
 
 namespace lantern {
 namespace {
@@ -76,14 +75,14 @@ Status parse_colormap_text(const std::string &text, const std::string &source,
 }
 
 Status read_colormap_file(const std::string &path, std::vector<std::array<double, 3>> *colors) {
-  errno = 0;
-  std::ifstream in(path, std::ios::binary);
-  if (!in)
-    return {StatusCode::kConfig, "cannot read colormap file '" + path +
-                                     "': " + std::strerror(errno != 0 ? errno : ENOENT)};
-  std::ostringstream text;
-  text << in.rdbuf();
-  return parse_colormap_text(text.str(), path, colors);
+  // As a configuration file is read: only a regular file, at most kMaxConfigBytes. A FIFO nobody
+  // wrote to blocked lantern_open in open() for ever, /dev/zero grew the text until memory ran
+  // out, and a multi-gigabyte file was read whole before its first line was parsed.
+  std::string text;
+  if (const std::string why = read_config_file(path, &text, "a colormap is a text file of colours");
+      !why.empty())
+    return {StatusCode::kConfig, "cannot read colormap file '" + path + "': " + why};
+  return parse_colormap_text(text, path, colors);
 }
 
 }  // namespace lantern

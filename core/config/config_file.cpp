@@ -29,7 +29,7 @@ struct Descriptor {
 
 }  // namespace
 
-std::string read_config_file(const std::string &path, std::string *text) {
+std::string read_config_file(const std::string &path, std::string *text, const char *kind) {
   // O_NONBLOCK: opening a FIFO that no one writes would otherwise wait for a writer; the type is
   // then checked on the opened file itself, so a file swapped for another in between is caught.
   const Descriptor file{::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC)};
@@ -37,8 +37,7 @@ std::string read_config_file(const std::string &path, std::string *text) {
   struct stat st {};
   if (::fstat(file.fd, &st) != 0) return std::strerror(errno);
   if (!S_ISREG(st.st_mode))
-    return std::string("is ") + kind_of(st.st_mode) +
-           ", not a regular file (a configuration is a YAML file)";
+    return std::string("is ") + kind_of(st.st_mode) + ", not a regular file (" + kind + ")";
   std::string read;
   char buffer[65536];
   for (;;) {
@@ -47,8 +46,7 @@ std::string read_config_file(const std::string &path, std::string *text) {
     if (n < 0) return std::strerror(errno);
     if (n == 0) break;
     if (int64_t(read.size()) + n > kMaxConfigBytes)
-      return "is larger than " + std::to_string(kMaxConfigBytes >> 20) +
-             " MiB (not a configuration?)";
+      return "is larger than " + std::to_string(kMaxConfigBytes >> 20) + " MiB (" + kind + ")";
     read.append(buffer, size_t(n));
   }
   *text = std::move(read);

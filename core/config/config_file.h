@@ -17,8 +17,10 @@ namespace lantern {
 inline constexpr int64_t kMaxConfigBytes = int64_t(16) << 20;
 
 // Reads `path` into *text. Returns "" on success, else why it cannot be a configuration, worded
-// to follow the path in a message: "is a FIFO, not a regular file", "is larger than 16 MiB ...",
-// or the OS reason ("No such file or directory").
-std::string read_config_file(const std::string &path, std::string *text);
+// to follow the path in a message: "is a FIFO, not a regular file (a configuration is a YAML
+// file)", "is larger than 16 MiB (...)", or the OS reason ("No such file or directory"). `kind`
+// says in those brackets what the file should be (other small text inputs: colormap files).
+std::string read_config_file(const std::string &path, std::string *text,
+                             const char *kind = "a configuration is a YAML file");
 
 }  // namespace lantern

@@ -2,6 +2,8 @@
 // sources' numbers), the four maps Lantern had before keep their bytes, reverse and custom maps,
 // and colormap files.
 #include <gtest/gtest.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 #include <array>
 #include <cstdint>
@@ -124,6 +126,18 @@ TEST(ColormapFile, BadFilesNameTheFileLineAndProblem) {
   EXPECT_NE(missing.message.find("cannot read colormap file '/nonexistent/map.txt'"),
             std::string::npos)
       << missing.message;
+  // Not a regular file: a FIFO nobody writes to blocked the read for ever; /dev/zero never ended.
+  const std::string fifo = ::testing::TempDir() + "lantern_colormap_fifo";
+  ::unlink(fifo.c_str());
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  for (const std::string &path : {fifo, std::string("/dev/zero")}) {
+    const Status s = read_colormap_file(path, &colors);
+    EXPECT_EQ(s.code, StatusCode::kConfig) << path;
+    EXPECT_NE(s.message.find("not a regular file (a colormap is a text file of colours)"),
+              std::string::npos)
+        << s.message;
+  }
+  ::unlink(fifo.c_str());
 }
 
 TEST(TypePalette, EveryTypeWrapsModuloThePaletteSize) {

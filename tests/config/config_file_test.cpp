@@ -83,7 +83,8 @@ TEST_F(ConfigFile, TheCapCountsTheBytesRead) {
     for (int i = 0; i < 16 * 1024 + 1; ++i) out << line;
   }
   std::string text;
-  EXPECT_EQ(read_config_file(big.string(), &text), "is larger than 16 MiB (not a configuration?)");
+  EXPECT_EQ(read_config_file(big.string(), &text),
+            "is larger than 16 MiB (a configuration is a YAML file)");
   fs::resize_file(big, kMaxConfigBytes);
   EXPECT_EQ(read_config_file(big.string(), &text), "");
   EXPECT_EQ(int64_t(text.size()), kMaxConfigBytes);
