@@ -4,6 +4,7 @@
 #include <cstdio>
 
 #include "core/common/collective_status.h"
+#include "core/common/guarded_status.h"
 #include "core/common/ms_since.h"
 #include "core/config/file_pattern.h"
 #include "core/output/movie/movie_encoder.h"
@@ -40,22 +41,26 @@ Status open_scene_movies(MPI_Comm comm, const std::vector<SceneConfig> &scenes,
   int rank = 0;
   MPI_Comm_rank(comm, &rank);
   Status first;
-  if (rank == 0) {
-    for (size_t i = 0; i < scenes.size() && i < buffers->size(); ++i) {
-      const SceneConfig &scene = scenes[i];
-      std::unique_ptr<MovieWriter> &movie = (*buffers)[i].movie;
-      if (movie && !same_movie(*movie, scene)) {
-        if (Status s = movie->finish(); !s.ok())
-          std::fprintf(stderr, "lantern: warning: %s%s\n", where(scene).c_str(), s.message.c_str());
-        movie.reset();
+  if (rank == 0)
+    first = guarded_status("movie", [&]() -> Status {
+      Status first_failure;
+      for (size_t i = 0; i < scenes.size() && i < buffers->size(); ++i) {
+        const SceneConfig &scene = scenes[i];
+        std::unique_ptr<MovieWriter> &movie = (*buffers)[i].movie;
+        if (movie && !same_movie(*movie, scene)) {
+          if (Status s = movie->finish(); !s.ok())
+            std::fprintf(stderr, "lantern: warning: %s%s\n", where(scene).c_str(),
+                         s.message.c_str());
+          movie.reset();
+        }
+        if (movie || !scene.output.movie.enabled) continue;
+        (*buffers)[i].movie_warned = false;
+        const Status s = MovieWriter::open(scene.output.movie, movie_path(scene), scene.width,
+                                           scene.height, &movie);
+        if (!s.ok() && first_failure.ok()) first_failure = with_context(where(scene), s);
       }
-      if (movie || !scene.output.movie.enabled) continue;
-      (*buffers)[i].movie_warned = false;
-      const Status s = MovieWriter::open(scene.output.movie, movie_path(scene), scene.width,
-                                         scene.height, &movie);
-      if (!s.ok() && first.ok()) first = with_context(where(scene), s);
-    }
-  }
+      return first_failure;
+    });
   return broadcast_status(comm, first, 0);
 }
 

@@ -13,6 +13,7 @@
 
 #include "core/camera/camera.h"
 #include "core/common/collective_status.h"
+#include "core/common/guarded_status.h"
 #include "core/common/ms_since.h"
 #include "core/config/file_pattern.h"
 #include "core/finish/screen_cues.h"
@@ -171,7 +172,10 @@ Status write_scene_image(const ScenePassInputs &in, const SceneConfig &scene, co
   int rank = 0;
   MPI_Comm_rank(in.comm, &rank);
   const Status movie =
-      rank == 0 ? send_frame_to_movie(scene, buffers->frame, buffers, stats) : Status();
+      rank == 0 ? guarded_status(
+                      "scenes '" + scene.name + "': movie",
+                      [&] { return send_frame_to_movie(scene, buffers->frame, buffers, stats); })
+                : Status();
   Status image;
   if (scene.output.images)
     image = write_image_file(in, scene, camera, t_start, buffers, stats);

@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "core/common/injected_fault.h"
 #include "lantern/lantern.h"
 #include "tests/support/mpi_world.h"
 #include "tests/support/shared_test_dir.h"
@@ -115,6 +116,31 @@ TEST(ReconfigureAgreement, TheSameTextAsAPathOnRankZeroAndInlineElsewhere) {
     expect_on_every_rank(st, LANTERN_OK);
     expect_on_every_rank(lantern_execute(raw, round, 0.0), LANTERN_OK);
   }
+  if (world_rank() == 0) EXPECT_TRUE(fs::exists(dir.path() / "s_0001.png"));
+}
+
+// Rank 0 draws the overlays alone, then broadcasts the outcome: memory running out there threw
+// past the broadcast, and the other ranks waited in it for ever. Now every rank returns
+// LANTERN_ERR_OUT_OF_MEMORY, and the next step draws its overlays again.
+TEST(RankZeroWork, MemoryRunningOutInTheOverlaysFailsTheStepOnEveryRank) {
+  const SharedDir dir;
+  const std::string config = config_for(dir.path()) + "    box: {}\n";
+  lantern_context *raw = nullptr;
+  ASSERT_EQ(lantern_open(config.c_str(), LANTERN_COMM_WORLD, &raw), LANTERN_OK);
+  const Context ctx(raw);
+  std::vector<double> x = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+  lantern_particles p{};
+  p.count = 3;
+  p.position = {x.data(), LANTERN_FLOAT64, 0};
+  ASSERT_EQ(lantern_publish(raw, &p), LANTERN_OK);
+  if (world_rank() == 0) inject_fault("overlays: draw");
+  const lantern_status failed = lantern_execute(raw, 0, 0.0);
+  inject_fault("");
+  expect_on_every_rank(failed, LANTERN_ERR_OUT_OF_MEMORY);
+  EXPECT_NE(std::string(lantern_error_message(raw)).find("overlays: out of memory"),
+            std::string::npos)
+      << lantern_error_message(raw);
+  expect_on_every_rank(lantern_execute(raw, 1, 0.0), LANTERN_OK);
   if (world_rank() == 0) EXPECT_TRUE(fs::exists(dir.path() / "s_0001.png"));
 }
 
