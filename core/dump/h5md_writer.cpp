@@ -8,6 +8,8 @@
 #include <cstring>
 #include <filesystem>
 #include <limits>
+#include <stdexcept>
+#include <string>
 #include <system_error>
 #include <vector>
 
@@ -311,7 +313,15 @@ void H5mdWriter::write_frame(const DumpFrame &f) {
         real_rows(single, n, tail, 3, [&](int64_t i, int c) { return p.position(row(i))[c]; });
     if (species_) {
       species.mem_type = H5T_NATIVE_INT32;
-      species.i32 = gather<int32_t>(n, tail, 1, -1, [&](int64_t i, int) { return p.type(row(i)); });
+      // The species are 32-bit; an int64 type beyond that was cut to its low bits (2^32 + 2
+      // stored as 2, 2^32 - 1 as -1, the fill value), silently: now the dump fails naming it.
+      species.i32 = gather<int32_t>(n, tail, 1, -1, [&](int64_t i, int) {
+        const int64_t t = p.type(row(i));
+        if (t < std::numeric_limits<int32_t>::min() || t > std::numeric_limits<int32_t>::max())
+          throw std::out_of_range("particles.type[" + std::to_string(row(i)) + "] = " +
+                                  std::to_string(t) + " does not fit the dump's 32-bit species");
+        return int32_t(t);
+      });
     }
     if (id_) {
       id.mem_type = H5T_NATIVE_INT64;

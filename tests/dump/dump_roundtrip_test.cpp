@@ -370,6 +370,32 @@ TEST(StatsFile, UnwritableIsAnIoErrorOnEveryRankAndImagesAreStillWritten) {
   if (world_rank() == 0) EXPECT_EQ(last_json_line(stats)["step"], 1);
 }
 
+// Species are stored in 32 bits: an int64 type beyond them was cut to its low bits (2^32 + 2 as
+// 2), silently. Now the step fails on every rank naming the type, and a later step with types
+// that fit is dumped.
+TEST(DumpRoundTrip, TypesBeyond32BitsFailTheDumpNamingThem) {
+  const MpiScratchDir dir;
+  const Context ctx = open_dump(dir.file("types.h5"), "");
+  std::vector<double> x = {0, 0, 0, 1, 0, 0};
+  // On the last rank only: the others' rows fit, and must fail with it.
+  std::vector<int64_t> type = {1, world_rank() == world_size() - 1 ? (int64_t(1) << 32) + 2 : 5};
+  lantern_particles p{};
+  p.count = 2;
+  p.position = {x.data(), LANTERN_FLOAT64, 0};
+  p.type = {type.data(), LANTERN_INT64, 0};
+  ASSERT_EQ(lantern_publish(ctx.get(), &p), LANTERN_OK);
+  const lantern_status failed = lantern_execute(ctx.get(), 0, 0.0);
+  int all_failed = failed != LANTERN_OK ? 1 : 0;
+  MPI_Allreduce(MPI_IN_PLACE, &all_failed, 1, MPI_INT, MPI_MIN, MPI_COMM_WORLD);
+  EXPECT_EQ(all_failed, 1);
+  EXPECT_NE(std::string(lantern_error_message(ctx.get())).find("does not fit the dump's 32-bit"),
+            std::string::npos)
+      << lantern_error_message(ctx.get());
+  type[1] = 7;
+
+  EXPECT_EQ(lantern_execute(ctx.get(), 1, 0.0), LANTERN_OK) << lantern_error_message(ctx.get());
+}
+
 TEST(SetBox, RejectsInvertedAndNull) {
   const MpiScratchDir dir;
   const Context ctx = open_dump(dir.file("box.h5"), "");
