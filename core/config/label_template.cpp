@@ -102,8 +102,14 @@ std::string format_field(const Field &f, int64_t step, double time, const std::s
   const char type = f.type == 0 ? 'g' : f.type;
   const int precision = f.precision >= 0 ? f.precision : 6;  // printf's default
   const std::string format = std::string(f.zero ? "%0*.*" : "%*.*") + type;
-  std::snprintf(buffer, sizeof buffer, format.c_str(), f.width, precision, time);
-  return buffer;
+  // 'f' of a large time has about log10|time| digits (309 for 1e308): sized by a first call,
+  // where 128 bytes cut 1e200 to 127 digits of "1000...", read as 1e126.
+  const int length = std::snprintf(buffer, sizeof buffer, format.c_str(), f.width, precision, time);
+  if (length < int(sizeof buffer)) return buffer;
+  std::string whole(size_t(length) + 1, '\0');
+  std::snprintf(whole.data(), whole.size(), format.c_str(), f.width, precision, time);
+  whole.resize(size_t(length));
+  return whole;
 }
 
 std::string walk(const std::string &text, int64_t step, double time, const std::string &scene,

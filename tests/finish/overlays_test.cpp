@@ -59,6 +59,10 @@ TEST(LabelTemplate, ExpandsStepTimeAndScene) {
   EXPECT_EQ(expand_label("{step} {time} {{x}}", 7, 0.5, ""), "7 0.5 {x}");
   EXPECT_EQ(expand_label("{time:8.3e}", 0, 12345.0, ""), "1.234e+04");
   EXPECT_EQ(expand_label("{time:.0f}|{step:5d}", 3, 2.6, ""), "3|    3");
+  // Fixed notation of a huge time: every digit (the buffer cut 1e200 to 127 digits, 1e126).
+  const std::string huge = expand_label("{time:.2f}", 0, 1e200, "");
+  EXPECT_EQ(huge.size(), 200u + 3u) << huge;  // the double nearest 1e200 is 9.99...e199
+  EXPECT_EQ(huge.substr(huge.size() - 3), ".00");
   EXPECT_OK(validate_label_template("t = {time:.2f} ps"));
   EXPECT_EQ(validate_label_template("{temp}").code, StatusCode::kConfig);
   EXPECT_EQ(validate_label_template("{step:.2f}").code, StatusCode::kConfig);
