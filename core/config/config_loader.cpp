@@ -208,7 +208,9 @@ const Section<Schedule> kSchedule({
 const Section<CameraKeyframe> kKeyframe(
     {
         rule(keyframe_has_step),
-        {"step", &CameraKeyframe::step, integer(0, kMaxInt)},
+        // Up to 2^53: the path places keyframes in double precision, where two larger steps
+        // could round to one (a zero interval, a NaN camera blamed on the particles).
+        {"step", &CameraKeyframe::step, integer(0, int64_t(1) << 53)},
         {"azimuth", &CameraKeyframe::azimuth, finite()},
         {"elevation", &CameraKeyframe::elevation, number_in('[', -90, 90, ']')},
         {"zoom", &CameraKeyframe::zoom, above(0)},

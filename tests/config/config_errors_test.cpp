@@ -139,6 +139,8 @@ TEST(ConfigErrors, CameraPath) {
   expect_config_error(scene + "        - {step: 0, elevation: 95}\n",
                       {"scenes[0].camera.path[0].elevation", "[-90, 90]"});
   expect_config_error(scene + "        - {step: -1}\n", {"scenes[0].camera.path[0].step"});
+  expect_config_error(scene + "        - {step: 9007199254740993}\n",
+                      {"scenes[0].camera.path[0].step", "9007199254740992"});
   expect_config_error(scene + "        - {azimuth: 10}\n",
                       {"scenes[0].camera.path[0]", "needs 'step'"});
   expect_config_error(scene + "        - 5\n", {"scenes[0].camera.path[0]", "mapping"});
