@@ -22,10 +22,12 @@
 !
 ! Borrowing: Lantern reads the arrays in place (no copy) until the next publish or close, so they
 ! must have the TARGET attribute and stay allocated and unmoved until then. The setters take
-! `target, contiguous` assumed-shape dummies and pass c_loc of the caller's own memory: a
-! non-contiguous actual argument is refused by the compiler instead of silently handed to C as a
-! temporary copy that dies when the setter returns. Generic interfaces make a wrong rank or kind
-! a compile-time error.
+! assumed-shape `target` dummies (not `contiguous`: for such a dummy the compiler silently passes
+! a non-contiguous section as a temporary copy, which dies when the setter returns) and hand C the
+! caller's own memory with the section's steps in bytes, so pos(1:nlocal, :) of a pos(nmax, 3),
+! x(:, 1:n:2) or a(1:n:3) are borrowed where they lie. An actual argument that is an expression
+! (real(x, c_double), x + 0) is a temporary whatever the dummy: pass a variable. Generic
+! interfaces make a wrong rank or kind a compile-time error.
 !
 ! MPI: lantern_open takes the communicator's Fortran handle: MPI_COMM_WORLD or any communicator
 ! from `use mpi`; with `use mpi_f08` pass comm%MPI_VAL; LANTERN_COMM_WORLD needs no MPI module.
@@ -128,6 +130,9 @@ module lantern
     module procedure set_field_f4, set_field_f8, set_field_i4, set_field_i8
   end interface lantern_set_field
   ! first: the field of the first particle, stride_bytes apart (arrays of derived types).
+  interface vector_array
+    module procedure vector_f4, vector_f8, vector_i4, vector_i8
+  end interface vector_array
   interface lantern_set_field_strided
     module procedure set_strided_field_f4, set_strided_field_f8, set_strided_field_i4, &
       set_strided_field_i8
@@ -369,10 +374,56 @@ contains
     if (n > 0) p = first
   end function address_or_null
 
-  subroutine interleaved(set, rows, n, first, datatype, element_bytes)
+  ! a(n) as a lantern_array: its first element and its step in bytes (the element's size for
+  ! fewer than 2). One per kind, through the generic vector_array.
+  type(lantern_array) function vector_f8(a, datatype, element_bytes) result(v)
+    real(c_double), intent(in), target :: a(:)
+    integer(c_int), intent(in) :: datatype
+    integer(c_size_t), intent(in) :: element_bytes
+    v = lantern_array(c_null_ptr, datatype, int(element_bytes, c_int64_t))
+    if (size(a) > 0) v%data = c_loc(a(1))
+    if (size(a) > 1) v%stride_bytes = bytes_between(v%data, c_loc(a(2)))
+  end function vector_f8
+
+  type(lantern_array) function vector_f4(a, datatype, element_bytes) result(v)
+    real(c_float), intent(in), target :: a(:)
+    integer(c_int), intent(in) :: datatype
+    integer(c_size_t), intent(in) :: element_bytes
+    v = lantern_array(c_null_ptr, datatype, int(element_bytes, c_int64_t))
+    if (size(a) > 0) v%data = c_loc(a(1))
+    if (size(a) > 1) v%stride_bytes = bytes_between(v%data, c_loc(a(2)))
+  end function vector_f4
+
+  type(lantern_array) function vector_i8(a, datatype, element_bytes) result(v)
+    integer(c_int64_t), intent(in), target :: a(:)
+    integer(c_int), intent(in) :: datatype
+    integer(c_size_t), intent(in) :: element_bytes
+    v = lantern_array(c_null_ptr, datatype, int(element_bytes, c_int64_t))
+    if (size(a) > 0) v%data = c_loc(a(1))
+    if (size(a) > 1) v%stride_bytes = bytes_between(v%data, c_loc(a(2)))
+  end function vector_i8
+
+  type(lantern_array) function vector_i4(a, datatype, element_bytes) result(v)
+    integer(c_int32_t), intent(in), target :: a(:)
+    integer(c_int), intent(in) :: datatype
+    integer(c_size_t), intent(in) :: element_bytes
+    v = lantern_array(c_null_ptr, datatype, int(element_bytes, c_int64_t))
+    if (size(a) > 0) v%data = c_loc(a(1))
+    if (size(a) > 1) v%stride_bytes = bytes_between(v%data, c_loc(a(2)))
+  end function vector_i4
+
+  ! Bytes from the element at a to the element at b: a section's step as the compiler laid it out.
+  integer(c_int64_t) function bytes_between(a, b) result(d)
+    type(c_ptr), intent(in) :: a, b
+    d = int(transfer(b, 0_c_intptr_t) - transfer(a, 0_c_intptr_t), c_int64_t)
+  end function bytes_between
+
+  ! x(rows, n) from `first`: x, y and z of a particle row_step bytes apart (they must be adjacent),
+  ! particles stride bytes apart.
+  subroutine interleaved(set, rows, n, first, datatype, element_bytes, row_step, stride)
     type(lantern_particle_set), intent(inout) :: set
     integer, intent(in) :: rows
-    integer(c_int64_t), intent(in) :: n, element_bytes
+    integer(c_int64_t), intent(in) :: n, element_bytes, row_step, stride
     type(c_ptr), intent(in) :: first
     integer(c_int), intent(in) :: datatype
     if (rows /= 3) then
@@ -380,34 +431,53 @@ contains
                 ' rows, not 3: give x(3, n), or x(n, 3) to lantern_set_position_components')
       return
     end if
+    if (row_step /= element_bytes) then
+      call fail(set, 'lantern_set_positions: x''s rows are '//int_text(row_step)// &
+                ' bytes apart, not adjacent (a section such as x(3:1:-1, :)): give x(3, n) '// &
+                'with x, y and z next to each other')
+      return
+    end if
     call count_positions(set, n)
-    set%particles%position = lantern_array(address_or_null(n, first), datatype, 3*element_bytes)
+    set%particles%position = lantern_array(address_or_null(n, first), datatype, stride)
   end subroutine interleaved
 
   subroutine set_positions_f8(set, x)
     type(lantern_particle_set), intent(inout) :: set
-    real(c_double), intent(in), target, contiguous :: x(:, :)
+    real(c_double), intent(in), target :: x(:, :)
     type(c_ptr) :: first
+    integer(c_int64_t) :: element, row_step, stride
+    element = int(c_sizeof(0.0_c_double), c_int64_t)
     first = c_null_ptr
+    row_step = element
+    stride = 3*element
     if (size(x) > 0) first = c_loc(x(1, 1))
-    call interleaved(set, size(x, 1), int(size(x, 2), c_int64_t), first, LANTERN_FLOAT64, &
-                     int(c_sizeof(0.0_c_double), c_int64_t))
+    if (size(x) > 0 .and. size(x, 1) > 1) row_step = bytes_between(first, c_loc(x(2, 1)))
+    if (size(x) > 0 .and. size(x, 2) > 1) stride = bytes_between(first, c_loc(x(1, 2)))
+    call interleaved(set, size(x, 1), int(size(x, 2), c_int64_t), first, LANTERN_FLOAT64, element, &
+                     row_step, stride)
   end subroutine set_positions_f8
 
   subroutine set_positions_f4(set, x)
     type(lantern_particle_set), intent(inout) :: set
-    real(c_float), intent(in), target, contiguous :: x(:, :)
+    real(c_float), intent(in), target :: x(:, :)
     type(c_ptr) :: first
+    integer(c_int64_t) :: element, row_step, stride
+    element = int(c_sizeof(0.0_c_float), c_int64_t)
     first = c_null_ptr
+    row_step = element
+    stride = 3*element
     if (size(x) > 0) first = c_loc(x(1, 1))
-    call interleaved(set, size(x, 1), int(size(x, 2), c_int64_t), first, LANTERN_FLOAT32, &
-                     int(c_sizeof(0.0_c_float), c_int64_t))
+    if (size(x) > 0 .and. size(x, 1) > 1) row_step = bytes_between(first, c_loc(x(2, 1)))
+    if (size(x) > 0 .and. size(x, 2) > 1) stride = bytes_between(first, c_loc(x(1, 2)))
+    call interleaved(set, size(x, 1), int(size(x, 2), c_int64_t), first, LANTERN_FLOAT32, element, &
+                     row_step, stride)
   end subroutine set_positions_f4
 
-  subroutine components(set, columns, n, first, datatype, element_bytes)
+  ! x(n, columns): component k of the particles from first(k), step bytes apart.
+  subroutine components(set, columns, n, first, datatype, step)
     type(lantern_particle_set), intent(inout) :: set
     integer, intent(in) :: columns
-    integer(c_int64_t), intent(in) :: n, element_bytes
+    integer(c_int64_t), intent(in) :: n, step
     type(c_ptr), intent(in) :: first(3)
     integer(c_int), intent(in) :: datatype
     if (columns /= 3) then
@@ -417,31 +487,35 @@ contains
       return
     end if
     call count_positions(set, n)
-    set%particles%position_x = lantern_array(address_or_null(n, first(1)), datatype, element_bytes)
-    set%particles%position_y = lantern_array(address_or_null(n, first(2)), datatype, element_bytes)
-    set%particles%position_z = lantern_array(address_or_null(n, first(3)), datatype, element_bytes)
+    set%particles%position_x = lantern_array(address_or_null(n, first(1)), datatype, step)
+    set%particles%position_y = lantern_array(address_or_null(n, first(2)), datatype, step)
+    set%particles%position_z = lantern_array(address_or_null(n, first(3)), datatype, step)
   end subroutine components
 
   subroutine set_components_f8(set, x)
     type(lantern_particle_set), intent(inout) :: set
-    real(c_double), intent(in), target, contiguous :: x(:, :)
+    real(c_double), intent(in), target :: x(:, :)
     type(c_ptr) :: first(3)
+    integer(c_int64_t) :: step
     integer :: k
     first = c_null_ptr
+    step = int(c_sizeof(0.0_c_double), c_int64_t)
     if (size(x, 1) > 0 .and. size(x, 2) == 3) first = [(c_loc(x(1, k)), k=1, 3)]
-    call components(set, size(x, 2), int(size(x, 1), c_int64_t), first, LANTERN_FLOAT64, &
-                    int(c_sizeof(0.0_c_double), c_int64_t))
+    if (size(x, 1) > 1 .and. size(x, 2) == 3) step = bytes_between(first(1), c_loc(x(2, 1)))
+    call components(set, size(x, 2), int(size(x, 1), c_int64_t), first, LANTERN_FLOAT64, step)
   end subroutine set_components_f8
 
   subroutine set_components_f4(set, x)
     type(lantern_particle_set), intent(inout) :: set
-    real(c_float), intent(in), target, contiguous :: x(:, :)
+    real(c_float), intent(in), target :: x(:, :)
     type(c_ptr) :: first(3)
+    integer(c_int64_t) :: step
     integer :: k
     first = c_null_ptr
+    step = int(c_sizeof(0.0_c_float), c_int64_t)
     if (size(x, 1) > 0 .and. size(x, 2) == 3) first = [(c_loc(x(1, k)), k=1, 3)]
-    call components(set, size(x, 2), int(size(x, 1), c_int64_t), first, LANTERN_FLOAT32, &
-                    int(c_sizeof(0.0_c_float), c_int64_t))
+    if (size(x, 1) > 1 .and. size(x, 2) == 3) step = bytes_between(first(1), c_loc(x(2, 1)))
+    call components(set, size(x, 2), int(size(x, 1), c_int64_t), first, LANTERN_FLOAT32, step)
   end subroutine set_components_f4
 
   subroutine set_strided_positions_f8(set, first, stride_bytes, count)
@@ -514,45 +588,29 @@ contains
   subroutine set_field_f8(set, which, a)
     type(lantern_particle_set), intent(inout) :: set
     integer, intent(in) :: which
-    real(c_double), intent(in), target, contiguous :: a(:)
-    type(c_ptr) :: first
-    first = c_null_ptr
-    if (size(a) > 0) first = c_loc(a(1))
-    call field(set, which, int(size(a), c_int64_t), &
-               lantern_array(first, LANTERN_FLOAT64, c_sizeof(0.0_c_double)), .true.)
+    real(c_double), intent(in), target :: a(:)
+    call field(set, which, int(size(a), c_int64_t), vector_array(a, LANTERN_FLOAT64, c_sizeof(0.0_c_double)), .true.)
   end subroutine set_field_f8
 
   subroutine set_field_f4(set, which, a)
     type(lantern_particle_set), intent(inout) :: set
     integer, intent(in) :: which
-    real(c_float), intent(in), target, contiguous :: a(:)
-    type(c_ptr) :: first
-    first = c_null_ptr
-    if (size(a) > 0) first = c_loc(a(1))
-    call field(set, which, int(size(a), c_int64_t), &
-               lantern_array(first, LANTERN_FLOAT32, c_sizeof(0.0_c_float)), .true.)
+    real(c_float), intent(in), target :: a(:)
+    call field(set, which, int(size(a), c_int64_t), vector_array(a, LANTERN_FLOAT32, c_sizeof(0.0_c_float)), .true.)
   end subroutine set_field_f4
 
   subroutine set_field_i8(set, which, a)
     type(lantern_particle_set), intent(inout) :: set
     integer, intent(in) :: which
-    integer(c_int64_t), intent(in), target, contiguous :: a(:)
-    type(c_ptr) :: first
-    first = c_null_ptr
-    if (size(a) > 0) first = c_loc(a(1))
-    call field(set, which, int(size(a), c_int64_t), &
-               lantern_array(first, LANTERN_INT64, c_sizeof(0_c_int64_t)), .false.)
+    integer(c_int64_t), intent(in), target :: a(:)
+    call field(set, which, int(size(a), c_int64_t), vector_array(a, LANTERN_INT64, c_sizeof(0_c_int64_t)), .false.)
   end subroutine set_field_i8
 
   subroutine set_field_i4(set, which, a)
     type(lantern_particle_set), intent(inout) :: set
     integer, intent(in) :: which
-    integer(c_int32_t), intent(in), target, contiguous :: a(:)
-    type(c_ptr) :: first
-    first = c_null_ptr
-    if (size(a) > 0) first = c_loc(a(1))
-    call field(set, which, int(size(a), c_int64_t), &
-               lantern_array(first, LANTERN_INT32, c_sizeof(0_c_int32_t)), .false.)
+    integer(c_int32_t), intent(in), target :: a(:)
+    call field(set, which, int(size(a), c_int64_t), vector_array(a, LANTERN_INT32, c_sizeof(0_c_int32_t)), .false.)
   end subroutine set_field_i4
 
   subroutine set_strided_field_f8(set, which, first, stride_bytes)
@@ -591,18 +649,18 @@ contains
                lantern_array(c_loc(first), LANTERN_INT32, stride_bytes), .false.)
   end subroutine set_strided_field_i4
 
-  ! Puts a bond list into the set: pairs (rows, m), which must be (2, m), seen as two strided
-  ! columns from `first`, the ghost count and the listing (LANTERN_BONDS_LISTED_ONCE when absent).
-  subroutine bond_list(set, rows, m, first, element_bytes, datatype, ghost_count, listing)
+  ! Puts a bond list into the set: pairs (rows, m), which must be (2, m), seen as two columns
+  ! from `first` and `second`, stride bytes apart, the ghost count and the listing
+  ! (LANTERN_BONDS_LISTED_ONCE when absent).
+  subroutine bond_list(set, rows, m, first, second, stride, datatype, ghost_count, listing)
     type(lantern_particle_set), intent(inout) :: set
     integer, intent(in) :: rows
     integer(c_int64_t), intent(in) :: m
-    type(c_ptr), intent(in) :: first
-    integer(c_int64_t), intent(in) :: element_bytes
+    type(c_ptr), intent(in) :: first, second
+    integer(c_int64_t), intent(in) :: stride
     integer(c_int), intent(in) :: datatype
     integer, intent(in), optional :: ghost_count
     integer(c_int), intent(in), optional :: listing
-    type(c_ptr) :: second
     if (rows /= 2) then
       call fail(set, 'bonds: pairs has '//int_text(int(rows, c_int64_t))// &
                 ' rows, not 2 (give pairs(2, m))')
@@ -610,10 +668,8 @@ contains
     end if
     set%has_bonds = .true.
     set%bonds%count = m
-    second = c_null_ptr
-    if (m > 0) second = transfer(transfer(first, 0_c_intptr_t) + element_bytes, c_null_ptr)
-    set%bonds%first = lantern_array(first, datatype, 2*element_bytes)
-    set%bonds%second = lantern_array(second, datatype, 2*element_bytes)
+    set%bonds%first = lantern_array(first, datatype, stride)
+    set%bonds%second = lantern_array(second, datatype, stride)
     set%bonds%ghost_count = 0
     if (present(ghost_count)) set%bonds%ghost_count = int(ghost_count, c_int64_t)
     if (set%bonds%ghost_count < 0) &
@@ -624,26 +680,36 @@ contains
 
   subroutine set_bonds_i4(set, pairs, ghost_count, listing)
     type(lantern_particle_set), intent(inout) :: set
-    integer(c_int32_t), intent(in), target, contiguous :: pairs(:, :)
+    integer(c_int32_t), intent(in), target :: pairs(:, :)
     integer, intent(in), optional :: ghost_count
     integer(c_int), intent(in), optional :: listing
-    type(c_ptr) :: first
+    type(c_ptr) :: first, second
+    integer(c_int64_t) :: stride
     first = c_null_ptr
+    second = c_null_ptr
+    stride = 2*c_sizeof(0_c_int32_t)
     if (size(pairs) > 0) first = c_loc(pairs(1, 1))
-    call bond_list(set, size(pairs, 1), int(size(pairs, 2), c_int64_t), first, &
-                   c_sizeof(0_c_int32_t), LANTERN_INT32, ghost_count, listing)
+    if (size(pairs) > 0 .and. size(pairs, 1) > 1) second = c_loc(pairs(2, 1))
+    if (size(pairs) > 0 .and. size(pairs, 2) > 1) stride = bytes_between(first, c_loc(pairs(1, 2)))
+    call bond_list(set, size(pairs, 1), int(size(pairs, 2), c_int64_t), first, second, stride, &
+                   LANTERN_INT32, ghost_count, listing)
   end subroutine set_bonds_i4
 
   subroutine set_bonds_i8(set, pairs, ghost_count, listing)
     type(lantern_particle_set), intent(inout) :: set
-    integer(c_int64_t), intent(in), target, contiguous :: pairs(:, :)
+    integer(c_int64_t), intent(in), target :: pairs(:, :)
     integer, intent(in), optional :: ghost_count
     integer(c_int), intent(in), optional :: listing
-    type(c_ptr) :: first
+    type(c_ptr) :: first, second
+    integer(c_int64_t) :: stride
     first = c_null_ptr
+    second = c_null_ptr
+    stride = 2*c_sizeof(0_c_int64_t)
     if (size(pairs) > 0) first = c_loc(pairs(1, 1))
-    call bond_list(set, size(pairs, 1), int(size(pairs, 2), c_int64_t), first, &
-                   c_sizeof(0_c_int64_t), LANTERN_INT64, ghost_count, listing)
+    if (size(pairs) > 0 .and. size(pairs, 1) > 1) second = c_loc(pairs(2, 1))
+    if (size(pairs) > 0 .and. size(pairs, 2) > 1) stride = bytes_between(first, c_loc(pairs(1, 2)))
+    call bond_list(set, size(pairs, 1), int(size(pairs, 2), c_int64_t), first, second, stride, &
+                   LANTERN_INT64, ghost_count, listing)
   end subroutine set_bonds_i8
 
   subroutine bond_types(set, m, a)
@@ -662,22 +728,14 @@ contains
 
   subroutine set_bond_types_i4(set, types)
     type(lantern_particle_set), intent(inout) :: set
-    integer(c_int32_t), intent(in), target, contiguous :: types(:)
-    type(c_ptr) :: first
-    first = c_null_ptr
-    if (size(types) > 0) first = c_loc(types(1))
-    call bond_types(set, int(size(types), c_int64_t), &
-                    lantern_array(first, LANTERN_INT32, c_sizeof(0_c_int32_t)))
+    integer(c_int32_t), intent(in), target :: types(:)
+    call bond_types(set, int(size(types), c_int64_t), vector_array(types, LANTERN_INT32, c_sizeof(0_c_int32_t)))
   end subroutine set_bond_types_i4
 
   subroutine set_bond_types_i8(set, types)
     type(lantern_particle_set), intent(inout) :: set
-    integer(c_int64_t), intent(in), target, contiguous :: types(:)
-    type(c_ptr) :: first
-    first = c_null_ptr
-    if (size(types) > 0) first = c_loc(types(1))
-    call bond_types(set, int(size(types), c_int64_t), &
-                    lantern_array(first, LANTERN_INT64, c_sizeof(0_c_int64_t)))
+    integer(c_int64_t), intent(in), target :: types(:)
+    call bond_types(set, int(size(types), c_int64_t), vector_array(types, LANTERN_INT64, c_sizeof(0_c_int64_t)))
   end subroutine set_bond_types_i8
 
 end module lantern

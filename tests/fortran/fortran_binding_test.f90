@@ -36,9 +36,9 @@ program fortran_binding_test
   end type atom
 
   integer, parameter :: nside = 4, n = nside**3
-  real(c_double), target :: x(3, n), xn(n, 3), x4(4, n)
+  real(c_double), target :: x(3, n), xn(n, 3), x4(4, n), xbig(n + 7, 3), x2(3, 2*n)
   real(c_float), target :: xf(3, n)
-  integer(c_int32_t), target :: types(n), short_types(5), ints(n)
+  integer(c_int32_t), target :: types(n), short_types(5), ints(n), tbig(2*n)
   integer(c_int64_t), target :: mask(n)
   type(atom), target :: atoms(n)
   type(lantern_particles), target :: layout
@@ -96,6 +96,33 @@ program fortran_binding_test
   by_hand%type = lantern_array(c_loc(types), LANTERN_INT32, 0)
   set%particles = by_hand
   call expect(render(set, 'by_hand') == reference, 'a hand-filled lantern_particles gives it')
+
+  ! ---- sections, borrowed where they lie (through `contiguous` dummies, the compiler passed them
+  ! as temporary copies, freed when the setter returned: C then read freed memory) ----
+  set = lantern_particle_set()
+  xbig = -1
+  xbig(1:n, :) = xn
+  tbig = 99
+  tbig(1:2*n:2) = types
+  call lantern_set_position_components(set, xbig(1:n, :))
+  call lantern_set_field(set, LANTERN_FIELD_TYPE, tbig(1:2*n:2))
+  call expect(render(set, 'sections') == reference, &
+              'pos(1:n, :) of pos(n + 7, 3) and types(1:2n:2) give the image')
+  call expect(c_associated(set%particles%position_x%data, c_loc(xbig(1, 1))) .and. &
+              c_associated(set%particles%position_z%data, c_loc(xbig(1, 3))) .and. &
+              c_associated(set%particles%type%data, c_loc(tbig(1))), &
+              'sections are borrowed in place')
+  set = lantern_particle_set()
+  x2 = -1
+  x2(:, 1:2*n:2) = x
+  call lantern_set_positions(set, x2(:, 1:2*n:2))
+  call lantern_set_field(set, LANTERN_FIELD_TYPE, types)
+  call expect(render(set, 'every_other') == reference, 'x(:, 1:2n:2) gives the image')
+  call expect(c_associated(set%particles%position%data, c_loc(x2(1, 1))), &
+              'x(:, 1:2n:2) is borrowed in place')
+  set = lantern_particle_set()
+  call lantern_set_positions(set, x(3:1:-1, :))
+  call expect_refusal(set, 'not adjacent', 'x(3:1:-1, :) is refused')
 
   ! ---- problems a setter finds, reported by lantern_publish ----
   set = lantern_particle_set()
