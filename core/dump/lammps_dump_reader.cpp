@@ -318,6 +318,9 @@ Status LammpsDumpReader::read(size_t index, int64_t begin, int64_t end, Particle
       return Status(StatusCode::kIo, path_ + ":" + std::to_string(line_no) + ": " + what);
     };
     if (!std::getline(in, line)) return bad_line("cannot read the atom line (file changed?)");
+    // As the header scan does (LineReader::next): a file with CRLF line ends kept the '\r' in its
+    // last column, "0.5\r", which is not a number.
+    if (!line.empty() && line.back() == '\r') line.pop_back();
     more.clear();
     const int n = tokenize(line, c.needed, &tok, &more);
     if (n < c.needed)

@@ -269,5 +269,23 @@ TEST(LammpsReader, UnitsAndTimeBeforeTimestepAsLammpsWritesThem) {
   EXPECT_DOUBLE_EQ(f.box->high[0], 33.591923827650149);
 }
 
+// A dump with Windows line ends: the header scan dropped each '\r', but the atom lines kept it in
+// their last column ("3\r" is not a number), so open() succeeded and every frame failed.
+TEST(LammpsReader, CrlfLineEndsReadAsLf) {
+  const MpiScratchDir dir;
+  std::string text =
+      "ITEM: TIMESTEP\n50\nITEM: NUMBER OF ATOMS\n2\nITEM: BOX BOUNDS pp pp pp\n0 10\n0 10\n0 "
+      "10\nITEM: ATOMS id type x y z\n7 1 1.5 2 3\n8 2 4 5 6\n";
+  for (size_t at = text.find('\n'); at != std::string::npos; at = text.find('\n', at + 2))
+    text.insert(at, "\r");
+  write_text(dir.file("d"), text);
+  std::unique_ptr<LammpsDumpReader> r;
+  ASSERT_OK(LammpsDumpReader::open(dir.file("d"), &r));
+  ParticleFrame f;
+  ASSERT_OK(r->read(0, 0, 2, &f));
+  EXPECT_EQ(f.position, (std::vector<double>{1.5, 2, 3, 4, 5, 6}));
+  EXPECT_EQ(f.type, (std::vector<int64_t>{1, 2}));
+}
+
 }  // namespace
 }  // namespace lantern
