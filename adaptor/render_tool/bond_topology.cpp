@@ -190,7 +190,10 @@ std::string share_with_bonds(const ParticleFrame &all, const std::vector<int64_t
       xb[axis] = all.position[size_t(3 * b->second + axis)];
       if (!all.box || !all.box->periodic[size_t(axis)]) continue;
       const double length = all.box->high[size_t(axis)] - all.box->low[size_t(axis)];
-      const double shift = std::nearbyint((xa[axis] - xb[axis]) / length);
+      double shift = std::nearbyint((xa[axis] - xb[axis]) / length);
+      // NaN (a NaN coordinate, a zero-length axis) or beyond int64: no image (the bond's NaN end
+      // is refused by the publish, naming it); the conversion would be undefined.
+      if (!(std::abs(shift) < 9e18)) shift = 0.0;
       key[size_t(axis + 1)] = int64_t(shift);
       if (shift != 0.0) xb[axis] += shift * length;  // the closest image, as LAMMPS's ghost
     }
