@@ -154,6 +154,11 @@ BorrowedBuffer BorrowedBuffer::read_array_interface(py::handle object, const std
   for (const auto &extent : py::tuple(ai["shape"])) b.shape_.push_back(py::cast<int64_t>(extent));
   if (ai.contains("strides") && !ai["strides"].is_none()) {
     for (const auto &s : py::tuple(ai["strides"])) b.strides_.push_back(py::cast<int64_t>(s));
+    // The publish reads one stride per axis of the shape: fewer read past the list's end.
+    if (b.strides_.size() != b.shape_.size())
+      throw py::value_error(name + ": __array_interface__ has " +
+                            std::to_string(b.strides_.size()) + " strides for " +
+                            std::to_string(b.shape_.size()) + " axes");
   } else {  // None: C-contiguous
     b.strides_ = contiguous_strides(b.shape_, b.itemsize_);
   }

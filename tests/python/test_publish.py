@@ -76,6 +76,19 @@ def test_ctypes_and_array_interface_objects_are_borrowed(render, tmp_path):
     assert render(position=c_positions, type=Interface(t)) == render(position=x, type=t)
 
 
+def test_an_array_interface_with_fewer_strides_than_axes_is_refused(tmp_path):
+    """The publish read one stride per axis: a hand-made interface with fewer read past them."""
+    x, _ = lattice()
+
+    class Interface:
+        def __init__(self, a):
+            self.__array_interface__ = dict(a.__array_interface__, strides=(24,))
+
+    with lantern.Context(scene_config(tmp_path)) as ctx:
+        with pytest.raises(ValueError, match="1 strides for 2 axes"):
+            ctx.publish(position=Interface(x))
+
+
 def test_lantern_reads_the_array_at_execute_time(tmp_path):
     """Modifying the published array in place changes the next image: Lantern reads it."""
     x, t = lattice()
