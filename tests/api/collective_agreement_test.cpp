@@ -32,6 +32,22 @@ std::string config_for(const fs::path &dir) {
          (dir / "s_{step:04d}.png").string() + "'}\n";
 }
 
+// A context opened with `config` on every rank, three particles (kept alive in a static: the
+// context borrows them) published on each; null, with a failure recorded, where either fails.
+Context open_with_three_particles(const std::string &config) {
+  static const std::vector<double> x = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+  lantern_context *raw = nullptr;
+  const lantern_status opened = lantern_open(config.c_str(), LANTERN_COMM_WORLD, &raw);
+  Context ctx(raw);
+  EXPECT_EQ(opened, LANTERN_OK) << lantern_error_message(raw);
+  if (opened != LANTERN_OK) return Context();
+  lantern_particles p{};
+  p.count = 3;
+  p.position = {x.data(), LANTERN_FLOAT64, 0};
+  EXPECT_EQ(lantern_publish(raw, &p), LANTERN_OK) << lantern_error_message(raw);
+  return ctx;
+}
+
 // Every rank's status, gathered: all equal to `expected`.
 void expect_on_every_rank(lantern_status status, lantern_status expected) {
   std::vector<int> all(static_cast<size_t>(world_size()), 0);
@@ -99,14 +115,9 @@ TEST(ReconfigureAgreement, TheSameTextAsAPathOnRankZeroAndInlineElsewhere) {
   const fs::path file = dir.path() / "same.yaml";
   if (world_rank() == 0) std::ofstream(file) << config;
   MPI_Barrier(MPI_COMM_WORLD);
-  lantern_context *raw = nullptr;
-  ASSERT_EQ(lantern_open(config.c_str(), LANTERN_COMM_WORLD, &raw), LANTERN_OK);
-  const Context ctx(raw);
-  std::vector<double> x = {0, 0, 0, 1, 0, 0, 0, 1, 0};
-  lantern_particles p{};
-  p.count = 3;
-  p.position = {x.data(), LANTERN_FLOAT64, 0};
-  ASSERT_EQ(lantern_publish(raw, &p), LANTERN_OK);
+  const Context ctx = open_with_three_particles(config);
+  lantern_context *const raw = ctx.get();
+  ASSERT_NE(raw, nullptr);
   // Rank 0 names the file, the others pass its text: rank 0's "nothing changed" differs from
   // theirs, and the decision must be agreed before anyone enters a collective call.
   const std::string path = file.string();
@@ -125,14 +136,9 @@ TEST(ReconfigureAgreement, TheSameTextAsAPathOnRankZeroAndInlineElsewhere) {
 TEST(RankZeroWork, MemoryRunningOutInTheOverlaysFailsTheStepOnEveryRank) {
   const SharedDir dir;
   const std::string config = config_for(dir.path()) + "    box: {}\n";
-  lantern_context *raw = nullptr;
-  ASSERT_EQ(lantern_open(config.c_str(), LANTERN_COMM_WORLD, &raw), LANTERN_OK);
-  const Context ctx(raw);
-  std::vector<double> x = {0, 0, 0, 1, 0, 0, 0, 1, 0};
-  lantern_particles p{};
-  p.count = 3;
-  p.position = {x.data(), LANTERN_FLOAT64, 0};
-  ASSERT_EQ(lantern_publish(raw, &p), LANTERN_OK);
+  const Context ctx = open_with_three_particles(config);
+  lantern_context *const raw = ctx.get();
+  ASSERT_NE(raw, nullptr);
   if (world_rank() == 0) inject_fault("overlays: draw");
   const lantern_status failed = lantern_execute(raw, 0, 0.0);
   inject_fault("");
