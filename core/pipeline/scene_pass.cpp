@@ -53,10 +53,11 @@ Status check_scene_needs(const SceneConfig &scene, const RadiusRule &radius,
 
 // Where single-precision stages lose the picture (measured by rendering one scene at power-of-two
 // scales, which are exact, against its unit-scale image): the eye's distance to the farthest
-// point of the scene above 1e18 (OpenGL was blank at 7e19, an orthographic view and close-up
-// spheres near 2e20: squares of view-space lengths overflow float), and screen ambient occlusion
-// where the scene spans less than 1e-8 or more than 1e10 (its normals are cross products of
-// neighbouring pixels' offsets, fourth powers of lengths in float). Empty where neither.
+// point of the scene above 1e18 (OpenGL, exact at 1.6e19, was blank at 3.3e19; spheres zoomed in
+// on broke near 1e20, an orthographic view once a radius passed 1.8e19: squares of view-space
+// lengths overflow float), and screen ambient occlusion where the scene spans less than 1e-8 or
+// more than 1e10 (exact from about 2e-8 to 1e11: its normals are cross products of neighbouring
+// pixels' offsets, fourth powers of lengths in float). Empty where neither.
 std::string single_precision_problem(const SceneConfig &scene, const Camera &camera,
                                      const glm::dvec3 &lo, const glm::dvec3 &hi,
                                      double max_radius) {

@@ -162,9 +162,10 @@ TEST_F(BadInput, ValuesTooLargeToFrameNameTheirSource) {
   EXPECT_EQ(lantern_execute(ctx_, 0, 0.0), LANTERN_OK) << message();
 }
 
-// Scales where single-precision stages lose the picture (measured: OpenGL blank with the eye 7e19
-// from the scene, screen AO's normals wrong below a span of about 1e-9 and above 1e11) still
-// render, but rank 0 says so once on stderr; a scene at unit scale says nothing.
+// Scales where single-precision stages lose the picture (measured: OpenGL blank with the scene's
+// farthest point 3.3e19 from the eye, screen AO's normals wrong below a span of about 2e-8 and
+// above 1e11) still render, but rank 0 says so once on stderr; a scene at unit scale says
+// nothing.
 TEST_F(BadInput, ScalesBeyondSinglePrecisionAreWarnedOfOnce) {
   std::vector<double> x = lattice(3);
   const std::vector<double> unit = x;
