@@ -110,6 +110,11 @@ std::vector<Dataset> datasets() {
   };
 }
 
+// The lattice unchanged.
+Dataset unit_lattice() {
+  return {"unit", [](int, double *, double *, double *, int32_t *) { return true; }};
+}
+
 // This rank's share of a dataset: particles g with g % ranks == rank.
 Particles share_of(const Dataset &d) {
   Particles p;
@@ -137,8 +142,7 @@ lantern_particles description(const Particles &p) {
 // Scene keys beyond the common ones (radius: per_particle, 64 x 48, a PNG per step).
 const char *const kFeatures[] = {
     "",
-    "    color: {by: scalar}\n    legend: {title: e}\n    labels: [{text: 'step {step}'}]\n"
-    "    box: {}\n    axes: {}\n",
+    "    color: {by: scalar}\n    box: {}\n",
     "    ambient_occlusion: {method: object}\n",
     "    ambient_occlusion: {method: screen}\n    outline: {}\n    depth_cue: {}\n",
     "    style: density\n",
@@ -196,16 +200,30 @@ const char *const kGlFeatures[] = {
     "    renderer: opengl\n",
     "    culling: {occlusion: nine_spheres}\n    renderer: opengl\n",
 };
+// Overlay text, where this build has it (FreeType and fontconfig).
+const char *const kTextFeatures[] = {
+    "    color: {by: scalar}\n    legend: {title: e}\n    labels: [{text: 'step {step}'}]\n"
+    "    axes: {}\n",
+};
+
+// Whether a unit lattice renders with `extra` (a feature of an optional dependency); says so
+// where it does not.
+bool built_with(const std::filesystem::path &dir, const std::string &extra) {
+  const Dataset unit = unit_lattice();
+  std::string error;
+  if (render_two_steps(config(dir, "probe", extra), share_of(unit), &error)) return true;
+  if (world_rank() == 0) std::printf("left out (%s): %s\n", error.c_str(), extra.c_str());
+  return false;
+}
 
 TEST(ExtremeInputs, EveryFeatureRendersEveryDatasetOnEveryRank) {
   const SharedDir dir("lantern_extreme_");
   std::vector<std::string> features(std::begin(kFeatures), std::end(kFeatures));
-  const Dataset unit{"unit", [](int, double *, double *, double *, int32_t *) { return true; }};
-  std::string error;
-  if (render_two_steps(config(dir.path(), "gl", kGlFeatures[0]), share_of(unit), &error))
+  if (built_with(dir.path(), kGlFeatures[0]))
     features.insert(features.end(), std::begin(kGlFeatures), std::end(kGlFeatures));
-  else if (world_rank() == 0)
-    std::printf("no OpenGL in this build (%s): its scenes are left out\n", error.c_str());
+  if (built_with(dir.path(), kTextFeatures[0]))
+    features.insert(features.end(), std::begin(kTextFeatures), std::end(kTextFeatures));
+  std::string error;
   for (const Dataset &d : datasets()) {
     const Particles p = share_of(d);
     for (size_t f = 0; f < features.size(); ++f) {
@@ -225,7 +243,7 @@ TEST(ExtremeInputs, EveryFeatureRendersEveryDatasetOnEveryRank) {
 // API allows any): OK on every rank, an image each.
 TEST(ExtremeInputs, StepsAtInt64sEndsAndUnalignedPositions) {
   const SharedDir dir("lantern_extreme_");
-  const Dataset unit{"unit", [](int, double *, double *, double *, int32_t *) { return true; }};
+  const Dataset unit = unit_lattice();
   const Particles p = share_of(unit);
   std::vector<char> bytes(p.x.size() * sizeof(double) + 1);
   const std::string text =
@@ -257,11 +275,14 @@ TEST(ExtremeInputs, StepsAtInt64sEndsAndUnalignedPositions) {
 
 TEST(ExtremeInputs, TheDefaultImageIsTheSameAtEveryPowerOfTwoScale) {
   const SharedDir dir("lantern_extreme_");
-  const Dataset unit{"unit", [](int, double *, double *, double *, int32_t *) { return true; }};
-  // Colours by scalar with its legend, super-sampled, object-space AO: scale-free stages too.
-  const std::string extra =
-      "    samples: 4\n    color: {by: scalar}\n    legend: {}\n"
-      "    ambient_occlusion: {method: object}\n";
+  const Dataset unit = unit_lattice();
+  // Colours by scalar (with its legend where the build has text), super-sampled, object-space
+  // AO: scale-free stages too.
+  const std::string colours = "    color: {by: scalar}\n";
+  const std::string legend = colours + "    legend: {}\n";
+  const std::string extra = "    samples: 4\n" +
+                            (built_with(dir.path(), legend) ? legend : colours) +
+                            "    ambient_occlusion: {method: object}\n";
   std::string error;
   ASSERT_TRUE(render_two_steps(config(dir.path(), "unit", extra), share_of(unit), &error)) << error;
   const std::string reference = file_bytes(dir.path() / "unit_0001.png");
