@@ -213,6 +213,15 @@ void Session::before_run(const std::string &where) {
     throw Failure(where + "no fix to render from before this run: the script must define " +
                   wanted + "; fixes defined: " + fixes_seen());
   }
+  // Two fixes would both call back at the steps they share, each rendering the same scenes into
+  // the same files: say which one renders.
+  if (attached_.size() > 1) {
+    std::string ids;
+    for (const auto &entry : attached_) ids += (ids.empty() ? "" : ", ") + entry.first;
+    throw Failure(where + "the script defines " + std::to_string(attached_.size()) +
+                  " 'fix ... external pf/callback' fixes (" + ids +
+                  "): name the one to render from as lammps: {fix: ID}, or unfix the others");
+  }
   if (const std::string e = scalar_.check_known(lmp_, atom_variables_); !e.empty())
     throw Failure(where + e);
   for (const auto &entry : attached_)
@@ -252,8 +261,10 @@ double Session::time_of(int64_t step) const {
   return double(step) * *dt;
 }
 
-std::string Session::publish(const Attachment &a, int nlocal, const void *ids, double **x) {
-  lantern_particles p{};
+std::string Session::describe(const Attachment &a, int nlocal, const void *ids, double **x,
+                              lantern_particles *out) {
+  lantern_particles &p = *out;
+  p = lantern_particles{};
   p.count = nlocal;
   if (nlocal > 0) {
     if (nlocal > 1 && x[1] != x[0] + 3)  // the hand-over without a copy needs one [n][3] block
@@ -266,7 +277,10 @@ std::string Session::publish(const Attachment &a, int nlocal, const void *ids, d
       p.mask_bits = a.group_bits;
     }
   }
-  if (std::string e = scalar_.extract(lmp_, a.group, nlocal, &p.scalar); !e.empty()) return e;
+  return scalar_.extract(lmp_, a.group, nlocal, &p.scalar);
+}
+
+std::string Session::publish(const lantern_particles &p) {
   if (lantern_publish(ctx_, &p) != LANTERN_OK) return lantern_error_message(ctx_);
   scalar_.published();
   if (options_.bonds) {
@@ -308,8 +322,14 @@ void Session::callback(const Attachment &a, int64_t step, int nlocal, const void
   // A run's set-up calls back at the step where the previous run ended: rendered already.
   if (step == last_step_) return;
   const std::string where = "step " + std::to_string(step) + ", fix " + a.fix + ": ";
-  const std::string local = publish(a, nlocal, ids, x);
-  agree(local.empty() ? "" : where + local);
+  lantern_particles p;
+  const std::string described = describe(a, nlocal, ids, x, &p);
+  agree(described.empty() ? "" : where + described);
+  // A half-bond colored by its atom reads a ghost's scalar, which LAMMPS does not communicate:
+  // collective, so after the ranks agreed that every one has its scalar.
+  if (options_.bonds && scalar_.wanted()) ghost_scalar_.extend(lmp_, p.scalar, &p.scalar);
+  const std::string published = publish(p);
+  agree(published.empty() ? "" : where + published);
   const double t0 = MPI_Wtime();
   const lantern_status st = lantern_execute(ctx_, step, time_of(step));  // same on every rank
   execute_seconds_.push_back(MPI_Wtime() - t0);

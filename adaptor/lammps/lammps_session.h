@@ -13,10 +13,12 @@
 // 24), type, id (tagint), the fix's group as LAMMPS's own atom mask and the group's bit (no mask
 // for group all), and the YAML's scalar (per_atom_scalar.h). Where a scene draws bonds, also
 // LAMMPS's bonds and ghost atoms (bond_list.h): x, type, id and mask then reach past nlocal to
-// the ghosts, which LAMMPS keeps in the same arrays. LAMMPS reallocates and reorders
-// these arrays when atoms migrate or are sorted, so they are published again at every callback.
-// fix external adds its fexternal array to the forces of the group's atoms; lantern-lammps keeps
-// that array zero (before every run and at every callback), so the trajectory is LAMMPS's own.
+// the ghosts, which LAMMPS keeps in the same arrays; the scalar, which LAMMPS does not give its
+// ghosts, is then a copy with the ghosts' values communicated from their owners (ghost_scalar.h).
+// LAMMPS reallocates and reorders these arrays when atoms migrate or are sorted, so they are
+// published again at every callback. fix external adds its fexternal array to the forces of the
+// group's atoms; lantern-lammps keeps that array zero (before every run and at every callback), so
+// the trajectory is LAMMPS's own.
 //
 // Errors: bad input (no fix to attach to, an unknown scalar, a failed publish or render) throws
 // Failure on every rank alike - from inside a LAMMPS run too, after the ranks agreed on it - so
@@ -35,6 +37,7 @@
 #include <vector>
 
 #include "bond_list.h"
+#include "ghost_scalar.h"
 #include "lantern/lantern.h"
 #include "per_atom_scalar.h"
 #include "script_reader.h"
@@ -47,7 +50,8 @@ struct Failure : std::runtime_error {
 };
 
 struct SessionOptions {
-  std::string fix;     // lammps.fix: the one fix ID to attach to ("" = every fix external)
+  std::string fix;     // lammps.fix: the one fix ID to attach to ("" = the fix external the script
+                       // defines; two defined at once before a run are refused)
   std::string scalar;  // lammps.scalar: per-atom quantity to publish as the scalar ("" = none)
   bool bonds = false;  // a scene draws bonds: publish LAMMPS's bonds and ghosts
 };
@@ -101,7 +105,11 @@ class Session {
 
   void callback(const Attachment &a, int64_t step, int nlocal, const void *ids, double **x,
                 double **f);
-  std::string publish(const Attachment &a, int nlocal, const void *ids, double **x);
+  // This rank's particles as LAMMPS holds them now, without a copy: "" or an error (local).
+  std::string describe(const Attachment &a, int nlocal, const void *ids, double **x,
+                       lantern_particles *out);
+  // Publishes them, the bonds and the box: "" or an error (local).
+  std::string publish(const lantern_particles &p);
   void agree(const std::string &local_error) const;
   double time_of(int64_t step) const;
 
@@ -112,6 +120,7 @@ class Session {
   SessionOptions options_;
   PerAtomScalar scalar_;
   BondList bonds_;
+  GhostScalar ghost_scalar_;   // the scalar with ghosts' rows, where bonds are drawn
   bool bonds_logged_ = false;  // the bonds' source was printed (first callback)
   std::map<std::string, std::unique_ptr<Attachment>> attached_;  // by fix ID
   std::vector<std::pair<std::string, std::string>> fixes_;       // (ID, style) defined so far

@@ -110,22 +110,7 @@ int run(const Arguments &args, int rank) {
   lantern::Config config;
   static_cast<void>(lantern::load_config(args.config, &config));  // valid: lantern_open read it
   lantern_lammps::SessionOptions options{config.lammps.fix, config.lammps.scalar};
-  for (const lantern::SceneConfig &scene : config.scenes) {
-    if (!scene.bonds.enabled) continue;
-    options.bonds = true;
-    // A half-bond colored by its atom reads a ghost atom's scalar, which LAMMPS does not
-    // communicate for computes and variables (lantern-lammps publishes it for owned atoms only).
-    if (!config.lammps.scalar.empty() && scene.color.by == lantern::ColorBy::kScalar &&
-        scene.bonds.color == lantern::BondColorBy::kAtom) {
-      lantern_close(ctx);
-      return report(rank,
-                    args.config + ": scene '" + scene.name +
-                        "': bonds colored by_atom with color.by: scalar need the scalar of "
-                        "ghost atoms, which lantern-lammps cannot publish; give the bonds "
-                        "color: by_type or solid",
-                    1);
-    }
-  }
+  for (const lantern::SceneConfig &scene : config.scenes) options.bonds |= scene.bonds.enabled;
 
   std::vector<char *> argv;
   std::vector<std::string> strings = args.lammps;

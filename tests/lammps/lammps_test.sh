@@ -18,6 +18,8 @@
 # MODE h5bonds: the chains' bonds written by lantern-lammps into Lantern's H5MD dump (its
 #   connectivity; h5py checks it against the data file) and drawn by lantern-render from that
 #   file alone, byte-identical to lantern-lammps.
+# MODE bond_scalars: half-bonds colored by their atoms' scalar (vx, a compute, a variable), ghosts
+#   included: identical at 1 and 3 ranks and to lantern-render of Lantern's H5MD dump.
 # MODE quit: `quit N` (a number, a variable, inside an include) after a run: lantern-lammps exits
 #   with N as lmp does, after rendering the run's steps.
 # MODE error NAME "EXPECTED" "YAML LINES" "SED EXPRESSION" [LANTERN-LAMMPS ARGS]: the script
@@ -236,6 +238,37 @@ PY
     done
   done
   echo "h5bonds: chains (newton_bond on, off; 1, 3 ranks): lantern-render of the H5MD dump (split by space and rows, 2 ranks) draws the 54 bonds and gives lantern-lammps's images (on) and the data file's (off)"
+  ;;
+bond_scalars)
+  # Half-bonds colored by their atom's scalar (color.by: scalar, bonds by_atom): the ghosts' values,
+  # which LAMMPS does not communicate for vx, a compute or a variable, are their owners'. The
+  # chains cross the periodic faces, so half-bonds at ghosts are drawn at 1 rank too. The first
+  # image is byte-identical at 1 and 3 ranks, and lantern-render of Lantern's H5MD dump (owned
+  # atoms' scalars only; it gives each bond end its atom's value itself) draws the same images.
+  chain_data
+  for scalar in vx c_ke v_height; do
+    { grep -v '^#' "$src/bonds.yaml" | sed 's/bonds: {radius: 0.15}/bonds: {radius: 0.15}\n    color: {by: scalar}/'
+      printf 'dump:\n  file: mol.h5\n  schedule: {every: 10}\n'
+      printf 'lammps: {scalar: %s}\n' "$scalar"; } > "scalar_$scalar.yaml"
+    grep -q 'by: scalar' "scalar_$scalar.yaml" || { echo "the YAML edit failed"; exit 1; }
+    sed -e "s/@NEWTON@/on/" -e '/^run/i compute ke all ke/atom' \
+      -e '/^run/i variable height atom z*z+0.5*y' "$src/in.chain" > in.scalar
+    for n in 1 3; do
+      case_run "s_${scalar}_$n" $n in.scalar "../scalar_$scalar.yaml" -var steps 10
+      halves "s_${scalar}_$n" 54
+      mkdir "r_${scalar}_$n" && (cd "r_${scalar}_$n" && timeout 300 $mpiexec -n 2 "$lr" \
+        "../scalar_$scalar.yaml" "../s_${scalar}_$n/mol.h5" > /dev/null) || exit 1
+      for s in 000000 000010; do
+        cmp "s_${scalar}_$n/mol_$s.png" "r_${scalar}_$n/mol_$s.png" ||
+          { echo "$scalar at $n ranks: lantern-render of the dump differs at step $s"; exit 1; }
+      done
+    done
+    same "s_${scalar}_1" "s_${scalar}_3"
+    # Each scalar colours the chains its own way.
+    ! cmp -s "s_${scalar}_1/mol_000000.png" "s_vx_1/mol_000000.png" || [ "$scalar" = vx ] ||
+      { echo "$scalar and vx give the same image"; exit 1; }
+  done
+  echo "bond_scalars: vx, c_ke, v_height: half-bonds colored by their atoms' scalars, first image identical at 1 and 3 ranks, images identical to lantern-render of the H5MD dumps"
   ;;
 quit)  # quit N: lantern-lammps exits with LAMMPS's status N (literal, variable, in an include)
   script all > in.base
