@@ -120,6 +120,28 @@ lantern_status lantern_set_box(lantern_context *ctx, const double low[3], const 
   });
 }
 
+lantern_status lantern_set_triclinic_box(lantern_context *ctx, const double low[3],
+                                         const double high[3], const double tilt[3],
+                                         const int periodic[3]) {
+  if (!ctx) return LANTERN_ERR_NULL_ARGUMENT;
+  return guarded(ctx, "lantern_set_triclinic_box", [&]() -> lantern_status {
+    if (!ctx->runtime)
+      return fail(ctx, LANTERN_ERR_INVALID_ARGUMENT, "ctx: this context failed to open");
+    if (!low) return fail(ctx, LANTERN_ERR_NULL_ARGUMENT, "low: NULL");
+    if (!high) return fail(ctx, LANTERN_ERR_NULL_ARGUMENT, "high: NULL");
+    if (!tilt) return fail(ctx, LANTERN_ERR_NULL_ARGUMENT, "tilt: NULL");
+    lantern::Box box;
+    box.triclinic = true;
+    for (int a = 0; a < 3; ++a) {
+      box.low[a] = low[a];
+      box.high[a] = high[a];
+      box.tilt[a] = tilt[a];
+      box.periodic[a] = periodic && periodic[a] != 0;
+    }
+    return report(ctx, ctx->runtime->set_box(box));
+  });
+}
+
 lantern_status lantern_execute(lantern_context *ctx, int64_t step, double time) {
   if (!ctx) return LANTERN_ERR_NULL_ARGUMENT;
   return guarded(ctx, "lantern_execute", [&]() -> lantern_status {

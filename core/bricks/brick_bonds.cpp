@@ -36,7 +36,7 @@ inline double root_of_square(double v) {
 }
 
 bool same_box(const PeriodicBox &a, const PeriodicBox &b) {
-  return a.length == b.length && a.periodic == b.periodic;
+  return a.length == b.length && a.periodic == b.periodic && a.tilt == b.tilt;
 }
 
 }  // namespace

@@ -21,6 +21,11 @@ Status validate_box(const Box &box) {
       return invalid("high" + axis + " - low" + axis + " overflows (" + std::to_string(box.low[a]) +
                      " to " + std::to_string(box.high[a]) + ")");
   }
+  static const char *const kTilt[3] = {"xy", "xz", "yz"};
+  for (int t = 0; t < 3; ++t)
+    if (!std::isfinite(box.tilt[t]))
+      return invalid(std::string("tilt[") + std::to_string(t) + "] (" + kTilt[t] +
+                     ") is not finite");
   return {};
 }
 

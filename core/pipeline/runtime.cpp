@@ -301,6 +301,7 @@ Status Runtime::set_box(const Box &box) {
     periodic.length[a] = box.high[a] - box.low[a];
     periodic.periodic[a] = box.periodic[a];
   }
+  if (box.triclinic) periodic.tilt = box.tilt;
   periodic_box_ = periodic;
   return {};
 }

@@ -43,7 +43,7 @@ Status draw_scene_overlays(const ScenePassInputs &in, const SceneSettings &setti
         frame.scalar_name = in.scalar_name;
         frame.camera = &camera;
         if (in.box != nullptr) {
-          frame.box = {in.box->low, in.box->high};
+          frame.box = {in.box->low, in.box->high, in.box->tilt};
         } else {  // as the dumps do without a box: the particles' bounds
           frame.box = {in.global.lo, in.global.hi};
         }

@@ -719,12 +719,15 @@ struct RankMolecule {
 
 // Who lists which bond, and what its atoms' indices are on that rank. As LAMMPS does, a bond's
 // other atom is the image closest to the listing rank's own atom (along periodic axes of edge
-// `box`; 0: none): that rank's atom itself when it owns it there, else a ghost - also on one rank,
-// for a bond across a periodic face. LISTED_ONCE: the rank owning the bond's first atom lists it
-// (LAMMPS with newton_bond on); LISTED_BY_BOTH: every own atom's bonds with its own index
-// (newton_bond off).
+// `box`; 0: none; a triclinic box where `tilt`, LAMMPS's {xy, xz, yz}, is not zero): that rank's
+// atom itself when it owns it there, else a ghost - also on one rank, for a bond across a periodic
+// face. `core_wraps`: no image is made here - the atom itself, or a ghost at its own position -
+// and Lantern's minimum image along the box's axes joins the bond across the face. LISTED_ONCE: the
+// rank owning the bond's first atom lists it (LAMMPS with newton_bond on); LISTED_BY_BOTH: every
+// own atom's bonds with its own index (newton_bond off).
 RankMolecule rank_share(Split split, const Particles &all, const BondedSystem &system,
-                        lantern_bond_listing listing, double box, int rank, int ranks) {
+                        lantern_bond_listing listing, double box, int rank, int ranks,
+                        const std::array<double, 3> &tilt = {0, 0, 0}, bool core_wraps = false) {
   RankMolecule m;
   std::vector<int> owner_rank(all.size());
   std::vector<int64_t> local(all.size(), -1);
@@ -734,18 +737,26 @@ RankMolecule rank_share(Split split, const Particles &all, const BondedSystem &s
   }
   m.owned = int64_t(m.atoms.size());
   std::map<std::tuple<size_t, int, int, int>, int64_t> ghost;  // (atom, image shift) -> index
+  // An atom's coordinates along the edge vectors a, b, c (LAMMPS's lamda coordinates).
+  const auto fractional = [&](size_t i, double *f) {
+    f[2] = all.z[i] / box;
+    f[1] = (all.y[i] - tilt[2] * f[2]) / box;
+    f[0] = (all.x[i] - tilt[0] * f[1] - tilt[1] * f[2]) / box;
+  };
   const auto index_near = [&](size_t e, size_t anchor) {
-    const double xe[3] = {all.x[e], all.y[e], all.z[e]};
-    const double xa[3] = {all.x[anchor], all.y[anchor], all.z[anchor]};
     int shift[3] = {0, 0, 0};
-    if (box > 0)
-      for (int k = 0; k < 3; ++k) shift[k] = int(std::nearbyint((xe[k] - xa[k]) / box));
+    if (box > 0 && !core_wraps) {
+      double fe[3], fa[3];
+      fractional(e, fe), fractional(anchor, fa);
+      for (int k = 0; k < 3; ++k) shift[k] = int(std::nearbyint(fe[k] - fa[k]));
+    }
     if (shift[0] == 0 && shift[1] == 0 && shift[2] == 0 && local[e] >= 0) return local[e];
     const auto key = std::make_tuple(e, shift[0], shift[1], shift[2]);
     if (const auto found = ghost.find(key); found != ghost.end()) return found->second;
     const int64_t g = int64_t(m.atoms.size());
     m.atoms.push(all, e);
-    m.atoms.x.back() -= shift[0] * box, m.atoms.y.back() -= shift[1] * box;
+    m.atoms.x.back() -= shift[0] * box + shift[1] * tilt[0] + shift[2] * tilt[1];
+    m.atoms.y.back() -= shift[1] * box + shift[2] * tilt[2];
     m.atoms.z.back() -= shift[2] * box;
     ghost.emplace(key, g);
     return g;
@@ -777,7 +788,8 @@ RankMolecule rank_share(Split split, const Particles &all, const BondedSystem &s
 
 // Renders `mine` with its bonds (and the periodic box of edge `box`, if any) once on comm.
 Render render_bonded_once(MPI_Comm comm, const std::string &config, const RankMolecule &mine,
-                          lantern_bond_listing listing, double box, int step) {
+                          lantern_bond_listing listing, double box, int step,
+                          const std::array<double, 3> &tilt = {0, 0, 0}) {
   Render r;
   lantern_context *ctx = nullptr;
   r.status = lantern_open(config.c_str(), MPI_Comm_c2f(comm), &ctx);
@@ -795,7 +807,10 @@ Render render_bonded_once(MPI_Comm comm, const std::string &config, const RankMo
     const int periodic[3] = {1, 1, 1};
     r.status = lantern_publish(ctx, &d);
     if (r.status == LANTERN_OK) r.status = lantern_publish_bonds(ctx, &b);
-    if (r.status == LANTERN_OK && box > 0) r.status = lantern_set_box(ctx, low, high, periodic);
+    const bool tilted = tilt[0] != 0 || tilt[1] != 0 || tilt[2] != 0;
+    if (r.status == LANTERN_OK && box > 0)
+      r.status = tilted ? lantern_set_triclinic_box(ctx, low, high, tilt.data(), periodic)
+                        : lantern_set_box(ctx, low, high, periodic);
     const lantern_status executed = lantern_execute(ctx, step, double(step));
     if (r.status == LANTERN_OK) r.status = executed;
   }
@@ -851,22 +866,26 @@ std::string bond_config(const std::string &directory, const std::string &prefix,
 // Renders `system` on rank 0 alone, then under every split on all ranks; compares on rank 0.
 void expect_bonds_rank_invariant(const BondedSystem &system, lantern_bond_listing listing,
                                  double box, const std::string &label, const std::string &each = "",
-                                 const std::string &background = "") {
+                                 const std::string &background = "",
+                                 const std::array<double, 3> &tilt = {0, 0, 0},
+                                 bool core_wraps = false) {
   const Particles all = atoms_of(system);
   const std::string dir = shared_directory();
   ASSERT_FALSE(dir.empty());
   const int rank = world_rank(), ranks = world_size();
   if (rank == 0) {
-    const RankMolecule one = rank_share(Split::kAllOnFirst, all, system, listing, box, 0, 1);
+    const RankMolecule one =
+        rank_share(Split::kAllOnFirst, all, system, listing, box, 0, 1, tilt, core_wraps);
     const Render ref = render_bonded_once(
         MPI_COMM_SELF, with_background(bond_config(dir, label + "_ref", each), background), one,
-        listing, box, 0);
+        listing, box, 0, tilt);
     EXPECT_EQ(ref.status, LANTERN_OK) << ref.error;
   }
   const std::string config = with_background(bond_config(dir, label, each), background);
   for (size_t s = 0; s < std::size(kSplits); ++s) {
-    const RankMolecule mine = rank_share(kSplits[s], all, system, listing, box, rank, ranks);
-    const Render r = render_bonded_once(MPI_COMM_WORLD, config, mine, listing, box, int(s));
+    const RankMolecule mine =
+        rank_share(kSplits[s], all, system, listing, box, rank, ranks, tilt, core_wraps);
+    const Render r = render_bonded_once(MPI_COMM_WORLD, config, mine, listing, box, int(s), tilt);
     EXPECT_EQ(r.status, LANTERN_OK) << split_name(kSplits[s]) << ": " << r.error;
   }
   if (rank != 0) return;
@@ -908,6 +927,41 @@ TEST(RankInvariance, SameImagesWithBondsListedOnce) {
 TEST(RankInvariance, SameImagesWithBondsListedByBoth) {
   expect_bonds_rank_invariant(melt_on_grid(), LANTERN_BONDS_LISTED_BY_BOTH, 12.0, "bonds_both");
   expect_bonds_rank_invariant(melt_on_grid(), LANTERN_BONDS_LISTED_BY_BOTH, 0.0, "bonds_both_open");
+}
+
+// A triclinic box (LAMMPS's tilts xy 3, xz -2, yz 1.5): the melt sheared into it (on the grid of
+// 2^-12 again, so that an image is exact), its bonds across the tilted faces joined by ghosts at
+// their closest images (as LAMMPS holds them) or by Lantern's triclinic minimum image of the
+// atoms as stored. Each way the same bytes at every rank count and split; listed by both atoms'
+// ranks (each half at its own atom) the two ways give the same bytes too.
+TEST(RankInvariance, SameImagesWithBondsInATriclinicBox) {
+  const std::array<double, 3> tilt = {3.0, -2.0, 1.5};
+  BondedSystem sheared = melt_on_grid();
+  for (size_t i = 0; i < sheared.atoms(); ++i) {
+    double *x = &sheared.xyz[3 * i];
+    x[0] += tilt[0] * x[1] / 12.0 + tilt[1] * x[2] / 12.0, x[1] += tilt[2] * x[2] / 12.0;
+    for (int k = 0; k < 3; ++k) x[k] = std::nearbyint(x[k] * 4096.0) / 4096.0;
+  }
+  expect_bonds_rank_invariant(sheared, LANTERN_BONDS_LISTED_ONCE, 12.0, "bonds_triclinic_once", "",
+                              "", tilt);
+  expect_bonds_rank_invariant(sheared, LANTERN_BONDS_LISTED_BY_BOTH, 12.0, "bonds_triclinic_wraps",
+                              "", "", tilt, true);
+  const std::string dir = shared_directory();  // collective; rank 0 renders and compares
+  if (world_rank() != 0) return;
+  ASSERT_FALSE(dir.empty());
+  const Particles all = atoms_of(sheared);
+  for (const bool core_wraps : {false, true}) {
+    const RankMolecule one = rank_share(Split::kAllOnFirst, all, sheared,
+                                        LANTERN_BONDS_LISTED_BY_BOTH, 12.0, 0, 1, tilt, core_wraps);
+    const Render r =
+        render_bonded_once(MPI_COMM_SELF, bond_config(dir, core_wraps ? "wraps" : "ghosts", ""),
+                           one, LANTERN_BONDS_LISTED_BY_BOTH, 12.0, 0, tilt);
+    ASSERT_EQ(r.status, LANTERN_OK) << r.error;
+  }
+  for (const char *scene : kBondSceneNames)
+    EXPECT_EQ(compare_images(file_of(dir, "ghosts", scene, 0), file_of(dir, "wraps", scene, 0)), "")
+        << scene << ": ghosts at the closest images against Lantern's triclinic minimum image";
+  std::system(("rm -rf '" + dir + "'").c_str());
 }
 
 // Bonds in OpenGL, and under every cue, super-sampled, see-through types and a custom light.

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstring>
 #include <memory>
 #include <string>
 #include <utility>
@@ -342,6 +343,39 @@ TEST(BoxOverlay, EdgesFallOnTheProjectedCornersAndHideBehindNearerDepth) {
     EXPECT_EQ(pixel(scene, mx, my)[0], in_front ? 255 : pixel(image, mx, my)[0]);
     EXPECT_LT(pixel(scene, mx - 10, my)[0], 64);  // beside the sphere the edge shows
   }
+}
+
+// A triclinic box: its edges run between the corners low + i a + j b + k c (a = (8, 0, 0),
+// b = (2, 6, 0), c = (1, -1, 8) from (-4, -3, -4)), seen from above: the top face is a
+// parallelogram sheared by xy and moved by (xz, yz); the axis-aligned box's top-right corner
+// stays white.
+TEST(BoxOverlay, TriclinicEdgesJoinTheTiltedCorners) {
+  const int size = 100;
+  const Camera camera = box_camera(size);
+  BoxCorners box{{-4, -3, -4}, {4, 3, 4}, {2, 1, -1}};  // xy, xz, yz
+  BoxOverlayConfig config;
+  config.enabled = true;
+  config.width = 2;
+  Frame image = white_frame(size, size);
+  draw_box(config, box, camera, &image);
+  // The top face's edge along b from the corner low + c to low + b + c: (-3, -4) to (-1, 2).
+  LinePoint p, q;
+  ASSERT_TRUE(project_point(camera, size, size, {-3, -4, 4}, &p));
+  ASSERT_TRUE(project_point(camera, size, size, {-1, 2, 4}, &q));
+  for (int k = 1; k < 10; ++k) {
+    const double x = p.x + (q.x - p.x) * k / 10.0, y = p.y + (q.y - p.y) * k / 10.0;
+    EXPECT_LT(pixel(image, int(x), int(y))[0], 64) << "edge pixel " << x << ", " << y;
+  }
+  // The axis-aligned box's edge x = -4 at y = 0 is inside the sheared faces: no line there.
+  LinePoint inside;
+  ASSERT_TRUE(project_point(camera, size, size, {-4, 0, 4}, &inside));
+  EXPECT_EQ(pixel(image, int(inside.x), int(inside.y))[0], 255);
+  // Zero tilt draws the axis-aligned box's bytes.
+  Frame plain = white_frame(size, size), zero = white_frame(size, size);
+  draw_box(config, BoxCorners{{-4, -3, -4}, {4, 3, 4}}, camera, &plain);
+  draw_box(config, BoxCorners{{-4, -3, -4}, {4, 3, 4}, {0, 0, 0}}, camera, &zero);
+  ASSERT_EQ(plain.rgba.size(), zero.rgba.size());
+  EXPECT_EQ(std::memcmp(plain.rgba.data(), zero.rgba.data(), plain.rgba.size()), 0);
 }
 
 }  // namespace

@@ -66,7 +66,9 @@ struct Lent {
   BrickBonds halves;
   std::optional<PeriodicBox> box;
 
-  Lent(BondedSystem system, bool periodic, BondListing listing = BondListing::kListedOnce)
+  // `tilt`: a triclinic box's {xy, xz, yz} (PeriodicBox::tilt), where periodic.
+  Lent(BondedSystem system, bool periodic, BondListing listing = BondListing::kListedOnce,
+       std::array<double, 3> tilt = {0, 0, 0})
       : s(std::move(system)) {
     ParticleDescription p;
     p.count = int64_t(s.atoms());
@@ -82,6 +84,7 @@ struct Lent {
       PeriodicBox pb;
       pb.length = {s.box, s.box, s.box};
       pb.periodic = {true, true, true};
+      pb.tilt = tilt;
       box = pb;
     }
     bricks = build_bricks(particles, BrickOptions{});
@@ -99,6 +102,9 @@ class BondRender : public ::testing::Test {
       EXPECT_OK(acquire_renderer(GlBackend::kAuto, &session_, &renderer_));
     }
   }
+  // ExactCullingIsBitIdenticalToDrawingEverything in an orthogonal or a triclinic box.
+  void expect_bonds_cull_exactly(bool tilted);
+
   std::vector<RendererChoice> renderers() const {
     std::vector<RendererChoice> r = {RendererChoice::kCpu};
     if (renderer_) r.push_back(RendererChoice::kOpenGl);
@@ -344,6 +350,50 @@ TEST_F(BondRender, BondsAreDrawnInTheMinimumImageOnBothSidesOfHalfTheBox) {
   }
 }
 
+// A triclinic box (edge 10, xy = 4): a bond across the tilted y face. Its atoms are stored at
+// (5, 0.5) and (9.6, 9.5), whose closest image through b = (4, 10, 0) is 0.6 right of and 1 below
+// the first: half-bonds from each atom out through its own face, a short stub each. The
+// orthogonal box of the same lengths takes the image straight below, (9.6, -0.5): its stubs run
+// 2.3 across instead.
+TEST_F(BondRender, BondsAcrossATiltedFaceAreDrawnInTheTriclinicMinimumImage) {
+  BondedSystem s;
+  s.xyz = {5, 0.5, 0, 9.6, 9.5, 0};
+  s.type = {0, 0};
+  s.id = {1, 2};
+  s.bonds = {0, 1};
+  s.bond_type = {0};
+  s.box = 10.0;
+  SceneConfig scene = bond_scene(400, 400, 0.05, 0.15);
+  CameraConfig cfg;
+  cfg.projection = Projection::kOrthographic;
+  cfg.position = std::array<double, 3>{7, 5, 30};
+  cfg.look_at = {7, 5, 0};
+  cfg.up = {0, 1, 0};
+  Camera cam;
+  ASSERT_OK(make_camera(cfg, {0, -1, -1}, {14, 11, 1}, 0.5, scene.width, scene.height, &cam));
+  const auto pixel_at = [&](const Frame &f, double wx, double wy) {
+    const double per_unit = cam.projection[0][0] * f.width / 2.0;
+    return drawn(f, int((wx - 7.0) * per_unit + f.width / 2.0),
+                 int(f.height / 2.0 - (wy - 5.0) * per_unit));
+  };
+  for (const bool tilted : {true, false}) {
+    const Lent m(s, true, BondListing::kListedOnce,
+                 tilted ? std::array<double, 3>{4, 0, 0} : std::array<double, 3>{0, 0, 0});
+    for (const RendererChoice renderer : renderers()) {
+      const Frame f = draw(m, scene, cam, renderer);
+      const std::string what =
+          std::string(name_of(renderer)) + (tilted ? " tilted" : " orthogonal");
+      // The first atom's stub: to (5.3, 0) tilted, to (7.3, 0) orthogonal (points on each, 0.2
+      // or more from the other, whose radius is 0.15).
+      EXPECT_EQ(pixel_at(f, 5.15, 0.25), tilted) << what;
+      EXPECT_EQ(pixel_at(f, 6.0, 0.283), !tilted) << what;
+      // The second atom's stub: from (9.6, 9.5) to (9.3, 10) tilted, to (7.3, 10) orthogonal.
+      EXPECT_EQ(pixel_at(f, 9.45, 9.75), tilted) << what;
+      EXPECT_EQ(pixel_at(f, 8.6, 9.717), !tilted) << what;
+    }
+  }
+}
+
 // A cutting plane through a bond (x > 0 dropped): the atom at x = -2 keeps its half, up to the
 // midpoint; the other half went with its atom.
 TEST_F(BondRender, ACutPlaneTakesEachHalfWithItsAtom) {
@@ -414,9 +464,21 @@ TEST_F(BondRender, CpuRasterAndOpenGlAgree) {
 
 // The exact modes with bonds: frustum culling and hzb (CPU raster, OpenGL) give the bytes of
 // drawing every sphere and bond, from outside and from a camera up close, and do cull.
+// Every culling mode against drawing everything, in an orthogonal box and a triclinic one (the
+// melt sheared into it: its bonds across the tilted faces take the triclinic minimum image).
 TEST_F(BondRender, ExactCullingIsBitIdenticalToDrawingEverything) {
-  const BondedSystem melt = testing::polymer_melt(60, 60, 16.0);
-  const Lent m(melt, true);
+  for (const bool tilted : {false, true}) expect_bonds_cull_exactly(tilted);
+}
+
+void BondRender::expect_bonds_cull_exactly(bool tilted) {
+  BondedSystem melt = testing::polymer_melt(60, 60, 16.0);
+  const std::array<double, 3> tilt =
+      tilted ? std::array<double, 3>{5.0, -3.0, 2.5} : std::array<double, 3>{0, 0, 0};
+  for (size_t i = 0; i < melt.atoms(); ++i) {  // fractional coordinates into the tilted box
+    double *x = &melt.xyz[3 * i];
+    x[0] += tilt[0] * x[1] / 16.0 + tilt[1] * x[2] / 16.0, x[1] += tilt[2] * x[2] / 16.0;
+  }
+  const Lent m(melt, true, BondListing::kListedOnce, tilt);
   int64_t culled = 0;
   for (int view = 0; view < 3; ++view) {
     SceneConfig s = bond_scene(320, 240, 0.45, 0.2);
@@ -431,7 +493,8 @@ TEST_F(BondRender, ExactCullingIsBitIdenticalToDrawingEverything) {
     Camera cam;
     ASSERT_OK(make_camera(s.camera, {0, 0, 0}, {16, 16, 16}, 0.45, s.width, s.height, &cam));
     for (const RendererChoice renderer : renderers()) {
-      const std::string what = std::string(name_of(renderer)) + " view " + std::to_string(view);
+      const std::string what = std::string(name_of(renderer)) + " view " + std::to_string(view) +
+                               (tilted ? " tilted" : "");
       RankDraw all, fast;
       expect_hzb_exact(m, s, cam, renderer, what, &all, &fast);
       const BondCounts &c = fast.cull.bonds;

@@ -198,6 +198,23 @@ LANTERN_API lantern_status lantern_set_box(lantern_context *ctx, const double lo
                                            const double high[3], const int periodic[3]);
 
 /*
+ * Describes a triclinic simulation box in LAMMPS's restricted form (lammps_extract_box() gives
+ * exactly these): the box's edge vectors from the corner `low` are a = (lx, 0, 0),
+ * b = (xy, ly, 0) and c = (xz, yz, lz), where (lx, ly, lz) = high - low and `tilt` is
+ * {xy, xz, yz}. A box given as three vectors in that form (OpenMM's and GROMACS's reduced box
+ * vectors, MDAnalysis's triclinic_vectors) maps to low = origin, high = origin + (a_x, b_y, c_z),
+ * tilt = {b_x, c_x, c_y}. Otherwise as lantern_set_box(), which it replaces: dumps record the
+ * edges as the H5MD matrix of a, b, c (rows); bonds take their minimum image along c, then b,
+ * then a, as LAMMPS does; the `box` overlay draws the parallelepiped. Zero tilt is still a
+ * triclinic box for dumps (a box that shears from zero tilt keeps one layout), and draws as the
+ * axis-aligned one. `tilt` must be finite (LANTERN_ERR_INVALID_ARGUMENT naming it). Local, but
+ * give every rank the same box.
+ */
+LANTERN_API lantern_status lantern_set_triclinic_box(lantern_context *ctx, const double low[3],
+                                                     const double high[3], const double tilt[3],
+                                                     const int periodic[3]);
+
+/*
  * Bonds: a second primitive, drawn as cylinders between published particles where a scene has a
  * `bonds:` section (config/README.md). A bond joins two entries of the arrays given to
  * lantern_publish(), by index.

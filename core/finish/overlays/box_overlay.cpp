@@ -35,10 +35,16 @@ void draw_box(const BoxOverlayConfig &config, const BoxCorners &box, const Camer
               Frame *image) {
   const glm::dmat4 to_clip = camera.projection * camera.view;
   glm::dvec4 corners[8];
-  for (int c = 0; c < 8; ++c)
-    corners[c] =
-        to_clip * glm::dvec4((c & 1) ? box.high[0] : box.low[0], (c & 2) ? box.high[1] : box.low[1],
-                             (c & 4) ? box.high[2] : box.low[2], 1.0);
+  // A triclinic box's corners low + i a + j b + k c, with a = (lx, 0, 0), b = (xy, ly, 0),
+  // c = (xz, yz, lz): the axis-aligned corner moved by the tilts of b and c (zero: the same bits).
+  const double xy = box.tilt[0], xz = box.tilt[1], yz = box.tilt[2];
+  for (int c = 0; c < 8; ++c) {
+    const double j = (c & 2) ? 1.0 : 0.0, k = (c & 4) ? 1.0 : 0.0;
+    glm::dvec4 corner((c & 1) ? box.high[0] : box.low[0], (c & 2) ? box.high[1] : box.low[1],
+                      (c & 4) ? box.high[2] : box.low[2], 1.0);
+    if (xy != 0.0 || xz != 0.0 || yz != 0.0) corner.x += j * xy + k * xz, corner.y += k * yz;
+    corners[c] = to_clip * corner;
+  }
   const bool depth_test = image->depth.size() == image->pixel_count();
   const Rgb8 color = to_rgb8(config.color);
   // The edges join corners that differ in one axis bit.

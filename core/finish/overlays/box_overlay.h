@@ -13,9 +13,11 @@
 
 namespace lantern {
 
-// The axis-aligned box [low, high], simulation units.
+// The box [low, high], simulation units; a triclinic one with LAMMPS's tilt {xy, xz, yz} (edge
+// vectors (lx, 0, 0), (xy, ly, 0), (xz, yz, lz) from low; see core/dump/box.h).
 struct BoxCorners {
   std::array<double, 3> low{0, 0, 0}, high{0, 0, 0};
+  std::array<double, 3> tilt{0, 0, 0};
 };
 
 // `point` in world units to image pixels and window depth through `camera`'s view and projection,
@@ -24,7 +26,8 @@ struct BoxCorners {
 bool project_point(const Camera &camera, int width, int height, const std::array<double, 3> &point,
                    LinePoint *out);
 
-// Draws the twelve edges of `box` on `image` (whose depth is the composited depth).
+// Draws the twelve edges of `box` (a parallelepiped where it is tilted) on `image` (whose depth is
+// the composited depth).
 void draw_box(const BoxOverlayConfig &config, const BoxCorners &box, const Camera &camera,
               Frame *image);
 
