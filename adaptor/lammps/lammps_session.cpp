@@ -295,7 +295,13 @@ std::string Session::publish(const lantern_particles &p) {
   double lo[3], hi[3], xy, yz, xz;
   int periodic[3], changed;
   lammps_extract_box(lmp_, lo, hi, &xy, &yz, &xz, periodic, &changed);
-  if (lantern_set_box(ctx_, lo, hi, periodic) != LANTERN_OK) return lantern_error_message(ctx_);
+  // A triclinic box (even at zero tilt, as one that `fix deform` shears from zero) as LAMMPS
+  // holds it: origin lo, edge lengths hi - lo and the tilts.
+  const double tilt[3] = {xy, xz, yz};
+  const lantern_status set = lammps_extract_setting(lmp_, "triclinic") != 0
+                                 ? lantern_set_triclinic_box(ctx_, lo, hi, tilt, periodic)
+                                 : lantern_set_box(ctx_, lo, hi, periodic);
+  if (set != LANTERN_OK) return lantern_error_message(ctx_);
   return "";
 }
 

@@ -150,6 +150,37 @@ std::string rows_of_ids(const ParticleFrame &all, const std::vector<int64_t> &id
   return {};
 }
 
+namespace {
+
+// The image of the atom at `b` closest to the atom at `a` in a triclinic box, as LAMMPS finds and
+// makes it: whole periodic images k along c, then b, then a (Domain::minimum_image's order), the
+// ghost at b + (ka lx + kb xy + kc xz, kb ly + kc yz, kc lz) as its border communication
+// shifts a coordinate. *xb the image, key[1..3] = (ka, kb, kc).
+void closest_triclinic_image(const Box &box, const double *a, const double *b, double *xb,
+                             std::array<int64_t, 4> *key) {
+  const auto l = box.edges();
+  const double xy = box.tilt[0], xz = box.tilt[1], yz = box.tilt[2];
+  double k[3] = {0, 0, 0};  // along a, b, c
+  const auto whole = [&](int axis, double separation) {
+    if (!box.periodic[size_t(axis)]) return 0.0;
+    const double n = std::nearbyint(separation / l[size_t(axis)]);
+    // NaN (a NaN coordinate, a zero-length axis) or beyond int64: no image (the bond's NaN end
+    // is refused by the publish, naming it); the conversion would be undefined.
+    return std::abs(n) < 9e18 ? n : 0.0;
+  };
+  k[2] = whole(2, a[2] - b[2]);
+  k[1] = whole(1, a[1] - (b[1] + k[2] * yz));
+  k[0] = whole(0, a[0] - (b[0] + (k[1] * xy + k[2] * xz)));
+  const double shift[3] = {k[0] * l[0] + k[1] * xy + k[2] * xz, k[1] * l[1] + k[2] * yz,
+                           k[2] * l[2]};
+  for (int axis = 0; axis < 3; ++axis) {
+    xb[axis] = k[0] == 0 && k[1] == 0 && k[2] == 0 ? b[axis] : b[axis] + shift[axis];
+    (*key)[size_t(axis + 1)] = int64_t(k[axis]);
+  }
+}
+
+}  // namespace
+
 std::string share_with_bonds(const ParticleFrame &all, const std::vector<int64_t> &rows,
                              const BondTopology &topology, BondedShare *out) {
   if (all.id.empty()) return "bonds need the atom ids of the dump (dump custom ... id ...)";
@@ -186,7 +217,9 @@ std::string share_with_bonds(const ParticleFrame &all, const std::vector<int64_t
     const double *xa = &all.position[size_t(3 * a->second)];
     double xb[3];
     std::array<int64_t, 4> key{b->second, 0, 0, 0};
-    for (int axis = 0; axis < 3; ++axis) {
+    if (all.box && all.box->triclinic)
+      closest_triclinic_image(*all.box, xa, &all.position[size_t(3 * b->second)], xb, &key);
+    for (int axis = 0; axis < 3 && !(all.box && all.box->triclinic); ++axis) {
       xb[axis] = all.position[size_t(3 * b->second + axis)];
       if (!all.box || !all.box->periodic[size_t(axis)]) continue;
       const double length = all.box->high[size_t(axis)] - all.box->low[size_t(axis)];

@@ -7,12 +7,13 @@
 //
 // Which rank draws a bond, and where: the rank that reads the bond's first atom (as the data file
 // lists it) draws the whole bond, from that atom to the image of the second atom closest to it
-// along the box's periodic axes - as LAMMPS holds a bond (newton_bond on: on its first atom, with
-// the partner's closest image as a ghost) and draws it in `dump image`. A second atom read by
-// another rank, or an image of it across a periodic face, is a ghost row after the owned ones
-// (lantern_bonds.ghost_count). So lantern-render draws a LAMMPS dump's bonds as lantern-lammps drew
-// them in the run, bit for bit, at any rank count. Bonds whose atoms are not both in the frame
-// (a dump of a group) are left out and counted.
+// along the box's periodic axes (a triclinic box's along c, then b, then a, each image made as
+// LAMMPS's border communication shifts a coordinate) - as LAMMPS holds a bond (newton_bond on: on
+// its first atom, with the partner's closest image as a ghost) and draws it in `dump image`. A
+// second atom read by another rank, or an image of it across a periodic face, is a ghost row after
+// the owned ones (lantern_bonds.ghost_count). So lantern-render draws a LAMMPS dump's bonds as
+// lantern-lammps drew them in the run, bit for bit, at any rank count. Bonds whose atoms are not
+// both in the frame (a dump of a group) are left out and counted.
 //
 // Ownership: plain values. Thread-safety: none needed (one thread).
 #pragma once

@@ -180,8 +180,11 @@ std::string render_frame(lantern_context *ctx, const lantern::FrameSource &sourc
   if (local.empty() && published.box) {
     const lantern::Box &box = *published.box;
     const int periodic[3] = {box.periodic[0], box.periodic[1], box.periodic[2]};
-    if (lantern_set_box(ctx, box.low.data(), box.high.data(), periodic) != LANTERN_OK)
-      local = where + lantern_error_message(ctx);
+    const lantern_status set =
+        box.triclinic ? lantern_set_triclinic_box(ctx, box.low.data(), box.high.data(),
+                                                  box.tilt.data(), periodic)
+                      : lantern_set_box(ctx, box.low.data(), box.high.data(), periodic);
+    if (set != LANTERN_OK) local = where + lantern_error_message(ctx);
   }
   if (auto e = agree(local); !e.empty()) return e;
   // Collective; the same status on every rank.

@@ -206,13 +206,14 @@ Status DumpStage::append_to_existing(MPI_Comm comm, int fields, int64_t first_co
   if (Status s = broadcast_status(comm, local, 0); !s.ok()) return s;
   int64_t numbers[4] = {file.frames, file.rows, file.last_step, file.last_count};
   MPI_Bcast(numbers, 4, MPI_INT64_T, 0, comm);
-  int periodic[3] = {file.periodic[0], file.periodic[1], file.periodic[2]};
-  MPI_Bcast(periodic, 3, MPI_INT, 0, comm);
+  int periodic[4] = {file.periodic[0], file.periodic[1], file.periodic[2], file.triclinic};
+  MPI_Bcast(periodic, 4, MPI_INT, 0, comm);
   DumpLayout layout;
   layout.first_count = first_count;
   layout.single_precision = config_.single_precision;
   layout.fields = to_fields(fields);
   for (int a = 0; a < 3; ++a) layout.periodic[size_t(a)] = periodic[a] != 0;
+  layout.triclinic = periodic[3] != 0;
   local = with_context(where, H5mdWriter::open_existing(comm, config_.file, layout, numbers[0],
                                                         numbers[1], &writer_));
   Status agreed = agree_on_status(comm, local);
@@ -247,9 +248,10 @@ Status DumpStage::open_writer(MPI_Comm comm, const ParticleArrays &particles,
   MPI_Allreduce(MPI_IN_PLACE, &layout.first_bonds, 1, MPI_INT64_T, MPI_SUM, comm);
   layout.single_precision = config_.single_precision;
   layout.fields = to_fields(fields);
-  int periodic[3] = {box.periodic[0], box.periodic[1], box.periodic[2]};
-  MPI_Bcast(periodic, 3, MPI_INT, 0, comm);
+  int periodic[4] = {box.periodic[0], box.periodic[1], box.periodic[2], box.triclinic};
+  MPI_Bcast(periodic, 4, MPI_INT, 0, comm);
   for (int a = 0; a < 3; ++a) layout.periodic[a] = periodic[a] != 0;
+  layout.triclinic = periodic[3] != 0;
 
   int rank = 0;
   MPI_Comm_rank(comm, &rank);
@@ -293,6 +295,16 @@ Status DumpStage::write(MPI_Comm comm, const ParticleArrays &particles, const Bo
   const Box b = frame_box(comm, global, box);
   if (!writer_)
     if (Status s = open_writer(comm, particles, bonds, b, total, step); !s.ok()) return s;
+  // A file made for an orthogonal box's edge lengths cannot record a tilt (rank 0's box).
+  int tilted = b.triclinic && (b.tilt[0] != 0.0 || b.tilt[1] != 0.0 || b.tilt[2] != 0.0);
+  MPI_Bcast(&tilted, 1, MPI_INT, 0, comm);
+  if (tilted && !writer_->layout().triclinic)
+    return {StatusCode::kInvalidArgument,
+            where +
+                "the box is triclinic, but the dump file records an orthogonal box's edge "
+                "lengths (its first frame's box was orthogonal): give the box with "
+                "lantern_set_triclinic_box from the first dumped step on (zero tilt is "
+                "fine), or dump to a new file"};
   if (appended_after_step_) {
     // The same on every rank (broadcast when the file was opened). A restarted run that dumps a
     // step the file already holds would make its steps go back: that step is refused, and the

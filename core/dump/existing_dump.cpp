@@ -75,6 +75,7 @@ ExistingDump inspect_dump_file(const std::string &path) {
     if (position.size() != 3 || position[2] != 3)
       throw Hdf5Error(group + h5md::kPosition + "/value is not [frames][N][3]");
     out.rows = int64_t(position[1]);
+    out.triclinic = dims_of(file.get(), group + h5md::kBox + "/edges/value").size() == 3;
     out.fields.species = exists(file.get(), group + h5md::kSpecies + "/value");
     out.fields.id = exists(file.get(), group + h5md::kId + "/value");
     out.fields.scalar = exists(file.get(), group + h5md::kScalar + "/value");

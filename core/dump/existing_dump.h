@@ -22,6 +22,7 @@ struct ExistingDump {
   bool single_precision = false;
   DumpFields fields;
   std::array<bool, 3> periodic{false, false, false};
+  bool triclinic = false;  // box/edges holds edge vectors ([frames][3][3]), not lengths
 };
 
 // Inspects `path`, which exists. Checks that it is Lantern's H5MD layout and that every time

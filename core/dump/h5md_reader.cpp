@@ -160,6 +160,7 @@ struct H5mdReader::Impl {
   std::optional<Field> species, id, scalar, radius;
   H5Handle edges, offset;  // [frames][3] or [3]; invalid when absent
   bool edges_per_frame = false, offset_per_frame = false;
+  bool edges_matrix = false;  // edges [frames][3][3] or [3][3]: a triclinic box's edge vectors
   std::array<bool, 3> periodic{false, false, false};
   int64_t n = 0;  // rows of the per-particle datasets (N_max when the count varies)
   std::vector<FrameInfo> frames;
@@ -197,6 +198,9 @@ struct H5mdReader::Impl {
   BondList open_bond_list(const std::string &path, bool per_frame) const;
   void read_rows(hid_t dataset, bool per_frame, size_t frame, int64_t begin, int64_t end, int cols,
                  hid_t mem_type, void *out, const std::string &what) const;
+  // A triclinic box's tilt {xy, xz, yz} from the edges matrix of `frame`; its edge lengths in
+  // *lengths. Throws Hdf5Error for edge vectors not in LAMMPS's restricted form.
+  std::array<double, 3> read_tilt(size_t frame, std::array<double, 3> *lengths) const;
   std::optional<std::array<double, 3>> read_vec3(hid_t dataset, bool per_frame, size_t frame,
                                                  const std::string &what) const;
 };
@@ -334,7 +338,7 @@ void H5mdReader::Impl::open_box() {
       for (int a = 0; a < 3; ++a) periodic[a] = std::strncmp(&text[a * width], "periodic", 8) == 0;
     }
   }
-  auto open_vec3 = [&](const char *name, H5Handle *out, bool *per_frame) {
+  auto open_vec3 = [&](const char *name, H5Handle *out, bool *per_frame, bool *matrix) {
     const std::string base = box + "/" + name;
     if (!link_exists(file.get(), base)) return;
     *per_frame = is_group(file.get(), base);
@@ -342,16 +346,21 @@ void H5mdReader::Impl::open_box() {
     if (!link_exists(file.get(), path)) throw Hdf5Error("missing dataset " + path);
     *out = own_dataset(H5Dopen2(file.get(), path.c_str(), H5P_DEFAULT), path);
     const auto dims = shape_of(out->get(), path);
+    // H5MD gives a triclinic box's edges as a D x D matrix (its edge vectors as rows).
+    const size_t inner = *per_frame ? 1 : 0;
+    if (matrix && dims.size() == inner + 2 && dims[inner] == 3 && dims[inner + 1] == 3)
+      *matrix = true;
     const std::vector<hsize_t> want =
         *per_frame ? std::vector<hsize_t>{frames.size(), 3} : std::vector<hsize_t>{3};
-    const bool fits = *per_frame ? dims.size() == 2 && dims[1] == 3 && frames_fit(dims[0], want[0])
-                                 : dims == want;
+    const bool fits = *per_frame ? dims.size() == (matrix && *matrix ? 3 : 2) && dims[1] == 3 &&
+                                       frames_fit(dims[0], want[0])
+                                 : dims == want || (matrix && *matrix);
     if (!fits)
       throw Hdf5Error(path + " has shape " + shape_text(dims) + ", expected " + shape_text(want) +
-                      " (cubic/diagonal boxes only)");
+                      (matrix ? " (a box's edge lengths) or that by 3 (its edge vectors)" : ""));
   };
-  open_vec3("edges", &edges, &edges_per_frame);
-  open_vec3("offset", &offset, &offset_per_frame);
+  open_vec3("edges", &edges, &edges_per_frame, &edges_matrix);
+  open_vec3("offset", &offset, &offset_per_frame, nullptr);
 }
 
 void H5mdReader::Impl::read_rows(hid_t dataset, bool per_frame, size_t frame, int64_t begin,
@@ -379,6 +388,21 @@ void H5mdReader::Impl::read_rows(hid_t dataset, bool per_frame, size_t frame, in
       own_space(H5Screate_simple(1, &elements, nullptr), what + ": memspace");
   h5_check(H5Dread(dataset, mem_type, mem_space.get(), file_space.get(), H5P_DEFAULT, out),
            what + ": cannot read frame " + std::to_string(frame));
+}
+
+std::array<double, 3> H5mdReader::Impl::read_tilt(size_t frame,
+                                                  std::array<double, 3> *lengths) const {
+  const std::string what = group + "/box/edges";
+  double e[9];  // rows a, b, c
+  read_rows(edges.get(), edges_per_frame, frame, 0, 3, 3, H5T_NATIVE_DOUBLE, e, what);
+  // LAMMPS's restricted form: a along x, b in the xy plane (Lantern's triclinic boxes).
+  if (e[1] != 0.0 || e[2] != 0.0 || e[5] != 0.0)
+    throw Hdf5Error(what + ": frame " + std::to_string(frame) +
+                    ": the edge vectors must have a along x and b in the xy plane (a = [" +
+                    std::to_string(e[0]) + ", " + std::to_string(e[1]) + ", " +
+                    std::to_string(e[2]) + "], b_z = " + std::to_string(e[5]) + ")");
+  *lengths = {e[0], e[4], e[8]};
+  return {e[3], e[6], e[7]};  // xy = b_x, xz = c_x, yz = c_y
 }
 
 std::optional<std::array<double, 3>> H5mdReader::Impl::read_vec3(hid_t dataset, bool per_frame,
@@ -576,13 +600,19 @@ Status H5mdReader::read(size_t index, int64_t begin, int64_t end, ParticleFrame 
     read_int(m.id, h5md::kId, &f.id);
     read_real(m.scalar, h5md::kScalar, &f.scalar);
     read_real(m.radius, h5md::kRadius, &f.radius);
-    const auto edges = m.read_vec3(m.edges.get(), m.edges_per_frame, index, "box/edges");
-    if (edges) {
+    if (m.edges.valid()) {
       const auto low = m.read_vec3(m.offset.get(), m.offset_per_frame, index, "box/offset");
       Box b;
       b.low = low.value_or(std::array<double, 3>{0, 0, 0});
-      for (int a = 0; a < 3; ++a) b.high[a] = b.low[a] + (*edges)[a];
       b.periodic = m.periodic;
+      std::array<double, 3> lengths{};
+      if (m.edges_matrix) {
+        b.triclinic = true;
+        b.tilt = m.read_tilt(index, &lengths);
+      } else {
+        lengths = *m.read_vec3(m.edges.get(), m.edges_per_frame, index, "box/edges");
+      }
+      for (int a = 0; a < 3; ++a) b.high[a] = b.low[a] + lengths[a];
       f.box = b;
     }
   } catch (const Hdf5Error &e) {

@@ -4,7 +4,8 @@
 // Accepted: /h5md with a version attribute; one group under /particles ("all" if present, else
 // the first); position as a time-dependent element with value [frames][N][3] and step[frames]
 // (time[frames] optional); optional species / id / scalar / radius elements with value
-// [frames][N] (or time-independent [N]); an optional box (edges, offset, boundary).
+// [frames][N] (or time-independent [N]); an optional box (edges, offset, boundary; edges as
+// lengths [3], or as a triclinic box's edge vectors [3][3] in LAMMPS's restricted form).
 // Particle counts that vary in time: N is the number of rows; Lantern's
 // /observables/particle_count gives each frame's count (its particles are rows [0, count)), and
 // rows that hold no particle are skipped: an `id` equal to the id dataset's fill value (the

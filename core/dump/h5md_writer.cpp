@@ -245,7 +245,9 @@ void H5mdWriter::create_elements() {
         "/observables");
   });
   const hid_t group = particles_group_.get();
-  edges_.emplace(calls_, box.get(), "edges", std::vector<hsize_t>{3}, H5T_IEEE_F64LE, 3, false);
+  edges_.emplace(calls_, box.get(), "edges",
+                 layout_.triclinic ? std::vector<hsize_t>{3, 3} : std::vector<hsize_t>{3},
+                 H5T_IEEE_F64LE, 3, false);
   offset_.emplace(calls_, box.get(), "offset", std::vector<hsize_t>{3}, H5T_IEEE_F64LE, 3, false);
   count_.emplace(calls_, observables.get(), h5md::kParticleCountName, std::vector<hsize_t>{},
                  H5T_STD_I64LE, 1, false);
@@ -358,9 +360,10 @@ void H5mdWriter::write_frame(const DumpFrame &f) {
 
   // The box and the count are one row each, written by rank 0 alone.
   const auto edges = f.box.edges();
+  const auto vectors = f.box.edge_vectors();  // rows a, b, c: 9 doubles in a row
   const hid_t dxpl = dxpl_.get();
-  edges_->append(calls_, frames_, 0, 0, root ? 1 : 0, H5T_NATIVE_DOUBLE, edges.data(), dxpl, root,
-                 f.step, f.time);
+  edges_->append(calls_, frames_, 0, 0, root ? 1 : 0, H5T_NATIVE_DOUBLE,
+                 layout_.triclinic ? vectors[0].data() : edges.data(), dxpl, root, f.step, f.time);
   offset_->append(calls_, frames_, 0, 0, root ? 1 : 0, H5T_NATIVE_DOUBLE, f.box.low.data(), dxpl,
                   root, f.step, f.time);
   count_->append(calls_, frames_, 0, 0, root ? 1 : 0, H5T_NATIVE_INT64, &f.total, dxpl, root,

@@ -65,6 +65,9 @@ struct DumpLayout {
   bool single_precision = false;
   DumpFields fields;
   std::array<bool, 3> periodic{false, false, false};
+  // The box's edges as H5MD's matrix of edge vectors ([3][3] a frame) rather than lengths ([3]):
+  // set when the first frame's box was triclinic (lantern_set_triclinic_box).
+  bool triclinic = false;
 };
 
 // One rank's part of one frame.

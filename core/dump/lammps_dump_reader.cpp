@@ -151,6 +151,13 @@ void parse_box(const std::vector<std::string> &header, LineReader &in, LammpsDum
   f->origin = {lo[0] - xmin, lo[1] - std::min(0.0, yz), lo[2]};
   f->length = {(hi[0] - xmax) - f->origin[0], (hi[1] - std::max(0.0, yz)) - f->origin[1],
                hi[2] - lo[2]};
+  if (triclinic) {  // the box itself, not the bounds that enclose it
+    f->box.triclinic = true;
+    f->box.tilt = f->tilt;
+    for (int a = 0; a < 3; ++a)
+      f->box.low[size_t(a)] = f->origin[size_t(a)],
+      f->box.high[size_t(a)] = f->origin[size_t(a)] + f->length[size_t(a)];
+  }
   f->has_box = true;
 }
 

@@ -6,9 +6,10 @@
 //   ITEM: BOX BOUNDS [xy xz yz] pp pp pp / 3 lines "lo hi [tilt]"
 //   ITEM: ATOMS <column names> / N lines
 // Positions come from the first complete set of x y z, xu yu zu, xs ys zs or xsu ysu zsu
-// (scaled ones are unscaled with the box, triclinic included); `type`, `id` and `radius` (or
-// `diameter`) are used when present; other columns are ignored. Other ITEM sections before
-// ATOMS are skipped.
+// (scaled ones are unscaled with the box, triclinic included; a triclinic frame's box is the box
+// itself - origin, edge lengths and tilts - not the bounds LAMMPS writes around it); `type`, `id`
+// and `radius` (or `diameter`) are used when present; other columns are ignored. Other ITEM
+// sections before ATOMS are skipped.
 //
 // open() indexes the file once (headers checked, atom lines counted); read() then parses only the
 // requested rows of one frame, so each MPI rank converts its own share. Every error names the

@@ -412,5 +412,88 @@ TEST(SetBox, RejectsInvertedAndNull) {
   EXPECT_EQ(lantern_set_box(nullptr, low, high, nullptr), LANTERN_ERR_NULL_ARGUMENT);
 }
 
+TEST(SetBox, TriclinicRejectsNonFiniteTiltAndNull) {
+  const MpiScratchDir dir;
+  const Context ctx = open_dump(dir.file("tilt.h5"), "");
+  const double low[3] = {0, 0, 0}, high[3] = {1, 2, 3}, nan_tilt[3] = {0, NAN, 0};
+  EXPECT_EQ(lantern_set_triclinic_box(ctx.get(), low, high, nan_tilt, nullptr),
+            LANTERN_ERR_INVALID_ARGUMENT);
+  EXPECT_NE(std::string(lantern_error_message(ctx.get())).find("tilt[1] (xz) is not finite"),
+            std::string::npos)
+      << lantern_error_message(ctx.get());
+  EXPECT_EQ(lantern_set_triclinic_box(ctx.get(), low, high, nullptr, nullptr),
+            LANTERN_ERR_NULL_ARGUMENT);
+  EXPECT_NE(std::string(lantern_error_message(ctx.get())).find("tilt: NULL"), std::string::npos);
+}
+
+// A triclinic box: H5MD's edges are the matrix of edge vectors (rows a, b, c), and reading the
+// file back gives the box, its tilt and its corner. A box that starts at zero tilt (a LAMMPS box
+// before `fix deform` shears it) keeps that layout; a file made for an orthogonal box refuses a
+// tilt, naming the way out, and takes the next orthogonal step.
+TEST(DumpRoundTrip, TriclinicBoxIsTheEdgeVectorMatrix) {
+  const MpiScratchDir dir;
+  const std::string file = dir.file("triclinic.h5");
+  const double low[3] = {-1, -2, -3}, high[3] = {9, 6, 2}, zero[3] = {0, 0, 0},
+               tilt[3] = {2.5, -1.25, 0.5};
+  const int periodic[3] = {1, 1, 1};
+  {
+    const Context ctx = open_dump(file, "");
+    for (const int64_t step : {0, 1}) {
+      const RankParticles p(step);
+      const lantern_particles v = p.view();
+      ASSERT_EQ(lantern_publish(ctx.get(), &v), LANTERN_OK);
+      ASSERT_EQ(lantern_set_triclinic_box(ctx.get(), low, high, step == 0 ? zero : tilt, periodic),
+                LANTERN_OK);
+      ASSERT_EQ(lantern_execute(ctx.get(), step, 0.0), LANTERN_OK)
+          << lantern_error_message(ctx.get());
+    }
+  }
+  std::unique_ptr<H5mdReader> reader;
+  ASSERT_OK(H5mdReader::open(file, MPI_COMM_WORLD, &reader));
+  ASSERT_EQ(reader->frames().size(), 2u);
+  for (size_t f = 0; f < 2; ++f) {
+    ParticleFrame frame;
+    ASSERT_OK(reader->read(f, 0, 0, &frame));
+    ASSERT_TRUE(frame.box.has_value());
+    EXPECT_TRUE(frame.box->triclinic);
+    EXPECT_EQ(frame.box->low, (std::array<double, 3>{-1, -2, -3}));
+    EXPECT_EQ(frame.box->high, (std::array<double, 3>{9, 6, 2}));
+    const std::array<double, 3> want_tilt =
+        f == 0 ? std::array<double, 3>{0, 0, 0} : std::array<double, 3>{2.5, -1.25, 0.5};
+    EXPECT_EQ(frame.box->tilt, want_tilt);
+  }
+  reader.reset();
+  MPI_Barrier(MPI_COMM_WORLD);
+  // The matrix itself, as any H5MD reader sees it: rows a = (10, 0, 0), b = (xy, 8, 0),
+  // c = (xz, yz, 5).
+  if (world_rank() == 0) {
+    const hid_t h5 = H5Fopen(file.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+    const hid_t edges = H5Dopen2(h5, "/particles/all/box/edges/value", H5P_DEFAULT);
+    double m[2][3][3];
+    ASSERT_GE(H5Dread(edges, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, m), 0);
+    const double want[3][3] = {{10, 0, 0}, {2.5, 8, 0}, {-1.25, 0.5, 5}};
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 3; ++c) EXPECT_EQ(m[1][r][c], want[r][c]) << r << ", " << c;
+    H5Dclose(edges);
+    H5Fclose(h5);
+  }
+  MPI_Barrier(MPI_COMM_WORLD);
+  // An orthogonal box's file cannot take a tilt.
+  const std::string plain = dir.file("orthogonal.h5");
+  const Context ctx = open_dump(plain, "");
+  const RankParticles p(0);
+  const lantern_particles v = p.view();
+  ASSERT_EQ(lantern_publish(ctx.get(), &v), LANTERN_OK);
+  ASSERT_EQ(lantern_set_box(ctx.get(), low, high, periodic), LANTERN_OK);
+  ASSERT_EQ(lantern_execute(ctx.get(), 0, 0.0), LANTERN_OK) << lantern_error_message(ctx.get());
+  ASSERT_EQ(lantern_set_triclinic_box(ctx.get(), low, high, tilt, periodic), LANTERN_OK);
+  EXPECT_EQ(lantern_execute(ctx.get(), 1, 0.0), LANTERN_ERR_INVALID_ARGUMENT);
+  EXPECT_NE(std::string(lantern_error_message(ctx.get())).find("lantern_set_triclinic_box"),
+            std::string::npos)
+      << lantern_error_message(ctx.get());
+  ASSERT_EQ(lantern_set_box(ctx.get(), low, high, periodic), LANTERN_OK);
+  EXPECT_EQ(lantern_execute(ctx.get(), 2, 0.0), LANTERN_OK) << lantern_error_message(ctx.get());
+}
+
 }  // namespace
 }  // namespace lantern

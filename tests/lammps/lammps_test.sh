@@ -20,6 +20,8 @@
 #   file alone, byte-identical to lantern-lammps.
 # MODE bond_scalars: half-bonds colored by their atoms' scalar (vx, a compute, a variable), ghosts
 #   included: identical at 1 and 3 ranks and to lantern-render of Lantern's H5MD dump.
+# MODE triclinic: bonded chains in a triclinic box, with the box overlay and an H5MD dump: identical
+#   at 1 and 3 ranks, to lantern-render of LAMMPS's dump and of the H5MD dump.
 # MODE quit: `quit N` (a number, a variable, inside an include) after a run: lantern-lammps exits
 #   with N as lmp does, after rendering the run's steps.
 # MODE error NAME "EXPECTED" "YAML LINES" "SED EXPRESSION" [LANTERN-LAMMPS ARGS]: the script
@@ -33,15 +35,22 @@ script() {  # script GROUP > file: in.small with the fix's group written in
   sed "s/@GROUP@/$1/g" "$src/in.small"
 }
 rm -rf "$work" && mkdir -p "$work" && cd "$work" || exit 1
-chain_data() {  # 6 chains of 10 beads 0.97 apart, 4 across the x faces of the 10^3 box
-  awk 'BEGIN {
-    n = 6; m = 10; L = 10; pi = 3.14159265358979
+# chain_data [tilted]: 6 chains of 10 beads 0.97 apart, 4 across the x faces of the 10^3 box.
+# tilted: a triclinic box (xy 2, xz 1, yz -1.5); the chains run along y and z and cross those
+# faces, written in the box's own coordinates (sheared from the unit cell's, so bonds stay short).
+chain_data() {
+  awk -v tilted="${1:-}" 'BEGIN {
+    n = 6; m = 10; L = 10; pi = 3.14159265358979; xy = 2; xz = 1; yz = -1.5
     printf "LAMMPS data file: bead-spring chains\n\n%d atoms\n%d bonds\n3 atom types\n2 bond types\n\n", n*m, n*(m-1)
-    printf "0 %d xlo xhi\n0 %d ylo yhi\n0 %d zlo zhi\n\nAtoms # bond\n\n", L, L, L
+    printf "0 %d xlo xhi\n0 %d ylo yhi\n0 %d zlo zhi\n", L, L, L
+    if (tilted) printf "%g %g %g xy xz yz\n", xy, xz, yz
+    printf "\nAtoms # bond\n\n"
     for (c = 0; c < n; c++) for (k = 0; k < m; k++) {
       x = 1.5 * c + 0.93 * k; y = 1 + 1.6 * c + ((k % 2) ? 0.15 : -0.15)
       z = 1 + 1.5 * c + 0.5 * sin(k * pi / 5)
+      if (tilted) { u = x; x = y; y = u; z = 1 + 1.2 * c + 0.45 * k }
       x -= L * int(x / L); y -= L * int(y / L); z -= L * int(z / L)
+      if (tilted) { x += (xy * y + xz * z) / L; y += yz * z / L }
       printf "%d %d %d %.10f %.10f %.10f\n", c*m + k + 1, c + 1, c % 3 + 1, x, y, z
     }
     printf "\nBonds\n\n"
@@ -269,6 +278,51 @@ bond_scalars)
       { echo "$scalar and vx give the same image"; exit 1; }
   done
   echo "bond_scalars: vx, c_ke, v_height: half-bonds colored by their atoms' scalars, first image identical at 1 and 3 ranks, images identical to lantern-render of the H5MD dumps"
+  ;;
+triclinic)
+  # A triclinic box: bonds across its tilted faces take LAMMPS's closest images, and the box
+  # overlay draws the parallelepiped. Lantern's H5MD dump records the edges as the matrix of
+  # LAMMPS's edge vectors (h5py checks it against LAMMPS's own box). The first image is
+  # byte-identical at 1 and 3 ranks, and lantern-render draws the same images from LAMMPS's dump
+  # (its triclinic bounds) with the data file's bonds, and from the H5MD dump alone.
+  chain_data tilted
+  { grep -v '^#' "$src/bonds.yaml"; echo "    box: {color: [0, 0, 0], width: 1}"
+    printf 'dump:\n  file: mol.h5\n  schedule: {every: 10}\n'; } > tri.yaml
+  sed -e "s/@NEWTON@/on/" -e '/^run/i thermo_style custom step xy xz yz lx ly lz' \
+    -e '/^run/i thermo 10' "$src/in.chain" > in.tri
+  for n in 1 3; do
+    case_run "tri_$n" $n in.tri ../tri.yaml -var steps 10
+    halves "tri_$n" 54
+  done
+  same tri_1 tri_3
+  /usr/bin/python3 - tri_3/mol.h5 <<'PY' || exit 1
+import sys, h5py, numpy as np
+box = h5py.File(sys.argv[1], "r")["particles/all/box"]
+edges = box["edges/value"][0]
+assert edges.shape == (3, 3), edges.shape
+want = np.array([[10, 0, 0], [2, 10, 0], [1, -1.5, 10]], dtype=float)
+assert np.allclose(edges, want, rtol=0, atol=1e-12), edges
+assert np.allclose(box["offset/value"][0], [0, 0, 0], atol=1e-12), box["offset/value"][0]
+PY
+  mkdir tri_render tri_render_h5 && (cd tri_render && timeout 300 $mpiexec -n 2 "$lr" ../tri.yaml \
+    ../tri_3/positions.lammpstrj --bonds ../chain.data > /dev/null) || exit 1
+  (cd tri_render_h5 && timeout 300 $mpiexec -n 2 "$lr" ../tri.yaml ../tri_3/mol.h5 > /dev/null) ||
+    exit 1
+  for s in 000000 000010; do
+    for r in tri_render tri_render_h5; do
+      cmp "tri_3/mol_$s.png" "$r/mol_$s.png" ||
+        { echo "$r: lantern-render differs from lantern-lammps at step $s"; exit 1; }
+    done
+  done
+  # The dump's box read as the orthogonal one of its bounds draws another image: the tilt is used.
+  mkdir tri_ortho && sed -e 's/^ITEM: BOX BOUNDS xy xz yz/ITEM: BOX BOUNDS/' \
+    -e '/^ITEM: BOX BOUNDS/,/^ITEM: ATOMS/s/^\([^ I]*\) \([^ ]*\) [^ ]*$/\1 \2/' \
+    tri_3/positions.lammpstrj > tri_ortho/positions.lammpstrj
+  grep -q "^ITEM: BOX BOUNDS pp" tri_ortho/positions.lammpstrj || { echo "sed failed"; exit 1; }
+  (cd tri_ortho && timeout 300 $mpiexec -n 2 "$lr" ../tri.yaml positions.lammpstrj \
+    --bonds ../chain.data > /dev/null) || exit 1
+  ! cmp -s tri_3/mol_000000.png tri_ortho/mol_000000.png || { echo "the tilt changed nothing"; exit 1; }
+  echo "triclinic: chains across tilted faces (1, 3 ranks): images identical, to lantern-render of LAMMPS's dump and of the H5MD dump (edges as a matrix)"
   ;;
 quit)  # quit N: lantern-lammps exits with LAMMPS's status N (literal, variable, in an include)
   script all > in.base
