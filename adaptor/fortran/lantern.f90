@@ -161,6 +161,13 @@ module lantern
       real(c_double), intent(in) :: low(3), high(3)
       integer(c_int), intent(in) :: periodic(3)
     end function c_set_box
+    integer(c_int) function c_set_triclinic_box(ctx, low, high, tilt, periodic) &
+      bind(C, name="lantern_set_triclinic_box")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: ctx
+      real(c_double), intent(in) :: low(3), high(3), tilt(3)
+      integer(c_int), intent(in) :: periodic(3)
+    end function c_set_triclinic_box
     integer(c_int) function c_execute(ctx, step, time) bind(C, name="lantern_execute")
       import :: c_int, c_ptr, c_int64_t, c_double
       type(c_ptr), value :: ctx
@@ -285,16 +292,23 @@ contains
     status = c_publish(ctx%handle, particles)
   end function publish_particles
 
-  ! The simulation box's corners; periodic per axis (absent: not periodic). Local.
-  integer(c_int) function lantern_set_box(ctx, low, high, periodic) result(status)
+  ! The simulation box's corners; periodic per axis (absent: not periodic). With tilt =
+  ! [xy, xz, yz], a triclinic box in LAMMPS's restricted form (lantern_set_triclinic_box: edge
+  ! vectors (lx, 0, 0), (xy, ly, 0), (xz, yz, lz) from low, l = high - low). Local.
+  integer(c_int) function lantern_set_box(ctx, low, high, periodic, tilt) result(status)
     type(lantern_context), intent(inout) :: ctx
     real(c_double), intent(in) :: low(3), high(3)
     logical, intent(in), optional :: periodic(3)
+    real(c_double), intent(in), optional :: tilt(3)
     integer(c_int) :: flags(3)
     if (allocated(ctx%error)) deallocate (ctx%error)
     flags = 0
     if (present(periodic)) where (periodic) flags = 1
-    status = c_set_box(ctx%handle, low, high, flags)
+    if (present(tilt)) then
+      status = c_set_triclinic_box(ctx%handle, low, high, tilt, flags)
+    else
+      status = c_set_box(ctx%handle, low, high, flags)
+    end if
   end function lantern_set_box
 
   ! The simulation reached `step` at `time`; renders on scheduled steps (then collective).

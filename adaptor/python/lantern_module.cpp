@@ -62,9 +62,12 @@ PYBIND11_MODULE(_lantern, m) {
           "with the buffer protocol or __array_interface__. ValueError names an array that "
           "cannot be borrowed as it is; lantern.Error reports what Lantern refused.")
       .def("set_box", &Context::set_box, py::arg("low"), py::arg("high"),
-           py::arg("periodic") = py::none(),
-           "Records the simulation box (corners low, high; periodic: three bools) for dumps "
-           "and for the minimum image of bonds along periodic axes.")
+           py::arg("periodic") = py::none(), py::arg("tilt") = py::none(),
+           "Records the simulation box (corners low, high; periodic: three bools) for dumps, "
+           "the box overlay and the minimum image of bonds along periodic axes. tilt: (xy, xz, "
+           "yz) makes it triclinic in LAMMPS's restricted form: edge vectors (lx, 0, 0), "
+           "(xy, ly, 0), (xz, yz, lz) from low, l = high - low (reduced box vectors a, b, c: "
+           "high = low + (a_x, b_y, c_z), tilt = (b_x, c_x, c_y)).")
       .def("execute", &Context::execute, py::arg("step"), py::arg("time") = 0.0,
            "The simulation reached `step` at `time`: renders on the steps the schedule picks.")
       .def("close", &Context::close, "Flushes outputs and frees the context (collective).")

@@ -82,12 +82,14 @@ void Context::publish(const PublishArguments &args) {
 }
 
 void Context::set_box(const std::array<double, 3> &low, const std::array<double, 3> &high,
-                      const std::optional<std::array<bool, 3>> &periodic) {
+                      const std::optional<std::array<bool, 3>> &periodic,
+                      const std::optional<std::array<double, 3>> &tilt) {
   lantern_context *ctx = open_context("set_box");
   int flags[3] = {0, 0, 0};
   if (periodic)
     for (int a = 0; a < 3; ++a) flags[a] = (*periodic)[a] ? 1 : 0;
-  check(lantern_set_box(ctx, low.data(), high.data(), flags));
+  check(tilt ? lantern_set_triclinic_box(ctx, low.data(), high.data(), tilt->data(), flags)
+             : lantern_set_box(ctx, low.data(), high.data(), flags));
 }
 
 void Context::execute(int64_t step, double time) {

@@ -32,8 +32,10 @@ class Context {
   Context &operator=(const Context &) = delete;
 
   void publish(const PublishArguments &args);
+  // With `tilt` ({xy, xz, yz}): a triclinic box (lantern_set_triclinic_box).
   void set_box(const std::array<double, 3> &low, const std::array<double, 3> &high,
-               const std::optional<std::array<bool, 3>> &periodic);
+               const std::optional<std::array<bool, 3>> &periodic,
+               const std::optional<std::array<double, 3>> &tilt);
   void execute(int64_t step, double time);
   // Flushes and frees the context; a second call does nothing. Raises lantern.Error when an
   // image written in the background could not be written.

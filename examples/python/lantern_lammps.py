@@ -26,7 +26,8 @@ def lantern_step(ptr):
         _context = lantern.Context(os.environ.get("LANTERN_CONFIG", DEFAULT_CONFIG))
     # LAMMPS reallocates x when atoms migrate: publish again before every execute (cheap).
     _context.publish(position=lmp.numpy.extract_atom("x"), type=lmp.numpy.extract_atom("type"))
-    low, high, _, _, _, periodic, _ = lmp.extract_box()
-    _context.set_box(low, high, periodic=[bool(p) for p in periodic])
+    low, high, xy, yz, xz, periodic, _ = lmp.extract_box()
+    tilt = (xy, xz, yz) if lmp.extract_setting("triclinic") else None
+    _context.set_box(low, high, periodic=[bool(p) for p in periodic], tilt=tilt)
     step = lmp.extract_global("ntimestep")
     _context.execute(step, step * lmp.extract_global("dt"))

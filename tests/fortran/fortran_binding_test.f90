@@ -5,6 +5,7 @@
 ! hand-filled lantern_bonds) draw cylinders and are refused naming the bond. Serial.
 program fortran_binding_test
   use, intrinsic :: iso_c_binding
+  use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan
   use lantern
   implicit none
 
@@ -329,6 +330,15 @@ contains
                 'a C refusal comes back with its message ('//lantern_error_message(ctx)//')')
     status = lantern_set_box(ctx, [0d0, 0d0, 0d0], [1d0, 1d0, 1d0], [.true., .true., .false.])
     call expect(status == LANTERN_OK, 'a valid box after a refused one')
+    status = lantern_set_box(ctx, [0d0, 0d0, 0d0], [1d0, 1d0, 1d0], tilt=[0.5d0, ieee_value(1d0, &
+                             ieee_quiet_nan), 0d0])
+    call expect(status == LANTERN_ERR_INVALID_ARGUMENT .and. &
+                index(lantern_error_message(ctx), 'tilt[1] (xz)') > 0, &
+                'a triclinic box with a NaN tilt is refused, naming it ('// &
+                lantern_error_message(ctx)//')')
+    status = lantern_set_box(ctx, [0d0, 0d0, 0d0], [1d0, 1d0, 1d0], [.true., .true., .true.], &
+                             [0.5d0, -0.25d0, 0d0])
+    call expect(status == LANTERN_OK, 'a triclinic box')
     status = lantern_close(ctx)
   end subroutine c_errors
 

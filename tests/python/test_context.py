@@ -32,6 +32,10 @@ def test_errors_of_the_c_api_carry_its_status_and_message(tmp_path):
         assert caught.value.status == lantern.ERR_INVALID_ARGUMENT
         assert "high" in caught.value.message or "low" in caught.value.message
         ctx.set_box([0, 0, 0], [4, 4, 4], periodic=[True, True, False])  # still usable
+        with pytest.raises(lantern.Error) as caught:
+            ctx.set_box([0, 0, 0], [4, 4, 4], tilt=[1.0, float("nan"), 0.0])
+        assert "tilt[1] (xz) is not finite" in caught.value.message
+        ctx.set_box([0, 0, 0], [4, 4, 4], periodic=[True, True, True], tilt=[1.0, -0.5, 0.25])
 
 
 def test_a_config_path_is_accepted(tmp_path):

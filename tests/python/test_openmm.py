@@ -139,3 +139,28 @@ def test_example_runs(tmp_path):
     assert simulation.currentStep == 20
     assert sorted(p.name for p in tmp_path.glob("*.png")) == [
         "element_000010.png", "element_000020.png", "speed_000010.png", "speed_000020.png"]
+
+
+def test_a_triclinic_box_reaches_the_dump_as_openmms_box_vectors(tmp_path):
+    """OpenMM's reduced box vectors (a along x, b in the xy plane) are LAMMPS's restricted
+    triclinic form: the H5MD dump records them as its edge matrix, row for row."""
+    simulation = openmm_fluid.build(N_SIDE)
+    edge = N_SIDE * 0.40
+    a, b, c = (openmm.Vec3(edge, 0, 0), openmm.Vec3(0.3, edge, 0),
+               openmm.Vec3(-0.2, 0.25, edge))
+    simulation.system.setDefaultPeriodicBoxVectors(a, b, c)
+    simulation.context.reinitialize(preserveState=True)
+    simulation.context.setPeriodicBoxVectors(a, b, c)
+    dump = tmp_path / "fluid.h5"
+    config = openmm_fluid.config(tmp_path / "tri", size=32) + f"dump:\n  file: {dump}\n"
+    reporter = Reporter(config, EVERY, scalar="speed")
+    simulation.reporters.append(reporter)
+    simulation.step(EVERY)
+    reporter.close()
+    import h5py
+    with h5py.File(dump, "r") as f:
+        edges = f["particles/all/box/edges/value"][0]
+    want = np.array([[edge, 0, 0], [0.3, edge, 0], [-0.2, 0.25, edge]])
+    assert edges.shape == (3, 3)
+    assert np.allclose(edges, want, rtol=0, atol=1e-12), edges
+    assert (tmp_path / "tri" / f"element_{EVERY:06d}.png").exists()

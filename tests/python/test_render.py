@@ -230,3 +230,30 @@ def test_selection_example(lammps_dump, tmp_path):
         ctx.execute(ts.data["step"], 0.0)
     assert (tmp_path / "example" / "selection_000040.png").read_bytes() == \
         (tmp_path / "fresh" / "selection_000040.png").read_bytes()
+
+
+def test_a_triclinic_universe_gives_its_reduced_box_vectors(tmp_path):
+    """MDAnalysis dimensions with angles other than 90 degrees: the box is triclinic, its edge
+    vectors MDAnalysis's own reduced ones (a along x, b in the xy plane), recorded as the H5MD
+    dump's edge matrix; at 90 degrees the dump records the three lengths."""
+    import h5py
+    import MDAnalysis as mda
+    from MDAnalysis.lib.mdamath import triclinic_vectors
+    from lantern.render import render_universe
+    for name, dims in (("tilted", [12.0, 11.0, 10.0, 80.0, 95.0, 70.0]),
+                       ("upright", [12.0, 11.0, 10.0, 90.0, 90.0, 90.0])):
+        u = mda.Universe.empty(64, atom_resindex=np.zeros(64, dtype=int), trajectory=True)
+        grid = np.stack(np.meshgrid(*[np.arange(4)] * 3, indexing="ij"), -1).reshape(-1, 3)
+        u.atoms.positions = (grid * 2.5 + 1.0).astype(np.float32)
+        u.dimensions = np.array(dims, dtype=np.float32)
+        dump = tmp_path / f"{name}.h5"
+        extra = f"dump:\n  file: {dump}\n"
+        assert render_universe(u, config(tmp_path / name, color="solid") + extra, types="none",
+                               progress=False) == 1
+        with h5py.File(dump, "r") as f:
+            edges = f["particles/all/box/edges/value"][0]
+        if name == "tilted":
+            assert edges.shape == (3, 3)
+            assert np.allclose(edges, triclinic_vectors(u.dimensions), atol=1e-5), edges
+        else:
+            assert np.allclose(edges, dims[:3]), edges

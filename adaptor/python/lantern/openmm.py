@@ -115,8 +115,14 @@ class Reporter:
             self._fill_scalar(simulation, state)
         if simulation.system.usesPeriodicBoundaryConditions():
             box = state.getPeriodicBoxVectors(asNumpy=True).value_in_unit(unit.nanometer)
-            edges = np.diagonal(box)  # the diagonal of a triclinic box: a, b_y, c_z
-            self.context.set_box((0.0, 0.0, 0.0), tuple(edges), (True, True, True))
+            # OpenMM's reduced box vectors: a along x, b in the xy plane - LAMMPS's restricted
+            # triclinic form: lengths a_x, b_y, c_z and tilts b_x, c_x, c_y.
+            edges = tuple(float(e) for e in np.diagonal(box))
+            tilt = (float(box[1][0]), float(box[2][0]), float(box[2][1]))
+            if any(tilt):
+                self.context.set_box((0.0, 0.0, 0.0), edges, (True, True, True), tilt=tilt)
+            else:
+                self.context.set_box((0.0, 0.0, 0.0), edges, (True, True, True))
         time = state.getTime().value_in_unit(unit.picosecond)
         self.context.execute(simulation.currentStep, time)
 

@@ -207,9 +207,8 @@ def render_universe(universe, config, *, every=1, frames=None, types="auto", sca
                     arrays["scalar"] = np.ascontiguousarray(scalar_of(ts)[share])
                 context.publish(**arrays)
                 dims = ts.dimensions
-                if dims is not None and np.all(dims[:3] > 0) and np.allclose(dims[3:], 90.0):
-                    context.set_box((0.0, 0.0, 0.0), tuple(float(d) for d in dims[:3]),
-                                    (True, True, True))
+                if dims is not None and np.all(dims[:3] > 0):
+                    set_box(context, dims)
             except (Error, ValueError, OSError, EOFError) as e:
                 error = f"frame {index}: {e}"
             if error := agree(together, error):
@@ -218,6 +217,19 @@ def render_universe(universe, config, *, every=1, frames=None, types="auto", sca
             context.execute(step, float(ts.time))  # collective: the same outcome on every rank
             rendered += 1
     return rendered
+
+
+def set_box(context, dims):
+    """The box of MDAnalysis's dimensions (a, b, c, alpha, beta, gamma): orthogonal where the
+    angles are 90 degrees, else triclinic from MDAnalysis's own reduced vectors (a along x, b in
+    the xy plane: LAMMPS's restricted form)."""
+    if np.allclose(dims[3:], 90.0):
+        context.set_box((0.0, 0.0, 0.0), tuple(float(d) for d in dims[:3]), (True, True, True))
+        return
+    from MDAnalysis.lib.mdamath import triclinic_vectors
+    a, b, c = (np.asarray(v, dtype=float) for v in triclinic_vectors(dims))
+    context.set_box((0.0, 0.0, 0.0), (a[0], b[1], c[2]), (True, True, True),
+                    tilt=(b[0], c[0], c[1]))
 
 
 def agree(comm, error):
