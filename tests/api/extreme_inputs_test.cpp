@@ -273,6 +273,65 @@ TEST(ExtremeInputs, StepsAtInt64sEndsAndUnalignedPositions) {
   }
 }
 
+// Bonded chains (every 10 atoms along x, joined across the periodic x and y faces) in boxes
+// with extreme tilts - far beyond the box, tiny, of opposite signs - and lengths: every step
+// returns OK on every rank with its image (bonds, the box overlay, culling), never a crash.
+TEST(ExtremeInputs, TriclinicBoxesWithExtremeTiltsRenderTheirBonds) {
+  const SharedDir dir("lantern_extreme_");
+  // Rank 0 publishes every particle of the lattice (its bonds need no ghosts); the others none.
+  Particles p;
+  if (world_rank() == 0)
+    for (int g = 0; g < kGlobal; ++g) {
+      double x[3], radius, scalar;
+      int32_t type;
+      lattice_particle(g, x, &radius, &scalar, &type);
+      p.x.insert(p.x.end(), x, x + 3);
+      p.radius.push_back(radius), p.scalar.push_back(scalar), p.type.push_back(type);
+    }
+  std::vector<int64_t> first, second;
+  if (world_rank() == 0)
+    for (int g = 0; g < kGlobal; ++g) {
+      first.push_back(g), second.push_back(g - g % 10 + (g + 1) % 10);  // x rows, wrapping
+      first.push_back(g), second.push_back((g + 10) % kGlobal);         // along y, and on
+    }
+  const std::string text =
+      "scenes:\n  - name: s\n    width: 64\n    height: 48\n    radius: 0.3\n"
+      "    bonds: {radius: 0.1}\n    box: {}\n    culling: {occlusion: hzb}\n"
+      "    output: {pattern: '" +
+      (dir.path() / "s_{step}.png").string() + "'}\n";
+  lantern_context *raw = nullptr;
+  ASSERT_TRUE(on_every_rank(lantern_open(text.c_str(), LANTERN_COMM_WORLD, &raw), LANTERN_OK));
+  const Context ctx(raw);
+  const double big = 1e300, tiny = 1e-310;
+  const double tilts[][3] = {{big, 0, 0}, {0, -big, big}, {tiny, -tiny, tiny}, {-5, 7, -3},
+                             {0, 0, 0}};
+  const double lows[][3] = {{0, 0, 0}, {-1e300, -1e300, -1e300}};
+  const double highs[][3] = {{10, 10, 6}, {1e300, 1e300, 1e300}};
+  const int periodic[3] = {1, 1, 1};
+  int step = 0;
+  for (int box = 0; box < 2; ++box)
+    for (const auto &tilt : tilts) {
+      lantern_particles d = description(p);
+      lantern_bonds b{};
+      b.count = int64_t(first.size());
+      b.first = {first.data(), LANTERN_INT64, 0};
+      b.second = {second.data(), LANTERN_INT64, 0};
+      ASSERT_TRUE(on_every_rank(lantern_publish(ctx.get(), &d), LANTERN_OK));
+      ASSERT_TRUE(on_every_rank(lantern_publish_bonds(ctx.get(), &b), LANTERN_OK))
+          << lantern_error_message(ctx.get());
+      // Edges of 10 and of 2e300 (the largest lengths that stay finite, near enough), any tilt.
+      ASSERT_TRUE(on_every_rank(
+          lantern_set_triclinic_box(ctx.get(), lows[box], highs[box], tilt, periodic), LANTERN_OK))
+          << lantern_error_message(ctx.get());
+      EXPECT_TRUE(on_every_rank(lantern_execute(ctx.get(), step, 0.0), LANTERN_OK))
+          << "box " << box << ", tilt " << tilt[0] << " " << tilt[1] << " " << tilt[2] << ": "
+          << lantern_error_message(ctx.get());
+      if (world_rank() == 0)
+        EXPECT_TRUE(std::filesystem::exists(dir.path() / ("s_" + std::to_string(step) + ".png")));
+      ++step;
+    }
+}
+
 TEST(ExtremeInputs, TheDefaultImageIsTheSameAtEveryPowerOfTwoScale) {
   const SharedDir dir("lantern_extreme_");
   const Dataset unit = unit_lattice();
