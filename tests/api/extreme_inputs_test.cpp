@@ -303,8 +303,8 @@ TEST(ExtremeInputs, TriclinicBoxesWithExtremeTiltsRenderTheirBonds) {
   ASSERT_TRUE(on_every_rank(lantern_open(text.c_str(), LANTERN_COMM_WORLD, &raw), LANTERN_OK));
   const Context ctx(raw);
   const double big = 1e300, tiny = 1e-310;
-  const double tilts[][3] = {{big, 0, 0}, {0, -big, big}, {tiny, -tiny, tiny}, {-5, 7, -3},
-                             {0, 0, 0}};
+  const double tilts[][3] = {
+      {big, 0, 0}, {0, -big, big}, {tiny, -tiny, tiny}, {-5, 7, -3}, {0, 0, 0}};
   const double lows[][3] = {{0, 0, 0}, {-1e300, -1e300, -1e300}};
   const double highs[][3] = {{10, 10, 6}, {1e300, 1e300, 1e300}};
   const int periodic[3] = {1, 1, 1};
