@@ -228,6 +228,7 @@ Status Runtime::publish(const ParticleDescription &particles) {
       ParticleArrays();   // a failed publish leaves no particles (lantern_publish in the C API)
   bonds_ = BondArrays();  // their indices referred to the arrays being replaced
   ++bonds_serial_;
+  bonds_given_ = false;
   if (Status s = ParticleArrays::validate(particles, &validated); !s.ok()) return s;
   if (Status s = check_radii(validated); !s.ok()) return s;
   particles_ = validated;
@@ -241,6 +242,7 @@ Status Runtime::publish_bonds(const BondDescription &bonds) {
   if (Status s = BondArrays::validate(bonds, particles_, &validated); !s.ok()) return s;
   if (Status s = check_bonds(validated, particles_); !s.ok()) return s;
   bonds_ = validated;
+  bonds_given_ = true;
   return {};
 }
 
@@ -291,6 +293,22 @@ void Runtime::warn_nonfinite_once(int64_t count, int64_t step) {
                  "lantern: warning: step %lld: %lld particles with NaN or infinite coordinates "
                  "skipped (counted in the stats as nonfinite; warned once)\n",
                  static_cast<long long>(step), static_cast<long long>(count));
+}
+
+// A scene with a `bonds:` section on a run that never hands bonds over draws none: said once (on
+// the first rendered step with such a scene), so that a missing lantern_publish_bonds - or a
+// client started without bonds, as lantern-lammps is when no scene drew them at its start - is
+// not silent. A step with zero bonds published is not this case. Collective (one reduction).
+void Runtime::warn_if_no_bonds_given(int64_t step) {
+  bonds_checked_ = true;
+  int given = bonds_given_ ? 1 : 0;
+  MPI_Allreduce(MPI_IN_PLACE, &given, 1, MPI_INT, MPI_MAX, comm_);
+  if (given || rank_ != 0) return;
+  std::fprintf(stderr,
+               "lantern: warning: step %lld: scenes have a bonds: section, but no rank published "
+               "bonds (lantern_publish_bonds after lantern_publish): no bonds are drawn (warned "
+               "once)\n",
+               static_cast<long long>(step));
 }
 
 Status Runtime::set_box(const Box &box) {
@@ -388,6 +406,7 @@ Status Runtime::execute(int64_t step, double time) {
     if (any_bonds) {
       const Status bonds = agree_on_status(comm_, scratch_.bonds.status(step));
       if (!bonds.ok() && first_error.ok()) first_error = bonds;
+      if (!bonds_checked_) warn_if_no_bonds_given(step);
     }
   }
   const double total_ms = scan_ms + ms_since(t0);

@@ -69,6 +69,8 @@ class Runtime {
   // (then no collective call may be made: MPI would abort). Local.
   Status mpi_usable(const char *function) const;
   void warn_nonfinite_once(int64_t count, int64_t step);
+  // Once, collective: rank 0 warns when scenes draw bonds but no rank published any.
+  void warn_if_no_bonds_given(int64_t step);
   // Rank 0: what the configuration's scenes ask that Lantern can only clamp (a density.range
   // beyond double precision), once per configuration (at open and at each change).
   void warn_about_scenes() const;
@@ -101,6 +103,8 @@ class Runtime {
   ParticleArrays particles_;
   BondArrays bonds_;               // count 0: no bonds
   uint64_t bonds_serial_ = 0;      // bumped by every publish, so the step's half-bonds are rebuilt
+  bool bonds_given_ = false;       // lantern_publish_bonds succeeded since the last publish
+  bool bonds_checked_ = false;     // the first step with a bonds scene checked that some were
   std::shared_ptr<GlSession> gl_;  // null without OpenGL
   std::vector<SceneBuffers> buffers_;  // one per scene
   PassScratch scratch_;                // bricks and culling buffers, shared by the scenes

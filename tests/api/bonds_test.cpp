@@ -217,6 +217,28 @@ TEST_F(Bonds, PublishingParticlesForgetsTheBonds) {
   EXPECT_EQ(read_bytes(png("forget", 2)), read_bytes(png("forget", 0)));
 }
 
+// A bonds: section with no bonds ever published draws none, and says so once; a step that
+// publishes zero bonds is not warned about.
+TEST_F(Bonds, NoBondsPublishedIsWarnedOnce) {
+  ASSERT_EQ(open(config("none")), LANTERN_OK) << message();
+  const lantern_particles p = particles();
+  ASSERT_EQ(lantern_publish(ctx_, &p), LANTERN_OK);
+  ::testing::internal::CaptureStderr();
+  ASSERT_EQ(lantern_execute(ctx_, 0, 0.0), LANTERN_OK) << message();
+  ASSERT_EQ(lantern_execute(ctx_, 1, 0.0), LANTERN_OK) << message();
+  const std::string err = ::testing::internal::GetCapturedStderr();
+  const std::string warning = "no rank published bonds (lantern_publish_bonds";
+  ASSERT_NE(err.find(warning), std::string::npos) << err;
+  EXPECT_EQ(err.find(warning, err.find(warning) + 1), std::string::npos) << "warned twice: " << err;
+  ASSERT_EQ(open(config("zero")), LANTERN_OK) << message();
+  ASSERT_EQ(lantern_publish(ctx_, &p), LANTERN_OK);
+  lantern_bonds none{};
+  ASSERT_EQ(lantern_publish_bonds(ctx_, &none), LANTERN_OK) << message();
+  ::testing::internal::CaptureStderr();
+  ASSERT_EQ(lantern_execute(ctx_, 0, 0.0), LANTERN_OK) << message();
+  EXPECT_EQ(::testing::internal::GetCapturedStderr().find(warning), std::string::npos);
+}
+
 TEST_F(Bonds, WithoutTheSectionBondsChangeNoByteAndCostNothing) {
   ASSERT_EQ(open(config("off", "")), LANTERN_OK) << message();
   const lantern_particles p = particles();
