@@ -102,44 +102,42 @@ lantern_status lantern_publish_bonds(lantern_context *ctx, const lantern_bonds *
   });
 }
 
-lantern_status lantern_set_box(lantern_context *ctx, const double low[3], const double high[3],
-                               const int periodic[3]) {
-  if (!ctx) return LANTERN_ERR_NULL_ARGUMENT;
-  return guarded(ctx, "lantern_set_box", [&]() -> lantern_status {
+namespace {
+
+// lantern_set_box and lantern_set_triclinic_box (`tilt` null: the axis-aligned box).
+lantern_status set_box(lantern_context *ctx, const char *function, const double low[3],
+                       const double high[3], const double tilt[3], const int periodic[3]) {
+  return guarded(ctx, function, [&]() -> lantern_status {
     if (!ctx->runtime)
       return fail(ctx, LANTERN_ERR_INVALID_ARGUMENT, "ctx: this context failed to open");
     if (!low) return fail(ctx, LANTERN_ERR_NULL_ARGUMENT, "low: NULL");
     if (!high) return fail(ctx, LANTERN_ERR_NULL_ARGUMENT, "high: NULL");
     lantern::Box box;
+    box.triclinic = tilt != nullptr;
     for (int a = 0; a < 3; ++a) {
       box.low[a] = low[a];
       box.high[a] = high[a];
+      box.tilt[a] = tilt ? tilt[a] : 0.0;
       box.periodic[a] = periodic && periodic[a] != 0;
     }
     return report(ctx, ctx->runtime->set_box(box));
   });
 }
 
+}  // namespace
+
+lantern_status lantern_set_box(lantern_context *ctx, const double low[3], const double high[3],
+                               const int periodic[3]) {
+  if (!ctx) return LANTERN_ERR_NULL_ARGUMENT;
+  return set_box(ctx, "lantern_set_box", low, high, nullptr, periodic);
+}
+
 lantern_status lantern_set_triclinic_box(lantern_context *ctx, const double low[3],
                                          const double high[3], const double tilt[3],
                                          const int periodic[3]) {
   if (!ctx) return LANTERN_ERR_NULL_ARGUMENT;
-  return guarded(ctx, "lantern_set_triclinic_box", [&]() -> lantern_status {
-    if (!ctx->runtime)
-      return fail(ctx, LANTERN_ERR_INVALID_ARGUMENT, "ctx: this context failed to open");
-    if (!low) return fail(ctx, LANTERN_ERR_NULL_ARGUMENT, "low: NULL");
-    if (!high) return fail(ctx, LANTERN_ERR_NULL_ARGUMENT, "high: NULL");
-    if (!tilt) return fail(ctx, LANTERN_ERR_NULL_ARGUMENT, "tilt: NULL");
-    lantern::Box box;
-    box.triclinic = true;
-    for (int a = 0; a < 3; ++a) {
-      box.low[a] = low[a];
-      box.high[a] = high[a];
-      box.tilt[a] = tilt[a];
-      box.periodic[a] = periodic && periodic[a] != 0;
-    }
-    return report(ctx, ctx->runtime->set_box(box));
-  });
+  if (!tilt) return fail(ctx, LANTERN_ERR_NULL_ARGUMENT, "tilt: NULL");
+  return set_box(ctx, "lantern_set_triclinic_box", low, high, tilt, periodic);
 }
 
 lantern_status lantern_execute(lantern_context *ctx, int64_t step, double time) {
