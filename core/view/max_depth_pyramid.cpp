@@ -14,9 +14,13 @@ void MaxDepthPyramid::reset(const float *base, int w, int h, float fill, int rea
   while (w > 1 || h > 1) {
     w = (w + 1) / 2, h = (h + 1) / 2;
     if (levels_.size() <= k) levels_.resize(k + 1);
-    Level &l = levels_[k++];
+    Level &l = levels_[k];
     l.w = w, l.h = h;
-    l.z.assign(size_t(w) * size_t(h), fill);
+    if (k >= size_t(kFirstKeptLevel))
+      l.z.assign(size_t(w) * size_t(h), fill);
+    else
+      PageVector<float>().swap(l.z);
+    ++k;
   }
   levels_.resize(k);
 }
@@ -40,9 +44,64 @@ bool MaxDepthPyramid::covered_at(int level, int x0, int y0, int x1, int y1, floa
   return true;
 }
 
+float MaxDepthPyramid::block_max(int tx, int ty) const {
+  const int w = levels_[0].w, h = levels_[0].h;
+  const int x0 = tx << kFirstKeptLevel, y0 = ty << kFirstKeptLevel;
+  const int y1 = std::min(y0 + 7, h - 1);
+  const float *row = base_ + size_t(y0) * size_t(w);
+#if defined(__SSE2__)
+  if (x0 + 8 <= read_end_) {
+    __m128 a = _mm_loadu_ps(row + x0), b = _mm_loadu_ps(row + x0 + 4);
+    for (int y = y0 + 1; y <= y1; ++y) {
+      row += w;
+      a = _mm_max_ps(a, _mm_loadu_ps(row + x0));
+      b = _mm_max_ps(b, _mm_loadu_ps(row + x0 + 4));
+    }
+    a = _mm_max_ps(a, b);
+    a = _mm_max_ps(a, _mm_movehl_ps(a, a));
+    return _mm_cvtss_f32(_mm_max_ss(a, _mm_shuffle_ps(a, a, 1)));
+  }
+#endif
+  // The image's last columns (or no SSE): the pixels inside the image one by one, none from
+  // read_end on (strips start at multiples of 64 columns, so no tile straddles one's end).
+  const int x1 = std::min(x0 + 7, read_end_ - 1);
+  float m = row[x0];
+  for (int y = y0; y <= y1; ++y, row += w)
+    for (int x = x0; x <= x1; ++x) m = std::max(m, row[x]);
+  return m;
+}
+
+float MaxDepthPyramid::tile(int level, int tx, int ty) const {
+  if (level == 0 || level >= kFirstKeptLevel)
+    return level_data(size_t(level))[size_t(ty) * size_t(levels_[size_t(level)].w) + size_t(tx)];
+  // A level that is not kept: the largest of its pixels.
+  const int w = levels_[0].w, h = levels_[0].h;
+  const int x0 = tx << level, y0 = ty << level;
+  float m = base_[size_t(y0) * size_t(w) + size_t(x0)];
+  for (int y = y0; y <= std::min(y0 + (1 << level) - 1, h - 1); ++y)
+    for (int x = x0; x <= std::min(x0 + (1 << level) - 1, w - 1); ++x)
+      m = std::max(m, base_[size_t(y) * size_t(w) + size_t(x)]);
+  return m;
+}
+
 void MaxDepthPyramid::propagate(const PixelRect &rect) {
-  if (rect.empty()) return;
-  for (size_t k = 1; k < levels_.size(); ++k) {
+  if (rect.empty() || levels() < kFirstKeptLevel) return;
+  {
+    // Level 3 straight from level 0.
+    Level &l = levels_[size_t(kFirstKeptLevel)];
+    const int sh = kFirstKeptLevel;
+    bool changed = false;
+    for (int ty = rect.y0 >> sh; ty <= (rect.y1 >> sh); ++ty) {
+      float *t = l.z.data() + size_t(ty) * size_t(l.w);
+      for (int tx = rect.x0 >> sh; tx <= (rect.x1 >> sh); ++tx) {
+        const float m = block_max(tx, ty);
+        changed |= m != t[tx];
+        t[tx] = m;
+      }
+    }
+    if (!changed) return;
+  }
+  for (size_t k = kFirstKeptLevel + 1; k < levels_.size(); ++k) {
     const Level &below = levels_[k - 1];
     Level &l = levels_[k];
     const float *finer = level_data(k - 1);

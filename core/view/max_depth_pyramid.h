@@ -8,7 +8,7 @@
 // image) and by the CPU sphere raster (core/render/cpu_sphere_raster.h, over the frame's depth).
 //
 // Ownership: level 0 is borrowed (the caller's depth image, valid until the next reset); levels
-// 1.. are owned and kept between resets (refilled, not reallocated) until release(); the larger
+// 3.. are owned (1 and 2 are not kept: kFirstKeptLevel) and kept between resets (refilled, not reallocated) until release(); the larger
 // levels are mapped pages, so that release() hands them back to the system (lazily:
 // core/common/page_allocator.h). Thread-safety: none; one thread writes and reads a pyramid (two
 // threads may each own a pyramid over disjoint column strips of one image). Units: whatever depth
@@ -56,9 +56,12 @@ class MaxDepthPyramid {
                      (mid[rect.x1] < z) & (bottom[rect.x0] < z) & (bottom[cx] < z) &
                      (bottom[rect.x1] < z);
     if (!rim) return false;
-    // The level whose tiles are at least as wide as the rectangle: it spans at most 2 x 2 of them.
+    // A rectangle of at most 8 x 8 pixels is scanned on level 0 (the levels that would answer it
+    // are not kept: kFirstKeptLevel).
     const auto extent = unsigned(std::max(rect.x1 - rect.x0, rect.y1 - rect.y0));
-    const int level = std::min(levels(), extent == 0 ? 0 : 32 - __builtin_clz(extent));
+    if (extent < (1u << kFirstKeptLevel)) return covered_on_base(rect, z);
+    // The level whose tiles are at least as wide as the rectangle: it spans at most 2 x 2 of them.
+    const int level = std::min(levels(), 32 - __builtin_clz(extent));
     return covered_at(level, rect.x0, rect.y0, rect.x1, rect.y1, z);
   }
 
@@ -76,12 +79,11 @@ class MaxDepthPyramid {
   // The number of levels above level 0.
   int levels() const { return int(levels_.size()) - 1; }
 
-  // What tile (tx, ty) of `level` holds (level 0: the pixel), and the level's size in tiles; for
-  // tests of propagate(). After a propagate() over every lowered pixel, a tile holds the largest
-  // of its 2 x 2 children (the ones inside the level below).
-  float tile(int level, int tx, int ty) const {
-    return level_data(size_t(level))[size_t(ty) * size_t(levels_[size_t(level)].w) + size_t(tx)];
-  }
+  // What tile (tx, ty) of `level` holds (level 0: the pixel; levels 1 and 2, which are not kept,
+  // worked out from level 0), and the level's size in tiles; for tests of propagate(). After a
+  // propagate() over every lowered pixel, a tile holds the largest of its 2 x 2 children (the
+  // ones inside the level below).
+  float tile(int level, int tx, int ty) const;
   int level_width(int level) const { return levels_[size_t(level)].w; }
   int level_height(int level) const { return levels_[size_t(level)].h; }
 
@@ -95,10 +97,19 @@ class MaxDepthPyramid {
  private:
   struct Level {
     int w = 0, h = 0;
-    PageVector<float> z;  // level 0: empty (the borrowed base is read instead)
+    PageVector<float> z;  // levels 0 to 2: empty (the borrowed base is read instead)
   };
   // Tiles of levels up to this one (8 x 8 pixels) are refined on level 0 at once.
   static constexpr int kScanFromLevel = 3;
+  // The lowest level above 0 that is stored and kept up to date. Levels 1 and 2 would only ever
+  // be read by rectangles of at most 8 x 8 pixels, which covered() scans on level 0 at once, or
+  // by refinement, which goes from level kScanFromLevel straight to level 0; so propagate()
+  // brings level 3 up straight from level 0 (eight rows of eight pixels a tile, two vector
+  // maxima a row) instead of through two levels of 2 x 2 maxima one tile at a time.
+  static constexpr int kFirstKeptLevel = kScanFromLevel;
+  static_assert(kFirstKeptLevel == 3, "propagate() reads level-0 blocks of 8 x 8 pixels");
+  // Level 3's tile (tx, ty): the largest depth of its pixels inside the image.
+  float block_max(int tx, int ty) const;
   bool covered_at(int level, int x0, int y0, int x1, int y1, float z) const;
   const float *level_data(size_t k) const { return k == 0 ? base_ : levels_[k].z.data(); }
 
