@@ -8,11 +8,11 @@
 // image) and by the CPU sphere raster (core/render/cpu_sphere_raster.h, over the frame's depth).
 //
 // Ownership: level 0 is borrowed (the caller's depth image, valid until the next reset); levels
-// 3.. are owned (1 and 2 are not kept: kFirstKeptLevel) and kept between resets (refilled, not reallocated) until release(); the larger
-// levels are mapped pages, so that release() hands them back to the system (lazily:
-// core/common/page_allocator.h). Thread-safety: none; one thread writes and reads a pyramid (two
-// threads may each own a pyramid over disjoint column strips of one image). Units: whatever depth
-// the caller stores (window depth in Lantern).
+// 3.. are owned (1 and 2 are not kept: kFirstKeptLevel) and kept between resets (refilled, not
+// reallocated) until release(); the larger levels are mapped pages, so that release() hands them
+// back to the system (lazily: core/common/page_allocator.h). Thread-safety: none; one thread writes
+// and reads a pyramid (two threads may each own a pyramid over disjoint column strips of one
+// image). Units: whatever depth the caller stores (window depth in Lantern).
 #pragma once
 
 #include <algorithm>
