@@ -87,7 +87,7 @@ class MaxDepthPyramid {
   int level_width(int level) const { return levels_[size_t(level)].w; }
   int level_height(int level) const { return levels_[size_t(level)].h; }
 
-  // Frees the levels (a pyramid kept between frames costs a third of its image's depth); the next
+  // Frees the levels (a pyramid kept between frames costs a 63rd of its image's depth); the next
   // reset() makes them again. covered() and propagate() need a reset() first.
   void release() {
     std::vector<Level>().swap(levels_);

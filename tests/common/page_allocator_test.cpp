@@ -115,22 +115,24 @@ TEST(PageAllocator, FramesAndBrickSetsReleaseTheirPages) {
   EXPECT_LT(resident_bytes() - before, 2 * kMiB) << "a freed brick set's pages are still resident";
 }
 
-// A depth pyramid's levels above 0 (a third of its image's depth) leave the resident size when
-// it is released between frames, and a pyramid reset after release() answers as a fresh one.
+// A depth pyramid's kept levels (3 and up: a 63rd of its image's depth) leave the resident size
+// when it is released between frames, and a pyramid reset after release() answers as a fresh
+// one.
 TEST(PageAllocator, ReleasedDepthPyramidLeavesTheResidentSize) {
   if (const char *why = resident_size_unmeasurable()) GTEST_SKIP() << why;
   raise_malloc_threshold();
-  std::vector<float> depth(size_t(2048) * 2048, 1.0f);  // 16 MiB: levels above 0 about 5.3 MiB
+  std::vector<float> depth(size_t(4096) * 4096, 1.0f);  // 64 MiB: levels 3.. about 1.33 MiB
   MaxDepthPyramid pyramid;
   const int64_t before = resident_bytes();
-  pyramid.reset(depth.data(), 2048, 2048, 1.0f);
-  ASSERT_GE(resident_bytes() - before, 5 * kMiB);
+  pyramid.reset(depth.data(), 4096, 4096, 1.0f);
+  ASSERT_GE(resident_bytes() - before, kMiB);
   pyramid.release();
-  EXPECT_LT(resident_bytes() - before, kMiB) << "a released pyramid's levels are still resident";
-  pyramid.reset(depth.data(), 2048, 2048, 1.0f);
-  const PixelRect all{0, 0, 2047, 2047}, corner{0, 0, 600, 700};
+  EXPECT_LT(resident_bytes() - before, kMiB / 4)
+      << "a released pyramid's levels are still resident";
+  pyramid.reset(depth.data(), 4096, 4096, 1.0f);
+  const PixelRect all{0, 0, 4095, 4095}, corner{0, 0, 600, 700};
   EXPECT_FALSE(pyramid.covered(all, 1.0f));
-  for (int y = 0; y <= 700; ++y) std::fill_n(&depth[size_t(y) * 2048], 601, 0.25f);
+  for (int y = 0; y <= 700; ++y) std::fill_n(&depth[size_t(y) * 4096], 601, 0.25f);
   pyramid.propagate(corner);
   EXPECT_TRUE(pyramid.covered(corner, 0.5f));
   EXPECT_FALSE(pyramid.covered(PixelRect{0, 0, 601, 700}, 0.5f));
